@@ -1,0 +1,54 @@
+# phmech -- two commands on a fresh machine:  make demo   and   make test
+# Both install what is missing (Debian packages as root, a .venv with the PyPI packages),
+# build phmech into .venv, then run. Both are idempotent and quick the second time.
+
+PYTHON ?= python3
+VENV   := .venv
+PY     := $(VENV)/bin/python
+STAMP  := $(VENV)/.phmech-deps
+SOURCES := $(shell find csrc python -type f -name '*.[ch]' -o -type f -name '*.py') meson.build pyproject.toml
+
+.PHONY: all demo test ctest pytest build sysdeps validate bench clean info
+
+all: build
+
+sysdeps:
+	@bash tools/system-deps.sh
+
+$(STAMP): tools/requirements-dev.txt | sysdeps
+	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install -q --upgrade pip
+	$(PY) -m pip install -q -r tools/requirements-dev.txt
+	@touch $@
+
+# pip builds in build/py, so a rebuild recompiles only what changed.
+$(VENV)/.phmech-built: $(STAMP) $(SOURCES)
+	$(PY) -m pip install -q --no-build-isolation --no-deps -Cbuild-dir=build/py .
+	@touch $@
+
+build: sysdeps $(VENV)/.phmech-built
+
+info: build
+	$(PY) -c "import phmech; phmech.info()"
+
+demo: build
+	$(PY) -c "import phmech; phmech.info()"
+	$(PY) examples/demo.py
+
+ctest: sysdeps $(STAMP)
+	@test -f build/ctest/build.ninja || $(VENV)/bin/meson setup build/ctest --buildtype=debug -Dwerror=true >/dev/null
+	$(VENV)/bin/meson test -C build/ctest --print-errorlogs
+
+pytest: build
+	$(PY) -m pytest -q tests
+
+test: ctest pytest
+
+validate: build
+	$(PY) -m phmech.validate
+
+bench: build
+	$(PY) benchmarks/run.py
+
+clean:
+	rm -rf build $(VENV)/.phmech-built

@@ -1,0 +1,2 @@
+/* beam_mixed.c -- placeholder until its owner fills it in. */
+#include "phmech.h"

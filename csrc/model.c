@@ -1,0 +1,2 @@
+/* model.c -- placeholder until its owner fills it in. */
+#include "phmech.h"

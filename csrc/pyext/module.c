@@ -1,0 +1,107 @@
+/* module.c -- phmech._core: module init, exceptions, info(), and array conversion helpers. */
+#define PHM_PYEXT_MAIN
+#include "pyext.h"
+
+#include <math.h>
+#include <string.h>
+
+#include <sundials/sundials_config.h>
+
+PyObject *phm_py_ModelError = NULL;
+PyObject *phm_py_SolverError = NULL;
+
+PyObject *phm_py_raise(const phm_error *err) {
+  PyObject *type = PyExc_RuntimeError;
+  switch (err->code) {
+  case PHM_EINVAL: type = phm_py_ModelError; break;
+  case PHM_ENOMEM: type = PyExc_MemoryError; break;
+  case PHM_EINTERRUPT: type = PyExc_KeyboardInterrupt; break;
+  default: type = phm_py_SolverError; break;
+  }
+  PyErr_SetString(type, err->msg[0] ? err->msg : "phmech: unspecified error");
+  return NULL;
+}
+
+PyArrayObject *phm_py_double_array(PyObject *obj, const char *what, const npy_intp *tail, int ntail,
+                                   int stack) {
+  PyArray_Descr *dt = PyArray_DescrFromType(NPY_DOUBLE);
+  /* Safe casts only: strings, objects and complex numbers are refused, not truncated. */
+  PyArrayObject *a = (PyArrayObject *)PyArray_FromAny(obj, dt, 0, 0, NPY_ARRAY_CARRAY_RO, NULL);
+  if (!a) {
+    PyErr_Clear();
+    PyErr_Format(PyExc_ValueError, "%s: expected an array of real numbers", what);
+    return NULL;
+  }
+  int nd = PyArray_NDIM(a);
+  int ok = stack ? nd >= ntail : nd == ntail;
+  for (int i = 0; ok && i < ntail; i++) ok = PyArray_DIM(a, nd - ntail + i) == tail[i];
+  if (!ok) {
+    char want[64] = "", got[64] = "";
+    size_t n = 0;
+    for (int i = 0; i < ntail && n < sizeof want; i++)
+      n += (size_t)snprintf(want + n, sizeof want - n, i ? ", %ld" : "%ld", (long)tail[i]);
+    n = 0;
+    for (int i = 0; i < nd && n < sizeof got; i++)
+      n += (size_t)snprintf(got + n, sizeof got - n, i ? ", %ld" : "%ld", (long)PyArray_DIM(a, i));
+    PyErr_Format(PyExc_ValueError, "%s: expected shape (%s%s), got (%s)", what,
+                 stack ? "..., " : "", want, got);
+    Py_DECREF(a);
+    return NULL;
+  }
+  const double *d = (const double *)PyArray_DATA(a);
+  npy_intp size = PyArray_SIZE(a);
+  for (npy_intp i = 0; i < size; i++) {
+    if (!isfinite(d[i])) {
+      PyErr_Format(PyExc_ValueError, "%s: contains a non-finite value (NaN or inf)", what);
+      Py_DECREF(a);
+      return NULL;
+    }
+  }
+  return a;
+}
+
+static PyObject *py_build_info(PyObject *self, PyObject *args) {
+  (void)self;
+  (void)args;
+  return Py_BuildValue("{s:s,s:s,s:s,s:s,s:s}", "phmech_core", PHM_VERSION, "sundials",
+                       SUNDIALS_VERSION, "linear_solvers", "dense, KLU (SuiteSparse)", "lapack",
+                       PHM_LAPACK_NAME, "compiler", PHM_COMPILER_NAME);
+}
+
+static PyMethodDef module_methods[] = {
+    {"build_info", py_build_info, METH_NOARGS,
+     "build_info() -> dict: versions of the C core and of the libraries it was linked against."},
+    {NULL, NULL, 0, NULL}};
+
+static PyMethodDef *all_tables[] = {module_methods, phm_py_se3_methods, phm_py_mixed_methods,
+                                    phm_py_model_methods};
+
+static struct PyModuleDef core_module = {PyModuleDef_HEAD_INIT, "phmech._core",
+                                         "phmech C core (SE(3) algebra, components, DAE, IDA).", -1,
+                                         NULL, NULL, NULL, NULL, NULL};
+
+static int add_table(PyObject *m, PyMethodDef *table) {
+  return PyModule_AddFunctions(m, table);
+}
+
+PyMODINIT_FUNC PyInit__core(void) {
+  import_array();
+  PyObject *m = PyModule_Create(&core_module);
+  if (!m) return NULL;
+  for (size_t i = 0; i < sizeof all_tables / sizeof all_tables[0]; i++)
+    if (add_table(m, all_tables[i]) < 0) goto fail;
+  phm_py_ModelError = PyErr_NewExceptionWithDoc(
+      "phmech.ModelError", "An invalid model, parameter or argument.", PyExc_ValueError, NULL);
+  phm_py_SolverError = PyErr_NewExceptionWithDoc(
+      "phmech.SolverError", "The integrator or a nonlinear solver failed.", PyExc_RuntimeError,
+      NULL);
+  if (!phm_py_ModelError || !phm_py_SolverError) goto fail;
+  Py_INCREF(phm_py_ModelError);
+  Py_INCREF(phm_py_SolverError);
+  if (PyModule_AddObject(m, "ModelError", phm_py_ModelError) < 0) goto fail;
+  if (PyModule_AddObject(m, "SolverError", phm_py_SolverError) < 0) goto fail;
+  return m;
+fail:
+  Py_DECREF(m);
+  return NULL;
+}

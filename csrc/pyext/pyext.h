@@ -1,0 +1,36 @@
+/* pyext.h -- shared by the files of the phmech._core extension (the only code that sees Python.h).
+ * Each binding file exports a NULL-terminated PyMethodDef table; module.c concatenates them. */
+#ifndef PHM_PYEXT_H
+#define PHM_PYEXT_H
+
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+#define NPY_NO_DEPRECATED_API NPY_1_7_API_VERSION
+#define PY_ARRAY_UNIQUE_SYMBOL phm_ARRAY_API
+#ifndef PHM_PYEXT_MAIN
+#define NO_IMPORT_ARRAY
+#endif
+#include <numpy/arrayobject.h>
+
+#include "phmech.h"
+
+/* Exception types, created at import: ModelError(ValueError), SolverError(RuntimeError). */
+extern PyObject *phm_py_ModelError;
+extern PyObject *phm_py_SolverError;
+
+/* Raise the Python exception matching err->code with err->msg; returns NULL for `return`. */
+PyObject *phm_py_raise(const phm_error *err);
+
+/* Convert obj to a C-contiguous float64 array whose trailing dimensions equal `tail`
+ * (ntail of them; any number of leading "stack" dimensions allowed when stack != 0).
+ * Rejects non-numeric input and non-finite values with ValueError naming `what`.
+ * Returns a new reference or NULL with an exception set. */
+PyArrayObject *phm_py_double_array(PyObject *obj, const char *what, const npy_intp *tail, int ntail,
+                                   int stack);
+
+/* Method tables of the binding files. */
+extern PyMethodDef phm_py_se3_methods[];
+extern PyMethodDef phm_py_mixed_methods[];
+extern PyMethodDef phm_py_model_methods[];
+
+#endif

@@ -1,0 +1,1 @@
+import phmech; print("demo placeholder")

@@ -1,0 +1,1 @@
+"""SE(3) algebra (placeholder until filled in)."""
