@@ -65,4 +65,8 @@ void phm_se3_dexp_inv(const double x[6], double Di[36]); /* its inverse, |omega|
 void phm_quat_to_rot(const double q[4], double R[9]);    /* q need not be normalized       */
 void phm_quat_from_rot(const double R[9], double q[4]);  /* Shepperd; returns q with w >= 0 */
 
+/* ---------------------------------------------------------------- mixed finite element (beam_mixed.c) */
+
+/* ---------------------------------------------------------------- model, simulation, modes (model.c) */
+
 #endif /* PHMECH_H */

@@ -1,0 +1,1 @@
+"""mechanism (placeholder until filled in)."""

@@ -1,0 +1,1 @@
+"""mixed (placeholder until filled in)."""

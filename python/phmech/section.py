@@ -1,0 +1,1 @@
+"""section (placeholder until filled in)."""

@@ -1,0 +1,1 @@
+"""timoshenko (placeholder until filled in)."""
