@@ -1,2 +1,377 @@
-/* se3.c -- placeholder until its owner fills it in. */
+/* se3.c -- so(3)/SO(3), se(3)/SE(3) and quaternion algebra (conventions: phmech.h, DESIGN.md 3).
+ *
+ * All matrices row-major. Twist x = (omega, v). No allocation, no printing.
+ * Near theta = 0 the trigonometric coefficients are evaluated by truncated Taylor series
+ * (or in forms without cancellation); near theta = pi the SO(3) log takes its axis from the
+ * symmetric part of R. */
 #include "phmech.h"
+
+#include <math.h>
+#include <string.h>
+
+#define PHM_PI 3.14159265358979323846
+
+/* ---------------------------------------------------------------- small helpers */
+
+static void mat3_mul(const double A[9], const double B[9], double C[9]) {
+  double T[9];
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++)
+      T[3 * i + j] = A[3 * i] * B[j] + A[3 * i + 1] * B[3 + j] + A[3 * i + 2] * B[6 + j];
+  memcpy(C, T, sizeof T);
+}
+
+static double norm3(const double w[3]) { return sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]); }
+
+/* sin(t)/t, accurate for all t. */
+static double sinc(double t) {
+  double t2 = t * t;
+  if (fabs(t) < 1e-3) return 1.0 - t2 / 6.0 * (1.0 - t2 / 20.0 * (1.0 - t2 / 42.0));
+  return sin(t) / t;
+}
+
+/* Coefficients of the SO(3) exponential and left Jacobian for angle t = |w|:
+ *   a = sin t / t,  b = (1 - cos t)/t^2,  c = (t - sin t)/t^3. */
+static void so3_coeffs(double t, double *a, double *b, double *c) {
+  double t2 = t * t;
+  double s = sinc(0.5 * t);
+  *a = sinc(t);
+  *b = 0.5 * s * s; /* (1 - cos t)/t^2 = 2 sin^2(t/2)/t^2, no cancellation */
+  if (t < 0.1)
+    *c = 1.0 / 6.0 - t2 * (1.0 / 120.0 - t2 * (1.0 / 5040.0 - t2 * (1.0 / 362880.0 - t2 / 39916800.0)));
+  else
+    *c = (t - sin(t)) / (t2 * t);
+}
+
+/* d = (1 - (t/2) cot(t/2)) / t^2, the W^2 coefficient of the inverse left Jacobian. */
+static double so3_jac_inv_coeff(double t) {
+  double t2 = t * t;
+  if (t < 0.1)
+    return 1.0 / 12.0 + t2 * (1.0 / 720.0 + t2 * (1.0 / 30240.0 + t2 * (1.0 / 1209600.0 + t2 / 47900160.0)));
+  double h = 0.5 * t;
+  return (1.0 - h * cos(h) / sin(h)) / t2;
+}
+
+/* M = I + alpha W + beta W^2 with W = hat(w). */
+static void so3_poly(const double w[3], double alpha, double beta, double M[9]) {
+  double W[9], W2[9];
+  phm_so3_hat(w, W);
+  mat3_mul(W, W, W2);
+  for (int i = 0; i < 9; i++) M[i] = alpha * W[i] + beta * W2[i];
+  M[0] += 1.0;
+  M[4] += 1.0;
+  M[8] += 1.0;
+}
+
+static void mat3_vec(const double A[9], const double x[3], double y[3]) {
+  double t[3];
+  for (int i = 0; i < 3; i++) t[i] = A[3 * i] * x[0] + A[3 * i + 1] * x[1] + A[3 * i + 2] * x[2];
+  y[0] = t[0];
+  y[1] = t[1];
+  y[2] = t[2];
+}
+
+/* Write the 3x3 block B into the 6x6 matrix M at block row bi, block column bj. */
+static void put_block(double M[36], int bi, int bj, const double B[9]) {
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) M[6 * (3 * bi + i) + 3 * bj + j] = B[3 * i + j];
+}
+
+static void block_lower(const double D[9], const double L[9], double M[36]) {
+  static const double Z[9] = {0};
+  put_block(M, 0, 0, D);
+  put_block(M, 0, 1, Z);
+  put_block(M, 1, 0, L);
+  put_block(M, 1, 1, D);
+}
+
+/* ---------------------------------------------------------------- so(3) / SO(3) */
+
+void phm_so3_hat(const double w[3], double W[9]) {
+  W[0] = 0.0;   W[1] = -w[2]; W[2] = w[1];
+  W[3] = w[2];  W[4] = 0.0;   W[5] = -w[0];
+  W[6] = -w[1]; W[7] = w[0];  W[8] = 0.0;
+}
+
+void phm_so3_vee(const double W[9], double w[3]) {
+  w[0] = 0.5 * (W[7] - W[5]);
+  w[1] = 0.5 * (W[2] - W[6]);
+  w[2] = 0.5 * (W[3] - W[1]);
+}
+
+void phm_so3_exp(const double w[3], double R[9]) {
+  double a, b, c;
+  so3_coeffs(norm3(w), &a, &b, &c);
+  so3_poly(w, a, b, R);
+}
+
+void phm_so3_log(const double R[9], double w[3]) {
+  double s[3]; /* vee of the skew part = sin(theta) n */
+  phm_so3_vee(R, s);
+  double sn = norm3(s);
+  double c = 0.5 * (R[0] + R[4] + R[8] - 1.0); /* cos(theta) */
+  double theta = atan2(sn, c);
+  if (c >= 0.0) {
+    /* theta <= pi/2: w = s theta/sin(theta); theta/sn computed directly, no cancellation. */
+    double f = sn > 0.0 ? theta / sn : 1.0;
+    for (int i = 0; i < 3; i++) w[i] = f * s[i];
+    return;
+  }
+  /* theta > pi/2: (R + R^T)/2 - c I = (1 - c) n n^T, with 1 - c in (1, 2]. */
+  double B[9];
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) B[3 * i + j] = 0.5 * (R[3 * i + j] + R[3 * j + i]) - (i == j ? c : 0.0);
+  int k = 0;
+  if (B[4] > B[3 * k + k]) k = 1;
+  if (B[8] > B[3 * k + k]) k = 2;
+  double n[3];
+  for (int i = 0; i < 3; i++) n[i] = B[3 * i + k];
+  double nn = norm3(n);
+  if (!(nn > 0.0)) { /* not a rotation matrix; fall back on the skew part */
+    double f = sn > 0.0 ? theta / sn : 0.0;
+    for (int i = 0; i < 3; i++) w[i] = f * s[i];
+    return;
+  }
+  double sgn = (n[0] * s[0] + n[1] * s[1] + n[2] * s[2]) < 0.0 ? -1.0 : 1.0;
+  for (int i = 0; i < 3; i++) w[i] = sgn * theta * n[i] / nn;
+}
+
+void phm_so3_jac(const double w[3], double A[9]) {
+  double a, b, c;
+  so3_coeffs(norm3(w), &a, &b, &c);
+  so3_poly(w, b, c, A);
+}
+
+void phm_so3_jac_inv(const double w[3], double Ai[9]) {
+  so3_poly(w, -0.5, so3_jac_inv_coeff(norm3(w)), Ai);
+}
+
+/* ---------------------------------------------------------------- se(3) / SE(3) */
+
+void phm_se3_hat(const double x[6], double X[16]) {
+  double W[9];
+  phm_so3_hat(x, W);
+  for (int i = 0; i < 3; i++) {
+    for (int j = 0; j < 3; j++) X[4 * i + j] = W[3 * i + j];
+    X[4 * i + 3] = x[3 + i];
+  }
+  X[12] = X[13] = X[14] = X[15] = 0.0;
+}
+
+void phm_se3_vee(const double X[16], double x[6]) {
+  x[0] = 0.5 * (X[9] - X[6]);
+  x[1] = 0.5 * (X[2] - X[8]);
+  x[2] = 0.5 * (X[4] - X[1]);
+  x[3] = X[3];
+  x[4] = X[7];
+  x[5] = X[11];
+}
+
+static void pose_split(const double H[16], double R[9], double p[3]) {
+  for (int i = 0; i < 3; i++) {
+    for (int j = 0; j < 3; j++) R[3 * i + j] = H[4 * i + j];
+    p[i] = H[4 * i + 3];
+  }
+}
+
+static void pose_join(const double R[9], const double p[3], double H[16]) {
+  for (int i = 0; i < 3; i++) {
+    for (int j = 0; j < 3; j++) H[4 * i + j] = R[3 * i + j];
+    H[4 * i + 3] = p[i];
+  }
+  H[12] = H[13] = H[14] = 0.0;
+  H[15] = 1.0;
+}
+
+void phm_se3_exp(const double x[6], double H[16]) {
+  double a, b, c, R[9], A[9], p[3];
+  so3_coeffs(norm3(x), &a, &b, &c);
+  so3_poly(x, a, b, R);
+  so3_poly(x, b, c, A);
+  mat3_vec(A, x + 3, p);
+  pose_join(R, p, H);
+}
+
+void phm_se3_log(const double H[16], double x[6]) {
+  double R[9], p[3], Ai[9];
+  pose_split(H, R, p);
+  phm_so3_log(R, x);
+  phm_so3_jac_inv(x, Ai);
+  mat3_vec(Ai, p, x + 3);
+}
+
+void phm_se3_compose(const double A[16], const double B[16], double AB[16]) {
+  double Ra[9], pa[3], Rb[9], pb[3], R[9], p[3];
+  pose_split(A, Ra, pa);
+  pose_split(B, Rb, pb);
+  mat3_mul(Ra, Rb, R);
+  mat3_vec(Ra, pb, p);
+  for (int i = 0; i < 3; i++) p[i] += pa[i];
+  pose_join(R, p, AB);
+}
+
+void phm_se3_inverse(const double H[16], double Hi[16]) {
+  double R[9], p[3], Rt[9], q[3];
+  pose_split(H, R, p);
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) Rt[3 * i + j] = R[3 * j + i];
+  mat3_vec(Rt, p, q);
+  for (int i = 0; i < 3; i++) q[i] = -q[i];
+  pose_join(Rt, q, Hi);
+}
+
+void phm_se3_Ad(const double H[16], double A[36]) {
+  double R[9], p[3], P[9], PR[9];
+  pose_split(H, R, p);
+  phm_so3_hat(p, P);
+  mat3_mul(P, R, PR);
+  block_lower(R, PR, A);
+}
+
+static void transpose6(double A[36]) {
+  for (int i = 0; i < 6; i++)
+    for (int j = i + 1; j < 6; j++) {
+      double t = A[6 * i + j];
+      A[6 * i + j] = A[6 * j + i];
+      A[6 * j + i] = t;
+    }
+}
+
+void phm_se3_Ad_dual(const double H[16], double A[36]) {
+  phm_se3_Ad(H, A);
+  transpose6(A);
+}
+
+void phm_se3_ad(const double x[6], double a[36]) {
+  double W[9], V[9];
+  phm_so3_hat(x, W);
+  phm_so3_hat(x + 3, V);
+  block_lower(W, V, a);
+}
+
+void phm_se3_ad_dual(const double x[6], double a[36]) {
+  phm_se3_ad(x, a);
+  transpose6(a);
+}
+
+/* Lower-left block Q of dexp_x = [[A, 0], [Q, A]]:
+ *   Q = V/2 + c1 (WV + VW + WVW) + c2 (W^2 V + V W^2 - 3 WVW) + c3 (WVW^2 + W^2 VW),
+ * c1 = (t - sin t)/t^3, c2 = (t^2/2 + cos t - 1)/t^4,
+ * c3 = (c2 + 3 (t - sin t - t^3/6)/t^5)/2, each by its Taylor series for t < 0.1. */
+static void se3_dexp_Q(const double x[6], double Q[9]) {
+  double t = norm3(x), t2 = t * t, c1, c2, e;
+  if (t < 0.1) {
+    c1 = 1.0 / 6.0 - t2 * (1.0 / 120.0 - t2 * (1.0 / 5040.0 - t2 * (1.0 / 362880.0 - t2 / 39916800.0)));
+    c2 = 1.0 / 24.0 - t2 * (1.0 / 720.0 - t2 * (1.0 / 40320.0 - t2 * (1.0 / 3628800.0 - t2 / 479001600.0)));
+    e = -1.0 / 120.0 + t2 * (1.0 / 5040.0 - t2 * (1.0 / 362880.0 - t2 * (1.0 / 39916800.0 - t2 / 6227020800.0)));
+  } else {
+    double s = sin(t), co = cos(t);
+    c1 = (t - s) / (t2 * t);
+    c2 = (0.5 * t2 + co - 1.0) / (t2 * t2);
+    e = (t - s - t2 * t / 6.0) / (t2 * t2 * t);
+  }
+  double c3 = 0.5 * (c2 + 3.0 * e);
+  double W[9], V[9], WV[9], VW[9], WVW[9], W2V[9], VW2[9], WVW2[9], W2VW[9];
+  phm_so3_hat(x, W);
+  phm_so3_hat(x + 3, V);
+  mat3_mul(W, V, WV);
+  mat3_mul(V, W, VW);
+  mat3_mul(WV, W, WVW);
+  mat3_mul(W, WV, W2V);
+  mat3_mul(VW, W, VW2);
+  mat3_mul(WVW, W, WVW2);
+  mat3_mul(W, WVW, W2VW);
+  for (int i = 0; i < 9; i++)
+    Q[i] = 0.5 * V[i] + c1 * (WV[i] + VW[i] + WVW[i]) + c2 * (W2V[i] + VW2[i] - 3.0 * WVW[i]) +
+           c3 * (WVW2[i] + W2VW[i]);
+}
+
+void phm_se3_dexp(const double x[6], double D[36]) {
+  double A[9], Q[9];
+  phm_so3_jac(x, A);
+  se3_dexp_Q(x, Q);
+  block_lower(A, Q, D);
+}
+
+void phm_se3_dexp_inv(const double x[6], double Di[36]) {
+  double Ai[9], Q[9], T[9], L[9];
+  phm_so3_jac_inv(x, Ai);
+  se3_dexp_Q(x, Q);
+  mat3_mul(Ai, Q, T);
+  mat3_mul(T, Ai, L);
+  for (int i = 0; i < 9; i++) L[i] = -L[i];
+  block_lower(Ai, L, Di);
+}
+
+/* ---------------------------------------------------------------- quaternions */
+
+void phm_quat_to_rot(const double q[4], double R[9]) {
+  double n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+  if (!(n2 > 0.0)) { /* zero quaternion: identity (callers should reject it) */
+    static const double I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    memcpy(R, I, sizeof I);
+    return;
+  }
+  double s = 2.0 / n2;
+  double w = q[0], x = q[1], y = q[2], z = q[3];
+  R[0] = 1.0 - s * (y * y + z * z);
+  R[1] = s * (x * y - w * z);
+  R[2] = s * (x * z + w * y);
+  R[3] = s * (x * y + w * z);
+  R[4] = 1.0 - s * (x * x + z * z);
+  R[5] = s * (y * z - w * x);
+  R[6] = s * (x * z - w * y);
+  R[7] = s * (y * z + w * x);
+  R[8] = 1.0 - s * (x * x + y * y);
+}
+
+void phm_quat_from_rot(const double R[9], double q[4]) {
+  double tr = R[0] + R[4] + R[8];
+  double d[4] = {tr, R[0], R[4], R[8]};
+  int k = 0;
+  for (int i = 1; i < 4; i++)
+    if (d[i] > d[k]) k = i;
+  double r, f;
+  switch (k) {
+  case 0:
+    r = sqrt(fmax(1.0 + tr, 0.0));
+    f = r > 0.0 ? 0.5 / r : 0.0;
+    q[0] = 0.5 * r;
+    q[1] = (R[7] - R[5]) * f;
+    q[2] = (R[2] - R[6]) * f;
+    q[3] = (R[3] - R[1]) * f;
+    break;
+  case 1:
+    r = sqrt(fmax(1.0 + R[0] - R[4] - R[8], 0.0));
+    f = r > 0.0 ? 0.5 / r : 0.0;
+    q[0] = (R[7] - R[5]) * f;
+    q[1] = 0.5 * r;
+    q[2] = (R[1] + R[3]) * f;
+    q[3] = (R[2] + R[6]) * f;
+    break;
+  case 2:
+    r = sqrt(fmax(1.0 - R[0] + R[4] - R[8], 0.0));
+    f = r > 0.0 ? 0.5 / r : 0.0;
+    q[0] = (R[2] - R[6]) * f;
+    q[1] = (R[1] + R[3]) * f;
+    q[2] = 0.5 * r;
+    q[3] = (R[5] + R[7]) * f;
+    break;
+  default:
+    r = sqrt(fmax(1.0 - R[0] - R[4] + R[8], 0.0));
+    f = r > 0.0 ? 0.5 / r : 0.0;
+    q[0] = (R[3] - R[1]) * f;
+    q[1] = (R[2] + R[6]) * f;
+    q[2] = (R[5] + R[7]) * f;
+    q[3] = 0.5 * r;
+    break;
+  }
+  double n = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  if (!(n > 0.0)) { /* not a rotation matrix */
+    q[0] = 1.0;
+    q[1] = q[2] = q[3] = 0.0;
+    return;
+  }
+  double sg = q[0] < 0.0 ? -1.0 / n : 1.0 / n;
+  for (int i = 0; i < 4; i++) q[i] *= sg;
+}
