@@ -24,14 +24,33 @@ PyObject *phm_py_raise(const phm_error *err) {
 
 PyArrayObject *phm_py_double_array(PyObject *obj, const char *what, const npy_intp *tail, int ntail,
                                    int stack) {
-  PyArray_Descr *dt = PyArray_DescrFromType(NPY_DOUBLE);
-  /* Safe casts only: strings, objects and complex numbers are refused, not truncated. */
-  PyArrayObject *a = (PyArrayObject *)PyArray_FromAny(obj, dt, 0, 0, NPY_ARRAY_CARRAY_RO, NULL);
-  if (!a) {
+  /* Convert with NumPy's natural dtype first, so strings, bytes, complex numbers and objects
+   * (None, mixed types) are refused by kind instead of being parsed or truncated by a cast. */
+  if (PyUnicode_Check(obj) || PyBytes_Check(obj)) {
+    PyErr_Format(PyExc_ValueError, "%s: expected an array of real numbers, got a string", what);
+    return NULL;
+  }
+  PyArrayObject *raw = (PyArrayObject *)PyArray_FromAny(obj, NULL, 0, 0, 0, NULL);
+  if (!raw) {
     PyErr_Clear();
     PyErr_Format(PyExc_ValueError, "%s: expected an array of real numbers", what);
     return NULL;
   }
+  int t = PyArray_TYPE(raw);
+  if (!(PyTypeNum_ISBOOL(t) || PyTypeNum_ISINTEGER(t) || PyTypeNum_ISFLOAT(t))) {
+    const char *kind = PyTypeNum_ISCOMPLEX(t)  ? "complex"
+                       : PyTypeNum_ISSTRING(t) ? "string"
+                       : PyTypeNum_ISOBJECT(t) ? "object (e.g. None or mixed types)"
+                                               : "non-numeric";
+    PyErr_Format(PyExc_ValueError, "%s: expected an array of real numbers, got %s values", what,
+                 kind);
+    Py_DECREF(raw);
+    return NULL;
+  }
+  PyArrayObject *a = (PyArrayObject *)PyArray_FromAny(
+      (PyObject *)raw, PyArray_DescrFromType(NPY_DOUBLE), 0, 0, NPY_ARRAY_CARRAY_RO, NULL);
+  Py_DECREF(raw);
+  if (!a) return NULL;
   int nd = PyArray_NDIM(a);
   int ok = stack ? nd >= ntail : nd == ntail;
   for (int i = 0; ok && i < ntail; i++) ok = PyArray_DIM(a, nd - ntail + i) == tail[i];

@@ -9,36 +9,7 @@
 
 typedef void (*kernel_fn)(const double *, double *);
 
-/* Reject what phm_py_double_array's cast would silently accept or mangle: str/bytes, and
- * sequences whose natural NumPy dtype is not bool/integer/float (strings, complex, object/None). */
-static int check_real(PyObject *obj, const char *what) {
-  if (PyUnicode_Check(obj) || PyBytes_Check(obj)) {
-    PyErr_Format(PyExc_ValueError, "%s: expected an array of real numbers, got a string", what);
-    return -1;
-  }
-  PyArrayObject *a = (PyArrayObject *)PyArray_FromAny(obj, NULL, 0, 0, 0, NULL);
-  if (!a) {
-    PyErr_Clear();
-    PyErr_Format(PyExc_ValueError, "%s: expected an array of real numbers", what);
-    return -1;
-  }
-  int t = PyArray_TYPE(a);
-  int ok = PyTypeNum_ISBOOL(t) || PyTypeNum_ISINTEGER(t) || PyTypeNum_ISFLOAT(t);
-  const char *kind = PyTypeNum_ISCOMPLEX(t)  ? "complex"
-                     : PyTypeNum_ISSTRING(t) ? "string"
-                     : PyTypeNum_ISOBJECT(t) ? "object (e.g. None or mixed types)"
-                                             : "non-numeric";
-  Py_DECREF(a);
-  if (!ok) {
-    PyErr_Format(PyExc_ValueError, "%s: expected an array of real numbers, got %s values", what,
-                 kind);
-    return -1;
-  }
-  return 0;
-}
-
 static PyArrayObject *get_array(PyObject *obj, const char *what, const npy_intp *tail, int ntail) {
-  if (check_real(obj, what) < 0) return NULL;
   return phm_py_double_array(obj, what, tail, ntail, 1);
 }
 
