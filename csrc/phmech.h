@@ -66,7 +66,195 @@ void phm_quat_to_rot(const double q[4], double R[9]);    /* q need not be normal
 void phm_quat_from_rot(const double R[9], double q[4]);  /* Shepperd; returns q with w >= 0 */
 
 /* ---------------------------------------------------------------- mixed finite element (beam_mixed.c) */
+/* Golo's mixed finite element (alpha family; alpha = 1/2 is the paper's) for the LINEAR planar
+ * Timoshenko beam: transverse displacement w, section rotation phi, s in [0, L].
+ * State of element k (h = L/N), integrated energy variables, x_k = (P_t, E_s, P_r, K):
+ *   transverse momentum, shear strain, angular momentum, curvature (each integrated over the element).
+ * Hamiltonian H = x^T Q x / 2, Q = diag(1/(rhoA h), kGA/h, 1/(rhoI h), EI/h) per element; so the
+ * co-energy (Q x)_k = (v, Qs, omega, M): velocity, shear force, angular velocity, bending moment.
+ * Boundary ports of the chain: u = (v(0), omega(0), Qs(L), M(L)), y = (-Qs(0), -M(0), v(L), omega(L)),
+ *   dx/dt = J Q x + B u,  y = B^T Q x + D u,  J = -J^T, D = -D^T,  so dH/dt = u^T y.
+ * A boundary condition sets each of the four ports either "input = 0" (the port is dropped) or
+ * "output = 0" (the input becomes a Lagrange multiplier lambda, dx/dt = J Q x + G lambda, G^T Q x = 0).
+ * Matrices are row-major; sizes: n = 4N states, J and Q n x n, B n x 4, D 4 x 4. */
+typedef enum {
+  PHM_MIXED_CLAMPED_FREE = 0,    /* v = omega = 0 at s = 0; Qs = M = 0 at s = L (cantilever) */
+  PHM_MIXED_CLAMPED_CLAMPED = 1, /* v = omega = 0 at both ends                               */
+  PHM_MIXED_PINNED_PINNED = 2,   /* v = M = 0 at both ends (simply supported)                 */
+  PHM_MIXED_CLAMPED_PINNED = 3   /* v = omega = 0 at s = 0; v = M = 0 at s = L               */
+} phm_mixed_bc;
+
+#define PHM_MIXED_NMAX 1000 /* dense matrices: 4N x 4N */
+
+typedef struct {
+  int N;                          /* number of elements, 1 <= N <= PHM_MIXED_NMAX          */
+  double L;                       /* length [m]                                             */
+  double EI, kGA;                 /* bending [N m^2] and shear [N] stiffness                */
+  double rhoA, rhoI;              /* mass per length [kg/m], rotary inertia per length [kg m] */
+  double alpha;                   /* Golo's weight, 0 <= alpha < 1 (paper: 1/2); alpha > 1/2
+                                   * is refused when (alpha/(1-alpha))^N > 1e6 (ill-conditioned) */
+} phm_mixed_beam;
+
+/* Validate the parameters (finite, positive, N in range, alpha in [0, 1)). */
+phm_status phm_mixed_check(const phm_mixed_beam *beam, phm_error *err);
+/* Parse "clamped-free", "clamped-clamped", "pinned-pinned", "clamped-pinned". */
+phm_status phm_mixed_bc_from_name(const char *name, phm_mixed_bc *bc, phm_error *err);
+/* For each of the four ports of u: 0 = input set to zero, 1 = output constrained to zero. */
+void phm_mixed_bc_ports(phm_mixed_bc bc, int constrained[4]);
+/* One element of length h, ports u = (v_a, omega_a, Qs_b, M_b), y = (-Qs_a, -M_a, v_b, omega_b):
+ * J, Q, B, D are 4x4 (Q diagonal, stored full). */
+phm_status phm_mixed_element(double h, double EI, double kGA, double rhoA, double rhoI,
+                             double alpha, double J[16], double Q[16], double B[16], double D[16],
+                             phm_error *err);
+/* The chain of N elements interconnected through their node ports (any output may be NULL). */
+phm_status phm_mixed_assemble(const phm_mixed_beam *beam, double *J, double *Q, double *B,
+                              double *D, phm_error *err);
+/* The first n natural frequencies [rad/s], ascending, of the beam under bc, 1 <= n <= 2N: the
+ * positive imaginary parts of the eigenvalues of Q^1/2 J Q^1/2 on the constraint subspace,
+ * computed as singular values (LAPACK dgesvd) of its momentum-strain block; zero frequencies of
+ * rigid-body or constraint modes are skipped. */
+phm_status phm_mixed_frequencies(const phm_mixed_beam *beam, phm_mixed_bc bc, int n, double *omega,
+                                 phm_error *err);
+
 
 /* ---------------------------------------------------------------- model, simulation, modes (model.c) */
+
+/* A model is built once from flat descriptions (copied; the caller may free them afterwards) and
+ * is immutable. Carriers are rigid bodies and beam nodes alike: a frame with a 6x6 spatial inertia
+ * M (body coordinates, centre of mass may be offset), the mass and centre of mass used for
+ * gravity, an initial pose H0 and body twist t0. Carrier state: unit quaternion q (scalar first),
+ * world position p, body twist t = (omega, v). Equations of motion (DESIGN section 6, GGL form):
+ *   q' = 1/2 q (x) (omega + dw),  p' = R (v + dv)        with (dw, dv) = this carrier's (G^T mu)
+ *   M t' - ad_t^T (M t) = w(H, t, time) + (G^T lambda)  with ad*_t = ad_t^T (DESIGN section 3)
+ *   G(H) t = prescribed rate,  g(H, time) = 0.                                                  */
+
+/* Scalar time laws s(t); an applied wrench or a prescribed motion is s(t) times a fixed vector. */
+typedef enum {
+  PHM_LAW_CONSTANT = 0,  /* s = amplitude                                                  */
+  PHM_LAW_STEP = 1,      /* s = amplitude for t >= t0, else 0                              */
+  PHM_LAW_PULSE = 2,     /* s = amplitude for t0 <= t < t0 + duration, else 0 ("impulse")  */
+  PHM_LAW_SINE = 3,      /* s = offset + amplitude sin(2 pi frequency t + phase)           */
+  PHM_LAW_TABLE = 4,     /* piecewise linear through (t_i, s_i), constant outside          */
+  PHM_LAW_CYCLOIDAL = 5  /* smooth ramp 0 -> amplitude on [t0, t0 + duration] (C2)          */
+} phm_law_kind;
+
+typedef struct {
+  int kind;                           /* phm_law_kind                                       */
+  double amplitude, t0, duration;     /* see phm_law_kind                                   */
+  double frequency, phase, offset;    /* sine: Hz, rad, offset                              */
+  int ntable;                         /* table: number of points (>= 1), times increasing   */
+  const double *table;                /* table: ntable (t, s) pairs, row-major [ntable][2]   */
+} phm_law;
+
+/* s(t) and its first two derivatives (ds, dds may be NULL). The piece of a piecewise law is
+ * chosen by tref (a time inside the current breakpoint interval), its formula evaluated at t. */
+double phm_law_eval(const phm_law *law, double t, double tref, double *ds, double *dds);
+
+typedef struct {
+  double M[36];      /* spatial inertia at the carrier frame, body coordinates, kg, kg m, kg m^2 */
+  double mass;       /* kg, for gravity                                                  */
+  double com[3];     /* centre of mass in body coordinates, m                            */
+  double H0[16];     /* initial pose                                                      */
+  double t0[6];      /* initial body twist (omega, v)                                     */
+} phm_carrier_desc;
+
+/* se3 beam element between carriers a (node k) and b (node k+1) (DESIGN section 4). */
+typedef struct {
+  int a, b;          /* carrier indices                                                   */
+  double h;          /* element length, m                                                 */
+  double K[36];      /* section stiffness (symmetric positive definite)                   */
+  double D[36];      /* section viscous damping (symmetric positive semidefinite)         */
+  double eps_hat[6]; /* unstressed strain (kappa_hat, 1, 0, 0) for the curved/straight shape */
+} phm_element_desc;
+
+typedef enum {
+  PHM_PAIR_FIXED = 0 /* 6 constraints: relative pose = r(t) */
+  /* TODO(pairs): revolute, prismatic, helical, cylindrical, universal, spherical, planar, free. */
+} phm_pair_type;
+
+/* A kinematic pair between frame Ta on carrier a and Tb on carrier b (-1 = ground). Relative pose
+ * h = (H_a Ta)^-1 (H_b Tb); reference r(t) = exp(s(t) axis) when driven, else identity.
+ * Constraint wrench lambda acts on b (in frame Tb, basis W^C) and equal and opposite on a. */
+typedef struct {
+  int type;          /* phm_pair_type                                                     */
+  int a, b;          /* carriers, -1 = ground                                             */
+  double Ta[16], Tb[16];
+  int driven;        /* 0: r = identity; 1: r(t) = exp(law(t) * axis)                     */
+  double axis[6];    /* twist direction of the prescribed motion (omega, v)               */
+  phm_law law;
+} phm_pair_desc;
+
+/* Applied wrench law(t) * w on a carrier, at a point (body coordinates) of it. */
+typedef struct {
+  int carrier;
+  int world;         /* 1: w = (tau, f) in world axes; 0: in body axes                    */
+  double point[3];   /* point of application in body coordinates, m                       */
+  double w[6];       /* (tau, f), N m and N                                               */
+  phm_law law;
+} phm_load_desc;
+
+typedef struct {
+  int ncarriers;  const phm_carrier_desc *carriers;
+  int nelements;  const phm_element_desc *elements;
+  int npairs;     const phm_pair_desc *pairs;
+  int nloads;     const phm_load_desc *loads;
+  double gravity[3]; /* m/s^2, world */
+} phm_model_desc;
+
+typedef struct phm_model phm_model;
+
+/* Validate and copy a description into a new model (*out); free with phm_model_free. */
+phm_status phm_model_create(const phm_model_desc *desc, phm_model **out, phm_error *err);
+void phm_model_free(phm_model *model);
+int phm_model_ncarriers(const phm_model *model);
+int phm_model_nconstraints(const phm_model *model);   /* rows of G (lambda's length)      */
+
+/* Energies at poses H (nc x 16) and twists t (nc x 6): e[0] kinetic, e[1] elastic, e[2] gravity. */
+void phm_model_energy(const phm_model *model, const double *H, const double *t, double e[3]);
+
+typedef int (*phm_callback)(void *ctx, double t, int iout); /* non-zero return stops the run */
+
+typedef struct {
+  double rtol, atol;      /* IDA tolerances (atol scalar)                                  */
+  int linear_solver;      /* 0 dense (IDA difference-quotient Jacobian), 1 KLU (coloured FD) */
+  long max_steps;         /* per output interval; <= 0: 10^7                                */
+  double max_step;        /* <= 0: no limit                                                 */
+  phm_callback interrupt; /* called at each output; non-zero: stop with PHM_EINTERRUPT      */
+  phm_callback progress;  /* called at each output; non-zero: stop quietly (PHM_OK)         */
+  void *ctx;
+} phm_sim_options;
+
+#define PHM_NENERGY 7 /* kinetic, elastic, gravity, dissipated, supplied, total, ledger residual */
+
+/* Caller-allocated output for nout times (arrays may be NULL to skip). */
+typedef struct {
+  double *poses;   /* [nout][nc][16]                                   */
+  double *twists;  /* [nout][nc][6]                                    */
+  double *lambda;  /* [nout][nconstraints]                             */
+  double *energy;  /* [nout][PHM_NENERGY]                              */
+  int nout_done;   /* outputs filled                                    */
+  long nsteps, nres, njac, nniters, netf, nncf; /* IDA statistics      */
+  double wall_time;                             /* seconds             */
+} phm_sim_output;
+
+/* Integrate from tout[0] (initial poses/twists: poses0/twists0, or the model's H0/t0 if NULL),
+ * after a consistent-initial-value projection, and sample at the increasing times tout[0..nout). */
+phm_status phm_simulate(const phm_model *model, const double *poses0, const double *twists0,
+                        const double *tout, int nout, const phm_sim_options *opt,
+                        phm_sim_output *out, phm_error *err);
+
+/* Linearized modes at poses (NULL: H0) with constraint wrenches lambda (NULL: zero), loads at
+ * `time`: nmodes lowest omega (rad/s), damping ratios zeta, shapes [nmodes][nc][6] (tangent
+ * coordinates, mass-normalized); *nfound = modes returned (<= nmodes, limited by the free DOF). */
+phm_status phm_modes(const phm_model *model, const double *poses, const double *lambda,
+                     double time, int nmodes, double *omega, double *zeta, double *shapes,
+                     int *nfound, phm_error *err);
+
+/* Static equilibrium under the loads and gravity at `time`, scaled from 0 to 1 in `steps` load
+ * steps (halved on failure); Newton with dense LU. poses: start (NULL: H0); results in poses_out
+ * (nc x 16) and lambda_out (nconstraints); *iters = total Newton iterations. */
+phm_status phm_static(const phm_model *model, const double *poses, double time, int steps,
+                      double tol, double *poses_out, double *lambda_out, int *iters,
+                      phm_error *err);
 
 #endif /* PHMECH_H */

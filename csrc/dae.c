@@ -1,0 +1,671 @@
+/* dae.c -- the stabilized index-2 DAE (DESIGN section 6), consistent initial values and the IDA
+ * driver. State layout: per carrier (q[4], p[3], t[6]); then the energy ledger integrals
+ * (dissipated, supplied); then lambda (ncons); then mu (ncons). */
+#define _POSIX_C_SOURCE 200809L
+#include "model_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <ida/ida.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunlinsol/sunlinsol_klu.h>
+#include <sunmatrix/sunmatrix_dense.h>
+#include <sunmatrix/sunmatrix_sparse.h>
+
+typedef struct {
+  const phm_model *m;
+  int n, ie, il, im; /* sizes and offsets of the state blocks */
+  double tref;
+  double *H, *tw, *wr, *gl, *gm; /* scratch, allocated at set-up */
+  char idamsg[256];
+  /* KLU: sparsity pattern (CSC) and column colouring for the finite-difference Jacobian */
+  int nnz, ncolor;
+  sunindextype *colptr, *rowind;
+  int *color;
+  double *ytmp, *yptmp, *rtmp, *r0;
+} dae_t;
+
+static double now(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+static void mv6(const double A[36], const double x[6], double y[6]) {
+  for (int i = 0; i < 6; i++) {
+    double s = 0;
+    for (int j = 0; j < 6; j++) s += A[6 * i + j] * x[j];
+    y[i] = s;
+  }
+}
+
+/* ad_t^T m = (-w x L - v x P, -w x P) */
+static void ad_dual_apply(const double t[6], const double mm[6], double out[6]) {
+  const double *w = t, *v = t + 3, *L = mm, *P = mm + 3;
+  out[0] = -(w[1] * L[2] - w[2] * L[1]) - (v[1] * P[2] - v[2] * P[1]);
+  out[1] = -(w[2] * L[0] - w[0] * L[2]) - (v[2] * P[0] - v[0] * P[2]);
+  out[2] = -(w[0] * L[1] - w[1] * L[0]) - (v[0] * P[1] - v[1] * P[0]);
+  out[3] = -(w[1] * P[2] - w[2] * P[1]);
+  out[4] = -(w[2] * P[0] - w[0] * P[2]);
+  out[5] = -(w[0] * P[1] - w[1] * P[0]);
+}
+
+/* The DAE residual; no allocation. */
+static int dae_residual(dae_t *d, double time, const double *y, const double *yp, double *F) {
+  const phm_model *m = d->m;
+  int nc = m->nc;
+  for (int c = 0; c < nc; c++) {
+    const double *yc = y + PHM_NSTATE * c;
+    phm_qp_to_H(yc, yc + 4, d->H + 16 * c);
+    memcpy(d->tw + 6 * c, yc + 7, 6 * sizeof(double));
+  }
+  double Pd = 0, Ps = 0;
+  phm_applied(m, d->H, d->tw, time, d->tref, 1.0, d->wr, NULL, &Pd, &Ps);
+  memset(d->gl, 0, sizeof(double) * 6 * (size_t)nc);
+  memset(d->gm, 0, sizeof(double) * 6 * (size_t)nc);
+  for (int ip = 0; ip < m->np; ip++) {
+    const phm_pair_desc *pr = &m->pair[ip];
+    int r0 = m->pair_row[ip], mc = m->pair_m[ip];
+    double g[PHM_MAXCON], Ga[6 * PHM_MAXCON], Gb[6 * PHM_MAXCON], vt[PHM_MAXCON];
+    phm_pair_eval(m, ip, pr->a >= 0 ? d->H + 16 * pr->a : NULL, pr->b >= 0 ? d->H + 16 * pr->b : NULL,
+                  time, d->tref, g, Ga, Gb, vt);
+    const double *lam = y + d->il + r0, *mu = y + d->im + r0;
+    for (int r = 0; r < mc; r++) {
+      double c = -vt[r];
+      for (int j = 0; j < 6; j++) {
+        if (pr->a >= 0) {
+          c += Ga[6 * r + j] * d->tw[6 * pr->a + j];
+          d->gl[6 * pr->a + j] += Ga[6 * r + j] * lam[r];
+          d->gm[6 * pr->a + j] += Ga[6 * r + j] * mu[r];
+        }
+        if (pr->b >= 0) {
+          c += Gb[6 * r + j] * d->tw[6 * pr->b + j];
+          d->gl[6 * pr->b + j] += Gb[6 * r + j] * lam[r];
+          d->gm[6 * pr->b + j] += Gb[6 * r + j] * mu[r];
+        }
+      }
+      F[d->il + r0 + r] = c;    /* velocity constraint -> lambda */
+      F[d->im + r0 + r] = g[r]; /* position constraint -> mu     */
+    }
+  }
+  for (int c = 0; c < nc; c++) {
+    const double *yc = y + PHM_NSTATE * c, *ypc = yp + PHM_NSTATE * c;
+    double *Fc = F + PHM_NSTATE * c;
+    const double *q = yc, *t = yc + 7, *Hc = d->H + 16 * c, *gm = d->gm + 6 * c;
+    double w[3] = {t[0] + gm[0], t[1] + gm[1], t[2] + gm[2]};
+    double v[3] = {t[3] + gm[3], t[4] + gm[4], t[5] + gm[5]};
+    /* q' = 1/2 q (x) (0, w) */
+    Fc[0] = ypc[0] + 0.5 * (q[1] * w[0] + q[2] * w[1] + q[3] * w[2]);
+    Fc[1] = ypc[1] - 0.5 * (q[0] * w[0] + q[2] * w[2] - q[3] * w[1]);
+    Fc[2] = ypc[2] - 0.5 * (q[0] * w[1] + q[3] * w[0] - q[1] * w[2]);
+    Fc[3] = ypc[3] - 0.5 * (q[0] * w[2] + q[1] * w[1] - q[2] * w[0]);
+    for (int i = 0; i < 3; i++)
+      Fc[4 + i] = ypc[4 + i] - (Hc[4 * i] * v[0] + Hc[4 * i + 1] * v[1] + Hc[4 * i + 2] * v[2]);
+    double Mt[6], adm[6], Mtd[6];
+    mv6(d->m->car[c].M, t, Mt);
+    ad_dual_apply(t, Mt, adm);
+    mv6(d->m->car[c].M, ypc + 7, Mtd);
+    for (int i = 0; i < 6; i++) Fc[7 + i] = Mtd[i] - adm[i] - d->wr[6 * c + i] - d->gl[6 * c + i];
+    for (int i = 0; i < 6; i++) Ps += d->gl[6 * c + i] * t[i]; /* power of constraint wrenches */
+  }
+  F[d->ie] = yp[d->ie] - Pd;
+  F[d->ie + 1] = yp[d->ie + 1] - Ps;
+  return 0;
+}
+
+static int ida_res(realtype t, N_Vector yy, N_Vector yp, N_Vector rr, void *ud) {
+  return dae_residual((dae_t *)ud, t, N_VGetArrayPointer(yy), N_VGetArrayPointer(yp),
+                      N_VGetArrayPointer(rr));
+}
+
+static void ida_err_handler(int code, const char *module, const char *function, char *msg, void *ud) {
+  dae_t *d = (dae_t *)ud;
+  (void)code;
+  snprintf(d->idamsg, sizeof d->idamsg, "%s/%s: %s", module, function, msg);
+}
+
+static void dae_free(dae_t *d) {
+  free(d->H);
+  free(d->tw);
+  free(d->wr);
+  free(d->gl);
+  free(d->gm);
+  free(d->colptr);
+  free(d->rowind);
+  free(d->color);
+  free(d->ytmp);
+  free(d->yptmp);
+  free(d->rtmp);
+  free(d->r0);
+}
+
+static phm_status dae_init(dae_t *d, const phm_model *m, phm_error *err) {
+  memset(d, 0, sizeof *d);
+  d->m = m;
+  d->ie = PHM_NSTATE * m->nc;
+  d->il = d->ie + 2;
+  d->im = d->il + m->ncons;
+  d->n = d->im + m->ncons;
+  size_t nc = (size_t)m->nc;
+  d->H = malloc(sizeof(double) * 16 * nc);
+  d->tw = malloc(sizeof(double) * 6 * nc);
+  d->wr = malloc(sizeof(double) * 6 * nc);
+  d->gl = malloc(sizeof(double) * 6 * nc);
+  d->gm = malloc(sizeof(double) * 6 * nc);
+  if (!d->H || !d->tw || !d->wr || !d->gl || !d->gm) {
+    dae_free(d);
+    return phm_error_set(err, PHM_ENOMEM, "out of memory");
+  }
+  return PHM_OK;
+}
+
+/* ---------------------------------------------------------------- consistent initial values */
+/* Project poses H (nc x 16) onto g = 0 and twists tw onto G t = vt; then solve the acceleration-
+ * level system for t' and lambda. Writes y (carrier blocks and lambda, mu = 0) and yp (all but the
+ * ledger values in y, which the caller sets). qprev: previous quaternions for sign continuity. */
+static phm_status consistent_ic(dae_t *d, double time, double *H, double *tw, const double *qprev,
+                                double *y, double *yp, phm_error *err) {
+  const phm_model *m = d->m;
+  int nc = m->nc, n6 = 6 * nc, nk = m->ncons;
+  phm_status st = PHM_OK;
+  size_t big = (size_t)(n6 + nk) * (size_t)(n6 + nk);
+  double *G = malloc(sizeof(double) * ((size_t)nk * n6 + 1));
+  double *A = malloc(sizeof(double) * (big + 1));
+  double *b = malloc(sizeof(double) * (size_t)(n6 + nk + 1) * 2);
+  double *g = malloc(sizeof(double) * (size_t)(nk + 1));
+  double *vt = malloc(sizeof(double) * (size_t)(nk + 1));
+  double *Hp = malloc(sizeof(double) * 16 * (size_t)nc);
+  double *c1 = malloc(sizeof(double) * (size_t)(nk + 1) * 2);
+  if (!G || !A || !b || !g || !vt || !Hp || !c1) {
+    st = phm_error_set(err, PHM_ENOMEM, "out of memory");
+    goto done;
+  }
+  if (nk > 0) {
+    /* positions */
+    double gn = 0;
+    int it;
+    for (it = 0; it < 50; it++) {
+      phm_constraints_dense(m, H, time, d->tref, g, G, NULL);
+      gn = 0;
+      for (int i = 0; i < nk; i++) gn = fmax(gn, fabs(g[i]));
+      if (gn < 1e-13) break;
+      memcpy(A, G, sizeof(double) * (size_t)nk * n6);
+      for (int i = 0; i < nk; i++) b[i] = -g[i];
+      if ((st = phm_lstsq(nk, n6, A, b, NULL, err))) goto done;
+      for (int c = 0; c < nc; c++) phm_retract(H + 16 * c, b + 6 * c);
+    }
+    if (gn > 1e-9) {
+      st = phm_error_set(err, PHM_EINVAL, "initial configuration: position constraints cannot be met (|g| = %.3e after projection); check the pairs' frames", gn);
+      goto done;
+    }
+    /* velocities */
+    phm_constraints_dense(m, H, time, d->tref, NULL, G, vt);
+    for (int r = 0; r < nk; r++) {
+      double s = -vt[r];
+      for (int j = 0; j < n6; j++) s += G[(size_t)r * n6 + j] * tw[j];
+      b[r] = -s;
+    }
+    memcpy(A, G, sizeof(double) * (size_t)nk * n6);
+    if ((st = phm_lstsq(nk, n6, A, b, NULL, err))) goto done;
+    for (int j = 0; j < n6; j++) tw[j] += b[j];
+  }
+  /* acceleration level: [M -G^T; G 0] [t'; lambda] = [ad^T M t + w; -dc/dt] */
+  phm_applied(m, H, tw, time, d->tref, 1.0, d->wr, NULL, NULL, NULL);
+  int N = n6 + nk;
+  memset(A, 0, sizeof(double) * big);
+  for (int c = 0; c < nc; c++) {
+    const double *M = m->car[c].M;
+    for (int i = 0; i < 6; i++)
+      for (int j = 0; j < 6; j++) A[(size_t)(6 * c + i) * N + 6 * c + j] = M[6 * i + j];
+    double Mt[6], adm[6];
+    mv6(M, tw + 6 * c, Mt);
+    ad_dual_apply(tw + 6 * c, Mt, adm);
+    for (int i = 0; i < 6; i++) b[6 * c + i] = adm[i] + d->wr[6 * c + i];
+  }
+  if (nk > 0) {
+    phm_constraints_dense(m, H, time, d->tref, NULL, G, NULL);
+    for (int r = 0; r < nk; r++)
+      for (int j = 0; j < n6; j++) {
+        A[(size_t)(n6 + r) * N + j] = G[(size_t)r * n6 + j];
+        A[(size_t)j * N + n6 + r] = -G[(size_t)r * n6 + j];
+      }
+    /* dc/dt at fixed t' by central differences along the motion */
+    double tau = 1e-6;
+    for (int side = 0; side < 2; side++) {
+      double s = side ? -tau : tau;
+      for (int c = 0; c < nc; c++) {
+        double dl[6];
+        for (int i = 0; i < 6; i++) dl[i] = s * tw[6 * c + i];
+        memcpy(Hp + 16 * c, H + 16 * c, 16 * sizeof(double));
+        phm_retract(Hp + 16 * c, dl);
+      }
+      phm_constraints_dense(m, Hp, time + s, d->tref, NULL, G, vt);
+      for (int r = 0; r < nk; r++) {
+        double acc = -vt[r];
+        for (int j = 0; j < n6; j++) acc += G[(size_t)r * n6 + j] * tw[j];
+        c1[side * nk + r] = acc;
+      }
+    }
+    for (int r = 0; r < nk; r++) b[n6 + r] = -(c1[r] - c1[nk + r]) / (2 * tau);
+  }
+  if ((st = phm_lstsq(N, N, A, b, NULL, err))) goto done;
+  /* write y and yp */
+  for (int c = 0; c < nc; c++) {
+    double *yc = y + PHM_NSTATE * c, *ypc = yp + PHM_NSTATE * c;
+    phm_H_to_qp(H + 16 * c, yc, yc + 4);
+    if (qprev) {
+      const double *qo = qprev + PHM_NSTATE * c;
+      if (yc[0] * qo[0] + yc[1] * qo[1] + yc[2] * qo[2] + yc[3] * qo[3] < 0)
+        for (int i = 0; i < 4; i++) yc[i] = -yc[i];
+    }
+    memcpy(yc + 7, tw + 6 * c, 6 * sizeof(double));
+    const double *q = yc, *w = tw + 6 * c, *v = tw + 6 * c + 3, *Hc = H + 16 * c;
+    ypc[0] = -0.5 * (q[1] * w[0] + q[2] * w[1] + q[3] * w[2]);
+    ypc[1] = 0.5 * (q[0] * w[0] + q[2] * w[2] - q[3] * w[1]);
+    ypc[2] = 0.5 * (q[0] * w[1] + q[3] * w[0] - q[1] * w[2]);
+    ypc[3] = 0.5 * (q[0] * w[2] + q[1] * w[1] - q[2] * w[0]);
+    for (int i = 0; i < 3; i++) ypc[4 + i] = Hc[4 * i] * v[0] + Hc[4 * i + 1] * v[1] + Hc[4 * i + 2] * v[2];
+    memcpy(ypc + 7, b + 6 * c, 6 * sizeof(double));
+  }
+  for (int r = 0; r < nk; r++) {
+    y[d->il + r] = b[n6 + r];
+    y[d->im + r] = 0;
+    yp[d->il + r] = yp[d->im + r] = 0;
+  }
+  /* ledger rates */
+  {
+    double Pd = 0, Ps = 0;
+    phm_applied(m, H, tw, time, d->tref, 1.0, d->wr, NULL, &Pd, &Ps);
+    double *tmp = malloc(sizeof(double) * (size_t)d->n);
+    if (tmp) {
+      /* use the residual to get the supplied power including constraint wrenches */
+      yp[d->ie] = yp[d->ie + 1] = 0;
+      dae_residual(d, time, y, yp, tmp);
+      yp[d->ie] = -tmp[d->ie];
+      yp[d->ie + 1] = -tmp[d->ie + 1];
+      free(tmp);
+    } else {
+      yp[d->ie] = Pd;
+      yp[d->ie + 1] = Ps;
+    }
+  }
+done:
+  free(G);
+  free(A);
+  free(b);
+  free(g);
+  free(vt);
+  free(Hp);
+  free(c1);
+  return st;
+}
+
+/* ---------------------------------------------------------------- output */
+static void record(dae_t *d, const double *y, phm_sim_output *out, int iout, double E0[1]) {
+  const phm_model *m = d->m;
+  int nc = m->nc;
+  for (int c = 0; c < nc; c++) {
+    const double *yc = y + PHM_NSTATE * c;
+    phm_qp_to_H(yc, yc + 4, d->H + 16 * c);
+    memcpy(d->tw + 6 * c, yc + 7, 6 * sizeof(double));
+  }
+  if (out->poses) memcpy(out->poses + (size_t)iout * 16 * nc, d->H, sizeof(double) * 16 * nc);
+  if (out->twists) memcpy(out->twists + (size_t)iout * 6 * nc, d->tw, sizeof(double) * 6 * nc);
+  if (out->lambda && m->ncons)
+    memcpy(out->lambda + (size_t)iout * m->ncons, y + d->il, sizeof(double) * m->ncons);
+  double e[3];
+  phm_model_energy(m, d->H, d->tw, e);
+  double tot = e[0] + e[1] + e[2];
+  if (iout == 0) E0[0] = tot;
+  if (out->energy) {
+    double *o = out->energy + (size_t)iout * PHM_NENERGY;
+    o[0] = e[0];
+    o[1] = e[1];
+    o[2] = e[2];
+    o[3] = y[d->ie];
+    o[4] = y[d->ie + 1];
+    o[5] = tot;
+    o[6] = tot - E0[0] - (y[d->ie + 1] - y[d->ie]);
+  }
+  out->nout_done = iout + 1;
+}
+
+/* ---------------------------------------------------------------- KLU Jacobian (coloured FD) */
+/* Structural coupling of the state blocks: carrier c's rows depend on the carriers it shares an
+ * element or pair with, the ledger and multiplier columns of its pairs. */
+static phm_status klu_pattern(dae_t *d, phm_error *err);
+static int ida_jac_klu(realtype t, realtype cj, N_Vector yy, N_Vector yp, N_Vector rr, SUNMatrix J,
+                       void *ud, N_Vector t1, N_Vector t2, N_Vector t3);
+
+/* ---------------------------------------------------------------- driver */
+#define IDACHK(call)                                                                           \
+  do {                                                                                         \
+    int flag_ = (call);                                                                        \
+    if (flag_ < 0) {                                                                           \
+      char *nm_ = IDAGetReturnFlagName(flag_);                                                 \
+      st = phm_error_set(err, PHM_ESOLVER, "IDA set-up failed: %s returned %s", #call,         \
+                         nm_ ? nm_ : "?");                                                     \
+      free(nm_);                                                                               \
+      goto done;                                                                               \
+    }                                                                                          \
+  } while (0)
+
+static void add_stats(void *mem, phm_sim_output *out, int use_klu) {
+  long a = 0;
+  if (IDAGetNumSteps(mem, &a) == 0) out->nsteps += a;
+  a = 0;
+  if (IDAGetNumResEvals(mem, &a) == 0) out->nres += a;
+  a = 0;
+  if (!use_klu && IDAGetNumLinResEvals(mem, &a) == 0) out->nres += a;
+  a = 0;
+  if (IDAGetNumJacEvals(mem, &a) == 0) out->njac += a;
+  a = 0;
+  if (IDAGetNumNonlinSolvIters(mem, &a) == 0) out->nniters += a;
+  a = 0;
+  if (IDAGetNumErrTestFails(mem, &a) == 0) out->netf += a;
+  a = 0;
+  if (IDAGetNumNonlinSolvConvFails(mem, &a) == 0) out->nncf += a;
+}
+
+phm_status phm_simulate(const phm_model *m, const double *poses0, const double *twists0,
+                        const double *tout, int nout, const phm_sim_options *opt,
+                        phm_sim_output *out, phm_error *err) {
+  phm_error_clear(err);
+  if (!m || !tout || !opt || !out) return phm_error_set(err, PHM_EINVAL, "phm_simulate: NULL argument");
+  if (nout < 1) return phm_error_set(err, PHM_EINVAL, "need at least one output time");
+  for (int i = 0; i < nout; i++) {
+    if (!isfinite(tout[i])) return phm_error_set(err, PHM_EINVAL, "output time %d is not finite", i);
+    if (i > 0 && !(tout[i] > tout[i - 1]))
+      return phm_error_set(err, PHM_EINVAL, "output times must be strictly increasing (t[%d] = %g <= t[%d] = %g)", i, tout[i], i - 1, tout[i - 1]);
+  }
+  if (!(opt->rtol > 0) || !(opt->atol > 0) || !isfinite(opt->rtol) || !isfinite(opt->atol))
+    return phm_error_set(err, PHM_EINVAL, "rtol and atol must be > 0 (got %g, %g)", opt->rtol, opt->atol);
+  if (opt->linear_solver != 0 && opt->linear_solver != 1)
+    return phm_error_set(err, PHM_EINVAL, "unknown linear solver %d (0 dense, 1 KLU)", opt->linear_solver);
+  double t_start = now();
+  out->nout_done = 0;
+  out->nsteps = out->nres = out->njac = out->nniters = out->netf = out->nncf = 0;
+  phm_status st = PHM_OK;
+  dae_t d;
+  if ((st = dae_init(&d, m, err))) return st;
+  SUNContext ctx = NULL;
+  N_Vector yy = NULL, yp = NULL, id = NULL;
+  SUNMatrix A = NULL;
+  SUNLinearSolver LS = NULL;
+  void *mem = NULL;
+  int nc = m->nc;
+  double *H = malloc(sizeof(double) * 16 * (size_t)nc), *tw = malloc(sizeof(double) * 6 * (size_t)nc);
+  double *qprev = malloc(sizeof(double) * (size_t)d.n);
+  if (!H || !tw || !qprev) {
+    st = phm_error_set(err, PHM_ENOMEM, "out of memory");
+    goto done;
+  }
+  for (int c = 0; c < nc; c++) {
+    memcpy(H + 16 * c, poses0 ? poses0 + 16 * c : m->car[c].H0, 16 * sizeof(double));
+    memcpy(tw + 6 * c, twists0 ? twists0 + 6 * c : m->car[c].t0, 6 * sizeof(double));
+  }
+  if (SUNContext_Create(NULL, &ctx) != 0) {
+    st = phm_error_set(err, PHM_ESOLVER, "SUNContext_Create failed");
+    goto done;
+  }
+  yy = N_VNew_Serial(d.n, ctx);
+  yp = N_VNew_Serial(d.n, ctx);
+  id = N_VNew_Serial(d.n, ctx);
+  if (!yy || !yp || !id) {
+    st = phm_error_set(err, PHM_ENOMEM, "out of memory (N_Vector)");
+    goto done;
+  }
+  double *y = N_VGetArrayPointer(yy), *ypd = N_VGetArrayPointer(yp), *idd = N_VGetArrayPointer(id);
+  for (int i = 0; i < d.n; i++) idd[i] = i < d.il ? 1.0 : 0.0;
+  double t = tout[0], nbp;
+  d.tref = phm_model_tref(m, t, &nbp);
+  memset(y, 0, sizeof(double) * (size_t)d.n);
+  memset(ypd, 0, sizeof(double) * (size_t)d.n);
+  if ((st = consistent_ic(&d, t, H, tw, NULL, y, ypd, err))) goto done;
+  double E0 = 0;
+  record(&d, y, out, 0, &E0);
+  if (opt->interrupt && opt->interrupt(opt->ctx, t, 0)) {
+    st = phm_error_set(err, PHM_EINTERRUPT, "interrupted at t = %g s", t);
+    goto done;
+  }
+  if (opt->progress && opt->progress(opt->ctx, t, 0)) goto done;
+  if (nout == 1) goto done;
+
+  mem = IDACreate(ctx);
+  if (!mem) {
+    st = phm_error_set(err, PHM_ENOMEM, "IDACreate failed");
+    goto done;
+  }
+  IDACHK(IDASetErrHandlerFn(mem, ida_err_handler, &d));
+  IDACHK(IDAInit(mem, ida_res, t, yy, yp));
+  IDACHK(IDASStolerances(mem, opt->rtol, opt->atol));
+  IDACHK(IDASetUserData(mem, &d));
+  IDACHK(IDASetId(mem, id));
+  IDACHK(IDASetSuppressAlg(mem, SUNTRUE));
+  IDACHK(IDASetMaxNumSteps(mem, opt->max_steps > 0 ? opt->max_steps : 10000000L));
+  if (opt->max_step > 0) IDACHK(IDASetMaxStep(mem, opt->max_step));
+  if (opt->linear_solver == 1) {
+    if ((st = klu_pattern(&d, err))) goto done;
+    A = SUNSparseMatrix(d.n, d.n, d.nnz, CSC_MAT, ctx);
+    if (!A) {
+      st = phm_error_set(err, PHM_ENOMEM, "out of memory (sparse matrix)");
+      goto done;
+    }
+    LS = SUNLinSol_KLU(yy, A, ctx);
+  } else {
+    A = SUNDenseMatrix(d.n, d.n, ctx);
+    if (!A) {
+      st = phm_error_set(err, PHM_ENOMEM, "out of memory (dense matrix)");
+      goto done;
+    }
+    LS = SUNLinSol_Dense(yy, A, ctx);
+  }
+  if (!LS) {
+    st = phm_error_set(err, PHM_ESOLVER, "could not create the linear solver");
+    goto done;
+  }
+  IDACHK(IDASetLinearSolver(mem, LS, A));
+  if (opt->linear_solver == 1) IDACHK(IDASetJacFn(mem, ida_jac_klu));
+
+  for (int iout = 1; iout < nout; iout++) {
+    double target = tout[iout];
+    while (t < target) {
+      if (isfinite(nbp)) IDACHK(IDASetStopTime(mem, nbp));
+      double tret = t;
+      int flag = IDASolve(mem, target, &tret, yy, yp, IDA_NORMAL);
+      if (flag < 0) {
+        char *nm = IDAGetReturnFlagName(flag);
+        st = phm_error_set(err, PHM_ESOLVER, "IDA failed with %s at t = %.9g s (%s)", nm ? nm : "?", tret, d.idamsg);
+        free(nm);
+        goto done;
+      }
+      t = tret;
+      if (flag == IDA_TSTOP_RETURN) {
+        /* breakpoint: new piece of the laws, re-initialize from consistent values */
+        add_stats(mem, out, opt->linear_solver);
+        d.tref = phm_model_tref(m, t, &nbp);
+        for (int c = 0; c < nc; c++) {
+          const double *yc = y + PHM_NSTATE * c;
+          phm_qp_to_H(yc, yc + 4, H + 16 * c);
+          memcpy(tw + 6 * c, yc + 7, 6 * sizeof(double));
+        }
+        memcpy(qprev, y, sizeof(double) * (size_t)d.n);
+        if ((st = consistent_ic(&d, t, H, tw, qprev, y, ypd, err))) goto done;
+        y[d.ie] = qprev[d.ie];
+        y[d.ie + 1] = qprev[d.ie + 1];
+        IDACHK(IDAReInit(mem, t, yy, yp));
+        if (t >= target) t = target;
+      }
+    }
+    record(&d, y, out, iout, &E0);
+    if (opt->interrupt && opt->interrupt(opt->ctx, t, iout)) {
+      st = phm_error_set(err, PHM_EINTERRUPT, "interrupted at t = %g s", t);
+      goto done;
+    }
+    if (opt->progress && opt->progress(opt->ctx, t, iout)) goto done;
+  }
+done:
+  if (mem) add_stats(mem, out, opt->linear_solver);
+  if (mem) IDAFree(&mem);
+  if (LS) SUNLinSolFree(LS);
+  if (A) SUNMatDestroy(A);
+  if (yy) N_VDestroy(yy);
+  if (yp) N_VDestroy(yp);
+  if (id) N_VDestroy(id);
+  if (ctx) SUNContext_Free(&ctx);
+  free(H);
+  free(tw);
+  free(qprev);
+  dae_free(&d);
+  out->wall_time = now() - t_start;
+  return st;
+}
+
+/* ---------------------------------------------------------------- KLU pattern and Jacobian */
+static phm_status klu_pattern(dae_t *d, phm_error *err) {
+  const phm_model *m = d->m;
+  int n = d->n, nc = m->nc;
+  /* column block of each state index: carrier c -> c; ledger -> none (no row depends on it);
+   * lambda/mu row r of pair ip -> "pair block". Build a dense boolean block adjacency. */
+  int nb = nc + m->np; /* blocks: carriers, then pairs (their lambda and mu) */
+  char *adj = calloc((size_t)nb * nb, 1);
+  if (!adj) return phm_error_set(err, PHM_ENOMEM, "out of memory");
+  for (int c = 0; c < nc; c++) adj[(size_t)c * nb + c] = 1;
+  for (int ie = 0; ie < m->ne; ie++) {
+    int a = m->el[ie].a, b = m->el[ie].b;
+    adj[(size_t)a * nb + b] = adj[(size_t)b * nb + a] = 1;
+  }
+  for (int ip = 0; ip < m->np; ip++) {
+    int a = m->pair[ip].a, b = m->pair[ip].b, p = nc + ip;
+    if (a >= 0 && b >= 0) adj[(size_t)a * nb + b] = adj[(size_t)b * nb + a] = 1;
+    if (a >= 0) adj[(size_t)a * nb + p] = adj[(size_t)p * nb + a] = 1;
+    if (b >= 0) adj[(size_t)b * nb + p] = adj[(size_t)p * nb + b] = 1;
+  }
+  int *blk = malloc(sizeof(int) * (size_t)n);
+  d->colptr = malloc(sizeof(sunindextype) * (size_t)(n + 1));
+  d->color = malloc(sizeof(int) * (size_t)n);
+  d->ytmp = malloc(sizeof(double) * (size_t)n);
+  d->yptmp = malloc(sizeof(double) * (size_t)n);
+  d->rtmp = malloc(sizeof(double) * (size_t)n);
+  d->r0 = malloc(sizeof(double) * (size_t)n);
+  if (!blk || !d->colptr || !d->color || !d->ytmp || !d->yptmp || !d->rtmp || !d->r0) {
+    free(adj);
+    free(blk);
+    return phm_error_set(err, PHM_ENOMEM, "out of memory");
+  }
+  for (int i = 0; i < n; i++) {
+    if (i < d->ie) blk[i] = i / PHM_NSTATE;
+    else if (i < d->il) blk[i] = -1; /* ledger */
+    else {
+      int r = (i < d->im ? i - d->il : i - d->im), ip = 0;
+      while (ip + 1 < m->np && m->pair_row[ip + 1] <= r) ip++;
+      blk[i] = nc + ip;
+    }
+  }
+  /* column j (block bj) has entries in the rows of the blocks adjacent to bj; the ledger rows keep
+   * only their diagonal (their dependence on the other states is left out of the Newton matrix:
+   * nothing else depends on them, so this only delays their convergence by one iteration) */
+  long nnz = 0;
+  for (int j = 0; j < n; j++) {
+    int bj = blk[j];
+    if (bj < 0) { nnz += 1; continue; }
+    for (int i = 0; i < n; i++) {
+      int bi = blk[i];
+      if (bi >= 0 && adj[(size_t)bi * nb + bj]) nnz++;
+    }
+  }
+  d->nnz = (int)nnz;
+  d->rowind = malloc(sizeof(sunindextype) * (size_t)nnz);
+  if (!d->rowind) {
+    free(adj);
+    free(blk);
+    return phm_error_set(err, PHM_ENOMEM, "out of memory");
+  }
+  long k = 0;
+  for (int j = 0; j < n; j++) {
+    d->colptr[j] = k;
+    int bj = blk[j];
+    if (bj < 0) { d->rowind[k++] = j; continue; }
+    for (int i = 0; i < n; i++) {
+      int bi = blk[i];
+      if (bi >= 0 && adj[(size_t)bi * nb + bj]) d->rowind[k++] = i;
+    }
+  }
+  d->colptr[n] = k;
+  /* greedy colouring of the blocks (distance-2 in the block graph); every column of a block
+   * gets a different colour offset: colour = blockcolour * 13 + (index within block) */
+  int *bcol = malloc(sizeof(int) * (size_t)nb);
+  char *used = malloc((size_t)nb + 1);
+  if (!bcol || !used) {
+    free(adj); free(blk); free(bcol); free(used);
+    return phm_error_set(err, PHM_ENOMEM, "out of memory");
+  }
+  int nbcol = 0;
+  for (int b = 0; b < nb; b++) {
+    memset(used, 0, (size_t)nb + 1);
+    for (int x = 0; x < nb; x++) {
+      if (!adj[(size_t)b * nb + x]) continue;
+      for (int z = 0; z < b; z++)
+        if (adj[(size_t)x * nb + z]) used[bcol[z]] = 1;
+    }
+    int cidx = 0;
+    while (used[cidx]) cidx++;
+    bcol[b] = cidx;
+    if (cidx + 1 > nbcol) nbcol = cidx + 1;
+  }
+  int width = PHM_NSTATE > 2 * PHM_MAXCON ? PHM_NSTATE : 2 * PHM_MAXCON;
+  for (int i = 0; i < n; i++) {
+    int b = blk[i];
+    if (b < 0) { d->color[i] = nbcol * width + (i - d->ie); continue; }
+    int off;
+    if (b < nc) off = i - PHM_NSTATE * b;
+    else if (i < d->im) off = i - d->il - m->pair_row[b - nc];
+    else off = i - d->im - m->pair_row[b - nc] + PHM_MAXCON;
+    d->color[i] = bcol[b] * width + off;
+  }
+  d->ncolor = nbcol * width + 2;
+  free(adj);
+  free(blk);
+  free(bcol);
+  free(used);
+  return PHM_OK;
+}
+
+/* J = dF/dy + cj dF/dyp by coloured forward differences (no allocation). */
+static int ida_jac_klu(realtype t, realtype cj, N_Vector yy, N_Vector yp, N_Vector rr, SUNMatrix J,
+                       void *ud, N_Vector t1, N_Vector t2, N_Vector t3) {
+  (void)t1; (void)t2; (void)t3;
+  dae_t *d = (dae_t *)ud;
+  int n = d->n;
+  const double *y = N_VGetArrayPointer(yy), *ypv = N_VGetArrayPointer(yp), *r0 = N_VGetArrayPointer(rr);
+  sunindextype *cp = SUNSparseMatrix_IndexPointers(J), *ri = SUNSparseMatrix_IndexValues(J);
+  double *val = SUNSparseMatrix_Data(J);
+  for (int j = 0; j <= n; j++) cp[j] = d->colptr[j];
+  for (int k = 0; k < d->nnz; k++) ri[k] = d->rowind[k];
+  double sq = sqrt(2.2e-16);
+  for (int col = 0; col < d->ncolor; col++) {
+    int any = 0;
+    memcpy(d->ytmp, y, sizeof(double) * n);
+    memcpy(d->yptmp, ypv, sizeof(double) * n);
+    for (int j = 0; j < n; j++)
+      if (d->color[j] == col) {
+        double inc = sq * fmax(fabs(y[j]), fmax(fabs(ypv[j]) / (cj > 0 ? cj : 1), 1e-3));
+        d->ytmp[j] += inc;
+        d->yptmp[j] += cj * inc;
+        d->r0[j] = inc; /* store the increment of column j */
+        any = 1;
+      }
+    if (!any) continue;
+    if (dae_residual(d, t, d->ytmp, d->yptmp, d->rtmp)) return 1;
+    for (int j = 0; j < n; j++)
+      if (d->color[j] == col)
+        for (sunindextype k = cp[j]; k < cp[j + 1]; k++)
+          val[k] = (d->rtmp[ri[k]] - r0[ri[k]]) / d->r0[j];
+  }
+  return 0;
+}
