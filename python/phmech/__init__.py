@@ -10,11 +10,14 @@ import sys
 
 from . import _core
 from ._core import ModelError, SolverError
-from . import se3
+from . import graphs, mixed, se3, timoshenko
+from .section import BeamProperties, Material, Section, table1_properties
 
 __version__ = "0.1.0"
 
-__all__ = ["ModelError", "SolverError", "info", "se3", "__version__"]
+__all__ = ["ModelError", "SolverError", "info", "__version__",
+           "se3", "graphs", "mixed", "timoshenko",
+           "Material", "Section", "BeamProperties", "table1_properties"]
 
 
 def info(file=None) -> dict:
