@@ -370,6 +370,10 @@ static void add_stats(void *mem, phm_sim_output *out, int use_klu) {
   if (IDAGetNumErrTestFails(mem, &a) == 0) out->netf += a;
   a = 0;
   if (IDAGetNumNonlinSolvConvFails(mem, &a) == 0) out->nncf += a;
+  double h = 0;
+  if (IDAGetLastStep(mem, &h) == 0) out->last_step = h;
+  int q = 0;
+  if (IDAGetLastOrder(mem, &q) == 0) out->last_order = q;
 }
 
 phm_status phm_simulate(const phm_model *m, const double *poses0, const double *twists0,
@@ -449,6 +453,7 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
   IDACHK(IDASetSuppressAlg(mem, SUNTRUE));
   IDACHK(IDASetMaxNumSteps(mem, opt->max_steps > 0 ? opt->max_steps : 10000000L));
   if (opt->max_step > 0) IDACHK(IDASetMaxStep(mem, opt->max_step));
+  if (opt->max_order > 0) IDACHK(IDASetMaxOrd(mem, opt->max_order < 5 ? opt->max_order : 5));
   if (opt->linear_solver == 1) {
     if ((st = klu_pattern(&d, err))) goto done;
     A = SUNSparseMatrix(d.n, d.n, d.nnz, CSC_MAT, ctx);

@@ -256,6 +256,7 @@ static int newton(lin_t *L, double *H, double *lam, double tol, int maxit, doubl
   memcpy(Hsave, H, sizeof(double) * 16 * (size_t)nc);
   if (nk) memcpy(lsave, lam, sizeof(double) * (size_t)nk);
   L->lam = lam;
+  double sprev = INFINITY;
   for (int it = 0; it < maxit; it++) {
     (*iters)++;
     /* residual */
@@ -283,10 +284,15 @@ static int newton(lin_t *L, double *H, double *lam, double tol, int maxit, doubl
     double sn = 0;
     for (int c = 0; c < nc; c++)
       for (int j = 0; j < 6; j++) sn = fmax(sn, fabs(R[6 * c + j]) / (j < 3 ? 1.0 : m->lref));
-    if (!isfinite(sn) || sn > 0.5) break; /* diverging: let the caller cut the load step */
+    if (!isfinite(sn)) break; /* diverging: let the caller cut the load step */
+    if (sn > 1.0) /* damped step: at most 1 rad (or 1 length scale) per iteration */
+      for (int i = 0; i < N; i++) R[i] /= sn;
     for (int c = 0; c < nc; c++) phm_retract(H + 16 * c, R + 6 * c);
     for (int i = 0; i < nk; i++) lam[i] += R[n6 + i];
     if (sn < tol) return 0;
+    /* round-off floor (stiff sections): the step stopped shrinking at a tiny size */
+    if (sn < 1e3 * tol && sn > 0.25 * sprev) return 0;
+    sprev = sn;
   }
   memcpy(H, Hsave, sizeof(double) * 16 * (size_t)nc);
   if (nk) memcpy(lam, lsave, sizeof(double) * (size_t)nk);

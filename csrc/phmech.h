@@ -219,6 +219,7 @@ typedef struct {
   int linear_solver;      /* 0 dense (IDA difference-quotient Jacobian), 1 KLU (coloured FD) */
   long max_steps;         /* per output interval; <= 0: 10^7                                */
   double max_step;        /* <= 0: no limit                                                 */
+  int max_order;          /* maximum BDF order 1..5; <= 0: 5                                */
   phm_callback interrupt; /* called at each output; non-zero: stop with PHM_EINTERRUPT      */
   phm_callback progress;  /* called at each output; non-zero: stop quietly (PHM_OK)         */
   void *ctx;
@@ -234,6 +235,7 @@ typedef struct {
   double *energy;  /* [nout][PHM_NENERGY]                              */
   int nout_done;   /* outputs filled                                    */
   long nsteps, nres, njac, nniters, netf, nncf; /* IDA statistics      */
+  double last_step; int last_order;             /* IDA's last step [s] and BDF order */
   double wall_time;                             /* seconds             */
 } phm_sim_output;
 

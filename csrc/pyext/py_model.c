@@ -1,4 +1,443 @@
-/* py_model.c -- bindings (placeholder table). */
+/* py_model.c -- bindings of the model, simulation, modes and statics (csrc/model.c, dae.c,
+ * linearize.c). A model lives in a capsule; python/phmech/mechanism.py builds the flat arrays. */
 #include "pyext.h"
 
-PyMethodDef phm_py_model_methods[] = {{NULL, NULL, 0, NULL}};
+#include <string.h>
+
+#define CAPSULE_NAME "phmech.model"
+
+static void capsule_free(PyObject *cap) {
+  phm_model *m = (phm_model *)PyCapsule_GetPointer(cap, CAPSULE_NAME);
+  phm_model_free(m);
+}
+
+static phm_model *get_model(PyObject *cap) {
+  return (phm_model *)PyCapsule_GetPointer(cap, CAPSULE_NAME);
+}
+
+/* law tuple: (kind, amplitude, t0, duration, frequency, phase, offset, table (n, 2) or None);
+ * the table array is kept alive in `keep` until the model has copied it. */
+static int parse_law(PyObject *obj, phm_law *law, PyObject *keep, const char *what) {
+  memset(law, 0, sizeof *law);
+  PyObject *tab = Py_None;
+  if (!PyArg_ParseTuple(obj, "iddddddO", &law->kind, &law->amplitude, &law->t0, &law->duration,
+                        &law->frequency, &law->phase, &law->offset, &tab)) {
+    PyErr_Format(PyExc_ValueError, "%s: a time law must be a tuple (kind, amplitude, t0, duration, frequency, phase, offset, table)", what);
+    return -1;
+  }
+  if (tab != Py_None) {
+    npy_intp tail[1] = {2};
+    PyArrayObject *a = phm_py_double_array(tab, what, tail, 1, 1);
+    if (!a) return -1;
+    if (PyArray_NDIM(a) != 2) {
+      Py_DECREF(a);
+      PyErr_Format(PyExc_ValueError, "%s: table must have shape (n, 2)", what);
+      return -1;
+    }
+    law->ntable = (int)PyArray_DIM(a, 0);
+    law->table = (const double *)PyArray_DATA(a);
+    int r = PyList_Append(keep, (PyObject *)a);
+    Py_DECREF(a);
+    if (r < 0) return -1;
+  }
+  return 0;
+}
+
+/* array with leading length n (checked) and the given tail */
+static PyArrayObject *arr(PyObject *o, const char *what, npy_intp n, const npy_intp *tail, int ntail,
+                          PyObject *keep) {
+  npy_intp t2[4];
+  for (int i = 0; i < ntail; i++) t2[i + 1] = tail[i];
+  t2[0] = n;
+  PyArrayObject *a = phm_py_double_array(o, what, t2, ntail + 1, 0);
+  if (!a) return NULL;
+  if (PyList_Append(keep, (PyObject *)a) < 0) {
+    Py_DECREF(a);
+    return NULL;
+  }
+  Py_DECREF(a); /* kept alive by `keep` */
+  return a;
+}
+#define D(a) ((const double *)PyArray_DATA(a))
+
+static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
+  (void)self;
+  static char *kwl[] = {"M", "mass", "com", "H0", "t0", "el_ab", "el_h", "el_K", "el_D", "el_eps",
+                        "pr_type", "pr_ab", "pr_Ta", "pr_Tb", "pr_driven", "pr_axis", "pr_law",
+                        "ld_carrier", "ld_world", "ld_point", "ld_w", "ld_law", "gravity", NULL};
+  PyObject *o[23];
+  if (!PyArg_ParseTupleAndKeywords(args, kw, "OOOOOOOOOOOOOOOOOOOOOOO", kwl, &o[0], &o[1], &o[2],
+                                   &o[3], &o[4], &o[5], &o[6], &o[7], &o[8], &o[9], &o[10], &o[11],
+                                   &o[12], &o[13], &o[14], &o[15], &o[16], &o[17], &o[18], &o[19],
+                                   &o[20], &o[21], &o[22]))
+    return NULL;
+  PyObject *keep = PyList_New(0);
+  if (!keep) return NULL;
+  PyObject *result = NULL;
+  phm_carrier_desc *car = NULL;
+  phm_element_desc *el = NULL;
+  phm_pair_desc *pr = NULL;
+  phm_load_desc *ld = NULL;
+  npy_intp t1[1] = {1}, t3[1] = {3}, t6[1] = {6}, t2[1] = {2}, t66[2] = {6, 6}, t44[2] = {4, 4};
+  (void)t1;
+  PyArrayObject *mass = phm_py_double_array(o[1], "carrier masses", NULL, 0, 1);
+  if (!mass) goto fail;
+  PyList_Append(keep, (PyObject *)mass);
+  Py_DECREF(mass);
+  if (PyArray_NDIM(mass) != 1) {
+    PyErr_SetString(PyExc_ValueError, "carrier masses: expected a 1-D array");
+    goto fail;
+  }
+  npy_intp nc = PyArray_DIM(mass, 0);
+  PyArrayObject *M = arr(o[0], "carrier inertias", nc, t66, 2, keep), *com = arr(o[2], "centres of mass", nc, t3, 1, keep),
+                *H0 = arr(o[3], "carrier poses", nc, t44, 2, keep), *tw0 = arr(o[4], "carrier twists", nc, t6, 1, keep);
+  if (!M || !com || !H0 || !tw0) goto fail;
+  PyArrayObject *elh = phm_py_double_array(o[6], "element lengths", NULL, 0, 1);
+  if (!elh) goto fail;
+  PyList_Append(keep, (PyObject *)elh);
+  Py_DECREF(elh);
+  npy_intp ne = PyArray_NDIM(elh) == 1 ? PyArray_DIM(elh, 0) : -1;
+  if (ne < 0) {
+    PyErr_SetString(PyExc_ValueError, "element lengths: expected a 1-D array");
+    goto fail;
+  }
+  PyArrayObject *elab = arr(o[5], "element nodes", ne, t2, 1, keep), *elK = arr(o[7], "element stiffness", ne, t66, 2, keep),
+                *elD = arr(o[8], "element damping", ne, t66, 2, keep), *ele = arr(o[9], "element unstressed strain", ne, t6, 1, keep);
+  if (!elab || !elK || !elD || !ele) goto fail;
+  PyArrayObject *prt = phm_py_double_array(o[10], "pair types", NULL, 0, 1);
+  if (!prt) goto fail;
+  PyList_Append(keep, (PyObject *)prt);
+  Py_DECREF(prt);
+  npy_intp np_ = PyArray_NDIM(prt) == 1 ? PyArray_DIM(prt, 0) : -1;
+  if (np_ < 0) {
+    PyErr_SetString(PyExc_ValueError, "pair types: expected a 1-D array");
+    goto fail;
+  }
+  PyArrayObject *prab = arr(o[11], "pair carriers", np_, t2, 1, keep), *prTa = arr(o[12], "pair frames Ta", np_, t44, 2, keep),
+                *prTb = arr(o[13], "pair frames Tb", np_, t44, 2, keep), *prdr = arr(o[14], "pair driven flags", np_, NULL, 0, keep),
+                *prax = arr(o[15], "pair motion axes", np_, t6, 1, keep);
+  if (!prab || !prTa || !prTb || !prdr || !prax) goto fail;
+  if (!PyList_Check(o[16]) || PyList_GET_SIZE(o[16]) != np_) {
+    PyErr_SetString(PyExc_ValueError, "pair laws: expected a list with one law per pair");
+    goto fail;
+  }
+  PyArrayObject *ldc = phm_py_double_array(o[17], "load carriers", NULL, 0, 1);
+  if (!ldc) goto fail;
+  PyList_Append(keep, (PyObject *)ldc);
+  Py_DECREF(ldc);
+  npy_intp nl = PyArray_NDIM(ldc) == 1 ? PyArray_DIM(ldc, 0) : -1;
+  if (nl < 0) {
+    PyErr_SetString(PyExc_ValueError, "load carriers: expected a 1-D array");
+    goto fail;
+  }
+  PyArrayObject *ldw = arr(o[18], "load frames", nl, NULL, 0, keep), *ldp = arr(o[19], "load points", nl, t3, 1, keep),
+                *ldv = arr(o[20], "load wrenches", nl, t6, 1, keep), *grav;
+  if (!ldw || !ldp || !ldv) goto fail;
+  if (!PyList_Check(o[21]) || PyList_GET_SIZE(o[21]) != nl) {
+    PyErr_SetString(PyExc_ValueError, "load laws: expected a list with one law per load");
+    goto fail;
+  }
+  {
+    npy_intp g3[1] = {3};
+    grav = phm_py_double_array(o[22], "gravity", g3, 1, 0);
+    if (!grav) goto fail;
+    PyList_Append(keep, (PyObject *)grav);
+    Py_DECREF(grav);
+  }
+  car = calloc((size_t)nc + 1, sizeof *car);
+  el = calloc((size_t)ne + 1, sizeof *el);
+  pr = calloc((size_t)np_ + 1, sizeof *pr);
+  ld = calloc((size_t)nl + 1, sizeof *ld);
+  if (!car || !el || !pr || !ld) {
+    PyErr_NoMemory();
+    goto fail;
+  }
+  for (npy_intp i = 0; i < nc; i++) {
+    memcpy(car[i].M, D(M) + 36 * i, 36 * sizeof(double));
+    car[i].mass = D(mass)[i];
+    memcpy(car[i].com, D(com) + 3 * i, 3 * sizeof(double));
+    memcpy(car[i].H0, D(H0) + 16 * i, 16 * sizeof(double));
+    memcpy(car[i].t0, D(tw0) + 6 * i, 6 * sizeof(double));
+  }
+  for (npy_intp i = 0; i < ne; i++) {
+    el[i].a = (int)D(elab)[2 * i];
+    el[i].b = (int)D(elab)[2 * i + 1];
+    el[i].h = D(elh)[i];
+    memcpy(el[i].K, D(elK) + 36 * i, 36 * sizeof(double));
+    memcpy(el[i].D, D(elD) + 36 * i, 36 * sizeof(double));
+    memcpy(el[i].eps_hat, D(ele) + 6 * i, 6 * sizeof(double));
+  }
+  for (npy_intp i = 0; i < np_; i++) {
+    pr[i].type = (int)D(prt)[i];
+    pr[i].a = (int)D(prab)[2 * i];
+    pr[i].b = (int)D(prab)[2 * i + 1];
+    memcpy(pr[i].Ta, D(prTa) + 16 * i, 16 * sizeof(double));
+    memcpy(pr[i].Tb, D(prTb) + 16 * i, 16 * sizeof(double));
+    pr[i].driven = D(prdr)[i] != 0;
+    memcpy(pr[i].axis, D(prax) + 6 * i, 6 * sizeof(double));
+    PyObject *lw = PyList_GET_ITEM(o[16], i);
+    if (pr[i].driven && parse_law(lw, &pr[i].law, keep, "pair motion law") < 0) goto fail;
+  }
+  for (npy_intp i = 0; i < nl; i++) {
+    ld[i].carrier = (int)D(ldc)[i];
+    ld[i].world = D(ldw)[i] != 0;
+    memcpy(ld[i].point, D(ldp) + 3 * i, 3 * sizeof(double));
+    memcpy(ld[i].w, D(ldv) + 6 * i, 6 * sizeof(double));
+    if (parse_law(PyList_GET_ITEM(o[21], i), &ld[i].law, keep, "load law") < 0) goto fail;
+  }
+  {
+    phm_model_desc d;
+    memset(&d, 0, sizeof d);
+    d.ncarriers = (int)nc;
+    d.carriers = car;
+    d.nelements = (int)ne;
+    d.elements = el;
+    d.npairs = (int)np_;
+    d.pairs = pr;
+    d.nloads = (int)nl;
+    d.loads = ld;
+    memcpy(d.gravity, D(grav), 3 * sizeof(double));
+    phm_model *m = NULL;
+    phm_error err;
+    if (phm_model_create(&d, &m, &err)) {
+      phm_py_raise(&err);
+      goto fail;
+    }
+    result = PyCapsule_New(m, CAPSULE_NAME, capsule_free);
+    if (!result) phm_model_free(m);
+  }
+fail:
+  free(car);
+  free(el);
+  free(pr);
+  free(ld);
+  Py_DECREF(keep);
+  return result;
+}
+
+/* ---------------------------------------------------------------- simulate */
+typedef struct {
+  PyObject *cb;    /* progress callable(t, iout) -> truthy to stop, or None */
+  int interrupted; /* Ctrl-C seen */
+  int failed;      /* the callback raised */
+  PyObject *et, *ev, *etb;
+} cb_ctx;
+
+static int interrupt_cb(void *vctx, double t, int iout) {
+  (void)t;
+  (void)iout;
+  cb_ctx *c = (cb_ctx *)vctx;
+  PyGILState_STATE g = PyGILState_Ensure();
+  int stop = 0;
+  if (PyErr_CheckSignals() != 0) {
+    PyErr_Clear();
+    c->interrupted = 1;
+    stop = 1;
+  }
+  PyGILState_Release(g);
+  return stop;
+}
+
+static int progress_cb(void *vctx, double t, int iout) {
+  cb_ctx *c = (cb_ctx *)vctx;
+  if (!c->cb) return 0;
+  PyGILState_STATE g = PyGILState_Ensure();
+  int stop = 0;
+  PyObject *r = PyObject_CallFunction(c->cb, "di", t, iout);
+  if (!r) {
+    PyErr_Fetch(&c->et, &c->ev, &c->etb);
+    c->failed = 1;
+    stop = 1;
+  } else {
+    stop = PyObject_IsTrue(r) == 1;
+    Py_DECREF(r);
+  }
+  PyGILState_Release(g);
+  return stop;
+}
+
+static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw) {
+  (void)self;
+  static char *kwl[] = {"model", "tout", "rtol", "atol", "linear_solver", "poses", "twists",
+                        "callback", "max_step", "max_order", NULL};
+  PyObject *cap, *to, *po = Py_None, *twi = Py_None, *cb = Py_None;
+  double rtol, atol, max_step = 0;
+  int solver = 0, max_order = 0;
+  if (!PyArg_ParseTupleAndKeywords(args, kw, "OOddi|OOOdi", kwl, &cap, &to, &rtol, &atol, &solver,
+                                   &po, &twi, &cb, &max_step, &max_order))
+    return NULL;
+  phm_model *m = get_model(cap);
+  if (!m) return NULL;
+  int nc = phm_model_ncarriers(m), nk = phm_model_nconstraints(m);
+  PyArrayObject *tout = phm_py_double_array(to, "output times", NULL, 0, 1), *P = NULL, *T = NULL;
+  if (!tout) return NULL;
+  if (PyArray_NDIM(tout) != 1 || PyArray_DIM(tout, 0) < 1) {
+    Py_DECREF(tout);
+    PyErr_SetString(phm_py_ModelError, "output times: expected a non-empty 1-D array");
+    return NULL;
+  }
+  npy_intp nout = PyArray_DIM(tout, 0);
+  if (po != Py_None) {
+    npy_intp tail[3] = {nc, 4, 4};
+    if (!(P = phm_py_double_array(po, "initial poses", tail, 3, 0))) goto fail0;
+  }
+  if (twi != Py_None) {
+    npy_intp tail[2] = {nc, 6};
+    if (!(T = phm_py_double_array(twi, "initial twists", tail, 2, 0))) goto fail0;
+  }
+  if (cb != Py_None && !PyCallable_Check(cb)) {
+    PyErr_SetString(PyExc_TypeError, "callback must be callable");
+    goto fail0;
+  }
+  npy_intp dp[4] = {nout, nc, 4, 4}, dt[3] = {nout, nc, 6}, dl[2] = {nout, nk}, de[2] = {nout, PHM_NENERGY};
+  PyArrayObject *poses = (PyArrayObject *)PyArray_ZEROS(4, dp, NPY_DOUBLE, 0);
+  PyArrayObject *tw = (PyArrayObject *)PyArray_ZEROS(3, dt, NPY_DOUBLE, 0);
+  PyArrayObject *lam = (PyArrayObject *)PyArray_ZEROS(2, dl, NPY_DOUBLE, 0);
+  PyArrayObject *en = (PyArrayObject *)PyArray_ZEROS(2, de, NPY_DOUBLE, 0);
+  PyObject *res = NULL;
+  if (!poses || !tw || !lam || !en) goto fail;
+  cb_ctx c = {cb == Py_None ? NULL : cb, 0, 0, NULL, NULL, NULL};
+  phm_sim_options opt = {rtol, atol, solver, 0, max_step, max_order, interrupt_cb, progress_cb, &c};
+  phm_sim_output out;
+  memset(&out, 0, sizeof out);
+  out.poses = PyArray_DATA(poses);
+  out.twists = PyArray_DATA(tw);
+  out.lambda = PyArray_DATA(lam);
+  out.energy = PyArray_DATA(en);
+  phm_error err;
+  phm_status st;
+  Py_BEGIN_ALLOW_THREADS
+  st = phm_simulate(m, P ? PyArray_DATA(P) : NULL, T ? PyArray_DATA(T) : NULL, PyArray_DATA(tout),
+                    (int)nout, &opt, &out, &err);
+  Py_END_ALLOW_THREADS
+  if (c.failed) {
+    PyErr_Restore(c.et, c.ev, c.etb);
+    goto fail;
+  }
+  if (st != PHM_OK && st != PHM_EINTERRUPT) {
+    phm_py_raise(&err);
+    goto fail;
+  }
+  res = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:i,s:i,s:{s:l,s:l,s:l,s:l,s:l,s:l,s:d,s:d,s:i}}", "t", tout,
+                      "poses", poses, "twists", tw, "lambda", lam, "energy", en, "nout", out.nout_done,
+                      "interrupted", st == PHM_EINTERRUPT, "stats", "steps", out.nsteps,
+                      "residual_evals", out.nres, "jacobian_evals", out.njac, "nonlinear_iters",
+                      out.nniters, "error_test_fails", out.netf, "nonlinear_conv_fails", out.nncf,
+                      "wall_time", out.wall_time, "last_step", out.last_step, "last_order", out.last_order);
+fail:
+  Py_XDECREF(poses);
+  Py_XDECREF(tw);
+  Py_XDECREF(lam);
+  Py_XDECREF(en);
+fail0:
+  Py_DECREF(tout);
+  Py_XDECREF(P);
+  Py_XDECREF(T);
+  return res;
+}
+
+static PyObject *py_model_modes(PyObject *self, PyObject *args) {
+  (void)self;
+  PyObject *cap, *po = Py_None, *lo = Py_None;
+  int n;
+  double time = 0;
+  if (!PyArg_ParseTuple(args, "Oi|OOd", &cap, &n, &po, &lo, &time)) return NULL;
+  phm_model *m = get_model(cap);
+  if (!m) return NULL;
+  if (n < 1) {
+    PyErr_SetString(phm_py_ModelError, "number of modes must be >= 1");
+    return NULL;
+  }
+  int nc = phm_model_ncarriers(m), nk = phm_model_nconstraints(m);
+  PyArrayObject *P = NULL, *L = NULL;
+  if (po != Py_None) {
+    npy_intp tail[3] = {nc, 4, 4};
+    if (!(P = phm_py_double_array(po, "poses", tail, 3, 0))) return NULL;
+  }
+  if (lo != Py_None) {
+    npy_intp tail[1] = {nk};
+    if (!(L = phm_py_double_array(lo, "constraint wrenches", tail, 1, 0))) {
+      Py_XDECREF(P);
+      return NULL;
+    }
+  }
+  npy_intp d1[1] = {n}, d3[3] = {n, nc, 6};
+  PyArrayObject *om = (PyArrayObject *)PyArray_ZEROS(1, d1, NPY_DOUBLE, 0);
+  PyArrayObject *ze = (PyArrayObject *)PyArray_ZEROS(1, d1, NPY_DOUBLE, 0);
+  PyArrayObject *sh = (PyArrayObject *)PyArray_ZEROS(3, d3, NPY_DOUBLE, 0);
+  PyObject *res = NULL;
+  if (om && ze && sh) {
+    int nf = 0;
+    phm_error err;
+    phm_status st;
+    Py_BEGIN_ALLOW_THREADS
+    st = phm_modes(m, P ? PyArray_DATA(P) : NULL, L ? PyArray_DATA(L) : NULL, time, n,
+                   PyArray_DATA(om), PyArray_DATA(ze), PyArray_DATA(sh), &nf, &err);
+    Py_END_ALLOW_THREADS
+    if (st) phm_py_raise(&err);
+    else res = Py_BuildValue("OOOi", om, ze, sh, nf);
+  }
+  Py_XDECREF(om);
+  Py_XDECREF(ze);
+  Py_XDECREF(sh);
+  Py_XDECREF(P);
+  Py_XDECREF(L);
+  return res;
+}
+
+static PyObject *py_model_static(PyObject *self, PyObject *args) {
+  (void)self;
+  PyObject *cap, *po = Py_None;
+  double time = 0, tol = 1e-10;
+  int steps = 1;
+  if (!PyArg_ParseTuple(args, "O|Odid", &cap, &po, &time, &steps, &tol)) return NULL;
+  phm_model *m = get_model(cap);
+  if (!m) return NULL;
+  int nc = phm_model_ncarriers(m), nk = phm_model_nconstraints(m);
+  PyArrayObject *P = NULL;
+  if (po != Py_None) {
+    npy_intp tail[3] = {nc, 4, 4};
+    if (!(P = phm_py_double_array(po, "poses", tail, 3, 0))) return NULL;
+  }
+  npy_intp dp[3] = {nc, 4, 4}, dl[1] = {nk};
+  PyArrayObject *poses = (PyArrayObject *)PyArray_ZEROS(3, dp, NPY_DOUBLE, 0);
+  PyArrayObject *lam = (PyArrayObject *)PyArray_ZEROS(1, dl, NPY_DOUBLE, 0);
+  PyObject *res = NULL;
+  if (poses && lam) {
+    int it = 0;
+    phm_error err;
+    phm_status st;
+    Py_BEGIN_ALLOW_THREADS
+    st = phm_static(m, P ? PyArray_DATA(P) : NULL, time, steps, tol, PyArray_DATA(poses),
+                    PyArray_DATA(lam), &it, &err);
+    Py_END_ALLOW_THREADS
+    if (st) phm_py_raise(&err);
+    else res = Py_BuildValue("OOi", poses, lam, it);
+  }
+  Py_XDECREF(poses);
+  Py_XDECREF(lam);
+  Py_XDECREF(P);
+  return res;
+}
+
+static PyObject *py_model_sizes(PyObject *self, PyObject *cap) {
+  (void)self;
+  phm_model *m = get_model(cap);
+  if (!m) return NULL;
+  return Py_BuildValue("ii", phm_model_ncarriers(m), phm_model_nconstraints(m));
+}
+
+PyMethodDef phm_py_model_methods[] = {
+    {"model_new", (PyCFunction)(void (*)(void))py_model_new, METH_VARARGS | METH_KEYWORDS,
+     "model_new(M, mass, com, H0, t0, el_ab, el_h, el_K, el_D, el_eps, pr_type, pr_ab, pr_Ta, "
+     "pr_Tb, pr_driven, pr_axis, pr_law, ld_carrier, ld_world, ld_point, ld_w, ld_law, gravity) "
+     "-> model capsule (validated; raises ModelError)."},
+    {"model_simulate", (PyCFunction)(void (*)(void))py_model_simulate, METH_VARARGS | METH_KEYWORDS,
+     "model_simulate(model, tout, rtol, atol, linear_solver, poses=None, twists=None, "
+     "callback=None, max_step=0) -> dict of arrays and solver statistics."},
+    {"model_modes", py_model_modes, METH_VARARGS,
+     "model_modes(model, n, poses=None, lambda=None, time=0) -> (omega, zeta, shapes, nfound)."},
+    {"model_static", py_model_static, METH_VARARGS,
+     "model_static(model, poses=None, time=0, steps=1, tol=1e-10) -> (poses, lambda, iterations)."},
+    {"model_sizes", py_model_sizes, METH_O, "model_sizes(model) -> (ncarriers, nconstraints)."},
+    {NULL, NULL, 0, NULL}};

@@ -1,1 +1,540 @@
-"""mechanism (placeholder until filled in)."""
+"""Mechanisms of rigid bodies and flexible links: model building, simulation, modes, statics.
+
+Thin layer over the C core (``phmech._core``): it lays out carriers (rigid bodies and beam nodes),
+``se3`` beam elements, kinematic pairs and applied wrenches as flat arrays; everything numerical
+runs in C (SUNDIALS IDA for time integration, LAPACK for modes and statics).
+
+Conventions: SI units; twist (omega, v) and wrench (tau, f), angular part first; poses 4x4.
+A beam's local x axis is its centre line; its section axes are y and z.
+"""
+from __future__ import annotations
+
+import dataclasses
+from typing import Callable, Optional, Sequence, Union
+
+import numpy as np
+
+from . import _core
+from ._core import ModelError
+
+__all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "Fixed", "Motion", "Constant", "Step",
+           "Pulse", "Sine", "Table", "Cycloidal", "SimulationResult", "ModesResult",
+           "StaticResult"]
+
+_LAW_CONSTANT, _LAW_STEP, _LAW_PULSE, _LAW_SINE, _LAW_TABLE, _LAW_CYCLOIDAL = range(6)
+ENERGY_NAMES = ("kinetic", "elastic", "gravity", "dissipated", "supplied", "total", "ledger")
+
+
+# ------------------------------------------------------------------ time laws
+class _Law:
+    def _tuple(self):
+        raise NotImplementedError
+
+    @staticmethod
+    def _num(x, what):
+        try:
+            v = float(x)
+        except (TypeError, ValueError):
+            raise ModelError(f"{what} must be a real number (got {x!r})") from None
+        if not np.isfinite(v):
+            raise ModelError(f"{what} must be finite (got {v})")
+        return v
+
+
+@dataclasses.dataclass(frozen=True)
+class Constant(_Law):
+    """s(t) = value."""
+    value: float = 1.0
+
+    def _tuple(self):
+        return (_LAW_CONSTANT, self._num(self.value, "Constant value"), 0.0, 0.0, 0.0, 0.0, 0.0, None)
+
+
+@dataclasses.dataclass(frozen=True)
+class Step(_Law):
+    """s(t) = value for t >= t0 [s], else 0."""
+    t0: float = 0.0
+    value: float = 1.0
+
+    def _tuple(self):
+        return (_LAW_STEP, self._num(self.value, "Step value"), self._num(self.t0, "Step t0"), 0.0, 0.0, 0.0, 0.0, None)
+
+
+@dataclasses.dataclass(frozen=True)
+class Pulse(_Law):
+    """Rectangular pulse ('impulse'): s(t) = value for t0 <= t < t0 + duration [s], else 0.
+    Its impulse is value * duration."""
+    t0: float = 0.0
+    duration: float = 1e-3
+    value: float = 1.0
+
+    def _tuple(self):
+        d = self._num(self.duration, "Pulse duration")
+        if d <= 0:
+            raise ModelError(f"Pulse duration must be > 0 (got {d} s)")
+        return (_LAW_PULSE, self._num(self.value, "Pulse value"), self._num(self.t0, "Pulse t0"), d, 0.0, 0.0, 0.0, None)
+
+
+@dataclasses.dataclass(frozen=True)
+class Sine(_Law):
+    """s(t) = offset + amplitude * sin(2 pi frequency t + phase); frequency in Hz, phase in rad."""
+    amplitude: float = 1.0
+    frequency: float = 1.0
+    phase: float = 0.0
+    offset: float = 0.0
+
+    def _tuple(self):
+        return (_LAW_SINE, self._num(self.amplitude, "Sine amplitude"), 0.0, 0.0,
+                self._num(self.frequency, "Sine frequency"), self._num(self.phase, "Sine phase"),
+                self._num(self.offset, "Sine offset"), None)
+
+
+@dataclasses.dataclass(frozen=True)
+class Table(_Law):
+    """Piecewise linear through points (t_i [s], s_i), held constant outside."""
+    times: Sequence[float]
+    values: Sequence[float]
+
+    def _tuple(self):
+        t = np.asarray(self.times, dtype=float).ravel()
+        v = np.asarray(self.values, dtype=float).ravel()
+        if t.size < 1 or t.size != v.size:
+            raise ModelError("Table needs as many values as times (at least one)")
+        if not (np.all(np.isfinite(t)) and np.all(np.isfinite(v))):
+            raise ModelError("Table entries must be finite")
+        if np.any(np.diff(t) <= 0):
+            raise ModelError("Table times must be strictly increasing")
+        return (_LAW_TABLE, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, np.column_stack([t, v]))
+
+
+@dataclasses.dataclass(frozen=True)
+class Cycloidal(_Law):
+    """Smooth (C2) ramp from 0 to value over [t0, t0 + duration] [s]."""
+    value: float = 1.0
+    t0: float = 0.0
+    duration: float = 1.0
+
+    def _tuple(self):
+        d = self._num(self.duration, "Cycloidal duration")
+        if d <= 0:
+            raise ModelError(f"Cycloidal duration must be > 0 (got {d} s)")
+        return (_LAW_CYCLOIDAL, self._num(self.value, "Cycloidal value"), self._num(self.t0, "Cycloidal t0"), d, 0.0, 0.0, 0.0, None)
+
+
+@dataclasses.dataclass(frozen=True)
+class Motion:
+    """Prescribed relative motion of a driven pair: r(t) = exp(law(t) * axis), axis a twist
+    (omega, v) in the pair's frame on b, e.g. (0,0,1,0,0,0) with an angle law [rad], or
+    (0,0,0,0,1,0) with a displacement law [m]."""
+    axis: Sequence[float]
+    law: _Law
+
+
+# ------------------------------------------------------------------ pair types
+@dataclasses.dataclass(frozen=True)
+class Fixed:
+    """Fixed (welded) pair: 6 constraints, relative pose = identity (or the driven motion)."""
+    _code = 0
+
+
+# ------------------------------------------------------------------ frames, bodies, links
+@dataclasses.dataclass(frozen=True)
+class Frame:
+    """A frame with fixed offset ``T`` (4x4) on a carrier (``carrier`` = -1 for the ground)."""
+    carrier: int
+    T: np.ndarray
+    name: str = ""
+
+
+@dataclasses.dataclass
+class Body:
+    name: str
+    carrier: int
+
+    @property
+    def frame(self) -> Frame:
+        return Frame(self.carrier, np.eye(4), self.name)
+
+
+@dataclasses.dataclass
+class FlexibleLink:
+    """A beam discretized into ``elements`` se3 elements; ``nodes`` are carrier indices."""
+    name: str
+    length: float
+    elements: int
+    nodes: list
+
+    @property
+    def start(self) -> Frame:
+        return Frame(self.nodes[0], np.eye(4), self.name + ".start")
+
+    @property
+    def end(self) -> Frame:
+        return Frame(self.nodes[-1], np.eye(4), self.name + ".end")
+
+    def node(self, k: int) -> Frame:
+        return Frame(self.nodes[k], np.eye(4), f"{self.name}.node{k}")
+
+
+def _frame_of(x, mech: "Mechanism", what: str) -> Frame:
+    if isinstance(x, Frame):
+        if x.carrier < -1 or x.carrier >= len(mech._car):
+            raise ModelError(f"{what}: unknown frame {x.name!r}")
+        return x
+    if isinstance(x, Body):
+        return x.frame
+    if isinstance(x, FlexibleLink):
+        raise ModelError(f"{what}: give a frame of link {x.name!r} (.start, .end or .node(k))")
+    if isinstance(x, str):
+        if x == "ground":
+            return mech.ground
+        if x in mech._bodies:
+            return mech._bodies[x].frame
+        raise ModelError(f"{what}: unknown frame {x!r}")
+    raise ModelError(f"{what}: expected a Frame, Body or 'ground' (got {type(x).__name__})")
+
+
+def _se3_exp(x):
+    """4x4 exponential of a twist (omega, v) -- local helper (NumPy, Rodrigues)."""
+    w, v = np.asarray(x[:3], float), np.asarray(x[3:], float)
+    th = np.linalg.norm(w)
+    W = np.array([[0, -w[2], w[1]], [w[2], 0, -w[0]], [-w[1], w[0], 0]])
+    if th < 1e-8:
+        A = 1 - th**2 / 6
+        B = 0.5 - th**2 / 24
+        C = 1 / 6 - th**2 / 120
+    else:
+        A = np.sin(th) / th
+        B = (1 - np.cos(th)) / th**2
+        C = (th - np.sin(th)) / th**3
+    R = np.eye(3) + A * W + B * W @ W
+    V = np.eye(3) + B * W + C * W @ W
+    H = np.eye(4)
+    H[:3, :3] = R
+    H[:3, 3] = V @ v
+    return H
+
+
+def _pose(x, what):
+    H = np.asarray(x, dtype=float)
+    if H.shape != (4, 4) or not np.all(np.isfinite(H)):
+        raise ModelError(f"{what}: expected a finite 4x4 pose")
+    return H
+
+
+def _mat6(x, what, spd=True):
+    A = np.asarray(x, dtype=float)
+    if A.shape != (6, 6) or not np.all(np.isfinite(A)):
+        raise ModelError(f"{what}: expected a finite 6x6 matrix")
+    return A
+
+
+# ------------------------------------------------------------------ results
+@dataclasses.dataclass
+class SimulationResult:
+    """Sampled solution. ``poses`` (nt, ncarriers, 4, 4), ``twists`` (nt, ncarriers, 6) body
+    twists, ``constraint_wrenches`` (nt, nconstraints), ``energy`` dict of (nt,) arrays [J]
+    (kinetic, elastic, gravity, dissipated, supplied, total, ledger = E - E0 - (supplied -
+    dissipated)), ``stats`` (IDA steps, residual/Jacobian evaluations, wall time [s]),
+    ``interrupted`` (stopped by Ctrl-C or the callback)."""
+    t: np.ndarray
+    poses: np.ndarray
+    twists: np.ndarray
+    constraint_wrenches: np.ndarray
+    energy: dict
+    stats: dict
+    interrupted: bool
+    _links: dict
+
+    def positions(self, link: Union[str, FlexibleLink]) -> np.ndarray:
+        """Node positions of a link [m], shape (nt, nnodes, 3)."""
+        lk = self._links[link] if isinstance(link, str) else link
+        return self.poses[:, lk.nodes][..., :3, 3]
+
+    def tip(self, link: Union[str, FlexibleLink]) -> np.ndarray:
+        """Position of the link's end node [m], shape (nt, 3)."""
+        return self.positions(link)[:, -1, :]
+
+
+@dataclasses.dataclass
+class ModesResult:
+    """Linearized modes: ``omega`` [rad/s], ``frequency`` [Hz], ``damping_ratio``, ``shapes``
+    (n, ncarriers, 6) tangent displacements (rotation, translation) per carrier, mass-normalized."""
+    omega: np.ndarray
+    frequency: np.ndarray
+    damping_ratio: np.ndarray
+    shapes: np.ndarray
+
+
+@dataclasses.dataclass
+class StaticResult:
+    """Static equilibrium: ``poses`` (ncarriers, 4, 4), ``constraint_wrenches``, Newton
+    ``iterations``."""
+    poses: np.ndarray
+    constraint_wrenches: np.ndarray
+    iterations: int
+    _links: dict
+
+    def positions(self, link: Union[str, FlexibleLink]) -> np.ndarray:
+        lk = self._links[link] if isinstance(link, str) else link
+        return self.poses[lk.nodes, :3, 3]
+
+
+# ------------------------------------------------------------------ the mechanism
+class Mechanism:
+    """A mechanism under construction: add links, bodies, pairs and wrenches, then simulate,
+    compute modes or static equilibria. ``gravity`` [m/s^2] in world coordinates."""
+
+    def __init__(self, gravity: Sequence[float] = (0.0, 0.0, 0.0)):
+        g = np.asarray(gravity, dtype=float)
+        if g.shape != (3,) or not np.all(np.isfinite(g)):
+            raise ModelError("gravity: expected 3 finite numbers [m/s^2]")
+        self.gravity = g
+        self.ground = Frame(-1, np.eye(4), "ground")
+        self._car = []      # dicts: M, mass, com, H0, t0
+        self._el = []       # dicts: a, b, h, K, D, eps
+        self._pairs = []    # dicts: name, type, a, b, Ta, Tb, driven
+        self._loads = []    # dicts: name, carrier, world, point, w, law
+        self._links = {}
+        self._bodies = {}
+        self._names = set()
+
+    # -------------------------------------------------------------- building
+    def _new_name(self, name):
+        if not isinstance(name, str) or not name:
+            raise ModelError("name must be a non-empty string")
+        if name in self._names:
+            raise ModelError(f"name {name!r} is already used")
+        self._names.add(name)
+
+    def add_flexible_link(self, name: str, length: float, properties, elements: int = 10,
+                          pose=None, curvature=None, discretization: str = "se3") -> FlexibleLink:
+        """A flexible link of ``length`` [m] along the local x axis of ``pose`` (4x4, the frame of
+        its start). ``properties``: object with 6x6 ``stiffness`` (section stiffness, order
+        (torsion, bending y, bending z, axial, shear y, shear z) strains), ``inertia`` (per unit
+        length) and ``damping`` (viscous section damping, may be absent). ``curvature``: the
+        unstressed curvature (kappa_x, kappa_y, kappa_z) [1/m], or None (straight)."""
+        if discretization != "se3":
+            raise ModelError(f"unknown discretization {discretization!r} (available: 'se3')")
+        L = _Law._num(length, "length")
+        if L <= 0:
+            raise ModelError(f"length must be > 0 (got {L} m)")
+        if isinstance(elements, bool) or not isinstance(elements, (int, np.integer)) or elements < 1:
+            raise ModelError(f"elements must be an integer >= 1 (got {elements!r})")
+        K = _mat6(getattr(properties, "stiffness", None), "properties.stiffness")
+        I = _mat6(getattr(properties, "inertia", None), "properties.inertia")
+        Dp = getattr(properties, "damping", None)
+        Dm = np.zeros((6, 6)) if Dp is None else _mat6(Dp, "properties.damping")
+        if np.any(np.linalg.eigvalsh(0.5 * (K + K.T)) <= 0):
+            raise ModelError("properties.stiffness must be symmetric positive definite")
+        if np.any(np.linalg.eigvalsh(0.5 * (I + I.T)) <= 0):
+            raise ModelError("properties.inertia (per unit length) must be symmetric positive definite")
+        H = np.eye(4) if pose is None else _pose(pose, "pose")
+        kap = np.zeros(3) if curvature is None else np.asarray(curvature, dtype=float)
+        if kap.shape != (3,) or not np.all(np.isfinite(kap)):
+            raise ModelError("curvature: expected 3 finite numbers [1/m] or None")
+        self._new_name(name)
+        N = int(elements)
+        h = L / N
+        eps = np.concatenate([kap, [1.0, 0.0, 0.0]])
+        first = len(self._car)
+        for k in range(N + 1):
+            share = h if 0 < k < N else h / 2
+            Mk = I * share
+            self._car.append(dict(M=Mk, mass=float(Mk[3, 3]), com=np.zeros(3),
+                                  H0=H @ _se3_exp(k * h * eps), t0=np.zeros(6)))
+        for k in range(N):
+            self._el.append(dict(a=first + k, b=first + k + 1, h=h, K=K, D=Dm, eps=eps))
+        link = FlexibleLink(name, L, N, list(range(first, first + N + 1)))
+        self._links[name] = link
+        return link
+
+    def add_rigid_body(self, name: str, mass: float, inertia, com=(0.0, 0.0, 0.0), pose=None,
+                       twist=(0, 0, 0, 0, 0, 0)) -> Body:
+        """A rigid body: ``mass`` [kg], ``inertia`` 3x3 about the centre of mass in body axes
+        [kg m^2], ``com`` in body coordinates [m], initial ``pose`` (4x4) and body ``twist``."""
+        m = _Law._num(mass, "mass")
+        if m <= 0:
+            raise ModelError(f"mass must be > 0 (got {m} kg)")
+        J = np.asarray(inertia, dtype=float)
+        if J.shape != (3, 3) or not np.all(np.isfinite(J)) or np.any(np.linalg.eigvalsh(0.5 * (J + J.T)) <= 0):
+            raise ModelError("inertia: expected a symmetric positive definite 3x3 matrix [kg m^2]")
+        c = np.asarray(com, dtype=float)
+        tw = np.asarray(twist, dtype=float)
+        if c.shape != (3,) or tw.shape != (6,) or not (np.all(np.isfinite(c)) and np.all(np.isfinite(tw))):
+            raise ModelError("com: 3 numbers, twist: 6 numbers, all finite")
+        self._new_name(name)
+        C = np.array([[0, -c[2], c[1]], [c[2], 0, -c[0]], [-c[1], c[0], 0]])
+        M = np.zeros((6, 6))
+        M[:3, :3] = J - m * C @ C
+        M[:3, 3:] = m * C
+        M[3:, :3] = -m * C
+        M[3:, 3:] = m * np.eye(3)
+        self._car.append(dict(M=M, mass=m, com=c, H0=np.eye(4) if pose is None else _pose(pose, "pose"), t0=tw))
+        b = Body(name, len(self._car) - 1)
+        self._bodies[name] = b
+        return b
+
+    def add_pair(self, name: str, pair, a, b, driven: Optional[Motion] = None) -> None:
+        """A kinematic pair from frame ``a`` to frame ``b`` (edge (a, b)); ``driven``: a
+        prescribed relative motion (Motion)."""
+        if not isinstance(pair, Fixed):
+            raise ModelError(f"pair {name!r}: unsupported pair type {type(pair).__name__} (available: Fixed)")
+        fa, fb = _frame_of(a, self, f"pair {name!r}"), _frame_of(b, self, f"pair {name!r}")
+        if fa.carrier == fb.carrier:
+            raise ModelError(f"pair {name!r}: both frames are on the same carrier")
+        law, axis = None, np.zeros(6)
+        if driven is not None:
+            if not isinstance(driven, Motion):
+                raise ModelError(f"pair {name!r}: driven must be a Motion")
+            axis = np.asarray(driven.axis, dtype=float)
+            if axis.shape != (6,) or not np.all(np.isfinite(axis)):
+                raise ModelError(f"pair {name!r}: motion axis must be 6 finite numbers")
+            law = driven.law._tuple()
+        self._new_name(name)
+        self._pairs.append(dict(name=name, type=pair._code, a=fa.carrier, b=fb.carrier, Ta=fa.T,
+                                Tb=fb.T, driven=driven is not None, axis=axis, law=law))
+
+    def add_wrench(self, name: str, target, wrench, law: _Law = Constant(1.0),
+                   frame: str = "world", point=(0.0, 0.0, 0.0)) -> None:
+        """An applied wrench law(t) * (tau [N m], f [N]) on ``target`` (a Frame or Body), in
+        ``frame`` "world" or "body" axes, applied at ``point`` (body coordinates [m])."""
+        f = _frame_of(target, self, f"wrench {name!r}")
+        if f.carrier < 0:
+            raise ModelError(f"wrench {name!r}: cannot load the ground")
+        if frame not in ("world", "body"):
+            raise ModelError(f"wrench {name!r}: frame must be 'world' or 'body' (got {frame!r})")
+        w = np.asarray(wrench, dtype=float).ravel()
+        p = np.asarray(point, dtype=float)
+        if w.shape != (6,) or p.shape != (3,) or not (np.all(np.isfinite(w)) and np.all(np.isfinite(p))):
+            raise ModelError(f"wrench {name!r}: wrench must be 6 finite numbers (tau, f), point 3")
+        if not isinstance(law, _Law):
+            raise ModelError(f"wrench {name!r}: law must be Constant, Step, Pulse, Sine, Table or Cycloidal")
+        # the offset of a frame on its carrier moves the point of application
+        pt = f.T[:3, :3] @ p + f.T[:3, 3]
+        if frame == "body":
+            R = f.T[:3, :3]
+            w = np.concatenate([R @ w[:3], R @ w[3:]])
+        self._new_name(name)
+        self._loads.append(dict(name=name, carrier=f.carrier, world=frame == "world", point=pt,
+                                w=w, law=law._tuple()))
+
+    def add_distributed_load(self, name: str, link: FlexibleLink, force_per_length,
+                             law: _Law = Constant(1.0), frame: str = "world") -> None:
+        """Distributed force [N/m] on a link, lumped on its nodes (h/2 at the ends, h inside)."""
+        q = np.asarray(force_per_length, dtype=float)
+        if q.shape != (3,):
+            raise ModelError("force_per_length: expected 3 numbers [N/m]")
+        h = link.length / link.elements
+        for k, c in enumerate(link.nodes):
+            share = h if 0 < k < link.elements else h / 2
+            self.add_wrench(f"{name}[{k}]", Frame(c, np.eye(4)), np.concatenate([np.zeros(3), q * share]),
+                            law=law, frame=frame)
+
+    # -------------------------------------------------------------- core model
+    def _build(self, extra_loads=()):
+        if not self._car:
+            raise ModelError("the mechanism is empty")
+        car, el, pr = self._car, self._el, self._pairs
+        loads = list(self._loads) + list(extra_loads)
+        z = lambda *s: np.zeros(s)
+        return _core.model_new(
+            M=np.array([c["M"] for c in car]), mass=np.array([c["mass"] for c in car]),
+            com=np.array([c["com"] for c in car]), H0=np.array([c["H0"] for c in car]),
+            t0=np.array([c["t0"] for c in car]),
+            el_ab=np.array([[e["a"], e["b"]] for e in el], dtype=float).reshape(-1, 2),
+            el_h=np.array([e["h"] for e in el], dtype=float),
+            el_K=np.array([e["K"] for e in el]).reshape(-1, 6, 6),
+            el_D=np.array([e["D"] for e in el]).reshape(-1, 6, 6),
+            el_eps=np.array([e["eps"] for e in el]).reshape(-1, 6),
+            pr_type=np.array([p["type"] for p in pr], dtype=float),
+            pr_ab=np.array([[p["a"], p["b"]] for p in pr], dtype=float).reshape(-1, 2),
+            pr_Ta=np.array([p["Ta"] for p in pr]).reshape(-1, 4, 4),
+            pr_Tb=np.array([p["Tb"] for p in pr]).reshape(-1, 4, 4),
+            pr_driven=np.array([float(p["driven"]) for p in pr]),
+            pr_axis=np.array([p["axis"] for p in pr]).reshape(-1, 6),
+            pr_law=[p["law"] for p in pr],
+            ld_carrier=np.array([l["carrier"] for l in loads], dtype=float),
+            ld_world=np.array([float(l["world"]) for l in loads]),
+            ld_point=np.array([l["point"] for l in loads]).reshape(-1, 3),
+            ld_w=np.array([l["w"] for l in loads]).reshape(-1, 6),
+            ld_law=[l["law"] for l in loads],
+            gravity=self.gravity)
+
+    # -------------------------------------------------------------- analyses
+    def simulate(self, t_end: float, dt_out: float, rtol: float = 1e-8, atol: Optional[float] = None,
+                 linear_solver: str = "dense", initial: Optional[StaticResult] = None,
+                 t_start: float = 0.0, callback: Optional[Callable[[float, int], bool]] = None,
+                 max_step: float = 0.0, max_order: int = 5) -> SimulationResult:
+        """Integrate from ``t_start`` to ``t_end`` [s] with SUNDIALS IDA, sampling every
+        ``dt_out`` [s]. ``initial``: start from these poses (e.g. a StaticResult) at rest instead
+        of the modelled initial state. ``callback(t, i)`` is called at each output; return True to
+        stop. Ctrl-C stops the run and returns what was computed (``interrupted`` = True)."""
+        t0, t1, dt = (_Law._num(t_start, "t_start"), _Law._num(t_end, "t_end"), _Law._num(dt_out, "dt_out"))
+        if t1 <= t0:
+            raise ModelError(f"t_end must be > t_start (got {t1} <= {t0})")
+        if dt <= 0:
+            raise ModelError(f"dt_out must be > 0 (got {dt})")
+        solvers = {"dense": 0, "klu": 1}
+        if linear_solver not in solvers:
+            raise ModelError(f"unknown linear_solver {linear_solver!r} (available: 'dense', 'klu')")
+        rtol = _Law._num(rtol, "rtol")
+        atol = rtol * 1e-2 if atol is None else _Law._num(atol, "atol")
+        if rtol <= 0 or atol <= 0:
+            raise ModelError("rtol and atol must be > 0")
+        n = int(np.floor((t1 - t0) / dt + 1e-9))
+        tout = t0 + dt * np.arange(n + 1)
+        if tout[-1] < t1 - 1e-12 * max(1.0, abs(t1)):
+            tout = np.append(tout, t1)
+        model = self._build()
+        poses = None if initial is None else np.asarray(initial.poses, dtype=float)
+        twists = None if initial is None else np.zeros((len(self._car), 6))
+        r = _core.model_simulate(model, tout, rtol, atol, solvers[linear_solver], poses, twists,
+                                 callback, float(max_step), int(max_order))
+        k = r["nout"]
+        e = r["energy"][:k]
+        energy = {nm: e[:, i].copy() for i, nm in enumerate(ENERGY_NAMES)}
+        return SimulationResult(t=tout[:k], poses=r["poses"][:k], twists=r["twists"][:k],
+                                constraint_wrenches=r["lambda"][:k], energy=energy,
+                                stats=r["stats"], interrupted=bool(r["interrupted"]),
+                                _links=self._links)
+
+    def modes(self, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0) -> ModesResult:
+        """The ``n`` lowest linearized modes at the initial configuration, or at a static
+        equilibrium ``at`` (its constraint wrenches give the geometric stiffness)."""
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+            raise ModelError(f"n must be an integer >= 1 (got {n!r})")
+        model = self._build()
+        poses = None if at is None else np.asarray(at.poses, dtype=float)
+        lam = None if at is None else np.asarray(at.constraint_wrenches, dtype=float)
+        om, ze, sh, nf = _core.model_modes(model, int(n), poses, lam, float(time))
+        return ModesResult(om[:nf], om[:nf] / (2 * np.pi), ze[:nf], sh[:nf])
+
+    def static(self, loads: Sequence = (), steps: int = 10, time: float = 0.0,
+               tol: float = 1e-10, start: Optional[StaticResult] = None) -> StaticResult:
+        """Static equilibrium under gravity, the mechanism's wrenches at ``time`` and extra
+        constant ``loads`` = [(target, wrench (tau, f), frame "world"|"body"), ...], reached in
+        ``steps`` load steps (halved on failure); Newton tolerance ``tol`` on the tangent step."""
+        extra = []
+        for i, ld in enumerate(loads):
+            try:
+                target, wrench, frame = ld
+            except (TypeError, ValueError):
+                raise ModelError("static loads: expected (target, wrench, frame) tuples") from None
+            f = _frame_of(target, self, "static load")
+            if frame not in ("world", "body"):
+                raise ModelError(f"static load: frame must be 'world' or 'body' (got {frame!r})")
+            w = np.asarray(wrench, dtype=float)
+            if w.shape != (6,) or not np.all(np.isfinite(w)):
+                raise ModelError("static load: wrench must be 6 finite numbers (tau, f)")
+            if frame == "body":
+                R = f.T[:3, :3]
+                w = np.concatenate([R @ w[:3], R @ w[3:]])
+            extra.append(dict(carrier=f.carrier, world=frame == "world", point=f.T[:3, 3], w=w,
+                              law=Constant(1.0)._tuple()))
+        if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
+            raise ModelError(f"steps must be an integer >= 1 (got {steps!r})")
+        model = self._build(extra)
+        poses = None if start is None else np.asarray(start.poses, dtype=float)
+        P, lam, it = _core.model_static(model, poses, float(time), int(steps), float(tol))
+        return StaticResult(P, lam, it, self._links)
