@@ -82,6 +82,7 @@ def plot(study: dict, path: str) -> None:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    import matplotlib.ticker
 
     os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
@@ -95,6 +96,7 @@ def plot(study: dict, path: str) -> None:
     axes[0].set_xlabel("elements N")
     axes[1].set_xlabel("first-order states (mixed: planar 4N; se3: 3-D 12N)")
     for ax in axes:
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         ax.set_ylabel("|relative frequency error|")
         ax.grid(True, which="both", alpha=0.3)
     axes[0].legend(fontsize=7, ncol=2)

@@ -12,12 +12,18 @@ from . import _core
 from ._core import ModelError, SolverError
 from . import graphs, mixed, se3, timoshenko
 from .section import BeamProperties, Material, Section, table1_properties
+from .mechanism import (Body, Constant, Cycloidal, Fixed, FlexibleLink, Frame, Mechanism,
+                        ModesResult, Motion, Pulse, SimulationResult, Sine, StaticResult, Step,
+                        Table)
 
 __version__ = "0.1.0"
 
 __all__ = ["ModelError", "SolverError", "info", "__version__",
            "se3", "graphs", "mixed", "timoshenko",
-           "Material", "Section", "BeamProperties", "table1_properties"]
+           "Material", "Section", "BeamProperties", "table1_properties",
+           "Mechanism", "Frame", "Body", "FlexibleLink", "Fixed", "Motion", "Constant", "Step",
+           "Pulse", "Sine", "Table", "Cycloidal", "SimulationResult", "ModesResult",
+           "StaticResult"]
 
 
 def info(file=None) -> dict:
