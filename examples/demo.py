@@ -54,12 +54,8 @@ def main(argv=None) -> dict:
     res = m.simulate(t_end=T, dt_out=1 / (40 * f1), rtol=1e-6, initial=bent, linear_solver="klu")
     cpu = time.process_time() - t0
     z = res.tip(leaf)[:, 2]
-    spec = np.abs(np.fft.rfft((z - z.mean()) * np.hanning(z.size)))
-    freqs = np.fft.rfftfreq(z.size, res.t[1] - res.t[0])
-    k = int(np.argmax(spec[1:])) + 1
-    # quadratic interpolation of the spectral peak (log magnitude)
-    a, b, c = np.log(spec[k - 1:k + 2])
-    f_fft = freqs[k] + 0.5 * (a - c) / (a - 2 * b + c) * (freqs[1] - freqs[0])
+    f_fft = ph.analysis.dominant_frequency(res.t, z)
+    freqs, spec = ph.analysis.spectrum(res.t, z)
     E = res.energy["total"]
     drift = np.max(np.abs(res.energy["ledger"])) / E[0]
     print(f"FFT of the tip motion: {f_fft:.3f} Hz (linearized f1 = {f1:.3f} Hz; the release from a "

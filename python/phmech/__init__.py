@@ -10,7 +10,7 @@ import sys
 
 from . import _core
 from ._core import ModelError, SolverError
-from . import graphs, mixed, se3, timoshenko
+from . import analysis, graphs, mixed, se3, timoshenko
 from .section import BeamProperties, Material, Section, table1_properties
 from .mechanism import (Body, Constant, Cycloidal, Fixed, FlexibleLink, Frame, Mechanism,
                         ModesResult, Motion, Pulse, SimulationResult, Sine, StaticResult, Step,
@@ -19,7 +19,7 @@ from .mechanism import (Body, Constant, Cycloidal, Fixed, FlexibleLink, Frame, M
 __version__ = "0.1.0"
 
 __all__ = ["ModelError", "SolverError", "info", "__version__",
-           "se3", "graphs", "mixed", "timoshenko",
+           "se3", "graphs", "mixed", "timoshenko", "analysis",
            "Material", "Section", "BeamProperties", "table1_properties",
            "Mechanism", "Frame", "Body", "FlexibleLink", "Fixed", "Motion", "Constant", "Step",
            "Pulse", "Sine", "Table", "Cycloidal", "SimulationResult", "ModesResult",
