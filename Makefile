@@ -44,11 +44,14 @@ pytest: build
 
 test: ctest pytest
 
+# Long validation studies (not part of `make test`); figures land in benchmarks/results/.
 validate: build
-	$(PY) -m phmech.validate
+	@mkdir -p benchmarks/results
+	$(PY) examples/timoshenko_table.py --json --plot benchmarks/results/timoshenko_convergence.png > benchmarks/results/timoshenko_table.json
+	$(PY) benchmarks/validate_energy_drift.py
 
 bench: build
-	$(PY) benchmarks/run.py
+	$(PY) benchmarks/mass_matrix_study.py
 
 clean:
 	rm -rf build $(VENV)/.phmech-built
