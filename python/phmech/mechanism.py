@@ -14,7 +14,8 @@ from typing import Callable, Optional, Sequence, Union
 
 import numpy as np
 
-from . import _core
+from . import _core, se3
+from ._checks import real
 from ._core import ModelError
 
 __all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "Fixed", "Motion", "Constant", "Step",
@@ -30,15 +31,6 @@ class _Law:
     def _tuple(self):
         raise NotImplementedError
 
-    @staticmethod
-    def _num(x, what):
-        try:
-            v = float(x)
-        except (TypeError, ValueError):
-            raise ModelError(f"{what} must be a real number (got {x!r})") from None
-        if not np.isfinite(v):
-            raise ModelError(f"{what} must be finite (got {v})")
-        return v
 
 
 @dataclasses.dataclass(frozen=True)
@@ -47,7 +39,7 @@ class Constant(_Law):
     value: float = 1.0
 
     def _tuple(self):
-        return (_LAW_CONSTANT, self._num(self.value, "Constant value"), 0.0, 0.0, 0.0, 0.0, 0.0, None)
+        return (_LAW_CONSTANT, real("Constant value", self.value), 0.0, 0.0, 0.0, 0.0, 0.0, None)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -57,7 +49,7 @@ class Step(_Law):
     value: float = 1.0
 
     def _tuple(self):
-        return (_LAW_STEP, self._num(self.value, "Step value"), self._num(self.t0, "Step t0"), 0.0, 0.0, 0.0, 0.0, None)
+        return (_LAW_STEP, real("Step value", self.value), real("Step t0", self.t0), 0.0, 0.0, 0.0, 0.0, None)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -69,10 +61,10 @@ class Pulse(_Law):
     value: float = 1.0
 
     def _tuple(self):
-        d = self._num(self.duration, "Pulse duration")
+        d = real("Pulse duration", self.duration)
         if d <= 0:
             raise ModelError(f"Pulse duration must be > 0 (got {d} s)")
-        return (_LAW_PULSE, self._num(self.value, "Pulse value"), self._num(self.t0, "Pulse t0"), d, 0.0, 0.0, 0.0, None)
+        return (_LAW_PULSE, real("Pulse value", self.value), real("Pulse t0", self.t0), d, 0.0, 0.0, 0.0, None)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -84,9 +76,9 @@ class Sine(_Law):
     offset: float = 0.0
 
     def _tuple(self):
-        return (_LAW_SINE, self._num(self.amplitude, "Sine amplitude"), 0.0, 0.0,
-                self._num(self.frequency, "Sine frequency"), self._num(self.phase, "Sine phase"),
-                self._num(self.offset, "Sine offset"), None)
+        return (_LAW_SINE, real("Sine amplitude", self.amplitude), 0.0, 0.0,
+                real("Sine frequency", self.frequency), real("Sine phase", self.phase),
+                real("Sine offset", self.offset), None)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -115,10 +107,10 @@ class Cycloidal(_Law):
     duration: float = 1.0
 
     def _tuple(self):
-        d = self._num(self.duration, "Cycloidal duration")
+        d = real("Cycloidal duration", self.duration)
         if d <= 0:
             raise ModelError(f"Cycloidal duration must be > 0 (got {d} s)")
-        return (_LAW_CYCLOIDAL, self._num(self.value, "Cycloidal value"), self._num(self.t0, "Cycloidal t0"), d, 0.0, 0.0, 0.0, None)
+        return (_LAW_CYCLOIDAL, real("Cycloidal value", self.value), real("Cycloidal t0", self.t0), d, 0.0, 0.0, 0.0, None)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -192,27 +184,6 @@ def _frame_of(x, mech: "Mechanism", what: str) -> Frame:
             return mech._bodies[x].frame
         raise ModelError(f"{what}: unknown frame {x!r}")
     raise ModelError(f"{what}: expected a Frame, Body or 'ground' (got {type(x).__name__})")
-
-
-def _se3_exp(x):
-    """4x4 exponential of a twist (omega, v) -- local helper (NumPy, Rodrigues)."""
-    w, v = np.asarray(x[:3], float), np.asarray(x[3:], float)
-    th = np.linalg.norm(w)
-    W = np.array([[0, -w[2], w[1]], [w[2], 0, -w[0]], [-w[1], w[0], 0]])
-    if th < 1e-8:
-        A = 1 - th**2 / 6
-        B = 0.5 - th**2 / 24
-        C = 1 / 6 - th**2 / 120
-    else:
-        A = np.sin(th) / th
-        B = (1 - np.cos(th)) / th**2
-        C = (th - np.sin(th)) / th**3
-    R = np.eye(3) + A * W + B * W @ W
-    V = np.eye(3) + B * W + C * W @ W
-    H = np.eye(4)
-    H[:3, :3] = R
-    H[:3, 3] = V @ v
-    return H
 
 
 def _pose(x, what):
@@ -316,7 +287,7 @@ class Mechanism:
         unstressed curvature (kappa_x, kappa_y, kappa_z) [1/m], or None (straight)."""
         if discretization != "se3":
             raise ModelError(f"unknown discretization {discretization!r} (available: 'se3')")
-        L = _Law._num(length, "length")
+        L = real("length", length)
         if L <= 0:
             raise ModelError(f"length must be > 0 (got {L} m)")
         if isinstance(elements, bool) or not isinstance(elements, (int, np.integer)) or elements < 1:
@@ -342,7 +313,7 @@ class Mechanism:
             share = h if 0 < k < N else h / 2
             Mk = I * share
             self._car.append(dict(M=Mk, mass=float(Mk[3, 3]), com=np.zeros(3),
-                                  H0=H @ _se3_exp(k * h * eps), t0=np.zeros(6)))
+                                  H0=H @ se3.exp(k * h * eps), t0=np.zeros(6)))
         for k in range(N):
             self._el.append(dict(a=first + k, b=first + k + 1, h=h, K=K, D=Dm, eps=eps))
         link = FlexibleLink(name, L, N, list(range(first, first + N + 1)))
@@ -353,7 +324,7 @@ class Mechanism:
                        twist=(0, 0, 0, 0, 0, 0)) -> Body:
         """A rigid body: ``mass`` [kg], ``inertia`` 3x3 about the centre of mass in body axes
         [kg m^2], ``com`` in body coordinates [m], initial ``pose`` (4x4) and body ``twist``."""
-        m = _Law._num(mass, "mass")
+        m = real("mass", mass)
         if m <= 0:
             raise ModelError(f"mass must be > 0 (got {m} kg)")
         J = np.asarray(inertia, dtype=float)
@@ -470,7 +441,7 @@ class Mechanism:
         ``dt_out`` [s]. ``initial``: start from these poses (e.g. a StaticResult) at rest instead
         of the modelled initial state. ``callback(t, i)`` is called at each output; return True to
         stop. Ctrl-C stops the run and returns what was computed (``interrupted`` = True)."""
-        t0, t1, dt = (_Law._num(t_start, "t_start"), _Law._num(t_end, "t_end"), _Law._num(dt_out, "dt_out"))
+        t0, t1, dt = (real("t_start", t_start), real("t_end", t_end), real("dt_out", dt_out))
         if t1 <= t0:
             raise ModelError(f"t_end must be > t_start (got {t1} <= {t0})")
         if dt <= 0:
@@ -478,8 +449,8 @@ class Mechanism:
         solvers = {"dense": 0, "klu": 1}
         if linear_solver not in solvers:
             raise ModelError(f"unknown linear_solver {linear_solver!r} (available: 'dense', 'klu')")
-        rtol = _Law._num(rtol, "rtol")
-        atol = rtol * 1e-2 if atol is None else _Law._num(atol, "atol")
+        rtol = real("rtol", rtol)
+        atol = rtol * 1e-2 if atol is None else real("atol", atol)
         if rtol <= 0 or atol <= 0:
             raise ModelError("rtol and atol must be > 0")
         n = int(np.floor((t1 - t0) / dt + 1e-9))

@@ -17,20 +17,12 @@ from typing import Optional
 
 import numpy as np
 
+from ._checks import positive
 from ._core import ModelError
 
 __all__ = ["Material", "Section", "BeamProperties", "table1_properties", "TABLE1"]
 
 
-def _pos(name: str, value) -> float:
-    """A positive finite float, or ModelError naming the field."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ModelError(f"{name} must be a real number, got {value!r}") from None
-    if not math.isfinite(v) or v <= 0.0:
-        raise ModelError(f"{name} must be positive and finite, got {v!r}")
-    return v
 
 
 # ----------------------------------------------------------------------------------------------
@@ -52,8 +44,8 @@ class Material:
     G: Optional[float] = None
 
     def __post_init__(self):
-        object.__setattr__(self, "E", _pos("E", self.E))
-        object.__setattr__(self, "density", _pos("density", self.density))
+        object.__setattr__(self, "E", positive("E", self.E))
+        object.__setattr__(self, "density", positive("density", self.density))
         try:
             nu = float(self.nu)
         except (TypeError, ValueError):
@@ -61,7 +53,7 @@ class Material:
         if not (-1.0 < nu < 0.5):
             raise ModelError(f"nu (Poisson's ratio) must satisfy -1 < nu < 0.5, got {nu!r}")
         object.__setattr__(self, "nu", nu)
-        G = self.E / (2.0 * (1.0 + nu)) if self.G is None else _pos("G", self.G)
+        G = self.E / (2.0 * (1.0 + nu)) if self.G is None else positive("G", self.G)
         object.__setattr__(self, "G", G)
 
 
@@ -104,19 +96,19 @@ class Section:
     @classmethod
     def rectangle(cls, width_y: float, height_z: float) -> "Section":
         """Solid rectangle, side ``width_y`` along local y and ``height_z`` along local z [m]."""
-        return cls("rectangle", (_pos("width_y", width_y), _pos("height_z", height_z)))
+        return cls("rectangle", (positive("width_y", width_y), positive("height_z", height_z)))
 
     @classmethod
     def circle(cls, diameter: float) -> "Section":
         """Solid circle of the given diameter [m]."""
-        return cls("circle", (_pos("diameter", diameter),))
+        return cls("circle", (positive("diameter", diameter),))
 
     @classmethod
     def tube(cls, outer_diameter: float, inner_diameter: float) -> "Section":
         """Circular tube, ``0 < inner_diameter < outer_diameter`` [m] (use :meth:`circle` for a
         solid section)."""
-        do = _pos("outer_diameter", outer_diameter)
-        di = _pos("inner_diameter", inner_diameter)
+        do = positive("outer_diameter", outer_diameter)
+        di = positive("inner_diameter", inner_diameter)
         if di >= do:
             raise ModelError(f"inner_diameter ({di!r}) must be smaller than outer_diameter ({do!r})")
         return cls("tube", (do, di))
@@ -320,10 +312,10 @@ class BeamProperties:
             missing = [k for k, v in scalars.items() if v is None]
             if missing:
                 raise ModelError(f"missing section stiffness value(s): {', '.join(missing)}")
-            K = np.diag([_pos(k, v) for k, v in scalars.items()])
-        rIy, rIz = _pos("rhoI_y", rhoI_y), _pos("rhoI_z", rhoI_z)
-        rJ = rIy + rIz if rhoJ is None else _pos("rhoJ", rhoJ)
-        rA = _pos("rhoA", rhoA)
+            K = np.diag([positive(k, v) for k, v in scalars.items()])
+        rIy, rIz = positive("rhoI_y", rhoI_y), positive("rhoI_z", rhoI_z)
+        rJ = rIy + rIz if rhoJ is None else positive("rhoJ", rhoJ)
+        rA = positive("rhoA", rhoA)
         return cls(K, np.diag([rJ, rIy, rIz, rA, rA, rA]), damping)
 
     # -- convenience accessors (diagonal entries) --------------------------------------------
@@ -402,7 +394,7 @@ def table1_properties(stiff_factor: float = 1.0e4) -> BeamProperties:
     - torsion: ``rhoJ = rhoI_y + rhoI_z = 2 rhoI``, ``GJ = f EI``: first mode
       ``(pi/2) sqrt(GJ/rhoJ)/L`` = 5.40e3 rad/s.
     """
-    f = _pos("stiff_factor", stiff_factor)
+    f = positive("stiff_factor", stiff_factor)
     if f < 1.0:
         raise ModelError(f"stiff_factor must be >= 1, got {f!r}")
     EI, kGA, rhoA, rhoI = TABLE1["EI"], TABLE1["kGA"], TABLE1["rhoA"], TABLE1["rhoI"]

@@ -54,6 +54,7 @@ import math
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
+from ._checks import positive
 from ._core import ModelError
 
 __all__ = ["frequencies", "mode_shape", "cutoff_frequency", "BOUNDARY_CONDITIONS"]
@@ -66,22 +67,14 @@ _POINTS_PER_PI = 48          # grid nodes per pi of each wavenumber
 _GRID_OFFSET = 0.381966011250105  # (3 - sqrt 5)/2: keeps nodes off beta = m pi
 
 
-def _positive(name: str, value) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ModelError(f"{name} must be a real number, got {value!r}") from None
-    if not math.isfinite(v) or v <= 0.0:
-        raise ModelError(f"{name} must be positive and finite, got {v!r}")
-    return v
 
 
 def _check(L, EI, kGA, rhoA, rhoI, bc):
-    L = _positive("L", L)
-    EI = _positive("EI", EI)
-    kGA = _positive("kGA", kGA)
-    rhoA = _positive("rhoA", rhoA)
-    rhoI = _positive("rhoI", rhoI)
+    L = positive("L", L)
+    EI = positive("EI", EI)
+    kGA = positive("kGA", kGA)
+    rhoA = positive("rhoA", rhoA)
+    rhoI = positive("rhoI", rhoI)
     if not isinstance(bc, str) or bc not in BOUNDARY_CONDITIONS:
         raise ModelError(f"bc must be one of {BOUNDARY_CONDITIONS}, got {bc!r}")
     a = EI / (kGA * L * L)
@@ -92,7 +85,7 @@ def _check(L, EI, kGA, rhoA, rhoI, bc):
 
 def cutoff_frequency(kGA: float, rhoI: float) -> float:
     """Second-spectrum cut-off ``omega_c = sqrt(kGA/rhoI)`` [rad/s] (``kGA`` [N], ``rhoI`` [kg m])."""
-    return math.sqrt(_positive("kGA", kGA) / _positive("rhoI", rhoI))
+    return math.sqrt(positive("kGA", kGA) / positive("rhoI", rhoI))
 
 
 # ----------------------------------------------------------------------------------------------
