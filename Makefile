@@ -36,8 +36,9 @@ demo: build
 	$(PY) examples/demo.py
 
 ctest: sysdeps $(STAMP)
-	@test -f build/ctest/build.ninja || $(VENV)/bin/meson setup build/ctest --buildtype=debug -Dwerror=true >/dev/null
-	$(VENV)/bin/meson test -C build/ctest --print-errorlogs
+	@# optimized with -Werror: some warnings (e.g. -Wmaybe-uninitialized) appear only when optimizing
+	@test -f build/check/build.ninja || $(VENV)/bin/meson setup build/check --buildtype=debugoptimized -Dwerror=true >/dev/null
+	$(VENV)/bin/meson test -C build/check --print-errorlogs
 
 pytest: build
 	$(PY) -m pytest -q tests
