@@ -1,6 +1,7 @@
 /* dae.c -- the stabilized index-2 DAE (DESIGN section 6), consistent initial values and the IDA
- * driver. State layout: per carrier (q[4], p[3], t[6]); then the energy ledger integrals
- * (dissipated, supplied); then lambda (ncons); then mu (ncons). */
+ * driver. State layout: per carrier (q[4], p[3], t[6]); then the joint coordinates (nj, integrated
+ * from their rates; they select the branch of multi-turn angles); then the energy ledger integrals
+ * (dissipated, supplied, one per port); then lambda (ncons); then mu (ncons). */
 #define _POSIX_C_SOURCE 200809L
 #include "model_internal.h"
 
@@ -19,9 +20,9 @@
 
 typedef struct {
   const phm_model *m;
-  int n, ie, il, im; /* sizes and offsets of the state blocks */
+  int n, ix, ie, il, im; /* sizes and offsets of the state blocks */
   double tref;
-  double *H, *tw, *wr, *gl, *gm; /* scratch, allocated at set-up */
+  double *H, *tw, *wr, *gl, *gm, *pport, *eff; /* scratch, allocated at set-up */
   char idamsg[256];
   /* KLU: sparsity pattern (CSC) and column colouring for the finite-difference Jacobian */
   int nnz, ncolor;
@@ -65,15 +66,22 @@ static int dae_residual(dae_t *d, double time, const double *y, const double *yp
     memcpy(d->tw + 6 * c, yc + 7, 6 * sizeof(double));
   }
   double Pd = 0, Ps = 0;
-  phm_applied(m, d->H, d->tw, time, d->tref, 1.0, d->wr, NULL, &Pd, &Ps);
+  const double *xs = y + d->ix;
+  phm_applied(m, d->H, d->tw, xs, time, d->tref, 1.0, d->wr, NULL, &Pd, &Ps, d->pport, NULL);
   memset(d->gl, 0, sizeof(double) * 6 * (size_t)nc);
   memset(d->gm, 0, sizeof(double) * 6 * (size_t)nc);
   for (int ip = 0; ip < m->np; ip++) {
     const phm_pair_desc *pr = &m->pair[ip];
     int r0 = m->pair_row[ip], mc = m->pair_m[ip];
-    double g[PHM_MAXCON], Ga[6 * PHM_MAXCON], Gb[6 * PHM_MAXCON], vt[PHM_MAXCON];
-    phm_pair_eval(m, ip, pr->a >= 0 ? d->H + 16 * pr->a : NULL, pr->b >= 0 ? d->H + 16 * pr->b : NULL,
-                  time, d->tref, g, Ga, Gb, vt);
+    double g[PHM_MAXCON], Ga[6 * PHM_MAXCON], Gb[6 * PHM_MAXCON], vt[PHM_MAXCON], x[6], xd[6];
+    const double *Ha = pr->a >= 0 ? d->H + 16 * pr->a : NULL, *Hb = pr->b >= 0 ? d->H + 16 * pr->b : NULL;
+    int j0 = m->pair_j[ip], k = m->pair_k[ip];
+    phm_pair_eval(m, ip, Ha, Hb, xs + j0, time, d->tref, g, Ga, Gb, vt);
+    if (k > 0) {
+      phm_pair_joint(m, ip, Ha, Hb, pr->a >= 0 ? d->tw + 6 * pr->a : NULL,
+                     pr->b >= 0 ? d->tw + 6 * pr->b : NULL, xs + j0, x, xd);
+      for (int c = 0; c < k; c++) F[d->ix + j0 + c] = yp[d->ix + j0 + c] - xd[c];
+    }
     const double *lam = y + d->il + r0, *mu = y + d->im + r0;
     for (int r = 0; r < mc; r++) {
       double c = -vt[r];
@@ -115,6 +123,7 @@ static int dae_residual(dae_t *d, double time, const double *y, const double *yp
   }
   F[d->ie] = yp[d->ie] - Pd;
   F[d->ie + 1] = yp[d->ie + 1] - Ps;
+  for (int k = 0; k < m->nport; k++) F[d->ie + 2 + k] = yp[d->ie + 2 + k] - d->pport[k];
   return 0;
 }
 
@@ -135,6 +144,8 @@ static void dae_free(dae_t *d) {
   free(d->wr);
   free(d->gl);
   free(d->gm);
+  free(d->pport);
+  free(d->eff);
   free(d->colptr);
   free(d->rowind);
   free(d->color);
@@ -147,8 +158,9 @@ static void dae_free(dae_t *d) {
 static phm_status dae_init(dae_t *d, const phm_model *m, phm_error *err) {
   memset(d, 0, sizeof *d);
   d->m = m;
-  d->ie = PHM_NSTATE * m->nc;
-  d->il = d->ie + 2;
+  d->ix = PHM_NSTATE * m->nc;
+  d->ie = d->ix + m->nj;
+  d->il = d->ie + 2 + m->nport;
   d->im = d->il + m->ncons;
   d->n = d->im + m->ncons;
   size_t nc = (size_t)m->nc;
@@ -157,7 +169,9 @@ static phm_status dae_init(dae_t *d, const phm_model *m, phm_error *err) {
   d->wr = malloc(sizeof(double) * 6 * nc);
   d->gl = malloc(sizeof(double) * 6 * nc);
   d->gm = malloc(sizeof(double) * 6 * nc);
-  if (!d->H || !d->tw || !d->wr || !d->gl || !d->gm) {
+  d->pport = malloc(sizeof(double) * (size_t)(m->nport + 1));
+  d->eff = malloc(sizeof(double) * (size_t)(m->nj + 1));
+  if (!d->H || !d->tw || !d->wr || !d->gl || !d->gm || !d->pport || !d->eff) {
     dae_free(d);
     return phm_error_set(err, PHM_ENOMEM, "out of memory");
   }
@@ -169,7 +183,8 @@ static phm_status dae_init(dae_t *d, const phm_model *m, phm_error *err) {
  * level system for t' and lambda. Writes y (carrier blocks and lambda, mu = 0) and yp (all but the
  * ledger values in y, which the caller sets). qprev: previous quaternions for sign continuity. */
 static phm_status consistent_ic(dae_t *d, double time, double *H, double *tw, const double *qprev,
-                                double *y, double *yp, phm_error *err) {
+                                const double *xs, int check_x0, double *y, double *yp,
+                                phm_error *err) {
   const phm_model *m = d->m;
   int nc = m->nc, n6 = 6 * nc, nk = m->ncons;
   phm_status st = PHM_OK;
@@ -190,7 +205,7 @@ static phm_status consistent_ic(dae_t *d, double time, double *H, double *tw, co
     double gn = 0;
     int it;
     for (it = 0; it < 50; it++) {
-      phm_constraints_dense(m, H, time, d->tref, g, G, NULL);
+      phm_constraints_dense(m, H, xs, time, d->tref, g, G, NULL);
       gn = 0;
       for (int i = 0; i < nk; i++) gn = fmax(gn, fabs(g[i]));
       if (gn < 1e-13) break;
@@ -204,7 +219,7 @@ static phm_status consistent_ic(dae_t *d, double time, double *H, double *tw, co
       goto done;
     }
     /* velocities */
-    phm_constraints_dense(m, H, time, d->tref, NULL, G, vt);
+    phm_constraints_dense(m, H, xs, time, d->tref, NULL, G, vt);
     for (int r = 0; r < nk; r++) {
       double s = -vt[r];
       for (int j = 0; j < n6; j++) s += G[(size_t)r * n6 + j] * tw[j];
@@ -215,7 +230,7 @@ static phm_status consistent_ic(dae_t *d, double time, double *H, double *tw, co
     for (int j = 0; j < n6; j++) tw[j] += b[j];
   }
   /* acceleration level: [M -G^T; G 0] [t'; lambda] = [ad^T M t + w; -dc/dt] */
-  phm_applied(m, H, tw, time, d->tref, 1.0, d->wr, NULL, NULL, NULL);
+  phm_applied(m, H, tw, xs, time, d->tref, 1.0, d->wr, NULL, NULL, NULL, NULL, NULL);
   int N = n6 + nk;
   memset(A, 0, sizeof(double) * big);
   for (int c = 0; c < nc; c++) {
@@ -228,7 +243,7 @@ static phm_status consistent_ic(dae_t *d, double time, double *H, double *tw, co
     for (int i = 0; i < 6; i++) b[6 * c + i] = adm[i] + d->wr[6 * c + i];
   }
   if (nk > 0) {
-    phm_constraints_dense(m, H, time, d->tref, NULL, G, NULL);
+    phm_constraints_dense(m, H, xs, time, d->tref, NULL, G, NULL);
     for (int r = 0; r < nk; r++)
       for (int j = 0; j < n6; j++) {
         A[(size_t)(n6 + r) * N + j] = G[(size_t)r * n6 + j];
@@ -244,7 +259,7 @@ static phm_status consistent_ic(dae_t *d, double time, double *H, double *tw, co
         memcpy(Hp + 16 * c, H + 16 * c, 16 * sizeof(double));
         phm_retract(Hp + 16 * c, dl);
       }
-      phm_constraints_dense(m, Hp, time + s, d->tref, NULL, G, vt);
+      phm_constraints_dense(m, Hp, xs, time + s, d->tref, NULL, G, vt);
       for (int r = 0; r < nk; r++) {
         double acc = -vt[r];
         for (int j = 0; j < n6; j++) acc += G[(size_t)r * n6 + j] * tw[j];
@@ -277,22 +292,33 @@ static phm_status consistent_ic(dae_t *d, double time, double *H, double *tw, co
     y[d->im + r] = 0;
     yp[d->il + r] = yp[d->im + r] = 0;
   }
-  /* ledger rates */
+  /* joint coordinates: exact values on the branch of xs */
+  for (int ip = 0; ip < m->np; ip++) {
+    const phm_pair_desc *pr = &m->pair[ip];
+    int j0 = m->pair_j[ip], k = m->pair_k[ip];
+    if (k == 0) continue;
+    double x[6];
+    phm_pair_joint(m, ip, pr->a >= 0 ? H + 16 * pr->a : NULL, pr->b >= 0 ? H + 16 * pr->b : NULL,
+                   NULL, NULL, xs + j0, x, NULL);
+    if (check_x0 && pr->has_x0)
+      for (int c = 0; c < k; c++)
+        if (fabs(x[c] - pr->x0[c]) > 1e-6 * (1 + fabs(pr->x0[c]))) {
+          st = phm_error_set(err, PHM_EINVAL, "pair %d: initial joint coordinate %d is %.9g in the initial configuration, not x0 = %.9g; place the bodies accordingly", ip, c, x[c], pr->x0[c]);
+          goto done;
+        }
+    memcpy(y + d->ix + j0, x, sizeof(double) * (size_t)k);
+  }
+  /* rates of the joint coordinates and of the ledger from the residual (yp = 0 there) */
   {
-    double Pd = 0, Ps = 0;
-    phm_applied(m, H, tw, time, d->tref, 1.0, d->wr, NULL, &Pd, &Ps);
     double *tmp = malloc(sizeof(double) * (size_t)d->n);
-    if (tmp) {
-      /* use the residual to get the supplied power including constraint wrenches */
-      yp[d->ie] = yp[d->ie + 1] = 0;
-      dae_residual(d, time, y, yp, tmp);
-      yp[d->ie] = -tmp[d->ie];
-      yp[d->ie + 1] = -tmp[d->ie + 1];
-      free(tmp);
-    } else {
-      yp[d->ie] = Pd;
-      yp[d->ie + 1] = Ps;
+    if (!tmp) {
+      st = phm_error_set(err, PHM_ENOMEM, "out of memory");
+      goto done;
     }
+    for (int i = d->ix; i < d->il; i++) yp[i] = 0;
+    dae_residual(d, time, y, yp, tmp);
+    for (int i = d->ix; i < d->il; i++) yp[i] = -tmp[i];
+    free(tmp);
   }
 done:
   free(G);
@@ -306,7 +332,8 @@ done:
 }
 
 /* ---------------------------------------------------------------- output */
-static void record(dae_t *d, const double *y, phm_sim_output *out, int iout, double E0[1]) {
+static void record(dae_t *d, const double *y, phm_sim_output *out, int iout, double E0[1],
+                   double time) {
   const phm_model *m = d->m;
   int nc = m->nc;
   for (int c = 0; c < nc; c++) {
@@ -318,6 +345,28 @@ static void record(dae_t *d, const double *y, phm_sim_output *out, int iout, dou
   if (out->twists) memcpy(out->twists + (size_t)iout * 6 * nc, d->tw, sizeof(double) * 6 * nc);
   if (out->lambda && m->ncons)
     memcpy(out->lambda + (size_t)iout * m->ncons, y + d->il, sizeof(double) * m->ncons);
+  const double *xs = y + d->ix;
+  for (int ip = 0; ip < m->np; ip++) {
+    const phm_pair_desc *pr = &m->pair[ip];
+    const double *Ha = pr->a >= 0 ? d->H + 16 * pr->a : NULL, *Hb = pr->b >= 0 ? d->H + 16 * pr->b : NULL;
+    int j0 = m->pair_j[ip];
+    double x[6], xd[6];
+    phm_pair_joint(m, ip, Ha, Hb, pr->a >= 0 ? d->tw + 6 * pr->a : NULL,
+                   pr->b >= 0 ? d->tw + 6 * pr->b : NULL, xs + j0, x, xd);
+    for (int c = 0; c < m->pair_k[ip]; c++) {
+      if (out->joints) out->joints[(size_t)iout * m->nj + j0 + c] = x[c];
+      if (out->jrates) out->jrates[(size_t)iout * m->nj + j0 + c] = xd[c];
+    }
+    if (out->pwrench)
+      phm_pair_wrench(m, ip, Ha, Hb, xs + j0, time, d->tref, y + d->il + m->pair_row[ip],
+                      out->pwrench + ((size_t)iout * m->np + ip) * 6);
+  }
+  if (out->efforts && m->nj) {
+    phm_applied(m, d->H, d->tw, xs, time, d->tref, 1.0, d->wr, NULL, NULL, NULL, NULL, d->eff);
+    memcpy(out->efforts + (size_t)iout * m->nj, d->eff, sizeof(double) * (size_t)m->nj);
+  }
+  if (out->ports && m->nport)
+    memcpy(out->ports + (size_t)iout * m->nport, y + d->ie + 2, sizeof(double) * (size_t)m->nport);
   double e[3];
   phm_model_energy(m, d->H, d->tw, e);
   double tot = e[0] + e[1] + e[2];
@@ -430,9 +479,9 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
   d.tref = phm_model_tref(m, t, &nbp);
   memset(y, 0, sizeof(double) * (size_t)d.n);
   memset(ypd, 0, sizeof(double) * (size_t)d.n);
-  if ((st = consistent_ic(&d, t, H, tw, NULL, y, ypd, err))) goto done;
+  if ((st = consistent_ic(&d, t, H, tw, NULL, m->xref0, 1, y, ypd, err))) goto done;
   double E0 = 0;
-  record(&d, y, out, 0, &E0);
+  record(&d, y, out, 0, &E0, t);
   if (opt->interrupt && opt->interrupt(opt->ctx, t, 0)) {
     st = phm_error_set(err, PHM_EINTERRUPT, "interrupted at t = %g s", t);
     goto done;
@@ -500,14 +549,13 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
           memcpy(tw + 6 * c, yc + 7, 6 * sizeof(double));
         }
         memcpy(qprev, y, sizeof(double) * (size_t)d.n);
-        if ((st = consistent_ic(&d, t, H, tw, qprev, y, ypd, err))) goto done;
-        y[d.ie] = qprev[d.ie];
-        y[d.ie + 1] = qprev[d.ie + 1];
+        if ((st = consistent_ic(&d, t, H, tw, qprev, qprev + d.ix, 0, y, ypd, err))) goto done;
+        for (int i = d.ie; i < d.il; i++) y[i] = qprev[i];
         IDACHK(IDAReInit(mem, t, yy, yp));
         if (t >= target) t = target;
       }
     }
-    record(&d, y, out, iout, &E0);
+    record(&d, y, out, iout, &E0, t);
     if (opt->interrupt && opt->interrupt(opt->ctx, t, iout)) {
       st = phm_error_set(err, PHM_EINTERRUPT, "interrupted at t = %g s", t);
       goto done;
@@ -545,8 +593,17 @@ static phm_status klu_pattern(dae_t *d, phm_error *err) {
     int a = m->el[ie].a, b = m->el[ie].b;
     adj[(size_t)a * nb + b] = adj[(size_t)b * nb + a] = 1;
   }
+  for (int is = 0; is < m->ns; is++) {
+    int a = m->spr[is].a, b = m->spr[is].b;
+    if (a >= 0 && b >= 0) adj[(size_t)a * nb + b] = adj[(size_t)b * nb + a] = 1;
+  }
+  for (int il = 0; il < m->nl; il++) {
+    int a = m->load[il].carrier, b = m->load[il].reaction;
+    if (a >= 0 && b >= 0) adj[(size_t)a * nb + b] = adj[(size_t)b * nb + a] = 1;
+  }
   for (int ip = 0; ip < m->np; ip++) {
     int a = m->pair[ip].a, b = m->pair[ip].b, p = nc + ip;
+    if (m->pair_k[ip] > 0) adj[(size_t)p * nb + p] = 1; /* joint coordinates: own rate */
     if (a >= 0 && b >= 0) adj[(size_t)a * nb + b] = adj[(size_t)b * nb + a] = 1;
     if (a >= 0) adj[(size_t)a * nb + p] = adj[(size_t)p * nb + a] = 1;
     if (b >= 0) adj[(size_t)b * nb + p] = adj[(size_t)p * nb + b] = 1;
@@ -564,8 +621,12 @@ static phm_status klu_pattern(dae_t *d, phm_error *err) {
     return phm_error_set(err, PHM_ENOMEM, "out of memory");
   }
   for (int i = 0; i < n; i++) {
-    if (i < d->ie) blk[i] = i / PHM_NSTATE;
-    else if (i < d->il) blk[i] = -1; /* ledger */
+    if (i < d->ix) blk[i] = i / PHM_NSTATE;
+    else if (i < d->ie) {
+      int ip = 0;
+      while (ip + 1 < m->np && m->pair_j[ip + 1] <= i - d->ix) ip++;
+      blk[i] = nc + ip;
+    } else if (i < d->il) blk[i] = -1; /* ledger */
     else {
       int r = (i < d->im ? i - d->il : i - d->im), ip = 0;
       while (ip + 1 < m->np && m->pair_row[ip + 1] <= r) ip++;
@@ -623,17 +684,18 @@ static phm_status klu_pattern(dae_t *d, phm_error *err) {
     bcol[b] = cidx;
     if (cidx + 1 > nbcol) nbcol = cidx + 1;
   }
-  int width = PHM_NSTATE > 2 * PHM_MAXCON ? PHM_NSTATE : 2 * PHM_MAXCON;
+  int width = PHM_NSTATE > 2 * PHM_MAXCON + 6 ? PHM_NSTATE : 2 * PHM_MAXCON + 6;
   for (int i = 0; i < n; i++) {
     int b = blk[i];
     if (b < 0) { d->color[i] = nbcol * width + (i - d->ie); continue; }
     int off;
     if (b < nc) off = i - PHM_NSTATE * b;
+    else if (i < d->ie) off = i - d->ix - m->pair_j[b - nc] + 2 * PHM_MAXCON;
     else if (i < d->im) off = i - d->il - m->pair_row[b - nc];
     else off = i - d->im - m->pair_row[b - nc] + PHM_MAXCON;
     d->color[i] = bcol[b] * width + off;
   }
-  d->ncolor = nbcol * width + 2;
+  d->ncolor = nbcol * width + (d->il - d->ie);
   free(adj);
   free(blk);
   free(bcol);

@@ -25,10 +25,10 @@ typedef struct {
 /* Generalized forces at poses H: applied wrenches + G^T lambda (nc x 6, body frame). */
 static void total_force(lin_t *L, const double *H, double *f) {
   const phm_model *m = L->m;
-  phm_applied(m, H, NULL, L->time, L->tref, L->scale, f, NULL, NULL, NULL);
+  phm_applied(m, H, NULL, NULL, L->time, L->tref, L->scale, f, NULL, NULL, NULL, NULL, NULL);
   if (L->lam && m->ncons) {
     int n6 = 6 * m->nc;
-    phm_constraints_dense(m, H, L->time, L->tref, NULL, L->G, NULL);
+    phm_constraints_dense(m, H, NULL, L->time, L->tref, NULL, L->G, NULL);
     for (int r = 0; r < m->ncons; r++)
       for (int j = 0; j < n6; j++) f[j] += L->G[(size_t)r * n6 + j] * L->lam[r];
   }
@@ -57,7 +57,7 @@ static void force_column(lin_t *L, const double *H, int c, int j, double *col, d
       w[i] = s;
     }
     memcpy(f + 6 * c, w, sizeof w);
-    if (dg) phm_constraints_dense(m, L->Hp, L->time, L->tref, side ? g2 : g1, NULL, NULL);
+    if (dg) phm_constraints_dense(m, L->Hp, NULL, L->time, L->tref, side ? g2 : g1, NULL, NULL);
   }
   for (int i = 0; i < n6; i++) col[i] = (f1[i] - f2[i]) / (2 * eps);
   if (dg)
@@ -119,17 +119,17 @@ phm_status phm_modes(const phm_model *m, const double *poses, const double *lamb
       K[(size_t)i * n6 + j] = K[(size_t)j * n6 + i] = s;
     }
   /* damping D = -dw/dt (linear in t: one-sided differences are exact up to round-off) */
-  phm_applied(m, H, tw, time, L.tref, 1.0, f1, NULL, NULL, NULL);
+  phm_applied(m, H, tw, NULL, time, L.tref, 1.0, f1, NULL, NULL, NULL, NULL, NULL);
   for (int k = 0; k < n6; k++) {
     tw[k] = 1.0;
-    phm_applied(m, H, tw, time, L.tref, 1.0, f2, NULL, NULL, NULL);
+    phm_applied(m, H, tw, NULL, time, L.tref, 1.0, f2, NULL, NULL, NULL, NULL, NULL);
     tw[k] = 0.0;
     for (int i = 0; i < n6; i++) Dm[(size_t)i * n6 + k] = -(f2[i] - f1[i]);
   }
   /* null space of G */
   int nr = n6, rank = 0;
   if (nk > 0) {
-    phm_constraints_dense(m, H, time, L.tref, NULL, L.G, NULL);
+    phm_constraints_dense(m, H, NULL, time, L.tref, NULL, L.G, NULL);
     U = malloc(sizeof(double) * (size_t)n6 * n6);
     sv = malloc(sizeof(double) * (size_t)(nk < n6 ? nk : n6) + sizeof(double));
     T = malloc(sizeof(double) * (size_t)nk * n6);
@@ -261,7 +261,7 @@ static int newton(lin_t *L, double *H, double *lam, double tol, int maxit, doubl
     (*iters)++;
     /* residual */
     total_force(L, H, R);
-    if (nk) phm_constraints_dense(m, H, L->time, L->tref, R + n6, NULL, NULL);
+    if (nk) phm_constraints_dense(m, H, NULL, L->time, L->tref, R + n6, NULL, NULL);
     /* Jacobian */
     for (int c = 0; c < nc; c++)
       for (int j = 0; j < 6; j++) {
@@ -271,7 +271,7 @@ static int newton(lin_t *L, double *H, double *lam, double tol, int maxit, doubl
         for (int i = 0; i < nk; i++) J[(size_t)cj * N + n6 + i] = dg[i];
       }
     if (nk) {
-      phm_constraints_dense(m, H, L->time, L->tref, NULL, L->G, NULL);
+      phm_constraints_dense(m, H, NULL, L->time, L->tref, NULL, L->G, NULL);
       for (int r = 0; r < nk; r++) {
         for (int i = 0; i < n6; i++) J[(size_t)(n6 + r) * N + i] = L->G[(size_t)r * n6 + i];
         for (int i = 0; i < nk; i++) J[(size_t)(n6 + r) * N + n6 + i] = 0;

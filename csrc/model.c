@@ -126,29 +126,115 @@ static phm_status law_check(const phm_law *l, const char *what, int idx, phm_err
 
 /* ---------------------------------------------------------------- pair types */
 const phm_pair_type_info phm_pair_types[] = {
-    {"fixed", 6},
-    /* TODO(pairs): each new type adds {name, m} here, its basis W^C in pair_basis() and its
-     * position constraint in pair_g(). */
+    {"fixed", 6},     {"revolute", 5},  {"prismatic", 5}, {"helical", 5}, {"cylindrical", 4},
+    {"universal", 4}, {"spherical", 3}, {"planar", 3},    {"free", 0},
 };
 const int phm_npair_types = (int)(sizeof phm_pair_types / sizeof phm_pair_types[0]);
 
-/* Constraint-wrench basis W^C (6 x m, row-major) of a pair type, in frame Tb. */
-static void pair_basis(int type, double *W) {
-  switch (type) {
-  case PHM_PAIR_FIXED:
-  default:
-    memset(W, 0, 36 * sizeof(double));
-    for (int i = 0; i < 6; i++) W[6 * i + i] = 1.0;
-    break;
-  }
+static double wrap_pi(double a) { return a - 2 * PI * floor((a + PI) / (2 * PI)); }
+static double near_angle(double a, const double *xref, int i) { return xref ? xref[i] + wrap_pi(a - xref[i]) : a; }
+
+/* Column c of a 6x6 row-major basis: set entries (rows r0..r0+2) to v. */
+static void setcol(double *B, int c, int r0, double v0, double v1, double v2) {
+  B[6 * r0 + c] = v0;
+  B[6 * (r0 + 1) + c] = v1;
+  B[6 * (r0 + 2) + c] = v2;
 }
 
-/* Position constraints g(E) of a pair type, E = r^-1 h the relative pose error. */
-static void pair_g(int type, const double E[16], double *g) {
+/* Position constraints are written so that dg = W^T t_rel at g = 0 (up to a unit-triangular
+ * factor for helical/cylindrical): rotations through the z axis of F_a seen in F_b, R^T e_z, whose
+ * rate is e_z x omega; translations through R^T p (rate v - omega x R^T p) or p (rate R v). */
+void phm_pair_kin(int type, double pitch, const double h[16], const double *xref, double *g,
+                  double *W, double *Phi, double *x) {
+#define R(i, j) h[4 * (i) + (j)]
+  double p[3] = {h[3], h[7], h[11]}, q[3]; /* q = R^T p */
+  for (int i = 0; i < 3; i++) q[i] = R(0, i) * p[0] + R(1, i) * p[1] + R(2, i) * p[2];
+  double gg[6] = {0}, xx[6] = {0}, Wl[36] = {0}, Pl[36] = {0};
+  double th = atan2(R(1, 0), R(0, 0));
   switch (type) {
   case PHM_PAIR_FIXED:
-  default: phm_se3_log(E, g); break;
+    phm_se3_log(h, gg);
+    for (int i = 0; i < 6; i++) Wl[7 * i] = 1;
+    break;
+  case PHM_PAIR_REVOLUTE:
+    gg[0] = R(2, 1); gg[1] = -R(2, 0); gg[2] = q[0]; gg[3] = q[1]; gg[4] = q[2];
+    setcol(Wl, 0, 0, 1, 0, 0); setcol(Wl, 1, 0, 0, 1, 0);
+    setcol(Wl, 2, 3, 1, 0, 0); setcol(Wl, 3, 3, 0, 1, 0); setcol(Wl, 4, 3, 0, 0, 1);
+    setcol(Pl, 0, 0, 0, 0, 1);
+    xx[0] = near_angle(th, xref, 0);
+    break;
+  case PHM_PAIR_PRISMATIC: {
+    double Rm[9], w[3];
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) Rm[3 * i + j] = R(i, j);
+    phm_so3_log(Rm, w);
+    gg[0] = w[0]; gg[1] = w[1]; gg[2] = w[2]; gg[3] = p[0]; gg[4] = p[1];
+    setcol(Wl, 0, 0, 1, 0, 0); setcol(Wl, 1, 0, 0, 1, 0); setcol(Wl, 2, 0, 0, 0, 1);
+    setcol(Wl, 3, 3, 1, 0, 0); setcol(Wl, 4, 3, 0, 1, 0);
+    setcol(Pl, 0, 3, 0, 0, 1);
+    xx[0] = p[2];
+  } break;
+  case PHM_PAIR_HELICAL: {
+    double a = near_angle(th, xref, 0), s = 1.0 / sqrt(1 + pitch * pitch), s2 = 1.0 / (1 + pitch * pitch);
+    gg[0] = R(2, 1); gg[1] = -R(2, 0); gg[2] = q[0]; gg[3] = q[1]; gg[4] = s * (q[2] - pitch * a);
+    setcol(Wl, 0, 0, 1, 0, 0); setcol(Wl, 1, 0, 0, 1, 0);
+    setcol(Wl, 2, 3, 1, 0, 0); setcol(Wl, 3, 3, 0, 1, 0);
+    setcol(Wl, 4, 0, 0, 0, -pitch * s); setcol(Wl, 4, 3, 0, 0, s);
+    setcol(Pl, 0, 0, 0, 0, s2); setcol(Pl, 0, 3, 0, 0, pitch * s2);
+    xx[0] = a;
+  } break;
+  case PHM_PAIR_CYLINDRICAL:
+    gg[0] = R(2, 1); gg[1] = -R(2, 0); gg[2] = q[0]; gg[3] = q[1];
+    setcol(Wl, 0, 0, 1, 0, 0); setcol(Wl, 1, 0, 0, 1, 0);
+    setcol(Wl, 2, 3, 1, 0, 0); setcol(Wl, 3, 3, 0, 1, 0);
+    setcol(Pl, 0, 0, 0, 0, 1); setcol(Pl, 1, 3, 0, 0, 1);
+    xx[0] = near_angle(th, xref, 0);
+    xx[1] = q[2];
+    break;
+  case PHM_PAIR_UNIVERSAL:
+    /* a = R^T e_x (first axis seen in F_b), second axis e_y; x of F_a stays normal to y of F_b */
+    gg[0] = -R(0, 1); gg[1] = q[0]; gg[2] = q[1]; gg[3] = q[2];
+    setcol(Wl, 0, 0, -R(0, 2), 0, R(0, 0)); /* a x e_y */
+    setcol(Wl, 1, 3, 1, 0, 0); setcol(Wl, 2, 3, 0, 1, 0); setcol(Wl, 3, 3, 0, 0, 1);
+    setcol(Pl, 0, 0, R(0, 0), R(0, 1), R(0, 2)); setcol(Pl, 1, 0, 0, 1, 0);
+    xx[0] = near_angle(atan2(R(2, 1), R(1, 1)), xref, 0);
+    xx[1] = near_angle(atan2(R(0, 2), R(0, 0)), xref, 1);
+    break;
+  case PHM_PAIR_SPHERICAL: {
+    double Rm[9];
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) Rm[3 * i + j] = R(i, j);
+    phm_so3_log(Rm, xx);
+    gg[0] = q[0]; gg[1] = q[1]; gg[2] = q[2];
+    setcol(Wl, 0, 3, 1, 0, 0); setcol(Wl, 1, 3, 0, 1, 0); setcol(Wl, 2, 3, 0, 0, 1);
+    setcol(Pl, 0, 0, 1, 0, 0); setcol(Pl, 1, 0, 0, 1, 0); setcol(Pl, 2, 0, 0, 0, 1);
+  } break;
+  case PHM_PAIR_PLANAR:
+    gg[0] = R(2, 1); gg[1] = -R(2, 0); gg[2] = p[2];
+    setcol(Wl, 0, 0, 1, 0, 0); setcol(Wl, 1, 0, 0, 1, 0); setcol(Wl, 2, 3, 0, 0, 1);
+    setcol(Pl, 0, 0, 0, 0, 1);
+    setcol(Pl, 1, 3, R(0, 0), R(0, 1), R(0, 2)); setcol(Pl, 2, 3, R(1, 0), R(1, 1), R(1, 2));
+    xx[0] = near_angle(th, xref, 0);
+    xx[1] = p[0];
+    xx[2] = p[1];
+    break;
+  case PHM_PAIR_FREE:
+  default: {
+    double Rm[9];
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) Rm[3 * i + j] = R(i, j);
+    phm_so3_log(Rm, xx);
+    xx[3] = p[0]; xx[4] = p[1]; xx[5] = p[2];
+    setcol(Pl, 0, 0, 1, 0, 0); setcol(Pl, 1, 0, 0, 1, 0); setcol(Pl, 2, 0, 0, 0, 1);
+    for (int j = 0; j < 3; j++) setcol(Pl, 3 + j, 3, R(j, 0), R(j, 1), R(j, 2));
+  } break;
   }
+#undef R
+  int mm = (type >= 0 && type < phm_npair_types) ? phm_pair_types[type].m : 0;
+  if (g) memcpy(g, gg, sizeof(double) * (size_t)mm);
+  if (x) memcpy(x, xx, sizeof(double) * (size_t)(6 - mm));
+  if (W) memcpy(W, Wl, sizeof Wl);
+  if (Phi) memcpy(Phi, Pl, sizeof Pl);
 }
 
 /* ---------------------------------------------------------------- model */
@@ -209,6 +295,11 @@ void phm_model_free(phm_model *m) {
   free(m->pair);
   free(m->pair_row);
   free(m->pair_m);
+  free(m->pair_j);
+  free(m->pair_k);
+  free(m->xref0);
+  free(m->act);
+  free(m->spr);
   free(m->load);
   free(m->bp);
   free(m->tables);
@@ -255,13 +346,43 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
     if ((st = check_pose(p->Ta, "pair frame Ta of pair", i, err))) return st;
     if ((st = check_pose(p->Tb, "pair frame Tb of pair", i, err))) return st;
     if (p->driven) {
+      if (p->type != PHM_PAIR_FIXED)
+        return phm_error_set(err, PHM_EINVAL, "pair %d: only fixed pairs can be driven by a prescribed motion (use a PD actuator on a %s pair)", i, phm_pair_types[p->type].name);
       if (!finite_n(p->axis, 6)) return phm_error_set(err, PHM_EINVAL, "pair %d: non-finite motion axis", i);
       if ((st = law_check(&p->law, "pair", i, err))) return st;
     }
+    if (!isfinite(p->pitch)) return phm_error_set(err, PHM_EINVAL, "pair %d: non-finite pitch", i);
+    if (p->has_x0 && !finite_n(p->x0, 6 - phm_pair_types[p->type].m))
+      return phm_error_set(err, PHM_EINVAL, "pair %d: non-finite initial joint coordinates", i);
+  }
+  if (d->nactuators < 0 || d->nsprings < 0) return phm_error_set(err, PHM_EINVAL, "negative actuator or spring count");
+  for (int i = 0; i < d->nactuators; i++) {
+    const phm_actuator_desc *a = &d->actuators[i];
+    if (a->pair < 0 || a->pair >= d->npairs) return phm_error_set(err, PHM_EINVAL, "actuator %d: pair %d out of range", i, a->pair);
+    int k = 6 - phm_pair_types[d->pairs[a->pair].type].m;
+    if (k == 0) return phm_error_set(err, PHM_EINVAL, "actuator %d: pair %d is fixed (no allowed direction to actuate)", i, a->pair);
+    if (a->kind < PHM_ACT_EFFORT || a->kind > PHM_ACT_SPRING) return phm_error_set(err, PHM_EINVAL, "actuator %d: unknown kind %d", i, a->kind);
+    if (!finite_n(a->vec, k) || !finite_n(a->kp, k) || !finite_n(a->kd, k) || !finite_n(a->x_set, k))
+      return phm_error_set(err, PHM_EINVAL, "actuator %d: non-finite direction, gain or set point", i);
+    if (a->kind != PHM_ACT_EFFORT)
+      for (int j = 0; j < k; j++)
+        if (a->kp[j] < 0 || a->kd[j] < 0) return phm_error_set(err, PHM_EINVAL, "actuator %d: gains must be >= 0 (kp %g, kd %g)", i, a->kp[j], a->kd[j]);
+    if (a->kind != PHM_ACT_SPRING && (st = law_check(&a->law, "actuator", i, err))) return st;
+  }
+  for (int i = 0; i < d->nsprings; i++) {
+    const phm_spring_desc *sp = &d->springs[i];
+    if (sp->a < -1 || sp->a >= d->ncarriers || sp->b < -1 || sp->b >= d->ncarriers || sp->a == sp->b)
+      return phm_error_set(err, PHM_EINVAL, "spring %d: carriers (%d, %d) out of range or equal", i, sp->a, sp->b);
+    if (!finite_n(sp->pa, 3) || !finite_n(sp->pb, 3) || !isfinite(sp->k) || !isfinite(sp->c) || !isfinite(sp->d0))
+      return phm_error_set(err, PHM_EINVAL, "spring %d: non-finite point or parameter", i);
+    if (sp->k < 0 || sp->c < 0 || sp->d0 < 0)
+      return phm_error_set(err, PHM_EINVAL, "spring %d: stiffness, damping and rest length must be >= 0 (got %g, %g, %g)", i, sp->k, sp->c, sp->d0);
   }
   for (int i = 0; i < d->nloads; i++) {
     const phm_load_desc *l = &d->loads[i];
     if (l->carrier < 0 || l->carrier >= d->ncarriers) return phm_error_set(err, PHM_EINVAL, "load %d: carrier %d out of range", i, l->carrier);
+    if (l->reaction < -1 || l->reaction >= d->ncarriers || l->reaction == l->carrier)
+      return phm_error_set(err, PHM_EINVAL, "load %d: reaction carrier %d out of range or equal to the loaded one", i, l->reaction);
     if (!finite_n(l->w, 6) || !finite_n(l->point, 3)) return phm_error_set(err, PHM_EINVAL, "load %d: non-finite wrench or point", i);
     if ((st = law_check(&l->law, "load", i, err))) return st;
   }
@@ -272,6 +393,8 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   m->ne = d->nelements;
   m->np = d->npairs;
   m->nl = d->nloads;
+  m->na = d->nactuators;
+  m->ns = d->nsprings;
   memcpy(m->gravity, d->gravity, sizeof m->gravity);
   m->car = malloc(sizeof *m->car * (size_t)m->nc);
   m->el = malloc(sizeof *m->el * (size_t)(m->ne + 1));
@@ -279,7 +402,17 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   m->pair_row = malloc(sizeof(int) * (size_t)(m->np + 1));
   m->pair_m = malloc(sizeof(int) * (size_t)(m->np + 1));
   m->load = malloc(sizeof *m->load * (size_t)(m->nl + 1));
+  m->pair_j = malloc(sizeof(int) * (size_t)(m->np + 1));
+  m->pair_k = malloc(sizeof(int) * (size_t)(m->np + 1));
+  m->xref0 = calloc((size_t)(6 * m->np + 1), sizeof(double));
+  m->act = malloc(sizeof *m->act * (size_t)(m->na + 1));
+  m->spr = malloc(sizeof *m->spr * (size_t)(m->ns + 1));
   int ntab = 0, nbp = 0;
+  for (int i = 0; i < m->na; i++)
+    if (d->actuators[i].kind != PHM_ACT_SPRING) {
+      nbp += law_breakpoints(&d->actuators[i].law, NULL);
+      if (d->actuators[i].law.kind == PHM_LAW_TABLE) ntab += d->actuators[i].law.ntable;
+    }
   for (int i = 0; i < m->np; i++)
     if (d->pairs[i].driven) {
       nbp += law_breakpoints(&d->pairs[i].law, NULL);
@@ -291,7 +424,8 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   }
   m->bp = malloc(sizeof(double) * (size_t)(nbp + 1));
   m->tables = malloc(sizeof(double) * (size_t)(2 * ntab + 1));
-  if (!m->car || !m->el || !m->pair || !m->pair_row || !m->pair_m || !m->load || !m->bp || !m->tables) {
+  if (!m->car || !m->el || !m->pair || !m->pair_row || !m->pair_m || !m->load || !m->bp || !m->tables ||
+      !m->pair_j || !m->pair_k || !m->xref0 || !m->act || !m->spr) {
     phm_model_free(m);
     return phm_error_set(err, PHM_ENOMEM, "out of memory");
   }
@@ -299,7 +433,19 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   if (m->ne) memcpy(m->el, d->elements, sizeof *m->el * (size_t)m->ne);
   if (m->np) memcpy(m->pair, d->pairs, sizeof *m->pair * (size_t)m->np);
   if (m->nl) memcpy(m->load, d->loads, sizeof *m->load * (size_t)m->nl);
+  if (m->na) memcpy(m->act, d->actuators, sizeof *m->act * (size_t)m->na);
+  if (m->ns) memcpy(m->spr, d->springs, sizeof *m->spr * (size_t)m->ns);
   double *tp = m->tables;
+  for (int i = 0; i < m->na; i++) {
+    phm_law *l = &m->act[i].law;
+    if (m->act[i].kind != PHM_ACT_SPRING && l->kind == PHM_LAW_TABLE) {
+      memcpy(tp, l->table, sizeof(double) * 2 * (size_t)l->ntable);
+      l->table = tp;
+      tp += 2 * l->ntable;
+    } else if (m->act[i].kind == PHM_ACT_SPRING) {
+      memset(l, 0, sizeof *l);
+    }
+  }
   for (int i = 0; i < m->np; i++) {
     phm_law *l = &m->pair[i].law;
     if (m->pair[i].driven && l->kind == PHM_LAW_TABLE) {
@@ -318,14 +464,22 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
       tp += 2 * l->ntable;
     }
   }
-  int row = 0;
+  int row = 0, jt = 0;
   for (int i = 0; i < m->np; i++) {
     m->pair_row[i] = row;
     m->pair_m[i] = phm_pair_types[m->pair[i].type].m;
     row += m->pair_m[i];
+    m->pair_j[i] = jt;
+    m->pair_k[i] = 6 - m->pair_m[i];
+    if (m->pair[i].has_x0) memcpy(m->xref0 + jt, m->pair[i].x0, sizeof(double) * (size_t)m->pair_k[i]);
+    jt += m->pair_k[i];
   }
   m->ncons = row;
+  m->nj = jt;
+  m->nport = m->na + m->nl + m->ns;
   nbp = 0;
+  for (int i = 0; i < m->na; i++)
+    if (m->act[i].kind != PHM_ACT_SPRING) nbp += law_breakpoints(&m->act[i].law, m->bp + nbp);
   for (int i = 0; i < m->np; i++)
     if (m->pair[i].driven) nbp += law_breakpoints(&m->pair[i].law, m->bp + nbp);
   for (int i = 0; i < m->nl; i++) nbp += law_breakpoints(&m->load[i].law, m->bp + nbp);
@@ -343,6 +497,15 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
 
 int phm_model_ncarriers(const phm_model *m) { return m->nc; }
 int phm_model_nconstraints(const phm_model *m) { return m->ncons; }
+int phm_model_npairs(const phm_model *m) { return m->np; }
+int phm_model_njoints(const phm_model *m) { return m->nj; }
+int phm_model_nports(const phm_model *m) { return m->nport; }
+void phm_model_pair_layout(const phm_model *m, int ip, int *row, int *mc, int *joint, int *k) {
+  if (row) *row = m->pair_row[ip];
+  if (mc) *mc = m->pair_m[ip];
+  if (joint) *joint = m->pair_j[ip];
+  if (k) *k = m->pair_k[ip];
+}
 
 double phm_model_tref(const phm_model *m, double t, double *next_bp) {
   for (int i = 0; i < m->nbp; i++)
@@ -416,57 +579,66 @@ void phm_element_eval(const phm_element_desc *e, const double Ha[16], const doub
 }
 
 /* ---------------------------------------------------------------- pairs */
-void phm_pair_eval(const phm_model *m, int ip, const double *Ha, const double *Hb, double time,
-                   double tref, double *g, double *Ga, double *Gb, double *vt) {
+/* Frames of pair ip: B = H_b Tb, h = (H_a Ta)^-1 B, AdTbi = Ad_{Tb^-1}, AdBa = Ad_{B^-1 H_a}, so
+ * that the relative twist is t_rel = AdTbi t_b - AdBa t_a (in F_b). */
+static void pair_frames(const phm_model *m, int ip, const double *Ha, const double *Hb, double h[16],
+                        double AdTbi[36], double AdBa[36]) {
   const phm_pair_desc *pr = &m->pair[ip];
-  int mc = m->pair_m[ip];
-  double A[16], B[16], Ai[16], Bi[16], h[16], W[36];
+  double A[16], B[16], Ai[16], Bi[16], T[16];
   if (Ha) phm_se3_compose(Ha, pr->Ta, A); else memcpy(A, pr->Ta, sizeof A);
   if (Hb) phm_se3_compose(Hb, pr->Tb, B); else memcpy(B, pr->Tb, sizeof B);
-  pair_basis(pr->type, W);
+  phm_se3_inverse(A, Ai);
+  phm_se3_compose(Ai, B, h);
+  if (AdTbi) {
+    phm_se3_inverse(pr->Tb, T);
+    phm_se3_Ad(T, AdTbi);
+  }
+  if (AdBa) {
+    phm_se3_inverse(B, Bi);
+    if (Ha) phm_se3_compose(Bi, Ha, T); else memcpy(T, Bi, sizeof T);
+    phm_se3_Ad(T, AdBa);
+  }
+}
+
+static void rel_twist(const double AdTbi[36], const double AdBa[36], const double *ta,
+                      const double *tb, double tr[6]) {
+  double u[6] = {0}, v[6] = {0};
+  if (tb) mv6(AdTbi, tb, u);
+  if (ta) mv6(AdBa, ta, v);
+  for (int i = 0; i < 6; i++) tr[i] = u[i] - v[i];
+}
+
+void phm_pair_eval(const phm_model *m, int ip, const double *Ha, const double *Hb,
+                   const double *xref, double time, double tref, double *g, double *Ga,
+                   double *Gb, double *vt) {
+  const phm_pair_desc *pr = &m->pair[ip];
+  int mc = m->pair_m[ip];
+  double h[16], W[36], AdTbi[36], AdBa[36];
+  if (!xref) xref = m->xref0 + m->pair_j[ip];
+  pair_frames(m, ip, Ha, Hb, h, (Ga || Gb) ? AdTbi : NULL, Ga ? AdBa : NULL);
   double s = 0, ds = 0;
   if (pr->driven) s = phm_law_eval(&pr->law, time, tref, &ds, NULL);
-  if (g) {
-    phm_se3_inverse(A, Ai);
-    phm_se3_compose(Ai, B, h);
-    double E[16];
-    if (pr->driven) {
-      double x[6], r[16], ri[16];
-      for (int i = 0; i < 6; i++) x[i] = s * pr->axis[i];
-      phm_se3_exp(x, r);
-      phm_se3_inverse(r, ri);
-      phm_se3_compose(ri, h, E);
-    } else {
-      memcpy(E, h, sizeof E);
-    }
-    pair_g(pr->type, E, g);
+  if (pr->driven && g) {
+    double x[6], r[16], ri[16], E[16];
+    for (int i = 0; i < 6; i++) x[i] = s * pr->axis[i];
+    phm_se3_exp(x, r);
+    phm_se3_inverse(r, ri);
+    phm_se3_compose(ri, h, E);
+    phm_pair_kin(pr->type, pr->pitch, E, xref, g, W, NULL, NULL);
+  } else {
+    phm_pair_kin(pr->type, pr->pitch, h, xref, g, W, NULL, NULL);
   }
-  if (Ga || Gb) {
-    /* G_b = W^T Ad_{Tb^-1},  G_a = -W^T Ad_{(H_b Tb)^-1 H_a} */
-    double Ti[16], Ad[36];
-    if (Gb) {
-      phm_se3_inverse(pr->Tb, Ti);
-      phm_se3_Ad(Ti, Ad);
-      for (int r = 0; r < mc; r++)
-        for (int j = 0; j < 6; j++) {
-          double acc = 0;
-          for (int k = 0; k < 6; k++) acc += W[6 * k + r] * Ad[6 * k + j];
-          Gb[6 * r + j] = acc;
-        }
+  /* G_b = W^T Ad_{Tb^-1},  G_a = -W^T Ad_{(H_b Tb)^-1 H_a} */
+  for (int r = 0; r < mc; r++)
+    for (int j = 0; j < 6; j++) {
+      double sb = 0, sa = 0;
+      for (int k = 0; k < 6; k++) {
+        if (Gb) sb += W[6 * k + r] * AdTbi[6 * k + j];
+        if (Ga) sa += W[6 * k + r] * AdBa[6 * k + j];
+      }
+      if (Gb) Gb[6 * r + j] = sb;
+      if (Ga) Ga[6 * r + j] = -sa;
     }
-    if (Ga) {
-      double BiHa[16];
-      phm_se3_inverse(B, Bi);
-      if (Ha) phm_se3_compose(Bi, Ha, BiHa); else memcpy(BiHa, Bi, sizeof BiHa);
-      phm_se3_Ad(BiHa, Ad);
-      for (int r = 0; r < mc; r++)
-        for (int j = 0; j < 6; j++) {
-          double acc = 0;
-          for (int k = 0; k < 6; k++) acc += W[6 * k + r] * Ad[6 * k + j];
-          Ga[6 * r + j] = -acc;
-        }
-    }
-  }
   if (vt) {
     for (int r = 0; r < mc; r++) {
       double acc = 0;
@@ -477,8 +649,43 @@ void phm_pair_eval(const phm_model *m, int ip, const double *Ha, const double *H
   }
 }
 
-void phm_constraints_dense(const phm_model *m, const double *H, double time, double tref,
-                           double *g, double *G, double *vt) {
+void phm_pair_wrench(const phm_model *m, int ip, const double *Ha, const double *Hb,
+                     const double *xref, double time, double tref, const double *lam, double w[6]) {
+  const phm_pair_desc *pr = &m->pair[ip];
+  double h[16], W[36];
+  if (!xref) xref = m->xref0 + m->pair_j[ip];
+  pair_frames(m, ip, Ha, Hb, h, NULL, NULL);
+  phm_pair_kin(pr->type, pr->pitch, h, xref, NULL, W, NULL, NULL); /* driven: fixed, W = I */
+  (void)time;
+  (void)tref;
+  for (int i = 0; i < 6; i++) {
+    double acc = 0;
+    for (int r = 0; r < m->pair_m[ip]; r++) acc += W[6 * i + r] * lam[r];
+    w[i] = acc;
+  }
+}
+
+void phm_pair_joint(const phm_model *m, int ip, const double *Ha, const double *Hb,
+                    const double *ta, const double *tb, const double *xref, double *x,
+                    double *xdot) {
+  const phm_pair_desc *pr = &m->pair[ip];
+  int k = m->pair_k[ip];
+  double h[16], Phi[36], AdTbi[36], AdBa[36], tr[6];
+  if (!xref) xref = m->xref0 + m->pair_j[ip];
+  pair_frames(m, ip, Ha, Hb, h, AdTbi, AdBa);
+  phm_pair_kin(pr->type, pr->pitch, h, xref, NULL, NULL, Phi, x);
+  if (xdot) {
+    rel_twist(AdTbi, AdBa, ta, tb, tr);
+    for (int c = 0; c < k; c++) {
+      double acc = 0;
+      for (int i = 0; i < 6; i++) acc += Phi[6 * i + c] * tr[i];
+      xdot[c] = acc;
+    }
+  }
+}
+
+void phm_constraints_dense(const phm_model *m, const double *H, const double *xs, double time,
+                           double tref, double *g, double *G, double *vt) {
   int n = 6 * m->nc;
   if (G) memset(G, 0, sizeof(double) * (size_t)m->ncons * (size_t)n);
   for (int ip = 0; ip < m->np; ip++) {
@@ -486,7 +693,8 @@ void phm_constraints_dense(const phm_model *m, const double *H, double time, dou
     int r0 = m->pair_row[ip], mc = m->pair_m[ip];
     double Ga[36], Gb[36];
     phm_pair_eval(m, ip, pr->a >= 0 ? H + 16 * pr->a : NULL, pr->b >= 0 ? H + 16 * pr->b : NULL,
-                  time, tref, g ? g + r0 : NULL, Ga, Gb, vt ? vt + r0 : NULL);
+                  xs ? xs + m->pair_j[ip] : NULL, time, tref, g ? g + r0 : NULL, Ga, Gb,
+                  vt ? vt + r0 : NULL);
     if (G)
       for (int r = 0; r < mc; r++)
         for (int j = 0; j < 6; j++) {
@@ -497,9 +705,76 @@ void phm_constraints_dense(const phm_model *m, const double *H, double time, dou
 }
 
 /* ---------------------------------------------------------------- applied wrenches */
-void phm_applied(const phm_model *m, const double *H, const double *tw, double time, double tref,
-                 double scale, double *wr, double *Vel, double *Pdiss, double *Psupp) {
+/* World position and velocity of body point r of carrier c (-1: ground, r is a world point). */
+static void point_state(const double *H, const double *tw, int c, const double r[3], double x[3],
+                        double v[3]) {
+  if (c < 0) {
+    for (int i = 0; i < 3; i++) { x[i] = r[i]; v[i] = 0; }
+    return;
+  }
+  const double *Hc = H + 16 * c;
+  double vb[3] = {0, 0, 0};
+  if (tw) {
+    const double *w = tw + 6 * c, *u = w + 3;
+    vb[0] = u[0] + w[1] * r[2] - w[2] * r[1];
+    vb[1] = u[1] + w[2] * r[0] - w[0] * r[2];
+    vb[2] = u[2] + w[0] * r[1] - w[1] * r[0];
+  }
+  for (int i = 0; i < 3; i++) {
+    x[i] = Hc[4 * i + 3] + Hc[4 * i] * r[0] + Hc[4 * i + 1] * r[1] + Hc[4 * i + 2] * r[2];
+    v[i] = Hc[4 * i] * vb[0] + Hc[4 * i + 1] * vb[1] + Hc[4 * i + 2] * vb[2];
+  }
+}
+
+/* Add the world force F and world torque T (about the world point x) to carrier c's body wrench. */
+static void add_world_wrench(const double *H, int c, const double x[3], const double F[3],
+                             const double T[3], double *wr) {
+  if (c < 0) return;
+  const double *Hc = H + 16 * c;
+  double f[3], t[3], d[3], r[3];
+  for (int i = 0; i < 3; i++) d[i] = x[i] - Hc[4 * i + 3];
+  for (int i = 0; i < 3; i++) {
+    f[i] = Hc[i] * F[0] + Hc[4 + i] * F[1] + Hc[8 + i] * F[2];
+    t[i] = Hc[i] * T[0] + Hc[4 + i] * T[1] + Hc[8 + i] * T[2];
+    r[i] = Hc[i] * d[0] + Hc[4 + i] * d[1] + Hc[8 + i] * d[2];
+  }
+  double *w = wr + 6 * c;
+  w[0] += t[0] + r[1] * f[2] - r[2] * f[1];
+  w[1] += t[1] + r[2] * f[0] - r[0] * f[2];
+  w[2] += t[2] + r[0] * f[1] - r[1] * f[0];
+  w[3] += f[0];
+  w[4] += f[1];
+  w[5] += f[2];
+}
+
+/* Point-to-point spring-damper: tension f, elastic energy, damping power (>= 0). */
+static void spring_eval(const phm_spring_desc *sp, const double *H, const double *tw, double *wr,
+                        double *V, double *Pd) {
+  double xa[3], va[3], xb[3], vb[3], n[3], F[3], T[3] = {0, 0, 0};
+  point_state(H, tw, sp->a, sp->pa, xa, va);
+  point_state(H, tw, sp->b, sp->pb, xb, vb);
+  for (int i = 0; i < 3; i++) n[i] = xb[i] - xa[i];
+  double d = sqrt(dot(n, n, 3));
+  double dd = 0;
+  if (d > 0) {
+    for (int i = 0; i < 3; i++) n[i] /= d;
+    for (int i = 0; i < 3; i++) dd += n[i] * (vb[i] - va[i]);
+  }
+  double f = sp->k * (d - sp->d0) + sp->c * dd;
+  if (V) *V = 0.5 * sp->k * (d - sp->d0) * (d - sp->d0);
+  if (Pd) *Pd = sp->c * dd * dd;
+  if (!wr || d == 0) return;
+  for (int i = 0; i < 3; i++) F[i] = -f * n[i];
+  add_world_wrench(H, sp->b, xb, F, T, wr);
+  for (int i = 0; i < 3; i++) F[i] = f * n[i];
+  add_world_wrench(H, sp->a, xa, F, T, wr);
+}
+
+void phm_applied(const phm_model *m, const double *H, const double *tw, const double *xs,
+                 double time, double tref, double scale, double *wr, double *Vel, double *Pdiss,
+                 double *Psupp, double *Pport, double *effort) {
   memset(wr, 0, sizeof(double) * 6 * (size_t)m->nc);
+  if (effort && m->nj) memset(effort, 0, sizeof(double) * (size_t)m->nj);
   double V = 0, Pd = 0, Ps = 0;
   for (int ie = 0; ie < m->ne; ie++) {
     const phm_element_desc *e = &m->el[ie];
@@ -531,9 +806,53 @@ void phm_applied(const phm_model *m, const double *H, const double *tw, double t
       w[4] += f[1];
       w[5] += f[2];
     }
+  /* actuators */
+  for (int ia = 0; ia < m->na; ia++) {
+    const phm_actuator_desc *ac = &m->act[ia];
+    int ip = ac->pair, k = m->pair_k[ip], j0 = m->pair_j[ip];
+    const phm_pair_desc *pr = &m->pair[ip];
+    const double *Ha = pr->a >= 0 ? H + 16 * pr->a : NULL, *Hb = pr->b >= 0 ? H + 16 * pr->b : NULL;
+    const double *ta = (tw && pr->a >= 0) ? tw + 6 * pr->a : NULL, *tb = (tw && pr->b >= 0) ? tw + 6 * pr->b : NULL;
+    double h[16], Phi[36], AdTbi[36], AdBa[36], tr[6], x[6], xd[6] = {0}, u[6] = {0}, s = 0, ds = 0;
+    pair_frames(m, ip, Ha, Hb, h, AdTbi, AdBa);
+    phm_pair_kin(pr->type, pr->pitch, h, xs ? xs + j0 : m->xref0 + j0, NULL, NULL, Phi, x);
+    rel_twist(AdTbi, AdBa, ta, tb, tr);
+    for (int c = 0; c < k; c++) {
+      double acc = 0;
+      for (int i = 0; i < 6; i++) acc += Phi[6 * i + c] * tr[i];
+      xd[c] = acc;
+    }
+    if (ac->kind != PHM_ACT_SPRING) s = phm_law_eval(&ac->law, time, tref, &ds, NULL);
+    for (int c = 0; c < k; c++) {
+      if (ac->kind == PHM_ACT_EFFORT) u[c] = scale * s * ac->vec[c];
+      else if (ac->kind == PHM_ACT_PD)
+        u[c] = -ac->kp[c] * (x[c] - ac->x_set[c] - s * ac->vec[c]) - ac->kd[c] * (xd[c] - ds * ac->vec[c]);
+      else u[c] = -ac->kp[c] * (x[c] - ac->x_set[c]) - ac->kd[c] * xd[c];
+      if (effort) effort[j0 + c] += u[c];
+    }
+    double wB[6], wv[6];
+    for (int i = 0; i < 6; i++) {
+      double acc = 0;
+      for (int c = 0; c < k; c++) acc += Phi[6 * i + c] * u[c];
+      wB[i] = acc;
+    }
+    if (Hb) {
+      mtv6(AdTbi, wB, wv);
+      for (int i = 0; i < 6; i++) wr[6 * pr->b + i] += wv[i];
+    }
+    if (pr->a >= 0) {
+      mtv6(AdBa, wB, wv);
+      for (int i = 0; i < 6; i++) wr[6 * pr->a + i] -= wv[i];
+    }
+    double P = dot(u, xd, k);
+    Ps += P;
+    if (Pport) Pport[ia] = P;
+  }
+  /* external wrenches and interactions */
   for (int il = 0; il < m->nl; il++) {
     const phm_load_desc *l = &m->load[il];
     double s = scale * phm_law_eval(&l->law, time, tref, NULL, NULL);
+    if (Pport) Pport[m->na + il] = 0;
     if (s == 0) continue;
     const double *Hc = H + 16 * l->carrier;
     double tau[3], f[3], w[6];
@@ -554,7 +873,28 @@ void phm_applied(const phm_model *m, const double *H, const double *tw, double t
     w[4] = f[1];
     w[5] = f[2];
     for (int i = 0; i < 6; i++) wr[6 * l->carrier + i] += w[i];
-    if (tw) Ps += dot(w, tw + 6 * l->carrier, 6);
+    double P = tw ? dot(w, tw + 6 * l->carrier, 6) : 0;
+    if (l->reaction >= 0) {
+      double x[3], v[3], F[3], T[3], before[6];
+      point_state(H, NULL, l->carrier, r, x, v);
+      for (int i = 0; i < 3; i++) { /* world force and torque (about x), reversed */
+        F[i] = -(Hc[4 * i] * f[0] + Hc[4 * i + 1] * f[1] + Hc[4 * i + 2] * f[2]);
+        T[i] = -(Hc[4 * i] * tau[0] + Hc[4 * i + 1] * tau[1] + Hc[4 * i + 2] * tau[2]);
+      }
+      memcpy(before, wr + 6 * l->reaction, sizeof before);
+      add_world_wrench(H, l->reaction, x, F, T, wr);
+      if (tw)
+        for (int i = 0; i < 6; i++) P += (wr[6 * l->reaction + i] - before[i]) * tw[6 * l->reaction + i];
+    }
+    Ps += P;
+    if (Pport) Pport[m->na + il] = P;
+  }
+  for (int is = 0; is < m->ns; is++) {
+    double v = 0, p = 0;
+    spring_eval(&m->spr[is], H, tw, wr, &v, &p);
+    V += v;
+    Pd += p;
+    if (Pport) Pport[m->na + m->nl + is] = -p;
   }
   if (Vel) *Vel = V;
   if (Pdiss) *Pdiss = Pd;
@@ -579,6 +919,11 @@ void phm_model_energy(const phm_model *m, const double *H, const double *t, doub
     const phm_element_desc *el = &m->el[ie];
     double wa[6], wb[6], v;
     phm_element_eval(el, H + 16 * el->a, H + 16 * el->b, NULL, NULL, wa, wb, &v, NULL);
+    Vel += v;
+  }
+  for (int is = 0; is < m->ns; is++) {
+    double v = 0;
+    spring_eval(&m->spr[is], H, NULL, NULL, &v, NULL);
     Vel += v;
   }
   e[0] = K;

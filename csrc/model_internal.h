@@ -8,12 +8,17 @@
 #define PHM_MAXCON 6  /* constraint rows per pair, at most */
 
 struct phm_model {
-  int nc, ne, np, nl, ncons;
+  int nc, ne, np, nl, ncons, na, ns, nj, nport;
   phm_carrier_desc *car;
   phm_element_desc *el;
   phm_pair_desc *pair;
   int *pair_row;    /* first constraint row of each pair */
   int *pair_m;      /* constraint rows of each pair      */
+  int *pair_j;      /* first joint coordinate of each pair */
+  int *pair_k;      /* joint coordinates of each pair    */
+  double *xref0;    /* nj: branch references (x0 or 0) for statics, modes and the start */
+  phm_actuator_desc *act;
+  phm_spring_desc *spr;
   phm_load_desc *load;
   double gravity[3];
   double *bp;       /* sorted distinct breakpoints of all laws */
@@ -26,7 +31,7 @@ struct phm_model {
 typedef struct {
   const char *name;
   int m;
-} phm_pair_type_info;
+} phm_pair_type_info; /* k = 6 - m */
 extern const phm_pair_type_info phm_pair_types[];
 extern const int phm_npair_types;
 
@@ -36,20 +41,42 @@ void phm_element_eval(const phm_element_desc *e, const double Ha[16], const doub
                       const double ta[6], const double tb[6], double wa[6], double wb[6],
                       double *V, double *P);
 
+/* Kinematics of a pair type at relative pose h (DESIGN section 4; see phm_pair_type): position
+ * constraints g (m), constraint-wrench basis W (6 x 6 row-major, first m columns used), dual effort
+ * basis Phi (6 x 6, first k columns), joint coordinates x (k), angles nearest xref (NULL: principal
+ * values). Any output may be NULL. Fixed pairs: g = log(h). */
+void phm_pair_kin(int type, double pitch, const double h[16], const double *xref, double *g,
+                  double *W, double *Phi, double *x);
+
 /* Pair ip: position constraint g (m), velocity blocks Ga, Gb (m x 6, row-major) such that the
- * velocity constraint is Ga ta + Gb tb = vt (m). Ha or Hb NULL = ground (identity). */
-void phm_pair_eval(const phm_model *m, int ip, const double *Ha, const double *Hb, double time,
-                   double tref, double *g, double *Ga, double *Gb, double *vt);
+ * velocity constraint is Ga ta + Gb tb = vt (m). Ha or Hb NULL = ground (identity). xref: branch
+ * reference of this pair's joint coordinates (k values; NULL: the model's x0). */
+void phm_pair_eval(const phm_model *m, int ip, const double *Ha, const double *Hb,
+                   const double *xref, double time, double tref, double *g, double *Ga,
+                   double *Gb, double *vt);
 
-/* Applied wrenches (elastic + damping + gravity + external x scale) on every carrier, body frame:
- * wr (nc x 6). tw may be NULL (static). Optional outputs (may be NULL): elastic energy, dissipated
- * power, power supplied by external wrenches (needs tw). */
-void phm_applied(const phm_model *m, const double *H, const double *tw, double time, double tref,
-                 double scale, double *wr, double *Vel, double *Pdiss, double *Psupp);
+/* Joint coordinates x and rates xdot (k each; xdot needs ta/tb, NULL = at rest) of pair ip. */
+void phm_pair_joint(const phm_model *m, int ip, const double *Ha, const double *Hb,
+                    const double *ta, const double *tb, const double *xref, double *x,
+                    double *xdot);
 
-/* Dense constraint data at poses H: g (ncons), G (ncons x 6nc), vt (ncons); any may be NULL. */
-void phm_constraints_dense(const phm_model *m, const double *H, double time, double tref,
-                           double *g, double *G, double *vt);
+/* Constraint wrench W^C lambda (6, frame F_b) of pair ip for its multipliers lam (m). */
+void phm_pair_wrench(const phm_model *m, int ip, const double *Ha, const double *Hb,
+                     const double *xref, double time, double tref, const double *lam, double w[6]);
+
+/* Applied wrenches (elastic + damping + gravity + springs + actuators + external x scale) on every
+ * carrier, body frame: wr (nc x 6). tw may be NULL (static: rates zero). xs: joint-coordinate
+ * branch references (nj; NULL: the model's x0). Optional outputs (may be NULL): elastic energy,
+ * dissipated power, power supplied by external wrenches and actuators (needs tw), the power of
+ * every port (nport, needs tw), the actuator efforts summed per joint coordinate (nj). Effort
+ * sources and loads are scaled by `scale`; springs and PD actuators are not. */
+void phm_applied(const phm_model *m, const double *H, const double *tw, const double *xs,
+                 double time, double tref, double scale, double *wr, double *Vel, double *Pdiss,
+                 double *Psupp, double *Pport, double *effort);
+
+/* Dense constraint data at poses H (xs: joint branch references, NULL = x0): g (ncons), G (ncons x 6nc), vt (ncons); any may be NULL. */
+void phm_constraints_dense(const phm_model *m, const double *H, const double *xs, double time,
+                           double tref, double *g, double *G, double *vt);
 
 /* Pose <-> (q, p) and the retraction H exp(delta) on (q, p). */
 void phm_qp_to_H(const double q[4], const double p[3], double H[16]);

@@ -168,29 +168,70 @@ typedef struct {
 } phm_element_desc;
 
 typedef enum {
-  PHM_PAIR_FIXED = 0 /* 6 constraints: relative pose = r(t) */
-  /* TODO(pairs): revolute, prismatic, helical, cylindrical, universal, spherical, planar, free. */
+  PHM_PAIR_FIXED = 0,       /* k = 0: relative pose = r(t) (identity unless driven)           */
+  PHM_PAIR_REVOLUTE = 1,    /* k = 1: rotation about z; x = angle [rad] (multi-turn)           */
+  PHM_PAIR_PRISMATIC = 2,   /* k = 1: translation along z; x = displacement [m]                */
+  PHM_PAIR_HELICAL = 3,     /* k = 1: screw about z, p_z = pitch * angle; x = angle [rad]      */
+  PHM_PAIR_CYLINDRICAL = 4, /* k = 2: x = (angle about z, displacement along z)                */
+  PHM_PAIR_UNIVERSAL = 5,   /* k = 2: h = Rx(x0) Ry(x1): first axis x of F_a, second y of F_b  */
+  PHM_PAIR_SPHERICAL = 6,   /* k = 3: x = rotation vector log(R) [rad]; xdot = omega (F_b)     */
+  PHM_PAIR_PLANAR = 7,      /* k = 3: normal z; x = (angle, p_x, p_y) with p in F_a            */
+  PHM_PAIR_FREE = 8         /* k = 6: x = (log R, p in F_a); xdot = (omega in F_b, dp/dt in F_a) */
 } phm_pair_type;
 
-/* A kinematic pair between frame Ta on carrier a and Tb on carrier b (-1 = ground). Relative pose
- * h = (H_a Ta)^-1 (H_b Tb); reference r(t) = exp(s(t) axis) when driven, else identity.
- * Constraint wrench lambda acts on b (in frame Tb, basis W^C) and equal and opposite on a. */
+/* A kinematic pair between frame Ta on carrier a and Tb on carrier b (-1 = ground). Frames
+ * F_a = H_a Ta, F_b = H_b Tb; relative pose h = F_a^-1 F_b = (R, p); relative twist
+ * t_rel = h^-1 dh/dt (in F_b). A type gives (all in F_b): the allowed directions psi (6 x k), the
+ * dual effort basis Phi (psi^T Phi = I), the constraint-wrench basis W^C (6 x m, m = 6 - k),
+ * position constraints g(h) (m) with dg = W^C^T t_rel at g = 0, joint coordinates x (k) and
+ * rates xdot = Phi^T t_rel. Velocity constraint W^C^T t_rel = prescribed rate; constraint wrench
+ * W^C lambda acts on b (in F_b) and equal and opposite on a. Only FIXED pairs can be driven:
+ * reference r(t) = exp(law(t) axis), g = log(r^-1 h). */
 typedef struct {
   int type;          /* phm_pair_type                                                     */
   int a, b;          /* carriers, -1 = ground                                             */
   double Ta[16], Tb[16];
-  int driven;        /* 0: r = identity; 1: r(t) = exp(law(t) * axis)                     */
+  int driven;        /* 0: r = identity; 1: r(t) = exp(law(t) * axis) (FIXED only)         */
   double axis[6];    /* twist direction of the prescribed motion (omega, v)               */
   phm_law law;
+  double pitch;      /* HELICAL: translation per rotation, m/rad                          */
+  int has_x0;        /* 1: x0 gives the initial joint coordinates (checked at start)       */
+  double x0[6];      /* initial joint coordinates; also the branch of multi-turn angles   */
 } phm_pair_desc;
 
-/* Applied wrench law(t) * w on a carrier, at a point (body coordinates) of it. */
+/* Actuator on the allowed directions of a pair, generalized effort u (k) power-conjugate to xdot:
+ *   EFFORT: u = law(t) vec;
+ *   PD:     u = -kp (x - x_set - law(t) vec) - kd (xdot - law'(t) vec)   (elementwise gains);
+ *   SPRING: u = -kp (x - x_set) - kd xdot  (joint elasticity; law unused).
+ * u enters as the wrench Phi u on b (in F_b) and its opposite on a; its power u . xdot is a port. */
+typedef enum { PHM_ACT_EFFORT = 0, PHM_ACT_PD = 1, PHM_ACT_SPRING = 2 } phm_actuator_kind;
+
+typedef struct {
+  int pair;          /* pair index                                                        */
+  int kind;          /* phm_actuator_kind                                                 */
+  double vec[6];     /* first k entries used                                              */
+  double kp[6], kd[6], x_set[6];
+  phm_law law;
+} phm_actuator_desc;
+
+/* Point-to-point spring-damper between point pa of carrier a and pb of carrier b (-1 = ground,
+ * points then in world coordinates): tension f = k (d - d0) + c dd/dt, d the distance. */
+typedef struct {
+  int a, b;
+  double pa[3], pb[3]; /* m, carrier (or world) coordinates */
+  double k, c, d0;     /* N/m, N s/m, m                       */
+} phm_spring_desc;
+
+/* Applied wrench law(t) * w on a carrier at a point (body coordinates) of it; when reaction >= 0
+ * the opposite wrench (same line of action, through the same material point of `carrier`) acts on
+ * carrier `reaction` (an interaction between two frames); -1: the ground takes it. */
 typedef struct {
   int carrier;
   int world;         /* 1: w = (tau, f) in world axes; 0: in body axes                    */
   double point[3];   /* point of application in body coordinates, m                       */
   double w[6];       /* (tau, f), N m and N                                               */
   phm_law law;
+  int reaction;      /* carrier taking the opposite wrench, -1 = ground                    */
 } phm_load_desc;
 
 typedef struct {
@@ -199,6 +240,8 @@ typedef struct {
   int npairs;     const phm_pair_desc *pairs;
   int nloads;     const phm_load_desc *loads;
   double gravity[3]; /* m/s^2, world */
+  int nactuators; const phm_actuator_desc *actuators;
+  int nsprings;   const phm_spring_desc *springs;
 } phm_model_desc;
 
 typedef struct phm_model phm_model;
@@ -208,8 +251,14 @@ phm_status phm_model_create(const phm_model_desc *desc, phm_model **out, phm_err
 void phm_model_free(phm_model *model);
 int phm_model_ncarriers(const phm_model *model);
 int phm_model_nconstraints(const phm_model *model);   /* rows of G (lambda's length)      */
+int phm_model_npairs(const phm_model *model);
+int phm_model_njoints(const phm_model *model);        /* joint coordinates, all pairs (sum of k) */
+int phm_model_nports(const phm_model *model);         /* ports: actuators, loads, springs, in order */
+/* First constraint row, constraint rows m, first joint coordinate and k of pair ip. */
+void phm_model_pair_layout(const phm_model *model, int ip, int *row, int *m, int *joint, int *k);
 
-/* Energies at poses H (nc x 16) and twists t (nc x 6): e[0] kinetic, e[1] elastic, e[2] gravity. */
+/* Energies at poses H (nc x 16) and twists t (nc x 6): e[0] kinetic, e[1] elastic (beam elements
+ * and point-to-point springs; not joint springs, whose power is a port), e[2] gravity. */
 void phm_model_energy(const phm_model *model, const double *H, const double *t, double e[3]);
 
 typedef int (*phm_callback)(void *ctx, double t, int iout); /* non-zero return stops the run */
@@ -233,6 +282,12 @@ typedef struct {
   double *twists;  /* [nout][nc][6]                                    */
   double *lambda;  /* [nout][nconstraints]                             */
   double *energy;  /* [nout][PHM_NENERGY]                              */
+  double *joints;  /* [nout][njoints] joint coordinates x              */
+  double *jrates;  /* [nout][njoints] joint rates xdot                 */
+  double *efforts; /* [nout][njoints] sum of the actuators' efforts u  */
+  double *pwrench; /* [nout][npairs][6] constraint wrench W^C lambda on b, frame F_b */
+  double *ports;   /* [nout][nports] energy supplied through each port, J (actuators: int u.xdot;
+                    * loads: int w.t; springs: minus the dissipated energy)              */
   int nout_done;   /* outputs filled                                    */
   long nsteps, nres, njac, nniters, netf, nncf; /* IDA statistics      */
   double last_step; int last_order;             /* IDA's last step [s] and BDF order */

@@ -64,12 +64,18 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
   (void)self;
   static char *kwl[] = {"M", "mass", "com", "H0", "t0", "el_ab", "el_h", "el_K", "el_D", "el_eps",
                         "pr_type", "pr_ab", "pr_Ta", "pr_Tb", "pr_driven", "pr_axis", "pr_law",
-                        "ld_carrier", "ld_world", "ld_point", "ld_w", "ld_law", "gravity", NULL};
-  PyObject *o[23];
-  if (!PyArg_ParseTupleAndKeywords(args, kw, "OOOOOOOOOOOOOOOOOOOOOOO", kwl, &o[0], &o[1], &o[2],
+                        "ld_carrier", "ld_world", "ld_point", "ld_w", "ld_law", "gravity",
+                        "pr_pitch", "pr_x0", "pr_has_x0", "ld_reaction", "ac_pair", "ac_kind",
+                        "ac_vec", "ac_kp", "ac_kd", "ac_xset", "ac_law", "sp_ab", "sp_pa", "sp_pb",
+                        "sp_kcd", NULL};
+  PyObject *o[38];
+  for (int i = 23; i < 38; i++) o[i] = Py_None;
+  if (!PyArg_ParseTupleAndKeywords(args, kw, "OOOOOOOOOOOOOOOOOOOOOOO|OOOOOOOOOOOOOOO", kwl, &o[0], &o[1], &o[2],
                                    &o[3], &o[4], &o[5], &o[6], &o[7], &o[8], &o[9], &o[10], &o[11],
                                    &o[12], &o[13], &o[14], &o[15], &o[16], &o[17], &o[18], &o[19],
-                                   &o[20], &o[21], &o[22]))
+                                   &o[20], &o[21], &o[22], &o[23], &o[24], &o[25], &o[26], &o[27],
+                                   &o[28], &o[29], &o[30], &o[31], &o[32], &o[33], &o[34], &o[35],
+                                   &o[36], &o[37]))
     return NULL;
   PyObject *keep = PyList_New(0);
   if (!keep) return NULL;
@@ -78,6 +84,11 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
   phm_element_desc *el = NULL;
   phm_pair_desc *pr = NULL;
   phm_load_desc *ld = NULL;
+  phm_actuator_desc *ac = NULL;
+  phm_spring_desc *sp = NULL;
+  PyArrayObject *prpi = NULL, *prx0 = NULL, *prh0 = NULL, *ldr = NULL, *acp = NULL, *ack = NULL, *acv = NULL,
+                *ackp = NULL, *ackd = NULL, *acx = NULL, *spab = NULL, *sppa = NULL, *sppb = NULL, *spk = NULL;
+  npy_intp na = 0, ns = 0;
   npy_intp t1[1] = {1}, t3[1] = {3}, t6[1] = {6}, t2[1] = {2}, t66[2] = {6, 6}, t44[2] = {4, 4};
   (void)t1;
   PyArrayObject *mass = phm_py_double_array(o[1], "carrier masses", NULL, 0, 1);
@@ -144,11 +155,51 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
     PyList_Append(keep, (PyObject *)grav);
     Py_DECREF(grav);
   }
+  if ((o[23] != Py_None && !(prpi = arr(o[23], "pair pitches", np_, NULL, 0, keep))) ||
+      (o[24] != Py_None && !(prx0 = arr(o[24], "pair initial coordinates", np_, t6, 1, keep))) ||
+      (o[25] != Py_None && !(prh0 = arr(o[25], "pair x0 flags", np_, NULL, 0, keep))) ||
+      (o[26] != Py_None && !(ldr = arr(o[26], "load reactions", nl, NULL, 0, keep))))
+    goto fail;
+  if (o[27] != Py_None) {
+    acp = phm_py_double_array(o[27], "actuator pairs", NULL, 0, 1);
+    if (!acp) goto fail;
+    PyList_Append(keep, (PyObject *)acp);
+    Py_DECREF(acp);
+    na = PyArray_NDIM(acp) == 1 ? PyArray_DIM(acp, 0) : -1;
+    if (na < 0) {
+      PyErr_SetString(PyExc_ValueError, "actuator pairs: expected a 1-D array");
+      goto fail;
+    }
+    if (!(ack = arr(o[28], "actuator kinds", na, NULL, 0, keep)) || !(acv = arr(o[29], "actuator vectors", na, t6, 1, keep)) ||
+        !(ackp = arr(o[30], "actuator kp", na, t6, 1, keep)) || !(ackd = arr(o[31], "actuator kd", na, t6, 1, keep)) ||
+        !(acx = arr(o[32], "actuator set points", na, t6, 1, keep)))
+      goto fail;
+    if (!PyList_Check(o[33]) || PyList_GET_SIZE(o[33]) != na) {
+      PyErr_SetString(PyExc_ValueError, "actuator laws: expected a list with one law per actuator");
+      goto fail;
+    }
+  }
+  if (o[34] != Py_None) {
+    spk = phm_py_double_array(o[37], "spring parameters", t3, 1, 1);
+    if (!spk) goto fail;
+    PyList_Append(keep, (PyObject *)spk);
+    Py_DECREF(spk);
+    ns = PyArray_NDIM(spk) == 2 ? PyArray_DIM(spk, 0) : -1;
+    if (ns < 0) {
+      PyErr_SetString(PyExc_ValueError, "spring parameters: expected an (n, 3) array");
+      goto fail;
+    }
+    if (!(spab = arr(o[34], "spring carriers", ns, t2, 1, keep)) || !(sppa = arr(o[35], "spring points a", ns, t3, 1, keep)) ||
+        !(sppb = arr(o[36], "spring points b", ns, t3, 1, keep)))
+      goto fail;
+  }
+  ac = calloc((size_t)na + 1, sizeof *ac);
+  sp = calloc((size_t)ns + 1, sizeof *sp);
   car = calloc((size_t)nc + 1, sizeof *car);
   el = calloc((size_t)ne + 1, sizeof *el);
   pr = calloc((size_t)np_ + 1, sizeof *pr);
   ld = calloc((size_t)nl + 1, sizeof *ld);
-  if (!car || !el || !pr || !ld) {
+  if (!car || !el || !pr || !ld || !ac || !sp) {
     PyErr_NoMemory();
     goto fail;
   }
@@ -175,6 +226,9 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
     memcpy(pr[i].Tb, D(prTb) + 16 * i, 16 * sizeof(double));
     pr[i].driven = D(prdr)[i] != 0;
     memcpy(pr[i].axis, D(prax) + 6 * i, 6 * sizeof(double));
+    if (prpi) pr[i].pitch = D(prpi)[i];
+    if (prh0) pr[i].has_x0 = D(prh0)[i] != 0;
+    if (prx0) memcpy(pr[i].x0, D(prx0) + 6 * i, 6 * sizeof(double));
     PyObject *lw = PyList_GET_ITEM(o[16], i);
     if (pr[i].driven && parse_law(lw, &pr[i].law, keep, "pair motion law") < 0) goto fail;
   }
@@ -183,7 +237,27 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
     ld[i].world = D(ldw)[i] != 0;
     memcpy(ld[i].point, D(ldp) + 3 * i, 3 * sizeof(double));
     memcpy(ld[i].w, D(ldv) + 6 * i, 6 * sizeof(double));
+    ld[i].reaction = ldr ? (int)D(ldr)[i] : -1;
     if (parse_law(PyList_GET_ITEM(o[21], i), &ld[i].law, keep, "load law") < 0) goto fail;
+  }
+  for (npy_intp i = 0; i < na; i++) {
+    ac[i].pair = (int)D(acp)[i];
+    ac[i].kind = (int)D(ack)[i];
+    memcpy(ac[i].vec, D(acv) + 6 * i, 6 * sizeof(double));
+    memcpy(ac[i].kp, D(ackp) + 6 * i, 6 * sizeof(double));
+    memcpy(ac[i].kd, D(ackd) + 6 * i, 6 * sizeof(double));
+    memcpy(ac[i].x_set, D(acx) + 6 * i, 6 * sizeof(double));
+    PyObject *lw = PyList_GET_ITEM(o[33], i);
+    if (lw != Py_None && parse_law(lw, &ac[i].law, keep, "actuator law") < 0) goto fail;
+  }
+  for (npy_intp i = 0; i < ns; i++) {
+    sp[i].a = (int)D(spab)[2 * i];
+    sp[i].b = (int)D(spab)[2 * i + 1];
+    memcpy(sp[i].pa, D(sppa) + 3 * i, 3 * sizeof(double));
+    memcpy(sp[i].pb, D(sppb) + 3 * i, 3 * sizeof(double));
+    sp[i].k = D(spk)[3 * i];
+    sp[i].c = D(spk)[3 * i + 1];
+    sp[i].d0 = D(spk)[3 * i + 2];
   }
   {
     phm_model_desc d;
@@ -196,6 +270,10 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
     d.pairs = pr;
     d.nloads = (int)nl;
     d.loads = ld;
+    d.nactuators = (int)na;
+    d.actuators = ac;
+    d.nsprings = (int)ns;
+    d.springs = sp;
     memcpy(d.gravity, D(grav), 3 * sizeof(double));
     phm_model *m = NULL;
     phm_error err;
@@ -211,6 +289,8 @@ fail:
   free(el);
   free(pr);
   free(ld);
+  free(ac);
+  free(sp);
   Py_DECREF(keep);
   return result;
 }
@@ -268,7 +348,8 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
     return NULL;
   phm_model *m = get_model(cap);
   if (!m) return NULL;
-  int nc = phm_model_ncarriers(m), nk = phm_model_nconstraints(m);
+  int nc = phm_model_ncarriers(m), nk = phm_model_nconstraints(m), nj = phm_model_njoints(m),
+      npt = phm_model_nports(m), npr = phm_model_npairs(m);
   PyArrayObject *tout = phm_py_double_array(to, "output times", NULL, 0, 1), *P = NULL, *T = NULL;
   if (!tout) return NULL;
   if (PyArray_NDIM(tout) != 1 || PyArray_DIM(tout, 0) < 1) {
@@ -290,12 +371,18 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
     goto fail0;
   }
   npy_intp dp[4] = {nout, nc, 4, 4}, dt[3] = {nout, nc, 6}, dl[2] = {nout, nk}, de[2] = {nout, PHM_NENERGY};
+  npy_intp dj[2] = {nout, nj}, dw[3] = {nout, npr, 6}, dq[2] = {nout, npt};
+  PyArrayObject *jx = (PyArrayObject *)PyArray_ZEROS(2, dj, NPY_DOUBLE, 0);
+  PyArrayObject *jv = (PyArrayObject *)PyArray_ZEROS(2, dj, NPY_DOUBLE, 0);
+  PyArrayObject *ju = (PyArrayObject *)PyArray_ZEROS(2, dj, NPY_DOUBLE, 0);
+  PyArrayObject *pw = (PyArrayObject *)PyArray_ZEROS(3, dw, NPY_DOUBLE, 0);
+  PyArrayObject *po_ = (PyArrayObject *)PyArray_ZEROS(2, dq, NPY_DOUBLE, 0);
   PyArrayObject *poses = (PyArrayObject *)PyArray_ZEROS(4, dp, NPY_DOUBLE, 0);
   PyArrayObject *tw = (PyArrayObject *)PyArray_ZEROS(3, dt, NPY_DOUBLE, 0);
   PyArrayObject *lam = (PyArrayObject *)PyArray_ZEROS(2, dl, NPY_DOUBLE, 0);
   PyArrayObject *en = (PyArrayObject *)PyArray_ZEROS(2, de, NPY_DOUBLE, 0);
   PyObject *res = NULL;
-  if (!poses || !tw || !lam || !en) goto fail;
+  if (!poses || !tw || !lam || !en || !jx || !jv || !ju || !pw || !po_) goto fail;
   cb_ctx c = {cb == Py_None ? NULL : cb, 0, 0, NULL, NULL, NULL};
   phm_sim_options opt = {rtol, atol, solver, 0, max_step, max_order, interrupt_cb, progress_cb, &c};
   phm_sim_output out;
@@ -304,6 +391,11 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
   out.twists = PyArray_DATA(tw);
   out.lambda = PyArray_DATA(lam);
   out.energy = PyArray_DATA(en);
+  out.joints = PyArray_DATA(jx);
+  out.jrates = PyArray_DATA(jv);
+  out.efforts = PyArray_DATA(ju);
+  out.pwrench = PyArray_DATA(pw);
+  out.ports = PyArray_DATA(po_);
   phm_error err;
   phm_status st;
   Py_BEGIN_ALLOW_THREADS
@@ -318,13 +410,19 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
     phm_py_raise(&err);
     goto fail;
   }
-  res = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:i,s:i,s:{s:l,s:l,s:l,s:l,s:l,s:l,s:d,s:d,s:i}}", "t", tout,
-                      "poses", poses, "twists", tw, "lambda", lam, "energy", en, "nout", out.nout_done,
+  res = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:i,s:i,s:{s:l,s:l,s:l,s:l,s:l,s:l,s:d,s:d,s:i}}", "t", tout,
+                      "poses", poses, "twists", tw, "lambda", lam, "energy", en, "joints", jx,
+                      "jrates", jv, "efforts", ju, "pair_wrenches", pw, "ports", po_, "nout", out.nout_done,
                       "interrupted", st == PHM_EINTERRUPT, "stats", "steps", out.nsteps,
                       "residual_evals", out.nres, "jacobian_evals", out.njac, "nonlinear_iters",
                       out.nniters, "error_test_fails", out.netf, "nonlinear_conv_fails", out.nncf,
                       "wall_time", out.wall_time, "last_step", out.last_step, "last_order", out.last_order);
 fail:
+  Py_XDECREF(jx);
+  Py_XDECREF(jv);
+  Py_XDECREF(ju);
+  Py_XDECREF(pw);
+  Py_XDECREF(po_);
   Py_XDECREF(poses);
   Py_XDECREF(tw);
   Py_XDECREF(lam);
@@ -424,13 +522,24 @@ static PyObject *py_model_sizes(PyObject *self, PyObject *cap) {
   (void)self;
   phm_model *m = get_model(cap);
   if (!m) return NULL;
-  return Py_BuildValue("ii", phm_model_ncarriers(m), phm_model_nconstraints(m));
+  int np_ = phm_model_npairs(m);
+  PyObject *lay = PyList_New(np_);
+  if (!lay) return NULL;
+  for (int ip = 0; ip < np_; ip++) {
+    int row, mc, j, k;
+    phm_model_pair_layout(m, ip, &row, &mc, &j, &k);
+    PyList_SET_ITEM(lay, ip, Py_BuildValue("iiii", row, mc, j, k));
+  }
+  return Py_BuildValue("iiiiN", phm_model_ncarriers(m), phm_model_nconstraints(m),
+                       phm_model_njoints(m), phm_model_nports(m), lay);
 }
 
 PyMethodDef phm_py_model_methods[] = {
     {"model_new", (PyCFunction)(void (*)(void))py_model_new, METH_VARARGS | METH_KEYWORDS,
      "model_new(M, mass, com, H0, t0, el_ab, el_h, el_K, el_D, el_eps, pr_type, pr_ab, pr_Ta, "
-     "pr_Tb, pr_driven, pr_axis, pr_law, ld_carrier, ld_world, ld_point, ld_w, ld_law, gravity) "
+     "pr_Tb, pr_driven, pr_axis, pr_law, ld_carrier, ld_world, ld_point, ld_w, ld_law, gravity, "
+     "pr_pitch=None, pr_x0=None, pr_has_x0=None, ld_reaction=None, ac_pair=None, ac_kind, ac_vec, "
+     "ac_kp, ac_kd, ac_xset, ac_law, sp_ab=None, sp_pa, sp_pb, sp_kcd (k, c, d0)) "
      "-> model capsule (validated; raises ModelError)."},
     {"model_simulate", (PyCFunction)(void (*)(void))py_model_simulate, METH_VARARGS | METH_KEYWORDS,
      "model_simulate(model, tout, rtol, atol, linear_solver, poses=None, twists=None, "
@@ -439,5 +548,5 @@ PyMethodDef phm_py_model_methods[] = {
      "model_modes(model, n, poses=None, lambda=None, time=0) -> (omega, zeta, shapes, nfound)."},
     {"model_static", py_model_static, METH_VARARGS,
      "model_static(model, poses=None, time=0, steps=1, tol=1e-10) -> (poses, lambda, iterations)."},
-    {"model_sizes", py_model_sizes, METH_O, "model_sizes(model) -> (ncarriers, nconstraints)."},
+    {"model_sizes", py_model_sizes, METH_O, "model_sizes(model) -> (ncarriers, nconstraints, njoints, nports, [(row, m, joint, k) per pair])."},
     {NULL, NULL, 0, NULL}};
