@@ -325,10 +325,8 @@ phm_status phm_static(const phm_model *m, const double *poses, double time, int 
   for (int c = 0; c < nc; c++) memcpy(poses_out + 16 * c, poses ? poses + 16 * c : m->car[c].H0, 16 * sizeof(double));
   /* meet the constraints without load first */
   L.scale = 0.0;
-  if (newton(&L, poses_out, lam, tol, 50, J, R, ipiv, f1, f2, g1, g2, col, dg, Hs, ls, &it)) {
-    st = phm_error_set(err, PHM_ESOLVER, "static equilibrium: Newton failed without load (unconstrained rigid-body motion or incompatible constraints?)");
-    goto done;
-  }
+  /* (a mechanism with a free degree of freedom is singular without load: then go on directly) */
+  int pre_failed = newton(&L, poses_out, lam, tol, 50, J, R, ipiv, f1, f2, g1, g2, col, dg, Hs, ls, &it);
   double s = 0, ds = 1.0 / steps;
   while (s < 1.0) {
     double snew = fmin(1.0, s + ds);
@@ -336,7 +334,8 @@ phm_status phm_static(const phm_model *m, const double *poses, double time, int 
     if (newton(&L, poses_out, lam, tol, 30, J, R, ipiv, f1, f2, g1, g2, col, dg, Hs, ls, &it)) {
       ds *= 0.5;
       if (ds < 1e-4 / steps) {
-        st = phm_error_set(err, PHM_ESOLVER, "static equilibrium: Newton failed at load factor %.6g after step halving (%d iterations)", snew, it);
+        st = phm_error_set(err, PHM_ESOLVER, "static equilibrium: Newton failed at load factor %.6g after step halving (%d iterations)%s", snew, it,
+                           pre_failed ? "; it also failed without load (unconstrained rigid-body motion or incompatible constraints?)" : "");
         goto done;
       }
       continue;

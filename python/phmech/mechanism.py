@@ -18,9 +18,10 @@ from . import _core, se3
 from ._checks import real
 from ._core import ModelError
 
-__all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "Fixed", "Motion", "Constant", "Step",
-           "Pulse", "Sine", "Table", "Cycloidal", "SimulationResult", "ModesResult",
-           "StaticResult"]
+__all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "Fixed", "Revolute", "Prismatic",
+           "Helical", "Cylindrical", "Universal", "Spherical", "Planar", "Free", "Effort", "PD",
+           "Spring", "Motion", "Constant", "Step", "Pulse", "Sine", "Table", "Cycloidal",
+           "SimulationResult", "ModesResult", "StaticResult"]
 
 _LAW_CONSTANT, _LAW_STEP, _LAW_PULSE, _LAW_SINE, _LAW_TABLE, _LAW_CYCLOIDAL = range(6)
 ENERGY_NAMES = ("kinetic", "elastic", "gravity", "dissipated", "supplied", "total", "ledger")
@@ -123,10 +124,228 @@ class Motion:
 
 
 # ------------------------------------------------------------------ pair types
+# Conventions (C core, phm_pair_type): joint axis = local z of both pair frames F_a = H_a T_a and
+# F_b = H_b T_b; relative pose h = F_a^-1 F_b. The classes below orient z along ``axis`` by
+# rotating both frames by the same rotation Q (T <- T [Q, 0; 0, 1]).
+
+def _axis_rotation(axis, what: str) -> np.ndarray:
+    """A rotation Q with Q e_z = axis ("x", "y", "z" or a nonzero 3-vector)."""
+    if isinstance(axis, str):
+        table = {"x": [[0, 0, 1], [1, 0, 0], [0, 1, 0]], "y": [[0, 1, 0], [0, 0, 1], [1, 0, 0]],
+                 "z": np.eye(3)}
+        if axis not in table:
+            raise ModelError(f"{what}: axis must be 'x', 'y', 'z' or a 3-vector (got {axis!r})")
+        return np.array(table[axis], dtype=float)
+    a = np.asarray(axis, dtype=float)
+    if a.shape != (3,) or not np.all(np.isfinite(a)) or np.linalg.norm(a) == 0:
+        raise ModelError(f"{what}: axis must be 'x', 'y', 'z' or a finite nonzero 3-vector")
+    z = a / np.linalg.norm(a)
+    h = np.array([1.0, 0, 0]) if abs(z[0]) < 0.9 else np.array([0, 1.0, 0])
+    x = h - z * (h @ z)
+    x /= np.linalg.norm(x)
+    return np.column_stack([x, np.cross(z, x), z])
+
+
+def _unit(v, what):
+    if isinstance(v, str):
+        d = {"x": [1.0, 0, 0], "y": [0, 1.0, 0], "z": [0, 0, 1.0]}
+        if v not in d:
+            raise ModelError(f"{what}: axis must be 'x', 'y', 'z' or a 3-vector (got {v!r})")
+        return np.array(d[v])
+    a = np.asarray(v, dtype=float)
+    if a.shape != (3,) or not np.all(np.isfinite(a)) or np.linalg.norm(a) == 0:
+        raise ModelError(f"{what}: axis must be 'x', 'y', 'z' or a finite nonzero 3-vector")
+    return a / np.linalg.norm(a)
+
+
+class _Pair:
+    _code = -1
+    k = 0
+
+    def _rotation(self) -> np.ndarray:
+        return np.eye(3)
+
+    def _pitch(self) -> float:
+        return 0.0
+
+    def _fk(self, x) -> np.ndarray:
+        """Relative pose h(x) of the pair frames at joint coordinates x."""
+        return np.eye(4)
+
+
+def _ez(*v):
+    return np.array(v, dtype=float)
+
+
 @dataclasses.dataclass(frozen=True)
-class Fixed:
+class Fixed(_Pair):
     """Fixed (welded) pair: 6 constraints, relative pose = identity (or the driven motion)."""
     _code = 0
+    k = 0
+
+
+@dataclasses.dataclass(frozen=True)
+class Revolute(_Pair):
+    """Revolute pair about ``axis`` (of both pair frames); x = angle [rad], multi-turn."""
+    axis: object = "z"
+    _code = 1
+    k = 1
+
+    def _rotation(self):
+        return _axis_rotation(self.axis, "Revolute")
+
+    def _fk(self, x):
+        return se3.exp(_ez(0, 0, x[0], 0, 0, 0))
+
+
+@dataclasses.dataclass(frozen=True)
+class Prismatic(_Pair):
+    """Prismatic pair along ``axis``; x = displacement [m]."""
+    axis: object = "z"
+    _code = 2
+    k = 1
+
+    def _rotation(self):
+        return _axis_rotation(self.axis, "Prismatic")
+
+    def _fk(self, x):
+        return se3.exp(_ez(0, 0, 0, 0, 0, x[0]))
+
+
+@dataclasses.dataclass(frozen=True)
+class Helical(_Pair):
+    """Helical (screw) pair about ``axis``: translation = ``pitch`` [m/rad] x angle; x = angle."""
+    axis: object = "z"
+    pitch: float = 0.0
+    _code = 3
+    k = 1
+
+    def _rotation(self):
+        return _axis_rotation(self.axis, "Helical")
+
+    def _pitch(self):
+        return real("Helical pitch", self.pitch)
+
+    def _fk(self, x):
+        return se3.exp(_ez(0, 0, x[0], 0, 0, self._pitch() * x[0]))
+
+
+@dataclasses.dataclass(frozen=True)
+class Cylindrical(_Pair):
+    """Cylindrical pair along ``axis``; x = (angle [rad], displacement [m])."""
+    axis: object = "z"
+    _code = 4
+    k = 2
+
+    def _rotation(self):
+        return _axis_rotation(self.axis, "Cylindrical")
+
+    def _fk(self, x):
+        return se3.exp(_ez(0, 0, x[0], 0, 0, x[1]))
+
+
+@dataclasses.dataclass(frozen=True)
+class Universal(_Pair):
+    """Universal (Cardan) pair: first axis ``axis1`` fixed in F_a, second ``axis2`` fixed in F_b
+    (perpendicular when both frames coincide); x = (angle about axis1, angle about axis2) [rad],
+    h = Rx(x0) Ry(x1) in the pair frames (x = axis1, y = axis2)."""
+    axis1: object = "x"
+    axis2: object = "y"
+    _code = 5
+    k = 2
+
+    def _rotation(self):
+        a, b = _unit(self.axis1, "Universal axis1"), _unit(self.axis2, "Universal axis2")
+        if abs(a @ b) > 1e-9:
+            raise ModelError("Universal: axis1 and axis2 must be perpendicular")
+        return np.column_stack([a, b, np.cross(a, b)])
+
+    def _fk(self, x):
+        return se3.exp(_ez(x[0], 0, 0, 0, 0, 0)) @ se3.exp(_ez(0, x[1], 0, 0, 0, 0))
+
+
+@dataclasses.dataclass(frozen=True)
+class Spherical(_Pair):
+    """Spherical (ball) pair; x = rotation vector of F_b in F_a [rad], xdot = angular velocity
+    (in F_b) -- a quasi-velocity, not dx/dt."""
+    _code = 6
+    k = 3
+
+    def _fk(self, x):
+        return se3.exp(_ez(x[0], x[1], x[2], 0, 0, 0))
+
+
+@dataclasses.dataclass(frozen=True)
+class Planar(_Pair):
+    """Planar pair with plane ``normal``; x = (angle [rad], p_x, p_y [m]) with p the position of
+    F_b's origin in F_a (x, y of the frame whose z is the normal)."""
+    normal: object = "z"
+    _code = 7
+    k = 3
+
+    def _rotation(self):
+        return _axis_rotation(self.normal, "Planar")
+
+    def _fk(self, x):
+        H = se3.exp(_ez(0, 0, x[0], 0, 0, 0))
+        H[0, 3], H[1, 3] = x[1], x[2]
+        return H
+
+
+@dataclasses.dataclass(frozen=True)
+class Free(_Pair):
+    """Free pair (no constraint): x = (rotation vector, position of F_b in F_a); xdot = (angular
+    velocity in F_b, dp/dt in F_a). Useful to measure or actuate a relative motion."""
+    _code = 8
+    k = 6
+
+    def _fk(self, x):
+        H = se3.exp(_ez(x[0], x[1], x[2], 0, 0, 0))
+        H[:3, 3] = x[3:6]
+        return H
+
+
+# ------------------------------------------------------------------ actuators
+_ACT_EFFORT, _ACT_PD, _ACT_SPRING = range(3)
+
+
+def _kvec(v, k, what, default=1.0):
+    if v is None:
+        return np.full(k, float(default))
+    a = np.asarray(v, dtype=float).ravel()
+    if a.size == 1:
+        a = np.full(k, float(a[0]))
+    if a.shape != (k,) or not np.all(np.isfinite(a)):
+        raise ModelError(f"{what}: expected a number or {k} finite numbers")
+    return a
+
+
+@dataclasses.dataclass(frozen=True)
+class Effort:
+    """Effort source u(t) = law(t) * direction on the pair's joint coordinates (torque [N m] for
+    angles, force [N] for displacements); power u . xdot."""
+    law: object = None
+    direction: object = None
+
+
+@dataclasses.dataclass(frozen=True)
+class PD:
+    """PD control to a set-point trajectory: u = -kp (x - x_ref) - kd (xdot - xdot_ref), with
+    x_ref(t) = offset + target(t) * direction and xdot_ref = target'(t) * direction. ``target``: a
+    time law or a number; gains: numbers or one per coordinate."""
+    kp: object
+    kd: object
+    target: object = 0.0
+    direction: object = None
+    offset: object = None
+
+
+@dataclasses.dataclass(frozen=True)
+class Spring:
+    """Joint spring-damper: u = -k (x - rest) - c xdot; ``rest`` defaults to the pair's x0 (or 0)."""
+    k: object
+    c: object = 0.0
+    rest: object = None
 
 
 # ------------------------------------------------------------------ frames, bodies, links
@@ -207,7 +426,12 @@ class SimulationResult:
     twists, ``constraint_wrenches`` (nt, nconstraints), ``energy`` dict of (nt,) arrays [J]
     (kinetic, elastic, gravity, dissipated, supplied, total, ledger = E - E0 - (supplied -
     dissipated)), ``stats`` (IDA steps, residual/Jacobian evaluations, wall time [s]),
-    ``interrupted`` (stopped by Ctrl-C or the callback)."""
+    ``interrupted`` (stopped by Ctrl-C or the callback).
+
+    ``port_energy``: dict port name -> (nt,) energy supplied through that port [J] (actuators:
+    int u . xdot; interactions and wrenches: int w . t; spring-dampers: minus their dissipated
+    energy). Supplied = sum over actuators and wrenches (+ power of driven pairs); the ledger
+    residual is ``energy["ledger"]``. ``joint(name)`` gives a pair's coordinates and efforts."""
     t: np.ndarray
     poses: np.ndarray
     twists: np.ndarray
@@ -216,6 +440,25 @@ class SimulationResult:
     stats: dict
     interrupted: bool
     _links: dict
+    port_energy: dict = dataclasses.field(default_factory=dict)
+    joints: np.ndarray = None
+    joint_rates: np.ndarray = None
+    efforts: np.ndarray = None
+    pair_wrenches: np.ndarray = None
+    _pairs: dict = dataclasses.field(default_factory=dict)
+
+    def joint(self, name: str) -> dict:
+        """Pair ``name``: ``x`` (nt, k) joint coordinates (exact, multi-turn), ``xdot`` (nt, k)
+        rates, ``effort`` (nt, k) sum of its actuators' efforts u, ``lambda`` (nt, m) constraint
+        multipliers (W^C coordinates), ``wrench`` (nt, 6) constraint wrench W^C lambda on b in
+        frame F_b (tau [N m], f [N])."""
+        if name not in self._pairs:
+            raise KeyError(f"unknown pair {name!r}")
+        row, m, j, k = self._pairs[name]["layout"]
+        ip = self._pairs[name]["index"]
+        return dict(x=self.joints[:, j:j + k], xdot=self.joint_rates[:, j:j + k],
+                    effort=self.efforts[:, j:j + k], **{"lambda": self.constraint_wrenches[:, row:row + m]},
+                    wrench=self.pair_wrenches[:, ip])
 
     def positions(self, link: Union[str, FlexibleLink]) -> np.ndarray:
         """Node positions of a link [m], shape (nt, nnodes, 3)."""
@@ -265,7 +508,9 @@ class Mechanism:
         self._car = []      # dicts: M, mass, com, H0, t0
         self._el = []       # dicts: a, b, h, K, D, eps
         self._pairs = []    # dicts: name, type, a, b, Ta, Tb, driven
-        self._loads = []    # dicts: name, carrier, world, point, w, law
+        self._loads = []    # dicts: name, carrier, world, point, w, law, reaction
+        self._acts = []     # dicts: name, pair, kind, vec, kp, kd, xset, law
+        self._springs = []  # dicts: name, a, b, pa, pb, kcd
         self._links = {}
         self._bodies = {}
         self._names = set()
@@ -346,25 +591,178 @@ class Mechanism:
         self._bodies[name] = b
         return b
 
-    def add_pair(self, name: str, pair, a, b, driven: Optional[Motion] = None) -> None:
-        """A kinematic pair from frame ``a`` to frame ``b`` (edge (a, b)); ``driven``: a
-        prescribed relative motion (Motion)."""
-        if not isinstance(pair, Fixed):
-            raise ModelError(f"pair {name!r}: unsupported pair type {type(pair).__name__} (available: Fixed)")
+    def add_pair(self, name: str, pair, a, b, driven: Optional[Motion] = None, actuator=None,
+                 x0=None, xdot0=None) -> None:
+        """A kinematic pair ``pair`` (Fixed, Revolute, Prismatic, Helical, Cylindrical, Universal,
+        Spherical, Planar, Free) from frame ``a`` to frame ``b`` (edge (a, b)).
+
+        ``driven``: a prescribed relative motion (Motion; Fixed pairs only). ``actuator``: an
+        Effort, PD or Spring on the pair's joint coordinates (its port is named after the pair; add
+        more with add_actuator). ``x0``/``xdot0``: initial joint coordinates and rates; when ``b``
+        is a rigid body it is placed there relative to ``a``'s current initial pose and twist (add
+        pairs from the ground outwards); otherwise the configuration is checked against ``x0`` at
+        the start of a simulation."""
+        if not isinstance(pair, _Pair):
+            raise ModelError(f"pair {name!r}: unsupported pair type {type(pair).__name__} (available: "
+                             "Fixed, Revolute, Prismatic, Helical, Cylindrical, Universal, Spherical, Planar, Free)")
         fa, fb = _frame_of(a, self, f"pair {name!r}"), _frame_of(b, self, f"pair {name!r}")
         if fa.carrier == fb.carrier:
-            raise ModelError(f"pair {name!r}: both frames are on the same carrier")
+            raise ModelError(f"pair {name!r}: both frames are on the same carrier (a body cannot be paired with itself)")
+        try:
+            Q = np.eye(4)
+            Q[:3, :3] = pair._rotation()
+            pitch = pair._pitch()
+        except ModelError as e:
+            raise ModelError(f"pair {name!r}: {e}") from None
+        Ta, Tb = fa.T @ Q, fb.T @ Q
         law, axis = None, np.zeros(6)
         if driven is not None:
             if not isinstance(driven, Motion):
                 raise ModelError(f"pair {name!r}: driven must be a Motion")
+            if not isinstance(pair, Fixed):
+                raise ModelError(f"pair {name!r}: only Fixed pairs take a prescribed Motion; drive a "
+                                 f"{type(pair).__name__} pair with a PD actuator")
             axis = np.asarray(driven.axis, dtype=float)
             if axis.shape != (6,) or not np.all(np.isfinite(axis)):
                 raise ModelError(f"pair {name!r}: motion axis must be 6 finite numbers")
             law = driven.law._tuple()
+        k = pair.k
+        xv = np.zeros(6)
+        if x0 is not None:
+            if k == 0:
+                raise ModelError(f"pair {name!r}: a fixed pair has no joint coordinates (x0)")
+            xv[:k] = _kvec(x0, k, f"pair {name!r}: x0")
+        xd = None if xdot0 is None else _kvec(xdot0, k, f"pair {name!r}: xdot0")
+        if xdot0 is not None and k == 0:
+            raise ModelError(f"pair {name!r}: a fixed pair has no joint rates (xdot0)")
         self._new_name(name)
-        self._pairs.append(dict(name=name, type=pair._code, a=fa.carrier, b=fb.carrier, Ta=fa.T,
-                                Tb=fb.T, driven=driven is not None, axis=axis, law=law))
+        entry = dict(name=name, type=pair._code, a=fa.carrier, b=fb.carrier, Ta=Ta, Tb=Tb,
+                     driven=driven is not None, axis=axis, law=law, pitch=pitch, k=k,
+                     x0=xv, has_x0=x0 is not None, pair=pair)
+        self._pairs.append(entry)
+        if (x0 is not None or xdot0 is not None) and fb.carrier in self._body_carriers():
+            self._place(entry, xv[:k], np.zeros(k) if xd is None else xd)
+        if actuator is not None:
+            self._add_actuator(name, entry, actuator)
+
+    def _body_carriers(self):
+        return {b.carrier for b in self._bodies.values()}
+
+    def _place(self, e, x, xd):
+        """Put carrier b at H_a T_a h(x) T_b^-1 with the twist of a plus the joint rate."""
+        pair = e["pair"]
+        Ha = np.eye(4) if e["a"] < 0 else self._car[e["a"]]["H0"]
+        ta = np.zeros(6) if e["a"] < 0 else self._car[e["a"]]["t0"]
+        h = pair._fk(x)
+        Hb = Ha @ e["Ta"] @ h @ se3.inverse(e["Tb"])
+        # relative twist t_rel = psi(x) xdot, psi by central differences of h(x)
+        trel = np.zeros(6)
+        eps = 1e-6
+        hi = se3.inverse(h)
+        for i in range(len(x)):
+            d = np.zeros(len(x))
+            d[i] = eps
+            trel += xd[i] * (se3.log(hi @ pair._fk(x + d)) - se3.log(hi @ pair._fk(x - d))) / (2 * eps)
+        tA = se3.Ad(se3.inverse(e["Ta"])) @ ta               # body twist of F_a
+        tB = se3.Ad(hi) @ tA + trel                          # body twist of F_b
+        self._car[e["b"]]["H0"] = Hb
+        self._car[e["b"]]["t0"] = se3.Ad(e["Tb"]) @ tB
+
+    def _pair_entry(self, pair):
+        for e in self._pairs:
+            if e["name"] == pair:
+                return e
+        raise ModelError(f"unknown pair {pair!r}")
+
+    def add_actuator(self, name: str, pair: str, actuator) -> None:
+        """An actuator (Effort, PD or Spring) named ``name`` on the pair named ``pair``."""
+        e = self._pair_entry(pair) if isinstance(pair, str) else None
+        if e is None:
+            raise ModelError(f"actuator {name!r}: pair must be given by its name")
+        self._new_name(name)
+        self._add_actuator(name, e, actuator)
+
+    def _add_actuator(self, name, e, act):
+        k = e["k"]
+        what = f"actuator {name!r}"
+        if k == 0:
+            raise ModelError(f"{what}: a fixed pair has no allowed direction to actuate")
+        z = np.zeros(6)
+        vec, kp, kd, xs, law = z.copy(), z.copy(), z.copy(), z.copy(), None
+        if isinstance(act, Effort):
+            kind = _ACT_EFFORT
+            lw = Constant(1.0) if act.law is None else act.law
+            if isinstance(lw, (int, float)):
+                lw = Constant(real(f"{what}: effort", lw))
+            if not isinstance(lw, _Law):
+                raise ModelError(f"{what}: Effort law must be a time law or a number")
+            law = lw._tuple()
+            vec[:k] = _kvec(act.direction, k, f"{what}: direction")
+        elif isinstance(act, PD):
+            kind = _ACT_PD
+            kp[:k] = _kvec(act.kp, k, f"{what}: kp")
+            kd[:k] = _kvec(act.kd, k, f"{what}: kd")
+            d = _kvec(act.direction, k, f"{what}: direction")
+            xs[:k] = _kvec(act.offset, k, f"{what}: offset", default=0.0)
+            if isinstance(act.target, _Law):
+                law = act.target._tuple()
+                vec[:k] = d
+            else:
+                xs[:k] += _kvec(act.target, k, f"{what}: target") * (d if act.direction is not None else 1.0)
+                law = Constant(0.0)._tuple()
+        elif isinstance(act, Spring):
+            kind = _ACT_SPRING
+            kp[:k] = _kvec(act.k, k, f"{what}: k")
+            kd[:k] = _kvec(act.c, k, f"{what}: c")
+            xs[:k] = e["x0"][:k] if act.rest is None else _kvec(act.rest, k, f"{what}: rest")
+        else:
+            raise ModelError(f"{what}: expected Effort, PD or Spring (got {type(act).__name__})")
+        if kind != _ACT_EFFORT and (np.any(kp[:k] < 0) or np.any(kd[:k] < 0)):
+            raise ModelError(f"{what}: gains must be >= 0")
+        self._acts.append(dict(name=name, pair=self._pairs.index(e), kind=kind, vec=vec, kp=kp,
+                               kd=kd, xset=xs, law=law))
+
+    def add_spring_damper(self, name: str, a, b, k: float, c: float = 0.0,
+                          rest_length: Optional[float] = None, point_a=(0.0, 0.0, 0.0),
+                          point_b=(0.0, 0.0, 0.0)) -> None:
+        """Point-to-point spring-damper between ``point_a`` of frame ``a`` and ``point_b`` of frame
+        ``b`` (frame coordinates [m]; the ground's points are world points): tension
+        k (d - rest_length) + c dd/dt [N], ``rest_length`` defaulting to the initial distance.
+        Its elastic energy is part of the total energy, its dissipation a port of the ledger."""
+        fa, fb = _frame_of(a, self, f"spring {name!r}"), _frame_of(b, self, f"spring {name!r}")
+        if fa.carrier == fb.carrier:
+            raise ModelError(f"spring {name!r}: both ends are on the same carrier")
+        kk, cc = real(f"spring {name!r}: k", k), real(f"spring {name!r}: c", c)
+        if kk < 0 or cc < 0:
+            raise ModelError(f"spring {name!r}: k and c must be >= 0")
+        pa = np.asarray(point_a, dtype=float)
+        pb = np.asarray(point_b, dtype=float)
+        if pa.shape != (3,) or pb.shape != (3,) or not (np.all(np.isfinite(pa)) and np.all(np.isfinite(pb))):
+            raise ModelError(f"spring {name!r}: points must be 3 finite numbers")
+        pa = fa.T[:3, :3] @ pa + fa.T[:3, 3]
+        pb = fb.T[:3, :3] @ pb + fb.T[:3, 3]
+        world = lambda c_, p_: p_ if c_ < 0 else self._car[c_]["H0"][:3, :3] @ p_ + self._car[c_]["H0"][:3, 3]
+        d0 = np.linalg.norm(world(fb.carrier, pb) - world(fa.carrier, pa)) if rest_length is None \
+            else real(f"spring {name!r}: rest_length", rest_length)
+        if d0 < 0:
+            raise ModelError(f"spring {name!r}: rest_length must be >= 0")
+        self._new_name(name)
+        self._springs.append(dict(name=name, a=fa.carrier, b=fb.carrier, pa=pa, pb=pb, kcd=(kk, cc, d0)))
+
+    def add_interaction(self, name: str, target, wrench, law: _Law = Constant(1.0),
+                        frame: str = "world", point=(0.0, 0.0, 0.0), reaction=None) -> None:
+        """An external wrench law(t) * (tau [N m], f [N]) on ``target`` at ``point`` (target frame
+        coordinates [m]), in "world" or "body" (target frame) axes; the opposite wrench acts on
+        ``reaction`` (a frame or body; None = the ground) through the same point. Its injected
+        power is a port of the ledger."""
+        self.add_wrench(name, target, wrench, law=law, frame=frame, point=point)
+        if reaction is not None:
+            fr = _frame_of(reaction, self, f"interaction {name!r}")
+            if fr.carrier == self._loads[-1]["carrier"]:
+                self._loads.pop()
+                self._names.discard(name)
+                raise ModelError(f"interaction {name!r}: target and reaction are on the same carrier")
+            self._loads[-1]["reaction"] = fr.carrier
 
     def add_wrench(self, name: str, target, wrench, law: _Law = Constant(1.0),
                    frame: str = "world", point=(0.0, 0.0, 0.0)) -> None:
@@ -388,7 +786,7 @@ class Mechanism:
             w = np.concatenate([R @ w[:3], R @ w[3:]])
         self._new_name(name)
         self._loads.append(dict(name=name, carrier=f.carrier, world=frame == "world", point=pt,
-                                w=w, law=law._tuple()))
+                                w=w, law=law._tuple(), reaction=-1))
 
     def add_distributed_load(self, name: str, link: FlexibleLink, force_per_length,
                              law: _Law = Constant(1.0), frame: str = "world") -> None:
@@ -406,7 +804,7 @@ class Mechanism:
     def _build(self, extra_loads=()):
         if not self._car:
             raise ModelError("the mechanism is empty")
-        car, el, pr = self._car, self._el, self._pairs
+        car, el, pr, ac, sp = self._car, self._el, self._pairs, self._acts, self._springs
         loads = list(self._loads) + list(extra_loads)
         z = lambda *s: np.zeros(s)
         return _core.model_new(
@@ -430,7 +828,22 @@ class Mechanism:
             ld_point=np.array([l["point"] for l in loads]).reshape(-1, 3),
             ld_w=np.array([l["w"] for l in loads]).reshape(-1, 6),
             ld_law=[l["law"] for l in loads],
-            gravity=self.gravity)
+            gravity=self.gravity,
+            pr_pitch=np.array([p["pitch"] for p in pr], dtype=float),
+            pr_x0=np.array([p["x0"] for p in pr]).reshape(-1, 6),
+            pr_has_x0=np.array([float(p["has_x0"]) for p in pr]),
+            ld_reaction=np.array([l.get("reaction", -1) for l in loads], dtype=float),
+            ac_pair=np.array([a["pair"] for a in ac], dtype=float),
+            ac_kind=np.array([a["kind"] for a in ac], dtype=float),
+            ac_vec=np.array([a["vec"] for a in ac]).reshape(-1, 6),
+            ac_kp=np.array([a["kp"] for a in ac]).reshape(-1, 6),
+            ac_kd=np.array([a["kd"] for a in ac]).reshape(-1, 6),
+            ac_xset=np.array([a["xset"] for a in ac]).reshape(-1, 6),
+            ac_law=[a["law"] for a in ac],
+            sp_ab=np.array([[q["a"], q["b"]] for q in sp], dtype=float).reshape(-1, 2),
+            sp_pa=np.array([q["pa"] for q in sp]).reshape(-1, 3),
+            sp_pb=np.array([q["pb"] for q in sp]).reshape(-1, 3),
+            sp_kcd=np.array([q["kcd"] for q in sp], dtype=float).reshape(-1, 3))
 
     # -------------------------------------------------------------- analyses
     def simulate(self, t_end: float, dt_out: float, rtol: float = 1e-8, atol: Optional[float] = None,
@@ -465,10 +878,17 @@ class Mechanism:
         k = r["nout"]
         e = r["energy"][:k]
         energy = {nm: e[:, i].copy() for i, nm in enumerate(ENERGY_NAMES)}
+        names = [a["name"] for a in self._acts] + [l["name"] for l in self._loads] + \
+            [q["name"] for q in self._springs]
+        ports = {nm: r["ports"][:k, i].copy() for i, nm in enumerate(names)}
+        layout = _core.model_sizes(model)[4]
+        pairs = {p["name"]: dict(index=i, layout=layout[i]) for i, p in enumerate(self._pairs)}
         return SimulationResult(t=tout[:k], poses=r["poses"][:k], twists=r["twists"][:k],
                                 constraint_wrenches=r["lambda"][:k], energy=energy,
                                 stats=r["stats"], interrupted=bool(r["interrupted"]),
-                                _links=self._links)
+                                _links=self._links, port_energy=ports, joints=r["joints"][:k],
+                                joint_rates=r["jrates"][:k], efforts=r["efforts"][:k],
+                                pair_wrenches=r["pair_wrenches"][:k], _pairs=pairs)
 
     def modes(self, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0) -> ModesResult:
         """The ``n`` lowest linearized modes at the initial configuration, or at a static
