@@ -51,7 +51,10 @@ validate: build
 	$(PY) examples/timoshenko_table.py --json --plot benchmarks/results/timoshenko_convergence.png > benchmarks/results/timoshenko_table.json
 	$(PY) benchmarks/validate_energy_drift.py
 
+# Work-precision benchmarks against Exudyn (installed into .venv from benchmarks/requirements.txt
+# when missing); BENCH_ARGS=--quick for a short run.
 bench: build
+	$(PY) benchmarks/run.py $(BENCH_ARGS)
 	$(PY) benchmarks/mass_matrix_study.py
 
 clean:

@@ -1,0 +1,494 @@
+"""Work-precision benchmarks of phmech against Exudyn (GitHub issue 6), same machine, same run.
+
+    python benchmarks/run.py [--quick] [--only modes transient scaling]
+
+1. ``modes``: first five cantilever frequencies of the paper's Table I beam: relative error
+   against the Timoshenko frequency equation (``phmech.timoshenko.frequencies``) vs number of
+   first-order states and vs CPU time, for phmech ``se3`` (3-D), phmech ``mixed`` (planar, linear)
+   and Exudyn's 2-D geometrically exact (Simo-Reissner) beam ``ObjectBeamGeometricallyExact2D``
+   (eigenvalues by ``exudyn.solver.ComputeODE2Eigenvalues``, dense).
+2. ``transient``: the Table I cantilever (``table1_properties(1.0)``) bent by a static tip force
+   3 EI / (4 L^2) (tip ~ 0.24 L) and released at rest; tip (x, z) over ``T`` seconds sampled every
+   5 ms; error = max over samples of |tip - reference| / L. Reference: phmech ``se3`` at rtol 1e-10
+   on N_ref/2 and N_ref elements, Richardson-extrapolated (second order in h); its self-convergence
+   is stored. Sweeps: phmech N x rtol (KLU, and dense for small N); Exudyn N x step size
+   (generalized-alpha, spectral radius 1 = trapezoidal/Newmark, and 0.9 = its default).
+3. ``scaling``: CPU time per simulated second and peak RSS (``resource.getrusage`` ru_maxrss of a
+   fresh subprocess per point) vs number of elements, with the fitted exponent.
+
+CPU time is ``time.process_time`` (median of 3 repetitions for the cheap eigenvalue points).
+Each benchmark writes ``benchmarks/results/<name>.json`` (machine, versions, every point) and a
+PNG work-precision plot. Exudyn is installed into .venv from benchmarks/requirements.txt when
+missing.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import resource
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+RESULTS = os.path.join(HERE, "results")
+TABLE1 = dict(L=1.0, rhoA=873.0, rhoI=2.1797, EI=5143.0, kGA=656625.0)
+EA1 = TABLE1["EI"] * TABLE1["rhoA"] / TABLE1["rhoI"]      # axial stiffness of table1_properties(1.0)
+F_TIP = 0.25 * 3 * TABLE1["EI"]                             # static tip force [N] (as validate_energy_drift)
+DT_OUT = 0.005                                              # tip sampling period [s]
+
+
+# ------------------------------------------------------------------ environment
+def ensure_exudyn() -> None:
+    try:
+        import exudyn  # noqa: F401
+    except ImportError:
+        req = os.path.join(HERE, "requirements.txt")
+        print(f"installing {req} into {sys.prefix}", flush=True)
+        subprocess.check_call([sys.executable, "-m", "pip", "install", "-q", "-r", req])
+
+
+def machine() -> dict:
+    import exudyn
+    import phmech
+    info = {"platform": platform.platform(), "processor": platform.processor(),
+            "cpus": os.cpu_count(), "python": platform.python_version(),
+            "numpy": np.__version__, "phmech": phmech.__version__, "exudyn": exudyn.__version__}
+    try:
+        with open("/proc/cpuinfo") as f:
+            info["cpu_model"] = next(l.split(":", 1)[1].strip() for l in f if l.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    try:
+        info.update({f"phmech_{k}": str(v) for k, v in phmech._core.build_info().items()})
+    except Exception:  # noqa: BLE001 -- informative only
+        pass
+    return info
+
+
+def write_json(name: str, data: dict) -> str:
+    os.makedirs(RESULTS, exist_ok=True)
+    path = os.path.join(RESULTS, name + ".json")
+    with open(path, "w") as f:
+        json.dump(data, f, indent=1)
+    print(f"wrote {path}", flush=True)
+    return path
+
+
+def cpu_median(fn, reps: int):
+    out, ts = None, []
+    for _ in range(reps):
+        t0 = time.process_time()
+        out = fn()
+        ts.append(time.process_time() - t0)
+    return out, float(np.median(ts))
+
+
+def pareto(cpu, err):
+    """Lower envelope: points sorted by CPU, keeping those that improve the error."""
+    pts = sorted((c, e) for c, e in zip(cpu, err) if np.isfinite(e) and e > 0)
+    front, best = [], np.inf
+    for c, e in pts:
+        if e < best:
+            front.append((c, e))
+            best = e
+    return front
+
+
+def cpu_at_error(front, e):
+    """CPU time to reach error ``e`` by log-log interpolation on a Pareto front (None outside)."""
+    if len(front) < 2:
+        return None
+    c = np.log([p[0] for p in front])
+    er = np.log([p[1] for p in front])   # decreasing
+    le = np.log(e)
+    if le > er[0] or le < er[-1]:
+        return None
+    return float(np.exp(np.interp(le, er[::-1], c[::-1])))
+
+
+def ratios(front_ph, front_ex, levels):
+    out = {}
+    for e in levels:
+        a, b = cpu_at_error(front_ph, e), cpu_at_error(front_ex, e)
+        out[f"{e:.0e}"] = None if a is None or b is None else dict(phmech_cpu_s=a, exudyn_cpu_s=b, ratio=a / b)
+    return out
+
+
+# ------------------------------------------------------------------ models
+def exudyn_beam(N: int, axial: float = EA1, tip_force: float = 0.0, clamp: bool = True, sparse=False):
+    """Exudyn cantilever of N ObjectBeamGeometricallyExact2D elements along x (bending in x-y)."""
+    import exudyn as exu
+    from exudyn.beams import GenerateBeamElementsAlongLine
+    from exudyn.itemInterface import (LoadForceVector, MarkerNodePosition,
+                                      ObjectBeamGeometricallyExact2D, SensorNode,
+                                      VObjectBeamGeometricallyExact2D)
+    SC = exu.SystemContainer()
+    mbs = SC.AddSystem()
+    tmpl = ObjectBeamGeometricallyExact2D(
+        massPerLength=TABLE1["rhoA"], crossSectionInertia=TABLE1["rhoI"],
+        bendingStiffness=TABLE1["EI"], axialStiffness=axial, shearStiffness=TABLE1["kGA"],
+        visualization=VObjectBeamGeometricallyExact2D(show=False))
+    info = GenerateBeamElementsAlongLine(mbs, [0, 0, 0], [TABLE1["L"], 0, 0], N, tmpl,
+                                         groundConstraintsStart=[1, 1, 1] if clamp else None)
+    tip = info["nodes"][-1]
+    mk = mbs.AddMarker(MarkerNodePosition(nodeNumber=tip))
+    ld = mbs.AddLoad(LoadForceVector(markerNumber=mk, loadVector=[0, -tip_force, 0]))
+    sens = mbs.AddSensor(SensorNode(nodeNumber=tip, storeInternal=True,
+                                    outputVariableType=exu.OutputVariableType.Position))
+    mbs.Assemble()
+    return SC, mbs, ld, sens
+
+
+def exudyn_settings(sparse: bool):
+    import exudyn as exu
+    ss = exu.SimulationSettings()
+    ss.solution.file.write = False
+    ss.solution.sensors.writePeriod = DT_OUT
+    ss.show.computationTime = False
+    ss.show.statistics = False
+    ss.linearSolver.solverType = exu.LinearSolverType.EigenSparse if sparse else exu.LinearSolverType.EXUdense
+    ss.staticSolver.verboseMode = 0
+    ss.staticSolver.numberOfLoadSteps = 4
+    ss.timeIntegration.verboseMode = 0
+    return ss
+
+
+def phmech_cantilever(N: int):
+    import phmech as ph
+    from phmech.section import table1_properties
+    m = ph.Mechanism()
+    b = m.add_flexible_link("b", TABLE1["L"], table1_properties(1.0), elements=N)
+    m.add_pair("clamp", ph.Fixed(), m.ground, b.start)
+    return m, b
+
+
+# ------------------------------------------------------------------ 1. modes
+def exudyn_frequencies(N: int, n: int = 5) -> np.ndarray:
+    """First n bending frequencies [rad/s]; axial stiffness x 1e4 (as phmech's se3_frequencies
+    uses table1_properties() with stiff_factor 1e4) so that no axial mode falls among them."""
+    import exudyn.solver
+    _, mbs, _, _ = exudyn_beam(N, axial=1e4 * EA1, clamp=False)
+    ev, _ = exudyn.solver.ComputeODE2Eigenvalues(mbs, constrainedCoordinates=[0, 1, 2])
+    om = np.sqrt(np.abs(np.sort(np.asarray(ev))))
+    return om[:n]
+
+
+def bench_modes(quick: bool) -> dict:
+    from phmech import studies
+    exact = studies.exact_frequencies(5)
+    Ns = [3, 5, 9, 15, 21, 40, 80] if quick else [3, 5, 9, 15, 21, 40, 80, 160]
+    reps = 1 if quick else 3   # (1 for N >= 80, see below)
+    runs = {"phmech_se3": [], "phmech_mixed": [], "exudyn_ge2d": []}
+    fns = {"phmech_se3": (studies.se3_frequencies, lambda N: 12 * N),
+           "phmech_mixed": (studies.mixed_frequencies, lambda N: 4 * N),
+           "exudyn_ge2d": (exudyn_frequencies, lambda N: 6 * N)}
+    for N in Ns:
+        for name, (fn, states) in fns.items():
+            k = min(5, 2 * N)
+            om, cpu = cpu_median(lambda: fn(N, k), 1 if N >= 80 else reps)
+            e = np.full(5, np.nan)
+            e[:k] = (np.asarray(om)[:k] - exact[:k]) / exact[:k]
+            runs[name].append(dict(N=N, states=states(N), cpu_s=cpu, omega=np.asarray(om).tolist(),
+                                   rel_errors=e.tolist(),
+                                   max_abs_rel_error=float(np.max(np.abs(e))) if k == 5 else None))
+        print(f"modes N={N:4d}: " + ", ".join(
+            f"{nm} {runs[nm][-1]['max_abs_rel_error'] or float('nan'):.2e} ({runs[nm][-1]['cpu_s'] * 1e3:.1f} ms)"
+            for nm in runs), flush=True)
+    fronts = {nm: pareto([r["cpu_s"] for r in rs], [r["max_abs_rel_error"] or np.nan for r in rs])
+              for nm, rs in runs.items()}
+    levels = [1e-1, 3e-2, 1e-2, 3e-3, 1e-3]
+    out = dict(problem="Table I cantilever, first five frequencies", exact_rad_s=exact.tolist(),
+               error="max over modes 1..5 of |omega_h - omega| / omega",
+               states_note="first-order states: se3 12 per free node (3-D), mixed 4N (planar), "
+                           "Exudyn GE2D 6 per free node (planar)",
+               exudyn_note="ObjectBeamGeometricallyExact2D, axial stiffness x1e4 (as se3_frequencies); "
+                           "ComputeODE2Eigenvalues dense, clamp by constrainedCoordinates",
+               machine=machine(), runs=runs,
+               cpu_ratio_at_equal_error={"se3_over_exudyn": ratios(fronts["phmech_se3"], fronts["exudyn_ge2d"], levels),
+                                         "mixed_over_exudyn": ratios(fronts["phmech_mixed"], fronts["exudyn_ge2d"], levels)})
+    write_json("bench_modes", out)
+    plot_modes(out)
+    return out
+
+
+def plot_modes(out):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4))
+    for nm, rs in out["runs"].items():
+        ok = [r for r in rs if r["max_abs_rel_error"]]
+        e = [r["max_abs_rel_error"] for r in ok]
+        ax[0].loglog([r["states"] for r in ok], e, "o-", label=nm)
+        ax[1].loglog([r["cpu_s"] for r in ok], e, "o-", label=nm)
+    ax[0].set(xlabel="first-order states", ylabel="max rel. error, modes 1-5", title="Table I cantilever")
+    ax[1].set(xlabel="CPU time [s]", ylabel="max rel. error, modes 1-5", title="work-precision")
+    for a in ax:
+        a.grid(True, which="both", alpha=0.3)
+        a.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(RESULTS, "bench_modes.png"), dpi=120)
+    plt.close(fig)
+
+
+# ------------------------------------------------------------------ 2. transient
+def phmech_transient(N: int, rtol: float, solver: str, T: float):
+    """(cpu_s incl. static, simulation cpu_s, t, tip (nt, 2) = (x, z), stats)."""
+    t0 = time.process_time()
+    m, b = phmech_cantilever(N)
+    st = m.static(loads=[(b.end, (0, 0, 0, 0, 0, -F_TIP), "world")], steps=4)
+    t1 = time.process_time()
+    r = m.simulate(T, DT_OUT, rtol=rtol, initial=st, linear_solver=solver)
+    t2 = time.process_time()
+    tip = r.tip(b)[:, [0, 2]]
+    return t2 - t0, t2 - t1, r.t, tip, dict(r.stats)
+
+
+def exudyn_transient(N: int, h: float, T: float, rho: float, sparse: bool = False):
+    import exudyn as exu
+    import exudyn.solver
+    t0 = time.process_time()
+    _, mbs, ld, sens = exudyn_beam(N, tip_force=F_TIP)
+    ss = exudyn_settings(sparse)
+    ss.staticSolver.newton.relativeTolerance = 1e-10
+    exudyn.solver.SolveStatic(mbs, ss)
+    q = mbs.systemData.GetODE2Coordinates()
+    mbs.systemData.SetODE2Coordinates(q, configuration=exu.ConfigurationType.Initial)
+    mbs.SetLoadParameter(ld, "loadVector", [0, 0, 0])
+    ss.timeIntegration.endTime = T
+    ss.timeIntegration.numberOfSteps = int(round(T / h))
+    ss.timeIntegration.generalizedAlpha.spectralRadius = rho
+    t1 = time.process_time()
+    exudyn.solver.SolveDynamic(mbs, ss)
+    t2 = time.process_time()
+    d = np.asarray(mbs.GetSensorStoredData(sens))
+    it = mbs.sys["dynamicSolver"].it if hasattr(mbs, "sys") and "dynamicSolver" in mbs.sys else None
+    stats = {"steps": int(round(T / h))}
+    if it is not None:
+        stats.update(newton_iterations=int(it.newtonStepsCount), jacobians=int(it.newtonJacobiCount))
+    return t2 - t0, t2 - t1, d[:, 0], d[:, 1:3], stats
+
+
+def tip_error(t, tip, ref_t, ref_tip):
+    x = np.interp(ref_t, t, tip[:, 0])
+    z = np.interp(ref_t, t, tip[:, 1])
+    return float(np.max(np.hypot(x - ref_tip[:, 0], z - ref_tip[:, 1])) / TABLE1["L"])
+
+
+def bench_transient(quick: bool) -> dict:
+    T = 0.5 if quick else 1.0
+    Nref = 40 if quick else 80
+    rref = 1e-10
+    print(f"transient: reference phmech se3 N={Nref // 2},{Nref} rtol {rref:g} over {T} s ...", flush=True)
+    ref = {}
+    for N in (Nref // 2, Nref):
+        c, _, t, tip, stats = phmech_transient(N, rref, "klu", T)
+        ref[N] = (t, tip, c, stats)
+        print(f"  N={N}: CPU {c:.1f} s, {stats['steps']} steps", flush=True)
+    c, _, t, tip_r8, _ = phmech_transient(Nref, 1e-8, "klu", T)
+    t_ref = ref[Nref][0]
+    ref_tip = ref[Nref][1] + (ref[Nref][1] - ref[Nref // 2][1]) / 3.0      # Richardson, order 2
+    selfconv = dict(
+        space_N_half_vs_N=tip_error(ref[Nref // 2][0], ref[Nref // 2][1], t_ref, ref[Nref][1]),
+        richardson_correction=tip_error(t_ref, ref[Nref][1], t_ref, ref_tip),
+        time_rtol_1em8_vs_1em10=tip_error(t_ref, tip_r8, t_ref, ref[Nref][1]))
+    print(f"  self-convergence: {selfconv}", flush=True)
+
+    runs = []
+    ph_N = [5, 10, 20] if quick else [5, 10, 20, 40]
+    ph_rtol = [1e-3, 1e-4, 1e-6, 1e-8]
+    for N in ph_N:
+        for rtol in ph_rtol:
+            for solver in (["klu", "dense"] if N <= 10 and rtol == 1e-6 else ["klu"]):
+                c, cs, t, tip, stats = phmech_transient(N, rtol, solver, T)
+                e = tip_error(t, tip, t_ref, ref_tip)
+                runs.append(dict(code="phmech", variant=f"se3-{solver}", N=N, rtol=rtol, cpu_s=c,
+                                 sim_cpu_s=cs, error=e, stats=stats))
+                print(f"  phmech {solver:5s} N={N:3d} rtol {rtol:.0e}: err {e:.2e}, CPU {c:.2f} s, "
+                      f"{stats['steps']} steps, {stats['residual_evals']} res, {stats['jacobian_evals']} jac",
+                      flush=True)
+    ex_N = [5, 10, 20, 40] if quick else [5, 10, 20, 40, 80]
+    ex_h = [5e-3, 1e-3, 2.5e-4] if quick else [5e-3, 2e-3, 1e-3, 5e-4, 2.5e-4, 1e-4]
+    for rho in (1.0, 0.9):
+        for N in ex_N:
+            for h in ex_h:
+                if rho == 0.9 and h not in (1e-3, 2.5e-4):
+                    continue
+                reps = []
+                for _ in range(1 if quick or N * T / h > 2e5 else 3):
+                    reps.append(exudyn_transient(N, h, T, rho))
+                c = float(np.median([r[0] for r in reps]))
+                _, cs, t, tip, stats = reps[0]
+                tip = tip.copy()
+                tip[:, 1] = tip[:, 1]        # Exudyn's y is phmech's z (both downward negative)
+                e = tip_error(t, tip, t_ref, ref_tip)
+                runs.append(dict(code="exudyn", variant=f"ge2d-galpha-rho{rho:g}", N=N, h=h, cpu_s=c,
+                                 sim_cpu_s=float(np.median([r[1] for r in reps])), error=e, stats=stats))
+                print(f"  exudyn rho={rho:g} N={N:3d} h={h:.1e}: err {e:.2e}, CPU {c:.3f} s", flush=True)
+
+    def front(pred):
+        rs = [r for r in runs if pred(r)]
+        return pareto([r["cpu_s"] for r in rs], [r["error"] for r in rs])
+    fph = front(lambda r: r["code"] == "phmech")
+    fex = front(lambda r: r["code"] == "exudyn")
+    levels = [3e-2, 1e-2, 3e-3, 1e-3, 3e-4]
+    out = dict(problem=f"Table I cantilever (table1_properties(1.0)) released from static tip force "
+                       f"{F_TIP:.1f} N; tip (x,z) every {DT_OUT} s over {T} s",
+               error="max_t |tip - tip_ref| / L",
+               reference=dict(code="phmech se3 KLU", N=[Nref // 2, Nref], rtol=rref,
+                              atol="rtol * 1e-2 (phmech default)",
+                              extrapolation="Richardson, tip_ref = tip_N + (tip_N - tip_N/2)/3",
+                              cpu_s=[ref[Nref // 2][2], ref[Nref][2]], self_convergence=selfconv),
+               cpu_note="cpu_s includes model build and the static solution; sim_cpu_s the time integration only",
+               machine=machine(), runs=runs, pareto_phmech=fph, pareto_exudyn=fex,
+               cpu_ratio_at_equal_error=ratios(fph, fex, levels))
+    write_json("bench_transient", out)
+    plot_transient(out, t_ref, ref_tip)
+    return out
+
+
+def plot_transient(out, t_ref, ref_tip):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(1, 2, figsize=(12, 4.2))
+    groups = {}
+    for r in out["runs"]:
+        key = (r["variant"], r.get("rtol") if r["code"] == "phmech" else r["N"])
+        groups.setdefault(key, []).append(r)
+    for (var, par), rs in sorted(groups.items(), key=lambda kv: str(kv[0])):
+        ph = var.startswith("se3")
+        lab = f"phmech {var} rtol {par:.0e}" if ph else f"exudyn {var} N={par}"
+        ax[0].loglog([r["cpu_s"] for r in rs], [r["error"] for r in rs], ("o-" if ph else "s--"),
+                     label=lab, ms=4)
+    for nm, key in (("phmech Pareto", "pareto_phmech"), ("Exudyn Pareto", "pareto_exudyn")):
+        p = np.array(out[key])
+        ax[0].loglog(p[:, 0], p[:, 1], "k-" if "phmech" in nm else "k:", lw=2, label=nm)
+    ax[0].set(xlabel="CPU time [s]", ylabel="max tip error / L", title="released cantilever: work-precision")
+    ax[0].grid(True, which="both", alpha=0.3)
+    ax[0].legend(fontsize=5, ncol=2)
+    ax[1].plot(t_ref, ref_tip[:, 1], "k")
+    ax[1].set(xlabel="t [s]", ylabel="tip z [m]", title="reference tip deflection")
+    ax[1].grid(True, alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(os.path.join(RESULTS, "bench_transient.png"), dpi=120)
+    plt.close(fig)
+
+
+# ------------------------------------------------------------------ 3. scaling
+def scaling_point(code: str, N: int, T: float, setting: float) -> dict:
+    """Run one point in this (fresh) process and return CPU and peak RSS."""
+    if code.startswith("phmech"):
+        solver = code.split("-")[1]
+        c, cs, _, _, stats = phmech_transient(N, setting, solver, T)
+    else:
+        c, cs, _, _, stats = exudyn_transient(N, setting, T, 1.0, sparse=N > 40)
+    ru = resource.getrusage(resource.RUSAGE_SELF)
+    return dict(code=code, N=N, T=T, setting=setting, cpu_s=c, sim_cpu_s=cs,
+                cpu_per_sim_s=cs / T, maxrss_MB=ru.ru_maxrss / 1024.0, stats=stats)
+
+
+def bench_scaling(quick: bool, budget_s: float) -> dict:
+    # settings of similar time accuracy (bench_transient: phmech's error is spatial at rtol <= 1e-4,
+    # Exudyn's h = 1e-3 is at its N = 40 error level); dense LU is O(N^3), so it stops at N = 100
+    cases = [("phmech-klu", 1e-4, 0.02, [10, 30, 100, 300, 1000]),
+             ("phmech-dense", 1e-4, 0.02, [10, 30, 100]),
+             ("exudyn-ge2d", 1e-3, 0.2, [10, 30, 100, 300, 1000])]
+    if quick:
+        cases = [(c, s, T, [N for N in Ns if N <= 100]) for c, s, T, Ns in cases]
+    base = subprocess.run([sys.executable, "-c", "import resource, numpy, phmech, exudyn; "
+                           "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss/1024)"],
+                          capture_output=True, text=True, check=True)
+    baseline = float(base.stdout.strip())
+    runs, notes = [], []
+    for code, setting, T, Ns in cases:
+        for N in Ns:
+            t0 = time.time()
+            try:
+                p = subprocess.run([sys.executable, __file__, "--point", code, str(N), str(T), str(setting)],
+                                   capture_output=True, text=True, timeout=budget_s)
+            except subprocess.TimeoutExpired:
+                notes.append(f"{code} N={N}: stopped after {budget_s:.0f} s wall (budget); larger N skipped")
+                print("  " + notes[-1], flush=True)
+                break
+            if p.returncode != 0:
+                notes.append(f"{code} N={N}: failed: {p.stderr.strip().splitlines()[-1:]}")
+                print("  " + notes[-1], flush=True)
+                break
+            r = json.loads(p.stdout.strip().splitlines()[-1])
+            runs.append(r)
+            print(f"  scaling {code} N={N}: {r['cpu_per_sim_s']:.3g} CPU s per simulated s, "
+                  f"RSS {r['maxrss_MB']:.0f} MB, {r['stats'].get('steps')} steps ({time.time() - t0:.0f} s wall)",
+                  flush=True)
+            if time.time() - t0 > budget_s / 3:
+                notes.append(f"{code}: stopped after N={N} ({time.time() - t0:.0f} s wall) to keep within budget")
+                print("  " + notes[-1], flush=True)
+                break
+    fits = {}
+    for code, _, _, _ in cases:
+        rs = [r for r in runs if r["code"] == code and r["N"] >= 30]
+        if len(rs) >= 2:
+            fits[code] = dict(cpu_exponent=float(np.polyfit(np.log([r["N"] for r in rs]),
+                                                            np.log([r["cpu_per_sim_s"] for r in rs]), 1)[0]),
+                              memory_exponent_above_baseline=float(np.polyfit(
+                                  np.log([r["N"] for r in rs]),
+                                  np.log([max(r["maxrss_MB"] - baseline, 1e-3) for r in rs]), 1)[0]),
+                              fitted_on_N=[r["N"] for r in rs])
+    out = dict(problem="released Table I cantilever (as transient), CPU per simulated second and peak RSS vs N",
+               settings={c: dict(setting=s, T=T, meaning="rtol" if c.startswith("phmech") else "step size h [s]")
+                         for c, s, T, _ in cases},
+               baseline_rss_MB=baseline, note="RSS is of a fresh interpreter that imported numpy, phmech and "
+               "exudyn (baseline given); exponents fitted for N >= 30",
+               machine=machine(), runs=runs, fits=fits, notes=notes)
+    write_json("bench_scaling", out)
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4))
+    for code, _, _, _ in cases:
+        rs = [r for r in runs if r["code"] == code]
+        if rs:
+            lab = code + (f" (slope {fits[code]['cpu_exponent']:.2f})" if code in fits else "")
+            ax[0].loglog([r["N"] for r in rs], [r["cpu_per_sim_s"] for r in rs], "o-", label=lab)
+            ax[1].semilogx([r["N"] for r in rs], [r["maxrss_MB"] for r in rs], "o-", label=code)
+    ax[0].set(xlabel="elements N", ylabel="CPU s per simulated s")
+    ax[1].set(xlabel="elements N", ylabel="peak RSS [MB]")
+    for a in ax:
+        a.grid(True, which="both", alpha=0.3)
+        a.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(RESULTS, "bench_scaling.png"), dpi=120)
+    plt.close(fig)
+    return out
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="fewer points, shorter transient (~ a few minutes)")
+    ap.add_argument("--only", nargs="+", choices=["modes", "transient", "scaling"],
+                    default=["modes", "transient", "scaling"])
+    ap.add_argument("--budget", type=float, default=240.0, help="wall-time cap per scaling point [s]")
+    ap.add_argument("--point", nargs=4, help=argparse.SUPPRESS)
+    a = ap.parse_args()
+    ensure_exudyn()
+    if a.point:
+        code, N, T, s = a.point
+        print(json.dumps(scaling_point(code, int(N), float(T), float(s))))
+        return
+    t0 = time.time()
+    if "modes" in a.only:
+        bench_modes(a.quick)
+    if "transient" in a.only:
+        bench_transient(a.quick)
+    if "scaling" in a.only:
+        bench_scaling(a.quick, a.budget)
+    print(f"benchmarks done in {time.time() - t0:.0f} s wall", flush=True)
+
+
+if __name__ == "__main__":
+    main()
