@@ -12,18 +12,14 @@ from . import _core
 from ._core import ModelError, SolverError
 from . import analysis, graphs, mixed, se3, timoshenko
 from .section import BeamProperties, Material, Section, table1_properties
-from .mechanism import (Body, Constant, Cycloidal, Fixed, FlexibleLink, Frame, Mechanism,
-                        ModesResult, Motion, Pulse, SimulationResult, Sine, StaticResult, Step,
-                        Table)
+from . import mechanism
+from .mechanism import *  # noqa: F401,F403  (names listed in mechanism.__all__)
 
 __version__ = "0.1.0"
 
 __all__ = ["ModelError", "SolverError", "info", "__version__",
            "se3", "graphs", "mixed", "timoshenko", "analysis",
-           "Material", "Section", "BeamProperties", "table1_properties",
-           "Mechanism", "Frame", "Body", "FlexibleLink", "Fixed", "Motion", "Constant", "Step",
-           "Pulse", "Sine", "Table", "Cycloidal", "SimulationResult", "ModesResult",
-           "StaticResult"]
+           "Material", "Section", "BeamProperties", "table1_properties", *mechanism.__all__]
 
 
 def info(file=None) -> dict:
