@@ -13,7 +13,11 @@ formula corrected for the leaves' own mass, and the paper's 3.366 Hz (20-Sim) an
 The paper's Table II is lost; the parameters below are chosen (and documented in
 docs/leaf_spring.md) so that the analytic formula gives the paper's 3.369 Hz.
 
+F1's base misalignment delta (the paper's "complete setup", ``--misalignment``): see
+:func:`misalignment_study` and docs/leaf_spring.md.
+
     python examples/leaf_spring.py [--quick] [--json] [--elements 10] [--t-end 10] [--no-plot]
+                                   [--misalignment]
 """
 from __future__ import annotations
 
@@ -33,6 +37,7 @@ from phmech import se3
 F_PAPER_ANALYTIC = 3.369  # Hz, Sec. VIII-D
 F_PAPER_20SIM = 3.366     # Hz
 F_PAPER_SPACAR = 3.4      # Hz
+K_MOUNT = 1e8             # N m/rad, joint spring locking F1's revolute base at delta
 
 
 # ------------------------------------------------------------------------------- parameters
@@ -128,12 +133,21 @@ def _weld(m, name, a_carrier, H_a, b_carrier, H_b, H_joint):
 
 def build(p: LeafSpringParams, elements: int = 10, beta: float = 1e-5, leaf_mass_scale: float = 1.0,
           axial_shear_scale: float = 1.0, body_rot_inertia_scale: float = 1.0,
-          pulse: ph.Pulse | None = None):
+          pulse: ph.Pulse | None = None, delta: float = 0.0, mounting: str = "clamp",
+          k_mount: float = K_MOUNT):
     """The mechanism. ``beta`` [s]: stiffness-proportional material damping D = beta K.
     ``leaf_mass_scale`` scales the leaves' inertia (tiny: massless leaves), ``axial_shear_scale``
     scales EA, kGA_y, kGA_z (large: inextensible, shear-rigid leaves), ``body_rot_inertia_scale``
     the rotational inertia of the bodies. ``pulse``: the force law of w_x [N] on R1's centre of
-    mass (None: no load). Returns (mechanism, dict of handles)."""
+    mass (None: no load). Returns (mechanism, dict of handles).
+
+    Misalignment (Sec. VIII-D, "complete setup"): ``delta`` [rad] is the angle of F1's base
+    about world x. ``mounting`` "clamp": a Fixed clamp rotated by delta about x (delta = 0: the
+    aligned guide); "revolute": a Revolute pair about world x whose angle is held at delta by a
+    joint spring of stiffness ``k_mount`` [N m/rad] (damping beta k_mount), the paper's topology.
+    The initial poses are the aligned ones, so for delta != 0 the loop is not in equilibrium
+    (revolute: the spring is stretched; clamp: the clamp is violated): find the prestressed
+    equilibrium with ``m.static()`` first (see :func:`misaligned_equilibrium`)."""
     steel = ph.Material(E=p.E, nu=p.nu, density=p.density)
     # local leaf axes: x along the leaf (world z), y = world y (width), z = world -x (thickness):
     # bending in the motion direction x is bending about the local y axis, stiffness E I_y.
@@ -162,7 +176,18 @@ def build(p: LeafSpringParams, elements: int = 10, beta: float = 1e-5, leaf_mass
     R1 = m.add_rigid_body("R1", p.m_plate, ri * _box_inertia(p.m_plate, p.plate_x, p.plate_y, p.plate_t),
                           pose=H_R1)
 
-    m.add_pair("clamp1", ph.Fixed(), ph.Frame(-1, H_start[0], "base1"), F1.start)   # edge (1L, 0)
+    if mounting == "clamp":                                                      # edge (1L, 0)
+        Hb = se3.translation([xs[0], 0.0, 0.0]) @ se3.rotation("x", delta) @ Rleaf
+        m.add_pair("clamp1", ph.Fixed(), ph.Frame(-1, Hb, "base1"), F1.start)
+    elif mounting == "revolute":
+        # both pair frames world-aligned at F1's base, so axis "x" is world x and angle 0 is
+        # the aligned initial pose; the joint spring's rest angle is the misalignment delta
+        Hw = se3.translation([xs[0], 0.0, 0.0])
+        m.add_pair("clamp1", ph.Revolute(axis="x"), ph.Frame(-1, Hw, "base1"),
+                   ph.Frame(F1.nodes[0], se3.inverse(H_start[0]) @ Hw, "F1.base"),
+                   actuator=ph.Spring(k=k_mount, c=beta * k_mount, rest=delta))
+    else:
+        raise ValueError(f"mounting must be 'clamp' or 'revolute' (got {mounting!r})")
     m.add_pair("clamp2", ph.Fixed(), ph.Frame(-1, H_start[1], "base2"), F2.start)   # edge (2L, 0)
     _weld(m, "tip1", F1.nodes[-1], H_tip[0], R2.carrier, H_R2, H_tip[0])
     _weld(m, "tip2", F2.nodes[-1], H_tip[1], R3.carrier, H_R3, H_tip[1])
@@ -248,6 +273,194 @@ def run(p: LeafSpringParams, t_end: float = 10.0, elements: int = 10, beta: floa
                 t=res.t, x=x, force=force, t_fft=t_fft, res=res, handles=h)
 
 
+# ------------------------------------------------------------------------------- misalignment
+MISALIGNMENT_DEG = (0.0, 0.1, 0.2, 0.25, 0.3, 0.4, 0.5, 0.55, 1.0, 1.5, 2.0)
+MISALIGNMENT_SIM_DEG = (0.25, 0.5)
+
+
+def delta_cr_estimate(p: LeafSpringParams) -> float:
+    """Closed-form estimate of the misalignment [rad] at which the leaves buckle sideways.
+
+    The loop closes by bending both leaves in their stiff plane (y-z) to a tip rotation delta/2:
+    a uniform moment M = E I_z (delta/2) / L with I_z = t w^3/12. Lateral-torsional buckling of
+    a clamped-clamped strip under uniform moment: M_cr = (2 pi / L) sqrt(E I_y G J), J = w t^3/3
+    (1 - 0.63 t/w). So delta_cr = 4 pi sqrt(E I_y G J) / (E I_z), about 8 pi sqrt(G/E) (t/w)^2,
+    independent of L."""
+    G = p.E / (2 * (1 + p.nu))
+    I_z = p.thickness * p.width ** 3 / 12.0
+    J = p.width * p.thickness ** 3 / 3.0 * (1 - 0.63 * p.thickness / p.width)
+    return 4 * math.pi * math.sqrt(p.E * p.I_y * G * J) / (p.E * I_z)
+
+
+def misaligned_equilibrium(p: LeafSpringParams, delta: float, mounting: str = "revolute",
+                           **kw):
+    """Build the misaligned guide and find its prestressed static equilibrium (Newton from the
+    aligned poses). Returns (mechanism, handles, StaticResult)."""
+    m, h = build(p, delta=delta, mounting=mounting, **kw)
+    return m, h, m.static()
+
+
+def _r1_world(st_pose: np.ndarray, shape: np.ndarray) -> np.ndarray:
+    """A mode shape of R1 (body-frame (rotation, translation), H exp(xi)) in world axes."""
+    R = st_pose[:3, :3]
+    return np.concatenate([R @ shape[:3], R @ shape[3:]])
+
+
+def misalignment_point(p: LeafSpringParams, delta_deg: float, elements: int = 10,
+                       beta: float = 1e-5, mounting: str = "revolute", nmodes: int = 4) -> dict:
+    """Prestressed equilibrium, modes about it and the parasitic motion of R1 in the first mode
+    at the misalignment ``delta_deg`` [deg]. Parasitic ratios are per unit x motion of R1
+    (rotations in rad/m = mrad/mm, z in m/m = mm/mm), world axes."""
+    c0 = time.process_time()
+    m, h, st = misaligned_equilibrium(p, math.radians(delta_deg), mounting=mounting,
+                                      elements=elements, beta=beta)
+    cpu_static = time.process_time() - c0
+    c0 = time.process_time()
+    mo = m.modes(nmodes, at=st)
+    cpu_modes = time.process_time() - c0
+    r1 = h["R1"].carrier
+    H = st.poses[r1]
+    s = _r1_world(H, mo.shapes[0, r1])
+    s = s / s[3]                                  # per unit x displacement
+    rot = se3.log(H)[:3]                          # rotation vector of R1 (its initial pose is R = I)
+    return dict(delta_deg=delta_deg, f1=float(mo.frequency[0]), modes=mo.frequency.tolist(),
+                unstable=int(np.sum(mo.frequency < 0)),
+                R1_static=dict(x=float(H[0, 3]), y=float(H[1, 3]), dz=float(H[2, 3] - _z_r1(p)),
+                               rot_x=float(rot[0]), rot_y=float(rot[1]), rot_z=float(rot[2])),
+                parasitic_mode=dict(dz_per_dx=float(s[5]), dy_per_dx=float(s[4]),
+                                    rot_x_per_dx=float(s[0]), rot_y_per_dx=float(s[1]),
+                                    rot_z_per_dx=float(s[2])),
+                static_iterations=int(st.iterations), cpu_static=cpu_static, cpu_modes=cpu_modes)
+
+
+def _z_r1(p: LeafSpringParams) -> float:
+    return p.L + p.block + p.plate_t / 2
+
+
+def critical_misalignment(p: LeafSpringParams, lo_deg: float, hi_deg: float, elements: int = 10,
+                          beta: float = 1e-5, tol_deg: float = 1e-3) -> float:
+    """Bisection [deg] for the smallest misalignment at which the prestressed equilibrium has an
+    unstable (negative) linearized mode: the sideways (lateral-torsional) buckling of the leaves."""
+    def unstable(d):
+        m, _, st = misaligned_equilibrium(p, math.radians(d), elements=elements, beta=beta)
+        return bool(m.modes(1, at=st).frequency[0] < 0)
+    if unstable(lo_deg) or not unstable(hi_deg):
+        raise ValueError("the bracket does not contain the stability limit")
+    while hi_deg - lo_deg > tol_deg:
+        mid = 0.5 * (lo_deg + hi_deg)
+        lo_deg, hi_deg = (lo_deg, mid) if unstable(mid) else (mid, hi_deg)
+    return 0.5 * (lo_deg + hi_deg)
+
+
+def misalignment_simulation(p: LeafSpringParams, delta_deg: float, elements: int = 10,
+                            beta: float = 1e-5, t_end: float = 4.0, t_fft: float = 0.3,
+                            impulse: float = 0.005, duration: float = 0.01, t0: float = 0.05,
+                            rtol: float = 1e-6, atol: float = 1e-7, dt_out: float = 2e-3) -> dict:
+    """Pulse response about the prestressed equilibrium (simulate(initial=static)): FFT of x(R1)
+    and the parasitic motion of R1 as least-squares slopes of its world rotation (relative to the
+    equilibrium) and z displacement against its x displacement, over t >= ``t_fft``. The impulse
+    (0.005 N s, ~0.1 mm) keeps the response linear."""
+    pulse = ph.Pulse(t0=t0, duration=duration, value=impulse / duration)
+    m, h = build(p, elements=elements, beta=beta, pulse=pulse, delta=math.radians(delta_deg),
+                 mounting="revolute")
+    st = m.static()
+    c0 = time.process_time()
+    res = m.simulate(t_end=t_end, dt_out=dt_out, rtol=rtol, atol=atol, linear_solver="klu",
+                     initial=st)
+    cpu = time.process_time() - c0
+    r1 = h["R1"].carrier
+    Hs = st.poses[r1]
+    P = res.poses[:, r1]
+    dx = P[:, 0, 3] - Hs[0, 3]
+    dz = P[:, 2, 3] - Hs[2, 3]
+    dth = np.array([se3.log(_rot4(Hk[:3, :3] @ Hs[:3, :3].T))[:3]
+                    for Hk in P])
+    sel = res.t >= t_fft
+    fm = float(m.modes(1, at=st).frequency[0])
+    f_fft = ph.analysis.dominant_frequency(res.t[sel], dx[sel], fmin=0.3 * fm, fmax=3 * fm)
+    X = np.column_stack([dx[sel], np.ones(sel.sum())])
+    slope = lambda y: float(np.linalg.lstsq(X, y[sel], rcond=None)[0][0])
+    return dict(delta_deg=delta_deg, f_fft=f_fft, f_modal=fm, amplitude=float(np.abs(dx[sel]).max()),
+                parasitic_sim=dict(dz_per_dx=slope(dz), rot_x_per_dx=slope(dth[:, 0]),
+                                   rot_y_per_dx=slope(dth[:, 1]), rot_z_per_dx=slope(dth[:, 2])),
+                cpu_sim=cpu, ida_steps=int(res.stats["steps"]), t=res.t, x=dx, rot=dth, z=dz)
+
+
+def _rot4(R: np.ndarray) -> np.ndarray:
+    H = np.eye(4)
+    H[:3, :3] = R
+    return H
+
+
+def misalignment_study(p: LeafSpringParams, deltas_deg=MISALIGNMENT_DEG,
+                       sim_deltas_deg=MISALIGNMENT_SIM_DEG, elements: int = 10, beta: float = 1e-5,
+                       t_end: float = 4.0, check_clamp: bool = True) -> dict:
+    """The sweep: one :func:`misalignment_point` per delta, the stability limit, pulse-response
+    simulations at ``sim_deltas_deg``, and (``check_clamp``) the rotated-Fixed-clamp mounting at
+    the largest stable delta as a cross-check of the revolute + stiff-spring model."""
+    c0 = time.process_time()
+    rows = [misalignment_point(p, d, elements=elements, beta=beta) for d in deltas_deg]
+    stable = [r["delta_deg"] for r in rows if r["unstable"] == 0]
+    unstable = [r["delta_deg"] for r in rows if r["unstable"] > 0]
+    d_cr = None
+    if stable and unstable and max(stable) < min(unstable):
+        d_cr = critical_misalignment(p, max(stable), min(unstable), elements=elements, beta=beta)
+    sims = [misalignment_simulation(p, d, elements=elements, beta=beta, t_end=t_end)
+            for d in sim_deltas_deg]
+    out = dict(rows=rows, delta_cr_deg=d_cr,
+               delta_cr_estimate_deg=math.degrees(delta_cr_estimate(p)), sims=sims,
+               settings=dict(elements=elements, beta=beta, k_mount=K_MOUNT, t_end_sim=t_end))
+    if check_clamp and stable:
+        d = max(stable)
+        chk = dict(delta_deg=d, revolute=rows[[r["delta_deg"] for r in rows].index(d)]["f1"])
+        try:
+            chk["clamp"] = misalignment_point(p, d, elements=elements, beta=beta, mounting="clamp")["f1"]
+        except ph.ModelError as e:      # the clamp violates the loop at t = 0 by design
+            chk["clamp_error"] = str(e)
+        out["clamp_check"] = chk
+    out["cpu_s"] = time.process_time() - c0
+    return out
+
+
+def plot_misalignment(study: dict, path: str) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
+    rows = [r for r in study["rows"] if r["unstable"] == 0]
+    d = np.array([r["delta_deg"] for r in rows])
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
+    ax[0].plot(d, [r["f1"] for r in rows], "o-", label="linearized at the prestressed equilibrium")
+    ax[0].plot([s["delta_deg"] for s in study["sims"]], [s["f_fft"] for s in study["sims"]], "rx",
+               ms=10, mew=2, label="FFT of the pulse response")
+    if study["delta_cr_deg"] is not None:
+        ax[0].axvline(study["delta_cr_deg"], color="k", ls="--", lw=1,
+                      label=f"unstable beyond {study['delta_cr_deg']:.3f} deg")
+    ax[0].axvline(study["delta_cr_estimate_deg"], color="gray", ls=":", lw=1,
+                  label=f"LTB estimate {study['delta_cr_estimate_deg']:.3f} deg")
+    ax[0].set(xlabel="misalignment delta [deg]", ylabel="first frequency [Hz]",
+              title="(a) first frequency", xlim=(0, None), ylim=(0, None))
+    ax[0].legend(fontsize=8, loc="lower left")
+    keys = (("rot_z_per_dx", "rotation about z [mrad/mm]", "C0"),
+            ("rot_y_per_dx", "rotation about y [mrad/mm]", "C1"),
+            ("rot_x_per_dx", "rotation about x [mrad/mm]", "C2"),
+            ("dz_per_dx", "z displacement x 1000 [mm/mm]", "C3"))
+    for k, lab, c in keys:
+        sc = 1e3 if k == "dz_per_dx" else 1.0
+        ax[1].plot(d, [sc * r["parasitic_mode"][k] for r in rows], "o-", color=c, label=lab)
+        ax[1].plot([s["delta_deg"] for s in study["sims"]], [sc * s["parasitic_sim"][k] for s in study["sims"]],
+                   "x", color=c, ms=9, mew=2)
+    ax[1].axhline(0, color="k", lw=0.5)
+    ax[1].set(xlabel="misalignment delta [deg]", ylabel="per mm of x motion of R1",
+              title="(b) parasitic motion of R1 (lines: mode 1, x: simulation)")
+    ax[1].legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
 def plot(out: dict, p: LeafSpringParams, path_resp: str, path_spec: str) -> None:
     import matplotlib
 
@@ -292,6 +505,9 @@ def main(argv=None) -> dict:
     ap.add_argument("--beta", type=float, default=1e-5, help="material damping D = beta K [s]")
     ap.add_argument("--rtol", type=float, default=1e-6)
     ap.add_argument("--atol", type=float, default=1e-7)
+    ap.add_argument("--misalignment", action="store_true",
+                    help="also sweep F1's base misalignment delta (0..2 deg): prestressed modes, "
+                         "stability limit, pulse responses, parasitic motion of R1")
     ap.add_argument("--no-plot", action="store_true")
     ap.add_argument("--outdir", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "output"))
     a = ap.parse_args(argv)
@@ -316,6 +532,13 @@ def main(argv=None) -> dict:
                   energy_ledger_rel=out["ledger"], breakdown=brk,
                   settings=dict(elements=N, t_end=t_end, beta=a.beta, rtol=a.rtol, atol=a.atol),
                   params=p.as_dict())
+    if a.misalignment:
+        mis = misalignment_study(p, elements=N, beta=a.beta)
+        result["misalignment"] = dict(
+            {k: v for k, v in mis.items() if k != "sims"},
+            sims=[{k: v for k, v in s_.items() if k not in ("t", "x", "rot", "z")} for s_ in mis["sims"]])
+        if not a.no_plot:
+            plot_misalignment(mis, os.path.join(a.outdir, "leaf_spring_misalignment.png"))
     if not a.no_plot:
         plot(out, p, os.path.join(a.outdir, "leaf_spring_response.png"),
              os.path.join(a.outdir, "leaf_spring_spectrum.png"))
@@ -335,6 +558,22 @@ def main(argv=None) -> dict:
             print(f"  modes, {k:28s}: {v:.5f} Hz ({(v / brk['base'] - 1) * 100:+.4f} %)")
         print(f"IDA: {st['steps']} steps, {st['residual_evals']} residuals, {st['jacobian_evals']} "
               f"Jacobians; CPU simulate {out['cpu_sim']:.2f} s, total {cpu:.2f} s")
+        if a.misalignment:
+            mis = result["misalignment"]
+            print("misalignment (revolute base + stiff joint spring; parasitic per mm of x, world axes):")
+            print("  delta[deg]  f1[Hz]  rot_x[mrad/mm] rot_y[mrad/mm] rot_z[mrad/mm] dz[um/mm]  unstable")
+            for r in mis["rows"]:
+                q = r["parasitic_mode"]
+                print(f"  {r['delta_deg']:9.3g} {r['f1']:8.4f} {q['rot_x_per_dx']:13.5f} "
+                      f"{q['rot_y_per_dx']:14.5f} {q['rot_z_per_dx']:14.2e} {1e3 * q['dz_per_dx']:10.4f}"
+                      f"  {r['unstable']}")
+            print(f"  stability limit {mis['delta_cr_deg']} deg (LTB estimate "
+                  f"{mis['delta_cr_estimate_deg']:.4f} deg)")
+            for s_ in mis["sims"]:
+                print(f"  pulse response at {s_['delta_deg']:g} deg: f_fft {s_['f_fft']:.5f} Hz "
+                      f"(modal {s_['f_modal']:.5f}), rot_x {s_['parasitic_sim']['rot_x_per_dx']:.5f} "
+                      f"mrad/mm, CPU {s_['cpu_sim']:.2f} s")
+            print(f"  CPU misalignment study {mis['cpu_s']:.2f} s")
     return result
 
 
