@@ -66,11 +66,7 @@ CASES = {
 }
 
 
-KNOWN_BUG = pytest.mark.xfail(strict=True, reason="helical pair with pitch != 0 whose ground frame is "
-                               "offset along the screw axis: IDA_CONV_FAIL at the first step (open bug)")
-
-
-@pytest.mark.parametrize("kind", [pytest.param(k, marks=KNOWN_BUG) if k == "helical" else k for k in CASES])
+@pytest.mark.parametrize("kind", list(CASES))
 def test_pair_allowed_motion_is_free_and_constraints_hold(kind):
     pair, wa, wc, expect = CASES[kind]
     m = pm.Mechanism()
