@@ -297,6 +297,8 @@ void phm_model_free(phm_model *m) {
   free(m->pair_m);
   free(m->pair_j);
   free(m->pair_k);
+  free(m->pair_sel);
+  free(m->pair_rowf);
   free(m->xref0);
   free(m->act);
   free(m->spr);
@@ -352,6 +354,8 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
       if ((st = law_check(&p->law, "pair", i, err))) return st;
     }
     if (!isfinite(p->pitch)) return phm_error_set(err, PHM_EINVAL, "pair %d: non-finite pitch", i);
+    if (p->drop < 0 || p->drop >= (1 << phm_pair_types[p->type].m))
+      return phm_error_set(err, PHM_EINVAL, "pair %d: drop mask %d names rows beyond the %d constraint rows of a %s pair", i, p->drop, phm_pair_types[p->type].m, phm_pair_types[p->type].name);
     if (p->has_x0 && !finite_n(p->x0, 6 - phm_pair_types[p->type].m))
       return phm_error_set(err, PHM_EINVAL, "pair %d: non-finite initial joint coordinates", i);
   }
@@ -405,6 +409,8 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   m->pair_j = malloc(sizeof(int) * (size_t)(m->np + 1));
   m->pair_k = malloc(sizeof(int) * (size_t)(m->np + 1));
   m->xref0 = calloc((size_t)(6 * m->np + 1), sizeof(double));
+  m->pair_sel = calloc((size_t)(6 * m->np + 1), sizeof(int));
+  m->pair_rowf = calloc((size_t)(m->np + 1), sizeof(int));
   m->act = malloc(sizeof *m->act * (size_t)(m->na + 1));
   m->spr = malloc(sizeof *m->spr * (size_t)(m->ns + 1));
   int ntab = 0, nbp = 0;
@@ -425,7 +431,7 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   m->bp = malloc(sizeof(double) * (size_t)(nbp + 1));
   m->tables = malloc(sizeof(double) * (size_t)(2 * ntab + 1));
   if (!m->car || !m->el || !m->pair || !m->pair_row || !m->pair_m || !m->load || !m->bp || !m->tables ||
-      !m->pair_j || !m->pair_k || !m->xref0 || !m->act || !m->spr) {
+      !m->pair_j || !m->pair_k || !m->xref0 || !m->act || !m->spr || !m->pair_sel || !m->pair_rowf) {
     phm_model_free(m);
     return phm_error_set(err, PHM_ENOMEM, "out of memory");
   }
@@ -464,17 +470,23 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
       tp += 2 * l->ntable;
     }
   }
-  int row = 0, jt = 0;
+  int row = 0, jt = 0, rowf = 0;
   for (int i = 0; i < m->np; i++) {
+    int mt = phm_pair_types[m->pair[i].type].m, kept = 0;
+    for (int r = 0; r < mt; r++)
+      if (!(m->pair[i].drop & (1 << r))) m->pair_sel[6 * i + kept++] = r;
     m->pair_row[i] = row;
-    m->pair_m[i] = phm_pair_types[m->pair[i].type].m;
-    row += m->pair_m[i];
+    m->pair_rowf[i] = rowf;
+    m->pair_m[i] = kept;
+    row += kept;
+    rowf += mt;
     m->pair_j[i] = jt;
-    m->pair_k[i] = 6 - m->pair_m[i];
+    m->pair_k[i] = 6 - mt;
     if (m->pair[i].has_x0) memcpy(m->xref0 + jt, m->pair[i].x0, sizeof(double) * (size_t)m->pair_k[i]);
     jt += m->pair_k[i];
   }
   m->ncons = row;
+  m->ncons_full = rowf;
   m->nj = jt;
   m->nport = m->na + m->nl + m->ns;
   nbp = 0;
@@ -608,26 +620,40 @@ static void rel_twist(const double AdTbi[36], const double AdBa[36], const doubl
   for (int i = 0; i < 6; i++) tr[i] = u[i] - v[i];
 }
 
-void phm_pair_eval(const phm_model *m, int ip, const double *Ha, const double *Hb,
-                   const double *xref, double time, double tref, double *g, double *Ga,
-                   double *Gb, double *vt) {
+/* Keep the rows of pair ip that its drop mask leaves in the DAE: g[r] = g[sel r], W column r =
+ * W column sel r (sel increasing, so the forward in-place copy is safe). */
+static void select_rows(const phm_model *m, int ip, double *g, double W[36]) {
+  if (!m->pair[ip].drop) return;
+  const int *sel = m->pair_sel + 6 * ip;
+  for (int r = 0; r < m->pair_m[ip]; r++) {
+    if (g) g[r] = g[sel[r]];
+    for (int i = 0; i < 6; i++) W[6 * i + r] = W[6 * i + sel[r]];
+  }
+}
+
+static void pair_eval_rows(const phm_model *m, int ip, const double *Ha, const double *Hb,
+                           const double *xref, double time, double tref, double *g, double *Ga,
+                           double *Gb, double *vt, int all) {
   const phm_pair_desc *pr = &m->pair[ip];
-  int mc = m->pair_m[ip];
+  int mc = all ? phm_pair_types[pr->type].m : m->pair_m[ip];
   double h[16], W[36], AdTbi[36], AdBa[36];
   if (!xref) xref = m->xref0 + m->pair_j[ip];
   pair_frames(m, ip, Ha, Hb, h, (Ga || Gb) ? AdTbi : NULL, Ga ? AdBa : NULL);
   double s = 0, ds = 0;
   if (pr->driven) s = phm_law_eval(&pr->law, time, tref, &ds, NULL);
+  double gf[6];
   if (pr->driven && g) {
     double x[6], r[16], ri[16], E[16];
     for (int i = 0; i < 6; i++) x[i] = s * pr->axis[i];
     phm_se3_exp(x, r);
     phm_se3_inverse(r, ri);
     phm_se3_compose(ri, h, E);
-    phm_pair_kin(pr->type, pr->pitch, E, xref, g, W, NULL, NULL);
+    phm_pair_kin(pr->type, pr->pitch, E, xref, gf, W, NULL, NULL);
   } else {
-    phm_pair_kin(pr->type, pr->pitch, h, xref, g, W, NULL, NULL);
+    phm_pair_kin(pr->type, pr->pitch, h, xref, gf, W, NULL, NULL);
   }
+  if (!all) select_rows(m, ip, gf, W);
+  if (g) memcpy(g, gf, sizeof(double) * (size_t)mc);
   /* G_b = W^T Ad_{Tb^-1},  G_a = -W^T Ad_{(H_b Tb)^-1 H_a} */
   for (int r = 0; r < mc; r++)
     for (int j = 0; j < 6; j++) {
@@ -649,6 +675,12 @@ void phm_pair_eval(const phm_model *m, int ip, const double *Ha, const double *H
   }
 }
 
+void phm_pair_eval(const phm_model *m, int ip, const double *Ha, const double *Hb,
+                   const double *xref, double time, double tref, double *g, double *Ga,
+                   double *Gb, double *vt) {
+  pair_eval_rows(m, ip, Ha, Hb, xref, time, tref, g, Ga, Gb, vt, 0);
+}
+
 void phm_pair_wrench(const phm_model *m, int ip, const double *Ha, const double *Hb,
                      const double *xref, double time, double tref, const double *lam, double w[6]) {
   const phm_pair_desc *pr = &m->pair[ip];
@@ -656,6 +688,7 @@ void phm_pair_wrench(const phm_model *m, int ip, const double *Ha, const double 
   if (!xref) xref = m->xref0 + m->pair_j[ip];
   pair_frames(m, ip, Ha, Hb, h, NULL, NULL);
   phm_pair_kin(pr->type, pr->pitch, h, xref, NULL, W, NULL, NULL); /* driven: fixed, W = I */
+  select_rows(m, ip, NULL, W);
   (void)time;
   (void)tref;
   for (int i = 0; i < 6; i++) {
@@ -701,6 +734,44 @@ void phm_constraints_dense(const phm_model *m, const double *H, const double *xs
           if (pr->a >= 0) G[(size_t)(r0 + r) * n + 6 * pr->a + j] += Ga[6 * r + j];
           if (pr->b >= 0) G[(size_t)(r0 + r) * n + 6 * pr->b + j] += Gb[6 * r + j];
         }
+  }
+}
+
+int phm_model_nconstraints_full(const phm_model *m) { return m->ncons_full; }
+
+void phm_constraints_full(const phm_model *m, const double *H, const double *xs, double time,
+                          double *g, double *G, double *W) {
+  int n = 6 * m->nc;
+  double tref = phm_model_tref(m, time, NULL);
+  if (G) memset(G, 0, sizeof(double) * (size_t)m->ncons_full * (size_t)n);
+  for (int ip = 0; ip < m->np; ip++) {
+    const phm_pair_desc *pr = &m->pair[ip];
+    int r0 = m->pair_rowf[ip], mc = phm_pair_types[pr->type].m;
+    const double *Ha = pr->a >= 0 ? H + 16 * pr->a : NULL, *Hb = pr->b >= 0 ? H + 16 * pr->b : NULL;
+    const double *xr = xs ? xs + m->pair_j[ip] : NULL;
+    double Ga[36], Gb[36], gl[6];
+    pair_eval_rows(m, ip, Ha, Hb, xr, time, tref, gl, Ga, Gb, NULL, 1);
+    if (g) memcpy(g + r0, gl, sizeof(double) * (size_t)mc);
+    if (G)
+      for (int r = 0; r < mc; r++)
+        for (int j = 0; j < 6; j++) {
+          if (pr->a >= 0) G[(size_t)(r0 + r) * n + 6 * pr->a + j] += Ga[6 * r + j];
+          if (pr->b >= 0) G[(size_t)(r0 + r) * n + 6 * pr->b + j] += Gb[6 * r + j];
+        }
+    if (W) {
+      double h[16];
+      pair_frames(m, ip, Ha, Hb, h, NULL, NULL);
+      phm_pair_kin(pr->type, pr->pitch, h, xr ? xr : m->xref0 + m->pair_j[ip], NULL, W + 36 * ip, NULL, NULL);
+    }
+  }
+}
+
+void phm_model_joints(const phm_model *m, const double *H, const double *xs, double *x) {
+  for (int ip = 0; ip < m->np; ip++) {
+    const phm_pair_desc *pr = &m->pair[ip];
+    if (m->pair_k[ip] == 0) continue;
+    phm_pair_joint(m, ip, pr->a >= 0 ? H + 16 * pr->a : NULL, pr->b >= 0 ? H + 16 * pr->b : NULL,
+                   NULL, NULL, xs ? xs + m->pair_j[ip] : NULL, x + m->pair_j[ip], NULL);
   }
 }
 

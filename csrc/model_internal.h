@@ -16,6 +16,9 @@ struct phm_model {
   int *pair_m;      /* constraint rows of each pair      */
   int *pair_j;      /* first joint coordinate of each pair */
   int *pair_k;      /* joint coordinates of each pair    */
+  int *pair_sel;    /* 6 per pair: the type's row index of each kept constraint row (drop mask) */
+  int *pair_rowf;   /* first row of each pair in the full (undropped) constraint set */
+  int ncons_full;   /* constraint rows before dropping redundant ones */
   double *xref0;    /* nj: branch references (x0 or 0) for statics, modes and the start */
   phm_actuator_desc *act;
   phm_spring_desc *spr;

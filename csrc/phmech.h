@@ -197,6 +197,9 @@ typedef struct {
   double pitch;      /* HELICAL: translation per rotation, m/rad                          */
   int has_x0;        /* 1: x0 gives the initial joint coordinates (checked at start)       */
   double x0[6];      /* initial joint coordinates; also the branch of multi-turn angles   */
+  int drop;          /* bit r set: constraint row r of this type (W^C column r) is redundant
+                      * and left out of the DAE (hyperconstrained mechanisms; see
+                      * phm_constraints_full for the whole set). 0: all rows kept.          */
 } phm_pair_desc;
 
 /* Actuator on the allowed directions of a pair, generalized effort u (k) power-conjugate to xdot:
@@ -256,6 +259,17 @@ int phm_model_njoints(const phm_model *model);        /* joint coordinates, all 
 int phm_model_nports(const phm_model *model);         /* ports: actuators, loads, springs, in order */
 /* First constraint row, constraint rows m, first joint coordinate and k of pair ip. */
 void phm_model_pair_layout(const phm_model *model, int ip, int *row, int *m, int *joint, int *k);
+
+/* ---- topology helpers (owner: graphs/initial configuration) ----
+ * All constraint rows of every pair type, including the rows dropped as redundant (phm_pair_desc
+ * drop), at poses H (nc x 16), joint branch references xs (nj; NULL: x0) and time: g (nfull),
+ * G (nfull x 6nc, row-major), W (npairs x 36: each pair's full W^C, frame F_b, first m columns
+ * used); any output may be NULL. nfull = sum over pairs of the type's constraint count. */
+int phm_model_nconstraints_full(const phm_model *model);
+void phm_constraints_full(const phm_model *model, const double *H, const double *xs, double time,
+                          double *g, double *G, double *W);
+/* Joint coordinates x (nj) of every pair at poses H, angles on the branch of xs (NULL: x0). */
+void phm_model_joints(const phm_model *model, const double *H, const double *xs, double *x);
 
 /* Energies at poses H (nc x 16) and twists t (nc x 6): e[0] kinetic, e[1] elastic (beam elements
  * and point-to-point springs; not joint springs, whose power is a port), e[2] gravity. */

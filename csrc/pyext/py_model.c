@@ -67,15 +67,15 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
                         "ld_carrier", "ld_world", "ld_point", "ld_w", "ld_law", "gravity",
                         "pr_pitch", "pr_x0", "pr_has_x0", "ld_reaction", "ac_pair", "ac_kind",
                         "ac_vec", "ac_kp", "ac_kd", "ac_xset", "ac_law", "sp_ab", "sp_pa", "sp_pb",
-                        "sp_kcd", NULL};
-  PyObject *o[38];
-  for (int i = 23; i < 38; i++) o[i] = Py_None;
-  if (!PyArg_ParseTupleAndKeywords(args, kw, "OOOOOOOOOOOOOOOOOOOOOOO|OOOOOOOOOOOOOOO", kwl, &o[0], &o[1], &o[2],
+                        "sp_kcd", "pr_drop", NULL};
+  PyObject *o[39];
+  for (int i = 23; i < 39; i++) o[i] = Py_None;
+  if (!PyArg_ParseTupleAndKeywords(args, kw, "OOOOOOOOOOOOOOOOOOOOOOO|OOOOOOOOOOOOOOOO", kwl, &o[0], &o[1], &o[2],
                                    &o[3], &o[4], &o[5], &o[6], &o[7], &o[8], &o[9], &o[10], &o[11],
                                    &o[12], &o[13], &o[14], &o[15], &o[16], &o[17], &o[18], &o[19],
                                    &o[20], &o[21], &o[22], &o[23], &o[24], &o[25], &o[26], &o[27],
                                    &o[28], &o[29], &o[30], &o[31], &o[32], &o[33], &o[34], &o[35],
-                                   &o[36], &o[37]))
+                                   &o[36], &o[37], &o[38]))
     return NULL;
   PyObject *keep = PyList_New(0);
   if (!keep) return NULL;
@@ -86,7 +86,7 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
   phm_load_desc *ld = NULL;
   phm_actuator_desc *ac = NULL;
   phm_spring_desc *sp = NULL;
-  PyArrayObject *prpi = NULL, *prx0 = NULL, *prh0 = NULL, *ldr = NULL, *acp = NULL, *ack = NULL, *acv = NULL,
+  PyArrayObject *prdrop = NULL, *prpi = NULL, *prx0 = NULL, *prh0 = NULL, *ldr = NULL, *acp = NULL, *ack = NULL, *acv = NULL,
                 *ackp = NULL, *ackd = NULL, *acx = NULL, *spab = NULL, *sppa = NULL, *sppb = NULL, *spk = NULL;
   npy_intp na = 0, ns = 0;
   npy_intp t1[1] = {1}, t3[1] = {3}, t6[1] = {6}, t2[1] = {2}, t66[2] = {6, 6}, t44[2] = {4, 4};
@@ -158,7 +158,8 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
   if ((o[23] != Py_None && !(prpi = arr(o[23], "pair pitches", np_, NULL, 0, keep))) ||
       (o[24] != Py_None && !(prx0 = arr(o[24], "pair initial coordinates", np_, t6, 1, keep))) ||
       (o[25] != Py_None && !(prh0 = arr(o[25], "pair x0 flags", np_, NULL, 0, keep))) ||
-      (o[26] != Py_None && !(ldr = arr(o[26], "load reactions", nl, NULL, 0, keep))))
+      (o[26] != Py_None && !(ldr = arr(o[26], "load reactions", nl, NULL, 0, keep))) ||
+      (o[38] != Py_None && !(prdrop = arr(o[38], "pair drop masks", np_, NULL, 0, keep))))
     goto fail;
   if (o[27] != Py_None) {
     acp = phm_py_double_array(o[27], "actuator pairs", NULL, 0, 1);
@@ -229,6 +230,14 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
     if (prpi) pr[i].pitch = D(prpi)[i];
     if (prh0) pr[i].has_x0 = D(prh0)[i] != 0;
     if (prx0) memcpy(pr[i].x0, D(prx0) + 6 * i, 6 * sizeof(double));
+    if (prdrop) {
+      double v = D(prdrop)[i];
+      if (!(v >= 0 && v < 64 && v == (int)v)) {
+        PyErr_Format(phm_py_ModelError, "pair %d: drop mask must be an integer in [0, 64)", (int)i);
+        goto fail;
+      }
+      pr[i].drop = (int)v;
+    }
     PyObject *lw = PyList_GET_ITEM(o[16], i);
     if (pr[i].driven && parse_law(lw, &pr[i].law, keep, "pair motion law") < 0) goto fail;
   }
@@ -534,7 +543,70 @@ static PyObject *py_model_sizes(PyObject *self, PyObject *cap) {
                        phm_model_njoints(m), phm_model_nports(m), lay);
 }
 
+/* model_constraints_full(model, poses, xs=None, time=0) -> (g, G, W): every constraint row of
+ * every pair (dropped redundant rows included) at the given poses. */
+static PyObject *py_model_constraints_full(PyObject *self, PyObject *args) {
+  (void)self;
+  PyObject *cap, *po, *xo = Py_None;
+  double time = 0;
+  if (!PyArg_ParseTuple(args, "OO|Od", &cap, &po, &xo, &time)) return NULL;
+  phm_model *m = get_model(cap);
+  if (!m) return NULL;
+  int nc = phm_model_ncarriers(m), nf = phm_model_nconstraints_full(m), np_ = phm_model_npairs(m),
+      nj = phm_model_njoints(m);
+  npy_intp tail[3] = {nc, 4, 4}, tj[1] = {nj};
+  PyArrayObject *P = phm_py_double_array(po, "poses", tail, 3, 0), *X = NULL;
+  if (!P) return NULL;
+  if (xo != Py_None && !(X = phm_py_double_array(xo, "joint references", tj, 1, 0))) {
+    Py_DECREF(P);
+    return NULL;
+  }
+  npy_intp dg[1] = {nf}, dG[2] = {nf, 6 * nc}, dW[3] = {np_, 6, 6};
+  PyArrayObject *g = (PyArrayObject *)PyArray_ZEROS(1, dg, NPY_DOUBLE, 0);
+  PyArrayObject *G = (PyArrayObject *)PyArray_ZEROS(2, dG, NPY_DOUBLE, 0);
+  PyArrayObject *W = (PyArrayObject *)PyArray_ZEROS(3, dW, NPY_DOUBLE, 0);
+  PyObject *res = NULL;
+  if (g && G && W) {
+    phm_constraints_full(m, PyArray_DATA(P), X ? PyArray_DATA(X) : NULL, time, PyArray_DATA(g),
+                         PyArray_DATA(G), PyArray_DATA(W));
+    res = Py_BuildValue("OOO", g, G, W);
+  }
+  Py_XDECREF(g);
+  Py_XDECREF(G);
+  Py_XDECREF(W);
+  Py_DECREF(P);
+  Py_XDECREF(X);
+  return res;
+}
+
+/* model_joints(model, poses, xs=None) -> x (nj): joint coordinates of every pair at the poses. */
+static PyObject *py_model_joints(PyObject *self, PyObject *args) {
+  (void)self;
+  PyObject *cap, *po, *xo = Py_None;
+  if (!PyArg_ParseTuple(args, "OO|O", &cap, &po, &xo)) return NULL;
+  phm_model *m = get_model(cap);
+  if (!m) return NULL;
+  int nc = phm_model_ncarriers(m), nj = phm_model_njoints(m);
+  npy_intp tail[3] = {nc, 4, 4}, tj[1] = {nj};
+  PyArrayObject *P = phm_py_double_array(po, "poses", tail, 3, 0), *X = NULL;
+  if (!P) return NULL;
+  if (xo != Py_None && !(X = phm_py_double_array(xo, "joint references", tj, 1, 0))) {
+    Py_DECREF(P);
+    return NULL;
+  }
+  PyArrayObject *x = (PyArrayObject *)PyArray_ZEROS(1, tj, NPY_DOUBLE, 0);
+  if (x) phm_model_joints(m, PyArray_DATA(P), X ? PyArray_DATA(X) : NULL, PyArray_DATA(x));
+  Py_DECREF(P);
+  Py_XDECREF(X);
+  return (PyObject *)x;
+}
+
 PyMethodDef phm_py_model_methods[] = {
+    {"model_constraints_full", py_model_constraints_full, METH_VARARGS,
+     "model_constraints_full(model, poses, xs=None, time=0) -> (g (nfull,), G (nfull, 6 nc), W "
+     "(npairs, 6, 6)): all constraint rows, redundant (dropped) ones included."},
+    {"model_joints", py_model_joints, METH_VARARGS,
+     "model_joints(model, poses, xs=None) -> x (njoints,): joint coordinates at the poses."},
     {"model_new", (PyCFunction)(void (*)(void))py_model_new, METH_VARARGS | METH_KEYWORDS,
      "model_new(M, mass, com, H0, t0, el_ab, el_h, el_K, el_D, el_eps, pr_type, pr_ab, pr_Ta, "
      "pr_Tb, pr_driven, pr_axis, pr_law, ld_carrier, ld_world, ld_point, ld_w, ld_law, gravity, "

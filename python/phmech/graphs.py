@@ -50,11 +50,14 @@ class MechanismGraph:
     flexible: list[str] = field(default_factory=list)
     pairs: list[tuple[str, str, str]] = field(default_factory=list)
     interactions: list[tuple[str, str, str]] = field(default_factory=list)
+    #: interior beam nodes used as pair or interaction vertices: link name -> [(node k, label)]
+    inner: dict = field(default_factory=dict)
 
     # ---- vertices -------------------------------------------------------------------------
     def flexible_vertices(self) -> list[str]:
         """Vertex labels of the flexible-link ends: 1L, 1R, 2L, 2R, ... (by link name)."""
-        return [f"{name}{side}" for name in self.flexible for side in ("L", "R")]
+        ends = [f"{name}{side}" for name in self.flexible for side in ("L", "R")]
+        return ends + [lab for name in self.flexible for _, lab in sorted(self.inner.get(name, []))]
 
     def vertices(self) -> list[str]:
         """All vertices except the ground, in incidence-matrix row order."""
@@ -102,11 +105,16 @@ class MechanismGraph:
         return self._incidence(self.interactions)
 
     def flexible_edges(self) -> list[tuple[str, str, str]]:
-        """The edges f(n) = (nL, nR) of G_F."""
-        return [(name, f"{name}L", f"{name}R") for name in self.flexible]
+        """The edges f(n) = (nL, nR) of G_F (split through interior nodes used as vertices)."""
+        out = []
+        for name in self.flexible:
+            chain = [f"{name}L"] + [lab for _, lab in sorted(self.inner.get(name, []))] + [f"{name}R"]
+            out += [(name, chain[i], chain[i + 1]) for i in range(len(chain) - 1)]
+        return out
 
     # ---- spanning tree of G_K ∪ G_F (paper Sec. V) ----------------------------------------
-    def spanning_tree(self) -> tuple[list[tuple[str, str, str, bool]], list[tuple[str, str, str]]]:
+    def spanning_tree(self, require_connected: bool = True
+                      ) -> tuple[list[tuple[str, str, str, bool]], list[tuple[str, str, str]]]:
         """Breadth-first spanning tree of the kinematic graph G_K ∪ G_F from the ground.
 
         Returns ``(tree, closing)``: ``tree`` lists (edge name, from vertex, to vertex, forward)
@@ -133,7 +141,7 @@ class MechanismGraph:
                 tree.append((edges[k][0], v, w, forward))
                 queue.append(w)
         unreachable = [v for v in self.vertices() if v not in seen]
-        if unreachable:
+        if unreachable and require_connected:
             raise ModelError(
                 f"vertices {unreachable} are not connected to the ground by any pair or link; "
                 "add a pair (e.g. ph.Free()) to give them a path")
@@ -141,15 +149,16 @@ class MechanismGraph:
         return tree, closing
 
     def loops(self) -> list[list[str]]:
-        """One independent loop per loop-closing edge, as the list of edge names around it."""
-        tree, closing = self.spanning_tree()
+        """One independent loop per loop-closing edge, as the list of edge names around it.
+        Vertices unreachable from the ground are rooted at the first vertex of their component."""
+        tree, closing = self._forest()
         parent: dict[str, tuple[str, str]] = {}
         for name, frm, to, _ in tree:
             parent[to] = (frm, name)
 
         def path_to_ground(v: str) -> list[tuple[str, str]]:
             out = []
-            while v != GROUND:
+            while v in parent:
                 frm, name = parent[v]
                 out.append((v, name))
                 v = frm
@@ -163,3 +172,31 @@ class MechanismGraph:
             right = [e for v, e in pr if v not in common]
             result.append(left + [name] + right[::-1])
         return result
+
+    def _forest(self):
+        """Breadth-first spanning forest: the tree from the ground, then one tree per component
+        not connected to it (free bodies or links); returns (tree edges, closing edges)."""
+        edges = list(self.pairs) + self.flexible_edges()
+        adjacent: dict[str, list[tuple[int, str, bool]]] = {v: [] for v in [GROUND] + self.vertices()}
+        for k, (_, l, r) in enumerate(edges):
+            adjacent[l].append((k, r, True))
+            adjacent[r].append((k, l, False))
+        seen: set = set()
+        used = [False] * len(edges)
+        tree = []
+        for root in [GROUND] + self.vertices():
+            if root in seen:
+                continue
+            seen.add(root)
+            queue = deque([root])
+            while queue:
+                v = queue.popleft()
+                for k, w, forward in adjacent[v]:
+                    if used[k] or w in seen:
+                        continue
+                    used[k] = True
+                    seen.add(w)
+                    tree.append((edges[k][0], v, w, forward))
+                    queue.append(w)
+        closing = [edges[k] for k in range(len(edges)) if not used[k]]
+        return tree, closing

@@ -10,18 +10,51 @@ A beam's local x axis is its centre line; its section axes are y and z.
 from __future__ import annotations
 
 import dataclasses
+import warnings
 from typing import Callable, Optional, Sequence, Union
 
 import numpy as np
 
-from . import _core, se3
+from . import _core, se3, topology
+from .graphs import MechanismGraph, Incidence
 from ._checks import real
 from ._core import ModelError
 
 __all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "Fixed", "Revolute", "Prismatic",
            "Helical", "Cylindrical", "Universal", "Spherical", "Planar", "Free", "Effort", "PD",
            "Spring", "Motion", "Constant", "Step", "Pulse", "Sine", "Table", "Cycloidal",
-           "SimulationResult", "ModesResult", "StaticResult"]
+           "SimulationResult", "ModesResult", "StaticResult", "Graphs", "RedundantConstraintWarning"]
+
+
+class RedundantConstraintWarning(UserWarning):
+    """The mechanism is hyperconstrained: some constraint rows are dependent at the initial
+    configuration and were left out of the DAE (see ``Mechanism.redundant_constraints``)."""
+
+
+@dataclasses.dataclass(frozen=True)
+class Graphs:
+    """The mechanism's graphs (paper Sec. IV, DESIGN.md §5). Vertices ``G_B``: "0" (ground), the
+    rigid bodies by name in the order added, then "<link>L", "<link>R" per flexible link (and
+    "<link>[k]" for interior nodes used by a pair). Edges (name, l, r): ``G_K`` pairs, ``G_F``
+    links, ``G_I`` interactions (add_interaction, whose reaction defaults to the ground, and
+    spring-dampers). ``B_K``/``B_I``: incidence matrices with labels (-1 at l(e), +1 at r(e));
+    ``B_K_r`` etc. are their rigid and flexible row blocks, as in the paper's (24)-(25)."""
+    graph: MechanismGraph
+    B_K: Incidence
+    B_I: Incidence
+
+    G_B = property(lambda self: ["0"] + self.graph.vertices())
+    G_K = property(lambda self: list(self.graph.pairs))
+    G_F = property(lambda self: self.graph.flexible_edges())
+    G_I = property(lambda self: list(self.graph.interactions))
+    B_K_r = property(lambda self: self.B_K.rigid)
+    B_K_f = property(lambda self: self.B_K.flexible)
+    B_I_r = property(lambda self: self.B_I.rigid)
+    B_I_f = property(lambda self: self.B_I.flexible)
+
+    def loops(self) -> list:
+        """One independent loop per loop-closing edge (lists of pair and link names)."""
+        return self.graph.loops()
 
 _LAW_CONSTANT, _LAW_STEP, _LAW_PULSE, _LAW_SINE, _LAW_TABLE, _LAW_CYCLOIDAL = range(6)
 ENERGY_NAMES = ("kinetic", "elastic", "gravity", "dissipated", "supplied", "total", "ledger")
@@ -446,6 +479,10 @@ class SimulationResult:
     efforts: np.ndarray = None
     pair_wrenches: np.ndarray = None
     _pairs: dict = dataclasses.field(default_factory=dict)
+    #: (pair, direction) rows left out of the DAE as redundant; when non-empty,
+    #: ``constraint_wrenches`` holds the minimum-norm multipliers of ALL rows (see
+    #: Mechanism._min_norm_multipliers) and ``pair_wrenches`` the matching pair wrenches.
+    redundant_constraints: list = dataclasses.field(default_factory=list)
 
     def joint(self, name: str) -> dict:
         """Pair ``name``: ``x`` (nt, k) joint coordinates (exact, multi-turn), ``xdot`` (nt, k)
@@ -514,6 +551,12 @@ class Mechanism:
         self._links = {}
         self._bodies = {}
         self._names = set()
+        self._el_first = {}     # link name -> index of its first element
+        self._pose_given = {}   # carrier -> the user gave its pose
+        self._warned = None
+        #: (pair name, constraint direction) rows found redundant at the initial configuration and
+        #: left out of the DAE (set when the core model is built: simulate, modes, static, ...)
+        self.redundant_constraints: list = []
 
     # -------------------------------------------------------------- building
     def _new_name(self, name):
@@ -554,6 +597,7 @@ class Mechanism:
         h = L / N
         eps = np.concatenate([kap, [1.0, 0.0, 0.0]])
         first = len(self._car)
+        self._el_first[name] = len(self._el)
         for k in range(N + 1):
             share = h if 0 < k < N else h / 2
             Mk = I * share
@@ -561,6 +605,8 @@ class Mechanism:
                                   H0=H @ se3.exp(k * h * eps), t0=np.zeros(6)))
         for k in range(N):
             self._el.append(dict(a=first + k, b=first + k + 1, h=h, K=K, D=Dm, eps=eps))
+        for k in range(N + 1):
+            self._pose_given[first + k] = pose is not None
         link = FlexibleLink(name, L, N, list(range(first, first + N + 1)))
         self._links[name] = link
         return link
@@ -588,6 +634,7 @@ class Mechanism:
         M[3:, 3:] = m * np.eye(3)
         self._car.append(dict(M=M, mass=m, com=c, H0=np.eye(4) if pose is None else _pose(pose, "pose"), t0=tw))
         b = Body(name, len(self._car) - 1)
+        self._pose_given[b.carrier] = pose is not None
         self._bodies[name] = b
         return b
 
@@ -636,9 +683,13 @@ class Mechanism:
         if xdot0 is not None and k == 0:
             raise ModelError(f"pair {name!r}: a fixed pair has no joint rates (xdot0)")
         self._new_name(name)
+        xdv = np.zeros(6)
+        if xd is not None:
+            xdv[:k] = xd
         entry = dict(name=name, type=pair._code, a=fa.carrier, b=fb.carrier, Ta=Ta, Tb=Tb,
                      driven=driven is not None, axis=axis, law=law, pitch=pitch, k=k,
-                     x0=xv, has_x0=x0 is not None, pair=pair)
+                     x0=xv, has_x0=x0 is not None, pair=pair, xdot0=xdv,
+                     has_xdot0=xdot0 is not None)
         self._pairs.append(entry)
         if (x0 is not None or xdot0 is not None) and fb.carrier in self._body_carriers():
             self._place(entry, xv[:k], np.zeros(k) if xd is None else xd)
@@ -741,10 +792,8 @@ class Mechanism:
             raise ModelError(f"spring {name!r}: points must be 3 finite numbers")
         pa = fa.T[:3, :3] @ pa + fa.T[:3, 3]
         pb = fb.T[:3, :3] @ pb + fb.T[:3, 3]
-        world = lambda c_, p_: p_ if c_ < 0 else self._car[c_]["H0"][:3, :3] @ p_ + self._car[c_]["H0"][:3, 3]
-        d0 = np.linalg.norm(world(fb.carrier, pb) - world(fa.carrier, pa)) if rest_length is None \
-            else real(f"spring {name!r}: rest_length", rest_length)
-        if d0 < 0:
+        d0 = None if rest_length is None else real(f"spring {name!r}: rest_length", rest_length)
+        if d0 is not None and d0 < 0:
             raise ModelError(f"spring {name!r}: rest_length must be >= 0")
         self._new_name(name)
         self._springs.append(dict(name=name, a=fa.carrier, b=fb.carrier, pa=pa, pb=pb, kcd=(kk, cc, d0)))
@@ -763,6 +812,7 @@ class Mechanism:
                 self._names.discard(name)
                 raise ModelError(f"interaction {name!r}: target and reaction are on the same carrier")
             self._loads[-1]["reaction"] = fr.carrier
+        self._loads[-1]["interaction"] = True
 
     def add_wrench(self, name: str, target, wrench, law: _Law = Constant(1.0),
                    frame: str = "world", point=(0.0, 0.0, 0.0)) -> None:
@@ -801,16 +851,97 @@ class Mechanism:
                             law=law, frame=frame)
 
     # -------------------------------------------------------------- core model
+    # -------------------------------------------------------------- graphs, initial configuration
+    def _vertex(self, carrier: int, inner: dict) -> str:
+        if carrier < 0:
+            return "0"
+        for b in self._bodies.values():
+            if b.carrier == carrier:
+                return b.name
+        for lk in self._links.values():
+            if carrier in lk.nodes:
+                k = lk.nodes.index(carrier)
+                if k == 0:
+                    return lk.name + "L"
+                if k == lk.elements:
+                    return lk.name + "R"
+                lab = f"{lk.name}[{k}]"
+                if (k, lab) not in inner.setdefault(lk.name, []):
+                    inner[lk.name].append((k, lab))
+                return lab
+        raise ModelError(f"carrier {carrier} belongs to no body or link")
+
+    def graphs(self) -> Graphs:
+        """G_B, G_K, G_F, G_I and the incidence matrices B_K,r, B_K,f, B_I,r, B_I,f with row and
+        column labels (DESIGN.md §5). A pair or interaction added between a and b, in that order,
+        is the edge (a, b): -1 at row a, +1 at row b."""
+        inner: dict = {}
+        g = MechanismGraph(rigid=list(self._bodies), flexible=list(self._links), inner=inner)
+        for e in self._pairs:
+            g.pairs.append((e["name"], self._vertex(e["a"], inner), self._vertex(e["b"], inner)))
+        for ld in self._loads:
+            if ld.get("interaction"):
+                g.interactions.append((ld["name"], self._vertex(ld["carrier"], inner),
+                                       self._vertex(ld["reaction"], inner)))
+        for q in self._springs:
+            g.interactions.append((q["name"], self._vertex(q["a"], inner), self._vertex(q["b"], inner)))
+        return Graphs(g, g.incidence_pairs(), g.incidence_interactions())
+
+    def _loops_through(self, pairs: list) -> list:
+        loops = self.graphs().loops()
+        hit = [lp for lp in loops if set(lp) & set(pairs)]
+        return hit or loops
+
+    def _initial(self):
+        """Tree placement, loop closure and redundancy (see phmech.topology): returns poses,
+        twists, the pairs' x0 rows and drop masks; sets ``redundant_constraints``."""
+        H, T, tree = topology.place_tree(self)
+        x0 = np.array([p["x0"] for p in self._pairs]).reshape(-1, 6)
+        if self._pairs:
+            model = self._core_model(H, T, x0, None, ())
+            H = topology.close_loops(self, model, H, tree, None, self._loops_through)
+            # joint coordinates reached (on the branch of x0): the core checks x0 at the start
+            x = _core.model_joints(model, H, None)
+            lay = _core.model_sizes(model)[4]
+            for ip, e in enumerate(self._pairs):
+                _, _, j, k = lay[ip]
+                if e["has_x0"] and k:
+                    dev = np.max(np.abs(x[j:j + k] - e["x0"][:k]))
+                    if dev > 1e-6 * (1 + np.max(np.abs(e["x0"][:k]))):
+                        warnings.warn(f"pair {e['name']!r}: x0 cannot be met with the loops closed; "
+                                      f"starting at x = {x[j:j + k]} (x0 = {e['x0'][:k]})", stacklevel=3)
+                    x0[ip, :k] = x[j:j + k]
+            _, G, _ = _core.model_constraints_full(model, H, None, 0.0)
+            masks, dropped = topology.redundant_rows(self, G, tree)
+        else:
+            masks, dropped = [], []
+        self.redundant_constraints = dropped
+        self._drop_masks = masks
+        if dropped and self._warned != dropped:
+            self._warned = list(dropped)
+            warnings.warn(f"hyperconstrained mechanism: {len(dropped)} redundant constraint "
+                          f"directions left out of the DAE (pair, direction in F_b): {dropped}",
+                          RedundantConstraintWarning, stacklevel=3)
+        return H, T, x0, masks
+
     def _build(self, extra_loads=()):
         if not self._car:
             raise ModelError("the mechanism is empty")
+        H, T, x0, masks = self._initial()
+        return self._core_model(H, T, x0, masks, extra_loads)
+
+    def _core_model(self, H, T, x0, masks, extra_loads):
         car, el, pr, ac, sp = self._car, self._el, self._pairs, self._acts, self._springs
         loads = list(self._loads) + list(extra_loads)
-        z = lambda *s: np.zeros(s)
+
+        def world(c_, p_):
+            return p_ if c_ < 0 else H[c_][:3, :3] @ p_ + H[c_][:3, 3]
+        kcd = [(q["kcd"][0], q["kcd"][1], np.linalg.norm(world(q["b"], q["pb"]) - world(q["a"], q["pa"]))
+                if q["kcd"][2] is None else q["kcd"][2]) for q in sp]
         return _core.model_new(
             M=np.array([c["M"] for c in car]), mass=np.array([c["mass"] for c in car]),
-            com=np.array([c["com"] for c in car]), H0=np.array([c["H0"] for c in car]),
-            t0=np.array([c["t0"] for c in car]),
+            com=np.array([c["com"] for c in car]), H0=np.asarray(H),
+            t0=np.asarray(T),
             el_ab=np.array([[e["a"], e["b"]] for e in el], dtype=float).reshape(-1, 2),
             el_h=np.array([e["h"] for e in el], dtype=float),
             el_K=np.array([e["K"] for e in el]).reshape(-1, 6, 6),
@@ -830,7 +961,8 @@ class Mechanism:
             ld_law=[l["law"] for l in loads],
             gravity=self.gravity,
             pr_pitch=np.array([p["pitch"] for p in pr], dtype=float),
-            pr_x0=np.array([p["x0"] for p in pr]).reshape(-1, 6),
+            pr_x0=np.asarray(x0, dtype=float).reshape(-1, 6),
+            pr_drop=None if masks is None else np.array(masks, dtype=float),
             pr_has_x0=np.array([float(p["has_x0"]) for p in pr]),
             ld_reaction=np.array([l.get("reaction", -1) for l in loads], dtype=float),
             ac_pair=np.array([a["pair"] for a in ac], dtype=float),
@@ -843,7 +975,7 @@ class Mechanism:
             sp_ab=np.array([[q["a"], q["b"]] for q in sp], dtype=float).reshape(-1, 2),
             sp_pa=np.array([q["pa"] for q in sp]).reshape(-1, 3),
             sp_pb=np.array([q["pb"] for q in sp]).reshape(-1, 3),
-            sp_kcd=np.array([q["kcd"] for q in sp], dtype=float).reshape(-1, 3))
+            sp_kcd=np.array(kcd, dtype=float).reshape(-1, 3))
 
     # -------------------------------------------------------------- analyses
     def simulate(self, t_end: float, dt_out: float, rtol: float = 1e-8, atol: Optional[float] = None,
@@ -882,13 +1014,65 @@ class Mechanism:
             [q["name"] for q in self._springs]
         ports = {nm: r["ports"][:k, i].copy() for i, nm in enumerate(names)}
         layout = _core.model_sizes(model)[4]
+        lam, pw = r["lambda"][:k], r["pair_wrenches"][:k]
+        if self.redundant_constraints:
+            lam, pw, layout = self._min_norm_multipliers(model, r["poses"][:k], r["joints"][:k], lam, tout[:k])
         pairs = {p["name"]: dict(index=i, layout=layout[i]) for i, p in enumerate(self._pairs)}
         return SimulationResult(t=tout[:k], poses=r["poses"][:k], twists=r["twists"][:k],
-                                constraint_wrenches=r["lambda"][:k], energy=energy,
+                                constraint_wrenches=lam, energy=energy,
                                 stats=r["stats"], interrupted=bool(r["interrupted"]),
                                 _links=self._links, port_energy=ports, joints=r["joints"][:k],
                                 joint_rates=r["jrates"][:k], efforts=r["efforts"][:k],
-                                pair_wrenches=r["pair_wrenches"][:k], _pairs=pairs)
+                                pair_wrenches=pw, _pairs=pairs,
+                                redundant_constraints=list(self.redundant_constraints))
+
+    def _full_layout(self):
+        lay, row, j = [], 0, 0
+        for e in self._pairs:
+            m = len(topology.DIRECTIONS[e["type"]])
+            lay.append((row, m, j, 6 - m))
+            row += m
+            j += 6 - m
+        return lay
+
+    def _min_norm_multipliers(self, model, poses, joints, lam, times):
+        """Hyperconstrained mechanisms: the DAE's multipliers (independent rows only) mapped to
+        the minimum-norm multipliers of ALL rows giving the same generalized constraint forces,
+        lambda_full = argmin |l| s.t. G_full^T l = G_kept^T lambda; pair wrenches W^C lambda_full."""
+        full = self._full_layout()
+        keep = []
+        for ip, e in enumerate(self._pairs):
+            row, m, _, _ = full[ip]
+            keep += [row + r for r in range(m) if not (self._drop_masks[ip] >> r) & 1]
+        nf = full[-1][0] + full[-1][1] if full else 0
+        lam_f = np.zeros((len(poses), nf))
+        pw = np.zeros((len(poses), len(self._pairs), 6))
+        for i in range(len(poses)):
+            _, G, W = _core.model_constraints_full(model, poses[i], joints[i], float(times[i]))
+            f = G[keep].T @ lam[i]
+            lam_f[i] = np.linalg.lstsq(G.T, f, rcond=None)[0]
+            for ip in range(len(self._pairs)):
+                row, m, _, _ = full[ip]
+                pw[i, ip] = W[ip][:, :m] @ lam_f[i, row:row + m]
+        return lam_f, pw, full
+
+    def constraint_residuals(self, result: "SimulationResult") -> dict:
+        """Position and velocity constraint residuals of EVERY pair row (redundant rows included)
+        along a simulation: ``position`` (nt,) max |g(H)| [rad or m], ``velocity`` (nt,) max |G t|
+        [rad/s or m/s] (prescribed rates of driven pairs subtracted)."""
+        model = self._build()
+        nt = len(result.t)
+        pos, vel = np.zeros(nt), np.zeros(nt)
+        for i in range(nt):
+            g, G, _ = _core.model_constraints_full(model, result.poses[i], result.joints[i], float(result.t[i]))
+            gv = G @ result.twists[i].ravel()
+            if any(e["driven"] for e in self._pairs):   # subtract the prescribed rates by differencing g
+                dt = 1e-7
+                g2 = _core.model_constraints_full(model, result.poses[i], result.joints[i], float(result.t[i]) + dt)[0]
+                gv = gv + (g2 - g) / dt
+            pos[i] = np.max(np.abs(g)) if g.size else 0.0
+            vel[i] = np.max(np.abs(gv)) if gv.size else 0.0
+        return dict(position=pos, velocity=vel)
 
     def modes(self, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0) -> ModesResult:
         """The ``n`` lowest linearized modes at the initial configuration, or at a static
