@@ -180,10 +180,14 @@ def test_model_errors(build, msg):
         build(m, b)
 
 
-def test_x0_inconsistent_with_configuration():
+def test_x0_places_a_link_through_the_spanning_tree():
+    # The initial configuration walks the tree from the ground (DESIGN section 5): a link hinged
+    # to the ground with x0 = 0.5 rad about z starts rotated by 0.5 rad, unstressed.
     m = pm.Mechanism()
     lk_props = type("P", (), dict(stiffness=np.eye(6) * 1e3, inertia=np.eye(6) * 0.1))
     lk = m.add_flexible_link("L", 1.0, lk_props, elements=2)
-    m.add_pair("p", pm.Revolute(), m.ground, lk.start, x0=0.5)   # node: not placed, only checked
-    with pytest.raises(pm.ModelError, match="x0"):
-        m.simulate(0.1, 0.1)
+    m.add_pair("p", pm.Revolute(), m.ground, lk.start, x0=0.5)
+    r = m.simulate(0.01, 0.01)
+    np.testing.assert_allclose(r.tip(lk)[0], [np.cos(0.5), np.sin(0.5), 0.0], atol=1e-12)
+    assert r.energy["elastic"][0] < 1e-20
+    np.testing.assert_allclose(r.joint("p")["x"][0], 0.5, atol=1e-12)
