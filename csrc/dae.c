@@ -179,24 +179,105 @@ static phm_status dae_init(dae_t *d, const phm_model *m, phm_error *err) {
 }
 
 /* ---------------------------------------------------------------- consistent initial values */
-/* Project poses H (nc x 16) onto g = 0 and twists tw onto G t = vt; then solve the acceleration-
- * level system for t' and lambda. Writes y (carrier blocks and lambda, mu = 0) and yp (all but the
- * ledger values in y, which the caller sets). qprev: previous quaternions for sign continuity. */
+/* Cholesky factor of a 6 x 6 symmetric matrix (lower, row-major); 0 if positive definite (every
+ * pivot above 1e-10 of its diagonal entry), 1 otherwise (massless or singular inertia). */
+static int chol6(const double A[36], double L[36]) {
+  memset(L, 0, 36 * sizeof(double));
+  for (int j = 0; j < 6; j++) {
+    double s = A[6 * j + j];
+    if (!(s > 0)) return 1;
+    for (int k = 0; k < j; k++) s -= L[6 * j + k] * L[6 * j + k];
+    if (!(s > 1e-10 * A[6 * j + j])) return 1;
+    L[6 * j + j] = sqrt(s);
+    for (int i = j + 1; i < 6; i++) {
+      double t = A[6 * i + j];
+      for (int k = 0; k < j; k++) t -= L[6 * i + k] * L[6 * j + k];
+      L[6 * i + j] = t / L[6 * j + j];
+    }
+  }
+  return 0;
+}
+
+/* x = A^-1 x with A = L L^T (chol6) */
+static void chol6_solve(const double L[36], double x[6]) {
+  for (int i = 0; i < 6; i++) {
+    double s = x[i];
+    for (int k = 0; k < i; k++) s -= L[6 * i + k] * x[k];
+    x[i] = s / L[6 * i + i];
+  }
+  for (int i = 5; i >= 0; i--) {
+    double s = x[i];
+    for (int k = i + 1; k < 6; k++) s -= L[6 * k + i] * x[k];
+    x[i] = s / L[6 * i + i];
+  }
+}
+
+/* Constraint data restricted to the constrained carriers (cmap: carrier -> compact index or -1):
+ * g (nk), G (nk x n6c, row-major, compact columns), vt (nk); any may be NULL. */
+static void cons_compact(const phm_model *m, const double *H, const double *xs, double time,
+                         double tref, const int *cmap, int n6c, double *g, double *G, double *vt) {
+  if (G) memset(G, 0, sizeof(double) * (size_t)m->ncons * (size_t)n6c);
+  for (int ip = 0; ip < m->np; ip++) {
+    const phm_pair_desc *pr = &m->pair[ip];
+    int r0 = m->pair_row[ip], mc = m->pair_m[ip];
+    double Ga[36], Gb[36];
+    phm_pair_eval(m, ip, pr->a >= 0 ? H + 16 * pr->a : NULL, pr->b >= 0 ? H + 16 * pr->b : NULL,
+                  xs ? xs + m->pair_j[ip] : NULL, time, tref, g ? g + r0 : NULL, Ga, Gb,
+                  vt ? vt + r0 : NULL);
+    if (G)
+      for (int r = 0; r < mc; r++)
+        for (int j = 0; j < 6; j++) {
+          if (pr->a >= 0) G[(size_t)(r0 + r) * n6c + 6 * cmap[pr->a] + j] += Ga[6 * r + j];
+          if (pr->b >= 0) G[(size_t)(r0 + r) * n6c + 6 * cmap[pr->b] + j] += Gb[6 * r + j];
+        }
+  }
+}
+
+/* Project poses H (nc x 16) onto g = 0 and twists tw onto G t = vt (minimum-norm corrections);
+ * then solve the acceleration-level system for t' and lambda. Writes y (carrier blocks and lambda,
+ * mu = 0) and yp (all but the ledger values in y, which the caller sets). qprev: previous
+ * quaternions for sign continuity.
+ * Structure: G only touches the carriers of the pairs (cmap), so the projections are least-squares
+ * problems in those columns only (the minimum-norm correction is zero elsewhere); the acceleration
+ * level eliminates the block-diagonal mass: S lambda = b2 - G M^-1 b1 with S = G M^-1 G^T (nk x nk,
+ * minimum-norm lambda for redundant rows), t' = M^-1 (b1 + G^T lambda). If a constrained carrier's
+ * inertia is singular, the KKT system of the constrained carriers is solved instead. */
 static phm_status consistent_ic(dae_t *d, double time, double *H, double *tw, const double *qprev,
                                 const double *xs, int check_x0, double *y, double *yp,
                                 phm_error *err) {
   const phm_model *m = d->m;
   int nc = m->nc, n6 = 6 * nc, nk = m->ncons;
   phm_status st = PHM_OK;
-  size_t big = (size_t)(n6 + nk) * (size_t)(n6 + nk);
-  double *G = malloc(sizeof(double) * ((size_t)nk * n6 + 1));
-  double *A = malloc(sizeof(double) * (big + 1));
-  double *b = malloc(sizeof(double) * (size_t)(n6 + nk + 1) * 2);
-  double *g = malloc(sizeof(double) * (size_t)(nk + 1));
-  double *vt = malloc(sizeof(double) * (size_t)(nk + 1));
-  double *Hp = malloc(sizeof(double) * 16 * (size_t)nc);
-  double *c1 = malloc(sizeof(double) * (size_t)(nk + 1) * 2);
-  if (!G || !A || !b || !g || !vt || !Hp || !c1) {
+  int *cmap = malloc(sizeof(int) * (size_t)(nc + 1)), *clist = malloc(sizeof(int) * (size_t)(nc + 1));
+  double *Lc = malloc(sizeof(double) * 36 * (size_t)(nc + 1));
+  double *acc = malloc(sizeof(double) * (size_t)(n6 + 1)), *lam = NULL;
+  double *G = NULL, *A = NULL, *b = NULL, *g = NULL, *vt = NULL, *Hp = NULL, *c1 = NULL, *X = NULL;
+  if (!cmap || !clist || !Lc || !acc) {
+    st = phm_error_set(err, PHM_ENOMEM, "out of memory");
+    goto done;
+  }
+  int ncc = 0;
+  for (int c = 0; c < nc; c++) cmap[c] = -1;
+  for (int ip = 0; ip < m->np; ip++) {
+    int ab[2] = {m->pair[ip].a, m->pair[ip].b};
+    for (int s = 0; s < 2; s++)
+      if (ab[s] >= 0 && cmap[ab[s]] < 0) {
+        cmap[ab[s]] = ncc;
+        clist[ncc++] = ab[s];
+      }
+  }
+  if (nk == 0) ncc = 0;
+  int n6c = 6 * ncc, Nk = n6c + nk, mx = Nk > nk ? Nk : nk;
+  G = malloc(sizeof(double) * ((size_t)nk * n6c + 1));
+  A = malloc(sizeof(double) * ((size_t)Nk * Nk + (size_t)nk * n6c + 1));
+  b = malloc(sizeof(double) * (size_t)(mx + 1));
+  g = malloc(sizeof(double) * (size_t)(nk + 1));
+  vt = malloc(sizeof(double) * (size_t)(nk + 1));
+  Hp = malloc(sizeof(double) * 16 * (size_t)nc);
+  c1 = malloc(sizeof(double) * (size_t)(nk + 1) * 2);
+  X = malloc(sizeof(double) * ((size_t)n6c * nk + 1));
+  lam = malloc(sizeof(double) * (size_t)(nk + 1));
+  if (!G || !A || !b || !g || !vt || !Hp || !c1 || !X || !lam) {
     st = phm_error_set(err, PHM_ENOMEM, "out of memory");
     goto done;
   }
@@ -205,70 +286,132 @@ static phm_status consistent_ic(dae_t *d, double time, double *H, double *tw, co
     double gn = 0;
     int it;
     for (it = 0; it < 50; it++) {
-      phm_constraints_dense(m, H, xs, time, d->tref, g, G, NULL);
+      cons_compact(m, H, xs, time, d->tref, cmap, n6c, g, G, NULL);
       gn = 0;
       for (int i = 0; i < nk; i++) gn = fmax(gn, fabs(g[i]));
       if (gn < 1e-13) break;
-      memcpy(A, G, sizeof(double) * (size_t)nk * n6);
+      memcpy(A, G, sizeof(double) * (size_t)nk * n6c);
       for (int i = 0; i < nk; i++) b[i] = -g[i];
-      if ((st = phm_lstsq(nk, n6, A, b, NULL, err))) goto done;
-      for (int c = 0; c < nc; c++) phm_retract(H + 16 * c, b + 6 * c);
+      if ((st = phm_lstsq(nk, n6c, A, b, NULL, err))) goto done;
+      for (int k = 0; k < ncc; k++) phm_retract(H + 16 * clist[k], b + 6 * k);
     }
     if (gn > 1e-9) {
       st = phm_error_set(err, PHM_EINVAL, "initial configuration: position constraints cannot be met (|g| = %.3e after projection); check the pairs' frames", gn);
       goto done;
     }
     /* velocities */
-    phm_constraints_dense(m, H, xs, time, d->tref, NULL, G, vt);
+    cons_compact(m, H, xs, time, d->tref, cmap, n6c, NULL, G, vt);
     for (int r = 0; r < nk; r++) {
       double s = -vt[r];
-      for (int j = 0; j < n6; j++) s += G[(size_t)r * n6 + j] * tw[j];
+      for (int k = 0; k < ncc; k++)
+        for (int j = 0; j < 6; j++) s += G[(size_t)r * n6c + 6 * k + j] * tw[6 * clist[k] + j];
       b[r] = -s;
     }
-    memcpy(A, G, sizeof(double) * (size_t)nk * n6);
-    if ((st = phm_lstsq(nk, n6, A, b, NULL, err))) goto done;
-    for (int j = 0; j < n6; j++) tw[j] += b[j];
+    memcpy(A, G, sizeof(double) * (size_t)nk * n6c);
+    if ((st = phm_lstsq(nk, n6c, A, b, NULL, err))) goto done;
+    for (int k = 0; k < ncc; k++)
+      for (int j = 0; j < 6; j++) tw[6 * clist[k] + j] += b[6 * k + j];
   }
-  /* acceleration level: [M -G^T; G 0] [t'; lambda] = [ad^T M t + w; -dc/dt] */
+  /* acceleration level: [M -G^T; G 0] [t'; lambda] = [b1; b2], b1 = ad^T M t + w, b2 = -dc/dt */
   phm_applied(m, H, tw, xs, time, d->tref, 1.0, d->wr, NULL, NULL, NULL, NULL, NULL);
-  int N = n6 + nk;
-  memset(A, 0, sizeof(double) * big);
+  int spd = 1;
   for (int c = 0; c < nc; c++) {
     const double *M = m->car[c].M;
-    for (int i = 0; i < 6; i++)
-      for (int j = 0; j < 6; j++) A[(size_t)(6 * c + i) * N + 6 * c + j] = M[6 * i + j];
     double Mt[6], adm[6];
     mv6(M, tw + 6 * c, Mt);
     ad_dual_apply(tw + 6 * c, Mt, adm);
-    for (int i = 0; i < 6; i++) b[6 * c + i] = adm[i] + d->wr[6 * c + i];
+    for (int i = 0; i < 6; i++) acc[6 * c + i] = adm[i] + d->wr[6 * c + i];
+    if (chol6(M, Lc + 36 * c)) {
+      if (cmap[c] >= 0 && nk > 0) spd = 0;
+      else { /* free carrier with singular inertia: minimum-norm solution of its own block */
+        double Mc[36], bc[6];
+        memcpy(Mc, M, sizeof Mc);
+        memcpy(bc, acc + 6 * c, sizeof bc);
+        if ((st = phm_lstsq(6, 6, Mc, bc, NULL, err))) goto done;
+        memcpy(acc + 6 * c, bc, sizeof bc);
+      }
+    } else if (cmap[c] < 0 || nk == 0) chol6_solve(Lc + 36 * c, acc + 6 * c);
   }
   if (nk > 0) {
-    phm_constraints_dense(m, H, xs, time, d->tref, NULL, G, NULL);
-    for (int r = 0; r < nk; r++)
-      for (int j = 0; j < n6; j++) {
-        A[(size_t)(n6 + r) * N + j] = G[(size_t)r * n6 + j];
-        A[(size_t)j * N + n6 + r] = -G[(size_t)r * n6 + j];
-      }
+    cons_compact(m, H, xs, time, d->tref, cmap, n6c, NULL, G, NULL);
     /* dc/dt at fixed t' by central differences along the motion */
     double tau = 1e-6;
     for (int side = 0; side < 2; side++) {
       double s = side ? -tau : tau;
-      for (int c = 0; c < nc; c++) {
+      memcpy(Hp, H, sizeof(double) * 16 * (size_t)nc);
+      for (int k = 0; k < ncc; k++) {
+        int c = clist[k];
         double dl[6];
         for (int i = 0; i < 6; i++) dl[i] = s * tw[6 * c + i];
-        memcpy(Hp + 16 * c, H + 16 * c, 16 * sizeof(double));
         phm_retract(Hp + 16 * c, dl);
       }
-      phm_constraints_dense(m, Hp, xs, time + s, d->tref, NULL, G, vt);
+      cons_compact(m, Hp, xs, time + s, d->tref, cmap, n6c, NULL, X, vt);
       for (int r = 0; r < nk; r++) {
-        double acc = -vt[r];
-        for (int j = 0; j < n6; j++) acc += G[(size_t)r * n6 + j] * tw[j];
-        c1[side * nk + r] = acc;
+        double a = -vt[r];
+        for (int k = 0; k < ncc; k++)
+          for (int j = 0; j < 6; j++) a += X[(size_t)r * n6c + 6 * k + j] * tw[6 * clist[k] + j];
+        c1[side * nk + r] = a;
       }
     }
-    for (int r = 0; r < nk; r++) b[n6 + r] = -(c1[r] - c1[nk + r]) / (2 * tau);
+    double *b2 = c1 + nk; /* reuse: b2 = -dc/dt */
+    for (int r = 0; r < nk; r++) b2[r] = -(c1[r] - c1[nk + r]) / (2 * tau);
+    if (spd) {
+      /* X = M^-1 G^T (n6c x nk, row-major); S = G X; rhs = b2 - G M^-1 b1 */
+      for (int k = 0; k < ncc; k++) {
+        const double *L = Lc + 36 * clist[k];
+        double *a = acc + 6 * clist[k];
+        chol6_solve(L, a); /* a = M^-1 b1 */
+        for (int r = 0; r < nk; r++) {
+          double x[6];
+          for (int j = 0; j < 6; j++) x[j] = G[(size_t)r * n6c + 6 * k + j];
+          chol6_solve(L, x);
+          for (int j = 0; j < 6; j++) X[(size_t)(6 * k + j) * nk + r] = x[j];
+        }
+      }
+      for (int r = 0; r < nk; r++) {
+        const double *Gr = G + (size_t)r * n6c;
+        for (int s = 0; s < nk; s++) {
+          double v = 0;
+          for (int j = 0; j < n6c; j++) v += Gr[j] * X[(size_t)j * nk + s];
+          A[(size_t)r * nk + s] = v;
+        }
+        double v = b2[r];
+        for (int k = 0; k < ncc; k++)
+          for (int j = 0; j < 6; j++) v -= Gr[6 * k + j] * acc[6 * clist[k] + j];
+        b[r] = v;
+      }
+      for (int r = 0; r < nk; r++) /* symmetrize */
+        for (int s = 0; s < r; s++) A[(size_t)r * nk + s] = A[(size_t)s * nk + r] = 0.5 * (A[(size_t)r * nk + s] + A[(size_t)s * nk + r]);
+      if ((st = phm_lstsq(nk, nk, A, b, NULL, err))) goto done;
+      memcpy(lam, b, sizeof(double) * (size_t)nk);
+      for (int k = 0; k < ncc; k++)
+        for (int j = 0; j < 6; j++) {
+          double v = 0;
+          for (int r = 0; r < nk; r++) v += X[(size_t)(6 * k + j) * nk + r] * lam[r];
+          acc[6 * clist[k] + j] += v;
+        }
+    } else {
+      /* KKT system of the constrained carriers, minimum-norm least squares */
+      memset(A, 0, sizeof(double) * (size_t)Nk * Nk);
+      for (int k = 0; k < ncc; k++) {
+        const double *M = m->car[clist[k]].M;
+        for (int i = 0; i < 6; i++) {
+          for (int j = 0; j < 6; j++) A[(size_t)(6 * k + i) * Nk + 6 * k + j] = M[6 * i + j];
+          b[6 * k + i] = acc[6 * clist[k] + i];
+        }
+      }
+      for (int r = 0; r < nk; r++) {
+        for (int j = 0; j < n6c; j++) {
+          A[(size_t)(n6c + r) * Nk + j] = G[(size_t)r * n6c + j];
+          A[(size_t)j * Nk + n6c + r] = -G[(size_t)r * n6c + j];
+        }
+        b[n6c + r] = b2[r];
+      }
+      if ((st = phm_lstsq(Nk, Nk, A, b, NULL, err))) goto done;
+      for (int k = 0; k < ncc; k++) memcpy(acc + 6 * clist[k], b + 6 * k, 6 * sizeof(double));
+      memcpy(lam, b + n6c, sizeof(double) * (size_t)nk);
+    }
   }
-  if ((st = phm_lstsq(N, N, A, b, NULL, err))) goto done;
   /* write y and yp */
   for (int c = 0; c < nc; c++) {
     double *yc = y + PHM_NSTATE * c, *ypc = yp + PHM_NSTATE * c;
@@ -285,10 +428,10 @@ static phm_status consistent_ic(dae_t *d, double time, double *H, double *tw, co
     ypc[2] = 0.5 * (q[0] * w[1] + q[3] * w[0] - q[1] * w[2]);
     ypc[3] = 0.5 * (q[0] * w[2] + q[1] * w[1] - q[2] * w[0]);
     for (int i = 0; i < 3; i++) ypc[4 + i] = Hc[4 * i] * v[0] + Hc[4 * i + 1] * v[1] + Hc[4 * i + 2] * v[2];
-    memcpy(ypc + 7, b + 6 * c, 6 * sizeof(double));
+    memcpy(ypc + 7, acc + 6 * c, 6 * sizeof(double));
   }
   for (int r = 0; r < nk; r++) {
-    y[d->il + r] = b[n6 + r];
+    y[d->il + r] = lam[r];
     y[d->im + r] = 0;
     yp[d->il + r] = yp[d->im + r] = 0;
   }
@@ -321,6 +464,11 @@ static phm_status consistent_ic(dae_t *d, double time, double *H, double *tw, co
     free(tmp);
   }
 done:
+  free(cmap);
+  free(clist);
+  free(Lc);
+  free(acc);
+  free(lam);
   free(G);
   free(A);
   free(b);
@@ -328,6 +476,7 @@ done:
   free(vt);
   free(Hp);
   free(c1);
+  free(X);
   return st;
 }
 
