@@ -9,9 +9,6 @@
 extern void dgesvd_(const char *jobu, const char *jobvt, const int *m, const int *n, double *a,
                     const int *lda, double *s, double *u, const int *ldu, double *vt,
                     const int *ldvt, double *work, const int *lwork, int *info);
-extern void dsygv_(const int *itype, const char *jobz, const char *uplo, const int *n, double *a,
-                   const int *lda, double *b, const int *ldb, double *w, double *work,
-                   const int *lwork, int *info);
 extern void dgesv_(const int *n, const int *nrhs, double *a, const int *lda, int *ipiv, double *b,
                    const int *ldb, int *info);
 
@@ -26,12 +23,19 @@ typedef struct {
 static void total_force(lin_t *L, const double *H, double *f) {
   const phm_model *m = L->m;
   phm_applied(m, H, NULL, NULL, L->time, L->tref, L->scale, f, NULL, NULL, NULL, NULL, NULL);
-  if (L->lam && m->ncons) {
-    int n6 = 6 * m->nc;
-    phm_constraints_dense(m, H, NULL, L->time, L->tref, NULL, L->G, NULL);
-    for (int r = 0; r < m->ncons; r++)
-      for (int j = 0; j < n6; j++) f[j] += L->G[(size_t)r * n6 + j] * L->lam[r];
-  }
+  if (L->lam && m->ncons)
+    for (int ip = 0; ip < m->np; ip++) {
+      const phm_pair_desc *pr = &m->pair[ip];
+      int r0 = m->pair_row[ip], mc = m->pair_m[ip];
+      double Ga[36], Gb[36];
+      phm_pair_eval(m, ip, pr->a >= 0 ? H + 16 * pr->a : NULL, pr->b >= 0 ? H + 16 * pr->b : NULL,
+                    NULL, L->time, L->tref, NULL, Ga, Gb, NULL);
+      for (int r = 0; r < mc; r++)
+        for (int j = 0; j < 6; j++) {
+          if (pr->a >= 0) f[6 * pr->a + j] += Ga[6 * r + j] * L->lam[r0 + r];
+          if (pr->b >= 0) f[6 * pr->b + j] += Gb[6 * r + j] * L->lam[r0 + r];
+        }
+    }
 }
 
 /* Column (c, j) of d f / d delta by central differences on carrier c's chart, with the map
@@ -82,6 +86,80 @@ static void lin_free(lin_t *L) {
 }
 
 /* ---------------------------------------------------------------- modes */
+/* Carrier coupling graph (CSR, self included): carriers that share an element, pair, spring or
+ * load. A perturbation of carrier c changes only the forces of its neighbours. */
+static phm_status carrier_graph(const phm_model *m, int **ptr_out, int **nbr_out, phm_error *err) {
+  int nc = m->nc, ned = m->ne + m->np + m->nl + m->ns;
+  int *ea = malloc(sizeof(int) * (size_t)(ned + 1)), *eb = malloc(sizeof(int) * (size_t)(ned + 1));
+  int *ptr = calloc((size_t)nc + 1, sizeof(int)), *nbr = NULL, *fill = NULL;
+  if (!ea || !eb || !ptr) goto oom;
+  int k = 0;
+  for (int i = 0; i < m->ne; i++) { ea[k] = m->el[i].a; eb[k++] = m->el[i].b; }
+  for (int i = 0; i < m->np; i++) { ea[k] = m->pair[i].a; eb[k++] = m->pair[i].b; }
+  for (int i = 0; i < m->nl; i++) { ea[k] = m->load[i].carrier; eb[k++] = m->load[i].reaction; }
+  for (int i = 0; i < m->ns; i++) { ea[k] = m->spr[i].a; eb[k++] = m->spr[i].b; }
+  for (int c = 0; c < nc; c++) ptr[c + 1] = 1;
+  for (int e = 0; e < k; e++)
+    if (ea[e] >= 0 && eb[e] >= 0 && ea[e] != eb[e]) { ptr[ea[e] + 1]++; ptr[eb[e] + 1]++; }
+  for (int c = 0; c < nc; c++) ptr[c + 1] += ptr[c];
+  nbr = malloc(sizeof(int) * (size_t)(ptr[nc] + 1));
+  fill = malloc(sizeof(int) * (size_t)(nc + 1));
+  if (!nbr || !fill) goto oom;
+  for (int c = 0; c < nc; c++) { nbr[ptr[c]] = c; fill[c] = ptr[c] + 1; }
+  for (int e = 0; e < k; e++)
+    if (ea[e] >= 0 && eb[e] >= 0 && ea[e] != eb[e]) {
+      int a = ea[e], b = eb[e], dup = 0;
+      for (int q = ptr[a]; q < fill[a]; q++) dup |= nbr[q] == b;
+      if (dup) continue;
+      nbr[fill[a]++] = b;
+      nbr[fill[b]++] = a;
+    }
+  /* compact away duplicate slots */
+  int w = 0;
+  for (int c = 0; c < nc; c++) {
+    int s0 = ptr[c], s1 = fill[c];
+    ptr[c] = w;
+    for (int q = s0; q < s1; q++) nbr[w++] = nbr[q];
+  }
+  ptr[nc] = w;
+  free(ea); free(eb); free(fill);
+  *ptr_out = ptr;
+  *nbr_out = nbr;
+  return PHM_OK;
+oom:
+  free(ea); free(eb); free(ptr); free(nbr); free(fill);
+  return phm_error_set(err, PHM_ENOMEM, "out of memory");
+}
+
+/* Greedy distance-2 colouring: carriers of one colour share no neighbour. Returns the count. */
+static int carrier_colours(int nc, const int *ptr, const int *nbr, int *col, int *mark) {
+  int ncol = 0;
+  for (int c = 0; c < nc; c++) col[c] = -1;
+  for (int c = 0; c < nc; c++) mark[c] = -1;
+  for (int c = 0; c < nc; c++) {
+    for (int q = ptr[c]; q < ptr[c + 1]; q++)
+      for (int q2 = ptr[nbr[q]]; q2 < ptr[nbr[q] + 1]; q2++)
+        if (col[nbr[q2]] >= 0) mark[col[nbr[q2]]] = c;
+    int k = 0;
+    while (k < nc && mark[k] == c) k++;
+    col[c] = k;
+    if (k + 1 > ncol) ncol = k + 1;
+  }
+  return ncol;
+}
+
+extern void dsygvx_(const int *itype, const char *jobz, const char *range, const char *uplo,
+                    const int *n, double *a, const int *lda, double *b, const int *ldb,
+                    const double *vl, const double *vu, const int *il, const int *iu,
+                    const double *abstol, int *m, double *w, double *z, const int *ldz,
+                    double *work, const int *lwork, int *iwork, int *ifail, int *info);
+extern double dlamch_(const char *cmach);
+
+/* Structure: the stiffness K = -df/ddelta and damping D = -df/dt are block-sparse (only
+ * neighbouring carriers couple) and computed by coloured differences; the constraint Jacobian G
+ * touches only the carriers of the pairs, so the null-space basis is Z = diag(U0, I): U0 from the
+ * SVD of G restricted to the constrained carriers, identity on the free ones. The reduced problem
+ * Kr y = omega^2 Mr y is solved for the lowest modes only (dsygvx). */
 phm_status phm_modes(const phm_model *m, const double *poses, const double *lambda, double time,
                      int nmodes, double *omega, double *zeta, double *shapes, int *nfound,
                      phm_error *err) {
@@ -92,157 +170,246 @@ phm_status phm_modes(const phm_model *m, const double *poses, const double *lamb
   int nc = m->nc, n6 = 6 * nc, nk = m->ncons;
   phm_status st = PHM_OK;
   lin_t L = {0};
+  int *ptr = NULL, *nbr = NULL, *col = NULL, *mark = NULL, *cmap = NULL, *clist = NULL, *red = NULL;
+  int *iwork = NULL, *ifail = NULL;
   double *H = malloc(sizeof(double) * 16 * (size_t)nc);
-  double *K = malloc(sizeof(double) * (size_t)n6 * n6), *Dm = malloc(sizeof(double) * (size_t)n6 * n6);
-  double *f1 = malloc(sizeof(double) * (size_t)n6), *f2 = malloc(sizeof(double) * (size_t)n6);
-  double *col = malloc(sizeof(double) * (size_t)n6), *tw = calloc((size_t)n6, sizeof(double));
-  double *Z = NULL, *Kr = NULL, *Mr = NULL, *Dr = NULL, *T = NULL, *ev = NULL, *work = NULL, *U = NULL, *sv = NULL;
-  if (!H || !K || !Dm || !f1 || !f2 || !col || !tw) {
-    st = phm_error_set(err, PHM_ENOMEM, "out of memory");
-    goto done;
-  }
+  double *f0 = malloc(sizeof(double) * (size_t)n6), *f1 = malloc(sizeof(double) * (size_t)n6);
+  double *f2 = malloc(sizeof(double) * (size_t)n6), *tw = calloc((size_t)n6, sizeof(double));
+  double *Kb = NULL, *Db = NULL, *Gc = NULL, *U = NULL, *sv = NULL, *work = NULL;
+  double *Kr = NULL, *Mr = NULL, *Dr = NULL, *ev = NULL, *Y = NULL;
+  if (!H || !f0 || !f1 || !f2 || !tw) goto oom;
   if ((st = lin_alloc(&L, m, err))) goto done;
+  if ((st = carrier_graph(m, &ptr, &nbr, err))) goto done;
+  int nb = ptr[nc];
+  col = malloc(sizeof(int) * (size_t)nc);
+  mark = malloc(sizeof(int) * (size_t)(nc + 1));
+  Kb = calloc((size_t)nb * 36, sizeof(double));
+  Db = calloc((size_t)nb * 36, sizeof(double));
+  if (!col || !mark || !Kb || !Db) goto oom;
+  int ncol = carrier_colours(nc, ptr, nbr, col, mark);
   L.time = time;
   L.tref = phm_model_tref(m, time, NULL);
   L.scale = 1.0;
   L.lam = lambda;
   for (int c = 0; c < nc; c++) memcpy(H + 16 * c, poses ? poses + 16 * c : m->car[c].H0, 16 * sizeof(double));
-  /* stiffness K = -df/ddelta (symmetrized) */
-  for (int c = 0; c < nc; c++)
+  /* Kb[q] (block q = (row carrier r, column carrier nbr[q]) stored at r's list): d f_r / d delta_c,
+   * central differences on each perturbed carrier's chart, f_c(delta) = dexp_{-delta}^T w_c. */
+  for (int k = 0; k < ncol; k++)
     for (int j = 0; j < 6; j++) {
-      force_column(&L, H, c, j, col, NULL, f1, f2, NULL, NULL);
-      for (int i = 0; i < n6; i++) K[(size_t)i * n6 + 6 * c + j] = -col[i];
-    }
-  for (int i = 0; i < n6; i++)
-    for (int j = 0; j < i; j++) {
-      double s = 0.5 * (K[(size_t)i * n6 + j] + K[(size_t)j * n6 + i]);
-      K[(size_t)i * n6 + j] = K[(size_t)j * n6 + i] = s;
+      double eps = 1e-6 * (j < 3 ? 1.0 : m->lref);
+      for (int side = 0; side < 2; side++) {
+        double dl[6] = {0}, md[6] = {0}, D[36], *f = side ? f2 : f1;
+        dl[j] = side ? -eps : eps;
+        md[j] = -dl[j];
+        phm_se3_dexp(md, D);
+        memcpy(L.Hp, H, sizeof(double) * 16 * (size_t)nc);
+        for (int c = 0; c < nc; c++)
+          if (col[c] == k) phm_retract(L.Hp + 16 * c, dl);
+        total_force(&L, L.Hp, f);
+        for (int c = 0; c < nc; c++)
+          if (col[c] == k) {
+            double w[6];
+            for (int i = 0; i < 6; i++) {
+              double s = 0;
+              for (int q = 0; q < 6; q++) s += D[6 * q + i] * f[6 * c + q];
+              w[i] = s;
+            }
+            memcpy(f + 6 * c, w, sizeof w);
+          }
+      }
+      for (int r = 0; r < nc; r++)
+        for (int q = ptr[r]; q < ptr[r + 1]; q++)
+          if (col[nbr[q]] == k)
+            for (int i = 0; i < 6; i++)
+              Kb[36 * (size_t)q + 6 * i + j] = -(f1[6 * r + i] - f2[6 * r + i]) / (2 * eps);
     }
   /* damping D = -dw/dt (linear in t: one-sided differences are exact up to round-off) */
-  phm_applied(m, H, tw, NULL, time, L.tref, 1.0, f1, NULL, NULL, NULL, NULL, NULL);
-  for (int k = 0; k < n6; k++) {
-    tw[k] = 1.0;
-    phm_applied(m, H, tw, NULL, time, L.tref, 1.0, f2, NULL, NULL, NULL, NULL, NULL);
-    tw[k] = 0.0;
-    for (int i = 0; i < n6; i++) Dm[(size_t)i * n6 + k] = -(f2[i] - f1[i]);
-  }
-  /* null space of G */
-  int nr = n6, rank = 0;
-  if (nk > 0) {
-    phm_constraints_dense(m, H, NULL, time, L.tref, NULL, L.G, NULL);
-    U = malloc(sizeof(double) * (size_t)n6 * n6);
-    sv = malloc(sizeof(double) * (size_t)(nk < n6 ? nk : n6) + sizeof(double));
-    T = malloc(sizeof(double) * (size_t)nk * n6);
-    if (!U || !sv || !T) {
-      st = phm_error_set(err, PHM_ENOMEM, "out of memory");
-      goto done;
+  phm_applied(m, H, tw, NULL, time, L.tref, 1.0, f0, NULL, NULL, NULL, NULL, NULL);
+  for (int k = 0; k < ncol; k++)
+    for (int j = 0; j < 6; j++) {
+      for (int c = 0; c < nc; c++) tw[6 * c + j] = col[c] == k ? 1.0 : 0.0;
+      phm_applied(m, H, tw, NULL, time, L.tref, 1.0, f2, NULL, NULL, NULL, NULL, NULL);
+      for (int c = 0; c < nc; c++) tw[6 * c + j] = 0.0;
+      for (int r = 0; r < nc; r++)
+        for (int q = ptr[r]; q < ptr[r + 1]; q++)
+          if (col[nbr[q]] == k)
+            for (int i = 0; i < 6; i++) Db[36 * (size_t)q + 6 * i + j] = -(f2[6 * r + i] - f0[6 * r + i]);
     }
-    memcpy(T, L.G, sizeof(double) * (size_t)nk * n6); /* column-major G^T, n6 x nk */
+  /* constrained carriers and the null space of G restricted to them */
+  cmap = malloc(sizeof(int) * (size_t)nc);
+  clist = malloc(sizeof(int) * (size_t)(nc + 1));
+  if (!cmap || !clist) goto oom;
+  int ncc = 0;
+  for (int c = 0; c < nc; c++) cmap[c] = -1;
+  if (nk > 0)
+    for (int ip = 0; ip < m->np; ip++) {
+      int ab[2] = {m->pair[ip].a, m->pair[ip].b};
+      for (int s = 0; s < 2; s++)
+        if (ab[s] >= 0 && cmap[ab[s]] < 0) { cmap[ab[s]] = ncc; clist[ncc++] = ab[s]; }
+    }
+  int n6c = 6 * ncc, rank = 0, n0 = n6c;
+  if (nk > 0 && n6c > 0) {
+    Gc = calloc((size_t)n6c * nk, sizeof(double)); /* column-major G^T: n6c x nk */
+    U = malloc(sizeof(double) * (size_t)n6c * n6c);
+    sv = malloc(sizeof(double) * (size_t)(nk < n6c ? nk : n6c) + sizeof(double));
+    if (!Gc || !U || !sv) goto oom;
+    for (int ip = 0; ip < m->np; ip++) {
+      const phm_pair_desc *pr = &m->pair[ip];
+      int r0 = m->pair_row[ip], mc = m->pair_m[ip];
+      double Ga[36], Gb[36];
+      phm_pair_eval(m, ip, pr->a >= 0 ? H + 16 * pr->a : NULL, pr->b >= 0 ? H + 16 * pr->b : NULL,
+                    NULL, time, L.tref, NULL, Ga, Gb, NULL);
+      for (int r = 0; r < mc; r++)
+        for (int j = 0; j < 6; j++) {
+          if (pr->a >= 0) Gc[(size_t)(r0 + r) * n6c + 6 * cmap[pr->a] + j] += Ga[6 * r + j];
+          if (pr->b >= 0) Gc[(size_t)(r0 + r) * n6c + 6 * cmap[pr->b] + j] += Gb[6 * r + j];
+        }
+    }
     int lw = -1, info = 0, one = 1;
     double wq;
-    dgesvd_("A", "N", &n6, &nk, T, &n6, sv, U, &n6, NULL, &one, &wq, &lw, &info);
+    dgesvd_("A", "N", &n6c, &nk, Gc, &n6c, sv, U, &n6c, NULL, &one, &wq, &lw, &info);
     lw = (int)wq + 1;
     work = malloc(sizeof(double) * (size_t)lw);
-    if (!work) {
-      st = phm_error_set(err, PHM_ENOMEM, "out of memory");
-      goto done;
-    }
-    dgesvd_("A", "N", &n6, &nk, T, &n6, sv, U, &n6, NULL, &one, work, &lw, &info);
+    if (!work) goto oom;
+    dgesvd_("A", "N", &n6c, &nk, Gc, &n6c, sv, U, &n6c, NULL, &one, work, &lw, &info);
     free(work);
     work = NULL;
     if (info != 0) {
       st = phm_error_set(err, PHM_ESINGULAR, "SVD of the constraint Jacobian failed (dgesvd info %d)", info);
       goto done;
     }
-    int ns = nk < n6 ? nk : n6;
+    int ns = nk < n6c ? nk : n6c;
     for (int i = 0; i < ns; i++)
       if (sv[i] > 1e-10 * sv[0]) rank++;
-    nr = n6 - rank;
+    n0 = n6c - rank;
+  }
+  /* reduced coordinates: first the n0 null-space directions of the constrained carriers (U0 =
+   * columns rank.. of U), then 6 per free carrier in carrier order (red[c]: first index) */
+  red = malloc(sizeof(int) * (size_t)nc);
+  if (!red) goto oom;
+  int nr = n0;
+  for (int c = 0; c < nc; c++) {
+    red[c] = cmap[c] < 0 ? nr : -1;
+    if (cmap[c] < 0) nr += 6;
   }
   if (nr == 0) {
     st = phm_error_set(err, PHM_EINVAL, "the mechanism has no degree of freedom: no modes");
     goto done;
   }
-  Z = malloc(sizeof(double) * (size_t)n6 * nr);
-  Kr = malloc(sizeof(double) * (size_t)nr * nr);
-  Mr = malloc(sizeof(double) * (size_t)nr * nr);
-  Dr = malloc(sizeof(double) * (size_t)nr * nr);
-  free(T);
-  T = malloc(sizeof(double) * (size_t)n6 * nr);
+  Kr = calloc((size_t)nr * nr, sizeof(double));
+  Mr = calloc((size_t)nr * nr, sizeof(double));
+  Dr = calloc((size_t)nr * nr, sizeof(double));
   ev = malloc(sizeof(double) * (size_t)nr);
-  if (!Z || !Kr || !Mr || !Dr || !T || !ev) {
-    st = phm_error_set(err, PHM_ENOMEM, "out of memory");
-    goto done;
-  }
-  for (int i = 0; i < n6; i++)
-    for (int k = 0; k < nr; k++) Z[(size_t)i * nr + k] = nk > 0 ? U[(size_t)(rank + k) * n6 + i] : (i == k);
-  /* reduced matrices: X_r = Z^T X Z */
-  double *mats[3] = {K, NULL, Dm}, *outs[3] = {Kr, Mr, Dr};
+  if (!Kr || !Mr || !Dr || !ev) goto oom;
+  const double *U0 = U ? U + (size_t)rank * n6c : NULL; /* column a of U0: U0[a * n6c + i] */
+  /* X_r = Z^T X Z block by block; (Kr, Dr) from the blocks, Mr from the block-diagonal mass */
   for (int w = 0; w < 3; w++) {
-    for (int i = 0; i < n6; i++)
-      for (int k = 0; k < nr; k++) {
-        double s = 0;
-        if (w == 1) {
-          int c = i / 6, a = i % 6;
-          for (int b = 0; b < 6; b++) s += m->car[c].M[6 * a + b] * Z[(size_t)(6 * c + b) * nr + k];
-        } else {
-          const double *Xi = mats[w] + (size_t)i * n6;
-          for (int j = 0; j < n6; j++) s += Xi[j] * Z[(size_t)j * nr + k];
+    double *out = w == 0 ? Kr : w == 1 ? Dr : Mr;
+    for (int r = 0; r < nc; r++)
+      for (int q = ptr[r]; q < ptr[r + 1]; q++) {
+        int c = nbr[q];
+        const double *B;
+        if (w < 2) B = (w == 0 ? Kb : Db) + 36 * (size_t)q;
+        else if (c == r) B = m->car[c].M;
+        else continue;
+        if (red[r] >= 0 && red[c] >= 0) {
+          for (int i = 0; i < 6; i++)
+            for (int j = 0; j < 6; j++) out[(size_t)(red[r] + i) * nr + red[c] + j] += B[6 * i + j];
+        } else if (red[r] >= 0) { /* row free, column constrained: B U0 */
+          int c6 = 6 * cmap[c];
+          for (int i = 0; i < 6; i++)
+            for (int a = 0; a < n0; a++) {
+              double s = 0;
+              for (int j = 0; j < 6; j++) s += B[6 * i + j] * U0[(size_t)a * n6c + c6 + j];
+              out[(size_t)(red[r] + i) * nr + a] += s;
+            }
+        } else if (red[c] >= 0) { /* row constrained: U0^T B */
+          int r6 = 6 * cmap[r];
+          for (int a = 0; a < n0; a++)
+            for (int j = 0; j < 6; j++) {
+              double s = 0;
+              for (int i = 0; i < 6; i++) s += U0[(size_t)a * n6c + r6 + i] * B[6 * i + j];
+              out[(size_t)a * nr + red[c] + j] += s;
+            }
+        } else { /* both constrained: U0^T B U0 */
+          int r6 = 6 * cmap[r], c6 = 6 * cmap[c];
+          for (int b = 0; b < n0; b++) {
+            double BU[6];
+            for (int i = 0; i < 6; i++) {
+              double s = 0;
+              for (int j = 0; j < 6; j++) s += B[6 * i + j] * U0[(size_t)b * n6c + c6 + j];
+              BU[i] = s;
+            }
+            for (int a = 0; a < n0; a++) {
+              double s = 0;
+              for (int i = 0; i < 6; i++) s += U0[(size_t)a * n6c + r6 + i] * BU[i];
+              out[(size_t)a * nr + b] += s;
+            }
+          }
         }
-        T[(size_t)i * nr + k] = s;
-      }
-    for (int a = 0; a < nr; a++)
-      for (int b = 0; b < nr; b++) {
-        double s = 0;
-        for (int i = 0; i < n6; i++) s += Z[(size_t)i * nr + a] * T[(size_t)i * nr + b];
-        outs[w][(size_t)a * nr + b] = s;
       }
     for (int a = 0; a < nr; a++)
       for (int b = 0; b < a; b++) {
-        double s = 0.5 * (outs[w][(size_t)a * nr + b] + outs[w][(size_t)b * nr + a]);
-        outs[w][(size_t)a * nr + b] = outs[w][(size_t)b * nr + a] = s;
+        double s = 0.5 * (out[(size_t)a * nr + b] + out[(size_t)b * nr + a]);
+        out[(size_t)a * nr + b] = out[(size_t)b * nr + a] = s;
       }
   }
+  int nf = nmodes < nr ? nmodes : nr, mfound = 0;
+  Y = malloc(sizeof(double) * (size_t)nr * nf);
+  iwork = malloc(sizeof(int) * 5 * (size_t)nr);
+  ifail = malloc(sizeof(int) * (size_t)nr);
+  if (!Y || !iwork || !ifail) goto oom;
   {
     int one = 1, lw = -1, info = 0;
-    double wq;
-    dsygv_(&one, "V", "U", &nr, Kr, &nr, Mr, &nr, ev, &wq, &lw, &info);
+    double wq, vl = 0, vu = 0, abstol = 2 * dlamch_("S");
+    dsygvx_(&one, "V", "I", "U", &nr, Kr, &nr, Mr, &nr, &vl, &vu, &one, &nf, &abstol, &mfound, ev,
+            Y, &nr, &wq, &lw, iwork, ifail, &info);
     lw = (int)wq + 1;
+    if (lw < 8 * nr) lw = 8 * nr;
     work = malloc(sizeof(double) * (size_t)lw);
-    if (!work) {
-      st = phm_error_set(err, PHM_ENOMEM, "out of memory");
-      goto done;
-    }
-    dsygv_(&one, "V", "U", &nr, Kr, &nr, Mr, &nr, ev, work, &lw, &info);
-    if (info != 0) {
-      st = phm_error_set(err, PHM_ESINGULAR, "generalized eigenproblem failed (dsygv info %d%s)", info,
+    if (!work) goto oom;
+    dsygvx_(&one, "V", "I", "U", &nr, Kr, &nr, Mr, &nr, &vl, &vu, &one, &nf, &abstol, &mfound, ev,
+            Y, &nr, work, &lw, iwork, ifail, &info);
+    if (info != 0 || mfound < nf) {
+      st = phm_error_set(err, PHM_ESINGULAR, "generalized eigenproblem failed (dsygvx info %d%s)", info,
                          info > nr ? ": mass matrix not positive definite" : "");
       goto done;
     }
   }
-  int nf = nmodes < nr ? nmodes : nr;
   for (int k = 0; k < nf; k++) {
     double lamk = ev[k];
     omega[k] = lamk >= 0 ? sqrt(lamk) : -sqrt(-lamk);
-    const double *yk = Kr + (size_t)k * nr; /* column-major: eigenvector k is contiguous */
+    const double *yk = Y + (size_t)k * nr; /* column-major: eigenvector k is contiguous */
     if (zeta) {
       double s = 0;
-      for (int a = 0; a < nr; a++)
-        for (int b = 0; b < nr; b++) s += yk[a] * Dr[(size_t)a * nr + b] * yk[b];
+      for (int a = 0; a < nr; a++) {
+        double t = 0;
+        for (int b = 0; b < nr; b++) t += Dr[(size_t)a * nr + b] * yk[b];
+        s += yk[a] * t;
+      }
       zeta[k] = omega[k] > 0 ? s / (2 * omega[k]) : 0.0;
     }
     if (shapes)
-      for (int i = 0; i < n6; i++) {
-        double s = 0;
-        for (int a = 0; a < nr; a++) s += Z[(size_t)i * nr + a] * yk[a];
-        shapes[(size_t)k * n6 + i] = s;
-      }
+      for (int c = 0; c < nc; c++)
+        for (int i = 0; i < 6; i++) {
+          double s = 0;
+          if (red[c] >= 0) s = yk[red[c] + i];
+          else
+            for (int a = 0; a < n0; a++) s += U0[(size_t)a * n6c + 6 * cmap[c] + i] * yk[a];
+          shapes[(size_t)k * n6 + 6 * c + i] = s;
+        }
   }
   *nfound = nf;
+  goto done;
+oom:
+  st = phm_error_set(err, PHM_ENOMEM, "out of memory");
 done:
   lin_free(&L);
-  free(H); free(K); free(Dm); free(f1); free(f2); free(col); free(tw);
-  free(Z); free(Kr); free(Mr); free(Dr); free(T); free(ev); free(work); free(U); free(sv);
+  free(ptr); free(nbr); free(col); free(mark); free(cmap); free(clist); free(red);
+  free(iwork); free(ifail);
+  free(H); free(f0); free(f1); free(f2); free(tw);
+  free(Kb); free(Db); free(Gc); free(U); free(sv); free(work);
+  free(Kr); free(Mr); free(Dr); free(ev); free(Y);
   return st;
 }
 
