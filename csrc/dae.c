@@ -651,14 +651,21 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
      * positions |p| ~ 0.3 m, g carries ~ 5e-17 of round-off, and at h ~ 1e-10 mu moves by ~ 1e-6,
      * so a weight 1/atol on mu made the corrector "diverge" (IDA_CONV_FAIL, h -> 1e-15). mu is
      * left out of the error test, and its convergence is already measured through the positions
-     * it corrects (by h G^T mu); so its absolute tolerance is 1 (rad/s, m/s). */
+     * it corrects (by h G^T mu); so its absolute tolerance is 1 (rad/s, m/s).
+     * lambda (constraint wrench, also left out of the error test) has the same defect one level
+     * down: its corrections are ~ M |G t round-off| / h. A body starting at rest with a nonzero
+     * acceleration (y = 0, weight 1/atol = 1e10) makes IDA's first step 0.5/|y'| ~ 1e-11 s; there
+     * a weight 1/atol on lambda failed the corrector, h shrank by 4 per failure, the noise grew as
+     * 1/h, and IDA crept on at h ~ 1e-18 (an open chain "hung" in IDASolve; the four-bar failed at
+     * t = 0 with IDA_CONV_FAIL at rtol 1e-10). lambda's convergence is measured through the twists
+     * it accelerates (by h M^-1 G^T lambda), so its absolute tolerance is 1 (N, N m) as well. */
     N_Vector av = N_VNew_Serial(d.n, ctx);
     if (!av) {
       st = phm_error_set(err, PHM_ENOMEM, "out of memory (N_Vector)");
       goto done;
     }
     double *a = N_VGetArrayPointer(av);
-    for (int i = 0; i < d.n; i++) a[i] = i >= d.im ? fmax(1.0, opt->atol) : opt->atol;
+    for (int i = 0; i < d.n; i++) a[i] = i >= d.il ? fmax(1.0, opt->atol) : opt->atol;
     int fl = IDASVtolerances(mem, opt->rtol, av);
     N_VDestroy(av);
     IDACHK(fl);
@@ -666,7 +673,11 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
   IDACHK(IDASetUserData(mem, &d));
   IDACHK(IDASetId(mem, id));
   IDACHK(IDASetSuppressAlg(mem, SUNTRUE));
-  IDACHK(IDASetMaxNumSteps(mem, opt->max_steps > 0 ? opt->max_steps : 10000000L));
+  /* bounded failure: at most 10^6 steps per output interval, and no step below 1e-14 of the
+   * simulated span (a corrector that keeps failing ends in IDA_CONV_FAIL/IDA_ERR_FAIL there
+   * instead of creeping on at h ~ 1e-18) */
+  IDACHK(IDASetMaxNumSteps(mem, opt->max_steps > 0 ? opt->max_steps : 1000000L));
+  IDACHK(IDASetMinStep(mem, 1e-14 * fmax(1.0, tout[nout - 1] - tout[0])));
   if (opt->max_step > 0) IDACHK(IDASetMaxStep(mem, opt->max_step));
   if (opt->max_order > 0) IDACHK(IDASetMaxOrd(mem, opt->max_order < 5 ? opt->max_order : 5));
   if (opt->linear_solver == 1) {

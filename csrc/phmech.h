@@ -280,7 +280,7 @@ typedef int (*phm_callback)(void *ctx, double t, int iout); /* non-zero return s
 typedef struct {
   double rtol, atol;      /* IDA tolerances (atol scalar)                                  */
   int linear_solver;      /* 0 dense (IDA difference-quotient Jacobian), 1 KLU (coloured FD) */
-  long max_steps;         /* per output interval; <= 0: 10^7                                */
+  long max_steps;         /* per output interval; <= 0: 10^6                                */
   double max_step;        /* <= 0: no limit                                                 */
   int max_order;          /* maximum BDF order 1..5; <= 0: 5                                */
   phm_callback interrupt; /* called at each output; non-zero: stop with PHM_EINTERRUPT      */
