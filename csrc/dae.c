@@ -653,19 +653,24 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
      * left out of the error test, and its convergence is already measured through the positions
      * it corrects (by h G^T mu); so its absolute tolerance is 1 (rad/s, m/s).
      * lambda (constraint wrench, also left out of the error test) has the same defect one level
-     * down: its corrections are ~ M |G t round-off| / h. A body starting at rest with a nonzero
-     * acceleration (y = 0, weight 1/atol = 1e10) makes IDA's first step 0.5/|y'| ~ 1e-11 s; there
-     * a weight 1/atol on lambda failed the corrector, h shrank by 4 per failure, the noise grew as
-     * 1/h, and IDA crept on at h ~ 1e-18 (an open chain "hung" in IDASolve; the four-bar failed at
-     * t = 0 with IDA_CONV_FAIL at rtol 1e-10). lambda's convergence is measured through the twists
-     * it accelerates (by h M^-1 G^T lambda), so its absolute tolerance is 1 (N, N m) as well. */
+     * down: its corrections are ~ M |G t round-off| / h. With IDA's default first step
+     * 0.5/|y'|_WRMS ~ 1e-11 s (a body at rest with a nonzero acceleration, atol 1e-10) a weight
+     * 1/atol on lambda failed the corrector, h shrank by 4 per failure and IDA crept on at
+     * h ~ 1e-18 (an open chain "hung" in IDASolve). Two measured remedies together: a first step
+     * of min(1e-8 s, 1e-3 of the span), and an absolute tolerance of at least 1e-6 (N, N m) on
+     * lambda -- enough for the four-bar at rtol 1e-10 (atol 1e-12), while lambda stays accurate
+     * enough for the energy ledger (lambda . rate of driven pairs); an absolute tolerance of 1
+     * cost a 350x larger energy drift in a flexible slider-crank and a 1.45e-6 ledger residual. */
     N_Vector av = N_VNew_Serial(d.n, ctx);
     if (!av) {
       st = phm_error_set(err, PHM_ENOMEM, "out of memory (N_Vector)");
       goto done;
     }
     double *a = N_VGetArrayPointer(av);
-    for (int i = 0; i < d.n; i++) a[i] = i >= d.il ? fmax(1.0, opt->atol) : opt->atol;
+    for (int i = 0; i < d.n; i++)
+      a[i] = i >= d.im   ? fmax(1.0, opt->atol)  /* mu */
+             : i >= d.il ? fmax(1e-6, opt->atol) /* lambda */
+                         : opt->atol;
     int fl = IDASVtolerances(mem, opt->rtol, av);
     N_VDestroy(av);
     IDACHK(fl);
@@ -678,6 +683,7 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
    * instead of creeping on at h ~ 1e-18) */
   IDACHK(IDASetMaxNumSteps(mem, opt->max_steps > 0 ? opt->max_steps : 1000000L));
   IDACHK(IDASetMinStep(mem, 1e-14 * fmax(1.0, tout[nout - 1] - tout[0])));
+  IDACHK(IDASetInitStep(mem, fmin(1e-8, 1e-3 * (tout[nout - 1] - tout[0]))));
   if (opt->max_step > 0) IDACHK(IDASetMaxStep(mem, opt->max_step));
   if (opt->max_order > 0) IDACHK(IDASetMaxOrd(mem, opt->max_order < 5 ? opt->max_order : 5));
   if (opt->linear_solver == 1) {

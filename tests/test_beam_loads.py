@@ -73,10 +73,6 @@ def test_driven_clamp_follows_its_law():
     np.testing.assert_allclose(res.positions(b)[:, 0, 2], A * np.sin(2 * np.pi * f * res.t), atol=1e-9)
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "regression: since the constraint multipliers lambda got an absolute tolerance of 1 N (the fix "
-    "that stops IDA creeping at h ~ 1e-18 s), the power lambda . rate of a driven constraint is "
-    "integrated less accurately: measured ledger 1.45e-6 of the energy scale (was < 1e-6)"))
 def test_driven_clamp_follows_its_law_and_the_ledger_closes():
     m = ph.Mechanism()
     b = m.add_flexible_link("b", L, table1_properties(1.0), elements=10)

@@ -65,8 +65,6 @@ def test_flexible_slider_crank_runs(runs):
     np.testing.assert_allclose(res.poses[:, m._bodies["slider"].carrier, :3, 3][:, 1:], 0.0, atol=1e-10)
 
 
-@pytest.mark.xfail(strict=True, reason="regression of commit d326587 (absolute tolerance >= 1 on lambda): "
-                   "drift 1.6e-7 at rtol 1e-8 (1.5e-5 at 1e-6); before it 4.6e-10 (7.8e-9)")
 def test_energy_conserved_to_solver_tolerance(runs):
     d6, d8 = runs[1e-6][3], runs[1e-8][3]
     # measured before d326587: 7.8e-9 (rtol 1e-6) and 4.6e-10 (rtol 1e-8) of the max kinetic energy
@@ -74,8 +72,6 @@ def test_energy_conserved_to_solver_tolerance(runs):
     assert d8 <= 1e-8, d8
 
 
-@pytest.mark.xfail(strict=True, reason="since commit d326587 'supplied' = 8.6e-12 J (7e-12 of the kinetic "
-                   "energy) appears in the first output interval of a model with no port; before it 4e-14 J")
 def test_no_energy_supplied(runs):
     # no supply, no dissipation: "supplied" should be round-off (measured 4e-14 J before d326587)
     res = runs[1e-8][1]
