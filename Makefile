@@ -36,9 +36,10 @@ demo: build
 	$(PY) examples/demo.py
 
 ctest: sysdeps $(STAMP)
-	@# optimized with -Werror: some warnings (e.g. -Wmaybe-uninitialized) appear only when optimizing
-	@test -f build/check/build.ninja || $(VENV)/bin/meson setup build/check --buildtype=debugoptimized -Dwerror=true >/dev/null
-	$(VENV)/bin/meson test -C build/check --print-errorlogs
+	@# the flags of the shipped build (release, -O3) with -Werror: some warnings (e.g.
+	@# -Wmaybe-uninitialized) appear only when optimizing
+	@test -f build/check-release/build.ninja || $(VENV)/bin/meson setup build/check-release --buildtype=release -Dwerror=true >/dev/null
+	$(VENV)/bin/meson test -C build/check-release --print-errorlogs
 
 pytest: build
 	$(PY) -m pytest -q tests

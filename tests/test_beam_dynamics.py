@@ -99,3 +99,15 @@ def test_bad_stiffness_and_frames():
         m.simulate(-1.0, 0.1)
     with pytest.raises(ModelError):
         m.simulate(1.0, 0.1, linear_solver="magic")
+
+
+def test_core_simulate_rejects_bad_initial_arrays_without_crashing():
+    # the binding's early error path once returned an uninitialized pointer (a crash)
+    from phmech import _core
+    m, _ = cantilever(table1_properties(), N=2)
+    model = m._build()
+    tout = np.array([0.0, 0.01])
+    with pytest.raises(ValueError, match="initial poses"):
+        _core.model_simulate(model, tout, 1e-6, 1e-8, 0, np.zeros((2, 2)), None, None, 0.0)
+    with pytest.raises(ValueError, match="initial poses"):
+        _core.model_simulate(model, tout, 1e-6, 1e-8, 0, "junk", None, None, 0.0)

@@ -350,6 +350,7 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
   static char *kwl[] = {"model", "tout", "rtol", "atol", "linear_solver", "poses", "twists",
                         "callback", "max_step", "max_order", NULL};
   PyObject *cap, *to, *po = Py_None, *twi = Py_None, *cb = Py_None;
+  PyObject *res = NULL; /* before the first `goto fail0`: that path returns it */
   double rtol, atol, max_step = 0;
   int solver = 0, max_order = 0;
   if (!PyArg_ParseTupleAndKeywords(args, kw, "OOddi|OOOdi", kwl, &cap, &to, &rtol, &atol, &solver,
@@ -390,7 +391,6 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
   PyArrayObject *tw = (PyArrayObject *)PyArray_ZEROS(3, dt, NPY_DOUBLE, 0);
   PyArrayObject *lam = (PyArrayObject *)PyArray_ZEROS(2, dl, NPY_DOUBLE, 0);
   PyArrayObject *en = (PyArrayObject *)PyArray_ZEROS(2, de, NPY_DOUBLE, 0);
-  PyObject *res = NULL;
   if (!poses || !tw || !lam || !en || !jx || !jv || !ju || !pw || !po_) goto fail;
   cb_ctx c = {cb == Py_None ? NULL : cb, 0, 0, NULL, NULL, NULL};
   phm_sim_options opt = {rtol, atol, solver, 0, max_step, max_order, interrupt_cb, progress_cb, &c};
