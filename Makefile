@@ -33,7 +33,7 @@ info: build
 
 demo: build
 	$(PY) -c "import phmech; phmech.info()"
-	$(PY) examples/demo.py
+	$(PY) examples/leaf_spring.py --quick
 
 ctest: sysdeps $(STAMP)
 	@# the flags of the shipped build (release, -O3) with -Werror: some warnings (e.g.
