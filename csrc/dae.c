@@ -490,8 +490,17 @@ static void record(dae_t *d, const double *y, phm_sim_output *out, int iout, dou
     phm_qp_to_H(yc, yc + 4, d->H + 16 * c);
     memcpy(d->tw + 6 * c, yc + 7, 6 * sizeof(double));
   }
-  if (out->poses) memcpy(out->poses + (size_t)iout * 16 * nc, d->H, sizeof(double) * 16 * nc);
-  if (out->twists) memcpy(out->twists + (size_t)iout * 6 * nc, d->tw, sizeof(double) * 6 * nc);
+  if (out->record) { /* only the carriers the caller asked for: memory stays small on long runs */
+    for (int k = 0; k < out->nrecord; k++) {
+      size_t o = (size_t)iout * out->nrecord + (size_t)k;
+      int c = out->record[k];
+      if (out->poses) memcpy(out->poses + 16 * o, d->H + 16 * c, sizeof(double) * 16);
+      if (out->twists) memcpy(out->twists + 6 * o, d->tw + 6 * c, sizeof(double) * 6);
+    }
+  } else {
+    if (out->poses) memcpy(out->poses + (size_t)iout * 16 * nc, d->H, sizeof(double) * 16 * nc);
+    if (out->twists) memcpy(out->twists + (size_t)iout * 6 * nc, d->tw, sizeof(double) * 6 * nc);
+  }
   if (out->lambda && m->ncons)
     memcpy(out->lambda + (size_t)iout * m->ncons, y + d->il, sizeof(double) * m->ncons);
   const double *xs = y + d->ix;

@@ -292,8 +292,10 @@ typedef struct {
 
 /* Caller-allocated output for nout times (arrays may be NULL to skip). */
 typedef struct {
-  double *poses;   /* [nout][nc][16]                                   */
-  double *twists;  /* [nout][nc][6]                                    */
+  const int *record; /* carriers stored in poses/twists, in this order; NULL: all, nrecord = nc */
+  int nrecord;
+  double *poses;   /* [nout][nrecord][16]                              */
+  double *twists;  /* [nout][nrecord][6]                               */
   double *lambda;  /* [nout][nconstraints]                             */
   double *energy;  /* [nout][PHM_NENERGY]                              */
   double *joints;  /* [nout][njoints] joint coordinates x              */

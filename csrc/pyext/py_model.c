@@ -348,13 +348,14 @@ static int progress_cb(void *vctx, double t, int iout) {
 static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw) {
   (void)self;
   static char *kwl[] = {"model", "tout", "rtol", "atol", "linear_solver", "poses", "twists",
-                        "callback", "max_step", "max_order", NULL};
-  PyObject *cap, *to, *po = Py_None, *twi = Py_None, *cb = Py_None;
+                        "callback", "max_step", "max_order", "record", NULL};
+  PyObject *cap, *to, *po = Py_None, *twi = Py_None, *cb = Py_None, *rec = Py_None;
   PyObject *res = NULL; /* before the first `goto fail0`: that path returns it */
+  PyArrayObject *R = NULL; /* carriers to record (int array) or NULL: all */
   double rtol, atol, max_step = 0;
   int solver = 0, max_order = 0;
-  if (!PyArg_ParseTupleAndKeywords(args, kw, "OOddi|OOOdi", kwl, &cap, &to, &rtol, &atol, &solver,
-                                   &po, &twi, &cb, &max_step, &max_order))
+  if (!PyArg_ParseTupleAndKeywords(args, kw, "OOddi|OOOdiO", kwl, &cap, &to, &rtol, &atol, &solver,
+                                   &po, &twi, &cb, &max_step, &max_order, &rec))
     return NULL;
   phm_model *m = get_model(cap);
   if (!m) return NULL;
@@ -380,7 +381,20 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
     PyErr_SetString(PyExc_TypeError, "callback must be callable");
     goto fail0;
   }
-  npy_intp dp[4] = {nout, nc, 4, 4}, dt[3] = {nout, nc, 6}, dl[2] = {nout, nk}, de[2] = {nout, PHM_NENERGY};
+  npy_intp nrec = nc;
+  if (rec != Py_None) {
+    R = (PyArrayObject *)PyArray_FROMANY(rec, NPY_INT, 1, 1, NPY_ARRAY_CARRAY | NPY_ARRAY_FORCECAST);
+    if (!R) goto fail0;
+    nrec = PyArray_DIM(R, 0);
+    const int *ri = (const int *)PyArray_DATA(R);
+    for (npy_intp k = 0; k < nrec; k++) {
+      if (ri[k] < 0 || ri[k] >= nc) {
+        PyErr_Format(phm_py_ModelError, "record: carrier index %d out of range [0, %d)", ri[k], nc);
+        goto fail0;
+      }
+    }
+  }
+  npy_intp dp[4] = {nout, nrec, 4, 4}, dt[3] = {nout, nrec, 6}, dl[2] = {nout, nk}, de[2] = {nout, PHM_NENERGY};
   npy_intp dj[2] = {nout, nj}, dw[3] = {nout, npr, 6}, dq[2] = {nout, npt};
   PyArrayObject *jx = (PyArrayObject *)PyArray_ZEROS(2, dj, NPY_DOUBLE, 0);
   PyArrayObject *jv = (PyArrayObject *)PyArray_ZEROS(2, dj, NPY_DOUBLE, 0);
@@ -396,6 +410,8 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
   phm_sim_options opt = {rtol, atol, solver, 0, max_step, max_order, interrupt_cb, progress_cb, &c};
   phm_sim_output out;
   memset(&out, 0, sizeof out);
+  out.record = R ? (const int *)PyArray_DATA(R) : NULL;
+  out.nrecord = (int)nrec;
   out.poses = PyArray_DATA(poses);
   out.twists = PyArray_DATA(tw);
   out.lambda = PyArray_DATA(lam);
@@ -440,6 +456,7 @@ fail0:
   Py_DECREF(tout);
   Py_XDECREF(P);
   Py_XDECREF(T);
+  Py_XDECREF(R);
   return res;
 }
 

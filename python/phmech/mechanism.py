@@ -452,6 +452,35 @@ def _mat6(x, what, spd=True):
     return A
 
 
+# ------------------------------------------------------------------ progress display
+class _progress_printer:
+    """A simulate() callback that prints progress to stderr, then calls the user's callback."""
+
+    def __init__(self, t_start: float, t_end: float, user: Optional[Callable] = None):
+        import sys
+        import time
+
+        self._clock, self._out = time.perf_counter, sys.stderr
+        self.t_start, self.t_end, self.user = t_start, t_end, user
+        self.started = self.last = self._clock()
+        self.t = t_start
+
+    def _line(self, end: str) -> None:
+        pct = 100.0 * (self.t - self.t_start) / (self.t_end - self.t_start)
+        print(f"\rphmech: t = {self.t:.4g} / {self.t_end:.4g} s ({pct:5.1f} %), "
+              f"{self._clock() - self.started:.1f} s wall", end=end, file=self._out, flush=True)
+
+    def __call__(self, t: float, i: int):
+        self.t = t
+        if self._clock() - self.last >= 0.5:
+            self.last = self._clock()
+            self._line("")
+        return self.user(t, i) if self.user is not None else False
+
+    def finish(self) -> None:
+        self._line("\n")
+
+
 # ------------------------------------------------------------------ results
 @dataclasses.dataclass
 class SimulationResult:
@@ -483,6 +512,18 @@ class SimulationResult:
     #: ``constraint_wrenches`` holds the minimum-norm multipliers of ALL rows (see
     #: Mechanism._min_norm_multipliers) and ``pair_wrenches`` the matching pair wrenches.
     redundant_constraints: list = dataclasses.field(default_factory=list)
+    #: carrier index of each column of ``poses``/``twists`` (all carriers unless ``record=`` chose)
+    carriers: np.ndarray = None
+
+    def _columns(self, carriers) -> list:
+        """Columns of ``poses`` holding these carriers; ModelError if one was not recorded."""
+        if self.carriers is None:
+            return list(carriers)
+        where = {int(c): i for i, c in enumerate(self.carriers)}
+        missing = [c for c in carriers if c not in where]
+        if missing:
+            raise ModelError(f"carriers {missing} were not recorded (simulate(record=...))")
+        return [where[c] for c in carriers]
 
     def joint(self, name: str) -> dict:
         """Pair ``name``: ``x`` (nt, k) joint coordinates (exact, multi-turn), ``xdot`` (nt, k)
@@ -500,7 +541,7 @@ class SimulationResult:
     def positions(self, link: Union[str, FlexibleLink]) -> np.ndarray:
         """Node positions of a link [m], shape (nt, nnodes, 3)."""
         lk = self._links[link] if isinstance(link, str) else link
-        return self.poses[:, lk.nodes][..., :3, 3]
+        return self.poses[:, self._columns(lk.nodes)][..., :3, 3]
 
     def tip(self, link: Union[str, FlexibleLink]) -> np.ndarray:
         """Position of the link's end node [m], shape (nt, 3)."""
@@ -981,11 +1022,17 @@ class Mechanism:
     def simulate(self, t_end: float, dt_out: float, rtol: float = 1e-8, atol: Optional[float] = None,
                  linear_solver: str = "dense", initial: Optional[StaticResult] = None,
                  t_start: float = 0.0, callback: Optional[Callable[[float, int], bool]] = None,
-                 max_step: float = 0.0, max_order: int = 5) -> SimulationResult:
+                 max_step: float = 0.0, max_order: int = 5, record=None,
+                 progress: bool = False) -> SimulationResult:
         """Integrate from ``t_start`` to ``t_end`` [s] with SUNDIALS IDA, sampling every
         ``dt_out`` [s]. ``initial``: start from these poses (e.g. a StaticResult) at rest instead
         of the modelled initial state. ``callback(t, i)`` is called at each output; return True to
-        stop. Ctrl-C stops the run and returns what was computed (``interrupted`` = True)."""
+        stop. Ctrl-C stops the run and returns what was computed (``interrupted`` = True).
+        ``record``: bodies, links (all their nodes) or frames whose poses and twists are stored
+        (default: every carrier); energies, joints and ports are always stored. On long runs of
+        big models this keeps memory small; ``result.carriers`` maps the stored columns.
+        ``progress``: print the simulated time, percentage and wall time to stderr (at most twice
+        a second, and once at the end)."""
         t0, t1, dt = (real("t_start", t_start), real("t_end", t_end), real("dt_out", dt_out))
         if t1 <= t0:
             raise ModelError(f"t_end must be > t_start (got {t1} <= {t0})")
@@ -1002,11 +1049,19 @@ class Mechanism:
         tout = t0 + dt * np.arange(n + 1)
         if tout[-1] < t1 - 1e-12 * max(1.0, abs(t1)):
             tout = np.append(tout, t1)
+        rec = None if record is None else self._record_carriers(record)
+        if rec is not None and self.redundant_constraints:
+            raise ModelError("record= cannot be combined with redundant constraints yet: the "
+                             "minimum-norm multipliers need every carrier's pose")
         model = self._build()
         poses = None if initial is None else np.asarray(initial.poses, dtype=float)
         twists = None if initial is None else np.zeros((len(self._car), 6))
+        if progress:
+            callback = _progress_printer(t0, t1, callback)
         r = _core.model_simulate(model, tout, rtol, atol, solvers[linear_solver], poses, twists,
-                                 callback, float(max_step), int(max_order))
+                                 callback, float(max_step), int(max_order), rec)
+        if progress:
+            callback.finish()
         k = r["nout"]
         e = r["energy"][:k]
         energy = {nm: e[:, i].copy() for i, nm in enumerate(ENERGY_NAMES)}
@@ -1024,7 +1079,27 @@ class Mechanism:
                                 _links=self._links, port_energy=ports, joints=r["joints"][:k],
                                 joint_rates=r["jrates"][:k], efforts=r["efforts"][:k],
                                 pair_wrenches=pw, _pairs=pairs,
-                                redundant_constraints=list(self.redundant_constraints))
+                                redundant_constraints=list(self.redundant_constraints),
+                                carriers=None if rec is None else np.array(rec))
+
+    def _record_carriers(self, record) -> list:
+        """Carrier indices for simulate(record=...): bodies, links, frames or their names."""
+        items = [record] if isinstance(record, (str, FlexibleLink, Body, Frame)) else list(record)
+        out = []
+        for x in items:
+            if isinstance(x, str) and x in self._links:
+                x = self._links[x]
+            if isinstance(x, FlexibleLink):
+                out += [c for c in x.nodes if c not in out]
+                continue
+            c = _frame_of(x, self, "record").carrier
+            if c < 0:
+                raise ModelError("record: the ground has no recorded pose")
+            if c not in out:
+                out.append(c)
+        if not out:
+            raise ModelError("record: nothing to record")
+        return out
 
     def _full_layout(self):
         lay, row, j = [], 0, 0
@@ -1060,6 +1135,8 @@ class Mechanism:
         """Position and velocity constraint residuals of EVERY pair row (redundant rows included)
         along a simulation: ``position`` (nt,) max |g(H)| [rad or m], ``velocity`` (nt,) max |G t|
         [rad/s or m/s] (prescribed rates of driven pairs subtracted)."""
+        if result.carriers is not None:
+            raise ModelError("constraint_residuals needs every carrier's pose: simulate without record=")
         model = self._build()
         nt = len(result.t)
         pos, vel = np.zeros(nt), np.zeros(nt)
