@@ -1131,6 +1131,26 @@ class Mechanism:
                 pw[i, ip] = W[ip][:, :m] @ lam_f[i, row:row + m]
         return lam_f, pw, full
 
+    def stress_resultants(self, result: "SimulationResult", link: Union[str, FlexibleLink]) -> np.ndarray:
+        """Section stress resultants of each element of ``link`` along a simulation, shape
+        (nt, elements, 6): sigma = K (eps - eps_hat) + D eps_dot in the element's own frame, in
+        the strain order (torsion, bending y, bending z [N m], axial, shear y, shear z [N]);
+        eps = log(H_k^-1 H_k+1) / h and h eps_dot = dexp_{-X}^-1 t_k+1 - dexp_X^-1 t_k, the
+        same constant-strain element the core integrates (DESIGN.md section 4)."""
+        lk = self._links[link] if isinstance(link, str) else link
+        cols = result._columns(lk.nodes)
+        H, T = result.poses[:, cols], result.twists[:, cols]
+        els = [e for e in self._el if e["a"] in lk.nodes]
+        K = np.array([e["K"] for e in els])
+        D = np.array([e["D"] for e in els])
+        eps_hat = np.array([e["eps"] for e in els])
+        h = np.array([e["h"] for e in els])[:, None]
+        X = se3.log(se3.compose(se3.inverse(H[:, :-1]), H[:, 1:]))         # (nt, N, 6)
+        rate = (np.einsum("...ij,...j->...i", se3.dexp_inv(-X), T[:, 1:])
+                - np.einsum("...ij,...j->...i", se3.dexp_inv(X), T[:, :-1])) / h
+        return (np.einsum("kij,tkj->tki", K, X / h - eps_hat)
+                + np.einsum("kij,tkj->tki", D, rate))
+
     def constraint_residuals(self, result: "SimulationResult") -> dict:
         """Position and velocity constraint residuals of EVERY pair row (redundant rows included)
         along a simulation: ``position`` (nt,) max |g(H)| [rad or m], ``velocity`` (nt,) max |G t|
