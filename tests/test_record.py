@@ -50,3 +50,19 @@ def test_progress_is_printed_to_stderr(capsys):
     err = capsys.readouterr().err
     assert "phmech: t = 0.05 / 0.05 s (100.0 %)" in err
     assert len(calls) == len(r.t)  # the user's callback still runs at every output
+
+
+def test_pose_position_orientation_twist_of_bodies_and_frames():
+    m, b, tip = model()
+    r = m.simulate(0.1, 0.01, rtol=1e-8)
+    np.testing.assert_array_equal(r.pose(tip), r.poses[:, tip.carrier])
+    np.testing.assert_array_equal(r.pose("tip"), r.poses[:, tip.carrier])
+    np.testing.assert_array_equal(r.position(b.end), r.tip(b))
+    # a frame offset 0.5 m along the tip body's x axis: pose = H T, twist = Ad_{T^-1} t
+    T = ph.se3.translation([0.5, 0, 0])
+    f = ph.Frame(tip.carrier, T)
+    np.testing.assert_allclose(r.pose(f), r.poses[:, tip.carrier] @ T, atol=1e-15)
+    w, v = r.twists[:, tip.carrier, :3], r.twists[:, tip.carrier, 3:]
+    np.testing.assert_allclose(r.twist(f)[:, 3:], v + np.cross(w, [0.5, 0, 0]), atol=1e-12)
+    np.testing.assert_allclose(r.orientation(f), r.poses[:, tip.carrier, :3, :3], atol=1e-15)
+    assert r.stats["linear_solver"] == "dense"

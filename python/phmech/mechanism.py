@@ -514,6 +514,31 @@ class SimulationResult:
     redundant_constraints: list = dataclasses.field(default_factory=list)
     #: carrier index of each column of ``poses``/``twists`` (all carriers unless ``record=`` chose)
     carriers: np.ndarray = None
+    _frame: Callable = None  # resolves a body, frame or name to a Frame (set by simulate)
+
+    def pose(self, x) -> np.ndarray:
+        """World pose of a body or frame (a Frame, Body, link end, or a body's name), (nt, 4, 4)."""
+        f = self._frame(x)
+        if f.carrier < 0:
+            return np.broadcast_to(f.T, (len(self.t), 4, 4)).copy()
+        return self.poses[:, self._columns([f.carrier])[0]] @ f.T
+
+    def position(self, x) -> np.ndarray:
+        """World position of a body's or frame's origin [m], (nt, 3)."""
+        return self.pose(x)[:, :3, 3]
+
+    def orientation(self, x) -> np.ndarray:
+        """World orientation (rotation matrix) of a body or frame, (nt, 3, 3)."""
+        return self.pose(x)[:, :3, :3]
+
+    def twist(self, x) -> np.ndarray:
+        """Body twist (omega [rad/s], v [m/s]) of a body or frame in its own axes, (nt, 6):
+        Ad_{T^-1} of the carrier's twist, T the frame's offset on it."""
+        f = self._frame(x)
+        if f.carrier < 0:
+            return np.zeros((len(self.t), 6))
+        t = self.twists[:, self._columns([f.carrier])[0]]
+        return t @ se3.Ad(se3.inverse(f.T)).T
 
     def _columns(self, carriers) -> list:
         """Columns of ``poses`` holding these carriers; ModelError if one was not recorded."""
@@ -1075,12 +1100,14 @@ class Mechanism:
         pairs = {p["name"]: dict(index=i, layout=layout[i]) for i, p in enumerate(self._pairs)}
         return SimulationResult(t=tout[:k], poses=r["poses"][:k], twists=r["twists"][:k],
                                 constraint_wrenches=lam, energy=energy,
-                                stats=r["stats"], interrupted=bool(r["interrupted"]),
+                                stats={**r["stats"], "linear_solver": linear_solver},
+                                interrupted=bool(r["interrupted"]),
                                 _links=self._links, port_energy=ports, joints=r["joints"][:k],
                                 joint_rates=r["jrates"][:k], efforts=r["efforts"][:k],
                                 pair_wrenches=pw, _pairs=pairs,
                                 redundant_constraints=list(self.redundant_constraints),
-                                carriers=None if rec is None else np.array(rec))
+                                carriers=None if rec is None else np.array(rec),
+                                _frame=lambda x: _frame_of(x, self, "result"))
 
     def _record_carriers(self, record) -> list:
         """Carrier indices for simulate(record=...): bodies, links, frames or their names."""
