@@ -212,27 +212,6 @@ static void chol6_solve(const double L[36], double x[6]) {
   }
 }
 
-/* Constraint data restricted to the constrained carriers (cmap: carrier -> compact index or -1):
- * g (nk), G (nk x n6c, row-major, compact columns), vt (nk); any may be NULL. */
-static void cons_compact(const phm_model *m, const double *H, const double *xs, double time,
-                         double tref, const int *cmap, int n6c, double *g, double *G, double *vt) {
-  if (G) memset(G, 0, sizeof(double) * (size_t)m->ncons * (size_t)n6c);
-  for (int ip = 0; ip < m->np; ip++) {
-    const phm_pair_desc *pr = &m->pair[ip];
-    int r0 = m->pair_row[ip], mc = m->pair_m[ip];
-    double Ga[36], Gb[36];
-    phm_pair_eval(m, ip, pr->a >= 0 ? H + 16 * pr->a : NULL, pr->b >= 0 ? H + 16 * pr->b : NULL,
-                  xs ? xs + m->pair_j[ip] : NULL, time, tref, g ? g + r0 : NULL, Ga, Gb,
-                  vt ? vt + r0 : NULL);
-    if (G)
-      for (int r = 0; r < mc; r++)
-        for (int j = 0; j < 6; j++) {
-          if (pr->a >= 0) G[(size_t)(r0 + r) * n6c + 6 * cmap[pr->a] + j] += Ga[6 * r + j];
-          if (pr->b >= 0) G[(size_t)(r0 + r) * n6c + 6 * cmap[pr->b] + j] += Gb[6 * r + j];
-        }
-  }
-}
-
 /* Project poses H (nc x 16) onto g = 0 and twists tw onto G t = vt (minimum-norm corrections);
  * then solve the acceleration-level system for t' and lambda. Writes y (carrier blocks and lambda,
  * mu = 0) and yp (all but the ledger values in y, which the caller sets). qprev: previous
@@ -286,7 +265,7 @@ static phm_status consistent_ic(dae_t *d, double time, double *H, double *tw, co
     double gn = 0;
     int it;
     for (it = 0; it < 50; it++) {
-      cons_compact(m, H, xs, time, d->tref, cmap, n6c, g, G, NULL);
+      phm_constraints_columns(m, H, xs, time, d->tref, cmap, n6c, g, G, NULL);
       gn = 0;
       for (int i = 0; i < nk; i++) gn = fmax(gn, fabs(g[i]));
       if (gn < 1e-13) break;
@@ -300,7 +279,7 @@ static phm_status consistent_ic(dae_t *d, double time, double *H, double *tw, co
       goto done;
     }
     /* velocities */
-    cons_compact(m, H, xs, time, d->tref, cmap, n6c, NULL, G, vt);
+    phm_constraints_columns(m, H, xs, time, d->tref, cmap, n6c, NULL, G, vt);
     for (int r = 0; r < nk; r++) {
       double s = -vt[r];
       for (int k = 0; k < ncc; k++)
@@ -333,7 +312,7 @@ static phm_status consistent_ic(dae_t *d, double time, double *H, double *tw, co
     } else if (cmap[c] < 0 || nk == 0) chol6_solve(Lc + 36 * c, acc + 6 * c);
   }
   if (nk > 0) {
-    cons_compact(m, H, xs, time, d->tref, cmap, n6c, NULL, G, NULL);
+    phm_constraints_columns(m, H, xs, time, d->tref, cmap, n6c, NULL, G, NULL);
     /* dc/dt at fixed t' by central differences along the motion */
     double tau = 1e-6;
     for (int side = 0; side < 2; side++) {
@@ -345,7 +324,7 @@ static phm_status consistent_ic(dae_t *d, double time, double *H, double *tw, co
         for (int i = 0; i < 6; i++) dl[i] = s * tw[6 * c + i];
         phm_retract(Hp + 16 * c, dl);
       }
-      cons_compact(m, Hp, xs, time + s, d->tref, cmap, n6c, NULL, X, vt);
+      phm_constraints_columns(m, Hp, xs, time + s, d->tref, cmap, n6c, NULL, X, vt);
       for (int r = 0; r < nk; r++) {
         double a = -vt[r];
         for (int k = 0; k < ncc; k++)

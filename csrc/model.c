@@ -717,9 +717,9 @@ void phm_pair_joint(const phm_model *m, int ip, const double *Ha, const double *
   }
 }
 
-void phm_constraints_dense(const phm_model *m, const double *H, const double *xs, double time,
-                           double tref, double *g, double *G, double *vt) {
-  int n = 6 * m->nc;
+void phm_constraints_columns(const phm_model *m, const double *H, const double *xs, double time,
+                             double tref, const int *cmap, int n, double *g, double *G,
+                             double *vt) {
   if (G) memset(G, 0, sizeof(double) * (size_t)m->ncons * (size_t)n);
   for (int ip = 0; ip < m->np; ip++) {
     const phm_pair_desc *pr = &m->pair[ip];
@@ -731,10 +731,15 @@ void phm_constraints_dense(const phm_model *m, const double *H, const double *xs
     if (G)
       for (int r = 0; r < mc; r++)
         for (int j = 0; j < 6; j++) {
-          if (pr->a >= 0) G[(size_t)(r0 + r) * n + 6 * pr->a + j] += Ga[6 * r + j];
-          if (pr->b >= 0) G[(size_t)(r0 + r) * n + 6 * pr->b + j] += Gb[6 * r + j];
+          if (pr->a >= 0) G[(size_t)(r0 + r) * n + 6 * (cmap ? cmap[pr->a] : pr->a) + j] += Ga[6 * r + j];
+          if (pr->b >= 0) G[(size_t)(r0 + r) * n + 6 * (cmap ? cmap[pr->b] : pr->b) + j] += Gb[6 * r + j];
         }
   }
+}
+
+void phm_constraints_dense(const phm_model *m, const double *H, const double *xs, double time,
+                           double tref, double *g, double *G, double *vt) {
+  phm_constraints_columns(m, H, xs, time, tref, NULL, 6 * m->nc, g, G, vt);
 }
 
 int phm_model_nconstraints_full(const phm_model *m) { return m->ncons_full; }

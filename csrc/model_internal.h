@@ -78,6 +78,11 @@ void phm_applied(const phm_model *m, const double *H, const double *tw, const do
                  double *Psupp, double *Pport, double *effort);
 
 /* Dense constraint data at poses H (xs: joint branch references, NULL = x0): g (ncons), G (ncons x 6nc), vt (ncons); any may be NULL. */
+/* Pair constraints g (ncons), their Jacobian G (ncons x n, row-major; carrier c's 6 columns at
+ * 6 cmap[c], or 6 c when cmap is NULL) and prescribed rates vt; any output may be NULL. */
+void phm_constraints_columns(const phm_model *m, const double *H, const double *xs, double time,
+                             double tref, const int *cmap, int n, double *g, double *G,
+                             double *vt);
 void phm_constraints_dense(const phm_model *m, const double *H, const double *xs, double time,
                            double tref, double *g, double *G, double *vt);
 
