@@ -122,30 +122,12 @@ class MechanismGraph:
         traversed from l(e) to r(e)); ``closing`` lists the loop-closing edges (name, l, r).
         Raises ModelError naming the vertices that no path joins to the ground.
         """
-        edges = list(self.pairs) + self.flexible_edges()
-        adjacent: dict[str, list[tuple[int, str, bool]]] = {v: [] for v in [GROUND] + self.vertices()}
-        for k, (_, l, r) in enumerate(edges):
-            adjacent[l].append((k, r, True))
-            adjacent[r].append((k, l, False))
-        seen = {GROUND}
-        used = [False] * len(edges)
-        tree = []
-        queue = deque([GROUND])
-        while queue:
-            v = queue.popleft()
-            for k, w, forward in adjacent[v]:
-                if used[k] or w in seen:
-                    continue
-                used[k] = True
-                seen.add(w)
-                tree.append((edges[k][0], v, w, forward))
-                queue.append(w)
+        tree, closing, seen = self._walk([GROUND])
         unreachable = [v for v in self.vertices() if v not in seen]
         if unreachable and require_connected:
             raise ModelError(
                 f"vertices {unreachable} are not connected to the ground by any pair or link; "
                 "add a pair (e.g. ph.Free()) to give them a path")
-        closing = [edges[k] for k in range(len(edges)) if not used[k]]
         return tree, closing
 
     def loops(self) -> list[list[str]]:
@@ -176,6 +158,12 @@ class MechanismGraph:
     def _forest(self):
         """Breadth-first spanning forest: the tree from the ground, then one tree per component
         not connected to it (free bodies or links); returns (tree edges, closing edges)."""
+        tree, closing, _ = self._walk([GROUND] + self.vertices())
+        return tree, closing
+
+    def _walk(self, roots: list[str]):
+        """Breadth-first walk of G_K ∪ G_F starting a new tree at each root not yet reached.
+        Returns (tree edges (name, from, to, forward), unused (closing) edges, reached vertices)."""
         edges = list(self.pairs) + self.flexible_edges()
         adjacent: dict[str, list[tuple[int, str, bool]]] = {v: [] for v in [GROUND] + self.vertices()}
         for k, (_, l, r) in enumerate(edges):
@@ -184,7 +172,7 @@ class MechanismGraph:
         seen: set = set()
         used = [False] * len(edges)
         tree = []
-        for root in [GROUND] + self.vertices():
+        for root in roots:
             if root in seen:
                 continue
             seen.add(root)
@@ -199,4 +187,4 @@ class MechanismGraph:
                     tree.append((edges[k][0], v, w, forward))
                     queue.append(w)
         closing = [edges[k] for k in range(len(edges)) if not used[k]]
-        return tree, closing
+        return tree, closing, seen
