@@ -56,15 +56,20 @@ static void ad_dual_apply(const double t[6], const double mm[6], double out[6]) 
   out[5] = -(w[0] * P[1] - w[1] * P[0]);
 }
 
+/* Carrier poses H (nc x 16) and twists tw (nc x 6) from the state vector y. */
+static void unpack_states(const phm_model *m, const double *y, double *H, double *tw) {
+  for (int c = 0; c < m->nc; c++) {
+    const double *yc = y + PHM_NSTATE * c;
+    phm_qp_to_H(yc, yc + 4, H + 16 * c);
+    memcpy(tw + 6 * c, yc + 7, 6 * sizeof(double));
+  }
+}
+
 /* The DAE residual; no allocation. */
 static int dae_residual(dae_t *d, double time, const double *y, const double *yp, double *F) {
   const phm_model *m = d->m;
   int nc = m->nc;
-  for (int c = 0; c < nc; c++) {
-    const double *yc = y + PHM_NSTATE * c;
-    phm_qp_to_H(yc, yc + 4, d->H + 16 * c);
-    memcpy(d->tw + 6 * c, yc + 7, 6 * sizeof(double));
-  }
+  unpack_states(m, y, d->H, d->tw);
   double Pd = 0, Ps = 0;
   const double *xs = y + d->ix;
   phm_applied(m, d->H, d->tw, xs, time, d->tref, 1.0, d->wr, NULL, &Pd, &Ps, d->pport, NULL);
@@ -464,11 +469,7 @@ static void record(dae_t *d, const double *y, phm_sim_output *out, int iout, dou
                    double time) {
   const phm_model *m = d->m;
   int nc = m->nc;
-  for (int c = 0; c < nc; c++) {
-    const double *yc = y + PHM_NSTATE * c;
-    phm_qp_to_H(yc, yc + 4, d->H + 16 * c);
-    memcpy(d->tw + 6 * c, yc + 7, 6 * sizeof(double));
-  }
+  unpack_states(m, y, d->H, d->tw);
   if (out->record) { /* only the carriers the caller asked for: memory stays small on long runs */
     for (int k = 0; k < out->nrecord; k++) {
       size_t o = (size_t)iout * out->nrecord + (size_t)k;
@@ -714,11 +715,7 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
         /* breakpoint: new piece of the laws, re-initialize from consistent values */
         add_stats(mem, out, opt->linear_solver);
         d.tref = phm_model_tref(m, t, &nbp);
-        for (int c = 0; c < nc; c++) {
-          const double *yc = y + PHM_NSTATE * c;
-          phm_qp_to_H(yc, yc + 4, H + 16 * c);
-          memcpy(tw + 6 * c, yc + 7, 6 * sizeof(double));
-        }
+        unpack_states(m, y, H, tw);
         memcpy(qprev, y, sizeof(double) * (size_t)d.n);
         if ((st = consistent_ic(&d, t, H, tw, qprev, qprev + d.ix, 0, y, ypd, err))) goto done;
         for (int i = d.ie; i < d.il; i++) y[i] = qprev[i];
