@@ -277,12 +277,19 @@ void phm_model_energy(const phm_model *model, const double *H, const double *t, 
 
 typedef int (*phm_callback)(void *ctx, double t, int iout); /* non-zero return stops the run */
 
+/* Which differential states enter IDA's local error test. CONFIGURATION leaves the carriers'
+ * twists out (they stay in the Newton convergence test): the step then follows the accuracy of
+ * poses and joint coordinates only, and unresolved fast vibrations are damped by the integrator
+ * instead of resolved; it needs a BDF order <= 2 (A-stable), which phm_simulate enforces. */
+enum { PHM_ERRTEST_ALL = 0, PHM_ERRTEST_CONFIGURATION = 1 };
+
 typedef struct {
   double rtol, atol;      /* IDA tolerances (atol scalar)                                  */
   int linear_solver;      /* 0 dense (IDA difference-quotient Jacobian), 1 KLU (coloured FD) */
   long max_steps;         /* per output interval; <= 0: 10^6                                */
   double max_step;        /* <= 0: no limit                                                 */
   int max_order;          /* maximum BDF order 1..5; <= 0: 5                                */
+  int error_test;         /* PHM_ERRTEST_ALL or PHM_ERRTEST_CONFIGURATION                   */
   phm_callback interrupt; /* called at each output; non-zero: stop with PHM_EINTERRUPT      */
   phm_callback progress;  /* called at each output; non-zero: stop quietly (PHM_OK)         */
   void *ctx;
