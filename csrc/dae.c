@@ -65,14 +65,13 @@ static void unpack_states(const phm_model *m, const double *y, double *H, double
   }
 }
 
-/* The DAE residual; no allocation. */
-static int dae_residual(dae_t *d, double time, const double *y, const double *yp, double *F) {
+/* The pairs' rows of the residual at the poses/twists already unpacked into d->H, d->tw: joint
+ * coordinate rates (F[ix..ie)), velocity constraints (F[il..im)) and position constraints
+ * (F[im..n)); accumulates G^T lambda and G^T mu per carrier into d->gl, d->gm. No allocation. */
+static void pair_rows(dae_t *d, double time, const double *y, const double *yp, double *F) {
   const phm_model *m = d->m;
   int nc = m->nc;
-  unpack_states(m, y, d->H, d->tw);
-  double Pd = 0, Ps = 0;
   const double *xs = y + d->ix;
-  phm_applied(m, d->H, d->tw, xs, time, d->tref, 1.0, d->wr, NULL, &Pd, &Ps, d->pport, NULL);
   memset(d->gl, 0, sizeof(double) * 6 * (size_t)nc);
   memset(d->gm, 0, sizeof(double) * 6 * (size_t)nc);
   for (int ip = 0; ip < m->np; ip++) {
@@ -106,6 +105,16 @@ static int dae_residual(dae_t *d, double time, const double *y, const double *yp
       F[d->im + r0 + r] = g[r]; /* position constraint -> mu     */
     }
   }
+}
+
+/* The DAE residual; no allocation. */
+static int dae_residual(dae_t *d, double time, const double *y, const double *yp, double *F) {
+  const phm_model *m = d->m;
+  int nc = m->nc;
+  unpack_states(m, y, d->H, d->tw);
+  double Pd = 0, Ps = 0;
+  phm_applied(m, d->H, d->tw, y + d->ix, time, d->tref, 1.0, d->wr, NULL, &Pd, &Ps, d->pport, NULL);
+  pair_rows(d, time, y, yp, F);
   for (int c = 0; c < nc; c++) {
     const double *yc = y + PHM_NSTATE * c, *ypc = yp + PHM_NSTATE * c;
     double *Fc = F + PHM_NSTATE * c;
@@ -563,6 +572,214 @@ static void add_stats(void *mem, phm_sim_output *out, int use_klu) {
   if (IDAGetLastOrder(mem, &q) == 0) out->last_order = q;
 }
 
+/* ---------------------------------------------------------------- generalized-alpha */
+/* Generalized-alpha for first-order systems (Jansen, Whiting & Hulbert 2000) applied to the DAE.
+ * With rho = rho_inf: alpha_f = 1/(1+rho), alpha_m = (3-rho)/(2(1+rho)), gamma = 1/2 + alpha_m -
+ * alpha_f (second order, A-stable, spectral radius rho as h*omega -> infinity):
+ *   y1 = y0 + h y0' + gamma h (y1' - y0'),
+ *   differential rows of F at (t0 + alpha_f h, y0 + alpha_f (y1 - y0), y0' + alpha_m (y1' - y0')),
+ *   constraint rows (g = 0, G t = vt) at (t1, y1): the constraints hold at every step;
+ * lambda and mu are stage values (not interpolated). Unknown: y1. Modified Newton on the coloured
+ * finite-difference Jacobian, refreshed when convergence is slow or the step changed; a step
+ * whose Newton fails with a fresh Jacobian is retried with half the step (up to 2^-10).
+ * Steps are shortened (evenly) to land on the output times and on the breakpoints of the laws. */
+typedef struct {
+  double af, am, gam;
+  N_Vector y0, yp0, Y, Yp, ya, ypa, Ra, R, dY, w, yq, ypq; /* yq, ypq: previous step */
+} galpha_t;
+
+/* Stage values from the unknown y1 (= g->Y) for a step h; fills Yp (y1'), ya, ypa. */
+static void galpha_stage(const dae_t *d, galpha_t *g, double h) {
+  const double *y0 = N_VGetArrayPointer(g->y0), *yp0 = N_VGetArrayPointer(g->yp0);
+  const double *Y = N_VGetArrayPointer(g->Y);
+  double *Yp = N_VGetArrayPointer(g->Yp), *ya = N_VGetArrayPointer(g->ya), *ypa = N_VGetArrayPointer(g->ypa);
+  for (int i = 0; i < d->il; i++) {
+    Yp[i] = yp0[i] + (Y[i] - y0[i] - h * yp0[i]) / (g->gam * h);
+    ya[i] = y0[i] + g->af * (Y[i] - y0[i]);
+    ypa[i] = yp0[i] + g->am * (Yp[i] - yp0[i]);
+  }
+  for (int i = d->il; i < d->n; i++) {
+    Yp[i] = ypa[i] = 0;
+    ya[i] = Y[i];
+  }
+}
+
+/* R = [differential rows at the stage; constraint rows at (t1, y1)]; Ra keeps the full stage
+ * residual (the base of the finite-difference Jacobian). */
+static void galpha_residual(dae_t *d, galpha_t *g, double t0, double h) {
+  double *Ra = N_VGetArrayPointer(g->Ra), *R = N_VGetArrayPointer(g->R);
+  dae_residual(d, t0 + g->af * h, N_VGetArrayPointer(g->ya), N_VGetArrayPointer(g->ypa), Ra);
+  unpack_states(d->m, N_VGetArrayPointer(g->Y), d->H, d->tw);
+  pair_rows(d, t0 + h, N_VGetArrayPointer(g->Y), N_VGetArrayPointer(g->Yp), R);
+  memcpy(R, Ra, sizeof(double) * (size_t)d->il); /* incl. the joint-rate rows pair_rows wrote */
+}
+
+/* dR/dy1 ~ alpha_f (dF/dy + cj dF/dy') on the differential block (cj = alpha_m / (alpha_f gamma h)),
+ * dF/dy on the multiplier columns and on the constraint rows; dense copy when LS is dense. */
+static int galpha_jacobian(dae_t *d, galpha_t *g, double t0, double h, SUNMatrix Js, SUNMatrix A) {
+  double cj = g->am / (g->af * g->gam * h);
+  if (ida_jac_klu(t0 + g->af * h, cj, g->ya, g->ypa, g->Ra, Js, d, NULL, NULL, NULL)) return 1;
+  sunindextype *cp = SUNSparseMatrix_IndexPointers(Js), *ri = SUNSparseMatrix_IndexValues(Js);
+  double *val = SUNSparseMatrix_Data(Js);
+  for (int j = 0; j < d->il; j++)
+    for (sunindextype k = cp[j]; k < cp[j + 1]; k++)
+      if (ri[k] < d->il) val[k] *= g->af;
+  if (A != Js) {
+    SUNMatZero(A);
+    for (int j = 0; j < d->n; j++)
+      for (sunindextype k = cp[j]; k < cp[j + 1]; k++) SM_ELEMENT_D(A, ri[k], j) = val[k];
+  }
+  return 0;
+}
+
+static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vector yy,
+                             N_Vector yp, const double *tout, int nout, double *H, double *tw,
+                             double *qprev, double E0[1], double nbp, phm_sim_output *out,
+                             phm_error *err) {
+  const phm_model *m = d->m;
+  int n = d->n;
+  phm_status st = PHM_OK;
+  double rho = opt->rho_inf, h0 = opt->step;
+  galpha_t g;
+  memset(&g, 0, sizeof g);
+  g.af = 1.0 / (1.0 + rho);
+  g.am = 0.5 * (3.0 - rho) / (1.0 + rho);
+  g.gam = 0.5 + g.am - g.af;
+  SUNMatrix Js = NULL, A = NULL;
+  SUNLinearSolver LS = NULL;
+  N_Vector *vs[] = {&g.y0, &g.yp0, &g.Y, &g.Yp, &g.ya, &g.ypa, &g.Ra, &g.R, &g.dY, &g.w, &g.yq, &g.ypq};
+  int nv = (int)(sizeof vs / sizeof vs[0]);
+  for (int k = 0; k < nv; k++)
+    if (!(*vs[k] = N_VNew_Serial(n, ctx))) {
+      st = phm_error_set(err, PHM_ENOMEM, "out of memory (N_Vector)");
+      goto done;
+    }
+  if ((st = klu_pattern(d, err))) goto done;
+  Js = SUNSparseMatrix(n, n, d->nnz, CSC_MAT, ctx);
+  A = opt->linear_solver == 1 ? Js : SUNDenseMatrix(n, n, ctx);
+  if (!Js || !A) {
+    st = phm_error_set(err, PHM_ENOMEM, "out of memory (matrix)");
+    goto done;
+  }
+  LS = opt->linear_solver == 1 ? SUNLinSol_KLU(yy, A, ctx) : SUNLinSol_Dense(yy, A, ctx);
+  if (!LS || SUNLinSolInitialize(LS) != SUNLS_SUCCESS) {
+    st = phm_error_set(err, PHM_ESOLVER, "could not create the linear solver");
+    goto done;
+  }
+  double *y0 = N_VGetArrayPointer(g.y0), *yp0 = N_VGetArrayPointer(g.yp0), *Y = N_VGetArrayPointer(g.Y);
+  double *Yp = N_VGetArrayPointer(g.Yp), *dY = N_VGetArrayPointer(g.dY), *w = N_VGetArrayPointer(g.w);
+  double *y = N_VGetArrayPointer(yy), *ypd = N_VGetArrayPointer(yp);
+  double *yq = N_VGetArrayPointer(g.yq), *ypq = N_VGetArrayPointer(g.ypq), hq = 0; /* hq = 0: no history */
+  memcpy(y0, y, sizeof(double) * (size_t)n);
+  memcpy(yp0, ypd, sizeof(double) * (size_t)n);
+  double t = tout[0], hjac = 0;
+  int iout = 1, fresh = 0;
+  while (iout < nout) {
+    /* steps land on the output times and the breakpoints of the laws: the largest step <= h0
+     * that divides what is left of the interval evenly (outputs need no interpolation, and the
+     * constraints hold at every output) */
+    double target = tout[iout];
+    if (isfinite(nbp) && nbp > t && nbp < target) target = nbp;
+    double h = (target - t) / ceil((target - t) / h0 - 1e-9);
+    int halvings = 0;
+    for (;;) { /* one step of size h (halved on Newton failure) */
+      /* predictor: y' (and the multipliers) extrapolated linearly from the last two steps */
+      double r = hq > 0 ? h / hq : 0;
+      for (int i = 0; i < d->il; i++) Y[i] = y0[i] + h * yp0[i] + g.gam * h * r * (yp0[i] - ypq[i]);
+      for (int i = d->il; i < n; i++) Y[i] = y0[i] + r * (y0[i] - yq[i]);
+      if (fabs(h / hjac - 1.0) > 0.2) hjac = 0; /* the iteration matrix scales with 1/h */
+      fresh = 0;
+      int ok = 0;
+      double nrm0 = 0;
+      for (int it = 0; it < 4; it++) {
+        galpha_stage(d, &g, h);
+        galpha_residual(d, &g, t, h);
+        out->nres++;
+        if (hjac == 0) {
+          if (galpha_jacobian(d, &g, t, h, Js, A) || SUNLinSolSetup(LS, A) != SUNLS_SUCCESS) {
+            st = phm_error_set(err, PHM_ESOLVER, "generalized-alpha: singular iteration matrix at t = %.9g s", t);
+            goto done;
+          }
+          out->njac++;
+          hjac = h;
+          fresh = 1;
+        }
+        N_VScale(-1.0, g.R, g.dY);
+        if (SUNLinSolSolve(LS, A, g.dY, g.dY, 0.0) != SUNLS_SUCCESS) {
+          st = phm_error_set(err, PHM_ESOLVER, "generalized-alpha: linear solve failed at t = %.9g s", t);
+          goto done;
+        }
+        out->nniters++;
+        for (int i = 0; i < n; i++) {
+          Y[i] += dY[i];
+          /* twists: a velocity error dv moves the poses by h dv in a step, so the tolerance on
+           * the twists that matches atol on the poses is atol / h */
+          int twist = i < d->ix && i % PHM_NSTATE >= 7;
+          double a = i >= d->im ? fmax(1.0, opt->atol) : i >= d->il ? fmax(1e-6, opt->atol)
+                     : twist ? opt->atol / h : opt->atol;
+          w[i] = 1.0 / (opt->rtol * fabs(Y[i]) + a);
+        }
+        double nrm = N_VWrmsNorm(g.dY, g.w);
+        if (!isfinite(nrm)) break;
+        if (it == 0) {
+          nrm0 = nrm;
+          if (nrm <= 0.033) { ok = 1; break; }
+        } else {
+          double rate = pow(nrm / nrm0, 1.0 / it);
+          if (rate > 0.9) break;
+          if (nrm * rate / (1.0 - rate) <= 0.33) { ok = 1; break; }
+        }
+      }
+      if (ok) break;
+      out->nncf++;
+      if (!fresh) { hjac = 0; continue; }            /* retry with a fresh Jacobian */
+      if (++halvings > 10) {
+        st = phm_error_set(err, PHM_ESOLVER, "generalized-alpha: Newton failed at t = %.9g s even with "
+                           "step %.3g s (fresh Jacobian, 10 halvings)", t, h);
+        goto done;
+      }
+      h *= 0.5;
+      hjac = 0;
+    }
+    galpha_stage(d, &g, h); /* y1' of the converged y1 */
+    double t1 = fabs(target - (t + h)) < 1e-9 * h ? target : t + h;
+    out->nsteps++;
+    out->last_step = h;
+    if (t1 == tout[iout]) {
+      record(d, Y, out, iout, E0, t1);
+      if (opt->interrupt && opt->interrupt(opt->ctx, tout[iout], iout)) {
+        st = phm_error_set(err, PHM_EINTERRUPT, "interrupted at t = %g s", tout[iout]);
+        goto done;
+      }
+      if (opt->progress && opt->progress(opt->ctx, tout[iout], iout)) goto done;
+      iout++;
+    }
+    t = t1;
+    hq = h;
+    memcpy(yq, y0, sizeof(double) * (size_t)n);
+    memcpy(ypq, yp0, sizeof(double) * (size_t)n);
+    memcpy(y0, Y, sizeof(double) * (size_t)n);
+    memcpy(yp0, Yp, sizeof(double) * (size_t)n);
+    if (isfinite(nbp) && t >= nbp - 1e-12 * h0 && iout < nout) {
+      /* breakpoint: new piece of the laws, restart from consistent values (as the IDA driver) */
+      d->tref = phm_model_tref(m, t, &nbp);
+      unpack_states(m, y0, H, tw);
+      memcpy(qprev, y0, sizeof(double) * (size_t)n);
+      if ((st = consistent_ic(d, t, H, tw, qprev, qprev + d->ix, 0, y0, yp0, err))) goto done;
+      for (int i = d->ie; i < d->il; i++) y0[i] = qprev[i];
+      hjac = hq = 0;
+    }
+  }
+done:
+  out->last_order = 2;
+  if (LS) SUNLinSolFree(LS);
+  if (A && A != Js) SUNMatDestroy(A);
+  if (Js) SUNMatDestroy(Js);
+  for (int k = 0; k < nv; k++)
+    if (*vs[k]) N_VDestroy(*vs[k]);
+  return st;
+}
+
 phm_status phm_simulate(const phm_model *m, const double *poses0, const double *twists0,
                         const double *tout, int nout, const phm_sim_options *opt,
                         phm_sim_output *out, phm_error *err) {
@@ -583,6 +800,12 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
                          "(got %d): without the twists in the error test, BDF 3-5 let unresolved vibrations grow", opt->max_order);
   if (opt->linear_solver != 0 && opt->linear_solver != 1)
     return phm_error_set(err, PHM_EINVAL, "unknown linear solver %d (0 dense, 1 KLU)", opt->linear_solver);
+  if (opt->integrator != PHM_INTEGRATOR_IDA && opt->integrator != PHM_INTEGRATOR_GALPHA)
+    return phm_error_set(err, PHM_EINVAL, "unknown integrator %d (0 IDA, 1 generalized-alpha)", opt->integrator);
+  if (opt->integrator == PHM_INTEGRATOR_GALPHA &&
+      (!(opt->step > 0) || !isfinite(opt->step) || !(opt->rho_inf >= 0 && opt->rho_inf <= 1)))
+    return phm_error_set(err, PHM_EINVAL, "generalized-alpha needs step > 0 and 0 <= rho_inf <= 1 (got %g, %g)",
+                         opt->step, opt->rho_inf);
   double t_start = now();
   out->nout_done = 0;
   out->nsteps = out->nres = out->njac = out->nniters = out->netf = out->nncf = 0;
@@ -637,6 +860,10 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
   }
   if (opt->progress && opt->progress(opt->ctx, t, 0)) goto done;
   if (nout == 1) goto done;
+  if (opt->integrator == PHM_INTEGRATOR_GALPHA) {
+    st = run_galpha(&d, opt, ctx, yy, yp, tout, nout, H, tw, qprev, &E0, nbp, out, err);
+    goto done;
+  }
 
   mem = IDACreate(ctx);
   if (!mem) {

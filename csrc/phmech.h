@@ -283,6 +283,14 @@ typedef int (*phm_callback)(void *ctx, double t, int iout); /* non-zero return s
  * instead of resolved; it needs a BDF order <= 2 (A-stable), which phm_simulate enforces. */
 enum { PHM_ERRTEST_ALL = 0, PHM_ERRTEST_CONFIGURATION = 1 };
 
+/* Time integrators. IDA: variable-order, variable-step BDF with local error control (rtol, atol,
+ * error_test, max_*). GALPHA: generalized-alpha for first-order systems (Jansen, Whiting &
+ * Hulbert 2000) with a fixed step `step` and spectral radius at infinity `rho_inf` in [0, 1]
+ * (1: no numerical dissipation; < 1 damps what the step does not resolve); second order, the
+ * constraints hold at every step, rtol/atol are its Newton tolerances; no error estimate. Steps are
+ * shortened evenly to land on the output times and on the laws' breakpoints. */
+enum { PHM_INTEGRATOR_IDA = 0, PHM_INTEGRATOR_GALPHA = 1 };
+
 typedef struct {
   double rtol, atol;      /* IDA tolerances (atol scalar)                                  */
   int linear_solver;      /* 0 dense (IDA difference-quotient Jacobian), 1 KLU (coloured FD) */
@@ -293,6 +301,8 @@ typedef struct {
   phm_callback interrupt; /* called at each output; non-zero: stop with PHM_EINTERRUPT      */
   phm_callback progress;  /* called at each output; non-zero: stop quietly (PHM_OK)         */
   void *ctx;
+  int integrator;         /* PHM_INTEGRATOR_IDA (0) or PHM_INTEGRATOR_GALPHA                */
+  double step, rho_inf;   /* GALPHA: step [s] (> 0), spectral radius at infinity [0, 1]     */
 } phm_sim_options;
 
 #define PHM_NENERGY 7 /* kinetic, elastic, gravity, dissipated, supplied, total, ledger residual */

@@ -348,14 +348,17 @@ static int progress_cb(void *vctx, double t, int iout) {
 static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw) {
   (void)self;
   static char *kwl[] = {"model", "tout", "rtol", "atol", "linear_solver", "poses", "twists",
-                        "callback", "max_step", "max_order", "record", "error_test", NULL};
+                        "callback", "max_step", "max_order", "record", "error_test",
+                        "integrator", "step", "rho_inf", NULL};
   PyObject *cap, *to, *po = Py_None, *twi = Py_None, *cb = Py_None, *rec = Py_None;
   PyObject *res = NULL; /* before the first `goto fail0`: that path returns it */
   PyArrayObject *R = NULL; /* carriers to record (int array) or NULL: all */
   double rtol, atol, max_step = 0;
-  int solver = 0, max_order = 0, error_test = 0;
-  if (!PyArg_ParseTupleAndKeywords(args, kw, "OOddi|OOOdiOi", kwl, &cap, &to, &rtol, &atol, &solver,
-                                   &po, &twi, &cb, &max_step, &max_order, &rec, &error_test))
+  int solver = 0, max_order = 0, error_test = 0, integrator = 0;
+  double step = 0, rho_inf = 1;
+  if (!PyArg_ParseTupleAndKeywords(args, kw, "OOddi|OOOdiOiidd", kwl, &cap, &to, &rtol, &atol, &solver,
+                                   &po, &twi, &cb, &max_step, &max_order, &rec, &error_test,
+                                   &integrator, &step, &rho_inf))
     return NULL;
   phm_model *m = get_model(cap);
   if (!m) return NULL;
@@ -407,7 +410,8 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
   PyArrayObject *en = (PyArrayObject *)PyArray_ZEROS(2, de, NPY_DOUBLE, 0);
   if (!poses || !tw || !lam || !en || !jx || !jv || !ju || !pw || !po_) goto fail;
   cb_ctx c = {cb == Py_None ? NULL : cb, 0, 0, NULL, NULL, NULL};
-  phm_sim_options opt = {rtol, atol, solver, 0, max_step, max_order, error_test, interrupt_cb, progress_cb, &c};
+  phm_sim_options opt = {rtol, atol, solver, 0, max_step, max_order, error_test, interrupt_cb, progress_cb, &c,
+                         integrator, step, rho_inf};
   phm_sim_output out;
   memset(&out, 0, sizeof out);
   out.record = R ? (const int *)PyArray_DATA(R) : NULL;
@@ -632,8 +636,8 @@ PyMethodDef phm_py_model_methods[] = {
      "-> model capsule (validated; raises ModelError)."},
     {"model_simulate", (PyCFunction)(void (*)(void))py_model_simulate, METH_VARARGS | METH_KEYWORDS,
      "model_simulate(model, tout, rtol, atol, linear_solver, poses=None, twists=None, "
-     "callback=None, max_step=0, max_order=0, record=None, error_test=0) -> dict of arrays and "
-     "solver statistics."},
+     "callback=None, max_step=0, max_order=0, record=None, error_test=0, integrator=0, step=0, "
+     "rho_inf=1) -> dict of arrays and solver statistics."},
     {"model_modes", py_model_modes, METH_VARARGS,
      "model_modes(model, n, poses=None, lambda=None, time=0) -> (omega, zeta, shapes, nfound)."},
     {"model_static", py_model_static, METH_VARARGS,

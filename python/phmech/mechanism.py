@@ -1048,7 +1048,8 @@ class Mechanism:
                  linear_solver: str = "dense", initial: Optional[StaticResult] = None,
                  t_start: float = 0.0, callback: Optional[Callable[[float, int], bool]] = None,
                  max_step: float = 0.0, max_order: Optional[int] = None, record=None,
-                 progress: bool = False, error_test: str = "all") -> SimulationResult:
+                 progress: bool = False, error_test: str = "all", integrator: str = "ida",
+                 step: Optional[float] = None, rho_inf: float = 0.9) -> SimulationResult:
         """Integrate from ``t_start`` to ``t_end`` [s] with SUNDIALS IDA, sampling every
         ``dt_out`` [s]. ``initial``: start from these poses (e.g. a StaticResult) at rest instead
         of the modelled initial state. ``callback(t, i)`` is called at each output; return True to
@@ -1069,7 +1070,18 @@ class Mechanism:
         does not resolve, like the numerical dissipation of a fixed-step structural integrator.
         Use it for trajectories of slow motions; it dissipates energy (check
         ``energy["residual"]``). ``max_order``: maximum BDF order (default 5 with ``"all"``, 2
-        with ``"configuration"``, which accepts only 1 or 2)."""
+        with ``"configuration"``, which accepts only 1 or 2).
+
+        Integrators: ``integrator="ida"`` (default) is SUNDIALS IDA, variable-order variable-step
+        BDF with the error control above. ``integrator="generalized-alpha"`` is a fixed-step,
+        second-order, A-stable one-step method (generalized-alpha for first-order systems,
+        Jansen-Whiting-Hulbert) with step ``step`` [s] (required) and spectral radius at infinity
+        ``rho_inf`` (1: no numerical dissipation; default 0.9 damps vibrations the step does not
+        resolve). Steps are shortened evenly to land on the output times and on the breakpoints
+        of the time laws, so every output is a step (``dt_out`` below ``step`` shortens the step).
+        The constraints hold at every step; ``rtol``/``atol`` are then only its Newton
+        tolerances, and there is no error estimate: check convergence by halving ``step``. It
+        suits structural transients where IDA would resolve every fast mesh vibration."""
         t0, t1, dt = (real("t_start", t_start), real("t_end", t_end), real("dt_out", dt_out))
         if t1 <= t0:
             raise ModelError(f"t_end must be > t_start (got {t1} <= {t0})")
@@ -1078,6 +1090,23 @@ class Mechanism:
         solvers = {"dense": 0, "klu": 1}
         if linear_solver not in solvers:
             raise ModelError(f"unknown linear_solver {linear_solver!r} (available: 'dense', 'klu')")
+        integrators = {"ida": 0, "generalized-alpha": 1}
+        if integrator not in integrators:
+            raise ModelError(f"unknown integrator {integrator!r} (available: {', '.join(map(repr, integrators))})")
+        if integrator == "generalized-alpha":
+            if step is None:
+                raise ModelError("integrator='generalized-alpha' needs step= (the fixed time step, s)")
+            step = real("step", step)
+            rho_inf = real("rho_inf", rho_inf)
+            if step <= 0:
+                raise ModelError(f"step must be > 0 (got {step})")
+            if not 0.0 <= rho_inf <= 1.0:
+                raise ModelError(f"rho_inf must be in [0, 1] (got {rho_inf})")
+            if error_test != "all" or max_order is not None or max_step:
+                raise ModelError("error_test, max_order and max_step apply to integrator='ida' only")
+        elif step is not None:
+            raise ModelError("step= applies to integrator='generalized-alpha' (IDA chooses its own steps; "
+                             "use max_step to bound them)")
         tests = {"all": 0, "configuration": 1}
         if error_test not in tests:
             raise ModelError(f"unknown error_test {error_test!r} (available: 'all', 'configuration')")
@@ -1107,7 +1136,8 @@ class Mechanism:
         if progress:
             callback = _progress_printer(t0, t1, callback)
         r = _core.model_simulate(model, tout, rtol, atol, solvers[linear_solver], poses, twists,
-                                 callback, float(max_step), int(max_order), rec, tests[error_test])
+                                 callback, float(max_step), int(max_order), rec, tests[error_test],
+                                 integrators[integrator], float(step or 0.0), float(rho_inf))
         if progress:
             callback.finish()
         k = r["nout"]
