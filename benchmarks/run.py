@@ -182,19 +182,27 @@ def exudyn_frequencies(N: int, n: int = 5) -> np.ndarray:
 
 def bench_modes(quick: bool) -> dict:
     from phmech import studies
+    import peers
     exact = studies.exact_frequencies(5)
+    # peers without shear are measured against their own continuum model (peers.py)
+    ref = {"exudyn_ancf": peers.euler_bernoulli_frequencies(5), "mujoco_cable": peers.rayleigh_frequencies(5)}
     Ns = [3, 5, 9, 15, 21, 40, 80] if quick else [3, 5, 9, 15, 21, 40, 80, 160]
     reps = 1 if quick else 3   # (1 for N >= 80, see below)
-    runs = {"phmech_se3": [], "phmech_mixed": [], "exudyn_ge2d": []}
     fns = {"phmech_se3": (studies.se3_frequencies, lambda N: 12 * N),
            "phmech_mixed": (studies.mixed_frequencies, lambda N: 4 * N),
-           "exudyn_ge2d": (exudyn_frequencies, lambda N: 6 * N)}
+           "exudyn_ge2d": (exudyn_frequencies, lambda N: 6 * N),
+           "exudyn_ge3d": (peers.exudyn_ge3d_frequencies, lambda N: 12 * N),
+           "exudyn_ancf": (peers.exudyn_ancf_frequencies, lambda N: 8 * N),
+           "mujoco_cable": (peers.mujoco_cable_frequencies, lambda N: 6 * N)}
+    runs = {nm: [] for nm in fns}
     for N in Ns:
         for name, (fn, states) in fns.items():
             k = min(5, 2 * N)
             om, cpu = cpu_median(lambda: fn(N, k), 1 if N >= 80 else reps)
+            k = min(k, len(om))            # the cable has N in-plane modes
             e = np.full(5, np.nan)
-            e[:k] = (np.asarray(om)[:k] - exact[:k]) / exact[:k]
+            x = ref.get(name, exact)
+            e[:k] = (np.asarray(om)[:k] - x[:k]) / x[:k]
             runs[name].append(dict(N=N, states=states(N), cpu_s=cpu, omega=np.asarray(om).tolist(),
                                    rel_errors=e.tolist(),
                                    max_abs_rel_error=float(np.max(np.abs(e))) if k == 5 else None))
@@ -204,15 +212,37 @@ def bench_modes(quick: bool) -> dict:
     fronts = {nm: pareto([r["cpu_s"] for r in rs], [r["max_abs_rel_error"] or np.nan for r in rs])
               for nm, rs in runs.items()}
     levels = [1e-1, 3e-2, 1e-2, 3e-3, 1e-3]
+
+    def over(peer):   # CPU(se3) / CPU(peer) at equal error (each against its own reference)
+        r = {}
+        for e in levels:
+            a, b = cpu_at_error(fronts["phmech_se3"], e), cpu_at_error(fronts[peer], e)
+            r[f"{e:.0e}"] = None if a is None or b is None else dict(phmech_cpu_s=a, peer_cpu_s=b, ratio=a / b)
+        return r
+    import mujoco
     out = dict(problem="Table I cantilever, first five frequencies", exact_rad_s=exact.tolist(),
                error="max over modes 1..5 of |omega_h - omega| / omega",
+               error_reference={"default": "Timoshenko (exact_rad_s)",
+                                "exudyn_ancf": "Euler-Bernoulli (no shear, no rotary inertia): "
+                                               + str(ref["exudyn_ancf"].tolist()),
+                                "mujoco_cable": "Rayleigh beam (rotary inertia, no shear): "
+                                                + str(ref["mujoco_cable"].tolist())},
                states_note="first-order states: se3 12 per free node (3-D), mixed 4N (planar), "
-                           "Exudyn GE2D 6 per free node (planar)",
+                           "Exudyn GE2D 6 per free node (planar), Exudyn GE3D 12 per free node (3-D), "
+                           "Exudyn ANCF cable 8 per free node (planar), MuJoCo cable 6 per segment (3 ball dofs)",
                exudyn_note="ObjectBeamGeometricallyExact2D, axial stiffness x1e4 (as se3_frequencies); "
                            "ComputeODE2Eigenvalues dense, clamp by constrainedCoordinates",
+               peers_note="see benchmarks/peers.py and docs/perf_peers.md: exudyn_ge3d = ObjectBeamGeometricallyExact "
+                          "(Rxyz nodes, table1_properties(1e4) section); exudyn_ancf = ObjectANCFCable2D (EA x1e4); "
+                          "mujoco_cable = MuJoCo " + mujoco.__version__ + " composite cable + elasticity.cable plugin, "
+                          "frequencies by linearization (mj_fullM, central differences of qfrc_passive in Python, "
+                          "in-plane dofs), so its CPU time is of that script, not of a MuJoCo modal solver",
                machine=machine(), runs=runs,
                cpu_ratio_at_equal_error={"se3_over_exudyn": ratios(fronts["phmech_se3"], fronts["exudyn_ge2d"], levels),
-                                         "mixed_over_exudyn": ratios(fronts["phmech_mixed"], fronts["exudyn_ge2d"], levels)})
+                                         "mixed_over_exudyn": ratios(fronts["phmech_mixed"], fronts["exudyn_ge2d"], levels),
+                                         "se3_over_exudyn_ge3d": over("exudyn_ge3d"),
+                                         "se3_over_exudyn_ancf_vs_EB": over("exudyn_ancf"),
+                                         "se3_over_mujoco_cable_vs_Rayleigh": over("mujoco_cable")})
     write_json("bench_modes", out)
     plot_modes(out)
     return out
@@ -223,11 +253,12 @@ def plot_modes(out):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, ax = plt.subplots(1, 2, figsize=(11, 4))
+    vs = {"exudyn_ancf": " (vs EB)", "mujoco_cable": " (vs Rayleigh)"}
     for nm, rs in out["runs"].items():
         ok = [r for r in rs if r["max_abs_rel_error"]]
         e = [r["max_abs_rel_error"] for r in ok]
-        ax[0].loglog([r["states"] for r in ok], e, "o-", label=nm)
-        ax[1].loglog([r["cpu_s"] for r in ok], e, "o-", label=nm)
+        ax[0].loglog([r["states"] for r in ok], e, "o-", label=nm + vs.get(nm, ""))
+        ax[1].loglog([r["cpu_s"] for r in ok], e, "o-", label=nm + vs.get(nm, ""))
     ax[0].set(xlabel="first-order states", ylabel="max rel. error, modes 1-5", title="Table I cantilever")
     ax[1].set(xlabel="CPU time [s]", ylabel="max rel. error, modes 1-5", title="work-precision")
     for a in ax:
