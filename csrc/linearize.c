@@ -17,6 +17,9 @@ typedef struct {
   double time, tref, scale;
   const double *lam; /* constraint wrenches added to the forces (may be NULL) */
   double *wr, *gl, *G, *Hp;
+  /* statics: carrier coupling graph (CSR), its distance-2 colouring, force Jacobian blocks */
+  int *ptr, *nbr, *col, ncol;
+  double *Kb;
 } lin_t;
 
 /* Generalized forces at poses H: applied wrenches + G^T lambda (nc x 6, body frame). */
@@ -36,36 +39,6 @@ static void total_force(lin_t *L, const double *H, double *f) {
           if (pr->b >= 0) f[6 * pr->b + j] += Gb[6 * r + j] * L->lam[r0 + r];
         }
     }
-}
-
-/* Column (c, j) of d f / d delta by central differences on carrier c's chart, with the map
- * f_c(delta) = dexp_{-delta}^T w_c(H_c exp(delta)); also d g / d delta if dg != NULL. */
-static void force_column(lin_t *L, const double *H, int c, int j, double *col, double *dg,
-                         double *f1, double *f2, double *g1, double *g2) {
-  const phm_model *m = L->m;
-  int nc = m->nc, n6 = 6 * nc;
-  double eps = 1e-6 * (j < 3 ? 1.0 : m->lref);
-  for (int side = 0; side < 2; side++) {
-    double dl[6] = {0}, D[36], *f = side ? f2 : f1;
-    dl[j] = side ? -eps : eps;
-    memcpy(L->Hp, H, sizeof(double) * 16 * (size_t)nc);
-    phm_retract(L->Hp + 16 * c, dl);
-    total_force(L, L->Hp, f);
-    double md[6];
-    for (int i = 0; i < 6; i++) md[i] = -dl[i];
-    phm_se3_dexp(md, D);
-    double w[6];
-    for (int i = 0; i < 6; i++) {
-      double s = 0;
-      for (int k = 0; k < 6; k++) s += D[6 * k + i] * f[6 * c + k];
-      w[i] = s;
-    }
-    memcpy(f + 6 * c, w, sizeof w);
-    if (dg) phm_constraints_dense(m, L->Hp, NULL, L->time, L->tref, side ? g2 : g1, NULL, NULL);
-  }
-  for (int i = 0; i < n6; i++) col[i] = (f1[i] - f2[i]) / (2 * eps);
-  if (dg)
-    for (int i = 0; i < m->ncons; i++) dg[i] = (g1[i] - g2[i]) / (2 * eps);
 }
 
 static phm_status lin_alloc(lin_t *L, const phm_model *m, phm_error *err) {
@@ -155,6 +128,45 @@ extern void dsygvx_(const int *itype, const char *jobz, const char *range, const
                     double *work, const int *lwork, int *iwork, int *ifail, int *info);
 extern double dlamch_(const char *cmach);
 
+/* Kb[q] = d f_r / d delta_c for block q = (row carrier r, column carrier nbr[q]) of the coupling
+ * graph (6 x 6, row-major), f = total_force on the perturbed carriers' charts, f_c(delta) =
+ * dexp_{-delta}^T w_c(H_c exp(delta)); central differences, one pass per colour and direction
+ * (carriers of one colour share no neighbour, so their columns do not mix). */
+static void force_jacobian_blocks(lin_t *L, const double *H, int ncol, const int *col, const int *ptr,
+                                  const int *nbr, double *f1, double *f2, double *Kb) {
+  const phm_model *m = L->m;
+  int nc = m->nc;
+  for (int k = 0; k < ncol; k++)
+    for (int j = 0; j < 6; j++) {
+      double eps = 1e-6 * (j < 3 ? 1.0 : m->lref);
+      for (int side = 0; side < 2; side++) {
+        double dl[6] = {0}, md[6] = {0}, D[36], *f = side ? f2 : f1;
+        dl[j] = side ? -eps : eps;
+        md[j] = -dl[j];
+        phm_se3_dexp(md, D);
+        memcpy(L->Hp, H, sizeof(double) * 16 * (size_t)nc);
+        for (int c = 0; c < nc; c++)
+          if (col[c] == k) phm_retract(L->Hp + 16 * c, dl);
+        total_force(L, L->Hp, f);
+        for (int c = 0; c < nc; c++)
+          if (col[c] == k) {
+            double w[6];
+            for (int i = 0; i < 6; i++) {
+              double s = 0;
+              for (int q = 0; q < 6; q++) s += D[6 * q + i] * f[6 * c + q];
+              w[i] = s;
+            }
+            memcpy(f + 6 * c, w, sizeof w);
+          }
+      }
+      for (int r = 0; r < nc; r++)
+        for (int q = ptr[r]; q < ptr[r + 1]; q++)
+          if (col[nbr[q]] == k)
+            for (int i = 0; i < 6; i++)
+              Kb[36 * (size_t)q + 6 * i + j] = (f1[6 * r + i] - f2[6 * r + i]) / (2 * eps);
+    }
+}
+
 /* Structure: the stiffness K = -df/ddelta and damping D = -df/dt are block-sparse (only
  * neighbouring carriers couple) and computed by coloured differences; the constraint Jacobian G
  * touches only the carriers of the pairs, so the null-space basis is Z = diag(U0, I): U0 from the
@@ -192,37 +204,9 @@ phm_status phm_modes(const phm_model *m, const double *poses, const double *lamb
   L.scale = 1.0;
   L.lam = lambda;
   for (int c = 0; c < nc; c++) memcpy(H + 16 * c, poses ? poses + 16 * c : m->car[c].H0, 16 * sizeof(double));
-  /* Kb[q] (block q = (row carrier r, column carrier nbr[q]) stored at r's list): d f_r / d delta_c,
-   * central differences on each perturbed carrier's chart, f_c(delta) = dexp_{-delta}^T w_c. */
-  for (int k = 0; k < ncol; k++)
-    for (int j = 0; j < 6; j++) {
-      double eps = 1e-6 * (j < 3 ? 1.0 : m->lref);
-      for (int side = 0; side < 2; side++) {
-        double dl[6] = {0}, md[6] = {0}, D[36], *f = side ? f2 : f1;
-        dl[j] = side ? -eps : eps;
-        md[j] = -dl[j];
-        phm_se3_dexp(md, D);
-        memcpy(L.Hp, H, sizeof(double) * 16 * (size_t)nc);
-        for (int c = 0; c < nc; c++)
-          if (col[c] == k) phm_retract(L.Hp + 16 * c, dl);
-        total_force(&L, L.Hp, f);
-        for (int c = 0; c < nc; c++)
-          if (col[c] == k) {
-            double w[6];
-            for (int i = 0; i < 6; i++) {
-              double s = 0;
-              for (int q = 0; q < 6; q++) s += D[6 * q + i] * f[6 * c + q];
-              w[i] = s;
-            }
-            memcpy(f + 6 * c, w, sizeof w);
-          }
-      }
-      for (int r = 0; r < nc; r++)
-        for (int q = ptr[r]; q < ptr[r + 1]; q++)
-          if (col[nbr[q]] == k)
-            for (int i = 0; i < 6; i++)
-              Kb[36 * (size_t)q + 6 * i + j] = -(f1[6 * r + i] - f2[6 * r + i]) / (2 * eps);
-    }
+  /* stiffness K = -d f / d delta, block-sparse */
+  force_jacobian_blocks(&L, H, ncol, col, ptr, nbr, f1, f2, Kb);
+  for (size_t i = 0; i < (size_t)nb * 36; i++) Kb[i] = -Kb[i];
   /* damping D = -dw/dt (linear in t: one-sided differences are exact up to round-off) */
   phm_applied(m, H, tw, NULL, time, L.tref, 1.0, f0, NULL, NULL, NULL, NULL, NULL);
   for (int k = 0; k < ncol; k++)
@@ -416,8 +400,7 @@ done:
 /* ---------------------------------------------------------------- statics */
 /* One Newton solve at load scale s from (H, lam); returns 0 on convergence. */
 static int newton(lin_t *L, double *H, double *lam, double tol, int maxit, double *J, double *R,
-                  int *ipiv, double *f1, double *f2, double *g1, double *g2, double *col, double *dg,
-                  double *Hsave, double *lsave, int *iters) {
+                  int *ipiv, double *f1, double *f2, double *Hsave, double *lsave, int *iters) {
   const phm_model *m = L->m;
   int nc = m->nc, n6 = 6 * nc, nk = m->ncons, N = n6 + nk;
   memcpy(Hsave, H, sizeof(double) * 16 * (size_t)nc);
@@ -429,20 +412,24 @@ static int newton(lin_t *L, double *H, double *lam, double tol, int maxit, doubl
     /* residual */
     total_force(L, H, R);
     if (nk) phm_constraints_dense(m, H, NULL, L->time, L->tref, R + n6, NULL, NULL);
-    /* Jacobian */
-    for (int c = 0; c < nc; c++)
-      for (int j = 0; j < 6; j++) {
-        force_column(L, H, c, j, col, nk ? dg : NULL, f1, f2, g1, g2);
-        int cj = 6 * c + j;
-        for (int i = 0; i < n6; i++) J[(size_t)cj * N + i] = col[i]; /* column-major */
-        for (int i = 0; i < nk; i++) J[(size_t)cj * N + n6 + i] = dg[i];
+    /* Jacobian (column-major): force blocks by coloured differences (O(N) force evaluations per
+     * iteration instead of O(N^2) column by column), constraint rows dg/ddelta = G, and the
+     * multiplier columns G^T */
+    memset(J, 0, sizeof(double) * (size_t)N * N);
+    force_jacobian_blocks(L, H, L->ncol, L->col, L->ptr, L->nbr, f1, f2, L->Kb);
+    for (int r = 0; r < nc; r++)
+      for (int q = L->ptr[r]; q < L->ptr[r + 1]; q++) {
+        int c = L->nbr[q];
+        for (int i = 0; i < 6; i++)
+          for (int j = 0; j < 6; j++) J[(size_t)(6 * c + j) * N + 6 * r + i] = L->Kb[36 * (size_t)q + 6 * i + j];
       }
     if (nk) {
       phm_constraints_dense(m, H, NULL, L->time, L->tref, NULL, L->G, NULL);
-      for (int r = 0; r < nk; r++) {
-        for (int i = 0; i < n6; i++) J[(size_t)(n6 + r) * N + i] = L->G[(size_t)r * n6 + i];
-        for (int i = 0; i < nk; i++) J[(size_t)(n6 + r) * N + n6 + i] = 0;
-      }
+      for (int r = 0; r < nk; r++)
+        for (int i = 0; i < n6; i++) {
+          J[(size_t)(n6 + r) * N + i] = L->G[(size_t)r * n6 + i];
+          J[(size_t)i * N + n6 + r] = L->G[(size_t)r * n6 + i];
+        }
     }
     for (int i = 0; i < N; i++) R[i] = -R[i];
     int one = 1, info = 0;
@@ -478,27 +465,34 @@ phm_status phm_static(const phm_model *m, const double *poses, double time, int 
   double *J = malloc(sizeof(double) * (size_t)N * N), *R = malloc(sizeof(double) * (size_t)N);
   int *ipiv = malloc(sizeof(int) * (size_t)N);
   double *f1 = malloc(sizeof(double) * (size_t)n6), *f2 = malloc(sizeof(double) * (size_t)n6);
-  double *g1 = malloc(sizeof(double) * (size_t)(nk + 1)), *g2 = malloc(sizeof(double) * (size_t)(nk + 1));
-  double *col = malloc(sizeof(double) * (size_t)n6), *dg = malloc(sizeof(double) * (size_t)(nk + 1));
   double *Hs = malloc(sizeof(double) * 16 * (size_t)nc), *ls = malloc(sizeof(double) * (size_t)(nk + 1));
   double *lam = calloc((size_t)(nk + 1), sizeof(double));
-  if (!J || !R || !ipiv || !f1 || !f2 || !g1 || !g2 || !col || !dg || !Hs || !ls || !lam) {
+  int *mark = malloc(sizeof(int) * (size_t)(nc + 1));
+  if (!J || !R || !ipiv || !f1 || !f2 || !Hs || !ls || !lam || !mark) {
     st = phm_error_set(err, PHM_ENOMEM, "out of memory");
     goto done;
   }
   if ((st = lin_alloc(&L, m, err))) goto done;
+  if ((st = carrier_graph(m, &L.ptr, &L.nbr, err))) goto done;
+  L.col = malloc(sizeof(int) * (size_t)nc);
+  L.Kb = malloc(sizeof(double) * 36 * (size_t)(L.ptr[nc] + 1));
+  if (!L.col || !L.Kb) {
+    st = phm_error_set(err, PHM_ENOMEM, "out of memory");
+    goto done;
+  }
+  L.ncol = carrier_colours(nc, L.ptr, L.nbr, L.col, mark);
   L.time = time;
   L.tref = phm_model_tref(m, time, NULL);
   for (int c = 0; c < nc; c++) memcpy(poses_out + 16 * c, poses ? poses + 16 * c : m->car[c].H0, 16 * sizeof(double));
   /* meet the constraints without load first */
   L.scale = 0.0;
   /* (a mechanism with a free degree of freedom is singular without load: then go on directly) */
-  int pre_failed = newton(&L, poses_out, lam, tol, 50, J, R, ipiv, f1, f2, g1, g2, col, dg, Hs, ls, &it);
+  int pre_failed = newton(&L, poses_out, lam, tol, 50, J, R, ipiv, f1, f2, Hs, ls, &it);
   double s = 0, ds = 1.0 / steps;
   while (s < 1.0) {
     double snew = fmin(1.0, s + ds);
     L.scale = snew;
-    if (newton(&L, poses_out, lam, tol, 30, J, R, ipiv, f1, f2, g1, g2, col, dg, Hs, ls, &it)) {
+    if (newton(&L, poses_out, lam, tol, 30, J, R, ipiv, f1, f2, Hs, ls, &it)) {
       ds *= 0.5;
       if (ds < 1e-4 / steps) {
         st = phm_error_set(err, PHM_ESOLVER, "static equilibrium: Newton failed at load factor %.6g after step halving (%d iterations)%s", snew, it,
@@ -513,7 +507,8 @@ phm_status phm_static(const phm_model *m, const double *poses, double time, int 
 done:
   if (iters) *iters = it;
   lin_free(&L);
-  free(J); free(R); free(ipiv); free(f1); free(f2); free(g1); free(g2); free(col); free(dg);
+  free(L.ptr); free(L.nbr); free(L.col); free(L.Kb); free(mark);
+  free(J); free(R); free(ipiv); free(f1); free(f2);
   free(Hs); free(ls); free(lam);
   return st;
 }
