@@ -2,6 +2,7 @@
 #define PHM_PYEXT_MAIN
 #include "pyext.h"
 
+#include <dlfcn.h>
 #include <math.h>
 #include <string.h>
 
@@ -87,9 +88,48 @@ static PyObject *py_build_info(PyObject *self, PyObject *args) {
                        PHM_LAPACK_NAME, "compiler", PHM_COMPILER_NAME);
 }
 
+/* The LAPACK the core links may be OpenBLAS (Debian's alternatives), with a thread pool whose
+ * threads spin while they wait: on the core's small and medium dense problems (statics, modes,
+ * initial values) they cost more CPU than they save, and they compete with other processes on a
+ * shared machine (a 10-element cantilever's static solve: 0.17 s CPU with the default threads,
+ * 0.014 s with one, on 2 cores). phmech sets the count at import (PHMECH_BLAS_THREADS, default 1). */
+typedef void (*set_threads_fn)(int);
+typedef int (*get_threads_fn)(void);
+
+static void *openblas_symbol(const char *name) {
+  static const char *libs[] = {"libopenblas.so.0", "libopenblasp-r0.so", "libopenblas.so"};
+  for (size_t i = 0; i < sizeof libs / sizeof libs[0]; i++) {
+    void *h = dlopen(libs[i], RTLD_LAZY | RTLD_NOLOAD); /* only if the core already loaded it */
+    if (h) {
+      void *f = dlsym(h, name);
+      dlclose(h);
+      if (f) return f;
+    }
+  }
+  return NULL;
+}
+
+static PyObject *py_blas_threads(PyObject *self, PyObject *args) {
+  (void)self;
+  int n = 0;
+  if (!PyArg_ParseTuple(args, "|i", &n)) return NULL;
+  if (n < 0) {
+    PyErr_SetString(phm_py_ModelError, "the number of BLAS threads must be >= 1 (0: just query)");
+    return NULL;
+  }
+  set_threads_fn set = (set_threads_fn)openblas_symbol("openblas_set_num_threads");
+  get_threads_fn get = (get_threads_fn)openblas_symbol("openblas_get_num_threads");
+  if (!get) Py_RETURN_NONE; /* not OpenBLAS: single-threaded reference BLAS */
+  if (n > 0 && set) set(n);
+  return PyLong_FromLong(get());
+}
+
 static PyMethodDef module_methods[] = {
     {"build_info", py_build_info, METH_NOARGS,
      "build_info() -> dict: versions of the C core and of the libraries it was linked against."},
+    {"blas_threads", py_blas_threads, METH_VARARGS,
+     "blas_threads(n=0) -> int or None: set (n >= 1) and return the thread count of the OpenBLAS "
+     "the core uses; None when its BLAS is not OpenBLAS (single-threaded)."},
     {NULL, NULL, 0, NULL}};
 
 static PyMethodDef *all_tables[] = {module_methods, phm_py_se3_methods, phm_py_mixed_methods,

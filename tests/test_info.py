@@ -1,0 +1,47 @@
+"""phmech.info() and phmech.blas_threads(): what the C core is linked against."""
+import io
+import os
+import subprocess
+import sys
+
+import pytest
+
+import phmech as ph
+
+
+def test_info_names_the_libraries():
+    buf = io.StringIO()
+    d = ph.info(file=buf)
+    assert d["sundials"].startswith("6.")
+    assert "KLU" in d["linear_solvers"]
+    assert d["blas_threads"] in (None, 1)          # phmech sets one thread at import
+    for key in ("phmech", "sundials", "lapack", "blas_threads", "numpy"):
+        assert key in buf.getvalue()
+
+
+def test_blas_threads_set_and_query():
+    n = ph.blas_threads()
+    if n is None:
+        pytest.skip("the core's LAPACK is not OpenBLAS (single-threaded reference BLAS)")
+    try:
+        assert ph.blas_threads(2) == 2 and ph.blas_threads() == 2
+    finally:
+        assert ph.blas_threads(1) == 1
+
+
+@pytest.mark.parametrize("bad", [-1, 1.5, "2", True])
+def test_blas_threads_bad_input(bad):
+    with pytest.raises(ph.ModelError):
+        ph.blas_threads(bad)
+
+
+def test_environment_variable_sets_the_count():
+    if ph.blas_threads() is None:
+        pytest.skip("the core's LAPACK is not OpenBLAS")
+    env = dict(os.environ, PHMECH_BLAS_THREADS="2")
+    out = subprocess.run([sys.executable, "-c", "import phmech; print(phmech.blas_threads())"],
+                         env=env, capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "2"
+    env["PHMECH_BLAS_THREADS"] = "many"
+    bad = subprocess.run([sys.executable, "-c", "import phmech"], env=env, capture_output=True, text=True)
+    assert bad.returncode != 0 and "PHMECH_BLAS_THREADS must be an integer" in bad.stderr
