@@ -270,13 +270,14 @@ def plot_modes(out):
 
 
 # ------------------------------------------------------------------ 2. transient
-def phmech_transient(N: int, rtol: float, solver: str, T: float):
-    """(cpu_s incl. static, simulation cpu_s, t, tip (nt, 2) = (x, z), stats)."""
+def phmech_transient(N: int, rtol: float, solver: str, T: float, **options):
+    """(cpu_s incl. static, simulation cpu_s, t, tip (nt, 2) = (x, z), stats); ``options`` go to
+    ``Mechanism.simulate`` (error_test, integrator, step, rho_inf)."""
     t0 = time.process_time()
     m, b = phmech_cantilever(N)
     st = m.static(loads=[(b.end, (0, 0, 0, 0, 0, -F_TIP), "world")], steps=4)
     t1 = time.process_time()
-    r = m.simulate(T, DT_OUT, rtol=rtol, initial=st, linear_solver=solver)
+    r = m.simulate(T, DT_OUT, rtol=rtol, initial=st, linear_solver=solver, **options)
     t2 = time.process_time()
     tip = r.tip(b)[:, [0, 2]]
     return t2 - t0, t2 - t1, r.t, tip, dict(r.stats)
@@ -334,17 +335,30 @@ def bench_transient(quick: bool) -> dict:
 
     runs = []
     ph_N = [5, 10, 20] if quick else [5, 10, 20, 40]
-    ph_rtol = [1e-3, 1e-4, 1e-6, 1e-8]
+
+    def phmech_point(variant, N, rtol, solver="klu", **options):
+        c, cs, t, tip, stats = phmech_transient(N, rtol, solver, T, **options)
+        e = tip_error(t, tip, t_ref, ref_tip)
+        runs.append(dict(code="phmech", variant=variant, N=N, rtol=rtol, cpu_s=c, sim_cpu_s=cs,
+                         error=e, stats=stats, **options))
+        print(f"  phmech {variant:14s} N={N:3d} rtol {rtol:.0e} {options.get('step', '')}: err {e:.2e}, "
+              f"CPU {c:.3f} s, {stats['steps']} steps, {stats['nonlinear_iters']} Newton, "
+              f"{stats['jacobian_evals']} jac", flush=True)
+
+    # IDA, every state in the error test (the default)
     for N in ph_N:
-        for rtol in ph_rtol:
+        for rtol in [1e-3, 1e-4, 1e-6, 1e-8]:
             for solver in (["klu", "dense"] if N <= 10 and rtol == 1e-6 else ["klu"]):
-                c, cs, t, tip, stats = phmech_transient(N, rtol, solver, T)
-                e = tip_error(t, tip, t_ref, ref_tip)
-                runs.append(dict(code="phmech", variant=f"se3-{solver}", N=N, rtol=rtol, cpu_s=c,
-                                 sim_cpu_s=cs, error=e, stats=stats))
-                print(f"  phmech {solver:5s} N={N:3d} rtol {rtol:.0e}: err {e:.2e}, CPU {c:.2f} s, "
-                      f"{stats['steps']} steps, {stats['residual_evals']} res, {stats['jacobian_evals']} jac",
-                      flush=True)
+                phmech_point(f"se3-ida-{solver}", N, rtol, solver)
+    # IDA, twists out of the error test (BDF order <= 2)
+    for N in ph_N:
+        for rtol in [1e-3, 1e-4, 1e-5, 1e-6]:
+            phmech_point("se3-ida-config", N, rtol, error_test="configuration")
+    # fixed-step generalized-alpha (rho_inf 0.9, as Exudyn's default); rtol = Newton tolerance
+    for N in ph_N + ([] if quick else [80]):
+        for h in [1e-2, 5e-3, 2e-3, 1e-3, 5e-4]:
+            for rtol in [1e-4, 1e-6]:
+                phmech_point("se3-galpha", N, rtol, integrator="generalized-alpha", step=h, rho_inf=0.9)
     ex_N = [5, 10, 20, 40] if quick else [5, 10, 20, 40, 80]
     ex_h = [5e-3, 1e-3, 2.5e-4] if quick else [5e-3, 2e-3, 1e-3, 5e-4, 2.5e-4, 1e-4]
     for rho in (1.0, 0.9):
@@ -370,6 +384,9 @@ def bench_transient(quick: bool) -> dict:
     fph = front(lambda r: r["code"] == "phmech")
     fex = front(lambda r: r["code"] == "exudyn")
     levels = [3e-2, 1e-2, 3e-3, 1e-3, 3e-4]
+    by_variant = {}
+    for v in sorted({r["variant"] for r in runs if r["code"] == "phmech"}):
+        by_variant[v] = ratios(front(lambda r, v=v: r["variant"] == v), fex, levels)
     out = dict(problem=f"Table I cantilever (table1_properties(1.0)) released from static tip force "
                        f"{F_TIP:.1f} N; tip (x,z) every {DT_OUT} s over {T} s",
                error="max_t |tip - tip_ref| / L",
@@ -379,7 +396,8 @@ def bench_transient(quick: bool) -> dict:
                               cpu_s=[ref[Nref // 2][2], ref[Nref][2]], self_convergence=selfconv),
                cpu_note="cpu_s includes model build and the static solution; sim_cpu_s the time integration only",
                machine=machine(), runs=runs, pareto_phmech=fph, pareto_exudyn=fex,
-               cpu_ratio_at_equal_error=ratios(fph, fex, levels))
+               cpu_ratio_at_equal_error=ratios(fph, fex, levels),
+               cpu_ratio_at_equal_error_by_phmech_variant=by_variant)
     write_json("bench_transient", out)
     plot_transient(out, t_ref, ref_tip)
     return out
@@ -390,21 +408,21 @@ def plot_transient(out, t_ref, ref_tip):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, ax = plt.subplots(1, 2, figsize=(12, 4.2))
-    groups = {}
-    for r in out["runs"]:
-        key = (r["variant"], r.get("rtol") if r["code"] == "phmech" else r["N"])
-        groups.setdefault(key, []).append(r)
-    for (var, par), rs in sorted(groups.items(), key=lambda kv: str(kv[0])):
-        ph = var.startswith("se3")
-        lab = f"phmech {var} rtol {par:.0e}" if ph else f"exudyn {var} N={par}"
-        ax[0].loglog([r["cpu_s"] for r in rs], [r["error"] for r in rs], ("o-" if ph else "s--"),
-                     label=lab, ms=4)
-    for nm, key in (("phmech Pareto", "pareto_phmech"), ("Exudyn Pareto", "pareto_exudyn")):
-        p = np.array(out[key])
-        ax[0].loglog(p[:, 0], p[:, 1], "k-" if "phmech" in nm else "k:", lw=2, label=nm)
-    ax[0].set(xlabel="CPU time [s]", ylabel="max tip error / L", title="released cantilever: work-precision")
+    # every point as a marker, each variant's Pareto front as a line
+    variants = sorted({(r["code"], r["variant"]) for r in out["runs"]})
+    for k, (code, var) in enumerate(variants):
+        rs = [r for r in out["runs"] if r["variant"] == var and r["code"] == code]
+        col = f"C{k % 10}"
+        ph = code == "phmech"
+        ax[0].loglog([r["cpu_s"] for r in rs], [r["error"] for r in rs], "o" if ph else "s",
+                     color=col, ms=3, alpha=0.5)
+        p = np.array(pareto([r["cpu_s"] for r in rs], [r["error"] for r in rs]))
+        if len(p):
+            ax[0].loglog(p[:, 0], p[:, 1], "-" if ph else "--", color=col, lw=1.8, label=f"{code} {var}")
+    ax[0].set(xlabel="CPU time [s] (build + static + integration)", ylabel="max tip error / L",
+              title="released cantilever: work-precision (lines: Pareto fronts)")
     ax[0].grid(True, which="both", alpha=0.3)
-    ax[0].legend(fontsize=5, ncol=2)
+    ax[0].legend(fontsize=7)
     ax[1].plot(t_ref, ref_tip[:, 1], "k")
     ax[1].set(xlabel="t [s]", ylabel="tip z [m]", title="reference tip deflection")
     ax[1].grid(True, alpha=0.3)
