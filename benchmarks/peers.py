@@ -152,8 +152,16 @@ def _exudyn_release(mbs, ld, sens, h: float, T: float, rho: float, sparse: bool,
     if newton_rtol is not None:
         ss.timeIntegration.newton.relativeTolerance = newton_rtol
         ss.timeIntegration.newton.absoluteTolerance = 1e-2 * newton_rtol
-    ss.staticSolver.newton.relativeTolerance = 1e-10
-    ok = exudyn.solver.SolveStatic(mbs, ss)
+    static_rtol = 1e-10
+    ss.staticSolver.newton.relativeTolerance = static_rtol
+    try:
+        ok = exudyn.solver.SolveStatic(mbs, ss)
+    except exu.SolverError:     # ANCF at N = 80: 1e-10 is below its round-off level; retry at 1e-8
+        static_rtol = 1e-8
+        ss.staticSolver.newton.relativeTolerance = static_rtol
+        mbs.systemData.SetODE2Coordinates(0 * mbs.systemData.GetODE2Coordinates(),
+                                          configuration=exu.ConfigurationType.Initial)
+        ok = exudyn.solver.SolveStatic(mbs, ss)
     q = mbs.systemData.GetODE2Coordinates()
     mbs.systemData.SetODE2Coordinates(q, configuration=exu.ConfigurationType.Initial)
     mbs.SetLoadParameter(ld, "loadVector", [0, 0, 0])
@@ -164,7 +172,7 @@ def _exudyn_release(mbs, ld, sens, h: float, T: float, rho: float, sparse: bool,
     exudyn.solver.SolveDynamic(mbs, ss)
     t2 = time.process_time()
     d = np.asarray(mbs.GetSensorStoredData(sens))
-    return d, dict(steps=int(round(T / h)), sim_cpu_s=t2 - t1, static_ok=bool(ok))
+    return d, dict(steps=int(round(T / h)), sim_cpu_s=t2 - t1, static_ok=bool(ok), static_rtol=static_rtol)
 
 
 def exudyn_ge3d_transient(N: int, h: float, T: float, rho: float = 1.0, sparse: bool | None = None,
@@ -462,7 +470,14 @@ def validate_transient(quick: bool) -> dict:
     T = 0.5 if quick else 1.0
     Nref = 40 if quick else 80
     print(f"\ntransient over {T} s: phmech reference (se3, N={Nref // 2},{Nref}, Richardson) ...", flush=True)
-    t_ref, ref_tip, ref_cpu = phmech_reference(T, Nref)
+    cache = os.environ.get("PEERS_REF_CACHE")     # optional .npz to reuse the reference between runs
+    if cache and os.path.exists(cache) and float(np.load(cache)["T"]) == T:
+        z = np.load(cache)
+        t_ref, ref_tip, ref_cpu = z["t"], z["tip"], z["cpu"].tolist()
+    else:
+        t_ref, ref_tip, ref_cpu = phmech_reference(T, Nref)
+        if cache:
+            np.savez(cache, t=t_ref, tip=ref_tip, cpu=np.array(ref_cpu), T=T)
     exN = [5, 10, 20, 40] + ([] if quick else [80])
     exh = [1e-3, 5e-4, 2.5e-4] + ([] if quick else [1e-4])
     mjN = [10, 20, 40] + ([] if quick else [80])
@@ -472,6 +487,12 @@ def validate_transient(quick: bool) -> dict:
              ("mujoco_cable", lambda N, h: mujoco_cable_transient(N, h, T, integrator="RK4"), mjN, mjh),
              ("mujoco_cable_euler", lambda N, h: mujoco_cable_transient(N, h, T, integrator="Euler"),
               mjN, [1e-4, 5e-5] + ([] if quick else [2.5e-5]))]
+    def skip(name, N, h):
+        # Exudyn ANCF at N = 80: the static and time-step Newton iterations sit at their round-off
+        # level (static rtol 1e-10 fails, 15 ms per step at h = 1e-3, SolveDynamic fails at
+        # h = 5e-4): left out. GE3D at h = 1e-4 for N >= 40 (30-65 s each) left out of the stored run.
+        return (name == "exudyn_ancf" and N >= 80) or (name == "exudyn_ge3d" and N >= 40 and h < 2.5e-4)
+
     out = dict(T=T, error="max_t |tip - other| / L (tip sampled every DT_OUT)",
                phmech_reference=dict(N=[Nref // 2, Nref], rtol=1e-8, cpu_s=ref_cpu, t=t_ref.tolist(),
                                      tip_xz=ref_tip.tolist()),
@@ -480,11 +501,13 @@ def validate_transient(quick: bool) -> dict:
         sols, rows = {}, []
         for N in Ns:
             for h in hs:
+                if skip(name, N, h):
+                    continue
                 try:
                     c, t, tip, info = fn(N, h)
-                except FloatingPointError as e:
-                    rows.append(dict(N=N, h=h, unstable=str(e)))
-                    print(f"  {name} N={N:3d} h={h:.1e}: unstable", flush=True)
+                except Exception as e:  # noqa: BLE001 -- MuJoCo blow-up, Exudyn SolverError: recorded
+                    rows.append(dict(N=N, h=h, failed=f"{type(e).__name__}: {e}"))
+                    print(f"  {name} N={N:3d} h={h:.1e}: failed ({type(e).__name__})", flush=True)
                     continue
                 sols[(N, h)] = (t, tip)
                 e = tip_error(t, tip, t_ref, ref_tip)
@@ -492,6 +515,8 @@ def validate_transient(quick: bool) -> dict:
                                  steps=info["steps"]))
                 print(f"  {name} N={N:3d} h={h:.1e}: vs phmech {e:.2e}, CPU {c:.3f} s "
                       f"(integration {info['sim_cpu_s']:.3f} s)", flush=True)
+        Ns = sorted({N for (N, _) in sols})
+        hs = [h for h in hs if (max(Ns), h) in sols]
         fin = (max(Ns), min(h for (N, h) in sols if N == max(Ns)))
         tf, tipf = sols[fin]
         for r in rows:
@@ -551,7 +576,13 @@ def main() -> None:
     if "transient" in a.only:
         out["transient"] = validate_transient(a.quick)
     out["wall_s"] = time.time() - t0
-    write_json("peers_validation" + ("_quick" if a.quick else ""), out)
+    name = "peers_validation" + ("_quick" if a.quick else "")
+    path = os.path.join(RESULTS, name + ".json")
+    if set(a.only) != {"modes", "transient"} and os.path.exists(path):   # keep the other part
+        with open(path) as f:
+            old = json.load(f)
+        out = {**old, **out}
+    write_json(name, out)
     del exudyn
 
 
