@@ -548,14 +548,20 @@ def validate_transient(quick: bool) -> dict:
         for tol in (None, 1e-12):
             sols, cpu = {}, {}
             for h in hs:
-                c, t, tip, _ = fn(20, h, T, 1.0, newton_rtol=tol)
+                try:
+                    c, t, tip, _ = fn(20, h, T, 1.0, newton_rtol=tol)
+                except Exception as e:  # noqa: BLE001 -- recorded, the study goes on
+                    print(f"  {name} newton_rtol {tol} h={h:g}: failed ({type(e).__name__})", flush=True)
+                    break
                 sols[h], cpu[h] = (t, tip), c
-            dh = [tip_error(*sols[a], *sols[b]) for a, b in zip(hs[:-1], hs[1:])]
+            hs_ok = [h for h in hs if h in sols]
+            dh = [tip_error(*sols[a], *sols[b]) for a, b in zip(hs_ok[:-1], hs_ok[1:])]
             key = f"{name}_newton_rtol_{'default' if tol is None else f'{tol:g}'}"
-            tc[key] = dict(N=20, h=hs, successive_diffs=dh, observed_order=_order([1 / h for h in hs[1:]], dh),
-                           cpu_s=[cpu[h] for h in hs])
+            tc[key] = dict(N=20, h=hs_ok, successive_diffs=dh,
+                           observed_order=_order([1 / h for h in hs_ok[1:]], dh) if len(dh) > 1 else [],
+                           cpu_s=[cpu[h] for h in hs_ok])
             print(f"  {key}: |tip_h - tip_h/2| (N=20) {np.round(dh, 7).tolist()}, CPU "
-                  f"{np.round([cpu[h] for h in hs], 3).tolist()} s", flush=True)
+                  f"{np.round([cpu[h] for h in hs_ok], 3).tolist()} s", flush=True)
     out["exudyn_time_convergence_N20"] = tc
     return out
 
