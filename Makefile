@@ -52,10 +52,13 @@ validate: build
 	$(PY) examples/timoshenko_table.py --json --plot benchmarks/results/timoshenko_convergence.png > benchmarks/results/timoshenko_table.json
 	$(PY) benchmarks/validate_energy_drift.py
 
-# Work-precision benchmarks against Exudyn (installed into .venv from benchmarks/requirements.txt
-# when missing); BENCH_ARGS=--quick for a short run.
+# Work-precision benchmarks against Exudyn and MuJoCo (installed into .venv from
+# benchmarks/requirements.txt when missing); BENCH_ARGS=--quick for a short run (~15 min instead
+# of ~1 h on 2 cores). Results: benchmarks/results/*.json and *.png; summary: docs/performance.md.
 bench: build
 	$(PY) benchmarks/run.py $(BENCH_ARGS)
+	$(PY) benchmarks/bench_scaling.py $(BENCH_ARGS)
+	$(PY) benchmarks/bench_leaf_spring.py $(BENCH_ARGS)
 	$(PY) benchmarks/mass_matrix_study.py
 
 clean:

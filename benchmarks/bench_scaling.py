@@ -43,8 +43,8 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from run import (EA1, F_TIP, RESULTS, TABLE1, exudyn_beam, exudyn_settings,  # noqa: E402
-                 machine, phmech_cantilever, write_json)
+from run import (EA1, F_TIP, RESULTS, TABLE1, ensure_peers, exudyn_beam,  # noqa: E402
+                 exudyn_settings, machine, phmech_cantilever, write_json)
 
 # chain of rigid links
 LINK_L, LINK_M, LINK_R = 0.1, 0.1, 0.005                       # [m], [kg], rod radius [m]
@@ -57,16 +57,6 @@ EX_H_CHAIN = 1e-4
 EX_RHO_CHAIN = 0.8     # with 1.0 Exudyn's Newton fails for n = 100 at t = 0.48 s (step size hits its minimum)
 MJ_DT = 1e-3
 MJ_DT_REF = 1e-5
-
-
-def ensure_peers() -> None:
-    try:
-        import exudyn  # noqa: F401
-        import mujoco  # noqa: F401
-    except ImportError:
-        req = os.path.join(HERE, "requirements.txt")
-        print(f"installing {req} into {sys.prefix}", flush=True)
-        subprocess.check_call([sys.executable, "-m", "pip", "install", "-q", "-r", req])
 
 
 def has_error_test() -> bool:

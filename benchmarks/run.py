@@ -1,26 +1,27 @@
-"""Work-precision benchmarks of phmech against Exudyn (GitHub issue 6), same machine, same run.
+"""Work-precision benchmarks of phmech against its peers (issue 6), same machine, same run.
 
-    python benchmarks/run.py [--quick] [--only modes transient scaling]
+    python benchmarks/run.py [--quick] [--only modes transient]
 
 1. ``modes``: first five cantilever frequencies of the paper's Table I beam: relative error
    against the Timoshenko frequency equation (``phmech.timoshenko.frequencies``) vs number of
-   first-order states and vs CPU time, for phmech ``se3`` (3-D), phmech ``mixed`` (planar, linear)
-   and Exudyn's 2-D geometrically exact (Simo-Reissner) beam ``ObjectBeamGeometricallyExact2D``
-   (eigenvalues by ``exudyn.solver.ComputeODE2Eigenvalues``, dense).
+   first-order states and vs CPU time, for phmech ``se3`` (3-D), phmech ``mixed`` (planar, linear),
+   Exudyn's 2-D and 3-D geometrically exact beams, its ANCF cable and MuJoCo's cable (the last two
+   against their own continuum models; benchmarks/peers.py).
 2. ``transient``: the Table I cantilever (``table1_properties(1.0)``) bent by a static tip force
    3 EI / (4 L^2) (tip ~ 0.24 L) and released at rest; tip (x, z) over ``T`` seconds sampled every
    5 ms; error = max over samples of |tip - reference| / L. Reference: phmech ``se3`` at rtol 1e-10
    on N_ref/2 and N_ref elements, Richardson-extrapolated (second order in h); its self-convergence
-   is stored. Sweeps: phmech N x rtol (KLU, and dense for small N); Exudyn N x step size
-   (generalized-alpha, spectral radius 1 = trapezoidal/Newmark, and 0.9 = its default).
-3. ``scaling``: the same cantilever at rest under a tip force applied at t = 0 (no static solve:
-   phmech's statics is dense and O(N^3)); CPU time of the integration per simulated second and
-   peak RSS (``resource.getrusage`` ru_maxrss of a fresh subprocess per point) vs number of
-   elements, with the fitted exponent.
+   is stored. Sweeps: phmech N x rtol with IDA (every state in the error test; the configuration
+   error test) and N x step with the fixed-step generalized-alpha integrator; Exudyn's 2-D beam
+   N x step size (generalized-alpha, spectral radius 1 and 0.9), its 3-D beam and ANCF cable,
+   MuJoCo's cable.
+
+Scaling with the number of elements and bodies: benchmarks/bench_scaling.py; the leaf-spring
+mechanism: benchmarks/bench_leaf_spring.py (all three run by ``make bench``).
 
 CPU time is ``time.process_time`` (median of 3 repetitions for the cheap eigenvalue points).
 Each benchmark writes ``benchmarks/results/<name>.json`` (machine, versions, every point) and a
-PNG work-precision plot. Exudyn is installed into .venv from benchmarks/requirements.txt when
+PNG work-precision plot. The peers are installed into .venv from benchmarks/requirements.txt when
 missing.
 """
 from __future__ import annotations
@@ -29,7 +30,6 @@ import argparse
 import json
 import os
 import platform
-import resource
 import subprocess
 import sys
 import time
@@ -45,9 +45,11 @@ DT_OUT = 0.005                                              # tip sampling perio
 
 
 # ------------------------------------------------------------------ environment
-def ensure_exudyn() -> None:
+def ensure_peers() -> None:
+    """Install the peers (benchmarks/requirements.txt: Exudyn, MuJoCo) into this venv if missing."""
     try:
         import exudyn  # noqa: F401
+        import mujoco  # noqa: F401
     except ImportError:
         req = os.path.join(HERE, "requirements.txt")
         print(f"installing {req} into {sys.prefix}", flush=True)
@@ -59,7 +61,13 @@ def machine() -> dict:
     import phmech
     info = {"platform": platform.platform(), "processor": platform.processor(),
             "cpus": os.cpu_count(), "python": platform.python_version(),
-            "numpy": np.__version__, "phmech": phmech.__version__, "exudyn": exudyn.__version__}
+            "numpy": np.__version__, "phmech": phmech.__version__, "exudyn": exudyn.__version__,
+            "blas_threads": phmech.blas_threads()}
+    try:
+        import mujoco
+        info["mujoco"] = mujoco.__version__
+    except ImportError:
+        pass
     try:
         with open("/proc/cpuinfo") as f:
             info["cpu_model"] = next(l.split(":", 1)[1].strip() for l in f if l.startswith("model name"))
@@ -378,15 +386,39 @@ def bench_transient(quick: bool) -> dict:
                                  sim_cpu_s=float(np.median([r[1] for r in reps])), error=e, stats=stats))
                 print(f"  exudyn rho={rho:g} N={N:3d} h={h:.1e}: err {e:.2e}, CPU {c:.3f} s", flush=True)
 
+    # more peers (benchmarks/peers.py): Exudyn's 3-D beam (like-for-like), its ANCF cable
+    # (Euler-Bernoulli) and MuJoCo's cable (Rayleigh, inextensible): the last two converge to
+    # other beam models, so their error against this reference stops at the model difference
+    import peers
+    peer_grid = [("exudyn", "ge3d-galpha-rho1", peers.exudyn_ge3d_transient,
+                  [5, 10, 20, 40] if quick else [5, 10, 20, 40, 80], [5e-3, 1e-3] if quick else [5e-3, 2e-3, 1e-3, 5e-4]),
+                 ("exudyn", "ancf-galpha-rho1", peers.exudyn_ancf_transient, [5, 10, 20], [5e-3, 1e-3]),
+                 ("mujoco", "cable-rk4", peers.mujoco_cable_transient, [5, 10, 20], [5e-4] if quick else [1e-3, 5e-4])]
+    for code, variant, fn, Ns, hs in peer_grid:
+        for N in Ns:
+            for h in hs:
+                try:
+                    c, t, tip, info = fn(N, h, T)
+                except Exception as e:  # noqa: BLE001 -- a failed point is a result too
+                    runs.append(dict(code=code, variant=variant, N=N, h=h, failed=f"{type(e).__name__}: {e}"))
+                    print(f"  {code} {variant} N={N:3d} h={h:.1e}: FAILED ({e})", flush=True)
+                    continue
+                e = tip_error(t, tip, t_ref, ref_tip)
+                runs.append(dict(code=code, variant=variant, N=N, h=h, cpu_s=c, error=e,
+                                 stats={k: v for k, v in info.items() if isinstance(v, (int, float, str))}))
+                print(f"  {code} {variant} N={N:3d} h={h:.1e}: err {e:.2e}, CPU {c:.3f} s", flush=True)
+
     def front(pred):
-        rs = [r for r in runs if pred(r)]
+        rs = [r for r in runs if pred(r) and "error" in r]
         return pareto([r["cpu_s"] for r in rs], [r["error"] for r in rs])
     fph = front(lambda r: r["code"] == "phmech")
-    fex = front(lambda r: r["code"] == "exudyn")
+    fex = front(lambda r: r["code"] == "exudyn" and r["variant"].startswith("ge2d"))
     levels = [3e-2, 1e-2, 3e-3, 1e-3, 3e-4]
     by_variant = {}
     for v in sorted({r["variant"] for r in runs if r["code"] == "phmech"}):
         by_variant[v] = ratios(front(lambda r, v=v: r["variant"] == v), fex, levels)
+    by_peer = {f"{code}-{variant}": ratios(fph, front(lambda r, v=variant: r["variant"] == v), levels)
+               for code, variant, *_ in peer_grid}
     out = dict(problem=f"Table I cantilever (table1_properties(1.0)) released from static tip force "
                        f"{F_TIP:.1f} N; tip (x,z) every {DT_OUT} s over {T} s",
                error="max_t |tip - tip_ref| / L",
@@ -397,7 +429,10 @@ def bench_transient(quick: bool) -> dict:
                cpu_note="cpu_s includes model build and the static solution; sim_cpu_s the time integration only",
                machine=machine(), runs=runs, pareto_phmech=fph, pareto_exudyn=fex,
                cpu_ratio_at_equal_error=ratios(fph, fex, levels),
-               cpu_ratio_at_equal_error_by_phmech_variant=by_variant)
+               cpu_ratio_at_equal_error_by_phmech_variant=by_variant,
+               cpu_ratio_phmech_best_over_peer=by_peer,
+               ratio_note="cpu_ratio_at_equal_error* are phmech / Exudyn GE2D (ratio > 1: phmech slower); "
+                          "cpu_ratio_phmech_best_over_peer compares phmech's best front with each other peer")
     write_json("bench_transient", out)
     plot_transient(out, t_ref, ref_tip)
     return out
@@ -411,7 +446,7 @@ def plot_transient(out, t_ref, ref_tip):
     # every point as a marker, each variant's Pareto front as a line
     variants = sorted({(r["code"], r["variant"]) for r in out["runs"]})
     for k, (code, var) in enumerate(variants):
-        rs = [r for r in out["runs"] if r["variant"] == var and r["code"] == code]
+        rs = [r for r in out["runs"] if r["variant"] == var and r["code"] == code and "error" in r]
         col = f"C{k % 10}"
         ph = code == "phmech"
         ax[0].loglog([r["cpu_s"] for r in rs], [r["error"] for r in rs], "o" if ph else "s",
@@ -431,151 +466,17 @@ def plot_transient(out, t_ref, ref_tip):
     plt.close(fig)
 
 
-# ------------------------------------------------------------------ 3. scaling
-def phmech_step_load(N: int, rtol: float, solver: str, T: float):
-    """Straight cantilever at rest, tip force F_TIP (downward) applied at t = 0 (no static solve:
-    phmech's statics is dense, O(N^3), and would dominate at large N)."""
-    import phmech as ph
-    m, b = phmech_cantilever(N)
-    m.add_wrench("tip", b.end, (0, 0, 0, 0, 0, -F_TIP), law=ph.Constant(1.0))
-    t0 = time.process_time()
-    r = m.simulate(T, DT_OUT / 5, rtol=rtol, linear_solver=solver)
-    return time.process_time() - t0, r.tip(b)[:, [0, 2]], dict(r.stats)
-
-
-def exudyn_step_load(N: int, h: float, T: float):
-    import exudyn.solver
-    _, mbs, _, sens = exudyn_beam(N, tip_force=F_TIP)
-    ss = exudyn_settings(sparse=N > 40)
-    ss.timeIntegration.endTime = T
-    ss.timeIntegration.numberOfSteps = int(round(T / h))
-    ss.timeIntegration.generalizedAlpha.spectralRadius = 1.0
-    t0 = time.process_time()
-    exudyn.solver.SolveDynamic(mbs, ss)
-    c = time.process_time() - t0
-    d = np.asarray(mbs.GetSensorStoredData(sens))
-    return c, d[:, 1:3], {"steps": int(round(T / h))}
-
-
-def scaling_point(code: str, N: int, T: float, setting: float) -> dict:
-    """Run one point in this (fresh) process and return CPU and peak RSS."""
-    import exudyn  # noqa: F401 -- both codes loaded in every point: the same RSS baseline
-    import phmech  # noqa: F401
-    # two runs, T/5 and T: the difference gives the rate free of set-up cost (phmech's consistent
-    # initial values use a dense least-squares solve, O(N^3), once per simulate call)
-    run = (lambda t: phmech_step_load(N, setting, code.split("-")[1], t)) if code.startswith("phmech") \
-        else (lambda t: exudyn_step_load(N, setting, t))
-    c1, _, _ = run(T / 5)
-    cs, tip, stats = run(T)
-    rate = max(cs - c1, 1e-9) / (0.8 * T)
-    ru = resource.getrusage(resource.RUSAGE_SELF)
-    return dict(code=code, N=N, T=T, setting=setting, sim_cpu_s=cs, cpu_per_sim_s=rate,
-                setup_cpu_s=max(cs - rate * T, 0.0), tip_end=tip[-1].tolist(),
-                maxrss_MB=ru.ru_maxrss / 1024.0, stats=stats)
-
-
-def bench_scaling(quick: bool, budget_s: float) -> dict:
-    # settings of similar time accuracy (bench_transient: phmech's error is spatial at rtol <= 1e-4,
-    # Exudyn's h = 1e-3 is at its N = 40 error level); dense LU is O(N^3), so it stops at N = 100
-    # phmech N = 1000 is left out: its O(N^3) dense consistent-initial-value solve alone would take
-    # ~15 min here (N = 300: ~15 s, x 37)
-    cases = [("phmech-klu", 1e-4, 0.05, [10, 30, 100, 300]),
-             ("phmech-dense", 1e-4, 0.05, [10, 30, 100]),
-             ("exudyn-ge2d", 1e-3, 0.2, [10, 30, 100, 300, 1000])]
-    if quick:
-        cases = [(c, s, T, [N for N in Ns if N <= 100]) for c, s, T, Ns in cases]
-    base = subprocess.run([sys.executable, "-c", "import resource, numpy, phmech, exudyn; "
-                           "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss/1024)"],
-                          capture_output=True, text=True, check=True)
-    baseline = float(base.stdout.strip())
-    runs, notes = [], []
-    for code, setting, T0, Ns in cases:
-        for N in Ns:
-            # phmech's set-up grows as N^3: simulate longer at large N so that the integration
-            # dominates the difference cpu(T) - cpu(T/5)
-            T = T0 * max(1.0, N / 75.0) if code.startswith("phmech") else T0
-            t0 = time.time()
-            try:
-                p = subprocess.run([sys.executable, __file__, "--point", code, str(N), str(T), str(setting)],
-                                   capture_output=True, text=True, timeout=budget_s)
-            except subprocess.TimeoutExpired:
-                notes.append(f"{code} N={N}: stopped after {budget_s:.0f} s wall (budget); larger N skipped")
-                print("  " + notes[-1], flush=True)
-                break
-            if p.returncode != 0:
-                notes.append(f"{code} N={N}: failed: {p.stderr.strip().splitlines()[-1:]}")
-                print("  " + notes[-1], flush=True)
-                break
-            r = json.loads(p.stdout.strip().splitlines()[-1])
-            runs.append(r)
-            print(f"  scaling {code} N={N}: {r['cpu_per_sim_s']:.3g} CPU s per simulated s "
-                  f"(+ set-up {r['setup_cpu_s']:.2g} s), "
-                  f"RSS {r['maxrss_MB']:.0f} MB, {r['stats'].get('steps')} steps ({time.time() - t0:.0f} s wall)",
-                  flush=True)
-            if time.time() - t0 > budget_s / 3:
-                notes.append(f"{code}: stopped after N={N} ({time.time() - t0:.0f} s wall) to keep within budget")
-                print("  " + notes[-1], flush=True)
-                break
-    fits = {}
-    for code, _, _, _ in cases:
-        rs = [r for r in runs if r["code"] == code and r["N"] >= 30]
-        if len(rs) >= 2:
-            fits[code] = dict(cpu_exponent=float(np.polyfit(np.log([r["N"] for r in rs]),
-                                                            np.log([r["cpu_per_sim_s"] for r in rs]), 1)[0]),
-                              memory_exponent_above_baseline=float(np.polyfit(
-                                  np.log([r["N"] for r in rs]),
-                                  np.log([max(r["maxrss_MB"] - baseline, 1e-3) for r in rs]), 1)[0]),
-                              fitted_on_N=[r["N"] for r in rs])
-    out = dict(problem=f"Table I cantilever (table1_properties(1.0)) at rest, tip force {F_TIP:.1f} N "
-                       "applied at t = 0 (no static solve); CPU of the time integration per simulated "
-                       "second ((cpu(T) - cpu(T/5)) / (0.8 T), free of set-up) and peak RSS vs N",
-               settings={c: dict(setting=s, T=T, meaning="rtol" if c.startswith("phmech") else "step size h [s]")
-                         for c, s, T, _ in cases},
-               baseline_rss_MB=baseline, note="RSS is of a fresh interpreter that imported numpy, phmech and "
-               "exudyn (baseline given); exponents fitted for N >= 30",
-               machine=machine(), runs=runs, fits=fits, notes=notes)
-    write_json("bench_scaling", out)
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(1, 2, figsize=(11, 4))
-    for code, _, _, _ in cases:
-        rs = [r for r in runs if r["code"] == code]
-        if rs:
-            lab = code + (f" (slope {fits[code]['cpu_exponent']:.2f})" if code in fits else "")
-            ax[0].loglog([r["N"] for r in rs], [r["cpu_per_sim_s"] for r in rs], "o-", label=lab)
-            ax[1].semilogx([r["N"] for r in rs], [r["maxrss_MB"] for r in rs], "o-", label=code)
-    ax[0].set(xlabel="elements N", ylabel="CPU s per simulated s")
-    ax[1].set(xlabel="elements N", ylabel="peak RSS [MB]")
-    for a in ax:
-        a.grid(True, which="both", alpha=0.3)
-        a.legend()
-    fig.tight_layout()
-    fig.savefig(os.path.join(RESULTS, "bench_scaling.png"), dpi=120)
-    plt.close(fig)
-    return out
-
-
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="fewer points, shorter transient (~ a few minutes)")
-    ap.add_argument("--only", nargs="+", choices=["modes", "transient", "scaling"],
-                    default=["modes", "transient", "scaling"])
-    ap.add_argument("--budget", type=float, default=240.0, help="wall-time cap per scaling point [s]")
-    ap.add_argument("--point", nargs=4, help=argparse.SUPPRESS)
+    ap.add_argument("--only", nargs="+", choices=["modes", "transient"], default=["modes", "transient"])
     a = ap.parse_args()
-    ensure_exudyn()
-    if a.point:
-        code, N, T, s = a.point
-        print(json.dumps(scaling_point(code, int(N), float(T), float(s))))
-        return
+    ensure_peers()
     t0 = time.time()
     if "modes" in a.only:
         bench_modes(a.quick)
     if "transient" in a.only:
         bench_transient(a.quick)
-    if "scaling" in a.only:
-        bench_scaling(a.quick, a.budget)
     print(f"benchmarks done in {time.time() - t0:.0f} s wall", flush=True)
 
 
