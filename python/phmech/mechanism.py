@@ -1077,7 +1077,9 @@ class Mechanism:
         second-order, A-stable one-step method (generalized-alpha for first-order systems,
         Jansen-Whiting-Hulbert) with step ``step`` [s] (required) and spectral radius at infinity
         ``rho_inf`` (1: no numerical dissipation; default 0.9 damps vibrations the step does not
-        resolve). Steps are shortened evenly to land on the output times and on the breakpoints
+        resolve). With ``rho_inf`` = 1 the stiff vibrations a step does not resolve are not damped
+        and Newton may converge badly: on the leaf-spring mechanism (10 elements per leaf) it needed
+        23 000 steps with step halvings instead of 3000 at 0.9. Steps are shortened evenly to land on the output times and on the breakpoints
         of the time laws, so every output is a step (``dt_out`` below ``step`` shortens the step).
         The constraints hold at every step; ``rtol``/``atol`` are then only its Newton
         tolerances, and there is no error estimate: check convergence by halving ``step``. It
