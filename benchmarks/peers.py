@@ -140,7 +140,7 @@ def exudyn_ge3d_frequencies(N: int, n: int = 5) -> np.ndarray:
     return np.sqrt(np.abs(ev[order]))
 
 
-def _exudyn_release(mbs, ld, sens, h: float, T: float, rho: float, sparse: bool,
+def exudyn_release(mbs, ld, sens, h: float, T: float, rho: float, sparse: bool,
                     newton_rtol: float | None = None):
     """Static solve under the tip load, copy it to the initial state, release, integrate.
     ``newton_rtol``: the time integrator's Newton tolerance (None: Exudyn's default 1e-8, as
@@ -172,7 +172,11 @@ def _exudyn_release(mbs, ld, sens, h: float, T: float, rho: float, sparse: bool,
     exudyn.solver.SolveDynamic(mbs, ss)
     t2 = time.process_time()
     d = np.asarray(mbs.GetSensorStoredData(sens))
-    return d, dict(steps=int(round(T / h)), sim_cpu_s=t2 - t1, static_ok=bool(ok), static_rtol=static_rtol)
+    info = dict(steps=int(round(T / h)), sim_cpu_s=t2 - t1, static_ok=bool(ok), static_rtol=static_rtol)
+    it = mbs.sys["dynamicSolver"].it if hasattr(mbs, "sys") and "dynamicSolver" in mbs.sys else None
+    if it is not None:
+        info.update(newton_iterations=int(it.newtonStepsCount), jacobians=int(it.newtonJacobiCount))
+    return d, info
 
 
 def exudyn_ge3d_transient(N: int, h: float, T: float, rho: float = 1.0, sparse: bool | None = None,
@@ -182,7 +186,7 @@ def exudyn_ge3d_transient(N: int, h: float, T: float, rho: float = 1.0, sparse: 
     Returns (cpu_s total incl. build and statics, t, tip (nt, 2) = (x, y), info)."""
     t0 = time.process_time()
     _, mbs, ld, sens = exudyn_ge3d_beam(N, 1.0, tip_force=F_TIP)
-    d, info = _exudyn_release(mbs, ld, sens, h, T, rho, N > 40 if sparse is None else sparse, newton_rtol)
+    d, info = exudyn_release(mbs, ld, sens, h, T, rho, N > 40 if sparse is None else sparse, newton_rtol)
     return time.process_time() - t0, d[:, 0], d[:, 1:3].copy(), info
 
 
@@ -223,7 +227,7 @@ def exudyn_ancf_transient(N: int, h: float, T: float, rho: float = 1.0, sparse: 
     """Released cantilever with the ANCF cable (EA1, EI, rhoA): as :func:`exudyn_ge3d_transient`."""
     t0 = time.process_time()
     _, mbs, ld, sens = exudyn_ancf_beam(N, tip_force=F_TIP)
-    d, info = _exudyn_release(mbs, ld, sens, h, T, rho, N > 40 if sparse is None else sparse, newton_rtol)
+    d, info = exudyn_release(mbs, ld, sens, h, T, rho, N > 40 if sparse is None else sparse, newton_rtol)
     return time.process_time() - t0, d[:, 0], d[:, 1:3].copy(), info
 
 
