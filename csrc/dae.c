@@ -649,11 +649,13 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
   SUNLinearSolver LS = NULL;
   N_Vector *vs[] = {&g.y0, &g.yp0, &g.Y, &g.Yp, &g.ya, &g.ypa, &g.Ra, &g.R, &g.dY, &g.w, &g.yq, &g.ypq};
   int nv = (int)(sizeof vs / sizeof vs[0]);
-  for (int k = 0; k < nv; k++)
+  for (int k = 0; k < nv; k++) {
     if (!(*vs[k] = N_VNew_Serial(n, ctx))) {
       st = phm_error_set(err, PHM_ENOMEM, "out of memory (N_Vector)");
       goto done;
     }
+    N_VConst(0.0, *vs[k]); /* N_VNew leaves the data uninitialized */
+  }
   if ((st = klu_pattern(d, err))) goto done;
   Js = SUNSparseMatrix(n, n, d->nnz, CSC_MAT, ctx);
   A = opt->linear_solver == 1 ? Js : SUNDenseMatrix(n, n, ctx);
@@ -684,9 +686,11 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
     int halvings = 0;
     for (;;) { /* one step of size h (halved on Newton failure) */
       /* predictor: y' (and the multipliers) extrapolated linearly from the last two steps */
+      /* (no history on the first step and after a restart: yq, ypq are not read then) */
       double r = hq > 0 ? h / hq : 0;
-      for (int i = 0; i < d->il; i++) Y[i] = y0[i] + h * yp0[i] + g.gam * h * r * (yp0[i] - ypq[i]);
-      for (int i = d->il; i < n; i++) Y[i] = y0[i] + r * (y0[i] - yq[i]);
+      for (int i = 0; i < d->il; i++)
+        Y[i] = y0[i] + h * yp0[i] + (hq > 0 ? g.gam * h * r * (yp0[i] - ypq[i]) : 0.0);
+      for (int i = d->il; i < n; i++) Y[i] = hq > 0 ? y0[i] + r * (y0[i] - yq[i]) : y0[i];
       if (fabs(h / hjac - 1.0) > 0.2) hjac = 0; /* the iteration matrix scales with 1/h */
       fresh = 0;
       int ok = 0;
