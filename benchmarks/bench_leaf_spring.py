@@ -20,6 +20,9 @@ parameters, beta = 1e-5 s, a 0.05 N s rectangular pulse of 10 ms at t = 0.1 s on
    damping).
 5. If ``Mechanism.simulate`` accepts ``error_test``, the FFT sweep again with
    ``error_test="configuration"``.
+6. If ``Mechanism.simulate`` accepts ``integrator``, the FFT route with the fixed-step
+   ``integrator="generalized-alpha"`` (rho_inf = GA_RHO, Newton rtol = GA_RTOL): N x step h
+   (h divides DT_OUT, so the output stays uniform for the FFT; every output is a step).
 
 Writes benchmarks/results/bench_leaf_spring.{json,png}. CPU time is ``time.process_time``.
 """
@@ -49,6 +52,8 @@ IMPULSE, DURATION, T0 = 0.05, 0.01, 0.1   # N s, s, s (as the example)
 BETA = 1e-5          # material damping [s] (the example's default)
 LEVELS = (1e-2, 1e-3, 1e-4)
 MIN_AMPLITUDE_RATIO = 0.1
+GA_RHO = 0.9         # generalized-alpha spectral radius at infinity (1.0: Newton fails, see the doc)
+GA_RTOL = 1e-6       # generalized-alpha Newton tolerance
 
 
 def band(p) -> tuple[float, float]:
@@ -120,17 +125,23 @@ def fft_floor(f_ref: float, zeta: float, p) -> dict:
 
 # ------------------------------------------------------------------ sweep points
 def fft_point(p, N: int, rtol: float, f_ref: float, f_modal_N: float, error_test=None,
-              impulse: float = IMPULSE) -> dict:
+              impulse: float = IMPULSE, step=None, rho_inf: float = GA_RHO) -> dict:
+    """One simulation + FFT. ``step`` given: ``integrator="generalized-alpha"`` with that fixed
+    step and ``rho_inf`` (``rtol`` is then its Newton tolerance); else IDA with ``error_test``."""
     lo, hi = band(p)
     c0 = time.process_time()
     pulse = ph.Pulse(t0=T0, duration=DURATION, value=impulse / DURATION)
     m, h = ls.build(p, elements=N, beta=BETA, pulse=pulse)
     c1 = time.process_time()
     kw = {} if error_test is None else dict(error_test=error_test)
+    tag = dict(error_test=error_test or "all")
+    if step is not None:
+        kw = dict(integrator="generalized-alpha", step=step, rho_inf=rho_inf)
+        tag = dict(integrator="generalized-alpha", step=step, rho_inf=rho_inf)
     try:
         res = m.simulate(t_end=T_END, dt_out=DT_OUT, rtol=rtol, linear_solver="klu", **kw)
     except Exception as e:  # noqa: BLE001 -- a failed point is a result too
-        return dict(N=N, rtol=rtol, error_test=error_test or "all", failed=f"{type(e).__name__}: {e}",
+        return dict(N=N, rtol=rtol, **tag, failed=f"{type(e).__name__}: {e}",
                     cpu_build_s=c1 - c0, cpu_s=time.process_time() - c0)
     c2 = time.process_time()
     x = res.poses[:, h["R1"].carrier, 0, 3]
@@ -139,7 +150,7 @@ def fft_point(p, N: int, rtol: float, f_ref: float, f_modal_N: float, error_test
     f = ph.analysis.dominant_frequency(res.t[sel], x[sel], fmin=lo, fmax=hi)
     c3 = time.process_time()
     st = {k: (v if isinstance(v, (str, int)) else float(v)) for k, v in res.stats.items()}
-    return dict(N=N, rtol=rtol, atol=rtol * 1e-2, error_test=error_test or "all", impulse_Ns=impulse, f_fft=f,
+    return dict(N=N, rtol=rtol, atol=rtol * 1e-2, **tag, impulse_Ns=impulse, f_fft=f,
                 rel_error=abs(f - f_ref) / f_ref, signed_rel_error=(f - f_ref) / f_ref,
                 f_modal_N=f_modal_N, rel_error_vs_modal_N=abs(f - f_modal_N) / f_modal_N,
                 mesh_rel_error=abs(f_modal_N - f_ref) / f_ref,
@@ -159,7 +170,7 @@ def cheapest(points, levels=LEVELS) -> dict:
     error |f_modal(N) - f_ref| plus its time-integration/FFT error |f_fft - f_modal(N)| (measured
     separately) is <= level, i.e. which meets the level without relying on the two cancelling."""
     def pick(q):
-        return None if q is None else {k: q[k] for k in ("N", "rtol", "rel_error", "cpu_s") if k in q}
+        return None if q is None else {k: q[k] for k in ("N", "rtol", "step", "rel_error", "cpu_s") if k in q}
     out = {}
     for e in levels:
         ok = [q for q in points if "failed" not in q and q["rel_error"] <= e]
@@ -188,7 +199,11 @@ def summarize(out: dict, p) -> None:
         ok = [q for q in d["points"] if q.get("valid")]
         front = pareto([q["cpu_s"] for q in ok], [q["rel_error"] for q in ok])
         key = {(q["cpu_s"], q["rel_error"]): (q["N"], q["rtol"]) for q in ok}
-        d.update(pareto=front, pareto_N_rtol=[key[c] for c in front], cheapest=cheapest(ok),
+        extra = {}
+        if any("step" in q for q in ok):   # generalized-alpha: the setting is the step
+            ks = {(q["cpu_s"], q["rel_error"]): (q["N"], q["step"]) for q in ok}
+            extra = dict(pareto_N_step=[ks[c] for c in front])
+        d.update(pareto=front, pareto_N_rtol=[key[c] for c in front], cheapest=cheapest(ok), **extra,
                  cpu_at_error={f"{e:.0e}": cpu_at_error(front, e) for e in LEVELS})
     mo = out["modal_route"]
     mo.update(pareto=pareto([q["cpu_s"] for q in mo["points"]], [q["rel_error"] for q in mo["points"]]),
@@ -206,8 +221,8 @@ def plot(out) -> str:
     Ns = sorted({q["N"] for r in out["fft_routes"].values() for q in r["points"]})
     cmap = plt.get_cmap("viridis")
     col = {N: cmap(i / max(1, len(Ns) - 1)) for i, N in enumerate(Ns)}
-    styles = {"all": ("o", "-"), "configuration": ("s", "--")}
-    fcol = {"all": "red", "configuration": "blue"}
+    styles = {"all": ("o", "-"), "configuration": ("s", "--"), "generalized-alpha": ("D", "-.")}
+    fcol = {"all": "red", "configuration": "blue", "generalized-alpha": "green"}
     for route, r in out["fft_routes"].items():
         mk, ls_ = styles.get(route, ("x", ":"))
         for N in Ns:
@@ -217,13 +232,15 @@ def plot(out) -> str:
                 ax[0].loglog([a["cpu_s"] for a in bad], [a["rel_error"] for a in bad], "x", color=col[N], ms=7)
             if not q:
                 continue
-            lab = f"FFT, N={N}, error_test={route}"
+            lab = (f"FFT, N={N}, generalized-alpha rho {q[0]['rho_inf']}" if "step" in q[0]
+                   else f"FFT, N={N}, IDA error_test={route}")
             ax[0].loglog([a["cpu_s"] for a in q], [a["rel_error"] for a in q], mk + ls_, color=col[N],
                          label=lab, ms=5)
             ax[1].loglog([a["cpu_s"] for a in q], [a["rel_error_vs_modal_N"] for a in q], mk + ls_,
                          color=col[N], label=lab, ms=5)
             for a in q:
-                ax[0].annotate(f"{a['rtol']:.0e}", (a["cpu_s"], a["rel_error"]), fontsize=6, alpha=0.6)
+                txt = f"h={a['step']:.1e}" if "step" in a else f"{a['rtol']:.0e}"
+                ax[0].annotate(txt, (a["cpu_s"], a["rel_error"]), fontsize=6, alpha=0.6)
         fr = r["pareto"]
         if fr:
             ax[0].loglog([c for c, _ in fr], [e for _, e in fr], "-", color=fcol.get(route, "grey"), lw=4, alpha=0.25,
@@ -289,12 +306,19 @@ def main(argv=None) -> dict:
     if a.quick:
         Ns_ref, Ns_check, Ns, rtols, Ns_extra = [20, 40, 80], [30, 60], [2, 5, 10], [1e-3, 1e-4, 1e-5], []
         amp_check = dict(Ns=[2], rtol=1e-5)
+        steps = [2e-3, 5e-4]
     else:
         Ns_ref, Ns_check = [20, 40, 80], [30, 60, 120, 160, 240]
         Ns, rtols, Ns_extra = [2, 3, 5, 10, 20], [1e-3, 1e-4, 1e-5, 1e-6, 1e-7], [40]
         amp_check = dict(Ns=[2, 5], rtol=1e-7)
+        steps = [2e-3, 1e-3, 5e-4, 2.5e-4]
+    for h in steps:   # uniform output for the FFT: every output time must be a step
+        if abs(DT_OUT / h - round(DT_OUT / h)) > 1e-9:
+            raise SystemExit(f"step {h} does not divide DT_OUT = {DT_OUT}")
     # error_test="configuration" (BDF order <= 2) is far cheaper per rtol: one more decade for it
     route_rtols = {"all": rtols, "configuration": rtols + [rtols[-1] * 0.1]}
+    # generalized-alpha: the swept setting is the fixed step (Newton rtol GA_RTOL)
+    route_rtols["generalized-alpha"] = steps
     ref = reference(p, Ns_ref, Ns_check)
     f_ref = ref["f_ref"]
     orders = ", ".join(f"{o['N']}: {o['order']:.3f}" for o in ref["observed_orders"])
@@ -318,31 +342,40 @@ def main(argv=None) -> dict:
           f"{floor['damped']['max_rel_error']:.1e}", flush=True)
 
     has_et = "error_test" in inspect.signature(ph.Mechanism.simulate).parameters
-    routes = ["all"] + (["configuration"] if has_et else [])
+    has_ga = "integrator" in inspect.signature(ph.Mechanism.simulate).parameters
+    routes = ["all"] + (["configuration"] if has_et else []) + (["generalized-alpha"] if has_ga else [])
     if not has_et:
         print("Mechanism.simulate has no error_test parameter: the error_test='configuration' sweep is skipped",
               flush=True)
+    if not has_ga:
+        print("Mechanism.simulate has no integrator parameter: the generalized-alpha sweep is skipped", flush=True)
     pts = {r: [] for r in routes}
     skipped = []
-    cost = {}   # (route, N, rtol) -> cpu, for the N = 40 budget estimate
+    cost = {}   # (route, N, rtol or step) -> cpu, for the N = 40 budget estimate
     for Nset, budgeted in ((Ns, False), (Ns_extra, True)):
         for route in (routes[::-1] if budgeted else routes):   # budgeted: the cheap route first
             for N in Nset:
                 for rtol in route_rtols[route]:
+                    ga = route == "generalized-alpha"
+                    what = f"h={rtol:.1e}" if ga else f"rtol={rtol:.0e}"
                     if budgeted:
                         prev = cost.get((route, Ns[-1], rtol), 60.0) * N / Ns[-1] * 1.2
                         if time.process_time() - t_cpu + prev > a.budget:
-                            skipped.append(dict(N=N, rtol=rtol, route=route, predicted_cpu_s=prev))
-                            print(f"skip {route:13s} N={N:3d} rtol={rtol:.0e} (predicted {prev:.0f} s "
+                            skipped.append(dict(N=N, **({"step": rtol} if ga else {"rtol": rtol}), route=route,
+                                                predicted_cpu_s=prev))
+                            print(f"skip {route:13s} N={N:3d} {what} (predicted {prev:.0f} s "
                                   f"exceeds the budget)", flush=True)
                             continue
-                    q = fft_point(p, N, rtol, f_ref, fmod[N], None if route == "all" else route)
+                    if ga:
+                        q = fft_point(p, N, GA_RTOL, f_ref, fmod[N], step=rtol, rho_inf=GA_RHO)
+                    else:
+                        q = fft_point(p, N, rtol, f_ref, fmod[N], None if route == "all" else route)
                     pts[route].append(q)
                     cost[(route, N, rtol)] = q["cpu_s"]
                     if "failed" in q:
-                        print(f"{route:13s} N={N:3d} rtol={rtol:.0e}: FAILED {q['failed']}", flush=True)
+                        print(f"{route:13s} N={N:3d} {what}: FAILED {q['failed']}", flush=True)
                         continue
-                    print(f"{route:13s} N={N:3d} rtol={rtol:.0e}: f_fft {q['f_fft']:.7f} Hz, err {q['rel_error']:.2e}"
+                    print(f"{route:13s} N={N:3d} {what}: f_fft {q['f_fft']:.7f} Hz, err {q['rel_error']:.2e}"
                           f" (vs modal(N) {q['rel_error_vs_modal_N']:.2e}), CPU {q['cpu_s']:6.2f} s "
                           f"(build {q['cpu_build_s']:.2f}), steps {q['stats']['steps']}", flush=True)
 
@@ -372,7 +405,11 @@ def main(argv=None) -> dict:
                    linear_solver="klu", atol="default (rtol * 1e-2)",
                    fft_estimator="phmech.analysis.dominant_frequency(pad=16), Hann, log-parabola peak",
                    fft_band_hz=list(band(p)), cpu="time.process_time, build + simulate (+ FFT)",
-                   error="|f - f_ref| / f_ref", error_test_available=has_et),
+                   error="|f - f_ref| / f_ref", error_test_available=has_et,
+                   generalized_alpha=(dict(steps_s=steps, rho_inf=GA_RHO, newton_rtol=GA_RTOL,
+                                           newton_atol="default (rtol * 1e-2)",
+                                           note="fixed step; every output (dt_out) is a step")
+                                      if has_ga else None)),
         reference=ref, fft_floor=floor, modal_route=dict(points=modal),
         fft_routes=fft_routes, skipped=skipped, amplitude_check=amp,
         total_cpu_s=time.process_time() - t_cpu, total_wall_s=time.time() - t_wall)
