@@ -53,8 +53,8 @@ validate: build
 	$(PY) benchmarks/validate_energy_drift.py
 
 # Work-precision benchmarks against Exudyn and MuJoCo (installed into .venv from
-# benchmarks/requirements.txt when missing); BENCH_ARGS=--quick for a short run (~15 min instead
-# of ~1 h on 2 cores). Results: benchmarks/results/*.json and *.png; summary: docs/performance.md.
+# benchmarks/requirements.txt when missing); BENCH_ARGS=--quick for a short run (~4.5 min instead
+# of ~25 min on 2 cores). Results: benchmarks/results/*.json and *.png; summary: docs/performance.md.
 bench: build
 	$(PY) benchmarks/run.py $(BENCH_ARGS)
 	$(PY) benchmarks/bench_scaling.py $(BENCH_ARGS)
