@@ -119,23 +119,10 @@ def ex_ge2d(N: int, T: float, h: float):
 
 
 def ex_ancf(N: int, T: float, h: float):
-    """Exudyn ObjectANCFCable2D (Euler-Bernoulli, same EI, EA, rhoA), clamped: x, y, slope_y fixed."""
-    import exudyn as exu
-    from exudyn.beams import GenerateBeamElementsAlongLine
-    from exudyn.itemInterface import (LoadForceVector, MarkerNodePosition, ObjectANCFCable2D,
-                                      SensorNode, VObjectANCFCable2D)
-    SC = exu.SystemContainer()
-    mbs = SC.AddSystem()
-    tmpl = ObjectANCFCable2D(physicsMassPerLength=TABLE1["rhoA"], physicsBendingStiffness=TABLE1["EI"],
-                             physicsAxialStiffness=EA1, visualization=VObjectANCFCable2D(show=False))
-    info = GenerateBeamElementsAlongLine(mbs, [0, 0, 0], [TABLE1["L"], 0, 0], N, tmpl,
-                                         groundConstraintsStart=[1, 1, 0, 1])
-    tip = info["nodes"][-1]
-    mbs.AddLoad(LoadForceVector(markerNumber=mbs.AddMarker(MarkerNodePosition(nodeNumber=tip)),
-                                loadVector=[0, -F_TIP, 0]))
-    sens = mbs.AddSensor(SensorNode(nodeNumber=tip, storeInternal=True,
-                                    outputVariableType=exu.OutputVariableType.Position))
-    mbs.Assemble()
+    """Exudyn ObjectANCFCable2D (Euler-Bernoulli, same EI, EA, rhoA), clamped: x, y, slope_y fixed
+    (the model of benchmarks/peers.py)."""
+    from peers import exudyn_ancf_beam
+    _, mbs, _, sens = exudyn_ancf_beam(N, EA1, tip_force=F_TIP)
     ss = exudyn_settings(N > 40)
     ss.solution.sensors.writePeriod = T / 4
     c = _ex_solve(mbs, ss, T, h, N > 40)

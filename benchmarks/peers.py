@@ -195,23 +195,11 @@ def exudyn_ancf_beam(N: int, axial: float = EA1, tip_force: float = 0.0, clamp: 
     """Cantilever of N ``ObjectANCFCable2D`` along x (EI, rhoA of Table I; no shear, no rotary
     inertia). Clamp: position and the y-component of the slope of the first node (the slope's
     length stays free, so the root is not axially over-constrained)."""
-    import exudyn as exu
-    from exudyn.beams import GenerateBeamElementsAlongLine
-    from exudyn.itemInterface import (LoadForceVector, MarkerNodePosition, ObjectANCFCable2D,
-                                      SensorNode, VObjectANCFCable2D)
-    SC = exu.SystemContainer()
-    mbs = SC.AddSystem()
+    from exudyn.itemInterface import ObjectANCFCable2D, VObjectANCFCable2D
+    from run import exudyn_line_beam
     tmpl = ObjectANCFCable2D(massPerLength=TABLE1["rhoA"], bendingStiffness=TABLE1["EI"],
                              axialStiffness=axial, visualization=VObjectANCFCable2D(show=False))
-    info = GenerateBeamElementsAlongLine(mbs, [0, 0, 0], [TABLE1["L"], 0, 0], N, tmpl,
-                                         groundConstraintsStart=[1, 1, 0, 1] if clamp else None)
-    tip = info["nodes"][-1]
-    mk = mbs.AddMarker(MarkerNodePosition(nodeNumber=tip))
-    ld = mbs.AddLoad(LoadForceVector(markerNumber=mk, loadVector=[0, -tip_force, 0]))
-    sens = mbs.AddSensor(SensorNode(nodeNumber=tip, storeInternal=True,
-                                    outputVariableType=exu.OutputVariableType.Position))
-    mbs.Assemble()
-    return SC, mbs, ld, sens
+    return exudyn_line_beam(tmpl, N, tip_force, [1, 1, 0, 1] if clamp else None)
 
 
 def exudyn_ancf_frequencies(N: int, n: int = 5) -> np.ndarray:

@@ -130,21 +130,17 @@ def ratios(front_ph, front_ex, levels):
 
 
 # ------------------------------------------------------------------ models
-def exudyn_beam(N: int, axial: float = EA1, tip_force: float = 0.0, clamp: bool = True, sparse=False):
-    """Exudyn cantilever of N ObjectBeamGeometricallyExact2D elements along x (bending in x-y)."""
+def exudyn_line_beam(template, N: int, tip_force: float, clamp) -> tuple:
+    """Exudyn system of N elements of ``template`` along x from 0 to L, the first node's
+    coordinates ``clamp`` (list of 0/1, or None) fixed to ground, a tip force -tip_force along y
+    and a position sensor on the tip; assembled. Returns (SC, mbs, load, sensor)."""
     import exudyn as exu
     from exudyn.beams import GenerateBeamElementsAlongLine
-    from exudyn.itemInterface import (LoadForceVector, MarkerNodePosition,
-                                      ObjectBeamGeometricallyExact2D, SensorNode,
-                                      VObjectBeamGeometricallyExact2D)
+    from exudyn.itemInterface import LoadForceVector, MarkerNodePosition, SensorNode
     SC = exu.SystemContainer()
     mbs = SC.AddSystem()
-    tmpl = ObjectBeamGeometricallyExact2D(
-        massPerLength=TABLE1["rhoA"], crossSectionInertia=TABLE1["rhoI"],
-        bendingStiffness=TABLE1["EI"], axialStiffness=axial, shearStiffness=TABLE1["kGA"],
-        visualization=VObjectBeamGeometricallyExact2D(show=False))
-    info = GenerateBeamElementsAlongLine(mbs, [0, 0, 0], [TABLE1["L"], 0, 0], N, tmpl,
-                                         groundConstraintsStart=[1, 1, 1] if clamp else None)
+    info = GenerateBeamElementsAlongLine(mbs, [0, 0, 0], [TABLE1["L"], 0, 0], N, template,
+                                         groundConstraintsStart=clamp)
     tip = info["nodes"][-1]
     mk = mbs.AddMarker(MarkerNodePosition(nodeNumber=tip))
     ld = mbs.AddLoad(LoadForceVector(markerNumber=mk, loadVector=[0, -tip_force, 0]))
@@ -152,6 +148,16 @@ def exudyn_beam(N: int, axial: float = EA1, tip_force: float = 0.0, clamp: bool 
                                     outputVariableType=exu.OutputVariableType.Position))
     mbs.Assemble()
     return SC, mbs, ld, sens
+
+
+def exudyn_beam(N: int, axial: float = EA1, tip_force: float = 0.0, clamp: bool = True, sparse=False):
+    """Exudyn cantilever of N ObjectBeamGeometricallyExact2D elements along x (bending in x-y)."""
+    from exudyn.itemInterface import ObjectBeamGeometricallyExact2D, VObjectBeamGeometricallyExact2D
+    tmpl = ObjectBeamGeometricallyExact2D(
+        massPerLength=TABLE1["rhoA"], crossSectionInertia=TABLE1["rhoI"],
+        bendingStiffness=TABLE1["EI"], axialStiffness=axial, shearStiffness=TABLE1["kGA"],
+        visualization=VObjectBeamGeometricallyExact2D(show=False))
+    return exudyn_line_beam(tmpl, N, tip_force, [1, 1, 1] if clamp else None)
 
 
 def exudyn_settings(sparse: bool):
