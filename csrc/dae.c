@@ -585,8 +585,12 @@ static void add_stats(void *mem, phm_sim_output *out, int use_klu) {
  * Steps are shortened (evenly) to land on the output times and on the breakpoints of the laws. */
 typedef struct {
   double af, am, gam;
+  int euler; /* this step is backward Euler (see run_galpha) */
   N_Vector y0, yp0, Y, Yp, ya, ypa, Ra, R, dY, w, yq, ypq; /* yq, ypq: previous step */
 } galpha_t;
+
+/* alpha_f of this step (1 for a backward Euler step: the stage is t1) */
+static double stage_af(const galpha_t *g) { return g->euler ? 1.0 : g->af; }
 
 /* Stage values from the unknown y1 (= g->Y) for a step h; fills Yp (y1'), ya, ypa. */
 static void galpha_stage(const dae_t *d, galpha_t *g, double h) {
@@ -594,6 +598,11 @@ static void galpha_stage(const dae_t *d, galpha_t *g, double h) {
   const double *Y = N_VGetArrayPointer(g->Y);
   double *Yp = N_VGetArrayPointer(g->Yp), *ya = N_VGetArrayPointer(g->ya), *ypa = N_VGetArrayPointer(g->ypa);
   for (int i = 0; i < d->il; i++) {
+    if (g->euler) { /* written without y0', which may be huge after a restart */
+      Yp[i] = ypa[i] = (Y[i] - y0[i]) / h;
+      ya[i] = Y[i];
+      continue;
+    }
     Yp[i] = yp0[i] + (Y[i] - y0[i] - h * yp0[i]) / (g->gam * h);
     ya[i] = y0[i] + g->af * (Y[i] - y0[i]);
     ypa[i] = yp0[i] + g->am * (Yp[i] - yp0[i]);
@@ -608,7 +617,7 @@ static void galpha_stage(const dae_t *d, galpha_t *g, double h) {
  * residual (the base of the finite-difference Jacobian). */
 static void galpha_residual(dae_t *d, galpha_t *g, double t0, double h) {
   double *Ra = N_VGetArrayPointer(g->Ra), *R = N_VGetArrayPointer(g->R);
-  dae_residual(d, t0 + g->af * h, N_VGetArrayPointer(g->ya), N_VGetArrayPointer(g->ypa), Ra);
+  dae_residual(d, t0 + stage_af(g) * h, N_VGetArrayPointer(g->ya), N_VGetArrayPointer(g->ypa), Ra);
   unpack_states(d->m, N_VGetArrayPointer(g->Y), d->H, d->tw);
   pair_rows(d, t0 + h, N_VGetArrayPointer(g->Y), N_VGetArrayPointer(g->Yp), R);
   memcpy(R, Ra, sizeof(double) * (size_t)d->il); /* incl. the joint-rate rows pair_rows wrote */
@@ -617,13 +626,14 @@ static void galpha_residual(dae_t *d, galpha_t *g, double t0, double h) {
 /* dR/dy1 ~ alpha_f (dF/dy + cj dF/dy') on the differential block (cj = alpha_m / (alpha_f gamma h)),
  * dF/dy on the multiplier columns and on the constraint rows; dense copy when LS is dense. */
 static int galpha_jacobian(dae_t *d, galpha_t *g, double t0, double h, SUNMatrix Js, SUNMatrix A) {
-  double cj = g->am / (g->af * g->gam * h);
-  if (ida_jac_klu(t0 + g->af * h, cj, g->ya, g->ypa, g->Ra, Js, d, NULL, NULL, NULL)) return 1;
+  double cj = g->euler ? 1.0 / h : g->am / (g->af * g->gam * h);
+  double af = stage_af(g);
+  if (ida_jac_klu(t0 + af * h, cj, g->ya, g->ypa, g->Ra, Js, d, NULL, NULL, NULL)) return 1;
   sunindextype *cp = SUNSparseMatrix_IndexPointers(Js), *ri = SUNSparseMatrix_IndexValues(Js);
   double *val = SUNSparseMatrix_Data(Js);
   for (int j = 0; j < d->il; j++)
     for (sunindextype k = cp[j]; k < cp[j + 1]; k++)
-      if (ri[k] < d->il) val[k] *= g->af;
+      if (ri[k] < d->il) val[k] *= af;
   if (A != Js) {
     SUNMatZero(A);
     for (int j = 0; j < d->n; j++)
@@ -676,6 +686,14 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
   memcpy(yp0, ypd, sizeof(double) * (size_t)n);
   double t = tout[0], hjac = 0;
   int iout = 1, fresh = 0;
+  /* restart: the first step, and the first after each breakpoint. If it fails, it is redone as
+   * backward Euler, which does not use y0': consistent_ic computes y0' exactly, but it can be
+   * huge (a joint torque on a light node of the manipulator: 3e9 rad/s^2); carried into the step
+   * it drives the unresolved fast modes and the stage powers to 1e14 W, and the finite-difference
+   * Jacobian loses every digit. One first-order step adds an O(h^2) error once, so the global
+   * error stays second order (with twice the error constant on a pendulum: why it is a fallback
+   * and not the rule). */
+  int restart = 1;
   while (iout < nout) {
     /* steps land on the output times and the breakpoints of the laws: the largest step <= h0
      * that divides what is left of the interval evenly (outputs need no interpolation, and the
@@ -689,7 +707,7 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
       /* (no history on the first step and after a restart: yq, ypq are not read then) */
       double r = hq > 0 ? h / hq : 0;
       for (int i = 0; i < d->il; i++)
-        Y[i] = y0[i] + h * yp0[i] + (hq > 0 ? g.gam * h * r * (yp0[i] - ypq[i]) : 0.0);
+        Y[i] = g.euler ? y0[i] : y0[i] + h * yp0[i] + (hq > 0 ? g.gam * h * r * (yp0[i] - ypq[i]) : 0.0);
       for (int i = d->il; i < n; i++) Y[i] = hq > 0 ? y0[i] + r * (y0[i] - yq[i]) : y0[i];
       if (fabs(h / hjac - 1.0) > 0.2) hjac = 0; /* the iteration matrix scales with 1/h */
       fresh = 0;
@@ -701,6 +719,7 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
         out->nres++;
         if (hjac == 0) {
           if (galpha_jacobian(d, &g, t, h, Js, A) || SUNLinSolSetup(LS, A) != SUNLS_SUCCESS) {
+            if (restart && !g.euler) break; /* redone as backward Euler below */
             st = phm_error_set(err, PHM_ESOLVER, "generalized-alpha: singular iteration matrix at t = %.9g s", t);
             goto done;
           }
@@ -736,6 +755,11 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
       }
       if (ok) break;
       out->nncf++;
+      if (restart && !g.euler && (fresh || hjac == 0)) { /* see `restart` */
+        g.euler = 1;
+        hjac = 0;
+        continue;
+      }
       if (!fresh) { hjac = 0; continue; }            /* retry with a fresh Jacobian */
       if (++halvings > 10) {
         st = phm_error_set(err, PHM_ESOLVER, "generalized-alpha: Newton failed at t = %.9g s even with "
@@ -759,7 +783,9 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
       iout++;
     }
     t = t1;
-    hq = h;
+    hq = g.euler ? 0 : h; /* no history across the Euler step (its y0' is not this scheme's) */
+    if (g.euler) hjac = 0; /* other coefficients from here on */
+    g.euler = restart = 0;
     memcpy(yq, y0, sizeof(double) * (size_t)n);
     memcpy(ypq, yp0, sizeof(double) * (size_t)n);
     memcpy(y0, Y, sizeof(double) * (size_t)n);
@@ -772,6 +798,7 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
       if ((st = consistent_ic(d, t, H, tw, qprev, qprev + d->ix, 0, y0, yp0, err))) goto done;
       for (int i = d->ie; i < d->il; i++) y0[i] = qprev[i];
       hjac = hq = 0;
+      restart = 1;
     }
   }
 done:
