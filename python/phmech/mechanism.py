@@ -1081,6 +1081,9 @@ class Mechanism:
         and Newton may converge badly: on the leaf-spring mechanism (10 elements per leaf) it needed
         23 000 steps with step halvings instead of 3000 at 0.9. Steps are shortened evenly to land on the output times and on the breakpoints
         of the time laws, so every output is a step (``dt_out`` below ``step`` shortens the step).
+        After the start and each breakpoint the first step uses the consistent accelerations;
+        if its Newton iteration fails (huge initial accelerations of light nodes), it is redone as
+        one backward-Euler step.
         The constraints hold at every step; ``rtol``/``atol`` are then only its Newton
         tolerances, and there is no error estimate: check convergence by halving ``step``. It
         suits structural transients where IDA would resolve every fast mesh vibration."""
