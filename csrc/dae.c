@@ -531,6 +531,55 @@ static void record(dae_t *d, const double *y, phm_sim_output *out, int iout, dou
   out->nout_done = iout + 1;
 }
 
+/* Absolute tolerance of state i (IDA's error weights; the generalized-alpha's Newton test).
+ * mu (GGL) is a velocity correction whose exact value is zero. Near a tiny step size h (first
+ * step, restart after a breakpoint) Newton's corrections of mu are ~ |g round-off| / h: with
+ * positions |p| ~ 0.3 m, g carries ~ 5e-17 of round-off, and at h ~ 1e-10 mu moves by ~ 1e-6,
+ * so a weight 1/atol on mu made the corrector "diverge" (IDA_CONV_FAIL, h -> 1e-15). mu is
+ * left out of the error test, and its convergence is already measured through the positions
+ * it corrects (by h G^T mu); so its absolute tolerance is 1 (rad/s, m/s).
+ * lambda (constraint wrench, also left out of the error test) has the same defect one level
+ * down: its corrections are ~ M |G t round-off| / h. With IDA's default first step
+ * 0.5/|y'|_WRMS ~ 1e-11 s (a body at rest with a nonzero acceleration, atol 1e-10) a weight
+ * 1/atol on lambda failed the corrector, h shrank by 4 per failure and IDA crept on at
+ * h ~ 1e-18 (an open chain "hung" in IDASolve). Two measured remedies together: a first step
+ * of min(1e-8 s, 1e-3 of the span), and an absolute tolerance of at least 1e-6 (N, N m) on
+ * lambda -- enough for the four-bar at rtol 1e-10 (atol 1e-12), while lambda stays accurate
+ * enough for the energy ledger (lambda . rate of driven pairs); an absolute tolerance of 1
+ * cost a 350x larger energy drift in a flexible slider-crank and a 1.45e-6 ledger residual. */
+static double state_atol(const dae_t *d, int i, double atol) {
+  return i >= d->im ? fmax(1.0, atol) /* mu */ : i >= d->il ? fmax(1e-6, atol) /* lambda */ : atol;
+}
+
+/* State i is a carrier's twist component (layout: q[4], p[3], t[6] per carrier). */
+static int is_twist(const dae_t *d, int i) { return i < d->ix && i % PHM_NSTATE >= 7; }
+
+/* Store output iout (state y at time t) and call the user's callbacks. PHM_EINTERRUPT if the
+ * interrupt callback asks; *stop = 1 if the progress callback asks to stop quietly. */
+static phm_status emit_output(dae_t *d, const double *y, phm_sim_output *out, int iout, double E0[1],
+                              double t, const phm_sim_options *opt, int *stop, phm_error *err) {
+  record(d, y, out, iout, E0, t);
+  *stop = 0;
+  if (opt->interrupt && opt->interrupt(opt->ctx, t, iout))
+    return phm_error_set(err, PHM_EINTERRUPT, "interrupted at t = %g s", t);
+  if (opt->progress && opt->progress(opt->ctx, t, iout)) *stop = 1;
+  return PHM_OK;
+}
+
+/* At a breakpoint of the laws (a new piece): the new reference time and next breakpoint *nbp,
+ * then consistent values from the current poses and twists; the ledger integrals carry over.
+ * qprev: scratch of n (previous state, for quaternion sign continuity). */
+static phm_status restart_at_breakpoint(dae_t *d, double t, double *nbp, double *y, double *yp,
+                                        double *H, double *tw, double *qprev, phm_error *err) {
+  d->tref = phm_model_tref(d->m, t, nbp);
+  unpack_states(d->m, y, H, tw);
+  memcpy(qprev, y, sizeof(double) * (size_t)d->n);
+  phm_status st = consistent_ic(d, t, H, tw, qprev, qprev + d->ix, 0, y, yp, err);
+  if (st) return st;
+  for (int i = d->ie; i < d->il; i++) y[i] = qprev[i];
+  return PHM_OK;
+}
+
 /* ---------------------------------------------------------------- KLU Jacobian (coloured FD) */
 /* Structural coupling of the state blocks: carrier c's rows depend on the carriers it shares an
  * element or pair with, the ledger and multiplier columns of its pairs. */
@@ -646,7 +695,6 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
                              N_Vector yp, const double *tout, int nout, double *H, double *tw,
                              double *qprev, double E0[1], double nbp, phm_sim_output *out,
                              phm_error *err) {
-  const phm_model *m = d->m;
   int n = d->n;
   phm_status st = PHM_OK;
   double rho = opt->rho_inf, h0 = opt->step;
@@ -737,9 +785,7 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
           Y[i] += dY[i];
           /* twists: a velocity error dv moves the poses by h dv in a step, so the tolerance on
            * the twists that matches atol on the poses is atol / h */
-          int twist = i < d->ix && i % PHM_NSTATE >= 7;
-          double a = i >= d->im ? fmax(1.0, opt->atol) : i >= d->il ? fmax(1e-6, opt->atol)
-                     : twist ? opt->atol / h : opt->atol;
+          double a = is_twist(d, i) ? opt->atol / h : state_atol(d, i, opt->atol);
           w[i] = 1.0 / (opt->rtol * fabs(Y[i]) + a);
         }
         double nrm = N_VWrmsNorm(g.dY, g.w);
@@ -774,12 +820,8 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
     out->nsteps++;
     out->last_step = h;
     if (t1 == tout[iout]) {
-      record(d, Y, out, iout, E0, t1);
-      if (opt->interrupt && opt->interrupt(opt->ctx, tout[iout], iout)) {
-        st = phm_error_set(err, PHM_EINTERRUPT, "interrupted at t = %g s", tout[iout]);
-        goto done;
-      }
-      if (opt->progress && opt->progress(opt->ctx, tout[iout], iout)) goto done;
+      int stop;
+      if ((st = emit_output(d, Y, out, iout, E0, t1, opt, &stop, err)) || stop) goto done;
       iout++;
     }
     t = t1;
@@ -791,12 +833,7 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
     memcpy(y0, Y, sizeof(double) * (size_t)n);
     memcpy(yp0, Yp, sizeof(double) * (size_t)n);
     if (isfinite(nbp) && t >= nbp - 1e-12 * h0 && iout < nout) {
-      /* breakpoint: new piece of the laws, restart from consistent values (as the IDA driver) */
-      d->tref = phm_model_tref(m, t, &nbp);
-      unpack_states(m, y0, H, tw);
-      memcpy(qprev, y0, sizeof(double) * (size_t)n);
-      if ((st = consistent_ic(d, t, H, tw, qprev, qprev + d->ix, 0, y0, yp0, err))) goto done;
-      for (int i = d->ie; i < d->il; i++) y0[i] = qprev[i];
+      if ((st = restart_at_breakpoint(d, t, &nbp, y0, yp0, H, tw, qprev, err))) goto done;
       hjac = hq = 0;
       restart = 1;
     }
@@ -874,22 +911,16 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
   /* id: 1 differential, 0 algebraic. IDA uses it only to leave the 0 components out of the local
    * error test (IDASetSuppressAlg; no IDACalcIC here), so the configuration error test marks the
    * twists 0 as well: they keep their weights in the Newton convergence test. */
-  for (int i = 0; i < d.n; i++) {
-    int twist = i < d.ix && i % PHM_NSTATE >= 7;
-    idd[i] = i < d.il && !(twist && opt->error_test == PHM_ERRTEST_CONFIGURATION) ? 1.0 : 0.0;
-  }
+  for (int i = 0; i < d.n; i++)
+    idd[i] = i < d.il && !(is_twist(&d, i) && opt->error_test == PHM_ERRTEST_CONFIGURATION) ? 1.0 : 0.0;
   double t = tout[0], nbp;
   d.tref = phm_model_tref(m, t, &nbp);
   memset(y, 0, sizeof(double) * (size_t)d.n);
   memset(ypd, 0, sizeof(double) * (size_t)d.n);
   if ((st = consistent_ic(&d, t, H, tw, NULL, m->xref0, 1, y, ypd, err))) goto done;
   double E0 = 0;
-  record(&d, y, out, 0, &E0, t);
-  if (opt->interrupt && opt->interrupt(opt->ctx, t, 0)) {
-    st = phm_error_set(err, PHM_EINTERRUPT, "interrupted at t = %g s", t);
-    goto done;
-  }
-  if (opt->progress && opt->progress(opt->ctx, t, 0)) goto done;
+  int stop;
+  if ((st = emit_output(&d, y, out, 0, &E0, t, opt, &stop, err)) || stop) goto done;
   if (nout == 1) goto done;
   if (opt->integrator == PHM_INTEGRATOR_GALPHA) {
     st = run_galpha(&d, opt, ctx, yy, yp, tout, nout, H, tw, qprev, &E0, nbp, out, err);
@@ -904,31 +935,13 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
   IDACHK(IDASetErrHandlerFn(mem, ida_err_handler, &d));
   IDACHK(IDAInit(mem, ida_res, t, yy, yp));
   {
-    /* mu (GGL) is a velocity correction whose exact value is zero. Near a tiny step size h (first
-     * step, restart after a breakpoint) Newton's corrections of mu are ~ |g round-off| / h: with
-     * positions |p| ~ 0.3 m, g carries ~ 5e-17 of round-off, and at h ~ 1e-10 mu moves by ~ 1e-6,
-     * so a weight 1/atol on mu made the corrector "diverge" (IDA_CONV_FAIL, h -> 1e-15). mu is
-     * left out of the error test, and its convergence is already measured through the positions
-     * it corrects (by h G^T mu); so its absolute tolerance is 1 (rad/s, m/s).
-     * lambda (constraint wrench, also left out of the error test) has the same defect one level
-     * down: its corrections are ~ M |G t round-off| / h. With IDA's default first step
-     * 0.5/|y'|_WRMS ~ 1e-11 s (a body at rest with a nonzero acceleration, atol 1e-10) a weight
-     * 1/atol on lambda failed the corrector, h shrank by 4 per failure and IDA crept on at
-     * h ~ 1e-18 (an open chain "hung" in IDASolve). Two measured remedies together: a first step
-     * of min(1e-8 s, 1e-3 of the span), and an absolute tolerance of at least 1e-6 (N, N m) on
-     * lambda -- enough for the four-bar at rtol 1e-10 (atol 1e-12), while lambda stays accurate
-     * enough for the energy ledger (lambda . rate of driven pairs); an absolute tolerance of 1
-     * cost a 350x larger energy drift in a flexible slider-crank and a 1.45e-6 ledger residual. */
     N_Vector av = N_VNew_Serial(d.n, ctx);
     if (!av) {
       st = phm_error_set(err, PHM_ENOMEM, "out of memory (N_Vector)");
       goto done;
     }
     double *a = N_VGetArrayPointer(av);
-    for (int i = 0; i < d.n; i++)
-      a[i] = i >= d.im   ? fmax(1.0, opt->atol)  /* mu */
-             : i >= d.il ? fmax(1e-6, opt->atol) /* lambda */
-                         : opt->atol;
+    for (int i = 0; i < d.n; i++) a[i] = state_atol(&d, i, opt->atol);
     int fl = IDASVtolerances(mem, opt->rtol, av);
     N_VDestroy(av);
     IDACHK(fl);
@@ -983,21 +996,12 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
       if (flag == IDA_TSTOP_RETURN) {
         /* breakpoint: new piece of the laws, re-initialize from consistent values */
         add_stats(mem, out, opt->linear_solver);
-        d.tref = phm_model_tref(m, t, &nbp);
-        unpack_states(m, y, H, tw);
-        memcpy(qprev, y, sizeof(double) * (size_t)d.n);
-        if ((st = consistent_ic(&d, t, H, tw, qprev, qprev + d.ix, 0, y, ypd, err))) goto done;
-        for (int i = d.ie; i < d.il; i++) y[i] = qprev[i];
+        if ((st = restart_at_breakpoint(&d, t, &nbp, y, ypd, H, tw, qprev, err))) goto done;
         IDACHK(IDAReInit(mem, t, yy, yp));
         if (t >= target) t = target;
       }
     }
-    record(&d, y, out, iout, &E0, t);
-    if (opt->interrupt && opt->interrupt(opt->ctx, t, iout)) {
-      st = phm_error_set(err, PHM_EINTERRUPT, "interrupted at t = %g s", t);
-      goto done;
-    }
-    if (opt->progress && opt->progress(opt->ctx, t, iout)) goto done;
+    if ((st = emit_output(&d, y, out, iout, &E0, t, opt, &stop, err)) || stop) goto done;
   }
 done:
   if (mem) add_stats(mem, out, opt->linear_solver);
