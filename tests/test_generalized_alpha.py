@@ -103,7 +103,7 @@ def test_callback_stops_the_run():
 @pytest.mark.parametrize("kw, match", [
     (dict(integrator="euler"), "unknown integrator"),
     (dict(integrator="generalized-alpha"), "needs step="),
-    (dict(integrator="generalized-alpha", step=-1e-3), "step must be > 0"),
+    (dict(integrator="generalized-alpha", step=-1e-3), "step must be positive"),
     (dict(integrator="generalized-alpha", step=1e-3, rho_inf=1.5), r"rho_inf must be in \[0, 1\]"),
     (dict(integrator="generalized-alpha", step=1e-3, error_test="configuration"), "integrator='ida' only"),
     (dict(step=1e-3), "step= applies to integrator='generalized-alpha'"),

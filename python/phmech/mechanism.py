@@ -17,7 +17,7 @@ import numpy as np
 
 from . import _core, se3, topology
 from .graphs import MechanismGraph, Incidence
-from ._checks import real
+from ._checks import positive, real
 from ._core import ModelError
 
 __all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "Fixed", "Revolute", "Prismatic",
@@ -1069,7 +1069,7 @@ class Mechanism:
         step follows the poses and joint coordinates, and BDF order <= 2 (A-stable) damps what it
         does not resolve, like the numerical dissipation of a fixed-step structural integrator.
         Use it for trajectories of slow motions; it dissipates energy (check
-        ``energy["residual"]``). ``max_order``: maximum BDF order (default 5 with ``"all"``, 2
+        ``energy["ledger"]``). ``max_order``: maximum BDF order (default 5 with ``"all"``, 2
         with ``"configuration"``, which accepts only 1 or 2).
 
         Integrators: ``integrator="ida"`` (default) is SUNDIALS IDA, variable-order variable-step
@@ -1079,8 +1079,9 @@ class Mechanism:
         ``rho_inf`` (1: no numerical dissipation; default 0.9 damps vibrations the step does not
         resolve). With ``rho_inf`` = 1 the stiff vibrations a step does not resolve are not damped
         and Newton may converge badly: on the leaf-spring mechanism (10 elements per leaf) it needed
-        23 000 steps with step halvings instead of 3000 at 0.9. Steps are shortened evenly to land on the output times and on the breakpoints
-        of the time laws, so every output is a step (``dt_out`` below ``step`` shortens the step).
+        23 000 steps with step halvings instead of 3000 at 0.9. Steps are shortened evenly to land
+        on the output times and on the breakpoints of the time laws, so every output is a step
+        (``dt_out`` below ``step`` shortens the step).
         After the start and each breakpoint the first step uses the consistent accelerations;
         if its Newton iteration fails (huge initial accelerations of light nodes), it is redone as
         one backward-Euler step.
@@ -1101,10 +1102,8 @@ class Mechanism:
         if integrator == "generalized-alpha":
             if step is None:
                 raise ModelError("integrator='generalized-alpha' needs step= (the fixed time step, s)")
-            step = real("step", step)
+            step = positive("step", step)
             rho_inf = real("rho_inf", rho_inf)
-            if step <= 0:
-                raise ModelError(f"step must be > 0 (got {step})")
             if not 0.0 <= rho_inf <= 1.0:
                 raise ModelError(f"rho_inf must be in [0, 1] (got {rho_inf})")
             if error_test != "all" or max_order is not None or max_step:
