@@ -18,7 +18,8 @@ typedef struct {
   double time, tref, scale;
   const double *lam; /* constraint wrenches added to the forces (may be NULL) */
   double *wr, *gl, *G, *Hp;
-  /* statics: carrier coupling graph (CSR), its distance-2 colouring, force Jacobian blocks */
+  /* carrier coupling graph (CSR), its distance-2 colouring and the force Jacobian blocks
+   * (lin_colour; modes and statics) */
   int *ptr, *nbr, *col, ncol;
   double *Kb;
 } lin_t;
@@ -57,6 +58,10 @@ static void lin_free(lin_t *L) {
   free(L->gl);
   free(L->G);
   free(L->Hp);
+  free(L->ptr);
+  free(L->nbr);
+  free(L->col);
+  free(L->Kb);
 }
 
 /* ---------------------------------------------------------------- modes */
@@ -129,14 +134,33 @@ extern void dsygvx_(const int *itype, const char *jobz, const char *range, const
                     double *work, const int *lwork, int *iwork, int *ifail, int *info);
 extern double dlamch_(const char *cmach);
 
+/* The coupling graph of L's model, its colouring and room for the force Jacobian blocks. */
+static phm_status lin_colour(lin_t *L, phm_error *err) {
+  const phm_model *m = L->m;
+  int nc = m->nc;
+  phm_status st = carrier_graph(m, &L->ptr, &L->nbr, err);
+  if (st) return st;
+  int *mark = malloc(sizeof(int) * (size_t)(nc + 1));
+  L->col = malloc(sizeof(int) * (size_t)nc);
+  L->Kb = calloc(36 * (size_t)L->ptr[nc] + 1, sizeof(double));
+  if (!mark || !L->col || !L->Kb) {
+    free(mark);
+    return phm_error_set(err, PHM_ENOMEM, "out of memory");
+  }
+  L->ncol = carrier_colours(nc, L->ptr, L->nbr, L->col, mark);
+  free(mark);
+  return PHM_OK;
+}
+
 /* Kb[q] = d f_r / d delta_c for block q = (row carrier r, column carrier nbr[q]) of the coupling
  * graph (6 x 6, row-major), f = total_force on the perturbed carriers' charts, f_c(delta) =
  * dexp_{-delta}^T w_c(H_c exp(delta)); central differences, one pass per colour and direction
- * (carriers of one colour share no neighbour, so their columns do not mix). */
-static void force_jacobian_blocks(lin_t *L, const double *H, int ncol, const int *col, const int *ptr,
-                                  const int *nbr, double *f1, double *f2, double *Kb) {
+ * (carriers of one colour share no neighbour, so their columns do not mix). Into L->Kb. */
+static void force_jacobian_blocks(lin_t *L, const double *H, double *f1, double *f2) {
   const phm_model *m = L->m;
-  int nc = m->nc;
+  int nc = m->nc, ncol = L->ncol;
+  const int *col = L->col, *ptr = L->ptr, *nbr = L->nbr;
+  double *Kb = L->Kb;
   for (int k = 0; k < ncol; k++)
     for (int j = 0; j < 6; j++) {
       double eps = 1e-6 * (j < 3 ? 1.0 : m->lref);
@@ -183,30 +207,27 @@ phm_status phm_modes(const phm_model *m, const double *poses, const double *lamb
   int nc = m->nc, n6 = 6 * nc, nk = m->ncons;
   phm_status st = PHM_OK;
   lin_t L = {0};
-  int *ptr = NULL, *nbr = NULL, *col = NULL, *mark = NULL, *cmap = NULL, *clist = NULL, *red = NULL;
+  int *cmap = NULL, *clist = NULL, *red = NULL;
   int *iwork = NULL, *ifail = NULL;
   double *H = malloc(sizeof(double) * 16 * (size_t)nc);
   double *f0 = malloc(sizeof(double) * (size_t)n6), *f1 = malloc(sizeof(double) * (size_t)n6);
   double *f2 = malloc(sizeof(double) * (size_t)n6), *tw = calloc((size_t)n6, sizeof(double));
-  double *Kb = NULL, *Db = NULL, *Gc = NULL, *U = NULL, *sv = NULL, *work = NULL;
+  double *Db = NULL, *Gc = NULL, *U = NULL, *sv = NULL, *work = NULL;
   double *Kr = NULL, *Mr = NULL, *Dr = NULL, *ev = NULL, *Y = NULL;
   if (!H || !f0 || !f1 || !f2 || !tw) goto oom;
-  if ((st = lin_alloc(&L, m, err))) goto done;
-  if ((st = carrier_graph(m, &ptr, &nbr, err))) goto done;
+  if ((st = lin_alloc(&L, m, err)) || (st = lin_colour(&L, err))) goto done;
+  const int *ptr = L.ptr, *nbr = L.nbr, *col = L.col, ncol = L.ncol;
+  double *Kb = L.Kb;
   int nb = ptr[nc];
-  col = malloc(sizeof(int) * (size_t)nc);
-  mark = malloc(sizeof(int) * (size_t)(nc + 1));
-  Kb = calloc((size_t)nb * 36, sizeof(double));
   Db = calloc((size_t)nb * 36, sizeof(double));
-  if (!col || !mark || !Kb || !Db) goto oom;
-  int ncol = carrier_colours(nc, ptr, nbr, col, mark);
+  if (!Db) goto oom;
   L.time = time;
   L.tref = phm_model_tref(m, time, NULL);
   L.scale = 1.0;
   L.lam = lambda;
   for (int c = 0; c < nc; c++) memcpy(H + 16 * c, poses ? poses + 16 * c : m->car[c].H0, 16 * sizeof(double));
   /* stiffness K = -d f / d delta, block-sparse */
-  force_jacobian_blocks(&L, H, ncol, col, ptr, nbr, f1, f2, Kb);
+  force_jacobian_blocks(&L, H, f1, f2);
   for (size_t i = 0; i < (size_t)nb * 36; i++) Kb[i] = -Kb[i];
   /* damping D = -dw/dt (linear in t: one-sided differences are exact up to round-off) */
   phm_applied(m, H, tw, NULL, time, L.tref, 1.0, f0, NULL, NULL, NULL, NULL, NULL);
@@ -390,10 +411,10 @@ oom:
   st = phm_error_set(err, PHM_ENOMEM, "out of memory");
 done:
   lin_free(&L);
-  free(ptr); free(nbr); free(col); free(mark); free(cmap); free(clist); free(red);
+  free(cmap); free(clist); free(red);
   free(iwork); free(ifail);
   free(H); free(f0); free(f1); free(f2); free(tw);
-  free(Kb); free(Db); free(Gc); free(U); free(sv); free(work);
+  free(Db); free(Gc); free(U); free(sv); free(work);
   free(Kr); free(Mr); free(Dr); free(ev); free(Y);
   return st;
 }
@@ -510,7 +531,7 @@ static int newton(lin_t *L, static_matrix_t *S, double *H, double *lam, double t
     /* Jacobian: force blocks by coloured differences (O(N) force evaluations per iteration
      * instead of O(N^2) column by column), constraint rows dg/ddelta = G, multiplier columns G^T;
      * sparse LU (KLU) */
-    force_jacobian_blocks(L, H, L->ncol, L->col, L->ptr, L->nbr, f1, f2, L->Kb);
+    force_jacobian_blocks(L, H, f1, f2);
     if (nk) phm_constraints_dense(m, H, NULL, L->time, L->tref, NULL, L->G, NULL);
     for (int i = 0; i < N; i++) R[i] = -R[i];
     if (static_matrix_solve(S, L->Kb, L->G, R)) break;
@@ -547,20 +568,11 @@ phm_status phm_static(const phm_model *m, const double *poses, double time, int 
   double *f1 = malloc(sizeof(double) * (size_t)n6), *f2 = malloc(sizeof(double) * (size_t)n6);
   double *Hs = malloc(sizeof(double) * 16 * (size_t)nc), *ls = malloc(sizeof(double) * (size_t)(nk + 1));
   double *lam = calloc((size_t)(nk + 1), sizeof(double));
-  int *mark = malloc(sizeof(int) * (size_t)(nc + 1));
-  if (!R || !f1 || !f2 || !Hs || !ls || !lam || !mark) {
+  if (!R || !f1 || !f2 || !Hs || !ls || !lam) {
     st = phm_error_set(err, PHM_ENOMEM, "out of memory");
     goto done;
   }
-  if ((st = lin_alloc(&L, m, err))) goto done;
-  if ((st = carrier_graph(m, &L.ptr, &L.nbr, err))) goto done;
-  L.col = malloc(sizeof(int) * (size_t)nc);
-  L.Kb = malloc(sizeof(double) * 36 * (size_t)(L.ptr[nc] + 1));
-  if (!L.col || !L.Kb) {
-    st = phm_error_set(err, PHM_ENOMEM, "out of memory");
-    goto done;
-  }
-  L.ncol = carrier_colours(nc, L.ptr, L.nbr, L.col, mark);
+  if ((st = lin_alloc(&L, m, err)) || (st = lin_colour(&L, err))) goto done;
   if ((st = static_matrix_build(&S, &L, err))) goto done;
   L.time = time;
   L.tref = phm_model_tref(m, time, NULL);
@@ -588,7 +600,6 @@ phm_status phm_static(const phm_model *m, const double *poses, double time, int 
 done:
   if (iters) *iters = it;
   lin_free(&L);
-  free(L.ptr); free(L.nbr); free(L.col); free(L.Kb); free(mark);
   static_matrix_free(&S);
   free(R); free(f1); free(f2);
   free(Hs); free(ls); free(lam);
