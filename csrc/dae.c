@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <stdio.h>
 
 #include <ida/ida.h>
 #include <nvector/nvector_serial.h>
@@ -635,7 +636,7 @@ static void add_stats(void *mem, phm_sim_output *out, int use_klu) {
 typedef struct {
   double af, am, gam;
   int euler; /* this step is backward Euler (see run_galpha) */
-  N_Vector y0, yp0, Y, Yp, ya, ypa, Ra, R, dY, w, yq, ypq; /* yq, ypq: previous step */
+  N_Vector y0, yp0, Y, Yp, ya, ypa, Ra, R, dY, w, yq, ypq, yqq; /* yq, ypq: previous step; yqq: the one before */
 } galpha_t;
 
 /* alpha_f of this step (1 for a backward Euler step: the stage is t1) */
@@ -691,13 +692,61 @@ static int galpha_jacobian(dae_t *d, galpha_t *g, double t0, double h, SUNMatrix
   return 0;
 }
 
+/* Local error estimate of a converged step h (previous steps hq, hqq; 0: not there), WRMS-normed
+ * with the error weights of the configuration states (poses, joint coordinates; twists, ledger
+ * integrals and multipliers are left out): the trapezoidal local error h^3 y'''/12, with y''' = 6
+ * times the third divided difference of y over the last four points. Positions, not rates: a fast
+ * vibration the step does not resolve has a tiny amplitude in the poses and a large one in the
+ * rates (by omega), so an estimate from the rates would resolve it. Returns -1 without enough
+ * history (the first two steps after a start or a breakpoint). *emax: the max-norm estimate. */
+static double galpha_error(const dae_t *d, const galpha_t *g, double h, double hq, double hqq,
+                           double rtol, double atol, double *emax) {
+  *emax = 0;
+  if (!(hq > 0 && hqq > 0)) return -1.0;
+  const double *Y = N_VGetArrayPointer(g->Y), *y0 = N_VGetArrayPointer(g->y0);
+  const double *yq = N_VGetArrayPointer(g->yq), *yqq = N_VGetArrayPointer(g->yqq);
+  double sum = 0, mx = 0;
+  int cnt = 0;
+  for (int i = 0; i < d->ie; i++) {
+    if (is_twist(d, i)) continue;
+    double d10 = (Y[i] - y0[i]) / h, d0q = (y0[i] - yq[i]) / hq, dqq = (yq[i] - yqq[i]) / hqq;
+    double dd2a = (d10 - d0q) / (h + hq), dd2b = (d0q - dqq) / (hq + hqq);
+    double e = 0.5 * h * h * h * (dd2a - dd2b) / (h + hq + hqq);
+    double wgt = rtol * fabs(Y[i]) + atol;
+    sum += (e / wgt) * (e / wgt);
+    if (getenv("PHM_DEBUG") && fabs(e / wgt) > 3) fprintf(stderr, "h %.3g i %d (c %d k %d) e %.3g w %.3g y %.3g\n", h, i, i / PHM_NSTATE, i % PHM_NSTATE, e, wgt, Y[i]);
+    mx = fmax(mx, fabs(e));
+    cnt++;
+  }
+  *emax = mx;
+  return cnt ? sqrt(sum / cnt) : 0.0;
+}
+
 static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vector yy,
                              N_Vector yp, const double *tout, int nout, double *H, double *tw,
                              double *qprev, double E0[1], double nbp, phm_sim_output *out,
                              phm_error *err) {
   int n = d->n;
   phm_status st = PHM_OK;
-  double rho = opt->rho_inf, h0 = opt->step;
+  double rho = opt->rho_inf;
+  int adaptive = opt->adaptive;
+  /* the band's floor: no step below it for accuracy's sake (Newton failures still halve) */
+  double hfloor = adaptive && opt->band > 0 ? 1.0 / (PHM_BAND_STEPS * opt->band) : 0.0;
+  double hmax = opt->max_step > 0 ? opt->max_step : INFINITY;
+  /* proposed step: fixed, or the controller's (first: the given step, else the floor, else 1e-4
+   * of the span) */
+  double h0 = adaptive ? (opt->step > 0 ? opt->step : hfloor > 0 ? hfloor : 1e-4 * (tout[nout - 1] - tout[0]))
+                       : opt->step;
+  if (adaptive) h0 = fmin(h0, hmax);
+  /* Newton's tolerance relative to the error tolerance (fixed step: rtol/atol are Newton's). A
+   * loose Newton test breaks the physics, not only the accuracy: strains are position errors
+   * over the element length, and at Newton rtol 1e-4 a 0.6 m double pendulum's tip ended 0.88 m
+   * from its pivot. 1e-2 of the error tolerance is the usual choice for step-controlled
+   * implicit integrators (IDA's Newton test is 0.33 of its error weights, with BDF's error
+   * estimate; this estimate is of the configuration only). The multipliers keep their
+   * tolerances (state_atol): their Newton corrections carry the round-off of G t / h. */
+  double newton_tol = adaptive ? fmin(1.0, fmax(1e-2, 1e-8 / opt->rtol)) : 1.0; /* not below 1e-8:
+                                                                            * round-off */
   galpha_t g;
   memset(&g, 0, sizeof g);
   g.af = 1.0 / (1.0 + rho);
@@ -705,7 +754,7 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
   g.gam = 0.5 + g.am - g.af;
   SUNMatrix Js = NULL, A = NULL;
   SUNLinearSolver LS = NULL;
-  N_Vector *vs[] = {&g.y0, &g.yp0, &g.Y, &g.Yp, &g.ya, &g.ypa, &g.Ra, &g.R, &g.dY, &g.w, &g.yq, &g.ypq};
+  N_Vector *vs[] = {&g.y0, &g.yp0, &g.Y, &g.Yp, &g.ya, &g.ypa, &g.Ra, &g.R, &g.dY, &g.w, &g.yq, &g.ypq, &g.yqq};
   int nv = (int)(sizeof vs / sizeof vs[0]);
   for (int k = 0; k < nv; k++) {
     if (!(*vs[k] = N_VNew_Serial(n, ctx))) {
@@ -730,6 +779,7 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
   double *Yp = N_VGetArrayPointer(g.Yp), *dY = N_VGetArrayPointer(g.dY), *w = N_VGetArrayPointer(g.w);
   double *y = N_VGetArrayPointer(yy), *ypd = N_VGetArrayPointer(yp);
   double *yq = N_VGetArrayPointer(g.yq), *ypq = N_VGetArrayPointer(g.ypq), hq = 0; /* hq = 0: no history */
+  double *yqq = N_VGetArrayPointer(g.yqq), hqq = 0, hshift = 0;
   memcpy(y0, y, sizeof(double) * (size_t)n);
   memcpy(yp0, ypd, sizeof(double) * (size_t)n);
   double t = tout[0], hjac = 0;
@@ -750,14 +800,28 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
     if (isfinite(nbp) && nbp > t && nbp < target) target = nbp;
     double h = (target - t) / ceil((target - t) / h0 - 1e-9);
     int halvings = 0;
-    for (;;) { /* one step of size h (halved on Newton failure) */
+    double errn = 0, emax = 0;
+    for (;;) { /* one step of size h (halved on Newton failure, shortened on error-test failure) */
       /* predictor: y' (and the multipliers) extrapolated linearly from the last two steps */
       /* (no history on the first step and after a restart: yq, ypq are not read then) */
       double r = hq > 0 ? h / hq : 0;
+      /* a new step size moves the time the rates stand for: y0' approximates y'(t0 - (alpha_m -
+       * alpha_f) h) for the step h that produced it (the stage rate (1-am) y0' + am y1' is y' at
+       * t0 + af h), so for a step h != hq it is shifted by (am - af)(hq - h) y'' (y'' from the
+       * last two rates). Without it a variable step loses the second order (first-order error
+       * at every change of h). hshift: the step y0' now stands for. */
+      if (adaptive && hq > 0 && !g.euler && h != hshift) {
+        double c = (g.am - g.af) * (hshift - h) / hq;
+        for (int i = 0; i < d->il; i++) yp0[i] += c * (yp0[i] - ypq[i]);
+        hshift = h;
+      }
       for (int i = 0; i < d->il; i++)
         Y[i] = g.euler ? y0[i] : y0[i] + h * yp0[i] + (hq > 0 ? g.gam * h * r * (yp0[i] - ypq[i]) : 0.0);
       for (int i = d->il; i < n; i++) Y[i] = hq > 0 ? y0[i] + r * (y0[i] - yq[i]) : y0[i];
-      if (fabs(h / hjac - 1.0) > 0.2) hjac = 0; /* the iteration matrix scales with 1/h */
+      /* the iteration matrix scales with 1/h: refreshed when h moved by more than 20 % (fixed
+       * step) or 50 % (adaptive: the controller moves h a little at every step, and a stale
+       * matrix only slows the convergence, which a failure then refreshes) */
+      if (fabs(h / hjac - 1.0) > (adaptive ? 0.5 : 0.2)) hjac = 0;
       fresh = 0;
       int ok = 0;
       double nrm0 = 0;
@@ -786,7 +850,7 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
           /* twists: a velocity error dv moves the poses by h dv in a step, so the tolerance on
            * the twists that matches atol on the poses is atol / h */
           double a = is_twist(d, i) ? opt->atol / h : state_atol(d, i, opt->atol);
-          w[i] = 1.0 / (opt->rtol * fabs(Y[i]) + a);
+          w[i] = 1.0 / ((i < d->il ? newton_tol : 1.0) * (opt->rtol * fabs(Y[i]) + a));
         }
         double nrm = N_VWrmsNorm(g.dY, g.w);
         if (!isfinite(nrm)) break;
@@ -797,6 +861,15 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
           double rate = pow(nrm / nrm0, 1.0 / it);
           if (rate > 0.9) break;
           if (nrm * rate / (1.0 - rate) <= 0.33) { ok = 1; break; }
+        }
+      }
+      if (ok && adaptive) {
+        galpha_stage(d, &g, h); /* y1' of the converged y1 */
+        errn = galpha_error(d, &g, h, hq, hqq, opt->rtol, opt->atol, &emax);
+        if (errn > 1.0 && h > hfloor * (1.0 + 1e-9)) { /* error test failed: shorter step, same t */
+          out->netf++;
+          h = fmax(hfloor, h * fmax(0.2, 0.9 * pow(errn, -1.0 / 3.0)));
+          continue;
         }
       }
       if (ok) break;
@@ -819,22 +892,40 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
     double t1 = fabs(target - (t + h)) < 1e-9 * h ? target : t + h;
     out->nsteps++;
     out->last_step = h;
+    if (adaptive) {
+      /* next proposal: grow only by >= 1.25 (a stale iteration matrix is refreshed when h moves
+       * by more than 20 %), at most 2x per step; never below the floor nor above max_step. A step
+       * shortened to land on an output does not shrink the proposal. */
+      if (errn > 1.0) out->nfloor++;
+      out->err_est += emax;
+      /* no estimate yet (errn < 0): keep the step */
+      double fac = errn < 0 ? 1.0 : fmin(2.0, fmax(0.2, errn > 0 ? 0.9 * pow(errn, -1.0 / 3.0) : 2.0));
+      double hn = fac < 1.0 ? h * fac : fmax(h0, fac >= 1.25 ? h * fac : h);
+      h0 = fmin(hmax, fmax(hfloor, hn));
+    }
+    if (opt->monitor && out->nsteps % PHM_MONITOR_STEPS == 0 && opt->monitor(opt->ctx, t1, out->nsteps, h)) {
+      st = phm_error_set(err, PHM_EINTERRUPT, "interrupted at t = %g s", t1);
+      goto done;
+    }
     if (t1 == tout[iout]) {
       int stop;
       if ((st = emit_output(d, Y, out, iout, E0, t1, opt, &stop, err)) || stop) goto done;
       iout++;
     }
     t = t1;
+    hqq = hq;
     hq = g.euler ? 0 : h; /* no history across the Euler step (its y0' is not this scheme's) */
+    hshift = h;
+    memcpy(yqq, yq, sizeof(double) * (size_t)n);
     if (g.euler) hjac = 0; /* other coefficients from here on */
     g.euler = restart = 0;
     memcpy(yq, y0, sizeof(double) * (size_t)n);
     memcpy(ypq, yp0, sizeof(double) * (size_t)n);
     memcpy(y0, Y, sizeof(double) * (size_t)n);
     memcpy(yp0, Yp, sizeof(double) * (size_t)n);
-    if (isfinite(nbp) && t >= nbp - 1e-12 * h0 && iout < nout) {
+    if (isfinite(nbp) && t >= nbp - 1e-12 * h && iout < nout) {
       if ((st = restart_at_breakpoint(d, t, &nbp, y0, yp0, H, tw, qprev, err))) goto done;
-      hjac = hq = 0;
+      hjac = hq = hqq = 0;
       restart = 1;
     }
   }
@@ -871,12 +962,15 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
   if (opt->integrator != PHM_INTEGRATOR_IDA && opt->integrator != PHM_INTEGRATOR_GALPHA)
     return phm_error_set(err, PHM_EINVAL, "unknown integrator %d (0 IDA, 1 generalized-alpha)", opt->integrator);
   if (opt->integrator == PHM_INTEGRATOR_GALPHA &&
-      (!(opt->step > 0) || !isfinite(opt->step) || !(opt->rho_inf >= 0 && opt->rho_inf <= 1)))
-    return phm_error_set(err, PHM_EINVAL, "generalized-alpha needs step > 0 and 0 <= rho_inf <= 1 (got %g, %g)",
-                         opt->step, opt->rho_inf);
+      (!(opt->adaptive ? opt->step >= 0 : opt->step > 0) || !isfinite(opt->step) ||
+       !(opt->rho_inf >= 0 && opt->rho_inf <= 1) || !(opt->band >= 0) || !isfinite(opt->band)))
+    return phm_error_set(err, PHM_EINVAL, "generalized-alpha needs step > 0 (>= 0 when adaptive), "
+                         "0 <= rho_inf <= 1 and a finite band >= 0 (got %g, %g, %g)",
+                         opt->step, opt->rho_inf, opt->band);
   double t_start = now();
   out->nout_done = 0;
-  out->nsteps = out->nres = out->njac = out->nniters = out->netf = out->nncf = 0;
+  out->nsteps = out->nres = out->njac = out->nniters = out->netf = out->nncf = out->nfloor = 0;
+  out->err_est = 0;
   phm_status st = PHM_OK;
   dae_t d;
   if ((st = dae_init(&d, m, err))) return st;
@@ -952,7 +1046,10 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
   /* bounded failure: at most 10^6 steps per output interval, and no step below 1e-14 of the
    * simulated span (a corrector that keeps failing ends in IDA_CONV_FAIL/IDA_ERR_FAIL there
    * instead of creeping on at h ~ 1e-18) */
-  IDACHK(IDASetMaxNumSteps(mem, opt->max_steps > 0 ? opt->max_steps : 1000000L));
+  /* with a monitor, IDASolve returns every PHM_MONITOR_STEPS steps (IDA_TOO_MUCH_WORK, state
+   * intact) so the monitor sees long output intervals; the per-interval limit is counted here */
+  long max_steps = opt->max_steps > 0 ? opt->max_steps : 1000000L;
+  IDACHK(IDASetMaxNumSteps(mem, opt->monitor ? PHM_MONITOR_STEPS : max_steps));
   IDACHK(IDASetMinStep(mem, 1e-14 * fmax(1.0, tout[nout - 1] - tout[0])));
   IDACHK(IDASetInitStep(mem, fmin(1e-8, 1e-3 * (tout[nout - 1] - tout[0]))));
   if (opt->max_step > 0) IDACHK(IDASetMaxStep(mem, opt->max_step));
@@ -982,10 +1079,23 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
 
   for (int iout = 1; iout < nout; iout++) {
     double target = tout[iout];
+    long chunks = 0;
     while (t < target) {
       if (isfinite(nbp)) IDACHK(IDASetStopTime(mem, nbp));
       double tret = t;
       int flag = IDASolve(mem, target, &tret, yy, yp, IDA_NORMAL);
+      if (flag == IDA_TOO_MUCH_WORK && opt->monitor && ++chunks * PHM_MONITOR_STEPS < max_steps) {
+        long ns = 0;
+        double hl = 0;
+        IDAGetNumSteps(mem, &ns);
+        IDAGetLastStep(mem, &hl);
+        t = tret;
+        if (opt->monitor(opt->ctx, t, out->nsteps + ns, hl)) {
+          st = phm_error_set(err, PHM_EINTERRUPT, "interrupted at t = %g s", t);
+          goto done;
+        }
+        continue;
+      }
       if (flag < 0) {
         char *nm = IDAGetReturnFlagName(flag);
         st = phm_error_set(err, PHM_ESOLVER, "IDA failed with %s at t = %.9g s (%s)", nm ? nm : "?", tret, d.idamsg);

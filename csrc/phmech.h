@@ -276,6 +276,10 @@ void phm_model_joints(const phm_model *model, const double *H, const double *xs,
 void phm_model_energy(const phm_model *model, const double *H, const double *t, double e[3]);
 
 typedef int (*phm_callback)(void *ctx, double t, int iout); /* non-zero return stops the run */
+/* Called during integration at least every PHM_MONITOR_STEPS steps (and at each output): time
+ * reached, steps so far, last step [s]. Non-zero return stops the run with PHM_EINTERRUPT. */
+typedef int (*phm_monitor)(void *ctx, double t, long nsteps, double h);
+#define PHM_MONITOR_STEPS 100
 
 /* Which differential states enter IDA's local error test. CONFIGURATION leaves the carriers'
  * twists out (they stay in the Newton convergence test): the step then follows the accuracy of
@@ -285,10 +289,18 @@ enum { PHM_ERRTEST_ALL = 0, PHM_ERRTEST_CONFIGURATION = 1 };
 
 /* Time integrators. IDA: variable-order, variable-step BDF with local error control (rtol, atol,
  * error_test, max_*). GALPHA: generalized-alpha for first-order systems (Jansen, Whiting &
- * Hulbert 2000) with a fixed step `step` and spectral radius at infinity `rho_inf` in [0, 1]
- * (1: no numerical dissipation; < 1 damps what the step does not resolve); second order, the
- * constraints hold at every step, rtol/atol are its Newton tolerances; no error estimate. Steps are
- * shortened evenly to land on the output times and on the laws' breakpoints. */
+ * Hulbert 2000), spectral radius at infinity `rho_inf` in [0, 1] (1: no numerical dissipation;
+ * < 1 damps what the step does not resolve); second order, the constraints hold at every step.
+ * Fixed step (`adaptive` 0): step `step`, rtol/atol are its Newton tolerances, no error estimate.
+ * Variable step (`adaptive` 1): `step` is the first step (<= 0: chosen from the band), the local
+ * error of the configuration (poses, joint coordinates) is estimated from the second difference
+ * of the rates (h^3 y'''/12, the trapezoidal constant) and kept below rtol |y| + atol, but no step
+ * goes below the band's floor 1/(PHM_BAND_STEPS band) [s] (band [Hz]: the highest frequency to
+ * resolve; <= 0: no floor): what lies above the band is damped by rho_inf instead of resolved,
+ * and a step at the floor is accepted even if its estimate is above the tolerance (counted in
+ * nfloor). max_step bounds the steps. Steps land on the output times and the laws' breakpoints
+ * (shortened evenly). docs/integrators.md explains the choice. */
+#define PHM_BAND_STEPS 20
 enum { PHM_INTEGRATOR_IDA = 0, PHM_INTEGRATOR_GALPHA = 1 };
 
 typedef struct {
@@ -303,6 +315,9 @@ typedef struct {
   void *ctx;
   int integrator;         /* PHM_INTEGRATOR_IDA (0) or PHM_INTEGRATOR_GALPHA                */
   double step, rho_inf;   /* GALPHA: step [s] (> 0), spectral radius at infinity [0, 1]     */
+  int adaptive;           /* GALPHA: 0 fixed step, 1 variable step with error control       */
+  double band;            /* GALPHA adaptive: highest frequency to resolve [Hz]; <= 0: none */
+  phm_monitor monitor;    /* may be NULL; called with ctx                                   */
 } phm_sim_options;
 
 #define PHM_NENERGY 7 /* kinetic, elastic, gravity, dissipated, supplied, total, ledger residual */
@@ -323,6 +338,10 @@ typedef struct {
                     * loads: int w.t; springs: minus the dissipated energy)              */
   int nout_done;   /* outputs filled                                    */
   long nsteps, nres, njac, nniters, netf, nncf; /* IDA statistics      */
+  long nfloor;     /* adaptive GALPHA: steps accepted at the band floor above the tolerance */
+  double err_est;  /* adaptive GALPHA: sum over steps of the max-norm local error estimate of
+                    * the configuration (m, rad-like units): a bound of the global error
+                    * without error propagation                                       */
   double last_step; int last_order;             /* IDA's last step [s] and BDF order */
   double wall_time;                             /* seconds             */
 } phm_sim_output;

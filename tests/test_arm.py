@@ -82,7 +82,7 @@ def joint_angles(poses, r, f):
 
 def run(m):
     t0 = time.process_time()
-    res = m.simulate(T_END, 0.01, rtol=1e-8)
+    res = m.simulate(T_END, 0.01, rtol=1e-8, integrator="ida")
     return res, time.process_time() - t0
 
 

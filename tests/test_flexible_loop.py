@@ -44,7 +44,7 @@ def runs():
     for rtol in (1e-6, 1e-8):
         m = build()
         t0 = time.process_time()
-        res = m.simulate(T_END, 0.01, rtol=rtol)
+        res = m.simulate(T_END, 0.01, rtol=rtol, integrator="ida")
         cpu = time.process_time() - t0
         E = res.energy["total"]
         drift = np.max(np.abs(E - E[0])) / res.energy["kinetic"].max()

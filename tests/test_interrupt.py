@@ -26,7 +26,7 @@ def test_ctrl_c_returns_the_partial_result():
     # assertion on `interrupted` below fails) instead of integrating for minutes
     give_up = lambda t, i: time.perf_counter() - t0 > 20.0
     try:
-        res = m.simulate(200.0, 0.01, rtol=1e-8, linear_solver="klu", callback=give_up)
+        res = m.simulate(200.0, 0.01, rtol=1e-8, linear_solver="klu", callback=give_up, integrator="ida")
     finally:
         timer.cancel()
         signal.signal(signal.SIGINT, previous)

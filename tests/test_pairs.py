@@ -36,7 +36,7 @@ def test_compound_pendulum_period_and_energy():
     m, IO = pendulum(x0=0.0)
     T = 4 * np.sqrt(IO / (1.0 * G * 1.0)) * ellipk(np.sin(np.pi / 4) ** 2)
     n = 20
-    r = m.simulate(n * T, 2e-3, rtol=1e-10)
+    r = m.simulate(n * T, 2e-3, rtol=1e-10, integrator="ida")
     xd = r.joint("j")["xdot"][:, 0]
     tc = crossings(r.t, xd)            # extremes: every half period
     periods = np.diff(tc[::2])
@@ -74,7 +74,7 @@ def test_pair_allowed_motion_is_free_and_constraints_hold(kind):
     b = m.add_rigid_body("b", MASS, np.diag(J))
     m.add_pair("j", pair, pm.Frame(-1, H0), b, x0=np.zeros(pair.k))   # places b at H0
     m.add_wrench("w", b, np.add(wa, wc), frame="body")
-    r = m.simulate(1.0, 0.1, rtol=1e-10)
+    r = m.simulate(1.0, 0.1, rtol=1e-10, integrator="ida")
     x = r.joint("j")["x"]
     ref = np.array([expect(t) for t in r.t])
     assert np.max(np.abs(x - ref)) <= 1e-6 * max(1.0, np.max(np.abs(ref)))
@@ -90,7 +90,7 @@ def test_pd_revolute_reaches_set_point_and_ledger():
     b = m.add_rigid_body("b", 1.0, np.diag([0.1, 0.1, 0.1]), com=(0.5, 0, 0))
     m.add_pair("j", pm.Revolute(), m.ground, b, x0=0.0,
                actuator=pm.PD(kp=20.0, kd=4.0, target=pm.Cycloidal(value=1.0, duration=1.0)))
-    r = m.simulate(6.0, 0.01, rtol=1e-9)
+    r = m.simulate(6.0, 0.01, rtol=1e-9, integrator="ida")
     jt = r.joint("j")
     assert abs(jt["x"][-1, 0] - 1.0) < 1e-4 and abs(jt["xdot"][-1, 0]) < 1e-3
     scale = r.energy["kinetic"].max()
@@ -108,7 +108,7 @@ def test_spring_damper_oscillator():
     b = m.add_rigid_body("b", mass, np.eye(3) * 0.01, pose=se3.translation([0, 0, 1.0 + a0]))
     m.add_pair("slide", pm.Prismatic(), m.ground, b, x0=1.0 + a0)
     m.add_spring_damper("s", m.ground, b, k=k, c=c, rest_length=1.0)
-    r = m.simulate(2.0, 1e-3, rtol=1e-10)
+    r = m.simulate(2.0, 1e-3, rtol=1e-10, integrator="ida")
     z = r.joint("slide")["x"][:, 0] - 1.0
     w0, zeta = np.sqrt(k / mass), c / (2 * np.sqrt(k * mass))
     wd = w0 * np.sqrt(1 - zeta**2)
@@ -146,7 +146,7 @@ def test_interaction_between_bodies_is_internal():
     m.add_pair("s1", pm.Prismatic(axis="x"), m.ground, b1, x0=0.0)
     m.add_pair("s2", pm.Prismatic(axis="x"), m.ground, b2, x0=1.0)
     m.add_interaction("push", b2, (0, 0, 0, 2.0, 0, 0), law=pm.Pulse(0.0, 0.5, 1.0), reaction=b1)
-    r = m.simulate(1.0, 0.01, rtol=1e-10)
+    r = m.simulate(1.0, 0.01, rtol=1e-10, integrator="ida")
     v1, v2 = r.joint("s1")["xdot"][:, 0], r.joint("s2")["xdot"][:, 0]
     assert np.max(np.abs(1.0 * v1 + 3.0 * v2)) < 1e-9            # momentum of the pair conserved
     assert abs(v2[-1] - 2.0 * 0.5 / 3.0) < 1e-9                   # impulse / mass
@@ -157,7 +157,7 @@ def test_multiturn_spin_and_helical_coordinates():
     m = pm.Mechanism()
     b = m.add_rigid_body("b", 1.0, np.diag([0.1, 0.1, 0.2]))
     m.add_pair("h", pm.Helical(axis="x", pitch=0.01), m.ground, b, x0=0.0, xdot0=20.0)
-    r = m.simulate(2.0, 0.01, rtol=1e-10)
+    r = m.simulate(2.0, 0.01, rtol=1e-10, integrator="ida")
     x = r.joint("h")["x"][:, 0]
     assert abs(x[-1] - 40.0) < 1e-6                               # 6+ turns, continuous
     assert np.max(np.abs(r.poses[:, 0, 0, 3] - 0.01 * x)) < 1e-9   # translation = pitch * angle
@@ -187,7 +187,7 @@ def test_x0_places_a_link_through_the_spanning_tree():
     lk_props = type("P", (), dict(stiffness=np.eye(6) * 1e3, inertia=np.eye(6) * 0.1))
     lk = m.add_flexible_link("L", 1.0, lk_props, elements=2)
     m.add_pair("p", pm.Revolute(), m.ground, lk.start, x0=0.5)
-    r = m.simulate(0.01, 0.01)
+    r = m.simulate(0.01, 0.01, integrator="ida")
     np.testing.assert_allclose(r.tip(lk)[0], [np.cos(0.5), np.sin(0.5), 0.0], atol=1e-12)
     assert r.energy["elastic"][0] < 1e-20
     np.testing.assert_allclose(r.joint("p")["x"][0], 0.5, atol=1e-12)

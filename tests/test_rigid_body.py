@@ -127,7 +127,7 @@ def world_L_about_com(res, Ic, k=0):
 
 def timed_simulate(m, *args, **kw):
     t0 = time.process_time()
-    r = m.simulate(*args, **kw)
+    r = m.simulate(*args, **kw, integrator="ida")
     return r, time.process_time() - t0
 
 

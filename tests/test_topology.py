@@ -59,7 +59,7 @@ def test_tree_places_serial_chain_and_keeps_poses_across_pairs_without_x0():
 def test_unconnected_body_is_free_and_falls():
     m = ph.Mechanism(gravity=(0, 0, -9.81))
     body(m, "free", pose=se3.translation([0, 0, 1]))
-    r = m.simulate(0.5, 0.05)
+    r = m.simulate(0.5, 0.05, integrator="ida")
     np.testing.assert_allclose(r.poses[-1, 0, 2, 3], 1 - 0.5 * 9.81 * 0.25, rtol=1e-6)
 
 
@@ -82,7 +82,7 @@ def test_bad_input_raises(case):
         elif case == "nan":
             m.add_rigid_body("b", float("nan"), np.eye(3))
         elif case == "span":
-            m.simulate(-1.0, 0.1)
+            m.simulate(-1.0, 0.1, integrator="ida")
         elif case == "nan_x0":
             m.add_pair("p", ph.Revolute(), "ground", a, x0=float("nan"))
 
@@ -92,4 +92,4 @@ def test_solver_failure_reports_ida_reason_and_time():
     a = body(m, "a")
     m.add_pair("p", ph.Revolute("z"), m.ground, a, xdot0=1.0)
     with pytest.raises(ph.SolverError, match=r"IDA.*t = "):
-        m.simulate(1.0, 0.5, rtol=1e-30, atol=1e-40)   # IDA: too much accuracy requested
+        m.simulate(1.0, 0.5, rtol=1e-30, atol=1e-40, integrator="ida")   # IDA: too much accuracy requested

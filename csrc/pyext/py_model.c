@@ -310,7 +310,33 @@ typedef struct {
   int interrupted; /* Ctrl-C seen */
   int failed;      /* the callback raised */
   PyObject *et, *ev, *etb;
+  PyObject *mon;   /* monitor callable(t, steps, h) -> truthy to stop, or None */
 } cb_ctx;
+
+/* Between outputs: pending signals (Ctrl-C, and SIGTERM when Python handles it) stop the run as
+ * an interrupt; then the Python monitor, if any (progress line, cost warnings). */
+static int monitor_cb(void *vctx, double t, long nsteps, double h) {
+  cb_ctx *c = (cb_ctx *)vctx;
+  PyGILState_STATE g = PyGILState_Ensure();
+  int stop = 0;
+  if (PyErr_CheckSignals() != 0) {
+    PyErr_Clear();
+    c->interrupted = 1;
+    stop = 1;
+  } else if (c->mon) {
+    PyObject *r = PyObject_CallFunction(c->mon, "dld", t, nsteps, h);
+    if (!r) {
+      PyErr_Fetch(&c->et, &c->ev, &c->etb);
+      c->failed = 1;
+      stop = 1;
+    } else {
+      stop = PyObject_IsTrue(r) == 1;
+      Py_DECREF(r);
+    }
+  }
+  PyGILState_Release(g);
+  return stop;
+}
 
 static int interrupt_cb(void *vctx, double t, int iout) {
   (void)t;
@@ -349,16 +375,17 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
   (void)self;
   static char *kwl[] = {"model", "tout", "rtol", "atol", "linear_solver", "poses", "twists",
                         "callback", "max_step", "max_order", "record", "error_test",
-                        "integrator", "step", "rho_inf", NULL};
-  PyObject *cap, *to, *po = Py_None, *twi = Py_None, *cb = Py_None, *rec = Py_None;
+                        "integrator", "step", "rho_inf", "adaptive", "band", "monitor", NULL};
+  PyObject *cap, *to, *po = Py_None, *twi = Py_None, *cb = Py_None, *rec = Py_None, *mon = Py_None;
   PyObject *res = NULL; /* before the first `goto fail0`: that path returns it */
   PyArrayObject *R = NULL; /* carriers to record (int array) or NULL: all */
   double rtol, atol, max_step = 0;
   int solver = 0, max_order = 0, error_test = 0, integrator = 0;
-  double step = 0, rho_inf = 1;
-  if (!PyArg_ParseTupleAndKeywords(args, kw, "OOddi|OOOdiOiidd", kwl, &cap, &to, &rtol, &atol, &solver,
+  double step = 0, rho_inf = 1, band = 0;
+  int adaptive = 0;
+  if (!PyArg_ParseTupleAndKeywords(args, kw, "OOddi|OOOdiOiiddidO", kwl, &cap, &to, &rtol, &atol, &solver,
                                    &po, &twi, &cb, &max_step, &max_order, &rec, &error_test,
-                                   &integrator, &step, &rho_inf))
+                                   &integrator, &step, &rho_inf, &adaptive, &band, &mon))
     return NULL;
   phm_model *m = get_model(cap);
   if (!m) return NULL;
@@ -380,8 +407,8 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
     npy_intp tail[2] = {nc, 6};
     if (!(T = phm_py_double_array(twi, "initial twists", tail, 2, 0))) goto fail0;
   }
-  if (cb != Py_None && !PyCallable_Check(cb)) {
-    PyErr_SetString(PyExc_TypeError, "callback must be callable");
+  if ((cb != Py_None && !PyCallable_Check(cb)) || (mon != Py_None && !PyCallable_Check(mon))) {
+    PyErr_SetString(PyExc_TypeError, "callback and monitor must be callable");
     goto fail0;
   }
   npy_intp nrec = nc;
@@ -409,9 +436,9 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
   PyArrayObject *lam = (PyArrayObject *)PyArray_ZEROS(2, dl, NPY_DOUBLE, 0);
   PyArrayObject *en = (PyArrayObject *)PyArray_ZEROS(2, de, NPY_DOUBLE, 0);
   if (!poses || !tw || !lam || !en || !jx || !jv || !ju || !pw || !po_) goto fail;
-  cb_ctx c = {cb == Py_None ? NULL : cb, 0, 0, NULL, NULL, NULL};
+  cb_ctx c = {cb == Py_None ? NULL : cb, 0, 0, NULL, NULL, NULL, mon == Py_None ? NULL : mon};
   phm_sim_options opt = {rtol, atol, solver, 0, max_step, max_order, error_test, interrupt_cb, progress_cb, &c,
-                         integrator, step, rho_inf};
+                         integrator, step, rho_inf, adaptive, band, monitor_cb};
   phm_sim_output out;
   memset(&out, 0, sizeof out);
   out.record = R ? (const int *)PyArray_DATA(R) : NULL;
@@ -435,17 +462,23 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
     PyErr_Restore(c.et, c.ev, c.etb);
     goto fail;
   }
-  if (st != PHM_OK && st != PHM_EINTERRUPT) {
+  /* a solver failure still returns what was computed (nout filled outputs), with the error's
+   * kind and message: Python raises it with the partial result attached */
+  int failed = st != PHM_OK && st != PHM_EINTERRUPT;
+  if (failed && (err.code == PHM_EINVAL || err.code == PHM_ENOMEM)) {
     phm_py_raise(&err);
     goto fail;
   }
-  res = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:i,s:i,s:{s:l,s:l,s:l,s:l,s:l,s:l,s:d,s:d,s:i}}", "t", tout,
+  res = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:i,s:i,s:s,"
+                      "s:{s:l,s:l,s:l,s:l,s:l,s:l,s:d,s:d,s:i,s:l,s:d}}", "t", tout,
                       "poses", poses, "twists", tw, "lambda", lam, "energy", en, "joints", jx,
                       "jrates", jv, "efforts", ju, "pair_wrenches", pw, "ports", po_, "nout", out.nout_done,
-                      "interrupted", st == PHM_EINTERRUPT, "stats", "steps", out.nsteps,
+                      "interrupted", st == PHM_EINTERRUPT, "error", failed ? err.msg : "",
+                      "stats", "steps", out.nsteps,
                       "residual_evals", out.nres, "jacobian_evals", out.njac, "nonlinear_iters",
                       out.nniters, "error_test_fails", out.netf, "nonlinear_conv_fails", out.nncf,
-                      "wall_time", out.wall_time, "last_step", out.last_step, "last_order", out.last_order);
+                      "wall_time", out.wall_time, "last_step", out.last_step, "last_order", out.last_order,
+                      "floor_steps", out.nfloor, "error_estimate", out.err_est);
 fail:
   Py_XDECREF(jx);
   Py_XDECREF(jv);

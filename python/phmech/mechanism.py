@@ -15,10 +15,13 @@ from typing import Callable, Optional, Sequence, Union
 
 import numpy as np
 
-from . import _core, se3, topology
+from . import _core, _run, se3, topology
 from .graphs import MechanismGraph, Incidence
 from ._checks import positive, real
-from ._core import ModelError
+from ._core import ModelError, SolverError
+
+#: the adaptive generalized-alpha's default local error tolerance (docs/integrators.md)
+DEFAULT_RTOL = 1e-4
 
 __all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "Fixed", "Revolute", "Prismatic",
            "Helical", "Cylindrical", "Universal", "Spherical", "Planar", "Free", "Effort", "PD",
@@ -450,35 +453,6 @@ def _mat6(x, what, spd=True):
     if A.shape != (6, 6) or not np.all(np.isfinite(A)):
         raise ModelError(f"{what}: expected a finite 6x6 matrix")
     return A
-
-
-# ------------------------------------------------------------------ progress display
-class _progress_printer:
-    """A simulate() callback that prints progress to stderr, then calls the user's callback."""
-
-    def __init__(self, t_start: float, t_end: float, user: Optional[Callable] = None):
-        import sys
-        import time
-
-        self._clock, self._out = time.perf_counter, sys.stderr
-        self.t_start, self.t_end, self.user = t_start, t_end, user
-        self.started = self.last = self._clock()
-        self.t = t_start
-
-    def _line(self, end: str) -> None:
-        pct = 100.0 * (self.t - self.t_start) / (self.t_end - self.t_start)
-        print(f"\rphmech: t = {self.t:.4g} / {self.t_end:.4g} s ({pct:5.1f} %), "
-              f"{self._clock() - self.started:.1f} s wall", end=end, file=self._out, flush=True)
-
-    def __call__(self, t: float, i: int):
-        self.t = t
-        if self._clock() - self.last >= 0.5:
-            self.last = self._clock()
-            self._line("")
-        return self.user(t, i) if self.user is not None else False
-
-    def finish(self) -> None:
-        self._line("\n")
 
 
 # ------------------------------------------------------------------ results
@@ -1044,70 +1018,94 @@ class Mechanism:
             sp_kcd=np.array(kcd, dtype=float).reshape(-1, 3))
 
     # -------------------------------------------------------------- analyses
-    def simulate(self, t_end: float, dt_out: float, rtol: float = 1e-8, atol: Optional[float] = None,
-                 linear_solver: str = "dense", initial: Optional[StaticResult] = None,
-                 t_start: float = 0.0, callback: Optional[Callable[[float, int], bool]] = None,
-                 max_step: float = 0.0, max_order: Optional[int] = None, record=None,
-                 progress: bool = False, error_test: str = "all", integrator: str = "ida",
-                 step: Optional[float] = None, rho_inf: float = 0.9) -> SimulationResult:
-        """Integrate from ``t_start`` to ``t_end`` [s] with SUNDIALS IDA, sampling every
-        ``dt_out`` [s]. ``initial``: start from these poses (e.g. a StaticResult) at rest instead
-        of the modelled initial state. ``callback(t, i)`` is called at each output; return True to
-        stop. Ctrl-C stops the run and returns what was computed (``interrupted`` = True).
-        ``record``: bodies, links (all their nodes) or frames whose poses and twists are stored
-        (default: every carrier); energies, joints and ports are always stored. On long runs of
-        big models this keeps memory small; ``result.carriers`` maps the stored columns.
-        ``progress``: print the simulated time, percentage and wall time to stderr (at most twice
-        a second, and once at the end).
+    def simulate(self, t_end: float, dt_out: float, rtol: Optional[float] = None,
+                 atol: Optional[float] = None, linear_solver: str = "auto",
+                 initial: Optional[StaticResult] = None, t_start: float = 0.0,
+                 callback: Optional[Callable[[float, int], bool]] = None, max_step: float = 0.0,
+                 max_order: Optional[int] = None, record=None, progress: bool = False,
+                 error_test: str = "all", integrator: str = "generalized-alpha",
+                 step: Optional[float] = None, rho_inf: float = 0.9,
+                 band: Optional[float] = None) -> SimulationResult:
+        """Integrate from ``t_start`` to ``t_end`` [s], sampling every ``dt_out`` [s].
 
-        Accuracy control: ``rtol`` (relative) and ``atol`` (absolute; default ``rtol * 1e-2``) apply
-        to every differential state (poses in m and quaternion units, twists in rad/s and m/s,
-        joint coordinates, energy integrals in J). ``error_test``: ``"all"`` (default) puts every
-        differential state into IDA's local error test, so the step resolves every vibration
-        present, however fast (accurate, energy-consistent; costly when a release excites the
-        axial/shear mesh modes of flexible links). ``"configuration"`` leaves the twists out: the
-        step follows the poses and joint coordinates, and BDF order <= 2 (A-stable) damps what it
-        does not resolve, like the numerical dissipation of a fixed-step structural integrator.
-        Use it for trajectories of slow motions; it dissipates energy (check
-        ``energy["ledger"]``). ``max_order``: maximum BDF order (default 5 with ``"all"``, 2
-        with ``"configuration"``, which accepts only 1 or 2).
+        The defaults are meant to be right and fast; ``simulate(t_end, dt_out)`` is the intended
+        call. The default integrator is the generalized-alpha method with step-size control: its
+        local error estimate covers the configuration (poses, joint coordinates) and its steps
+        resolve the frequency ``band`` [Hz] (default: 1/(2 dt_out), the highest frequency the
+        output can show); vibrations above the band (the axial and shear modes of a flexible
+        link's mesh, kHz to MHz) are damped by the method's numerical dissipation instead of being
+        resolved, so no step goes below 1/(20 band) for accuracy's sake. ``rtol`` (default 1e-4)
+        and ``atol`` [m, rad; default rtol * 1e-2] are its local error tolerances. Pass a larger
+        ``band=`` to see faster vibrations than dt_out shows, or a smaller one to save time.
+        docs/integrators.md says what the default does, what it was measured against, and when
+        to change it.
 
-        Integrators: ``integrator="ida"`` (default) is SUNDIALS IDA, variable-order variable-step
-        BDF with the error control above. ``integrator="generalized-alpha"`` is a fixed-step,
-        second-order, A-stable one-step method (generalized-alpha for first-order systems,
-        Jansen-Whiting-Hulbert) with step ``step`` [s] (required) and spectral radius at infinity
-        ``rho_inf`` (1: no numerical dissipation; default 0.9 damps vibrations the step does not
-        resolve). With ``rho_inf`` = 1 the stiff vibrations a step does not resolve are not damped
-        and Newton may converge badly: on the leaf-spring mechanism (10 elements per leaf) it needed
-        23 000 steps with step halvings instead of 3000 at 0.9. Steps are shortened evenly to land
-        on the output times and on the breakpoints of the time laws, so every output is a step
-        (``dt_out`` below ``step`` shortens the step).
-        After the start and each breakpoint the first step uses the consistent accelerations;
-        if its Newton iteration fails (huge initial accelerations of light nodes), it is redone as
-        one backward-Euler step.
-        The constraints hold at every step; ``rtol``/``atol`` are then only its Newton
-        tolerances, and there is no error estimate: check convergence by halving ``step``. It
-        suits structural transients where IDA would resolve every fast mesh vibration."""
+        ``initial``: start from these poses (e.g. a StaticResult) at rest instead of the
+        modelled initial state. ``callback(t, i)`` is called at each output; return True to
+        stop. Ctrl-C, or SIGTERM (a batch system's time limit), stops the run and returns what
+        was computed (``interrupted`` = True). A solver failure raises ``phmech.SolverError``
+        whose ``result`` attribute holds the trajectory computed up to the failure. ``record``:
+        bodies, links (all their nodes) or frames whose poses and twists are stored (default:
+        every carrier); energies, joints and ports are always stored. ``progress``: a progress
+        line on stderr (simulated time, elapsed, ETA, steps and steps per second). A
+        ``phmech.CostWarning`` is issued when the steps are far smaller than the band needs and
+        the run is on course to take long (it says why and what to do).
+
+        ``result.stats`` reports what the run cost and how good it is: steps, evaluations, wall
+        time, ``band`` [Hz], ``error_estimate`` (adaptive generalized-alpha: the sum of the local
+        error estimates of the configuration, a bound without error propagation), ``floor_steps``
+        (steps accepted at the band's smallest step with their estimate above the tolerance:
+        motion above the band), ``energy_scale`` [J], ``ledger_relative`` (largest |energy
+        ledger residual| / energy_scale) and ``numerical_dissipation`` [J] (energy the
+        integrator removed, from the ledger).
+
+        Other integrators (docs/integrators.md):
+
+        - ``integrator="generalized-alpha", step=h``: fixed step ``h`` [s] (no error estimate;
+          ``rtol``/``atol``, default 1e-8 and rtol * 1e-2, are then its Newton tolerances).
+          ``rho_inf`` in [0, 1] (default 0.9) is the spectral radius at infinity of either
+          variant: 1 has no numerical dissipation (then stiff vibrations a step does not resolve
+          are not damped and Newton may converge badly), smaller values damp what the step does
+          not resolve. Steps are shortened evenly to land on the output times and the breakpoints
+          of the time laws; after the start and each breakpoint a failing first step is redone as
+          one backward-Euler step.
+        - ``integrator="ida"``: SUNDIALS IDA, variable-order BDF with local error control on
+          ``rtol`` (default 1e-8) and ``atol``. ``error_test="all"`` (default) puts every
+          differential state in the error test, so the step resolves every vibration present,
+          however fast (accurate and energy-consistent, and costly when flexible links are
+          excited: minutes to hours where the default takes seconds). ``"configuration"``
+          leaves the twists out and needs ``max_order`` <= 2 (default 5 with "all", 2 with
+          "configuration"). ``max_step`` [s] bounds the steps (IDA and adaptive
+          generalized-alpha).
+
+        ``linear_solver``: ``"auto"`` (KLU sparse for 6 or more carriers, else dense),
+        ``"dense"`` or ``"klu"``."""
         t0, t1, dt = (real("t_start", t_start), real("t_end", t_end), real("dt_out", dt_out))
         if t1 <= t0:
             raise ModelError(f"t_end must be > t_start (got {t1} <= {t0})")
         if dt <= 0:
             raise ModelError(f"dt_out must be > 0 (got {dt})")
         solvers = {"dense": 0, "klu": 1}
+        if linear_solver == "auto":
+            linear_solver = "klu" if len(self._car) >= 6 else "dense"
         if linear_solver not in solvers:
-            raise ModelError(f"unknown linear_solver {linear_solver!r} (available: 'dense', 'klu')")
+            raise ModelError(f"unknown linear_solver {linear_solver!r} (available: 'auto', 'dense', 'klu')")
         integrators = {"ida": 0, "generalized-alpha": 1}
         if integrator not in integrators:
             raise ModelError(f"unknown integrator {integrator!r} (available: {', '.join(map(repr, integrators))})")
+        adaptive = integrator == "generalized-alpha" and step is None
+        band = 0.5 / dt if band is None else positive("band", band)
         if integrator == "generalized-alpha":
-            if step is None:
-                raise ModelError("integrator='generalized-alpha' needs step= (the fixed time step, s)")
-            step = positive("step", step)
+            if step is not None:
+                step = positive("step", step)
             rho_inf = real("rho_inf", rho_inf)
             if not 0.0 <= rho_inf <= 1.0:
                 raise ModelError(f"rho_inf must be in [0, 1] (got {rho_inf})")
-            if error_test != "all" or max_order is not None or max_step:
-                raise ModelError("error_test, max_order and max_step apply to integrator='ida' only")
+            if error_test != "all" or max_order is not None:
+                raise ModelError("error_test and max_order apply to integrator='ida' only")
+            if max_step and not adaptive:
+                raise ModelError("max_step applies to integrator='ida' and to the adaptive "
+                                 "generalized-alpha (without step=)")
         elif step is not None:
             raise ModelError("step= applies to integrator='generalized-alpha' (IDA chooses its own steps; "
                              "use max_step to bound them)")
@@ -1122,7 +1120,8 @@ class Mechanism:
             raise ModelError(f"error_test='configuration' needs max_order 1 or 2 (got {max_order}): "
                              "without the twists in the error test, BDF orders 3-5 let unresolved "
                              "vibrations grow")
-        rtol = real("rtol", rtol)
+        max_step = 0.0 if not max_step else positive("max_step", max_step)
+        rtol = (DEFAULT_RTOL if adaptive else 1e-8) if rtol is None else real("rtol", rtol)
         atol = rtol * 1e-2 if atol is None else real("atol", atol)
         if rtol <= 0 or atol <= 0:
             raise ModelError("rtol and atol must be > 0")
@@ -1137,13 +1136,14 @@ class Mechanism:
         model = self._build()
         poses = None if initial is None else np.asarray(initial.poses, dtype=float)
         twists = None if initial is None else np.zeros((len(self._car), 6))
-        if progress:
-            callback = _progress_printer(t0, t1, callback)
-        r = _core.model_simulate(model, tout, rtol, atol, solvers[linear_solver], poses, twists,
-                                 callback, float(max_step), int(max_order), rec, tests[error_test],
-                                 integrators[integrator], float(step or 0.0), float(rho_inf))
-        if progress:
-            callback.finish()
+        monitor = _run.RunMonitor(t0, t1, band, integrator, progress, callback)
+        with _run.sigterm_as_interrupt():
+            r = _core.model_simulate(model, tout, rtol, atol, solvers[linear_solver], poses, twists,
+                                     monitor.on_output, float(max_step), int(max_order), rec,
+                                     tests[error_test], integrators[integrator], float(step or 0.0),
+                                     float(rho_inf), adaptive=int(adaptive),
+                                     band=float(band if adaptive else 0.0), monitor=monitor)
+        monitor.finish(r["stats"]["steps"])
         k = r["nout"]
         e = r["energy"][:k]
         energy = {nm: e[:, i].copy() for i, nm in enumerate(ENERGY_NAMES)}
@@ -1152,19 +1152,30 @@ class Mechanism:
         ports = {nm: r["ports"][:k, i].copy() for i, nm in enumerate(names)}
         layout = _core.model_sizes(model)[4]
         lam, pw = r["lambda"][:k], r["pair_wrenches"][:k]
-        if self.redundant_constraints:
+        if self.redundant_constraints and k > 0:
             lam, pw, layout = self._min_norm_multipliers(model, r["poses"][:k], r["joints"][:k], lam, tout[:k])
         pairs = {p["name"]: dict(index=i, layout=layout[i]) for i, p in enumerate(self._pairs)}
-        return SimulationResult(t=tout[:k], poses=r["poses"][:k], twists=r["twists"][:k],
-                                constraint_wrenches=lam, energy=energy,
-                                stats={**r["stats"], "linear_solver": linear_solver},
-                                interrupted=bool(r["interrupted"]),
-                                _links=self._links, port_energy=ports, joints=r["joints"][:k],
-                                joint_rates=r["jrates"][:k], efforts=r["efforts"][:k],
-                                pair_wrenches=pw, _pairs=pairs,
-                                redundant_constraints=list(self.redundant_constraints),
-                                carriers=None if rec is None else np.array(rec),
-                                _frame=lambda x: _frame_of(x, self, "result"))
+        stats = {**r["stats"], "linear_solver": linear_solver, "integrator": integrator,
+                 "adaptive": adaptive, "rtol": rtol, "atol": atol,
+                 **_run.quality(energy, band, r["stats"])}
+        if not adaptive:
+            del stats["error_estimate"], stats["floor_steps"]
+        result = SimulationResult(t=tout[:k], poses=r["poses"][:k], twists=r["twists"][:k],
+                                  constraint_wrenches=lam, energy=energy, stats=stats,
+                                  interrupted=bool(r["interrupted"]),
+                                  _links=self._links, port_energy=ports, joints=r["joints"][:k],
+                                  joint_rates=r["jrates"][:k], efforts=r["efforts"][:k],
+                                  pair_wrenches=pw, _pairs=pairs,
+                                  redundant_constraints=list(self.redundant_constraints),
+                                  carriers=None if rec is None else np.array(rec),
+                                  _frame=lambda x: _frame_of(x, self, "result"))
+        if r["error"]:
+            t_last = f"{result.t[-1]:.6g} s" if k else "the start"
+            err = SolverError(f"{r['error']} (the trajectory up to {t_last} is in this error's "
+                              f"'result' attribute)")
+            err.result = result
+            raise err
+        return result
 
     def _record_carriers(self, record) -> list:
         """Carrier indices for simulate(record=...): bodies, links, frames or their names."""

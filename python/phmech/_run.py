@@ -1,0 +1,176 @@
+"""Watching a running simulation: the progress line, the cost warning, SIGTERM, and the quality
+figures a result reports about itself (docs/integrators.md explains the default integrator)."""
+from __future__ import annotations
+
+import contextlib
+import signal
+import sys
+import threading
+import time
+import warnings
+from typing import Callable, Optional
+
+import numpy as np
+
+#: steps per period of the band's highest frequency at the adaptive integrator's smallest step
+#: (csrc/phmech.h, PHM_BAND_STEPS)
+BAND_STEPS = 20
+
+
+class CostWarning(UserWarning):
+    """A simulation is spending far more steps than the frequency band it was asked to resolve
+    needs: it is following vibrations above that band (typically the axial and shear modes of a
+    flexible link's mesh), which the output interval cannot even show."""
+
+
+def band_floor(band: float) -> float:
+    """The smallest step [s] the adaptive integrator takes for accuracy's sake, for a band [Hz]."""
+    return 1.0 / (BAND_STEPS * band)
+
+
+class RunMonitor:
+    """Called by the core every ~100 steps and at each output: prints the progress line (when
+    ``progress``), warns once when the run is on course to cost far more than the band needs, and
+    chains the user's per-output ``callback``.
+
+    The cost warning fires when, after at least 1 s of CPU, the mean step is below 1/30 of the
+    band's floor step and the projected CPU time of the whole run exceeds 30 s."""
+
+    def __init__(self, t_start: float, t_end: float, band: float, integrator: str,
+                 progress: bool = False, user: Optional[Callable[[float, int], bool]] = None,
+                 out=None):
+        self.t_start, self.t_end, self.band, self.integrator = t_start, t_end, band, integrator
+        self.progress, self.user, self.out = progress, user, out if out is not None else sys.stderr
+        self.wall0 = self.last_print = time.perf_counter()
+        self.cpu0 = time.process_time()
+        self.t, self.steps, self.h = t_start, 0, 0.0
+        self.warned = False
+        self.printed = False
+
+    # core -> Python: between outputs
+    def __call__(self, t: float, steps: int, h: float) -> bool:
+        self.t, self.steps, self.h = t, steps, h
+        self._check_cost()
+        self._maybe_print()
+        return False
+
+    # core -> Python: at each output
+    def on_output(self, t: float, i: int) -> bool:
+        self.t = t
+        self._maybe_print()
+        return bool(self.user(t, i)) if self.user is not None else False
+
+    def _fraction(self) -> float:
+        return (self.t - self.t_start) / (self.t_end - self.t_start)
+
+    def _check_cost(self) -> None:
+        if self.warned or self.steps < 200:
+            return
+        cpu = time.process_time() - self.cpu0
+        frac = self._fraction()
+        if cpu < 1.0 or frac <= 0:
+            return
+        mean_h = (self.t - self.t_start) / self.steps
+        floor = band_floor(self.band)
+        projected = cpu / frac
+        if mean_h < floor / 30 and projected > 30.0:
+            self.warned = True
+            f_res = 1.0 / (BAND_STEPS * mean_h)
+            advice = ("The default integrator (integrator='generalized-alpha' without step=) damps "
+                      "vibrations above the band instead of resolving them."
+                      if self.integrator == "ida" else
+                      "Vibrations above the band are being resolved because of the options given "
+                      "(a tight rtol/atol, a small max_step or step, or a large band=).")
+            warnings.warn(
+                f"simulate: the mean step so far is {mean_h:.2g} s, {floor / mean_h:.0f}x smaller "
+                f"than the {floor:.2g} s that the {self.band:.4g} Hz band needs: the integrator is "
+                f"resolving vibrations up to about {_hz(f_res)}, far above what the output can "
+                f"show. At this rate the run will take about {_duration(projected)} of CPU. "
+                + advice, CostWarning, stacklevel=4)
+
+    def _maybe_print(self) -> None:
+        if not self.progress:
+            return
+        now = time.perf_counter()
+        if now - self.last_print >= 0.5:
+            self.last_print = now
+            self._line("")
+
+    def _line(self, end: str) -> None:
+        wall = time.perf_counter() - self.wall0
+        frac = self._fraction()
+        eta = wall * (1 - frac) / frac if frac > 0 else float("inf")
+        rate = self.steps / wall if wall > 0 else 0.0
+        print(f"\rphmech: t = {self.t:.4g} / {self.t_end:.4g} s ({100 * frac:5.1f} %), "
+              f"{_duration(wall)} elapsed, ETA {_duration(eta)}, {self.steps} steps "
+              f"({rate:.3g}/s), step {self.h:.2g} s   ", end=end, file=self.out, flush=True)
+        self.printed = True
+
+    def finish(self, steps: int) -> None:
+        if self.progress:
+            self.steps = steps
+            self._line("\n")
+
+
+def _duration(s: float) -> str:
+    if not np.isfinite(s):
+        return "?"
+    if s < 120:
+        return f"{s:.1f} s"
+    if s < 7200:
+        return f"{s / 60:.0f} min"
+    return f"{s / 3600:.1f} h"
+
+
+def _hz(f: float) -> str:
+    for unit, scale in (("MHz", 1e6), ("kHz", 1e3)):
+        if f >= scale:
+            return f"{f / scale:.3g} {unit}"
+    return f"{f:.3g} Hz"
+
+
+@contextlib.contextmanager
+def sigterm_as_interrupt():
+    """While a run is on, SIGTERM (a batch system's time limit) stops it like Ctrl-C: the run
+    returns what it computed (``interrupted`` True). Only in the main thread, where Python
+    handles signals; the previous handler is restored afterwards."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    try:
+        previous = signal.getsignal(signal.SIGTERM)
+    except (AttributeError, ValueError):
+        yield
+        return
+
+    def handler(signum, frame):
+        raise KeyboardInterrupt("SIGTERM")
+
+    signal.signal(signal.SIGTERM, handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous if previous is not None else signal.SIG_DFL)
+
+
+def quality(energy: dict, band: float, stats: dict) -> dict:
+    """Figures a result reports about its own accuracy (added to ``stats``):
+
+    - ``band`` [Hz]: the highest frequency the run was asked to resolve;
+    - ``energy_scale`` [J]: the largest kinetic energy plus the range of the potential (elastic
+      and gravity) energy, plus the largest supplied and dissipated work: what the ledger
+      residual is measured against;
+    - ``ledger_relative``: the largest |ledger residual| over the run / energy_scale;
+    - ``numerical_dissipation`` [J]: minus the final ledger residual (energy the integrator
+      removed; positive = lost), with ``numerical_dissipation_relative`` the same / energy_scale.
+    """
+    kin, pot = energy["kinetic"], energy["elastic"] + energy["gravity"]
+    scale = float(np.max(np.abs(kin)) + np.ptp(pot) + np.max(np.abs(energy["supplied"]))
+                  + np.max(np.abs(energy["dissipated"]))) if len(kin) else 0.0
+    led = energy["ledger"]
+    lmax = float(np.max(np.abs(led))) if len(led) else 0.0
+    q = dict(band=band, energy_scale=scale,
+             ledger_relative=lmax / scale if scale > 0 else 0.0,
+             numerical_dissipation=float(-led[-1]) if len(led) else 0.0)
+    q["numerical_dissipation_relative"] = q["numerical_dissipation"] / scale if scale > 0 else 0.0
+    return q
