@@ -9,7 +9,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include <stdio.h>
 
 #include <ida/ida.h>
 #include <nvector/nvector_serial.h>
@@ -714,7 +713,6 @@ static double galpha_error(const dae_t *d, const galpha_t *g, double h, double h
     double e = 0.5 * h * h * h * (dd2a - dd2b) / (h + hq + hqq);
     double wgt = rtol * fabs(Y[i]) + atol;
     sum += (e / wgt) * (e / wgt);
-    if (getenv("PHM_DEBUG") && fabs(e / wgt) > 3) fprintf(stderr, "h %.3g i %d (c %d k %d) e %.3g w %.3g y %.3g\n", h, i, i / PHM_NSTATE, i % PHM_NSTATE, e, wgt, Y[i]);
     mx = fmax(mx, fabs(e));
     cnt++;
   }
@@ -832,6 +830,10 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
         if (hjac == 0) {
           if (galpha_jacobian(d, &g, t, h, Js, A) || SUNLinSolSetup(LS, A) != SUNLS_SUCCESS) {
             if (restart && !g.euler) break; /* redone as backward Euler below */
+            if (adaptive) { /* a shorter step (Newton-failure path): fresh, so it halves */
+              fresh = 1;
+              break;
+            }
             st = phm_error_set(err, PHM_ESOLVER, "generalized-alpha: singular iteration matrix at t = %.9g s", t);
             goto done;
           }
@@ -918,7 +920,11 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
     hshift = h;
     memcpy(yqq, yq, sizeof(double) * (size_t)n);
     if (g.euler) hjac = 0; /* other coefficients from here on */
-    g.euler = restart = 0;
+    /* adaptive: the two steps after a restart have no error estimate yet and start from the
+     * restart's rates; a failing one is redone as backward Euler too */
+    if (g.euler) hjac = 0;
+    restart = adaptive && restart > 0 && restart < 3 ? restart + 1 : 0;
+    g.euler = 0;
     memcpy(yq, y0, sizeof(double) * (size_t)n);
     memcpy(ypq, yp0, sizeof(double) * (size_t)n);
     memcpy(y0, Y, sizeof(double) * (size_t)n);
