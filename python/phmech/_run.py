@@ -46,18 +46,21 @@ class RunMonitor:
         self.t, self.steps, self.h = t_start, 0, 0.0
         self.warned = False
         self.printed = False
+        self.terminated = False  # set by SIGTERM (sigterm_as_interrupt)
 
     # core -> Python: between outputs
     def __call__(self, t: float, steps: int, h: float) -> bool:
         self.t, self.steps, self.h = t, steps, h
         self._check_cost()
         self._maybe_print()
-        return False
+        return self.terminated
 
     # core -> Python: at each output
     def on_output(self, t: float, i: int) -> bool:
         self.t = t
         self._maybe_print()
+        if self.terminated:
+            return True
         return bool(self.user(t, i)) if self.user is not None else False
 
     def _fraction(self) -> float:
@@ -130,10 +133,12 @@ def _hz(f: float) -> str:
 
 
 @contextlib.contextmanager
-def sigterm_as_interrupt():
+def sigterm_as_interrupt(monitor: RunMonitor):
     """While a run is on, SIGTERM (a batch system's time limit) stops it like Ctrl-C: the run
-    returns what it computed (``interrupted`` True). Only in the main thread, where Python
-    handles signals; the previous handler is restored afterwards."""
+    returns what it computed (``interrupted`` True). The handler only sets
+    ``monitor.terminated`` (raising from it could land inside a user's callback); the monitor
+    stops the run at its next call (every ~100 steps and at each output). Only in the main
+    thread, where Python handles signals; the previous handler is restored afterwards."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
@@ -144,7 +149,7 @@ def sigterm_as_interrupt():
         return
 
     def handler(signum, frame):
-        raise KeyboardInterrupt("SIGTERM")
+        monitor.terminated = True
 
     signal.signal(signal.SIGTERM, handler)
     try:

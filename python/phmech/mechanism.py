@@ -1137,7 +1137,7 @@ class Mechanism:
         poses = None if initial is None else np.asarray(initial.poses, dtype=float)
         twists = None if initial is None else np.zeros((len(self._car), 6))
         monitor = _run.RunMonitor(t0, t1, band, integrator, progress, callback)
-        with _run.sigterm_as_interrupt():
+        with _run.sigterm_as_interrupt(monitor):
             r = _core.model_simulate(model, tout, rtol, atol, solvers[linear_solver], poses, twists,
                                      monitor.on_output, float(max_step), int(max_order), rec,
                                      tests[error_test], integrators[integrator], float(step or 0.0),
@@ -1162,7 +1162,7 @@ class Mechanism:
             del stats["error_estimate"], stats["floor_steps"]
         result = SimulationResult(t=tout[:k], poses=r["poses"][:k], twists=r["twists"][:k],
                                   constraint_wrenches=lam, energy=energy, stats=stats,
-                                  interrupted=bool(r["interrupted"]),
+                                  interrupted=bool(r["interrupted"]) or monitor.terminated,
                                   _links=self._links, port_energy=ports, joints=r["joints"][:k],
                                   joint_rates=r["jrates"][:k], efforts=r["efforts"][:k],
                                   pair_wrenches=pw, _pairs=pairs,
