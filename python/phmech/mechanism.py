@@ -23,12 +23,56 @@ from ._core import ModelError
 __all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "Fixed", "Revolute", "Prismatic",
            "Helical", "Cylindrical", "Universal", "Spherical", "Planar", "Free", "Effort", "PD",
            "Spring", "Motion", "Constant", "Step", "Pulse", "Sine", "Table", "Cycloidal",
-           "SimulationResult", "ModesResult", "StaticResult", "Graphs", "RedundantConstraintWarning"]
+           "SimulationResult", "ModesResult", "StaticResult", "Graphs", "RedundantConstraintWarning",
+           "InitialAdjustment", "InitialConfiguration"]
 
 
 class RedundantConstraintWarning(UserWarning):
     """The mechanism is hyperconstrained: some constraint rows are dependent at the initial
     configuration and were left out of the DAE (see ``Mechanism.redundant_constraints``)."""
+
+
+@dataclasses.dataclass(frozen=True)
+class InitialAdjustment:
+    """How far the consistent initial configuration moved one given initial value.
+
+    ``name``: the pair (joint coordinates) or the body / flexible link (poses). ``quantity``:
+    ``"x"`` (``"x[i]"`` for pairs with several coordinates), or ``"position"`` / ``"orientation"``
+    of a body or link (for a link the largest over its nodes). ``given``/``reached``: the given
+    ``x0`` and the initial value [rad or m] (None for poses). ``moved``: |reached - given| [rad or
+    m]; for poses the distance an origin moved [m] or the angle a frame turned [rad].
+    ``tolerance``: 1e-6 rad (1e-6 |x0| beyond 1 rad) or 1e-6 L, L the mechanism's size."""
+    name: str
+    quantity: str
+    given: Optional[float]
+    reached: Optional[float]
+    moved: float
+    unit: str
+    tolerance: float
+
+    @property
+    def exceeds(self) -> bool:
+        """True when ``moved`` is beyond ``tolerance``."""
+        return self.moved > self.tolerance
+
+    def __str__(self) -> str:
+        if self.given is not None:
+            q = "" if self.quantity == "x" else " " + self.quantity
+            return (f"joint {self.name!r}{q} given {self.given:.6g} {self.unit}, closed at "
+                    f"{self.reached:.6g} {self.unit} (moved {self.moved:.3g} {self.unit})")
+        return f"pose of {self.name!r}: {self.quantity} moved {self.moved:.3g} {self.unit}"
+
+
+@dataclasses.dataclass
+class InitialConfiguration:
+    """The initial configuration an analysis starts from: ``poses`` (ncarriers, 4, 4), body
+    ``twists`` (ncarriers, 6), ``adjustments`` (list of InitialAdjustment: every given ``x0``
+    coordinate and every given pose kept by the tree placement, with how far the loop closure
+    moved it) and ``redundant_constraints``."""
+    poses: np.ndarray
+    twists: np.ndarray
+    adjustments: list
+    redundant_constraints: list
 
 
 @dataclasses.dataclass(frozen=True)
@@ -194,6 +238,7 @@ def _unit(v, what):
 class _Pair:
     _code = -1
     k = 0
+    _units = ()   # unit of each joint coordinate ("rad" or "m")
 
     def _rotation(self) -> np.ndarray:
         return np.eye(3)
@@ -205,9 +250,19 @@ class _Pair:
         """Relative pose h(x) of the pair frames at joint coordinates x."""
         return np.eye(4)
 
+    def _coords(self, h) -> np.ndarray:
+        """Joint coordinates x of a relative pose h of the pair frames (the inverse of _fk on
+        the pair's allowed motions; the part of h it cannot produce is fk(x)^-1 h)."""
+        return np.zeros(0)
+
 
 def _ez(*v):
     return np.array(v, dtype=float)
+
+
+def _angle_z(h) -> float:
+    """Angle [rad] of a relative pose's rotation about z, in (-pi, pi]."""
+    return float(np.arctan2(h[1, 0], h[0, 0]))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -223,12 +278,16 @@ class Revolute(_Pair):
     axis: object = "z"
     _code = 1
     k = 1
+    _units = ("rad",)
 
     def _rotation(self):
         return _axis_rotation(self.axis, "Revolute")
 
     def _fk(self, x):
         return se3.exp(_ez(0, 0, x[0], 0, 0, 0))
+
+    def _coords(self, h):
+        return np.array([_angle_z(h)])
 
 
 @dataclasses.dataclass(frozen=True)
@@ -237,12 +296,16 @@ class Prismatic(_Pair):
     axis: object = "z"
     _code = 2
     k = 1
+    _units = ("m",)
 
     def _rotation(self):
         return _axis_rotation(self.axis, "Prismatic")
 
     def _fk(self, x):
         return se3.exp(_ez(0, 0, 0, 0, 0, x[0]))
+
+    def _coords(self, h):
+        return np.array([h[2, 3]])
 
 
 @dataclasses.dataclass(frozen=True)
@@ -252,6 +315,7 @@ class Helical(_Pair):
     pitch: float = 0.0
     _code = 3
     k = 1
+    _units = ("rad",)
 
     def _rotation(self):
         return _axis_rotation(self.axis, "Helical")
@@ -262,6 +326,12 @@ class Helical(_Pair):
     def _fk(self, x):
         return se3.exp(_ez(0, 0, x[0], 0, 0, self._pitch() * x[0]))
 
+    def _coords(self, h):
+        a, p = _angle_z(h), self._pitch()
+        if p != 0:   # the turn whose translation pitch * angle is nearest to h's
+            a += 2 * np.pi * np.round((h[2, 3] / p - a) / (2 * np.pi))
+        return np.array([a])
+
 
 @dataclasses.dataclass(frozen=True)
 class Cylindrical(_Pair):
@@ -269,12 +339,16 @@ class Cylindrical(_Pair):
     axis: object = "z"
     _code = 4
     k = 2
+    _units = ("rad", "m")
 
     def _rotation(self):
         return _axis_rotation(self.axis, "Cylindrical")
 
     def _fk(self, x):
         return se3.exp(_ez(0, 0, x[0], 0, 0, x[1]))
+
+    def _coords(self, h):
+        return np.array([_angle_z(h), h[2, 3]])
 
 
 @dataclasses.dataclass(frozen=True)
@@ -286,6 +360,7 @@ class Universal(_Pair):
     axis2: object = "y"
     _code = 5
     k = 2
+    _units = ("rad", "rad")
 
     def _rotation(self):
         a, b = _unit(self.axis1, "Universal axis1"), _unit(self.axis2, "Universal axis2")
@@ -296,6 +371,9 @@ class Universal(_Pair):
     def _fk(self, x):
         return se3.exp(_ez(x[0], 0, 0, 0, 0, 0)) @ se3.exp(_ez(0, x[1], 0, 0, 0, 0))
 
+    def _coords(self, h):
+        return np.array([np.arctan2(h[2, 1], h[1, 1]), np.arctan2(h[0, 2], h[0, 0])])
+
 
 @dataclasses.dataclass(frozen=True)
 class Spherical(_Pair):
@@ -303,9 +381,13 @@ class Spherical(_Pair):
     (in F_b) -- a quasi-velocity, not dx/dt."""
     _code = 6
     k = 3
+    _units = ("rad",) * 3
 
     def _fk(self, x):
         return se3.exp(_ez(x[0], x[1], x[2], 0, 0, 0))
+
+    def _coords(self, h):
+        return np.asarray(se3.log(np.ascontiguousarray(h[:3, :3])), dtype=float)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -315,6 +397,7 @@ class Planar(_Pair):
     normal: object = "z"
     _code = 7
     k = 3
+    _units = ("rad", "m", "m")
 
     def _rotation(self):
         return _axis_rotation(self.normal, "Planar")
@@ -324,6 +407,9 @@ class Planar(_Pair):
         H[0, 3], H[1, 3] = x[1], x[2]
         return H
 
+    def _coords(self, h):
+        return np.array([_angle_z(h), h[0, 3], h[1, 3]])
+
 
 @dataclasses.dataclass(frozen=True)
 class Free(_Pair):
@@ -331,11 +417,15 @@ class Free(_Pair):
     velocity in F_b, dp/dt in F_a). Useful to measure or actuate a relative motion."""
     _code = 8
     k = 6
+    _units = ("rad",) * 3 + ("m",) * 3
 
     def _fk(self, x):
         H = se3.exp(_ez(x[0], x[1], x[2], 0, 0, 0))
         H[:3, 3] = x[3:6]
         return H
+
+    def _coords(self, h):
+        return np.concatenate([se3.log(np.ascontiguousarray(h[:3, :3])), h[:3, 3]])
 
 
 # ------------------------------------------------------------------ actuators
@@ -618,11 +708,14 @@ class Mechanism:
         self._bodies = {}
         self._names = set()
         self._el_first = {}     # link name -> index of its first element
-        self._pose_given = {}   # carrier -> the user gave its pose
+        self._given = {}        # carrier -> the pose the user gave it (4x4), if any
         self._warned = None
         #: (pair name, constraint direction) rows found redundant at the initial configuration and
         #: left out of the DAE (set when the core model is built: simulate, modes, static, ...)
         self.redundant_constraints: list = []
+        #: InitialAdjustment rows: how far the loop closure moved each given x0 coordinate and
+        #: each given pose (set when the core model is built, like redundant_constraints)
+        self.initial_adjustments: list = []
 
     # -------------------------------------------------------------- building
     def _new_name(self, name):
@@ -638,7 +731,14 @@ class Mechanism:
         its start). ``properties``: object with 6x6 ``stiffness`` (section stiffness, order
         (torsion, bending y, bending z, axial, shear y, shear z) strains), ``inertia`` (per unit
         length) and ``damping`` (viscous section damping, may be absent). ``curvature``: the
-        unstressed curvature (kappa_x, kappa_y, kappa_z) [1/m], or None (straight)."""
+        unstressed curvature (kappa_x, kappa_y, kappa_z) [1/m], or None (straight).
+
+        ``pose`` given: the link's initial pose is honoured -- the pairs on its nodes take their
+        reference from it (a Fixed clamp or weld holds the relative orientation its frames have
+        at the given poses, e.g. a root rotated about x selects the other bending axis), and
+        given poses that violate a pair (frame origins apart, a revolute's axes not parallel)
+        raise ModelError; only a pair with ``x0`` places the link elsewhere. ``pose=None``: the
+        link is placed from its pairs. See add_pair and docs/user_guide.md."""
         if discretization != "se3":
             raise ModelError(f"unknown discretization {discretization!r} (available: 'se3')")
         L = real("length", length)
@@ -671,8 +771,9 @@ class Mechanism:
                                   H0=H @ se3.exp(k * h * eps), t0=np.zeros(6)))
         for k in range(N):
             self._el.append(dict(a=first + k, b=first + k + 1, h=h, K=K, D=Dm, eps=eps))
-        for k in range(N + 1):
-            self._pose_given[first + k] = pose is not None
+        if pose is not None:
+            for k in range(N + 1):
+                self._given[first + k] = np.array(self._car[first + k]["H0"])
         link = FlexibleLink(name, L, N, list(range(first, first + N + 1)))
         self._links[name] = link
         return link
@@ -680,7 +781,9 @@ class Mechanism:
     def add_rigid_body(self, name: str, mass: float, inertia, com=(0.0, 0.0, 0.0), pose=None,
                        twist=(0, 0, 0, 0, 0, 0)) -> Body:
         """A rigid body: ``mass`` [kg], ``inertia`` 3x3 about the centre of mass in body axes
-        [kg m^2], ``com`` in body coordinates [m], initial ``pose`` (4x4) and body ``twist``."""
+        [kg m^2], ``com`` in body coordinates [m], initial ``pose`` (4x4) and body ``twist``.
+        A given ``pose`` is honoured by the pairs on the body like a flexible link's (see
+        add_flexible_link, add_pair); ``pose=None``: placed from its pairs."""
         m = real("mass", mass)
         if m <= 0:
             raise ModelError(f"mass must be > 0 (got {m} kg)")
@@ -700,7 +803,8 @@ class Mechanism:
         M[3:, 3:] = m * np.eye(3)
         self._car.append(dict(M=M, mass=m, com=c, H0=np.eye(4) if pose is None else _pose(pose, "pose"), t0=tw))
         b = Body(name, len(self._car) - 1)
-        self._pose_given[b.carrier] = pose is not None
+        if pose is not None:
+            self._given[b.carrier] = np.array(self._car[b.carrier]["H0"])
         self._bodies[name] = b
         return b
 
@@ -711,10 +815,20 @@ class Mechanism:
 
         ``driven``: a prescribed relative motion (Motion; Fixed pairs only). ``actuator``: an
         Effort, PD or Spring on the pair's joint coordinates (its port is named after the pair; add
-        more with add_actuator). ``x0``/``xdot0``: initial joint coordinates and rates; when ``b``
-        is a rigid body it is placed there relative to ``a``'s current initial pose and twist (add
-        pairs from the ground outwards); otherwise the configuration is checked against ``x0`` at
-        the start of a simulation."""
+        more with add_actuator). ``x0``/``xdot0``: initial joint coordinates [rad or m] and rates;
+        when ``b`` is a rigid body it is placed there relative to ``a``'s current initial pose and
+        twist (add pairs from the ground outwards).
+
+        Initial configuration (docs/user_guide.md): walking from the ground, the carrier beyond
+        the pair is placed from it at ``x0`` when ``x0`` is given or when that carrier has no
+        given pose (x = 0 without ``x0``). Otherwise the given poses are the reference: the
+        pair's coordinates are those of its two frames at the given poses, the weld of a Fixed
+        pair holds the relative orientation of its frames there (if neither frame offset has a
+        rotation of its own; a rotated offset must agree with the poses), and given poses that
+        violate the pair's constrained directions -- frame origins apart [m] or constrained axes
+        turned [rad] beyond 1e-6 (1e-6 times the mechanism's size in m) -- raise ModelError
+        naming the pair, its frames and the mismatch. Loops are then closed by a Newton
+        projection; how far it moved a given ``x0`` or pose is in ``initial_adjustments``."""
         if not isinstance(pair, _Pair):
             raise ModelError(f"pair {name!r}: unsupported pair type {type(pair).__name__} (available: "
                              "Fixed, Revolute, Prismatic, Helical, Cylindrical, Universal, Spherical, Planar, Free)")
@@ -753,6 +867,7 @@ class Mechanism:
         if xd is not None:
             xdv[:k] = xd
         entry = dict(name=name, type=pair._code, a=fa.carrier, b=fb.carrier, Ta=Ta, Tb=Tb,
+                     fa_name=self._describe(fa), fb_name=self._describe(fb),
                      driven=driven is not None, axis=axis, law=law, pitch=pitch, k=k,
                      x0=xv, has_x0=x0 is not None, pair=pair, xdot0=xdv,
                      has_xdot0=xdot0 is not None)
@@ -761,6 +876,22 @@ class Mechanism:
             self._place(entry, xv[:k], np.zeros(k) if xd is None else xd)
         if actuator is not None:
             self._add_actuator(name, entry, actuator)
+
+    def _carrier_name(self, c: int) -> str:
+        """'the ground', "body 'b'" or "node k of link 'L'"."""
+        if c < 0:
+            return "the ground"
+        for b in self._bodies.values():
+            if b.carrier == c:
+                return f"body {b.name!r}"
+        for lk in self._links.values():
+            if c in lk.nodes:
+                return f"node {lk.nodes.index(c)} of link {lk.name!r}"
+        return f"carrier {c}"
+
+    def _describe(self, f: Frame) -> str:
+        """A frame's name in quotes, or where an unnamed frame sits."""
+        return repr(f.name) if f.name else f"(unnamed frame on {self._carrier_name(f.carrier)})"
 
     def _body_carriers(self):
         return {b.carrier for b in self._bodies.values()}
@@ -960,15 +1091,19 @@ class Mechanism:
 
     def _initial(self):
         """Tree placement, loop closure and redundancy (see phmech.topology): returns poses,
-        twists, the pairs' x0 rows and drop masks; sets ``redundant_constraints``."""
+        twists, the pairs' x0 rows and drop masks; sets ``redundant_constraints`` and
+        ``initial_adjustments``."""
         H, T, tree = topology.place_tree(self)
         x0 = np.array([p["x0"] for p in self._pairs]).reshape(-1, 6)
+        adjustments = []
         if self._pairs:
             model = self._core_model(H, T, x0, None, ())
+            H_tree = H.copy()
             H = topology.close_loops(self, model, H, tree, None, self._loops_through)
             # joint coordinates reached (on the branch of x0): the core checks x0 at the start
             x = _core.model_joints(model, H, None)
             lay = _core.model_sizes(model)[4]
+            adjustments = self._adjustments(H_tree, H, x, lay)
             for ip, e in enumerate(self._pairs):
                 _, _, j, k = lay[ip]
                 if e["has_x0"] and k:
@@ -982,6 +1117,7 @@ class Mechanism:
         else:
             masks, dropped = [], []
         self.redundant_constraints = dropped
+        self.initial_adjustments = adjustments
         self._drop_masks = masks
         if dropped and self._warned != dropped:
             self._warned = list(dropped)
@@ -989,6 +1125,50 @@ class Mechanism:
                           f"directions left out of the DAE (pair, direction in F_b): {dropped}",
                           RedundantConstraintWarning, stacklevel=3)
         return H, T, x0, masks
+
+    def _adjustments(self, H_tree, H, x, lay) -> list:
+        """InitialAdjustment rows: every given x0 coordinate against the reached x, and every
+        given pose the tree placement kept against the closed poses H."""
+        L = topology.length_scale(self)
+        tol_m, tol_r = topology.POSE_TOL * L, topology.POSE_TOL
+        rows = []
+        for ip, e in enumerate(self._pairs):
+            _, _, j, k = lay[ip]
+            if not (e["has_x0"] and k):
+                continue
+            for c in range(k):
+                unit = e["pair"]._units[c]
+                g = float(e["x0"][c])
+                tol = tol_r * max(1.0, abs(g)) if unit == "rad" else tol_m * max(1.0, abs(g) / L)
+                rows.append(InitialAdjustment(e["name"], "x" if k == 1 else f"x[{c}]", g,
+                                              float(x[j + c]), abs(float(x[j + c]) - g), unit, tol))
+
+        def moves(Ha, Hb):
+            return (float(np.linalg.norm(Hb[:3, 3] - Ha[:3, 3])),
+                    topology._rot_angle(Ha[:3, :3].T @ Hb[:3, :3]))
+
+        groups = [(b.name, [b.carrier]) for b in self._bodies.values()] + \
+                 [(lk.name, list(lk.nodes)) for lk in self._links.values()]
+        for name, cs in groups:
+            if not all(c in self._given for c in cs):
+                continue
+            tree = [moves(self._given[c], H_tree[c]) for c in cs]
+            if max(d for d, _ in tree) > tol_m or max(a for _, a in tree) > tol_r:
+                continue   # placed by an x0 up the tree: its pose is not the given one by request
+            now = [moves(self._given[c], H[c]) for c in cs]
+            rows.append(InitialAdjustment(name, "position", None, None, max(d for d, _ in now), "m", tol_m))
+            rows.append(InitialAdjustment(name, "orientation", None, None, max(a for _, a in now), "rad", tol_r))
+        return rows
+
+    def initial_configuration(self) -> InitialConfiguration:
+        """The initial configuration the analyses start from (tree placement from the given
+        poses and x0, loop closure; see docs/user_guide.md): poses, twists, the
+        InitialAdjustment table (also left in ``initial_adjustments``) and the redundant
+        constraints."""
+        if not self._car:
+            raise ModelError("the mechanism is empty")
+        H, T, _, _ = self._initial()
+        return InitialConfiguration(H, T, list(self.initial_adjustments), list(self.redundant_constraints))
 
     def _build(self, extra_loads=()):
         if not self._car:
@@ -1015,7 +1195,7 @@ class Mechanism:
             el_eps=np.array([e["eps"] for e in el]).reshape(-1, 6),
             pr_type=np.array([p["type"] for p in pr], dtype=float),
             pr_ab=np.array([[p["a"], p["b"]] for p in pr], dtype=float).reshape(-1, 2),
-            pr_Ta=np.array([p["Ta"] for p in pr]).reshape(-1, 4, 4),
+            pr_Ta=np.array([p.get("Ta_eff", p["Ta"]) for p in pr]).reshape(-1, 4, 4),
             pr_Tb=np.array([p["Tb"] for p in pr]).reshape(-1, 4, 4),
             pr_driven=np.array([float(p["driven"]) for p in pr]),
             pr_axis=np.array([p["axis"] for p in pr]).reshape(-1, 6),
