@@ -24,12 +24,18 @@ __all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "Fixed", "Revolute", "P
            "Helical", "Cylindrical", "Universal", "Spherical", "Planar", "Free", "Effort", "PD",
            "Spring", "Motion", "Constant", "Step", "Pulse", "Sine", "Table", "Cycloidal",
            "SimulationResult", "ModesResult", "StaticResult", "Graphs", "RedundantConstraintWarning",
-           "InitialAdjustment", "InitialConfiguration"]
+           "InitialValueWarning", "InitialAdjustment", "InitialConfiguration"]
 
 
 class RedundantConstraintWarning(UserWarning):
     """The mechanism is hyperconstrained: some constraint rows are dependent at the initial
     configuration and were left out of the DAE (see ``Mechanism.redundant_constraints``)."""
+
+
+class InitialValueWarning(UserWarning):
+    """The loop closure of the initial configuration moved a given joint coordinate (``x0``) or
+    a given pose beyond its tolerance (see ``Mechanism.initial_adjustments``; with
+    ``Mechanism(strict=True)`` this is a ModelError instead)."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -41,7 +47,7 @@ class InitialAdjustment:
     of a body or link (for a link the largest over its nodes). ``given``/``reached``: the given
     ``x0`` and the initial value [rad or m] (None for poses). ``moved``: |reached - given| [rad or
     m]; for poses the distance an origin moved [m] or the angle a frame turned [rad].
-    ``tolerance``: 1e-6 rad (1e-6 |x0| beyond 1 rad) or 1e-6 L, L the mechanism's size."""
+    ``tolerance``: ``moved`` beyond it is reported (see Mechanism)."""
     name: str
     quantity: str
     given: Optional[float]
@@ -690,13 +696,23 @@ class StaticResult:
 # ------------------------------------------------------------------ the mechanism
 class Mechanism:
     """A mechanism under construction: add links, bodies, pairs and wrenches, then simulate,
-    compute modes or static equilibria. ``gravity`` [m/s^2] in world coordinates."""
+    compute modes or static equilibria. ``gravity`` [m/s^2] in world coordinates.
 
-    def __init__(self, gravity: Sequence[float] = (0.0, 0.0, 0.0)):
+    ``strict``: when the loop closure of the initial configuration moves a given joint
+    coordinate (``x0``) or a given pose beyond its tolerance, raise ModelError instead of warning
+    (InitialValueWarning). Tolerances: 1e-6 rad for angles (1e-6 |x0| for |x0| > 1 rad), 1e-6 L
+    for lengths, L the mechanism's size (topology.length_scale: the largest of the link lengths,
+    the pair frames' offsets and the extent of the carriers' initial origins). Either way the
+    moves are listed in ``initial_adjustments`` once a model has been built."""
+
+    def __init__(self, gravity: Sequence[float] = (0.0, 0.0, 0.0), strict: bool = False):
         g = np.asarray(gravity, dtype=float)
         if g.shape != (3,) or not np.all(np.isfinite(g)):
             raise ModelError("gravity: expected 3 finite numbers [m/s^2]")
+        if not isinstance(strict, (bool, np.bool_)):
+            raise ModelError(f"strict must be True or False (got {strict!r})")
         self.gravity = g
+        self.strict = bool(strict)
         self.ground = Frame(-1, np.eye(4), "ground")
         self._car = []      # dicts: M, mass, com, H0, t0
         self._el = []       # dicts: a, b, h, K, D, eps
@@ -710,6 +726,7 @@ class Mechanism:
         self._el_first = {}     # link name -> index of its first element
         self._given = {}        # carrier -> the pose the user gave it (4x4), if any
         self._warned = None
+        self._warned_initial = None
         #: (pair name, constraint direction) rows found redundant at the initial configuration and
         #: left out of the DAE (set when the core model is built: simulate, modes, static, ...)
         self.redundant_constraints: list = []
@@ -828,7 +845,8 @@ class Mechanism:
         violate the pair's constrained directions -- frame origins apart [m] or constrained axes
         turned [rad] beyond 1e-6 (1e-6 times the mechanism's size in m) -- raise ModelError
         naming the pair, its frames and the mismatch. Loops are then closed by a Newton
-        projection; how far it moved a given ``x0`` or pose is in ``initial_adjustments``."""
+        projection; how far it moved a given ``x0`` or pose is in ``initial_adjustments`` and
+        warned about (InitialValueWarning; ModelError with ``Mechanism(strict=True)``)."""
         if not isinstance(pair, _Pair):
             raise ModelError(f"pair {name!r}: unsupported pair type {type(pair).__name__} (available: "
                              "Fixed, Revolute, Prismatic, Helical, Cylindrical, Universal, Spherical, Planar, Free)")
@@ -1092,7 +1110,7 @@ class Mechanism:
     def _initial(self):
         """Tree placement, loop closure and redundancy (see phmech.topology): returns poses,
         twists, the pairs' x0 rows and drop masks; sets ``redundant_constraints`` and
-        ``initial_adjustments``."""
+        ``initial_adjustments`` (warns or, if ``strict``, raises on moves beyond tolerance)."""
         H, T, tree = topology.place_tree(self)
         x0 = np.array([p["x0"] for p in self._pairs]).reshape(-1, 6)
         adjustments = []
@@ -1107,10 +1125,6 @@ class Mechanism:
             for ip, e in enumerate(self._pairs):
                 _, _, j, k = lay[ip]
                 if e["has_x0"] and k:
-                    dev = np.max(np.abs(x[j:j + k] - e["x0"][:k]))
-                    if dev > 1e-6 * (1 + np.max(np.abs(e["x0"][:k]))):
-                        warnings.warn(f"pair {e['name']!r}: x0 cannot be met with the loops closed; "
-                                      f"starting at x = {x[j:j + k]} (x0 = {e['x0'][:k]})", stacklevel=3)
                     x0[ip, :k] = x[j:j + k]
             _, G, _ = _core.model_constraints_full(model, H, None, 0.0)
             masks, dropped = topology.redundant_rows(self, G, tree)
@@ -1119,6 +1133,17 @@ class Mechanism:
         self.redundant_constraints = dropped
         self.initial_adjustments = adjustments
         self._drop_masks = masks
+        moved = [a for a in adjustments if a.exceeds]
+        if moved:
+            msg = ("initial configuration: closing the loops moved given initial values beyond "
+                   "their tolerance: " + "; ".join(str(a) for a in moved) +
+                   ". Give consistent x0 and poses; Mechanism.initial_adjustments lists every "
+                   "given value and how far it moved")
+            if self.strict:
+                raise ModelError(msg + " (Mechanism(strict=True))")
+            if self._warned_initial != msg:
+                self._warned_initial = msg
+                warnings.warn(msg, InitialValueWarning, stacklevel=3)
         if dropped and self._warned != dropped:
             self._warned = list(dropped)
             warnings.warn(f"hyperconstrained mechanism: {len(dropped)} redundant constraint "
@@ -1164,7 +1189,8 @@ class Mechanism:
         """The initial configuration the analyses start from (tree placement from the given
         poses and x0, loop closure; see docs/user_guide.md): poses, twists, the
         InitialAdjustment table (also left in ``initial_adjustments``) and the redundant
-        constraints."""
+        constraints. Warns (InitialValueWarning) or, with ``strict``, raises ModelError like
+        the analyses when the loop closure moved a given value beyond its tolerance."""
         if not self._car:
             raise ModelError("the mechanism is empty")
         H, T, _, _ = self._initial()

@@ -30,7 +30,8 @@ Three steps, run by :class:`phmech.Mechanism` each time it builds its core model
    own values); the correction is the minimum-norm one on the tangent space among the solutions.
    If the residual stays above 1e-9 the loop cannot close and a ModelError names it (its pairs
    and links, from :meth:`MechanismGraph.loops`). How far this moved each given x0 and each
-   given pose the tree kept is reported by Mechanism (``initial_adjustments``).
+   given pose the tree kept is reported by Mechanism (``initial_adjustments``, a warning, or a
+   ModelError with ``strict=True``).
 3. **Redundant constraints.** At the closed configuration the rank of the full constraint
    Jacobian G is found from its singular values (tolerance 1e-9 times the largest); rows are taken
    greedily -- tree pairs first, loop-closing pairs last -- and a row whose component outside the
