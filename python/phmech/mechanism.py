@@ -116,6 +116,26 @@ class _Law:
         raise NotImplementedError
 
 
+_LAW_NAMES = "Constant, Step, Pulse, Sine, Table or Cycloidal"
+
+
+def _law_tuple(law, what: str, numbers: bool = False):
+    """The core's tuple of a time law; a clear ModelError for anything else (a plain Python
+    function cannot be a law: laws are evaluated in C, see csrc/phmech.h). ``numbers``: a
+    number c also stands for Constant(c)."""
+    if isinstance(law, _Law):
+        return law._tuple()
+    if numbers and isinstance(law, (int, float, np.integer, np.floating)) and not isinstance(law, bool):
+        return Constant(real(what, law))._tuple()
+    accepted = f"a time law ({_LAW_NAMES}{', or a number' if numbers else ''})"
+    if callable(law):
+        fname = getattr(law, "__name__", type(law).__name__)
+        raise ModelError(f"{what}: got the Python function {fname!r}, expected {accepted}; laws are "
+                         "evaluated in the C core, so a Python function cannot be one: tabulate it "
+                         "with Table(times, values)")
+    raise ModelError(f"{what}: expected {accepted} (got {type(law).__name__})")
+
+
 
 @dataclasses.dataclass(frozen=True)
 class Constant(_Law):
@@ -513,13 +533,29 @@ class FlexibleLink:
         return Frame(self.nodes[-1], np.eye(4), self.name + ".end")
 
     def node(self, k: int) -> Frame:
+        """The frame of node ``k``, 0 (start) .. ``elements`` (end), at distance k L / elements
+        from the start; Python-style negative k counts from the end (-1 is the end node)."""
+        n = len(self.nodes)
+        if isinstance(k, bool) or not isinstance(k, (int, np.integer)):
+            raise ModelError(f"link {self.name!r}: node index must be an integer (got {k!r})")
+        if not -n <= k < n:
+            raise ModelError(f"link {self.name!r} has nodes 0..{n - 1} ({self.elements} elements; "
+                             f"negative indices -{n}..-1 count from the end); got node({k})")
+        k = int(k) % n
         return Frame(self.nodes[k], np.eye(4), f"{self.name}.node{k}")
 
 
 def _frame_of(x, mech: "Mechanism", what: str) -> Frame:
+    """``x`` (a Frame, Body, 'ground' or a body's name) as a Frame of ``mech``; ``what`` names
+    the argument in error messages."""
     if isinstance(x, Frame):
-        if x.carrier < -1 or x.carrier >= len(mech._car):
-            raise ModelError(f"{what}: unknown frame {x.name!r}")
+        c = x.carrier
+        if isinstance(c, bool) or not isinstance(c, (int, np.integer)) or c < -1 or c >= len(mech._car):
+            nm = repr(x.name) if x.name else "(unnamed)"
+            raise ModelError(f"{what}: the frame {nm} is on carrier {c!r}, which this mechanism does not "
+                             f"have (carriers -1 = the ground, 0..{len(mech._car) - 1}); take frames from "
+                             f"this mechanism's bodies and links (body.frame, link.start, .end, "
+                             f".node(k)) or ph.Frame(carrier, T) with such a carrier index")
         return x
     if isinstance(x, Body):
         return x.frame
@@ -530,7 +566,11 @@ def _frame_of(x, mech: "Mechanism", what: str) -> Frame:
             return mech.ground
         if x in mech._bodies:
             return mech._bodies[x].frame
-        raise ModelError(f"{what}: unknown frame {x!r}")
+        if x in mech._links:
+            raise ModelError(f"{what}: {x!r} is a flexible link; give one of its frames "
+                             f"(.start, .end or .node(k))")
+        raise ModelError(f"{what}: unknown body {x!r}, neither 'ground' nor a body of this mechanism "
+                         f"(bodies: {', '.join(map(repr, mech._bodies)) or 'none'})")
     raise ModelError(f"{what}: expected a Frame, Body or 'ground' (got {type(x).__name__})")
 
 
@@ -850,7 +890,7 @@ class Mechanism:
         if not isinstance(pair, _Pair):
             raise ModelError(f"pair {name!r}: unsupported pair type {type(pair).__name__} (available: "
                              "Fixed, Revolute, Prismatic, Helical, Cylindrical, Universal, Spherical, Planar, Free)")
-        fa, fb = _frame_of(a, self, f"pair {name!r}"), _frame_of(b, self, f"pair {name!r}")
+        fa, fb = _frame_of(a, self, f"pair {name!r}, argument a"), _frame_of(b, self, f"pair {name!r}, argument b")
         if fa.carrier == fb.carrier:
             raise ModelError(f"pair {name!r}: both frames are on the same carrier (a body cannot be paired with itself)")
         try:
@@ -870,7 +910,7 @@ class Mechanism:
             axis = np.asarray(driven.axis, dtype=float)
             if axis.shape != (6,) or not np.all(np.isfinite(axis)):
                 raise ModelError(f"pair {name!r}: motion axis must be 6 finite numbers")
-            law = driven.law._tuple()
+            law = _law_tuple(driven.law, f"pair {name!r}: Motion law")
         k = pair.k
         xv = np.zeros(6)
         if x0 is not None:
@@ -957,12 +997,8 @@ class Mechanism:
         vec, kp, kd, xs, law = z.copy(), z.copy(), z.copy(), z.copy(), None
         if isinstance(act, Effort):
             kind = _ACT_EFFORT
-            lw = Constant(1.0) if act.law is None else act.law
-            if isinstance(lw, (int, float)):
-                lw = Constant(real(f"{what}: effort", lw))
-            if not isinstance(lw, _Law):
-                raise ModelError(f"{what}: Effort law must be a time law or a number")
-            law = lw._tuple()
+            law = _law_tuple(Constant(1.0) if act.law is None else act.law, f"{what}: Effort law",
+                             numbers=True)
             vec[:k] = _kvec(act.direction, k, f"{what}: direction")
         elif isinstance(act, PD):
             kind = _ACT_PD
@@ -970,8 +1006,8 @@ class Mechanism:
             kd[:k] = _kvec(act.kd, k, f"{what}: kd")
             d = _kvec(act.direction, k, f"{what}: direction")
             xs[:k] = _kvec(act.offset, k, f"{what}: offset", default=0.0)
-            if isinstance(act.target, _Law):
-                law = act.target._tuple()
+            if isinstance(act.target, _Law) or callable(act.target):
+                law = _law_tuple(act.target, f"{what}: PD target")
                 vec[:k] = d
             else:
                 xs[:k] += _kvec(act.target, k, f"{what}: target") * (d if act.direction is not None else 1.0)
@@ -995,7 +1031,7 @@ class Mechanism:
         ``b`` (frame coordinates [m]; the ground's points are world points): tension
         k (d - rest_length) + c dd/dt [N], ``rest_length`` defaulting to the initial distance.
         Its elastic energy is part of the total energy, its dissipation a port of the ledger."""
-        fa, fb = _frame_of(a, self, f"spring {name!r}"), _frame_of(b, self, f"spring {name!r}")
+        fa, fb = _frame_of(a, self, f"spring {name!r}, argument a"), _frame_of(b, self, f"spring {name!r}, argument b")
         if fa.carrier == fb.carrier:
             raise ModelError(f"spring {name!r}: both ends are on the same carrier")
         kk, cc = real(f"spring {name!r}: k", k), real(f"spring {name!r}: c", c)
@@ -1021,7 +1057,7 @@ class Mechanism:
         power is a port of the ledger."""
         self.add_wrench(name, target, wrench, law=law, frame=frame, point=point)
         if reaction is not None:
-            fr = _frame_of(reaction, self, f"interaction {name!r}")
+            fr = _frame_of(reaction, self, f"interaction {name!r}, argument reaction")
             if fr.carrier == self._loads[-1]["carrier"]:
                 self._loads.pop()
                 self._names.discard(name)
@@ -1033,7 +1069,7 @@ class Mechanism:
                    frame: str = "world", point=(0.0, 0.0, 0.0)) -> None:
         """An applied wrench law(t) * (tau [N m], f [N]) on ``target`` (a Frame or Body), in
         ``frame`` "world" or "body" axes, applied at ``point`` (body coordinates [m])."""
-        f = _frame_of(target, self, f"wrench {name!r}")
+        f = _frame_of(target, self, f"wrench {name!r}, argument target")
         if f.carrier < 0:
             raise ModelError(f"wrench {name!r}: cannot load the ground")
         if frame not in ("world", "body"):
@@ -1042,8 +1078,7 @@ class Mechanism:
         p = np.asarray(point, dtype=float)
         if w.shape != (6,) or p.shape != (3,) or not (np.all(np.isfinite(w)) and np.all(np.isfinite(p))):
             raise ModelError(f"wrench {name!r}: wrench must be 6 finite numbers (tau, f), point 3")
-        if not isinstance(law, _Law):
-            raise ModelError(f"wrench {name!r}: law must be Constant, Step, Pulse, Sine, Table or Cycloidal")
+        law = _law_tuple(law, f"wrench {name!r}: law")
         # the offset of a frame on its carrier moves the point of application
         pt = f.T[:3, :3] @ p + f.T[:3, 3]
         if frame == "body":
@@ -1051,7 +1086,7 @@ class Mechanism:
             w = np.concatenate([R @ w[:3], R @ w[3:]])
         self._new_name(name)
         self._loads.append(dict(name=name, carrier=f.carrier, world=frame == "world", point=pt,
-                                w=w, law=law._tuple(), reaction=-1))
+                                w=w, law=law, reaction=-1))
 
     def add_distributed_load(self, name: str, link: FlexibleLink, force_per_length,
                              law: _Law = Constant(1.0), frame: str = "world") -> None:
@@ -1483,7 +1518,7 @@ class Mechanism:
                 target, wrench, frame = ld
             except (TypeError, ValueError):
                 raise ModelError("static loads: expected (target, wrench, frame) tuples") from None
-            f = _frame_of(target, self, "static load")
+            f = _frame_of(target, self, f"static load {i}, target")
             if frame not in ("world", "body"):
                 raise ModelError(f"static load: frame must be 'world' or 'body' (got {frame!r})")
             w = np.asarray(wrench, dtype=float)
