@@ -137,6 +137,14 @@ def test_revolute_takes_its_angle_from_the_given_poses():
     r = m.simulate(0.01, 0.01)
     assert abs(r.joint("hinge")["x"][0, 0] - 0.4) < 1e-12
     np.testing.assert_allclose(r.poses[0, 0], se3.rotation("z", 0.4), atol=1e-14)
+    # with a rate but no x0: the given angle is kept and the rate applied (before, xdot0 alone
+    # re-posed the body to x = 0)
+    m = ph.Mechanism()
+    b = m.add_rigid_body("b", 1.0, np.eye(3) * 0.01, com=(0.2, 0, 0), pose=se3.rotation("z", 0.4))
+    m.add_pair("hinge", ph.Revolute("z"), m.ground, b, xdot0=2.0)
+    jt = m.simulate(0.05, 0.05).joint("hinge")
+    np.testing.assert_allclose(jt["x"][:, 0], [0.4, 0.5], atol=1e-6)      # no load: uniform spin
+    np.testing.assert_allclose(jt["xdot"][:, 0], 2.0, atol=1e-6)
     # the same body tilted 0.1 rad about x: the revolute's axes are not parallel
     m = ph.Mechanism()
     b = m.add_rigid_body("b", 1.0, np.eye(3) * 0.01, pose=se3.rotation("x", 0.1))
