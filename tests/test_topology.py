@@ -38,10 +38,12 @@ def test_fig3_through_the_mechanism_api_gives_eq25():
     assert len(g.loops()) == 1
 
 
-def test_tree_places_serial_chain_and_keeps_poses_across_pairs_without_x0():
+def test_tree_places_serial_chain_and_keeps_relative_poses_across_pairs_without_x0():
+    # Rule (topology.place_tree): x0 wins over a given pose; across a pair without x0 the far
+    # carrier keeps its given pose RELATIVE to the near one (the given poses are the reference).
     m = ph.Mechanism()
-    a = body(m, "a", pose=se3.translation([5, 5, 5]))       # moved by the tree: x0 given
-    b = body(m, "b", pose=se3.rotation("z", 0.3))           # kept: pair without x0
+    a = body(m, "a", pose=se3.rotation("z", 0.1))           # moved by the tree: x0 given
+    b = body(m, "b", pose=se3.rotation("z", 0.3))           # follows a: pair without x0
     link = m.add_flexible_link("L", 1.0, PROPS, elements=4)
     T = se3.translation([1.0, 0, 0])
     m.add_pair("p1", ph.Revolute("z"), m.ground, a, x0=0.5)
@@ -49,11 +51,24 @@ def test_tree_places_serial_chain_and_keeps_poses_across_pairs_without_x0():
     m.add_pair("p3", ph.Fixed(), ph.Frame(a.carrier, T), link.end)   # link placed from its end
     H, _, _, _ = m._initial()
     np.testing.assert_allclose(H[a.carrier], se3.rotation("z", 0.5), atol=1e-14)
-    np.testing.assert_allclose(H[b.carrier], se3.rotation("z", 0.3), atol=1e-14)
+    # p2 at its given angle 0.3 - 0.1 = 0.2 rad: b at 0.5 + 0.2
+    np.testing.assert_allclose(H[b.carrier], se3.rotation("z", 0.7), atol=1e-14)
     # the link, unstressed and straight, ends at a's frame (1, 0, 0): its start is 1 m behind
     end = se3.rotation("z", 0.5) @ T
     np.testing.assert_allclose(H[link.nodes[-1]], end, atol=1e-13)
     np.testing.assert_allclose(H[link.nodes[0]][:3, 3], end[:3, 3] - end[:3, 0], atol=1e-13)
+
+
+def test_given_poses_that_violate_a_pair_are_refused():
+    # a's given pose (5, 5, 5) m is overridden by x0, but it is the reference of p2, whose frames
+    # (the origins of a and b) are then sqrt(75) = 8.66 m apart: refused, not re-posed
+    m = ph.Mechanism()
+    a = body(m, "a", pose=se3.translation([5, 5, 5]))
+    b = body(m, "b", pose=se3.rotation("z", 0.3))
+    m.add_pair("p1", ph.Revolute("z"), m.ground, a, x0=0.5)
+    m.add_pair("p2", ph.Revolute("z"), a, b)
+    with pytest.raises(ph.ModelError, match=r"pair 'p2' \(Revolute\).*'a' and 'b' are 8\.66025 m apart"):
+        m._initial()
 
 
 def test_unconnected_body_is_free_and_falls():

@@ -26,12 +26,62 @@ DEFAULT_RTOL = 1e-4
 __all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "Fixed", "Revolute", "Prismatic",
            "Helical", "Cylindrical", "Universal", "Spherical", "Planar", "Free", "Effort", "PD",
            "Spring", "Motion", "Constant", "Step", "Pulse", "Sine", "Table", "Cycloidal",
-           "SimulationResult", "ModesResult", "StaticResult", "Graphs", "RedundantConstraintWarning"]
+           "SimulationResult", "ModesResult", "StaticResult", "Graphs", "RedundantConstraintWarning",
+           "InitialValueWarning", "InitialAdjustment", "InitialConfiguration"]
 
 
 class RedundantConstraintWarning(UserWarning):
     """The mechanism is hyperconstrained: some constraint rows are dependent at the initial
     configuration and were left out of the DAE (see ``Mechanism.redundant_constraints``)."""
+
+
+class InitialValueWarning(UserWarning):
+    """The loop closure of the initial configuration moved a given joint coordinate (``x0``) or
+    a given pose beyond its tolerance (see ``Mechanism.initial_adjustments``; with
+    ``Mechanism(strict=True)`` this is a ModelError instead)."""
+
+
+@dataclasses.dataclass(frozen=True)
+class InitialAdjustment:
+    """How far the consistent initial configuration moved one given initial value.
+
+    ``name``: the pair (joint coordinates) or the body / flexible link (poses). ``quantity``:
+    ``"x"`` (``"x[i]"`` for pairs with several coordinates), or ``"position"`` / ``"orientation"``
+    of a body or link (for a link the largest over its nodes). ``given``/``reached``: the given
+    ``x0`` and the initial value [rad or m] (None for poses). ``moved``: |reached - given| [rad or
+    m]; for poses the distance an origin moved [m] or the angle a frame turned [rad].
+    ``tolerance``: ``moved`` beyond it is reported (see Mechanism)."""
+    name: str
+    quantity: str
+    given: Optional[float]
+    reached: Optional[float]
+    moved: float
+    unit: str
+    tolerance: float
+
+    @property
+    def exceeds(self) -> bool:
+        """True when ``moved`` is beyond ``tolerance``."""
+        return self.moved > self.tolerance
+
+    def __str__(self) -> str:
+        if self.given is not None:
+            q = "" if self.quantity == "x" else " " + self.quantity
+            return (f"joint {self.name!r}{q} given {self.given:.6g} {self.unit}, closed at "
+                    f"{self.reached:.6g} {self.unit} (moved {self.moved:.3g} {self.unit})")
+        return f"pose of {self.name!r}: {self.quantity} moved {self.moved:.3g} {self.unit}"
+
+
+@dataclasses.dataclass
+class InitialConfiguration:
+    """The initial configuration an analysis starts from: ``poses`` (ncarriers, 4, 4), body
+    ``twists`` (ncarriers, 6), ``adjustments`` (list of InitialAdjustment: every given ``x0``
+    coordinate and every given pose kept by the tree placement, with how far the loop closure
+    moved it) and ``redundant_constraints``."""
+    poses: np.ndarray
+    twists: np.ndarray
+    adjustments: list
+    redundant_constraints: list
 
 
 @dataclasses.dataclass(frozen=True)
@@ -67,6 +117,26 @@ ENERGY_NAMES = ("kinetic", "elastic", "gravity", "dissipated", "supplied", "tota
 class _Law:
     def _tuple(self):
         raise NotImplementedError
+
+
+_LAW_NAMES = "Constant, Step, Pulse, Sine, Table or Cycloidal"
+
+
+def _law_tuple(law, what: str, numbers: bool = False):
+    """The core's tuple of a time law; a clear ModelError for anything else (a plain Python
+    function cannot be a law: laws are evaluated in C, see csrc/phmech.h). ``numbers``: a
+    number c also stands for Constant(c)."""
+    if isinstance(law, _Law):
+        return law._tuple()
+    if numbers and isinstance(law, (int, float, np.integer, np.floating)) and not isinstance(law, bool):
+        return Constant(real(what, law))._tuple()
+    accepted = f"a time law ({_LAW_NAMES}{', or a number' if numbers else ''})"
+    if callable(law):
+        fname = getattr(law, "__name__", type(law).__name__)
+        raise ModelError(f"{what}: got the Python function {fname!r}, expected {accepted}; laws are "
+                         "evaluated in the C core, so a Python function cannot be one: tabulate it "
+                         "with Table(times, values)")
+    raise ModelError(f"{what}: expected {accepted} (got {type(law).__name__})")
 
 
 
@@ -197,6 +267,7 @@ def _unit(v, what):
 class _Pair:
     _code = -1
     k = 0
+    _units = ()   # unit of each joint coordinate ("rad" or "m")
 
     def _rotation(self) -> np.ndarray:
         return np.eye(3)
@@ -208,9 +279,19 @@ class _Pair:
         """Relative pose h(x) of the pair frames at joint coordinates x."""
         return np.eye(4)
 
+    def _coords(self, h) -> np.ndarray:
+        """Joint coordinates x of a relative pose h of the pair frames (the inverse of _fk on
+        the pair's allowed motions; the part of h it cannot produce is fk(x)^-1 h)."""
+        return np.zeros(0)
+
 
 def _ez(*v):
     return np.array(v, dtype=float)
+
+
+def _angle_z(h) -> float:
+    """Angle [rad] of a relative pose's rotation about z, in (-pi, pi]."""
+    return float(np.arctan2(h[1, 0], h[0, 0]))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -226,12 +307,16 @@ class Revolute(_Pair):
     axis: object = "z"
     _code = 1
     k = 1
+    _units = ("rad",)
 
     def _rotation(self):
         return _axis_rotation(self.axis, "Revolute")
 
     def _fk(self, x):
         return se3.exp(_ez(0, 0, x[0], 0, 0, 0))
+
+    def _coords(self, h):
+        return np.array([_angle_z(h)])
 
 
 @dataclasses.dataclass(frozen=True)
@@ -240,12 +325,16 @@ class Prismatic(_Pair):
     axis: object = "z"
     _code = 2
     k = 1
+    _units = ("m",)
 
     def _rotation(self):
         return _axis_rotation(self.axis, "Prismatic")
 
     def _fk(self, x):
         return se3.exp(_ez(0, 0, 0, 0, 0, x[0]))
+
+    def _coords(self, h):
+        return np.array([h[2, 3]])
 
 
 @dataclasses.dataclass(frozen=True)
@@ -255,6 +344,7 @@ class Helical(_Pair):
     pitch: float = 0.0
     _code = 3
     k = 1
+    _units = ("rad",)
 
     def _rotation(self):
         return _axis_rotation(self.axis, "Helical")
@@ -265,6 +355,12 @@ class Helical(_Pair):
     def _fk(self, x):
         return se3.exp(_ez(0, 0, x[0], 0, 0, self._pitch() * x[0]))
 
+    def _coords(self, h):
+        a, p = _angle_z(h), self._pitch()
+        if p != 0:   # the turn whose translation pitch * angle is nearest to h's
+            a += 2 * np.pi * np.round((h[2, 3] / p - a) / (2 * np.pi))
+        return np.array([a])
+
 
 @dataclasses.dataclass(frozen=True)
 class Cylindrical(_Pair):
@@ -272,12 +368,16 @@ class Cylindrical(_Pair):
     axis: object = "z"
     _code = 4
     k = 2
+    _units = ("rad", "m")
 
     def _rotation(self):
         return _axis_rotation(self.axis, "Cylindrical")
 
     def _fk(self, x):
         return se3.exp(_ez(0, 0, x[0], 0, 0, x[1]))
+
+    def _coords(self, h):
+        return np.array([_angle_z(h), h[2, 3]])
 
 
 @dataclasses.dataclass(frozen=True)
@@ -289,6 +389,7 @@ class Universal(_Pair):
     axis2: object = "y"
     _code = 5
     k = 2
+    _units = ("rad", "rad")
 
     def _rotation(self):
         a, b = _unit(self.axis1, "Universal axis1"), _unit(self.axis2, "Universal axis2")
@@ -299,6 +400,9 @@ class Universal(_Pair):
     def _fk(self, x):
         return se3.exp(_ez(x[0], 0, 0, 0, 0, 0)) @ se3.exp(_ez(0, x[1], 0, 0, 0, 0))
 
+    def _coords(self, h):
+        return np.array([np.arctan2(h[2, 1], h[1, 1]), np.arctan2(h[0, 2], h[0, 0])])
+
 
 @dataclasses.dataclass(frozen=True)
 class Spherical(_Pair):
@@ -306,9 +410,13 @@ class Spherical(_Pair):
     (in F_b) -- a quasi-velocity, not dx/dt."""
     _code = 6
     k = 3
+    _units = ("rad",) * 3
 
     def _fk(self, x):
         return se3.exp(_ez(x[0], x[1], x[2], 0, 0, 0))
+
+    def _coords(self, h):
+        return np.asarray(se3.log(np.ascontiguousarray(h[:3, :3])), dtype=float)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -318,6 +426,7 @@ class Planar(_Pair):
     normal: object = "z"
     _code = 7
     k = 3
+    _units = ("rad", "m", "m")
 
     def _rotation(self):
         return _axis_rotation(self.normal, "Planar")
@@ -327,6 +436,9 @@ class Planar(_Pair):
         H[0, 3], H[1, 3] = x[1], x[2]
         return H
 
+    def _coords(self, h):
+        return np.array([_angle_z(h), h[0, 3], h[1, 3]])
+
 
 @dataclasses.dataclass(frozen=True)
 class Free(_Pair):
@@ -334,11 +446,15 @@ class Free(_Pair):
     velocity in F_b, dp/dt in F_a). Useful to measure or actuate a relative motion."""
     _code = 8
     k = 6
+    _units = ("rad",) * 3 + ("m",) * 3
 
     def _fk(self, x):
         H = se3.exp(_ez(x[0], x[1], x[2], 0, 0, 0))
         H[:3, 3] = x[3:6]
         return H
+
+    def _coords(self, h):
+        return np.concatenate([se3.log(np.ascontiguousarray(h[:3, :3])), h[:3, 3]])
 
 
 # ------------------------------------------------------------------ actuators
@@ -420,13 +536,29 @@ class FlexibleLink:
         return Frame(self.nodes[-1], np.eye(4), self.name + ".end")
 
     def node(self, k: int) -> Frame:
+        """The frame of node ``k``, 0 (start) .. ``elements`` (end), at distance k L / elements
+        from the start; Python-style negative k counts from the end (-1 is the end node)."""
+        n = len(self.nodes)
+        if isinstance(k, bool) or not isinstance(k, (int, np.integer)):
+            raise ModelError(f"link {self.name!r}: node index must be an integer (got {k!r})")
+        if not -n <= k < n:
+            raise ModelError(f"link {self.name!r} has nodes 0..{n - 1} ({self.elements} elements; "
+                             f"negative indices -{n}..-1 count from the end); got node({k})")
+        k = int(k) % n
         return Frame(self.nodes[k], np.eye(4), f"{self.name}.node{k}")
 
 
 def _frame_of(x, mech: "Mechanism", what: str) -> Frame:
+    """``x`` (a Frame, Body, 'ground' or a body's name) as a Frame of ``mech``; ``what`` names
+    the argument in error messages."""
     if isinstance(x, Frame):
-        if x.carrier < -1 or x.carrier >= len(mech._car):
-            raise ModelError(f"{what}: unknown frame {x.name!r}")
+        c = x.carrier
+        if isinstance(c, bool) or not isinstance(c, (int, np.integer)) or c < -1 or c >= len(mech._car):
+            nm = repr(x.name) if x.name else "(unnamed)"
+            raise ModelError(f"{what}: the frame {nm} is on carrier {c!r}, which this mechanism does not "
+                             f"have (carriers -1 = the ground, 0..{len(mech._car) - 1}); take frames from "
+                             f"this mechanism's bodies and links (body.frame, link.start, .end, "
+                             f".node(k)) or ph.Frame(carrier, T) with such a carrier index")
         return x
     if isinstance(x, Body):
         return x.frame
@@ -437,7 +569,11 @@ def _frame_of(x, mech: "Mechanism", what: str) -> Frame:
             return mech.ground
         if x in mech._bodies:
             return mech._bodies[x].frame
-        raise ModelError(f"{what}: unknown frame {x!r}")
+        if x in mech._links:
+            raise ModelError(f"{what}: {x!r} is a flexible link; give one of its frames "
+                             f"(.start, .end or .node(k))")
+        raise ModelError(f"{what}: unknown body {x!r}, neither 'ground' nor a body of this mechanism "
+                         f"(bodies: {', '.join(map(repr, mech._bodies)) or 'none'})")
     raise ModelError(f"{what}: expected a Frame, Body or 'ground' (got {type(x).__name__})")
 
 
@@ -574,13 +710,23 @@ class StaticResult:
 # ------------------------------------------------------------------ the mechanism
 class Mechanism:
     """A mechanism under construction: add links, bodies, pairs and wrenches, then simulate,
-    compute modes or static equilibria. ``gravity`` [m/s^2] in world coordinates."""
+    compute modes or static equilibria. ``gravity`` [m/s^2] in world coordinates.
 
-    def __init__(self, gravity: Sequence[float] = (0.0, 0.0, 0.0)):
+    ``strict``: when the loop closure of the initial configuration moves a given joint
+    coordinate (``x0``) or a given pose beyond its tolerance, raise ModelError instead of warning
+    (InitialValueWarning). Tolerances: 1e-6 rad for angles (1e-6 |x0| for |x0| > 1 rad), 1e-6 L
+    for lengths, L the mechanism's size (topology.length_scale: the largest of the link lengths,
+    the pair frames' offsets and the extent of the carriers' initial origins). Either way the
+    moves are listed in ``initial_adjustments`` once a model has been built."""
+
+    def __init__(self, gravity: Sequence[float] = (0.0, 0.0, 0.0), strict: bool = False):
         g = np.asarray(gravity, dtype=float)
         if g.shape != (3,) or not np.all(np.isfinite(g)):
             raise ModelError("gravity: expected 3 finite numbers [m/s^2]")
+        if not isinstance(strict, (bool, np.bool_)):
+            raise ModelError(f"strict must be True or False (got {strict!r})")
         self.gravity = g
+        self.strict = bool(strict)
         self.ground = Frame(-1, np.eye(4), "ground")
         self._car = []      # dicts: M, mass, com, H0, t0
         self._el = []       # dicts: a, b, h, K, D, eps
@@ -592,11 +738,15 @@ class Mechanism:
         self._bodies = {}
         self._names = set()
         self._el_first = {}     # link name -> index of its first element
-        self._pose_given = {}   # carrier -> the user gave its pose
+        self._given = {}        # carrier -> the pose the user gave it (4x4), if any
         self._warned = None
+        self._warned_initial = None
         #: (pair name, constraint direction) rows found redundant at the initial configuration and
         #: left out of the DAE (set when the core model is built: simulate, modes, static, ...)
         self.redundant_constraints: list = []
+        #: InitialAdjustment rows: how far the loop closure moved each given x0 coordinate and
+        #: each given pose (set when the core model is built, like redundant_constraints)
+        self.initial_adjustments: list = []
 
     # -------------------------------------------------------------- building
     def _new_name(self, name):
@@ -612,7 +762,14 @@ class Mechanism:
         its start). ``properties``: object with 6x6 ``stiffness`` (section stiffness, order
         (torsion, bending y, bending z, axial, shear y, shear z) strains), ``inertia`` (per unit
         length) and ``damping`` (viscous section damping, may be absent). ``curvature``: the
-        unstressed curvature (kappa_x, kappa_y, kappa_z) [1/m], or None (straight)."""
+        unstressed curvature (kappa_x, kappa_y, kappa_z) [1/m], or None (straight).
+
+        ``pose`` given: the link's initial pose is honoured -- the pairs on its nodes take their
+        reference from it (a Fixed clamp or weld holds the relative orientation its frames have
+        at the given poses, e.g. a root rotated about x selects the other bending axis), and
+        given poses that violate a pair (frame origins apart, a revolute's axes not parallel)
+        raise ModelError; only a pair with ``x0`` places the link elsewhere. ``pose=None``: the
+        link is placed from its pairs. See add_pair and docs/user_guide.md."""
         if discretization != "se3":
             raise ModelError(f"unknown discretization {discretization!r} (available: 'se3')")
         L = real("length", length)
@@ -645,8 +802,9 @@ class Mechanism:
                                   H0=H @ se3.exp(k * h * eps), t0=np.zeros(6)))
         for k in range(N):
             self._el.append(dict(a=first + k, b=first + k + 1, h=h, K=K, D=Dm, eps=eps))
-        for k in range(N + 1):
-            self._pose_given[first + k] = pose is not None
+        if pose is not None:
+            for k in range(N + 1):
+                self._given[first + k] = np.array(self._car[first + k]["H0"])
         link = FlexibleLink(name, L, N, list(range(first, first + N + 1)))
         self._links[name] = link
         return link
@@ -654,7 +812,9 @@ class Mechanism:
     def add_rigid_body(self, name: str, mass: float, inertia, com=(0.0, 0.0, 0.0), pose=None,
                        twist=(0, 0, 0, 0, 0, 0)) -> Body:
         """A rigid body: ``mass`` [kg], ``inertia`` 3x3 about the centre of mass in body axes
-        [kg m^2], ``com`` in body coordinates [m], initial ``pose`` (4x4) and body ``twist``."""
+        [kg m^2], ``com`` in body coordinates [m], initial ``pose`` (4x4) and body ``twist``.
+        A given ``pose`` is honoured by the pairs on the body like a flexible link's (see
+        add_flexible_link, add_pair); ``pose=None``: placed from its pairs."""
         m = real("mass", mass)
         if m <= 0:
             raise ModelError(f"mass must be > 0 (got {m} kg)")
@@ -674,7 +834,8 @@ class Mechanism:
         M[3:, 3:] = m * np.eye(3)
         self._car.append(dict(M=M, mass=m, com=c, H0=np.eye(4) if pose is None else _pose(pose, "pose"), t0=tw))
         b = Body(name, len(self._car) - 1)
-        self._pose_given[b.carrier] = pose is not None
+        if pose is not None:
+            self._given[b.carrier] = np.array(self._car[b.carrier]["H0"])
         self._bodies[name] = b
         return b
 
@@ -685,14 +846,25 @@ class Mechanism:
 
         ``driven``: a prescribed relative motion (Motion; Fixed pairs only). ``actuator``: an
         Effort, PD or Spring on the pair's joint coordinates (its port is named after the pair; add
-        more with add_actuator). ``x0``/``xdot0``: initial joint coordinates and rates; when ``b``
-        is a rigid body it is placed there relative to ``a``'s current initial pose and twist (add
-        pairs from the ground outwards); otherwise the configuration is checked against ``x0`` at
-        the start of a simulation."""
+        more with add_actuator). ``x0``/``xdot0``: initial joint coordinates [rad or m] and rates;
+        when ``b`` is a rigid body it is placed there relative to ``a``'s current initial pose and
+        twist (add pairs from the ground outwards).
+
+        Initial configuration (docs/user_guide.md): walking from the ground, the carrier beyond
+        the pair is placed from it at ``x0`` when ``x0`` is given or when that carrier has no
+        given pose (x = 0 without ``x0``). Otherwise the given poses are the reference: the
+        pair's coordinates are those of its two frames at the given poses, the weld of a Fixed
+        pair holds the relative orientation of its frames there (if neither frame offset has a
+        rotation of its own; a rotated offset must agree with the poses), and given poses that
+        violate the pair's constrained directions -- frame origins apart [m] or constrained axes
+        turned [rad] beyond 1e-6 (1e-6 times the mechanism's size in m) -- raise ModelError
+        naming the pair, its frames and the mismatch. Loops are then closed by a Newton
+        projection; how far it moved a given ``x0`` or pose is in ``initial_adjustments`` and
+        warned about (InitialValueWarning; ModelError with ``Mechanism(strict=True)``)."""
         if not isinstance(pair, _Pair):
             raise ModelError(f"pair {name!r}: unsupported pair type {type(pair).__name__} (available: "
                              "Fixed, Revolute, Prismatic, Helical, Cylindrical, Universal, Spherical, Planar, Free)")
-        fa, fb = _frame_of(a, self, f"pair {name!r}"), _frame_of(b, self, f"pair {name!r}")
+        fa, fb = _frame_of(a, self, f"pair {name!r}, argument a"), _frame_of(b, self, f"pair {name!r}, argument b")
         if fa.carrier == fb.carrier:
             raise ModelError(f"pair {name!r}: both frames are on the same carrier (a body cannot be paired with itself)")
         try:
@@ -712,7 +884,7 @@ class Mechanism:
             axis = np.asarray(driven.axis, dtype=float)
             if axis.shape != (6,) or not np.all(np.isfinite(axis)):
                 raise ModelError(f"pair {name!r}: motion axis must be 6 finite numbers")
-            law = driven.law._tuple()
+            law = _law_tuple(driven.law, f"pair {name!r}: Motion law")
         k = pair.k
         xv = np.zeros(6)
         if x0 is not None:
@@ -727,6 +899,7 @@ class Mechanism:
         if xd is not None:
             xdv[:k] = xd
         entry = dict(name=name, type=pair._code, a=fa.carrier, b=fb.carrier, Ta=Ta, Tb=Tb,
+                     fa_name=self._describe(fa), fb_name=self._describe(fb),
                      driven=driven is not None, axis=axis, law=law, pitch=pitch, k=k,
                      x0=xv, has_x0=x0 is not None, pair=pair, xdot0=xdv,
                      has_xdot0=xdot0 is not None)
@@ -735,6 +908,22 @@ class Mechanism:
             self._place(entry, xv[:k], np.zeros(k) if xd is None else xd)
         if actuator is not None:
             self._add_actuator(name, entry, actuator)
+
+    def _carrier_name(self, c: int) -> str:
+        """'the ground', "body 'b'" or "node k of link 'L'"."""
+        if c < 0:
+            return "the ground"
+        for b in self._bodies.values():
+            if b.carrier == c:
+                return f"body {b.name!r}"
+        for lk in self._links.values():
+            if c in lk.nodes:
+                return f"node {lk.nodes.index(c)} of link {lk.name!r}"
+        return f"carrier {c}"
+
+    def _describe(self, f: Frame) -> str:
+        """A frame's name in quotes, or where an unnamed frame sits."""
+        return repr(f.name) if f.name else f"(unnamed frame on {self._carrier_name(f.carrier)})"
 
     def _body_carriers(self):
         return {b.carrier for b in self._bodies.values()}
@@ -782,12 +971,8 @@ class Mechanism:
         vec, kp, kd, xs, law = z.copy(), z.copy(), z.copy(), z.copy(), None
         if isinstance(act, Effort):
             kind = _ACT_EFFORT
-            lw = Constant(1.0) if act.law is None else act.law
-            if isinstance(lw, (int, float)):
-                lw = Constant(real(f"{what}: effort", lw))
-            if not isinstance(lw, _Law):
-                raise ModelError(f"{what}: Effort law must be a time law or a number")
-            law = lw._tuple()
+            law = _law_tuple(Constant(1.0) if act.law is None else act.law, f"{what}: Effort law",
+                             numbers=True)
             vec[:k] = _kvec(act.direction, k, f"{what}: direction")
         elif isinstance(act, PD):
             kind = _ACT_PD
@@ -795,8 +980,8 @@ class Mechanism:
             kd[:k] = _kvec(act.kd, k, f"{what}: kd")
             d = _kvec(act.direction, k, f"{what}: direction")
             xs[:k] = _kvec(act.offset, k, f"{what}: offset", default=0.0)
-            if isinstance(act.target, _Law):
-                law = act.target._tuple()
+            if isinstance(act.target, _Law) or callable(act.target):
+                law = _law_tuple(act.target, f"{what}: PD target")
                 vec[:k] = d
             else:
                 xs[:k] += _kvec(act.target, k, f"{what}: target") * (d if act.direction is not None else 1.0)
@@ -820,7 +1005,7 @@ class Mechanism:
         ``b`` (frame coordinates [m]; the ground's points are world points): tension
         k (d - rest_length) + c dd/dt [N], ``rest_length`` defaulting to the initial distance.
         Its elastic energy is part of the total energy, its dissipation a port of the ledger."""
-        fa, fb = _frame_of(a, self, f"spring {name!r}"), _frame_of(b, self, f"spring {name!r}")
+        fa, fb = _frame_of(a, self, f"spring {name!r}, argument a"), _frame_of(b, self, f"spring {name!r}, argument b")
         if fa.carrier == fb.carrier:
             raise ModelError(f"spring {name!r}: both ends are on the same carrier")
         kk, cc = real(f"spring {name!r}: k", k), real(f"spring {name!r}: c", c)
@@ -846,7 +1031,7 @@ class Mechanism:
         power is a port of the ledger."""
         self.add_wrench(name, target, wrench, law=law, frame=frame, point=point)
         if reaction is not None:
-            fr = _frame_of(reaction, self, f"interaction {name!r}")
+            fr = _frame_of(reaction, self, f"interaction {name!r}, argument reaction")
             if fr.carrier == self._loads[-1]["carrier"]:
                 self._loads.pop()
                 self._names.discard(name)
@@ -858,7 +1043,7 @@ class Mechanism:
                    frame: str = "world", point=(0.0, 0.0, 0.0)) -> None:
         """An applied wrench law(t) * (tau [N m], f [N]) on ``target`` (a Frame or Body), in
         ``frame`` "world" or "body" axes, applied at ``point`` (body coordinates [m])."""
-        f = _frame_of(target, self, f"wrench {name!r}")
+        f = _frame_of(target, self, f"wrench {name!r}, argument target")
         if f.carrier < 0:
             raise ModelError(f"wrench {name!r}: cannot load the ground")
         if frame not in ("world", "body"):
@@ -867,8 +1052,7 @@ class Mechanism:
         p = np.asarray(point, dtype=float)
         if w.shape != (6,) or p.shape != (3,) or not (np.all(np.isfinite(w)) and np.all(np.isfinite(p))):
             raise ModelError(f"wrench {name!r}: wrench must be 6 finite numbers (tau, f), point 3")
-        if not isinstance(law, _Law):
-            raise ModelError(f"wrench {name!r}: law must be Constant, Step, Pulse, Sine, Table or Cycloidal")
+        law = _law_tuple(law, f"wrench {name!r}: law")
         # the offset of a frame on its carrier moves the point of application
         pt = f.T[:3, :3] @ p + f.T[:3, 3]
         if frame == "body":
@@ -876,7 +1060,7 @@ class Mechanism:
             w = np.concatenate([R @ w[:3], R @ w[3:]])
         self._new_name(name)
         self._loads.append(dict(name=name, carrier=f.carrier, world=frame == "world", point=pt,
-                                w=w, law=law._tuple(), reaction=-1))
+                                w=w, law=law, reaction=-1))
 
     def add_distributed_load(self, name: str, link: FlexibleLink, force_per_length,
                              law: _Law = Constant(1.0), frame: str = "world") -> None:
@@ -934,35 +1118,92 @@ class Mechanism:
 
     def _initial(self):
         """Tree placement, loop closure and redundancy (see phmech.topology): returns poses,
-        twists, the pairs' x0 rows and drop masks; sets ``redundant_constraints``."""
+        twists, the pairs' x0 rows and drop masks; sets ``redundant_constraints`` and
+        ``initial_adjustments`` (warns or, if ``strict``, raises on moves beyond tolerance)."""
         H, T, tree = topology.place_tree(self)
         x0 = np.array([p["x0"] for p in self._pairs]).reshape(-1, 6)
+        adjustments = []
         if self._pairs:
             model = self._core_model(H, T, x0, None, ())
+            H_tree = H.copy()
             H = topology.close_loops(self, model, H, tree, None, self._loops_through)
             # joint coordinates reached (on the branch of x0): the core checks x0 at the start
             x = _core.model_joints(model, H, None)
             lay = _core.model_sizes(model)[4]
+            adjustments = self._adjustments(H_tree, H, x, lay)
             for ip, e in enumerate(self._pairs):
                 _, _, j, k = lay[ip]
                 if e["has_x0"] and k:
-                    dev = np.max(np.abs(x[j:j + k] - e["x0"][:k]))
-                    if dev > 1e-6 * (1 + np.max(np.abs(e["x0"][:k]))):
-                        warnings.warn(f"pair {e['name']!r}: x0 cannot be met with the loops closed; "
-                                      f"starting at x = {x[j:j + k]} (x0 = {e['x0'][:k]})", stacklevel=3)
                     x0[ip, :k] = x[j:j + k]
             _, G, _ = _core.model_constraints_full(model, H, None, 0.0)
             masks, dropped = topology.redundant_rows(self, G, tree)
         else:
             masks, dropped = [], []
         self.redundant_constraints = dropped
+        self.initial_adjustments = adjustments
         self._drop_masks = masks
+        moved = [a for a in adjustments if a.exceeds]
+        if moved:
+            msg = ("initial configuration: closing the loops moved given initial values beyond "
+                   "their tolerance: " + "; ".join(str(a) for a in moved) +
+                   ". Give consistent x0 and poses; Mechanism.initial_adjustments lists every "
+                   "given value and how far it moved")
+            if self.strict:
+                raise ModelError(msg + " (Mechanism(strict=True))")
+            if self._warned_initial != msg:
+                self._warned_initial = msg
+                warnings.warn(msg, InitialValueWarning, stacklevel=3)
         if dropped and self._warned != dropped:
             self._warned = list(dropped)
             warnings.warn(f"hyperconstrained mechanism: {len(dropped)} redundant constraint "
                           f"directions left out of the DAE (pair, direction in F_b): {dropped}",
                           RedundantConstraintWarning, stacklevel=3)
         return H, T, x0, masks
+
+    def _adjustments(self, H_tree, H, x, lay) -> list:
+        """InitialAdjustment rows: every given x0 coordinate against the reached x, and every
+        given pose the tree placement kept against the closed poses H."""
+        L = topology.length_scale(self)
+        tol_m, tol_r = topology.POSE_TOL * L, topology.POSE_TOL
+        rows = []
+        for ip, e in enumerate(self._pairs):
+            _, _, j, k = lay[ip]
+            if not (e["has_x0"] and k):
+                continue
+            for c in range(k):
+                unit = e["pair"]._units[c]
+                g = float(e["x0"][c])
+                tol = tol_r * max(1.0, abs(g)) if unit == "rad" else tol_m * max(1.0, abs(g) / L)
+                rows.append(InitialAdjustment(e["name"], "x" if k == 1 else f"x[{c}]", g,
+                                              float(x[j + c]), abs(float(x[j + c]) - g), unit, tol))
+
+        def moves(Ha, Hb):
+            return (float(np.linalg.norm(Hb[:3, 3] - Ha[:3, 3])),
+                    topology._rot_angle(Ha[:3, :3].T @ Hb[:3, :3]))
+
+        groups = [(b.name, [b.carrier]) for b in self._bodies.values()] + \
+                 [(lk.name, list(lk.nodes)) for lk in self._links.values()]
+        for name, cs in groups:
+            if not all(c in self._given for c in cs):
+                continue
+            tree = [moves(self._given[c], H_tree[c]) for c in cs]
+            if max(d for d, _ in tree) > tol_m or max(a for _, a in tree) > tol_r:
+                continue   # placed by an x0 up the tree: its pose is not the given one by request
+            now = [moves(self._given[c], H[c]) for c in cs]
+            rows.append(InitialAdjustment(name, "position", None, None, max(d for d, _ in now), "m", tol_m))
+            rows.append(InitialAdjustment(name, "orientation", None, None, max(a for _, a in now), "rad", tol_r))
+        return rows
+
+    def initial_configuration(self) -> InitialConfiguration:
+        """The initial configuration the analyses start from (tree placement from the given
+        poses and x0, loop closure; see docs/user_guide.md): poses, twists, the
+        InitialAdjustment table (also left in ``initial_adjustments``) and the redundant
+        constraints. Warns (InitialValueWarning) or, with ``strict``, raises ModelError like
+        the analyses when the loop closure moved a given value beyond its tolerance."""
+        if not self._car:
+            raise ModelError("the mechanism is empty")
+        H, T, _, _ = self._initial()
+        return InitialConfiguration(H, T, list(self.initial_adjustments), list(self.redundant_constraints))
 
     def _build(self, extra_loads=()):
         if not self._car:
@@ -989,7 +1230,7 @@ class Mechanism:
             el_eps=np.array([e["eps"] for e in el]).reshape(-1, 6),
             pr_type=np.array([p["type"] for p in pr], dtype=float),
             pr_ab=np.array([[p["a"], p["b"]] for p in pr], dtype=float).reshape(-1, 2),
-            pr_Ta=np.array([p["Ta"] for p in pr]).reshape(-1, 4, 4),
+            pr_Ta=np.array([p.get("Ta_eff", p["Ta"]) for p in pr]).reshape(-1, 4, 4),
             pr_Tb=np.array([p["Tb"] for p in pr]).reshape(-1, 4, 4),
             pr_driven=np.array([float(p["driven"]) for p in pr]),
             pr_axis=np.array([p["axis"] for p in pr]).reshape(-1, 6),
@@ -1288,7 +1529,7 @@ class Mechanism:
                 target, wrench, frame = ld
             except (TypeError, ValueError):
                 raise ModelError("static loads: expected (target, wrench, frame) tuples") from None
-            f = _frame_of(target, self, "static load")
+            f = _frame_of(target, self, f"static load {i}, target")
             if frame not in ("world", "body"):
                 raise ModelError(f"static load: frame must be 'world' or 'body' (got {frame!r})")
             w = np.asarray(wrench, dtype=float)

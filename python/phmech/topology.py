@@ -5,19 +5,33 @@ Three steps, run by :class:`phmech.Mechanism` each time it builds its core model
 1. **Tree placement.** A breadth-first walk of the kinematic graph G_K ∪ G_F from the ground
    places every carrier it reaches: across a pair (a, b) the far frame sits at
    F_b = F_a exp(sum x_i psi_i) (or F_a = F_b h(x)^-1 when the walk goes from b to a), with the
-   pair's joint coordinates ``x0`` and rates ``xdot0``; a flexible link is placed unstressed (its
-   unstressed shape, moving rigidly) from whichever node the walk reaches first.
-   *Rule:* a pair *fixes* the relative pose when it is a Fixed pair (k = 0) or when ``x0`` was
-   given; then the tree placement wins over any pose given for the carrier it reaches. Across a
-   pair without ``x0`` the carrier keeps the pose (and twist) it was given -- or, if it was given
-   none, is placed at x = 0. Carriers not connected to the ground keep their given poses (a free
-   body is allowed; it may also be tied to the ground with ``ph.Free()``).
+   pair's joint coordinates and rates; a flexible link is placed unstressed (its unstressed
+   shape, moving rigidly) from whichever node the walk reaches first.
+   *Rule* (docs/user_guide.md, "Initial configuration"): the poses the user gave (``pose=``;
+   the ground is always given) are a reference configuration.
+   - Across a pair with ``x0``, or to a carrier without a given pose, the far carrier is placed
+     from the pair at ``x0`` (x = 0 if not given), with rates ``xdot0``: ``x0`` wins over a
+     given pose.
+   - Across a pair without ``x0`` to a carrier with a given pose, the pair's coordinates are
+     those of its two frames at the given poses (pair_reference; for a carrier without a given
+     pose its placed pose counts), and the far carrier keeps its given pose relative to the
+     near one -- exactly its given pose unless an ``x0`` up the tree moved the near one. A
+     Fixed pair welds its frames in their relative orientation at the given poses (stored in
+     the pair's offset ``Ta_eff``) when neither frame offset has a rotation of its own. Given
+     poses that violate a pair's constrained directions (origins apart, a revolute's axes not
+     parallel, a rotated Fixed frame that disagrees) raise ModelError naming the pair, its
+     frames and the mismatch in m and rad; tolerance POSE_TOL (rad) and POSE_TOL * L (m), L =
+     length_scale(mech). Loop-closing pairs between two given poses are checked the same way.
+   Carriers not connected to the ground keep their given poses (a free body is allowed; it may
+   also be tied to the ground with ``ph.Free()``).
 2. **Loop closure.** Loop-closing pairs are then met by a Newton projection: all constraint rows
    g(H) = 0 and the links' unstressed shape are hard equations; the joint coordinates of the
    pairs are soft targets (those given through ``x0`` weigh 10^3 times more than the tree's
    own values); the correction is the minimum-norm one on the tangent space among the solutions.
    If the residual stays above 1e-9 the loop cannot close and a ModelError names it (its pairs
-   and links, from :meth:`MechanismGraph.loops`).
+   and links, from :meth:`MechanismGraph.loops`). How far this moved each given x0 and each
+   given pose the tree kept is reported by Mechanism (``initial_adjustments``, a warning, or a
+   ModelError with ``strict=True``).
 3. **Redundant constraints.** At the closed configuration the rank of the full constraint
    Jacobian G is found from its singular values (tolerance 1e-9 times the largest); rows are taken
    greedily -- tree pairs first, loop-closing pairs last -- and a row whose component outside the
@@ -48,6 +62,7 @@ DIRECTIONS = {
 }
 
 CLOSURE_TOL = 1e-9   # max |g| accepted after the loop-closure projection
+POSE_TOL = 1e-6      # given poses vs pairs [rad], and [m] times length_scale(mech)
 RANK_TOL = 1e-9      # relative to the largest singular value of G
 
 
@@ -63,23 +78,129 @@ def _twist_across(e, pair, x, xd, Ha, ta, forward):
         d = np.zeros(len(x))
         d[i] = eps
         trel += xd[i] * (se3.log(hi @ pair._fk(x + d)) - se3.log(hi @ pair._fk(x - d))) / (2 * eps)
+    Ta = e.get("Ta_eff", e["Ta"])
     if forward:   # near = a, far = b
-        Fb = Ha @ e["Ta"] @ h
-        tFa = se3.Ad(se3.inverse(e["Ta"])) @ ta
+        Fb = Ha @ Ta @ h
+        tFa = se3.Ad(se3.inverse(Ta)) @ ta
         tFb = se3.Ad(hi) @ tFa + trel
         return Fb @ se3.inverse(e["Tb"]), se3.Ad(e["Tb"]) @ tFb
     Fa = Ha @ e["Tb"] @ hi                          # here Ha is H_b
     tFb = se3.Ad(se3.inverse(e["Tb"])) @ ta
     tFa = se3.Ad(h) @ (tFb - trel)
-    return Fa @ se3.inverse(e["Ta"]), se3.Ad(e["Ta"]) @ tFa
+    return Fa @ se3.inverse(Ta), se3.Ad(Ta) @ tFa
+
+
+def length_scale(mech) -> float:
+    """The mechanism's size L [m] that sets the position tolerances (POSE_TOL * L): the largest
+    of the link lengths, the pair frames' offsets and the extent (bounding-box diagonal) of the
+    carriers' initial origins, with the world origin when a pair or carrier uses the ground;
+    1 m when all of these are zero."""
+    pts = [np.asarray(c["H0"])[:3, 3] for c in mech._car]
+    if any(e["a"] < 0 or e["b"] < 0 for e in mech._pairs):
+        pts.append(np.zeros(3))
+    L = 0.0
+    if pts:
+        P = np.array(pts)
+        L = float(np.linalg.norm(P.max(axis=0) - P.min(axis=0)))
+    for lk in mech._links.values():
+        L = max(L, float(lk.length))
+    for e in mech._pairs:
+        L = max(L, float(np.linalg.norm(e["Ta"][:3, 3])), float(np.linalg.norm(e["Tb"][:3, 3])))
+    return L if L > 0 else 1.0
+
+
+def _rot_angle(R) -> float:
+    """Rotation angle [rad] of a rotation matrix, in [0, pi]."""
+    return float(np.linalg.norm(se3.log(np.ascontiguousarray(R))))
+
+
+def pair_reference(mech, e, Ga, Gb, tol_m):
+    """Check pair entry ``e`` against the given poses Ga, Gb (4x4) of its carriers and return the
+    joint coordinates x (k,) of its frames' relative pose h = (Ga Ta)^-1 (Gb Tb).
+
+    Part of h the pair type cannot produce (its constrained directions: fk(x)^-1 h) beyond
+    POSE_TOL (POSE_TOL * L in m) raises ModelError naming the pair, its frames and the mismatch.
+    A Fixed pair instead takes the relative orientation of its frames as the weld's (sets
+    e["Ta_eff"] = Ta R), when neither frame offset has a rotation of its own and the pair is not
+    driven; a rotated frame offset that disagrees with the given poses is an error, because the
+    frames and the poses then state two different welds."""
+    h = se3.inverse(Ga @ e["Ta"]) @ (Gb @ e["Tb"])
+    pair = e["pair"]
+    kind = type(pair).__name__
+    x = pair._coords(h)
+    E = se3.inverse(pair._fk(x)) @ h
+    if e["driven"]:   # a driven weld starts at r(0) = exp(s(0) axis)
+        E = se3.inverse(se3.exp(_law_at_zero(e["law"]) * np.asarray(e["axis"]))) @ h
+    dist = float(np.linalg.norm(E[:3, 3]))
+    ang = _rot_angle(E[:3, :3])
+    names = f"{e['fa_name']} and {e['fb_name']}"
+    hint = ("give poses that satisfy the pair, or give the far carrier no pose (pose=None) so "
+            "that it is placed from the pair")
+    if dist > tol_m:
+        what = "origins" if kind in ("Fixed", "Revolute", "Spherical", "Universal") else \
+            "origins (less the pair's free translation)"
+        raise ModelError(f"pair {e['name']!r} ({kind}): at the given poses its frames {names} are "
+                         f"{dist:.6g} m apart ({what}; tolerance {tol_m:.2g} m) and {ang:.6g} rad "
+                         f"apart in orientation; {hint}")
+    if ang > POSE_TOL:
+        if kind == "Fixed" and not e["driven"] and _plain(e["Ta"]) and _plain(e["Tb"]):
+            R = np.eye(4)
+            R[:3, :3] = h[:3, :3]
+            e["Ta_eff"] = e["Ta"] @ R
+            return x
+        if kind == "Fixed":
+            why = ("the pair is driven" if e["driven"] else
+                   "a frame offset has a rotation of its own, so the frames and the given poses "
+                   "state two different welds")
+            raise ModelError(f"pair {e['name']!r} (Fixed): at the given poses its frames {names} are "
+                             f"{ang:.6g} rad apart in orientation (tolerance {POSE_TOL:g} rad) and {why}; "
+                             f"give poses that agree with the frames, frames without a rotated "
+                             f"offset (the weld then holds the given relative orientation), or "
+                             f"give the far carrier no pose (pose=None)")
+        raise ModelError(f"pair {e['name']!r} ({kind}): at the given poses its frames {names} are "
+                         f"{ang:.6g} rad apart in a constrained rotation (tolerance {POSE_TOL:g} "
+                         f"rad; origins {dist:.6g} m apart); {hint}")
+    return x
+
+
+def _plain(T) -> bool:
+    """A frame offset without a rotation of its own."""
+    return bool(np.max(np.abs(np.asarray(T)[:3, :3] - np.eye(3))) <= 1e-12)
+
+
+def _law_at_zero(law) -> float:
+    """s(0) of a law tuple (kind, value, t0, duration, frequency, phase, offset, table)."""
+    kind, v, t0, d, f, ph, off, table = law
+    if kind == 0:
+        return v
+    if kind == 1:
+        return v if 0.0 >= t0 else 0.0
+    if kind == 2:
+        return v if t0 <= 0.0 < t0 + d else 0.0
+    if kind == 3:
+        return off + v * np.sin(ph)
+    if kind == 4:
+        return float(np.interp(0.0, table[:, 0], table[:, 1]))
+    if kind == 5:
+        if 0.0 <= t0:
+            return 0.0
+        u = min(1.0, (0.0 - t0) / d)
+        return v * (u - np.sin(2 * np.pi * u) / (2 * np.pi))
+    return 0.0
 
 
 def place_tree(mech):
     """Step 1: poses H (nc, 4, 4) and twists t (nc, 6) from the tree walk; returns (H, t,
-    tree_pairs) with tree_pairs the set of pair indices used as tree edges."""
+    tree_pairs) with tree_pairs the set of pair indices used as tree edges. Sets e["Ta_eff"] of
+    every pair (its frame offset on a, with a Fixed pair's weld orientation taken from the given
+    poses, see pair_reference); raises ModelError when given poses violate a pair."""
     nc = len(mech._car)
     H = np.array([c["H0"] for c in mech._car], dtype=float).reshape(nc, 4, 4)
     T = np.array([c["t0"] for c in mech._car], dtype=float).reshape(nc, 6)
+    given = mech._given
+    tol_m = POSE_TOL * length_scale(mech)
+    for e in mech._pairs:
+        e["Ta_eff"] = e["Ta"]
     link_of = {}
     for lk in mech._links.values():
         for k, c in enumerate(lk.nodes):
@@ -90,6 +211,10 @@ def place_tree(mech):
         adj[e["b"]].append((ip, e["a"], False))
     placed = {-1}
     tree_pairs = set()
+
+    def G(c):
+        """The pose the user gave carrier c (the ground: identity), else its placed pose."""
+        return np.eye(4) if c < 0 else given.get(c, H[c])
 
     def place_link_from(c):
         lk, k = link_of[c]
@@ -123,17 +248,32 @@ def place_tree(mech):
                 e = mech._pairs[ip]
                 tree_pairs.add(ip)
                 k = e["k"]
-                fixes = k == 0 or e["has_x0"] or e.get("has_xdot0", False)
-                if fixes or not mech._pose_given.get(w, False):
-                    x = e["x0"][:k]
-                    xd = e["xdot0"][:k] if e.get("has_xdot0", False) else np.zeros(k)
-                    Hn = np.eye(4) if c < 0 else H[c]
-                    tn = np.zeros(6) if c < 0 else T[c]
-                    H[w], T[w] = _twist_across(e, e["pair"], x, xd, Hn, tn, forward)
+                has_xd = e.get("has_xdot0", False)
+                xd = e["xdot0"][:k] if has_xd else np.zeros(k)
+                Hn = np.eye(4) if c < 0 else H[c]
+                tn = np.zeros(6) if c < 0 else T[c]
+                if e["has_x0"] or w not in given:
+                    # placed from the pair at x0 (x = 0 if not given), moving with the near carrier
+                    H[w], T[w] = _twist_across(e, e["pair"], e["x0"][:k], xd, Hn, tn, forward)
+                else:
+                    # the given poses are the reference: the pair's coordinates (Fixed: its weld
+                    # orientation) are those of its frames at the given poses, and w keeps its
+                    # pose relative to c (exactly its given pose when c kept its own)
+                    x = pair_reference(mech, e, G(e["a"]), G(e["b"]), tol_m)
+                    _, Tw = _twist_across(e, e["pair"], x, xd, Hn, tn, forward)
+                    H[w] = Hn @ se3.inverse(G(c)) @ given[w]
+                    if k == 0 or has_xd:
+                        T[w] = Tw
                 placed.add(w)
                 queue.append(w)
                 if w in link_of:
                     queue.extend(place_link_from(w))
+    # loop-closing pairs between two given poses: the same check (and a Fixed pair's reference)
+    for ip, e in enumerate(mech._pairs):
+        if ip in tree_pairs:
+            continue
+        if (e["a"] < 0 or e["a"] in given) and (e["b"] < 0 or e["b"] in given):
+            pair_reference(mech, e, G(e["a"]), G(e["b"]), tol_m)
     return H, T, tree_pairs
 
 
