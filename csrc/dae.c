@@ -731,6 +731,8 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
   /* the band's floor: no step below it for accuracy's sake (Newton failures still halve) */
   double hfloor = adaptive && opt->band > 0 ? 1.0 / (PHM_BAND_STEPS * opt->band) : 0.0;
   double hmax = opt->max_step > 0 ? opt->max_step : INFINITY;
+  /* and no step above 1/(PHM_BAND_MAX_STEPS band): the band is resolved, whatever the estimate */
+  if (adaptive && opt->band > 0) hmax = fmin(hmax, 1.0 / (PHM_BAND_MAX_STEPS * opt->band));
   /* proposed step: fixed, or the controller's (first: the given step, else the floor, else 1e-4
    * of the span) */
   double h0 = adaptive ? (opt->step > 0 ? opt->step : hfloor > 0 ? hfloor : 1e-4 * (tout[nout - 1] - tout[0]))
@@ -891,12 +893,13 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
        * a controller that also shrank h after accepted steps made 4x more convergence failures
        * and a larger error): an accepted step keeps h unless the estimate allows >= 1.25x (then
        * at most 1.5x); a rejected step (above) has already shortened it. A step shortened to
-       * land on an output does not shrink the proposal. */
+       * land on an output neither shrinks the proposal nor blocks its growth (its estimate is
+       * scaled to the proposal by (h0/h)^3). */
       if (errn > 1.0) out->nfloor++;
       out->err_est += emax;
-      double fac = errn < 0 ? 1.0 : errn > 0 ? 0.8 * pow(errn, -1.0 / 3.0) : 1.5;
-      double hn = fac >= 1.25 ? fmax(h0, h * fmin(1.5, fac)) : fmax(h0, h);
-      if (hn > h0 && h < h0 * (1 - 1e-9)) hn = h0; /* landing step: no growth from it */
+      double base = fmax(h, h0), eb = errn * pow(base / h, 3.0); /* the estimate scaled to h0 */
+      double fac = errn < 0 ? 1.0 : eb > 0 ? 0.8 * pow(eb, -1.0 / 3.0) : 1.5;
+      double hn = fac >= 1.25 ? base * fmin(1.5, fac) : base;
       h0 = fmin(hmax, fmax(hfloor, hn));
     }
     if (opt->monitor && out->nsteps % PHM_MONITOR_STEPS == 0 && opt->monitor(opt->ctx, t1, out->nsteps, h)) {

@@ -292,15 +292,19 @@ enum { PHM_ERRTEST_ALL = 0, PHM_ERRTEST_CONFIGURATION = 1 };
  * Hulbert 2000), spectral radius at infinity `rho_inf` in [0, 1] (1: no numerical dissipation;
  * < 1 damps what the step does not resolve); second order, the constraints hold at every step.
  * Fixed step (`adaptive` 0): step `step`, rtol/atol are its Newton tolerances, no error estimate.
- * Variable step (`adaptive` 1): `step` is the first step (<= 0: chosen from the band), the local
- * error of the configuration (poses, joint coordinates) is estimated from the second difference
- * of the rates (h^3 y'''/12, the trapezoidal constant) and kept below rtol |y| + atol, but no step
- * goes below the band's floor 1/(PHM_BAND_STEPS band) [s] (band [Hz]: the highest frequency to
- * resolve; <= 0: no floor): what lies above the band is damped by rho_inf instead of resolved,
- * and a step at the floor is accepted even if its estimate is above the tolerance (counted in
- * nfloor). max_step bounds the steps. Steps land on the output times and the laws' breakpoints
- * (shortened evenly). docs/integrators.md explains the choice. */
+ * Variable step (`adaptive` 1): `step` is the first step (<= 0: chosen from the band). The steps
+ * resolve the band (band [Hz], the highest frequency to resolve): between PHM_BAND_MAX_STEPS and
+ * PHM_BAND_STEPS steps per period of the band's highest frequency, i.e. in [1/(PHM_BAND_STEPS
+ * band), 1/(PHM_BAND_MAX_STEPS band)] (and <= max_step). Within that window the local error
+ * estimate of the configuration (poses, joint coordinates; h^3 y'''/12 from the third
+ * difference of the poses) is kept below rtol |y| + atol: a step above it is redone shorter,
+ * and one that the estimate allows to be 1.25x longer grows (<= 1.5x). At the window's floor a
+ * step is accepted even above the tolerance (counted in nfloor): what lies above the band is
+ * damped by rho_inf instead of resolved. Steps land on the output times and the laws'
+ * breakpoints (shortened evenly). docs/integrators.md gives the measurements behind the window.
+ * band <= 0: no window (max_step only). */
 #define PHM_BAND_STEPS 20
+#define PHM_BAND_MAX_STEPS 12
 enum { PHM_INTEGRATOR_IDA = 0, PHM_INTEGRATOR_GALPHA = 1 };
 
 typedef struct {

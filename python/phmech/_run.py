@@ -12,9 +12,10 @@ from typing import Callable, Optional
 
 import numpy as np
 
-#: steps per period of the band's highest frequency at the adaptive integrator's smallest step
-#: (csrc/phmech.h, PHM_BAND_STEPS)
+#: steps per period of the band's highest frequency at the adaptive integrator's smallest and
+#: largest step (csrc/phmech.h, PHM_BAND_STEPS and PHM_BAND_MAX_STEPS)
 BAND_STEPS = 20
+BAND_MAX_STEPS = 12
 
 
 class CostWarning(UserWarning):

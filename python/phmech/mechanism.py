@@ -20,8 +20,10 @@ from .graphs import MechanismGraph, Incidence
 from ._checks import positive, real
 from ._core import ModelError, SolverError
 
-#: the adaptive generalized-alpha's default local error tolerance (docs/integrators.md)
+#: the adaptive generalized-alpha's default local error tolerance and spectral radius at
+#: infinity (docs/integrators.md: measured on benchmarks/scenes.py)
 DEFAULT_RTOL = 1e-4
+DEFAULT_RHO_INF = 0.6
 
 __all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "Fixed", "Revolute", "Prismatic",
            "Helical", "Cylindrical", "Universal", "Spherical", "Planar", "Free", "Effort", "PD",
@@ -1265,7 +1267,7 @@ class Mechanism:
                  callback: Optional[Callable[[float, int], bool]] = None, max_step: float = 0.0,
                  max_order: Optional[int] = None, record=None, progress: bool = False,
                  error_test: str = "all", integrator: str = "generalized-alpha",
-                 step: Optional[float] = None, rho_inf: float = 0.9,
+                 step: Optional[float] = None, rho_inf: Optional[float] = None,
                  band: Optional[float] = None) -> SimulationResult:
         """Integrate from ``t_start`` to ``t_end`` [s], sampling every ``dt_out`` [s].
 
@@ -1275,7 +1277,8 @@ class Mechanism:
         resolve the frequency ``band`` [Hz] (default: 1/(2 dt_out), the highest frequency the
         output can show); vibrations above the band (the axial and shear modes of a flexible
         link's mesh, kHz to MHz) are damped by the method's numerical dissipation instead of being
-        resolved, so no step goes below 1/(20 band) for accuracy's sake. ``rtol`` (default 1e-4)
+        resolved (spectral radius at infinity ``rho_inf`` = 0.6 by default), so no step goes
+        below 1/(20 band) for accuracy's sake. ``rtol`` (default 1e-4)
         and ``atol`` [m, rad; default rtol * 1e-2] are its local error tolerances. Pass a larger
         ``band=`` to see faster vibrations than dt_out shows, or a smaller one to save time.
         docs/integrators.md says what the default does, what it was measured against, and when
@@ -1304,8 +1307,8 @@ class Mechanism:
 
         - ``integrator="generalized-alpha", step=h``: fixed step ``h`` [s] (no error estimate;
           ``rtol``/``atol``, default 1e-8 and rtol * 1e-2, are then its Newton tolerances).
-          ``rho_inf`` in [0, 1] (default 0.9) is the spectral radius at infinity of either
-          variant: 1 has no numerical dissipation (then stiff vibrations a step does not resolve
+          ``rho_inf`` in [0, 1] (default 0.9 with a fixed step, 0.6 adaptive) is the spectral
+          radius at infinity: 1 has no numerical dissipation (then stiff vibrations a step does not resolve
           are not damped and Newton may converge badly), smaller values damp what the step does
           not resolve. Steps are shortened evenly to land on the output times and the breakpoints
           of the time laws; after the start and each breakpoint a failing first step is redone as
@@ -1339,7 +1342,7 @@ class Mechanism:
         if integrator == "generalized-alpha":
             if step is not None:
                 step = positive("step", step)
-            rho_inf = real("rho_inf", rho_inf)
+            rho_inf = (DEFAULT_RHO_INF if adaptive else 0.9) if rho_inf is None else real("rho_inf", rho_inf)
             if not 0.0 <= rho_inf <= 1.0:
                 raise ModelError(f"rho_inf must be in [0, 1] (got {rho_inf})")
             if error_test != "all" or max_order is not None:
@@ -1382,7 +1385,7 @@ class Mechanism:
             r = _core.model_simulate(model, tout, rtol, atol, solvers[linear_solver], poses, twists,
                                      monitor.on_output, float(max_step), int(max_order), rec,
                                      tests[error_test], integrators[integrator], float(step or 0.0),
-                                     float(rho_inf), adaptive=int(adaptive),
+                                     float(1.0 if rho_inf is None else rho_inf), adaptive=int(adaptive),
                                      band=float(band if adaptive else 0.0), monitor=monitor)
         monitor.finish(r["stats"]["steps"])
         k = r["nout"]

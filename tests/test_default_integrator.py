@@ -1,0 +1,126 @@
+"""The default path: simulate(t_end, dt_out) with no solver option -- fast, right, and honest about
+itself (stats, warnings, progress), and nothing computed is lost on failure or SIGTERM."""
+import os
+import signal
+import threading
+import time
+import warnings
+
+import numpy as np
+import pytest
+
+import phmech as ph
+from phmech import se3
+
+STEEL = ph.Material(E=210e9, nu=0.3, density=7850.0)
+
+
+def strip_pendulum(elements=8):
+    """A rigid link and a steel strip on revolutes, released horizontal under gravity (the scene
+    of benchmarks/scenes.py)."""
+    props = ph.BeamProperties.from_material(ph.Section.rectangle(0.02, 0.002), STEEL)
+    m = ph.Mechanism(gravity=(0, 0, -9.81))
+    link = m.add_rigid_body("link", 1.0, np.diag([1e-4, 7.5e-3, 7.5e-3]), com=(0.15, 0, 0))
+    m.add_pair("shoulder", ph.Revolute(axis="y"), m.ground, link)
+    strip = m.add_flexible_link("strip", 0.3, props, elements=elements, pose=se3.translation([0.3, 0, 0]))
+    m.add_pair("elbow", ph.Revolute(axis="y"), ph.Frame(link.carrier, se3.translation([0.3, 0, 0])),
+               strip.start)
+    return m, strip
+
+
+def test_default_run_matches_an_independent_tight_reference_and_reports_its_quality():
+    m, strip = strip_pendulum()
+    res = m.simulate(0.3, 1e-3)
+    ref = m.simulate(0.3, 1e-3, integrator="ida", error_test="configuration", max_order=2,
+                     rtol=1e-9, atol=1e-11, linear_solver="klu")
+    err = np.max(np.linalg.norm(res.tip(strip) - ref.tip(strip), axis=1))
+    # default tolerance rtol = 1e-4 relative to the 0.6 m scene (measured 1.5e-5 m, 2.4e-5 of it)
+    assert err <= 1e-4 * 0.6, err
+    s = res.stats
+    assert s["integrator"] == "generalized-alpha" and s["adaptive"] and s["rtol"] == 1e-4
+    assert s["band"] == pytest.approx(500.0)                  # 1 / (2 dt_out)
+    assert s["linear_solver"] == "klu"                        # auto: 10 carriers
+    assert 0 < s["error_estimate"] < 1e-3 and s["floor_steps"] >= 0
+    # undamped: the ledger residual is the numerical dissipation, small against the energy scale
+    assert s["energy_scale"] > 0.5                            # ~ m g L of the falling link and strip
+    assert s["ledger_relative"] <= 1e-3, s["ledger_relative"]
+    assert abs(s["numerical_dissipation"]) <= s["ledger_relative"] * s["energy_scale"] * (1 + 1e-12)
+    # fewer steps than IDA resolving the configuration at 1e-9, and the constraints hold
+    assert s["steps"] < ref.stats["steps"]
+
+
+def test_band_sets_the_smallest_step():
+    m, strip = strip_pendulum(elements=4)
+    coarse = m.simulate(0.05, 1e-3, band=20.0)     # floor 1/(20 * 20 Hz) = 2.5 ms > dt_out
+    fine = m.simulate(0.05, 1e-3)                  # floor 0.1 ms
+    assert coarse.stats["band"] == 20.0
+    assert coarse.stats["steps"] == 50             # every step lands on an output: h = dt_out
+    assert fine.stats["steps"] >= coarse.stats["steps"]
+
+
+def test_solver_failures_return_the_partial_trajectory():
+    """A torque of 1e30 N m from t = 0.05 s makes every integrator fail there; the error carries
+    the trajectory up to the failure, which matches the free pendulum computed by IDA."""
+    def pendulum():
+        m = ph.Mechanism(gravity=(0, 0, -9.81))
+        b = m.add_rigid_body("b", 1.0, np.diag([1e-3, 1e-2, 1e-2]), com=(0.5, 0, 0))
+        m.add_pair("j", ph.Revolute("y"), m.ground, b,
+                   actuator=ph.Effort(law=ph.Table([0, 0.05, 0.05 + 1e-9, 1], [0, 0, 1e30, 1e30])))
+        return m
+    free = ph.Mechanism(gravity=(0, 0, -9.81))
+    b = free.add_rigid_body("b", 1.0, np.diag([1e-3, 1e-2, 1e-2]), com=(0.5, 0, 0))
+    free.add_pair("j", ph.Revolute("y"), free.ground, b)
+    x_ref = free.simulate(0.05, 0.01, integrator="ida", rtol=1e-10).joint("j")["x"][:, 0]
+    for kw in (dict(), dict(integrator="ida"), dict(integrator="generalized-alpha", step=1e-3)):
+        with pytest.raises(ph.SolverError, match=r"t = 0.05 s.*'result' attribute") as e:
+            pendulum().simulate(0.2, 0.01, **kw)
+        r = e.value.result
+        assert isinstance(r, ph.SimulationResult) and len(r.t) == 6 and r.t[-1] == pytest.approx(0.05)
+        np.testing.assert_allclose(r.joint("j")["x"][:, 0], x_ref, atol=1e-5, err_msg=str(kw))
+        assert np.all(np.isfinite(r.poses))
+
+
+def test_sigterm_stops_the_run_and_returns_what_was_computed():
+    m, strip = strip_pendulum()
+    timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGTERM))
+    previous = signal.getsignal(signal.SIGTERM)
+    timer.start()
+    try:
+        # IDA resolving every mesh vibration: far longer than 0.5 s
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ph.CostWarning)
+            res = m.simulate(2.0, 1e-3, integrator="ida", rtol=1e-6, linear_solver="klu")
+    finally:
+        timer.cancel()
+    assert res.interrupted
+    assert 0 < res.t[-1] < 2.0 and np.all(np.isfinite(res.poses))
+    assert signal.getsignal(signal.SIGTERM) == previous       # the handler is put back
+
+
+def test_cost_warning_fires_when_a_run_resolves_megahertz_for_a_one_second_output():
+    """IDA with every state in its error test, outputs every second: it follows the strip's
+    axial and shear vibrations (steps of ~1e-8 s); the warning says so within ~1 s of CPU."""
+    m, strip = strip_pendulum()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ph.CostWarning)   # turn it into an exception: stops the run
+        t0 = time.process_time()
+        with pytest.raises(ph.CostWarning, match=r"resolving vibrations up to about [\d.]+ (MHz|kHz).*"
+                                                  r"integrator='generalized-alpha'"):
+            m.simulate(1.0, 1.0, integrator="ida", rtol=1e-6, linear_solver="klu")
+        assert time.process_time() - t0 < 30.0
+
+
+def test_the_default_run_of_the_same_scene_does_not_warn():
+    m, strip = strip_pendulum()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ph.CostWarning)
+        res = m.simulate(0.2, 0.05)
+    assert res.t[-1] == pytest.approx(0.2) and res.stats["band"] == pytest.approx(10.0)
+
+
+def test_progress_line_has_elapsed_eta_and_steps_per_second(capsys):
+    m, strip = strip_pendulum(elements=4)
+    m.simulate(0.05, 0.01, progress=True)
+    err = capsys.readouterr().err
+    assert "t = 0.05 / 0.05 s (100.0 %)" in err
+    assert "elapsed" in err and "ETA" in err and "steps (" in err and "/s)" in err
