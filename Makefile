@@ -56,6 +56,7 @@ validate: build
 # benchmarks/requirements.txt when missing); BENCH_ARGS=--quick for a short run (~4.5 min instead
 # of ~25 min on 2 cores). Results: benchmarks/results/*.json and *.png; summary: docs/performance.md.
 bench: build
+	$(PY) benchmarks/scenes.py $(BENCH_ARGS)
 	$(PY) benchmarks/run.py $(BENCH_ARGS)
 	$(PY) benchmarks/bench_scaling.py $(BENCH_ARGS)
 	$(PY) benchmarks/bench_leaf_spring.py $(BENCH_ARGS)
