@@ -170,7 +170,9 @@ def run_scene(sc: Scene, t_end: float, reference: bool = True, **options) -> dic
     if reference:
         m2, _ = sc.build()
         c0 = time.process_time()
-        ref = m2.simulate(t_end, sc.dt_out, **(sc.reference or REFERENCE))
+        with warnings.catch_warnings():   # the reference is slow on purpose
+            warnings.simplefilter("ignore", ph.CostWarning)
+            ref = m2.simulate(t_end, sc.dt_out, **(sc.reference or REFERENCE))
         out["reference_cpu_s"] = time.process_time() - c0
         out["reference_ledger_relative"] = ref.stats["ledger_relative"]
         q, qr = measure(res), measure(ref)
