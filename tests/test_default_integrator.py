@@ -124,3 +124,55 @@ def test_progress_line_has_elapsed_eta_and_steps_per_second(capsys):
     err = capsys.readouterr().err
     assert "t = 0.05 / 0.05 s (100.0 %)" in err
     assert "elapsed" in err and "ETA" in err and "steps (" in err and "/s)" in err
+
+
+def test_free_flying_beam_conserves_momentum_with_the_defaults():
+    """No pair, no load: linear and angular momentum (about the world origin, summed over the
+    lumped node inertias) are conserved; the default run keeps them to 1.4e-6 and 1.8e-6 of their
+    size over 1 s (measured), well inside its rtol 1e-4."""
+    props = ph.BeamProperties.from_material(ph.Section.rectangle(0.02, 0.002), STEEL)
+    m = ph.Mechanism()
+    b = m.add_flexible_link("beam", 0.5, props, elements=8)
+    for k, c in enumerate(b.nodes):   # a spinning, drifting and bending start
+        x = 0.5 * k / 8
+        m._car[c]["t0"] = np.array([0.3, 0, 5.0, 0.1, 5.0 * (x - 0.25) + 0.5 * np.sin(np.pi * x / 0.5), 0.2])
+    r = m.simulate(1.0, 1e-3)
+    P = np.zeros((len(r.t), 3))
+    L = np.zeros((len(r.t), 3))
+    for c, car in enumerate(m._car):
+        mb = r.twists[:, c] @ car["M"].T                          # body momentum (L, P)
+        R, p = r.poses[:, c, :3, :3], r.poses[:, c, :3, 3]
+        Pw = np.einsum("nij,nj->ni", R, mb[:, 3:])
+        P += Pw
+        L += np.einsum("nij,nj->ni", R, mb[:, :3]) + np.cross(p, Pw)
+    assert np.max(np.linalg.norm(P - P[0], axis=1)) <= 1e-5 * np.linalg.norm(P[0])
+    assert np.max(np.linalg.norm(L - L[0], axis=1)) <= 1e-5 * np.linalg.norm(L[0])
+    assert r.stats["ledger_relative"] <= 1e-3
+
+
+def test_driven_angle_profile_as_a_table_adds_no_spurious_vibration():
+    """A flexible arm's root follows a cycloidal 1 rad spin-up over 1 s tabulated every 20 ms
+    (each knot a breakpoint and a restart). The default run's tip deflection matches the
+    fixed-step generalized-alpha at 0.1 ms (itself within 1e-5 m of IDA's BDF at rtol 1e-9,
+    measured) to 5e-5 m; after the motion the arm is still (residual vibration 0.08 mm)."""
+    alu = ph.Material(E=70e9, nu=0.33, density=2700.0)
+    props = ph.BeamProperties.from_material(ph.Section.rectangle(0.004, 0.04), alu)
+    tk = np.arange(0, 2.0 + 1e-9, 0.02)
+    s = np.clip(tk, 0, 1)
+    angle = s - np.sin(2 * np.pi * s) / (2 * np.pi)
+
+    def deflection(**kw):
+        m = ph.Mechanism()
+        arm = m.add_flexible_link("arm", 0.6, props, elements=8)
+        m.add_pair("root", ph.Fixed(), m.ground, arm.start,
+                   driven=ph.Motion(axis=(0, 0, 1, 0, 0, 0), law=ph.Table(tk, angle)))
+        r = m.simulate(1.5, 1e-3, **kw)
+        th = np.interp(r.t, tk, angle)
+        rigid = 0.6 * np.column_stack([np.cos(th), np.sin(th)])
+        return r, np.linalg.norm(r.tip(arm)[:, :2] - rigid, axis=1)
+    res, d = deflection()
+    _, d_ref = deflection(integrator="generalized-alpha", step=1e-4)
+    assert 1.4e-3 < d.max() < 1.6e-3                   # the spin-up bends the arm by 1.5 mm
+    assert np.max(np.abs(d - d_ref)) <= 5e-5
+    assert d[res.t > 1.1].max() <= 1.5e-4               # no vibration left behind
+    assert res.stats["nonlinear_conv_fails"] < 0.01 * res.stats["steps"]

@@ -23,7 +23,7 @@ from ._core import ModelError, SolverError
 #: the adaptive generalized-alpha's default local error tolerance and spectral radius at
 #: infinity (docs/integrators.md: measured on benchmarks/scenes.py)
 DEFAULT_RTOL = 1e-4
-DEFAULT_RHO_INF = 0.6
+DEFAULT_RHO_INF = 0.9
 
 __all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "Fixed", "Revolute", "Prismatic",
            "Helical", "Cylindrical", "Universal", "Spherical", "Planar", "Free", "Effort", "PD",
@@ -1277,7 +1277,7 @@ class Mechanism:
         resolve the frequency ``band`` [Hz] (default: 1/(2 dt_out), the highest frequency the
         output can show); vibrations above the band (the axial and shear modes of a flexible
         link's mesh, kHz to MHz) are damped by the method's numerical dissipation instead of being
-        resolved (spectral radius at infinity ``rho_inf`` = 0.6 by default), so no step goes
+        resolved (spectral radius at infinity ``rho_inf`` = 0.9 by default), so no step goes
         below 1/(20 band) for accuracy's sake. ``rtol`` (default 1e-4)
         and ``atol`` [m, rad; default rtol * 1e-2] are its local error tolerances. Pass a larger
         ``band=`` to see faster vibrations than dt_out shows, or a smaller one to save time.
@@ -1307,7 +1307,7 @@ class Mechanism:
 
         - ``integrator="generalized-alpha", step=h``: fixed step ``h`` [s] (no error estimate;
           ``rtol``/``atol``, default 1e-8 and rtol * 1e-2, are then its Newton tolerances).
-          ``rho_inf`` in [0, 1] (default 0.9 with a fixed step, 0.6 adaptive) is the spectral
+          ``rho_inf`` in [0, 1] (default 0.9) is the spectral
           radius at infinity: 1 has no numerical dissipation (then stiff vibrations a step does not resolve
           are not damped and Newton may converge badly), smaller values damp what the step does
           not resolve. Steps are shortened evenly to land on the output times and the breakpoints
@@ -1342,7 +1342,7 @@ class Mechanism:
         if integrator == "generalized-alpha":
             if step is not None:
                 step = positive("step", step)
-            rho_inf = (DEFAULT_RHO_INF if adaptive else 0.9) if rho_inf is None else real("rho_inf", rho_inf)
+            rho_inf = DEFAULT_RHO_INF if rho_inf is None else real("rho_inf", rho_inf)
             if not 0.0 <= rho_inf <= 1.0:
                 raise ModelError(f"rho_inf must be in [0, 1] (got {rho_inf})")
             if error_test != "all" or max_order is not None:
