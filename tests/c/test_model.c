@@ -476,7 +476,7 @@ static void test_sim(void) {
   enum { NOUT = 21 };
   double tout[NOUT], energy[NOUT * PHM_NENERGY];
   for (int i = 0; i < NOUT; i++) tout[i] = 0.5 * i;
-  phm_sim_options opt = {1e-10, 1e-12, 0, 0, 0, 0, PHM_ERRTEST_ALL, NULL, NULL, NULL, PHM_INTEGRATOR_IDA, 0, 0};
+  phm_sim_options opt = {1e-10, 1e-12, 0, 0, 0, 0, PHM_ERRTEST_ALL, NULL, NULL, NULL, PHM_INTEGRATOR_IDA, 0, 0, 0, 0, NULL};
   phm_sim_output out;
   memset(&out, 0, sizeof out);
   out.energy = energy;
