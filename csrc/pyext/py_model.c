@@ -313,27 +313,35 @@ typedef struct {
   PyObject *mon;   /* monitor callable(t, steps, h) -> truthy to stop, or None */
 } cb_ctx;
 
-/* Between outputs: pending signals (Ctrl-C, and SIGTERM when Python handles it) stop the run as
- * an interrupt; then the Python monitor, if any (progress line, cost warnings). */
+/* With the GIL held: a pending signal (Ctrl-C, or SIGTERM when Python handles it) marks the run
+ * interrupted; non-zero: stop. */
+static int signal_pending(cb_ctx *c) {
+  if (PyErr_CheckSignals() == 0) return 0;
+  PyErr_Clear();
+  c->interrupted = 1;
+  return 1;
+}
+
+/* With the GIL held: the result r of a user callable; an exception is kept for re-raising after
+ * the run. Non-zero: stop (the callable raised or returned something true). */
+static int callable_says_stop(cb_ctx *c, PyObject *r) {
+  if (!r) {
+    PyErr_Fetch(&c->et, &c->ev, &c->etb);
+    c->failed = 1;
+    return 1;
+  }
+  int stop = PyObject_IsTrue(r) == 1;
+  Py_DECREF(r);
+  return stop;
+}
+
+/* Between outputs: pending signals, then the Python monitor, if any (progress line, cost
+ * warnings). */
 static int monitor_cb(void *vctx, double t, long nsteps, double h) {
   cb_ctx *c = (cb_ctx *)vctx;
   PyGILState_STATE g = PyGILState_Ensure();
-  int stop = 0;
-  if (PyErr_CheckSignals() != 0) {
-    PyErr_Clear();
-    c->interrupted = 1;
-    stop = 1;
-  } else if (c->mon) {
-    PyObject *r = PyObject_CallFunction(c->mon, "dld", t, nsteps, h);
-    if (!r) {
-      PyErr_Fetch(&c->et, &c->ev, &c->etb);
-      c->failed = 1;
-      stop = 1;
-    } else {
-      stop = PyObject_IsTrue(r) == 1;
-      Py_DECREF(r);
-    }
-  }
+  int stop = signal_pending(c);
+  if (!stop && c->mon) stop = callable_says_stop(c, PyObject_CallFunction(c->mon, "dld", t, nsteps, h));
   PyGILState_Release(g);
   return stop;
 }
@@ -341,14 +349,8 @@ static int monitor_cb(void *vctx, double t, long nsteps, double h) {
 static int interrupt_cb(void *vctx, double t, int iout) {
   (void)t;
   (void)iout;
-  cb_ctx *c = (cb_ctx *)vctx;
   PyGILState_STATE g = PyGILState_Ensure();
-  int stop = 0;
-  if (PyErr_CheckSignals() != 0) {
-    PyErr_Clear();
-    c->interrupted = 1;
-    stop = 1;
-  }
+  int stop = signal_pending((cb_ctx *)vctx);
   PyGILState_Release(g);
   return stop;
 }
@@ -357,16 +359,7 @@ static int progress_cb(void *vctx, double t, int iout) {
   cb_ctx *c = (cb_ctx *)vctx;
   if (!c->cb) return 0;
   PyGILState_STATE g = PyGILState_Ensure();
-  int stop = 0;
-  PyObject *r = PyObject_CallFunction(c->cb, "di", t, iout);
-  if (!r) {
-    PyErr_Fetch(&c->et, &c->ev, &c->etb);
-    c->failed = 1;
-    stop = 1;
-  } else {
-    stop = PyObject_IsTrue(r) == 1;
-    Py_DECREF(r);
-  }
+  int stop = callable_says_stop(c, PyObject_CallFunction(c->cb, "di", t, iout));
   PyGILState_Release(g);
   return stop;
 }
