@@ -176,3 +176,14 @@ def test_driven_angle_profile_as_a_table_adds_no_spurious_vibration():
     assert np.max(np.abs(d - d_ref)) <= 5e-5
     assert d[res.t > 1.1].max() <= 1.5e-4               # no vibration left behind
     assert res.stats["nonlinear_conv_fails"] < 0.01 * res.stats["steps"]
+
+
+def test_a_scene_at_rest_reports_a_zero_ledger_ratio_not_a_ratio_of_round_offs():
+    props = ph.BeamProperties.from_material(ph.Section.rectangle(0.02, 0.001), STEEL)
+    m = ph.Mechanism()
+    leaf = m.add_flexible_link("leaf", 0.2, props, elements=10)
+    m.add_pair("clamp", ph.Fixed(), m.ground, leaf.start)
+    res = m.simulate(0.1, 1e-3)
+    assert res.stats["energy_scale"] < 1e-18          # nothing moves (measured 1e-23 J)
+    assert res.stats["ledger_relative"] == 0.0
+    np.testing.assert_allclose(res.tip(leaf)[-1], [0.2, 0, 0], atol=1e-15)

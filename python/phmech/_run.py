@@ -159,6 +159,11 @@ def sigterm_as_interrupt(monitor: RunMonitor):
         signal.signal(signal.SIGTERM, previous if previous is not None else signal.SIG_DFL)
 
 
+#: energy scale [J] below which a run is taken as at rest (a clamped leaf that never moves has
+#: a round-off energy scale of 1e-23 J; its ledger "ratio" was 0.74)
+STILL = 1e-18
+
+
 def quality(energy: dict, band: float, stats: dict) -> dict:
     """Figures a result reports about its own accuracy (added to ``stats``):
 
@@ -166,7 +171,9 @@ def quality(energy: dict, band: float, stats: dict) -> dict:
     - ``energy_scale`` [J]: the largest kinetic energy plus the range of the potential (elastic
       and gravity) energy, plus the largest supplied and dissipated work: what the ledger
       residual is measured against;
-    - ``ledger_relative``: the largest |ledger residual| over the run / energy_scale;
+    - ``ledger_relative``: the largest |ledger residual| over the run / energy_scale (0 when
+      the energy scale is below ``STILL`` J: nothing moved, and a ratio of round-offs would mean
+      nothing);
     - ``numerical_dissipation`` [J]: minus the final ledger residual (energy the integrator
       removed; positive = lost), with ``numerical_dissipation_relative`` the same / energy_scale.
     """
@@ -175,8 +182,8 @@ def quality(energy: dict, band: float, stats: dict) -> dict:
                   + np.max(np.abs(energy["dissipated"]))) if len(kin) else 0.0
     led = energy["ledger"]
     lmax = float(np.max(np.abs(led))) if len(led) else 0.0
-    q = dict(band=band, energy_scale=scale,
-             ledger_relative=lmax / scale if scale > 0 else 0.0,
+    moved = scale > STILL
+    q = dict(band=band, energy_scale=scale, ledger_relative=lmax / scale if moved else 0.0,
              numerical_dissipation=float(-led[-1]) if len(led) else 0.0)
-    q["numerical_dissipation_relative"] = q["numerical_dissipation"] / scale if scale > 0 else 0.0
+    q["numerical_dissipation_relative"] = q["numerical_dissipation"] / scale if moved else 0.0
     return q
