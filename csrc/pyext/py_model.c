@@ -2,6 +2,8 @@
  * linearize.c). A model lives in a capsule; python/phmech/mechanism.py builds the flat arrays. */
 #include "pyext.h"
 
+#include <limits.h>
+#include <math.h>
 #include <string.h>
 
 #define CAPSULE_NAME "phmech.model"
@@ -43,20 +45,36 @@ static int parse_law(PyObject *obj, phm_law *law, PyObject *keep, const char *wh
   return 0;
 }
 
+/* Hand a new reference `a` to `keep`, which keeps it alive until the model has copied it;
+ * returns a (borrowed) or NULL with the exception set (a is then released). */
+static PyArrayObject *kept(PyArrayObject *a, PyObject *keep) {
+  if (!a) return NULL;
+  int r = PyList_Append(keep, (PyObject *)a);
+  Py_DECREF(a);
+  return r < 0 ? NULL : a;
+}
+
+/* An index or enumeration code given as float64 (the flat arrays of mechanism.py): it must be a
+ * whole number representable as int (the core then checks its range); converting anything else
+ * to int would truncate (1.5 -> carrier 1) or be undefined behaviour (1e20, C11 6.3.1.4). */
+static int to_int(double v, const char *what, npy_intp i, int *out) {
+  if (!(v >= INT_MIN && v <= INT_MAX && v == floor(v))) {
+    char got[32];
+    snprintf(got, sizeof got, "%.17g", v);
+    PyErr_Format(phm_py_ModelError, "%s %ld: expected a whole number, got %s", what, (long)i, got);
+    return -1;
+  }
+  *out = (int)v;
+  return 0;
+}
+
 /* array with leading length n (checked) and the given tail */
 static PyArrayObject *arr(PyObject *o, const char *what, npy_intp n, const npy_intp *tail, int ntail,
                           PyObject *keep) {
   npy_intp t2[4];
   for (int i = 0; i < ntail; i++) t2[i + 1] = tail[i];
   t2[0] = n;
-  PyArrayObject *a = phm_py_double_array(o, what, t2, ntail + 1, 0);
-  if (!a) return NULL;
-  if (PyList_Append(keep, (PyObject *)a) < 0) {
-    Py_DECREF(a);
-    return NULL;
-  }
-  Py_DECREF(a); /* kept alive by `keep` */
-  return a;
+  return kept(phm_py_double_array(o, what, t2, ntail + 1, 0), keep);
 }
 #define D(a) ((const double *)PyArray_DATA(a))
 
@@ -91,10 +109,8 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
   npy_intp na = 0, ns = 0;
   npy_intp t1[1] = {1}, t3[1] = {3}, t6[1] = {6}, t2[1] = {2}, t66[2] = {6, 6}, t44[2] = {4, 4};
   (void)t1;
-  PyArrayObject *mass = phm_py_double_array(o[1], "carrier masses", NULL, 0, 1);
+  PyArrayObject *mass = kept(phm_py_double_array(o[1], "carrier masses", NULL, 0, 1), keep);
   if (!mass) goto fail;
-  PyList_Append(keep, (PyObject *)mass);
-  Py_DECREF(mass);
   if (PyArray_NDIM(mass) != 1) {
     PyErr_SetString(PyExc_ValueError, "carrier masses: expected a 1-D array");
     goto fail;
@@ -103,10 +119,8 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
   PyArrayObject *M = arr(o[0], "carrier inertias", nc, t66, 2, keep), *com = arr(o[2], "centres of mass", nc, t3, 1, keep),
                 *H0 = arr(o[3], "carrier poses", nc, t44, 2, keep), *tw0 = arr(o[4], "carrier twists", nc, t6, 1, keep);
   if (!M || !com || !H0 || !tw0) goto fail;
-  PyArrayObject *elh = phm_py_double_array(o[6], "element lengths", NULL, 0, 1);
+  PyArrayObject *elh = kept(phm_py_double_array(o[6], "element lengths", NULL, 0, 1), keep);
   if (!elh) goto fail;
-  PyList_Append(keep, (PyObject *)elh);
-  Py_DECREF(elh);
   npy_intp ne = PyArray_NDIM(elh) == 1 ? PyArray_DIM(elh, 0) : -1;
   if (ne < 0) {
     PyErr_SetString(PyExc_ValueError, "element lengths: expected a 1-D array");
@@ -115,10 +129,8 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
   PyArrayObject *elab = arr(o[5], "element nodes", ne, t2, 1, keep), *elK = arr(o[7], "element stiffness", ne, t66, 2, keep),
                 *elD = arr(o[8], "element damping", ne, t66, 2, keep), *ele = arr(o[9], "element unstressed strain", ne, t6, 1, keep);
   if (!elab || !elK || !elD || !ele) goto fail;
-  PyArrayObject *prt = phm_py_double_array(o[10], "pair types", NULL, 0, 1);
+  PyArrayObject *prt = kept(phm_py_double_array(o[10], "pair types", NULL, 0, 1), keep);
   if (!prt) goto fail;
-  PyList_Append(keep, (PyObject *)prt);
-  Py_DECREF(prt);
   npy_intp np_ = PyArray_NDIM(prt) == 1 ? PyArray_DIM(prt, 0) : -1;
   if (np_ < 0) {
     PyErr_SetString(PyExc_ValueError, "pair types: expected a 1-D array");
@@ -132,10 +144,8 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
     PyErr_SetString(PyExc_ValueError, "pair laws: expected a list with one law per pair");
     goto fail;
   }
-  PyArrayObject *ldc = phm_py_double_array(o[17], "load carriers", NULL, 0, 1);
+  PyArrayObject *ldc = kept(phm_py_double_array(o[17], "load carriers", NULL, 0, 1), keep);
   if (!ldc) goto fail;
-  PyList_Append(keep, (PyObject *)ldc);
-  Py_DECREF(ldc);
   npy_intp nl = PyArray_NDIM(ldc) == 1 ? PyArray_DIM(ldc, 0) : -1;
   if (nl < 0) {
     PyErr_SetString(PyExc_ValueError, "load carriers: expected a 1-D array");
@@ -150,10 +160,8 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
   }
   {
     npy_intp g3[1] = {3};
-    grav = phm_py_double_array(o[22], "gravity", g3, 1, 0);
+    grav = kept(phm_py_double_array(o[22], "gravity", g3, 1, 0), keep);
     if (!grav) goto fail;
-    PyList_Append(keep, (PyObject *)grav);
-    Py_DECREF(grav);
   }
   if ((o[23] != Py_None && !(prpi = arr(o[23], "pair pitches", np_, NULL, 0, keep))) ||
       (o[24] != Py_None && !(prx0 = arr(o[24], "pair initial coordinates", np_, t6, 1, keep))) ||
@@ -162,10 +170,8 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
       (o[38] != Py_None && !(prdrop = arr(o[38], "pair drop masks", np_, NULL, 0, keep))))
     goto fail;
   if (o[27] != Py_None) {
-    acp = phm_py_double_array(o[27], "actuator pairs", NULL, 0, 1);
+    acp = kept(phm_py_double_array(o[27], "actuator pairs", NULL, 0, 1), keep);
     if (!acp) goto fail;
-    PyList_Append(keep, (PyObject *)acp);
-    Py_DECREF(acp);
     na = PyArray_NDIM(acp) == 1 ? PyArray_DIM(acp, 0) : -1;
     if (na < 0) {
       PyErr_SetString(PyExc_ValueError, "actuator pairs: expected a 1-D array");
@@ -181,10 +187,8 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
     }
   }
   if (o[34] != Py_None) {
-    spk = phm_py_double_array(o[37], "spring parameters", t3, 1, 1);
+    spk = kept(phm_py_double_array(o[37], "spring parameters", t3, 1, 1), keep);
     if (!spk) goto fail;
-    PyList_Append(keep, (PyObject *)spk);
-    Py_DECREF(spk);
     ns = PyArray_NDIM(spk) == 2 ? PyArray_DIM(spk, 0) : -1;
     if (ns < 0) {
       PyErr_SetString(PyExc_ValueError, "spring parameters: expected an (n, 3) array");
@@ -212,17 +216,19 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
     memcpy(car[i].t0, D(tw0) + 6 * i, 6 * sizeof(double));
   }
   for (npy_intp i = 0; i < ne; i++) {
-    el[i].a = (int)D(elab)[2 * i];
-    el[i].b = (int)D(elab)[2 * i + 1];
+    if (to_int(D(elab)[2 * i], "element", i, &el[i].a) < 0 ||
+        to_int(D(elab)[2 * i + 1], "element", i, &el[i].b) < 0)
+      goto fail;
     el[i].h = D(elh)[i];
     memcpy(el[i].K, D(elK) + 36 * i, 36 * sizeof(double));
     memcpy(el[i].D, D(elD) + 36 * i, 36 * sizeof(double));
     memcpy(el[i].eps_hat, D(ele) + 6 * i, 6 * sizeof(double));
   }
   for (npy_intp i = 0; i < np_; i++) {
-    pr[i].type = (int)D(prt)[i];
-    pr[i].a = (int)D(prab)[2 * i];
-    pr[i].b = (int)D(prab)[2 * i + 1];
+    if (to_int(D(prt)[i], "pair type of pair", i, &pr[i].type) < 0 ||
+        to_int(D(prab)[2 * i], "pair", i, &pr[i].a) < 0 ||
+        to_int(D(prab)[2 * i + 1], "pair", i, &pr[i].b) < 0)
+      goto fail;
     memcpy(pr[i].Ta, D(prTa) + 16 * i, 16 * sizeof(double));
     memcpy(pr[i].Tb, D(prTb) + 16 * i, 16 * sizeof(double));
     pr[i].driven = D(prdr)[i] != 0;
@@ -242,16 +248,18 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
     if (pr[i].driven && parse_law(lw, &pr[i].law, keep, "pair motion law") < 0) goto fail;
   }
   for (npy_intp i = 0; i < nl; i++) {
-    ld[i].carrier = (int)D(ldc)[i];
+    if (to_int(D(ldc)[i], "load", i, &ld[i].carrier) < 0) goto fail;
     ld[i].world = D(ldw)[i] != 0;
     memcpy(ld[i].point, D(ldp) + 3 * i, 3 * sizeof(double));
     memcpy(ld[i].w, D(ldv) + 6 * i, 6 * sizeof(double));
-    ld[i].reaction = ldr ? (int)D(ldr)[i] : -1;
+    ld[i].reaction = -1;
+    if (ldr && to_int(D(ldr)[i], "reaction of load", i, &ld[i].reaction) < 0) goto fail;
     if (parse_law(PyList_GET_ITEM(o[21], i), &ld[i].law, keep, "load law") < 0) goto fail;
   }
   for (npy_intp i = 0; i < na; i++) {
-    ac[i].pair = (int)D(acp)[i];
-    ac[i].kind = (int)D(ack)[i];
+    if (to_int(D(acp)[i], "pair of actuator", i, &ac[i].pair) < 0 ||
+        to_int(D(ack)[i], "kind of actuator", i, &ac[i].kind) < 0)
+      goto fail;
     memcpy(ac[i].vec, D(acv) + 6 * i, 6 * sizeof(double));
     memcpy(ac[i].kp, D(ackp) + 6 * i, 6 * sizeof(double));
     memcpy(ac[i].kd, D(ackd) + 6 * i, 6 * sizeof(double));
@@ -260,8 +268,9 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
     if (lw != Py_None && parse_law(lw, &ac[i].law, keep, "actuator law") < 0) goto fail;
   }
   for (npy_intp i = 0; i < ns; i++) {
-    sp[i].a = (int)D(spab)[2 * i];
-    sp[i].b = (int)D(spab)[2 * i + 1];
+    if (to_int(D(spab)[2 * i], "spring", i, &sp[i].a) < 0 ||
+        to_int(D(spab)[2 * i + 1], "spring", i, &sp[i].b) < 0)
+      goto fail;
     memcpy(sp[i].pa, D(sppa) + 3 * i, 3 * sizeof(double));
     memcpy(sp[i].pb, D(sppb) + 3 * i, 3 * sizeof(double));
     sp[i].k = D(spk)[3 * i];
