@@ -858,7 +858,6 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
         }
       }
       if (ok && adaptive) {
-        galpha_stage(d, &g, h); /* y1' of the converged y1 */
         errn = galpha_error(d, &g, h, hq, hqq, opt->rtol, opt->atol, &emax);
         if (errn > 1.0 && h > hfloor * (1.0 + 1e-9)) { /* error test failed: shorter step, same t */
           out->netf++;

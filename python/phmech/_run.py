@@ -164,7 +164,7 @@ def sigterm_as_interrupt(monitor: RunMonitor):
 STILL = 1e-18
 
 
-def quality(energy: dict, band: float, stats: dict) -> dict:
+def quality(energy: dict, band: float) -> dict:
     """Figures a result reports about its own accuracy (added to ``stats``):
 
     - ``band`` [Hz]: the highest frequency the run was asked to resolve;

@@ -1401,7 +1401,7 @@ class Mechanism:
         pairs = {p["name"]: dict(index=i, layout=layout[i]) for i, p in enumerate(self._pairs)}
         stats = {**r["stats"], "linear_solver": linear_solver, "integrator": integrator,
                  "adaptive": adaptive, "rtol": rtol, "atol": atol,
-                 **_run.quality(energy, band, r["stats"])}
+                 **_run.quality(energy, band)}
         if not adaptive:
             del stats["error_estimate"], stats["floor_steps"]
         result = SimulationResult(t=tout[:k], poses=r["poses"][:k], twists=r["twists"][:k],
