@@ -739,14 +739,17 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
                        : opt->step;
   if (adaptive) h0 = fmin(h0, hmax);
   /* Newton's tolerances (fixed step: rtol/atol are Newton's). Adaptive: never looser than
-   * rtol 1e-6 (atol 1e-8): a loose Newton test breaks the physics, not only the accuracy, since
-   * strains are position errors over the element length (at Newton rtol 1e-4 a 0.6 m double
-   * pendulum's tip ended 0.88 m from its pivot; at 1e-6 it agrees with 1e-8 to 0.1 mm), and
-   * no tighter than the error tolerance: tighter costs Newton iterations and, with the
-   * iteration matrix kept across step changes, convergence failures (measured on the double
-   * pendulum at rtol 1e-5: 4279 failures in 8051 steps with Newton at 1e-7). The multipliers
-   * keep their tolerances (state_atol): their corrections carry the round-off of G t / h. */
-  double newton_tol = adaptive ? fmin(1.0, 1e-6 / opt->rtol) : 1.0;
+   * rtol 1e-7 (atol 1e-9 for the default atol 1e-6): a loose Newton test breaks the physics,
+   * not only the accuracy, since strains are position errors over the element length (at
+   * Newton rtol 1e-4 a 0.6 m double pendulum's tip ended 0.88 m from its pivot), and the
+   * energy: Newton's residual error is biased (the iteration matrix is kept for many steps) and
+   * adds up over the steps -- measured ledger residuals at Newton 1e-6 / 1e-7: free-flying beam
+   * 1.4e-3 / 1.2e-5, double pendulum 1.7e-4 / 4.5e-6, flexible arm 6.2e-4 / 3.5e-5, at the same
+   * number of iterations within 10 % (docs/integrators.md). Not tighter: at 1e-8 the
+   * manipulator's first step fails (round-off of its 3e9 rad/s^2 start). Never tighter than
+   * the error tolerance either. The multipliers keep their tolerances (state_atol): their
+   * corrections carry the round-off of G t / h. */
+  double newton_tol = adaptive ? fmin(1.0, PHM_NEWTON_RTOL / opt->rtol) : 1.0;
   galpha_t g;
   memset(&g, 0, sizeof g);
   g.af = 1.0 / (1.0 + rho);

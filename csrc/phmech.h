@@ -305,6 +305,9 @@ enum { PHM_ERRTEST_ALL = 0, PHM_ERRTEST_CONFIGURATION = 1 };
  * band <= 0: no window (max_step only). */
 #define PHM_BAND_STEPS 20
 #define PHM_BAND_MAX_STEPS 12
+/* Variable step: Newton's relative tolerance on the differential states is min(rtol, this)
+ * (the energy ledger needs it; measurements in csrc/dae.c, run_galpha). */
+#define PHM_NEWTON_RTOL 1e-7
 enum { PHM_INTEGRATOR_IDA = 0, PHM_INTEGRATOR_GALPHA = 1 };
 
 typedef struct {
