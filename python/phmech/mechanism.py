@@ -48,10 +48,11 @@ class InitialAdjustment:
     """How far the consistent initial configuration moved one given initial value.
 
     ``name``: the pair (joint coordinates) or the body / flexible link (poses). ``quantity``:
-    ``"x"`` (``"x[i]"`` for pairs with several coordinates), or ``"position"`` / ``"orientation"``
-    of a body or link (for a link the largest over its nodes). ``given``/``reached``: the given
-    ``x0`` and the initial value [rad or m] (None for poses). ``moved``: |reached - given| [rad or
-    m]; for poses the distance an origin moved [m] or the angle a frame turned [rad].
+    ``"x"`` (``"x[i]"`` for pairs with several coordinates), ``"xdot"`` (``"xdot[i]"``) for a
+    given rate, or ``"position"`` / ``"orientation"`` of a body or link (for a link the largest
+    over its nodes). ``given``/``reached``: the given ``x0`` (``xdot0``) and the initial value
+    [rad or m, per s for rates] (None for poses). ``moved``: |reached - given| [same units]; for
+    poses the distance an origin moved [m] or the angle a frame turned [rad].
     ``tolerance``: ``moved`` beyond it is reported (see Mechanism)."""
     name: str
     quantity: str
@@ -741,6 +742,7 @@ class Mechanism:
         self._names = set()
         self._el_first = {}     # link name -> index of its first element
         self._given = {}        # carrier -> the pose the user gave it (4x4), if any
+        self._twist_given = set()  # carriers whose twist the user gave (add_rigid_body(twist=))
         self._warned = None
         self._warned_initial = None
         #: (pair name, constraint direction) rows found redundant at the initial configuration and
@@ -812,9 +814,10 @@ class Mechanism:
         return link
 
     def add_rigid_body(self, name: str, mass: float, inertia, com=(0.0, 0.0, 0.0), pose=None,
-                       twist=(0, 0, 0, 0, 0, 0)) -> Body:
+                       twist=None) -> Body:
         """A rigid body: ``mass`` [kg], ``inertia`` 3x3 about the centre of mass in body axes
-        [kg m^2], ``com`` in body coordinates [m], initial ``pose`` (4x4) and body ``twist``.
+        [kg m^2], ``com`` in body coordinates [m], initial ``pose`` (4x4) and body ``twist``
+        (omega [rad/s], v [m/s]; None: moving with its pairs and their ``xdot0``, at rest if free).
         A given ``pose`` is honoured by the pairs on the body like a flexible link's (see
         add_flexible_link, add_pair); ``pose=None``: placed from its pairs."""
         m = real("mass", mass)
@@ -824,7 +827,7 @@ class Mechanism:
         if J.shape != (3, 3) or not np.all(np.isfinite(J)) or np.any(np.linalg.eigvalsh(0.5 * (J + J.T)) <= 0):
             raise ModelError("inertia: expected a symmetric positive definite 3x3 matrix [kg m^2]")
         c = np.asarray(com, dtype=float)
-        tw = np.asarray(twist, dtype=float)
+        tw = np.asarray(np.zeros(6) if twist is None else twist, dtype=float)
         if c.shape != (3,) or tw.shape != (6,) or not (np.all(np.isfinite(c)) and np.all(np.isfinite(tw))):
             raise ModelError("com: 3 numbers, twist: 6 numbers, all finite")
         self._new_name(name)
@@ -838,6 +841,8 @@ class Mechanism:
         b = Body(name, len(self._car) - 1)
         if pose is not None:
             self._given[b.carrier] = np.array(self._car[b.carrier]["H0"])
+        if twist is not None:
+            self._twist_given.add(b.carrier)
         self._bodies[name] = b
         return b
 
@@ -1129,10 +1134,11 @@ class Mechanism:
             model = self._core_model(H, T, x0, None, ())
             H_tree = H.copy()
             H = topology.close_loops(self, model, H, tree, None, self._loops_through)
+            T, rates = topology.close_rates(self, model, H, T, tree, None)
             # joint coordinates reached (on the branch of x0): the core checks x0 at the start
             x = _core.model_joints(model, H, None)
             lay = _core.model_sizes(model)[4]
-            adjustments = self._adjustments(H_tree, H, x, lay)
+            adjustments = self._adjustments(H_tree, H, x, lay, rates)
             for ip, e in enumerate(self._pairs):
                 _, _, j, k = lay[ip]
                 if e["has_x0"] and k:
@@ -1148,7 +1154,7 @@ class Mechanism:
         if moved:
             msg = ("initial configuration: closing the loops moved given initial values beyond "
                    "their tolerance: " + "; ".join(str(a) for a in moved) +
-                   ". Give consistent x0 and poses; Mechanism.initial_adjustments lists every "
+                   ". Give consistent x0, xdot0 and poses; Mechanism.initial_adjustments lists every "
                    "given value and how far it moved")
             if self.strict:
                 raise ModelError(msg + " (Mechanism(strict=True))")
@@ -1162,22 +1168,25 @@ class Mechanism:
                           RedundantConstraintWarning, stacklevel=3)
         return H, T, x0, masks
 
-    def _adjustments(self, H_tree, H, x, lay) -> list:
-        """InitialAdjustment rows: every given x0 coordinate against the reached x, and every
-        given pose the tree placement kept against the closed poses H."""
+    def _adjustments(self, H_tree, H, x, lay, rates) -> list:
+        """InitialAdjustment rows: every given x0 (xdot0) coordinate against the reached x
+        (``rates``: joint row -> reached rate), and every given pose the tree placement kept
+        against the closed poses H."""
         L = topology.length_scale(self)
         tol_m, tol_r = topology.POSE_TOL * L, topology.POSE_TOL
         rows = []
         for ip, e in enumerate(self._pairs):
             _, _, j, k = lay[ip]
-            if not (e["has_x0"] and k):
-                continue
             for c in range(k):
                 unit = e["pair"]._units[c]
-                g = float(e["x0"][c])
-                tol = tol_r * max(1.0, abs(g)) if unit == "rad" else tol_m * max(1.0, abs(g) / L)
-                rows.append(InitialAdjustment(e["name"], "x" if k == 1 else f"x[{c}]", g,
-                                              float(x[j + c]), abs(float(x[j + c]) - g), unit, tol))
+                for key, given, now, u in (("x0", "has_x0", x, unit), ("xdot0", "has_xdot0", rates, unit + "/s")):
+                    if not e.get(given, False):
+                        continue
+                    g, reached = float(e[key][c]), float(now[j + c])
+                    tol = tol_r * max(1.0, abs(g)) if unit == "rad" else tol_m * max(1.0, abs(g) / L)
+                    q = "x" if key == "x0" else "xdot"
+                    rows.append(InitialAdjustment(e["name"], q if k == 1 else f"{q}[{c}]", g,
+                                                  reached, abs(reached - g), u, tol))
 
         def moves(Ha, Hb):
             return (float(np.linalg.norm(Hb[:3, 3] - Ha[:3, 3])),

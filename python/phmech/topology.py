@@ -262,7 +262,9 @@ def place_tree(mech):
                     x = pair_reference(mech, e, G(e["a"]), G(e["b"]), tol_m)
                     _, Tw = _twist_across(e, e["pair"], x, xd, Hn, tn, forward)
                     H[w] = Hn @ se3.inverse(G(c)) @ given[w]
-                    if k == 0 or has_xd:
+                    # rates: xdot0 (0 if not given) like the branch above; only a twist the
+                    # user gave (add_rigid_body(twist=...)) is kept as given
+                    if k == 0 or has_xd or w not in mech._twist_given:
                         T[w] = Tw
                 placed.add(w)
                 queue.append(w)
@@ -393,6 +395,71 @@ def _close(mech, model, H, tree_pairs, xref, loops_of, hard_x0):
                          f"Newton projection; pairs still violated: {bad}); loops: "
                          f"{loops_of(bad)}; check the pairs' frames and x0 along the loop")
     return H
+
+
+def close_rates(mech, model, H, T, tree_pairs, xref):
+    """Step 2b: twists T (nc, 6) meeting every pair's velocity constraint with the links moving
+    rigidly (strain rates zero), closest to the tree's joint rates. The tree walk gives rates
+    that ignore loop-closing pairs (a slider-crank's rod turns with its crank); projected later
+    carrier by carrier (the core's minimum-norm velocity projection), the correction would land
+    on the nodes a pair touches only, a velocity jump along a flexible link that strikes its
+    mesh modes (a slider-crank's 0.3 m steel rod got 13 mJ of elastic energy in 1 ms, which the
+    integrator's dissipation of the unresolved band then removed: 1.4 % of the energy). Hard:
+    the pairs' velocity rows G t = -dg/dt (driven pairs' rates included), the elements' rates
+    Je t = 0 and the given xdot0 (if they cannot all hold, the xdot0 become soft targets of
+    weight 10^3, as the given x0 in close_loops); soft: the tree pairs' joint rates (weight 1),
+    the correction being the minimum-norm one among the solutions. Returns (T, reached): T
+    unchanged when it already meets the hard rows (to 1e-12); reached: joint row -> the initial
+    rate of every given xdot0 (for Mechanism.initial_adjustments)."""
+    eps = 1e-6
+    g, G, _ = _core.model_constraints_full(model, H, xref, 0.0)
+    _, Je = _element_residual(mech, H)
+    gp = _core.model_constraints_full(model, H, xref, eps)[0]
+    gm = _core.model_constraints_full(model, H, xref, -eps)[0]
+    A = np.vstack([G, Je])
+    rhs = np.concatenate([-(gp - gm) / (2 * eps), np.zeros(Je.shape[0])])
+    t = T.reshape(-1)
+    scale = max(1.0, float(np.max(np.abs(t)))) if t.size else 1.0
+    sizes = _core.model_sizes(model)[4]
+    given, given_rate, tree = [], [], []
+    for ip, e in enumerate(mech._pairs):
+        _, _, j, k = sizes[ip]
+        if k and e.get("has_xdot0", False):
+            given += [j + c for c in range(k)]
+            given_rate += list(e["xdot0"][:k])
+        elif k and ip in tree_pairs:
+            tree += [j + c for c in range(k)]
+    given, given_rate, tree = np.array(given, dtype=int), np.array(given_rate), np.array(tree, dtype=int)
+    Jg = _joint_jacobian(model, H, xref, given) if given.size else np.zeros((0, t.size))
+    def reached(t):
+        return dict(zip(given.tolist(), (Jg @ t).tolist()))
+
+    if (rhs.size == 0 or np.max(np.abs(rhs - A @ t)) <= 1e-12 * scale) and \
+            np.all(np.abs(Jg @ t - given_rate) <= 1e-12 * scale):
+        return T, reached(t)
+    Jt = _joint_jacobian(model, H, xref, tree) if tree.size else np.zeros((0, t.size))
+    for hard in (True, False):
+        if hard:
+            Ah, bh = np.vstack([A, Jg]), np.concatenate([rhs, given_rate])
+            Js, target, weight = Jt, Jt @ t, np.ones(tree.size)
+        else:
+            Ah, bh = A, rhs
+            Js = np.vstack([Jg, Jt])
+            target = np.concatenate([given_rate, Jt @ t])
+            weight = np.concatenate([np.full(given.size, 1e3), np.ones(tree.size)])
+        r = bh - Ah @ t
+        dp = np.linalg.lstsq(Ah, r, rcond=None)[0]
+        if Js.shape[0]:
+            _, sv, Vt = np.linalg.svd(Ah)
+            rank = int(np.sum(sv > RANK_TOL * sv[0])) if sv.size else 0
+            N = Vt[rank:].T
+            Wj = weight[:, None] * Js
+            M = np.vstack([Wj @ N, 1e-6 * np.eye(N.shape[1])])
+            z = np.linalg.lstsq(M, np.concatenate([weight * (target - Js @ t) - Wj @ dp,
+                                                   np.zeros(N.shape[1])]), rcond=None)[0]
+            dp = dp + N @ z
+        if not hard or np.max(np.abs(bh - Ah @ (t + dp))) <= 1e-9 * scale:
+            return (t + dp).reshape(T.shape), reached(t + dp)
 
 
 def redundant_rows(mech, G, tree_pairs):
