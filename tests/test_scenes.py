@@ -11,9 +11,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(
 import scenes  # noqa: E402
 
 
-# the slider-crank's reference (IDA, configuration test, rtol 1e-9) costs ~80 s even over 0.3 s,
-# and its ledger misses 1e-3 (docs/integrators.md, Limits): it runs in `make bench` only
-QUICK = [s for s in scenes.SCENES if not s.name.startswith("slider-crank")]
+QUICK = scenes.SCENES
 
 
 @pytest.mark.parametrize("scene", QUICK, ids=[s.name for s in QUICK])
