@@ -3,7 +3,6 @@ itself (stats, warnings, progress), and nothing computed is lost on failure or S
 import os
 import signal
 import sys
-import threading
 import time
 import warnings
 
@@ -86,18 +85,19 @@ def test_solver_failures_return_the_partial_trajectory():
 
 def test_sigterm_stops_the_run_and_returns_what_was_computed():
     m, strip = strip_pendulum()
-    timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGTERM))
     previous = signal.getsignal(signal.SIGTERM)
-    timer.start()
-    try:
-        # IDA resolving every mesh vibration: far longer than 0.5 s
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", ph.CostWarning)
-            res = m.simulate(2.0, 1e-3, integrator="ida", rtol=1e-6, linear_solver="klu")
-    finally:
-        timer.cancel()
+
+    def terminate_at_the_third_output(t, i):   # a batch system's signal, at a known point
+        if i == 3:
+            os.kill(os.getpid(), signal.SIGTERM)
+
+    # IDA resolving every mesh vibration (~0.4 s of CPU per ms): the run is far from its end
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ph.CostWarning)
+        res = m.simulate(2.0, 1e-3, integrator="ida", rtol=1e-6, linear_solver="klu",
+                         callback=terminate_at_the_third_output)
     assert res.interrupted
-    assert 0 < res.t[-1] < 2.0 and np.all(np.isfinite(res.poses))
+    assert 3e-3 <= res.t[-1] < 2.0 and np.all(np.isfinite(res.poses))
     assert signal.getsignal(signal.SIGTERM) == previous       # the handler is put back
 
 
@@ -193,27 +193,29 @@ def test_a_scene_at_rest_reports_a_zero_ledger_ratio_not_a_ratio_of_round_offs()
     np.testing.assert_allclose(res.tip(leaf)[-1], [0.2, 0, 0], atol=1e-15)
 
 
-def test_numerical_dissipation_is_tiny_in_the_band_and_grows_toward_its_top():
-    """The undamped cantilever + tip mass of benchmarks/scenes.py after its 2 ms impulse, 0.3 s
+def test_the_numerical_dissipation_comes_from_above_the_band():
+    """The undamped cantilever + tip mass of benchmarks/scenes.py after its 2 ms impulse, 1 s
     with the defaults (band 500 Hz), split into its linearized modes (phmech.analysis.
-    modal_energy). Independent check of the split first: the modal energies add up to the
-    mechanical energy. Then each in-band mode's energy change over the run, against IDA at rtol
-    1e-9 where the modes hold theirs to ~1e-4 (physical exchange through the small geometric
-    nonlinearity). Measured over these 0.3 s: 5.5 Hz -3.6e-6, 48 Hz -1.5e-5, 149 Hz -4.2e-4,
-    309 Hz -1.9e-3 (over 1 s, docs/integrators.md: +9e-6, -6.7e-5, -8.3e-4, -5.9e-3): the
-    generalized-alpha's damping, ~Omega^3 at Omega = omega h (0.32 at 309 Hz)."""
+    modal_energy). Independent check of the split first: the in-band modal energies add up to
+    the mechanical energy. Measured: the run loses 3.0e-7 J (ledger), of which the seven in-band
+    modes 3.0e-8 J (10 %; 5.5 Hz +1.3e-5, 48 Hz -7.2e-5, 149 Hz -1.8e-4, 309 Hz -8.4e-4 of
+    their energies) and the 53 modes above the band (up to 537 kHz) the rest. IDA at rtol 1e-9
+    holds the in-band modes to ~1e-4 (exchange through the small geometric nonlinearity)."""
     sc = next(s for s in scenes.SCENES if s.name.startswith("cantilever"))
     m, _ = sc.build()
-    r = m.simulate(0.3, 1e-3)
+    r = m.simulate(1.0, 1e-3)
     md = m.modes(100)
     E = ph.analysis.modal_energy(m, r, md)
     i0 = 20                       # t = 20 ms, after the pulse (10-12 ms)
-    mech = r.energy["kinetic"][i0] + r.energy["elastic"][i0]
+    mech = r.energy["kinetic"] + r.energy["elastic"]
     inb = md.frequency <= r.stats["band"]
-    assert E[i0, inb].sum() == pytest.approx(mech, rel=1e-3)
-    live = inb & (E[i0] > 1e-6 * mech)
+    assert E[i0, inb].sum() == pytest.approx(mech[i0], rel=1e-3)
+    live = inb & (E[i0] > 1e-6 * mech[i0])
     change = (E[-1, live] - E[i0, live]) / E[i0, live]
     f = md.frequency[live]
     assert list(np.round(f)) == [6, 48, 149, 309]
-    assert np.all(np.abs(change[f < 100]) <= 1e-4)          # the motion a user watches
-    assert np.all(change[f > 100] <= 0) and np.all(change[f > 100] >= -3e-3)   # the band's top
+    assert np.all(np.abs(change[f < 100]) <= 2e-4)          # the motion a user watches
+    assert np.all(np.abs(change) <= 2e-3)                   # up to the band's top
+    lost_in_band = E[i0, inb].sum() - E[-1, inb].sum()
+    lost = mech[i0] - mech[-1]
+    assert lost > 0 and lost_in_band <= 0.25 * lost
