@@ -51,6 +51,7 @@ validate: build
 	@mkdir -p benchmarks/results
 	$(PY) examples/timoshenko_table.py --json --plot benchmarks/results/timoshenko_convergence.png > benchmarks/results/timoshenko_table.json
 	$(PY) benchmarks/validate_energy_drift.py
+	$(PY) benchmarks/all_state_reference.py
 
 # Work-precision benchmarks against Exudyn and MuJoCo (installed into .venv from
 # benchmarks/requirements.txt when missing); BENCH_ARGS=--quick for a short run (~4.5 min instead
