@@ -11,7 +11,7 @@ import sys
 
 from . import _core
 from ._core import ModelError, SolverError
-from . import analysis, graphs, mixed, se3, timoshenko
+from . import analysis, graphs, mesh, mixed, se3, timoshenko
 from .section import BeamProperties, Material, Section, table1_properties
 from . import mechanism
 from .mechanism import *  # noqa: F401,F403  (names listed in mechanism.__all__)
@@ -20,7 +20,7 @@ from ._run import CostWarning
 __version__ = "0.1.0"
 
 __all__ = ["ModelError", "SolverError", "CostWarning", "info", "blas_threads", "__version__",
-           "se3", "graphs", "mixed", "timoshenko", "analysis",
+           "se3", "graphs", "mesh", "mixed", "timoshenko", "analysis",
            "Material", "Section", "BeamProperties", "table1_properties", *mechanism.__all__]
 
 

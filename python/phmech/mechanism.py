@@ -524,11 +524,14 @@ class Body:
 
 @dataclasses.dataclass
 class FlexibleLink:
-    """A beam discretized into ``elements`` se3 elements; ``nodes`` are carrier indices."""
+    """A beam discretized into ``elements`` se3 elements; ``nodes`` are carrier indices;
+    ``mesh``: what phmech.mesh.choose_elements chose when the count came from a band (else
+    None)."""
     name: str
     length: float
     elements: int
     nodes: list
+    mesh: Optional["MeshChoice"] = None
 
     @property
     def start(self) -> Frame:
@@ -720,16 +723,30 @@ class Mechanism:
     (InitialValueWarning). Tolerances: 1e-6 rad for angles (1e-6 |x0| for |x0| > 1 rad), 1e-6 L
     for lengths, L the mechanism's size (topology.length_scale: the largest of the link lengths,
     the pair frames' offsets and the extent of the carriers' initial origins). Either way the
-    moves are listed in ``initial_adjustments`` once a model has been built."""
+    moves are listed in ``initial_adjustments`` once a model has been built.
 
-    def __init__(self, gravity: Sequence[float] = (0.0, 0.0, 0.0), strict: bool = False):
+    ``band`` [Hz] and ``frequency_tolerance``: the frequencies the model must resolve; every
+    flexible link added without ``elements=`` gets the number of elements that puts its modes up
+    to ``band`` within ``frequency_tolerance`` of the converged ones (phmech.mesh.choose_elements;
+    ``link.mesh`` says what was chosen and the estimated error). Without a band a link gets 10
+    elements. (The integrator's band, ``simulate(band=)``, is separate: what the steps resolve.)"""
+
+    def __init__(self, gravity: Sequence[float] = (0.0, 0.0, 0.0), strict: bool = False,
+                 band: Optional[float] = None, frequency_tolerance: float = 1e-3):
         g = np.asarray(gravity, dtype=float)
         if g.shape != (3,) or not np.all(np.isfinite(g)):
             raise ModelError("gravity: expected 3 finite numbers [m/s^2]")
         if not isinstance(strict, (bool, np.bool_)):
             raise ModelError(f"strict must be True or False (got {strict!r})")
+        if band is not None and not (real("band", band) > 0):
+            raise ModelError(f"band must be a frequency > 0 [Hz] or None (got {band!r})")
+        tol = real("frequency_tolerance", frequency_tolerance)
+        if not 0 < tol < 1:
+            raise ModelError(f"frequency_tolerance must be in (0, 1) (got {frequency_tolerance!r})")
         self.gravity = g
         self.strict = bool(strict)
+        self.band = None if band is None else float(band)
+        self.frequency_tolerance = tol
         self.ground = Frame(-1, np.eye(4), "ground")
         self._car = []      # dicts: M, mass, com, H0, t0
         self._el = []       # dicts: a, b, h, K, D, eps
@@ -760,8 +777,10 @@ class Mechanism:
             raise ModelError(f"name {name!r} is already used")
         self._names.add(name)
 
-    def add_flexible_link(self, name: str, length: float, properties, elements: int = 10,
-                          pose=None, curvature=None, discretization: str = "se3") -> FlexibleLink:
+    def add_flexible_link(self, name: str, length: float, properties, elements: Optional[int] = None,
+                          pose=None, curvature=None, discretization: str = "se3",
+                          band: Optional[float] = None,
+                          frequency_tolerance: Optional[float] = None) -> FlexibleLink:
         """A flexible link of ``length`` [m] along the local x axis of ``pose`` (4x4, the frame of
         its start). ``properties``: object with 6x6 ``stiffness`` (section stiffness, order
         (torsion, bending y, bending z, axial, shear y, shear z) strains), ``inertia`` (per unit
@@ -773,14 +792,21 @@ class Mechanism:
         at the given poses, e.g. a root rotated about x selects the other bending axis), and
         given poses that violate a pair (frame origins apart, a revolute's axes not parallel)
         raise ModelError; only a pair with ``x0`` places the link elsewhere. ``pose=None``: the
-        link is placed from its pairs. See add_pair and docs/user_guide.md."""
+        link is placed from its pairs. See add_pair and docs/user_guide.md.
+
+        ``elements``: the number of se3 elements; None: chosen from ``band`` [Hz] and
+        ``frequency_tolerance`` (default: the Mechanism's; see Mechanism and phmech.mesh), or 10
+        without a band."""
         if discretization != "se3":
             raise ModelError(f"unknown discretization {discretization!r} (available: 'se3')")
         L = real("length", length)
         if L <= 0:
             raise ModelError(f"length must be > 0 (got {L} m)")
-        if isinstance(elements, bool) or not isinstance(elements, (int, np.integer)) or elements < 1:
-            raise ModelError(f"elements must be an integer >= 1 (got {elements!r})")
+        if elements is not None and (isinstance(elements, bool) or not isinstance(elements, (int, np.integer))
+                                     or elements < 1):
+            raise ModelError(f"elements must be an integer >= 1 or None (got {elements!r})")
+        if elements is not None and band is not None:
+            raise ModelError(f"link {name!r}: give elements= or band=, not both")
         K = _mat6(getattr(properties, "stiffness", None), "properties.stiffness")
         I = _mat6(getattr(properties, "inertia", None), "properties.inertia")
         Dp = getattr(properties, "damping", None)
@@ -793,8 +819,17 @@ class Mechanism:
         kap = np.zeros(3) if curvature is None else np.asarray(curvature, dtype=float)
         if kap.shape != (3,) or not np.all(np.isfinite(kap)):
             raise ModelError("curvature: expected 3 finite numbers [1/m] or None")
+        if name in self._names:
+            self._new_name(name)   # raises: the name is taken
+        choice = None
+        if elements is None:
+            band = self.band if band is None else band
+            tol = self.frequency_tolerance if frequency_tolerance is None else frequency_tolerance
+            if band is not None:
+                from .mesh import choose_elements
+                choice = choose_elements(L, properties, band, tol, curvature=kap)
         self._new_name(name)
-        N = int(elements)
+        N = int(elements) if elements is not None else choice.elements if choice else 10
         h = L / N
         eps = np.concatenate([kap, [1.0, 0.0, 0.0]])
         first = len(self._car)
@@ -809,7 +844,7 @@ class Mechanism:
         if pose is not None:
             for k in range(N + 1):
                 self._given[first + k] = np.array(self._car[first + k]["H0"])
-        link = FlexibleLink(name, L, N, list(range(first, first + N + 1)))
+        link = FlexibleLink(name, L, N, list(range(first, first + N + 1)), choice)
         self._links[name] = link
         return link
 
