@@ -18,6 +18,7 @@ struct phm_model {
   int *pair_k;      /* joint coordinates of each pair    */
   int *pair_sel;    /* 6 per pair: the type's row index of each kept constraint row (drop mask) */
   int *pair_rowf;   /* first row of each pair in the full (undropped) constraint set */
+  double *pair_AdTbi; /* 36 per pair: Ad of the inverse of frame b's fixed offset Tb (row-major) */
   int ncons_full;   /* constraint rows before dropping redundant ones */
   double *xref0;    /* nj: branch references (x0 or 0) for statics, modes and the start */
   phm_actuator_desc *act;

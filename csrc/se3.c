@@ -54,10 +54,11 @@ static double so3_jac_inv_coeff(double t) {
 
 /* M = I + alpha W + beta W^2 with W = hat(w). */
 static void so3_poly(const double w[3], double alpha, double beta, double M[9]) {
-  double W[9], W2[9];
+  double W[9], t2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
   phm_so3_hat(w, W);
-  mat3_mul(W, W, W2);
-  for (int i = 0; i < 9; i++) M[i] = alpha * W[i] + beta * W2[i];
+  /* W^2 = w w^T - |w|^2 I */
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) M[3 * i + j] = alpha * W[3 * i + j] + beta * (w[i] * w[j] - (i == j ? t2 : 0.0));
   M[0] += 1.0;
   M[4] += 1.0;
   M[8] += 1.0;
@@ -297,14 +298,33 @@ void phm_se3_dexp(const double x[6], double D[36]) {
   block_lower(A, Q, D);
 }
 
-void phm_se3_dexp_inv(const double x[6], double Di[36]) {
-  double Ai[9], Q[9], T[9], L[9];
-  phm_so3_jac_inv(x, Ai);
+/* The blocks of dexp_x^-1 = [[Ai, 0], [L, Ai]]: Ai = so3 jac_inv(omega), L = -Ai Q Ai. */
+static void se3_dexp_inv_blocks(const double x[6], const double Ai[9], double L[9]) {
+  double Q[9], T[9];
   se3_dexp_Q(x, Q);
   mat3_mul(Ai, Q, T);
   mat3_mul(T, Ai, L);
   for (int i = 0; i < 9; i++) L[i] = -L[i];
+}
+
+void phm_se3_dexp_inv(const double x[6], double Di[36]) {
+  double Ai[9], L[9];
+  phm_so3_jac_inv(x, Ai);
+  se3_dexp_inv_blocks(x, Ai, L);
   block_lower(Ai, L, Di);
+}
+
+/* x = log(H) and the blocks of dexp_x^-1 = [[Ai, 0], [L, Ai]], sharing Ai between the two. Since
+ * jac_inv(-w) = jac_inv(w)^T and Q(-x) = Q(x)^T (every term of Q is even in x and symmetric, or
+ * odd and skew), dexp_{-x}^-1 = [[Ai^T, 0], [L^T, Ai^T]]: one evaluation serves both ends of a
+ * beam element. */
+void phm_se3_log_dexp_inv(const double H[16], double x[6], double Ai[9], double L[9]) {
+  double R[9], p[3];
+  pose_split(H, R, p);
+  phm_so3_log(R, x);
+  phm_so3_jac_inv(x, Ai);
+  mat3_vec(Ai, p, x + 3);
+  se3_dexp_inv_blocks(x, Ai, L);
 }
 
 /* ---------------------------------------------------------------- quaternions */

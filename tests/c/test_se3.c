@@ -288,6 +288,24 @@ int main(void) {
       matmul(6, D, Di, P);
       eye(6, I6);
       record("dexp dexp_inv = I", maxdiff(36, P, I6), 1e-13);
+      { /* the fused log + dexp_inv of a beam element: x = log H, dexp_x^-1 and the block
+         * transpose that is dexp_{-x}^-1 */
+        double Hx[16], xl[6], xr[6], Ai[9], L[9], Dm[36], mx[6], e1 = 0.0, e2 = 0.0;
+        phm_se3_exp(x, Hx);
+        phm_se3_log_dexp_inv(Hx, xl, Ai, L);
+        phm_se3_log(Hx, xr);
+        record("log_dexp_inv: x = log H", maxdiff(6, xl, xr), 0.0);
+        phm_se3_dexp_inv(xl, Di);
+        for (int i = 0; i < 6; i++) mx[i] = -xl[i];
+        phm_se3_dexp_inv(mx, Dm);
+        for (int i = 0; i < 3; i++)
+          for (int j = 0; j < 3; j++) {
+            e1 = fmax(e1, fmax(fabs(Ai[3 * i + j] - Di[6 * i + j]), fabs(L[3 * i + j] - Di[6 * (3 + i) + j])));
+            e2 = fmax(e2, fmax(fabs(Ai[3 * j + i] - Dm[6 * i + j]), fabs(L[3 * j + i] - Dm[6 * (3 + i) + j])));
+          }
+        record("log_dexp_inv blocks = dexp_inv(x)", e1, 1e-15);
+        record("log_dexp_inv transposed = dexp_inv(-x)", e2, 1e-13);
+      }
       phm_so3_jac(x, A);
       double e = 0.0;
       for (int i = 0; i < 3; i++)
