@@ -597,6 +597,19 @@ def _mat6(x, what, spd=True):
     return A
 
 
+def _carrier_name(c: int, bodies: dict, links: dict) -> str:
+    """'the ground', "body 'b'" or "node k of link 'L'" for carrier index c."""
+    if c < 0:
+        return "the ground"
+    for b in bodies.values():
+        if b.carrier == c:
+            return f"body {b.name!r}"
+    for lk in links.values():
+        if c in lk.nodes:
+            return f"node {lk.nodes.index(c)} of link {lk.name!r}"
+    return f"carrier {c}"
+
+
 # ------------------------------------------------------------------ results
 class Momentum(NamedTuple):
     """World-frame momentum along a trajectory (SimulationResult.momentum): ``linear`` (nt, 3)
@@ -713,14 +726,6 @@ class SimulationResult:
         return self.positions(link)[:, -1, :]
 
     # ---------------------------------------------------------- conserved quantities
-    def _carrier_label(self, c: int) -> str:
-        for b in self._bodies.values():
-            if b.carrier == c:
-                return f"body {b.name!r}"
-        for lk in self._links.values():
-            if c in lk.nodes:
-                return f"link {lk.name!r} node {lk.nodes.index(c)}"
-        return f"carrier {c}"
 
     def _mass_carriers(self, x, need_motion: bool, what: str) -> list:
         """Carrier indices of ``x`` (None: all; a Body, FlexibleLink, a body's or link's name,
@@ -762,7 +767,7 @@ class SimulationResult:
             if missing:
                 full = [repr(b.name) for b in self._bodies.values() if b.carrier in kept]
                 full += [repr(lk.name) for lk in self._links.values() if all(c in kept for c in lk.nodes)]
-                lost = ", ".join(self._carrier_label(c) for c in missing[:5])
+                lost = ", ".join(_carrier_name(c, self._bodies, self._links) for c in missing[:5])
                 lost += f" and {len(missing) - 5} more" if len(missing) > 5 else ""
                 raise ModelError(
                     f"{what} of {whom} needs the poses and twists of every carrier in it, but "
@@ -1096,16 +1101,7 @@ class Mechanism:
             self._add_actuator(name, entry, actuator)
 
     def _carrier_name(self, c: int) -> str:
-        """'the ground', "body 'b'" or "node k of link 'L'"."""
-        if c < 0:
-            return "the ground"
-        for b in self._bodies.values():
-            if b.carrier == c:
-                return f"body {b.name!r}"
-        for lk in self._links.values():
-            if c in lk.nodes:
-                return f"node {lk.nodes.index(c)} of link {lk.name!r}"
-        return f"carrier {c}"
+        return _carrier_name(c, self._bodies, self._links)
 
     def _describe(self, f: Frame) -> str:
         """A frame's name in quotes, or where an unnamed frame sits."""
