@@ -26,7 +26,6 @@ import faulthandler
 import math
 import os
 import signal
-import time
 import warnings
 
 import numpy as np
@@ -63,23 +62,15 @@ class Hang(Exception):
     """Raised by the alarm: an example ran past LIMIT seconds."""
 
 
-@pytest.fixture(scope="module", autouse=True)
-def hang_guard():
-    """A C loop that never returns to Python cannot be stopped by the alarm: dump every thread's
-    traceback and end the process instead of hanging the suite."""
-    faulthandler.dump_traceback_later(max(600.0, 30 * LIMIT), exit=True)
-    yield
-    faulthandler.cancel_dump_traceback_later()
-
-
 class time_limit:
     """SIGALRM after LIMIT s: the handler raises Hang in Python code; inside simulate the core
     polls signals (every ~100 steps), stops and returns an interrupted result, so `fired` is
-    checked as well."""
+    checked as well. A C loop that never returns to Python cannot be stopped that way: after
+    3 LIMIT + 30 s a watchdog (faulthandler) dumps every thread's traceback and ends the process
+    instead of hanging the suite."""
 
     def __enter__(self):
         self.fired = False
-        self.t0 = time.perf_counter()
 
         def handler(signum, frame):
             self.fired = True
@@ -87,9 +78,11 @@ class time_limit:
 
         self.previous = signal.signal(signal.SIGALRM, handler)
         signal.setitimer(signal.ITIMER_REAL, LIMIT)
+        faulthandler.dump_traceback_later(3 * LIMIT + 30, exit=True)
         return self
 
     def __exit__(self, *exc):
+        faulthandler.cancel_dump_traceback_later()
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, self.previous)
         assert not self.fired, f"hang: the example ran for more than {LIMIT} s"
@@ -866,7 +859,7 @@ def test_fuzz_se3(data):
     x = np.array(data.draw(st.lists(ANY_FLOAT, min_size=n, max_size=n)), dtype=float).reshape(lead + tail)
     if data.draw(st.integers(0, 9)) == 0:
         x = Gen(data, 0.0).junk(x, f.__name__)
-    with warnings.catch_warnings(record=True) as caught:
+    with time_limit(), warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
             y = f(x)
@@ -888,7 +881,7 @@ def test_fuzz_se3_binary(data):
     A = np.array(data.draw(g)).reshape(4, 4)
     B = np.array(data.draw(g)).reshape(4, 4)
     try:
-        with warnings.catch_warnings(record=True) as caught:
+        with time_limit(), warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             y = se3.compose(A, B) if which == "compose" else \
                 se3.pose(A[:3, :3], B[0, :3]) if which == "pose" else se3.rotation(A[0, :3], B[0, 0])
@@ -915,9 +908,17 @@ def test_fuzz_sections(data):
 
 
 def test_fuzz_ran_enough_models():
-    """The fuzz tests above generated MODELS_PER_RUN models (>= 1000); skipped when they were
-    deselected (pytest -k)."""
-    if not models_built:
+    """The fuzz tests above generated MODELS_PER_RUN models (>= 1000), and the random mechanisms
+    still reach the solvers: enough of them simulate, have modes, find a static equilibrium
+    (measured at scale 1: 149, 44, 15 of 900; the rest end in documented errors, most of them
+    on purpose). Skipped when those tests were deselected (pytest -k)."""
+    if not models_built or not outcomes:
         pytest.skip("the model fuzz tests did not run in this session")
     assert MODELS_PER_RUN >= 1000
     assert len(models_built) >= int(MODELS_PER_RUN * SCALE), len(models_built)
+
+    def ok(prefix):
+        return sum(c for (what, out), c in outcomes.items() if what.startswith(prefix) and out == "ok")
+
+    assert ok("simulate") >= 60 * SCALE and ok("modes") >= 20 * SCALE and ok("static") >= 5 * SCALE, \
+        f"the generator degenerated: {sorted(outcomes.items())}"
