@@ -8,7 +8,7 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.phmech-deps
 SOURCES := $(shell find csrc python -type f -name '*.[ch]' -o -type f -name '*.py') meson.build pyproject.toml
 
-.PHONY: all demo test ctest pytest build sysdeps validate bench clean info
+.PHONY: all demo test ctest pytest sanitize build sysdeps validate bench clean info
 
 all: build
 
@@ -44,7 +44,34 @@ ctest: sysdeps $(STAMP)
 pytest: build
 	$(PY) -m pytest -q tests
 
-test: ctest pytest
+test: ctest pytest sanitize
+
+# AddressSanitizer + UndefinedBehaviorSanitizer (with float-cast-overflow): the core and the
+# extension built in build/sanitize (the .venv's phmech is not touched), the C unit tests, then
+# SAN_TESTS run against that build through PYTHONPATH. Python is not instrumented, so libasan is
+# preloaded (with libstdc++, whose exception handling ASan intercepts), Python allocates with
+# malloc (so ASan sees every buffer), leaks are not reported (the interpreter keeps its own) and
+# the first UBSan report halts the run: any report fails `make sanitize`.
+SAN_DIR   := build/sanitize
+SAN_TESTS := tests/test_fuzz.py tests/test_fuzz_findings.py tests/test_error_messages.py \
+             tests/test_se3.py tests/test_mixed.py tests/test_pairs.py tests/test_statics.py \
+             tests/test_solver_robustness.py tests/test_rigid_body.py tests/test_beam_dynamics.py
+SAN_ENV    = ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 \
+             UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 PYTHONMALLOC=malloc
+SAN_PRELOAD = $$(cc -print-file-name=libasan.so) $$(cc -print-file-name=libstdc++.so)
+
+sanitize: sysdeps $(STAMP)
+	@test -f $(SAN_DIR)/build.ninja || $(VENV)/bin/meson setup $(SAN_DIR) --buildtype=debugoptimized \
+	  -Db_sanitize=address,undefined -Db_lundef=false -Dc_args=-fsanitize=float-cast-overflow \
+	  -Dc_link_args=-fsanitize=float-cast-overflow >/dev/null
+	$(VENV)/bin/meson compile -C $(SAN_DIR)
+	$(SAN_ENV) $(VENV)/bin/meson test -C $(SAN_DIR) --print-errorlogs
+	@rm -rf $(SAN_DIR)/pkg && mkdir -p $(SAN_DIR)/pkg/phmech
+	@cp python/phmech/*.py $(SAN_DIR)/_core*.so $(SAN_DIR)/pkg/phmech/
+	$(SAN_ENV) LD_PRELOAD="$(SAN_PRELOAD)" PYTHONPATH=$(SAN_DIR)/pkg PHMECH_FUZZ_LIMIT=60 \
+	  $(PY) -c "import phmech; assert '$(SAN_DIR)' in phmech.__file__, phmech.__file__; print('sanitized phmech:', phmech.__file__)"
+	$(SAN_ENV) LD_PRELOAD="$(SAN_PRELOAD)" PYTHONPATH=$(SAN_DIR)/pkg PHMECH_FUZZ_LIMIT=60 \
+	  $(PY) -m pytest -q -p no:cacheprovider $(SAN_TESTS)
 
 # Long validation studies (not part of `make test`); figures land in benchmarks/results/.
 validate: build

@@ -474,6 +474,45 @@ done:
 }
 
 /* ---------------------------------------------------------------- output */
+/* The first non-finite entry of x[0..n), or -1. */
+static long first_nonfinite(const double *x, size_t n) {
+  for (size_t i = 0; i < n; i++)
+    if (!isfinite(x[i])) return (long)i;
+  return -1;
+}
+
+/* Output iout must be finite: a NaN or inf in a result is never handed back silently. PHM_OK, or
+ * PHM_ESOLVER naming the quantity (output iout is then not counted as done). */
+static phm_status check_output(const dae_t *d, const phm_sim_output *out, int iout, double time,
+                               phm_error *err) {
+  const phm_model *m = d->m;
+  size_t nr = out->record ? (size_t)out->nrecord : (size_t)m->nc, i = (size_t)iout;
+  struct {
+    const char *name;
+    const double *base;
+    size_t n;
+  } q[] = {{"poses", out->poses, 16 * nr},
+           {"twists", out->twists, 6 * nr},
+           {"constraint wrenches", out->lambda, (size_t)m->ncons},
+           {"energies", out->energy, PHM_NENERGY},
+           {"joint coordinates", out->joints, (size_t)m->nj},
+           {"joint rates", out->jrates, (size_t)m->nj},
+           {"actuator efforts", out->efforts, (size_t)m->nj},
+           {"pair wrenches", out->pwrench, 6 * (size_t)m->np},
+           {"port energies", out->ports, (size_t)m->nport}};
+  for (size_t k = 0; k < sizeof q / sizeof q[0]; k++) {
+    if (!q[k].base || !q[k].n) continue;
+    long j = first_nonfinite(q[k].base + i * q[k].n, q[k].n);
+    if (j >= 0)
+      return phm_error_set(err, PHM_ESOLVER,
+                           "non-finite %s at t = %.9g s (entry %ld is %g): the model's numbers "
+                           "overflow double precision (check for huge or tiny masses, stiffnesses, "
+                           "loads, lengths or initial values)",
+                           q[k].name, time, j, q[k].base[i * q[k].n + (size_t)j]);
+  }
+  return PHM_OK;
+}
+
 static void record(dae_t *d, const double *y, phm_sim_output *out, int iout, double E0[1],
                    double time) {
   const phm_model *m = d->m;
@@ -528,7 +567,6 @@ static void record(dae_t *d, const double *y, phm_sim_output *out, int iout, dou
     o[5] = tot;
     o[6] = tot - E0[0] - (y[d->ie + 1] - y[d->ie]);
   }
-  out->nout_done = iout + 1;
 }
 
 /* Absolute tolerance of state i (IDA's error weights; the generalized-alpha's Newton test).
@@ -558,20 +596,25 @@ static int is_twist(const dae_t *d, int i) { return i < d->ix && i % PHM_NSTATE 
  * interrupt callback asks; *stop = 1 if the progress callback asks to stop quietly. */
 static phm_status emit_output(dae_t *d, const double *y, phm_sim_output *out, int iout, double E0[1],
                               double t, const phm_sim_options *opt, int *stop, phm_error *err) {
-  record(d, y, out, iout, E0, t);
   *stop = 0;
+  record(d, y, out, iout, E0, t);
+  phm_status st = check_output(d, out, iout, t, err);
+  if (st) return st;
+  out->nout_done = iout + 1;
   if (opt->interrupt && opt->interrupt(opt->ctx, t, iout))
     return phm_error_set(err, PHM_EINTERRUPT, "interrupted at t = %g s", t);
   if (opt->progress && opt->progress(opt->ctx, t, iout)) *stop = 1;
   return PHM_OK;
 }
 
-/* At a breakpoint of the laws (a new piece): the new reference time and next breakpoint *nbp,
- * then consistent values from the current poses and twists; the ledger integrals carry over.
- * qprev: scratch of n (previous state, for quaternion sign continuity). */
-static phm_status restart_at_breakpoint(dae_t *d, double t, double *nbp, double *y, double *yp,
-                                        double *H, double *tw, double *qprev, phm_error *err) {
-  d->tref = phm_model_tref(d->m, t, nbp);
+/* At a breakpoint of the laws (a new piece): the new reference time and next breakpoint *nbp
+ * (the piece that follows time tpiece: t, or the breakpoint when t is within round-off before
+ * it), then consistent values from the current poses and twists; the ledger integrals carry
+ * over. qprev: scratch of n (previous state, for quaternion sign continuity). */
+static phm_status restart_at_breakpoint(dae_t *d, double t, double tpiece, double *nbp, double *y,
+                                        double *yp, double *H, double *tw, double *qprev,
+                                        phm_error *err) {
+  d->tref = phm_model_tref(d->m, tpiece, nbp);
   unpack_states(d->m, y, H, tw);
   memcpy(qprev, y, sizeof(double) * (size_t)d->n);
   phm_status st = consistent_ic(d, t, H, tw, qprev, qprev + d->ix, 0, y, yp, err);
@@ -803,13 +846,35 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
    * error stays second order (with twice the error constant on a pendulum: why it is a fallback
    * and not the rule). */
   int restart = 1;
+  long max_steps = opt->max_steps > 0 ? opt->max_steps : 1000000L, steps_out = 0;
   while (iout < nout) {
+    /* A breakpoint within bptol (1e-9 of a step) of t counts as reached: restart on its new
+     * piece. Landing on it exactly would take a step of round-off size: a Step law at
+     * 1e-3 + 1e-13 s with outputs every 1e-3 s gave a step of 1e-13 s (h = -inf from ceil(-0)
+     * before this rule), and the first step after it fails. */
+    double bptol = 1e-9 * h0;
+    if (isfinite(nbp) && t >= nbp - bptol) {
+      if ((st = restart_at_breakpoint(d, t, fmax(t, nbp), &nbp, y0, yp0, H, tw, qprev, err))) goto done;
+      hjac = hq = hqq = 0;
+      restart = 1;
+    }
     /* steps land on the output times and the breakpoints of the laws: the largest step <= h0
      * that divides what is left of the interval evenly (outputs need no interpolation, and the
-     * constraints hold at every output) */
+     * constraints hold at every output); a breakpoint within bptol before an output is left to
+     * the restart above, at the output */
     double target = tout[iout];
-    if (isfinite(nbp) && nbp > t && nbp < target) target = nbp;
-    double h = (target - t) / ceil((target - t) / h0 - 1e-9);
+    if (isfinite(nbp) && nbp > t && nbp < target - bptol) target = nbp;
+    double h = (target - t) / fmax(1.0, ceil((target - t) / h0 - 1e-9));
+    if (!(t + h > t)) {
+      st = phm_error_set(err, PHM_ESOLVER, "generalized-alpha: step %.3g s too small to advance "
+                         "t = %.9g s in double precision", h, t);
+      goto done;
+    }
+    if (++steps_out > max_steps) {
+      st = phm_error_set(err, PHM_ESOLVER, "generalized-alpha: more than %ld steps between two "
+                         "output times (t = %.9g s, step %.3g s)", max_steps, t, h);
+      goto done;
+    }
     int halvings = 0;
     double errn = 0, emax = 0;
     for (;;) { /* one step of size h (halved on Newton failure, shortened on error-test failure) */
@@ -940,6 +1005,7 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
       int stop;
       if ((st = emit_output(d, Y, out, iout, E0, t1, opt, &stop, err)) || stop) goto done;
       iout++;
+      steps_out = 0;
     }
     t = t1;
     hqq = hq;
@@ -955,11 +1021,6 @@ static phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ct
     memcpy(ypq, yp0, sizeof(double) * (size_t)n);
     memcpy(y0, Y, sizeof(double) * (size_t)n);
     memcpy(yp0, Yp, sizeof(double) * (size_t)n);
-    if (isfinite(nbp) && t >= nbp - 1e-12 * h && iout < nout) {
-      if ((st = restart_at_breakpoint(d, t, &nbp, y0, yp0, H, tw, qprev, err))) goto done;
-      hjac = hq = hqq = 0;
-      restart = 1;
-    }
   }
 done:
   out->last_order = 2;
@@ -1138,7 +1199,7 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
       if (flag == IDA_TSTOP_RETURN) {
         /* breakpoint: new piece of the laws, re-initialize from consistent values */
         add_stats(mem, out, opt->linear_solver);
-        if ((st = restart_at_breakpoint(&d, t, &nbp, y, ypd, H, tw, qprev, err))) goto done;
+        if ((st = restart_at_breakpoint(&d, t, t, &nbp, y, ypd, H, tw, qprev, err))) goto done;
         IDACHK(IDAReInit(mem, t, yy, yp));
         if (t >= target) t = target;
       }

@@ -25,6 +25,13 @@ typedef struct {
 } lin_t;
 
 /* Generalized forces at poses H: applied wrenches + G^T lambda (nc x 6, body frame). */
+/* 1 if x[0..n) are all finite. */
+static int all_finite(const double *x, size_t n) {
+  for (size_t i = 0; i < n; i++)
+    if (!isfinite(x[i])) return 0;
+  return 1;
+}
+
 static void total_force(lin_t *L, const double *H, double *f) {
   const phm_model *m = L->m;
   phm_applied(m, H, NULL, NULL, L->time, L->tref, L->scale, f, NULL, NULL, NULL, NULL, NULL);
@@ -360,6 +367,12 @@ phm_status phm_modes(const phm_model *m, const double *poses, const double *lamb
         out[(size_t)a * nr + b] = out[(size_t)b * nr + a] = s;
       }
   }
+  if (!all_finite(Kr, (size_t)nr * nr) || !all_finite(Mr, (size_t)nr * nr) ||
+      !all_finite(Dr, (size_t)nr * nr)) {
+    st = phm_error_set(err, PHM_ESOLVER, "modes: the linearized stiffness, damping or mass is not "
+                       "finite: the model's numbers overflow double precision");
+    goto done;
+  }
   int nf = nmodes < nr ? nmodes : nr, mfound = 0;
   Y = malloc(sizeof(double) * (size_t)nr * nf);
   iwork = malloc(sizeof(int) * 5 * (size_t)nr);
@@ -377,7 +390,8 @@ phm_status phm_modes(const phm_model *m, const double *poses, const double *lamb
     dsygvx_(&one, "V", "I", "U", &nr, Kr, &nr, Mr, &nr, &vl, &vu, &one, &nf, &abstol, &mfound, ev,
             Y, &nr, work, &lw, iwork, ifail, &info);
     if (info != 0 || mfound < nf) {
-      st = phm_error_set(err, PHM_ESINGULAR, "generalized eigenproblem failed (dsygvx info %d%s)", info,
+      st = phm_error_set(err, PHM_ESINGULAR, "generalized eigenproblem failed (dsygvx info %d, %d of "
+                         "%d eigenvalues found%s)", info, mfound, nf,
                          info > nr ? ": mass matrix not positive definite" : "");
       goto done;
     }
@@ -404,6 +418,12 @@ phm_status phm_modes(const phm_model *m, const double *poses, const double *lamb
             for (int a = 0; a < n0; a++) s += U0[(size_t)a * n6c + 6 * cmap[c] + i] * yk[a];
           shapes[(size_t)k * n6 + 6 * c + i] = s;
         }
+  }
+  if (!all_finite(omega, (size_t)nf) || (zeta && !all_finite(zeta, (size_t)nf)) ||
+      (shapes && !all_finite(shapes, (size_t)nf * n6))) {
+    st = phm_error_set(err, PHM_ESOLVER, "modes: non-finite frequencies, damping ratios or mode "
+                       "shapes: the model's numbers overflow double precision");
+    goto done;
   }
   *nfound = nf;
   goto done;
@@ -595,6 +615,11 @@ phm_status phm_static(const phm_model *m, const double *poses, double time, int 
       continue;
     }
     s = snew;
+  }
+  if (!all_finite(poses_out, 16 * (size_t)nc) || !all_finite(lam, (size_t)nk)) {
+    st = phm_error_set(err, PHM_ESOLVER, "static equilibrium: non-finite poses or constraint "
+                       "wrenches: the model's numbers overflow double precision");
+    goto done;
   }
   if (lambda_out && nk) memcpy(lambda_out, lam, sizeof(double) * (size_t)nk);
 done:

@@ -314,7 +314,7 @@ enum { PHM_INTEGRATOR_IDA = 0, PHM_INTEGRATOR_GALPHA = 1 };
 typedef struct {
   double rtol, atol;      /* IDA tolerances (atol scalar)                                  */
   int linear_solver;      /* 0 dense (IDA difference-quotient Jacobian), 1 KLU (coloured FD) */
-  long max_steps;         /* per output interval; <= 0: 10^6                                */
+  long max_steps;         /* per output interval (IDA and GALPHA); <= 0: 10^6               */
   double max_step;        /* <= 0: no limit                                                 */
   int max_order;          /* maximum BDF order 1..5; <= 0: 5                                */
   int error_test;         /* PHM_ERRTEST_ALL or PHM_ERRTEST_CONFIGURATION                   */
@@ -355,14 +355,17 @@ typedef struct {
 } phm_sim_output;
 
 /* Integrate from tout[0] (initial poses/twists: poses0/twists0, or the model's H0/t0 if NULL),
- * after a consistent-initial-value projection, and sample at the increasing times tout[0..nout). */
+ * after a consistent-initial-value projection, and sample at the increasing times tout[0..nout).
+ * An output with a non-finite value stops the run with PHM_ESOLVER (out->nout_done counts only
+ * the finite outputs before it). */
 phm_status phm_simulate(const phm_model *model, const double *poses0, const double *twists0,
                         const double *tout, int nout, const phm_sim_options *opt,
                         phm_sim_output *out, phm_error *err);
 
 /* Linearized modes at poses (NULL: H0) with constraint wrenches lambda (NULL: zero), loads at
  * `time`: nmodes lowest omega (rad/s), damping ratios zeta, shapes [nmodes][nc][6] (tangent
- * coordinates, mass-normalized); *nfound = modes returned (<= nmodes, limited by the free DOF). */
+ * coordinates, mass-normalized); *nfound = modes returned (<= nmodes, limited by the free DOF).
+ * A non-finite linearization or result is PHM_ESOLVER, never returned. */
 phm_status phm_modes(const phm_model *model, const double *poses, const double *lambda,
                      double time, int nmodes, double *omega, double *zeta, double *shapes,
                      int *nfound, phm_error *err);

@@ -28,13 +28,13 @@ PyArrayObject *phm_py_double_array(PyObject *obj, const char *what, const npy_in
   /* Convert with NumPy's natural dtype first, so strings, bytes, complex numbers and objects
    * (None, mixed types) are refused by kind instead of being parsed or truncated by a cast. */
   if (PyUnicode_Check(obj) || PyBytes_Check(obj)) {
-    PyErr_Format(PyExc_ValueError, "%s: expected an array of real numbers, got a string", what);
+    PyErr_Format(phm_py_ModelError, "%s: expected an array of real numbers, got a string", what);
     return NULL;
   }
   PyArrayObject *raw = (PyArrayObject *)PyArray_FromAny(obj, NULL, 0, 0, 0, NULL);
   if (!raw) {
     PyErr_Clear();
-    PyErr_Format(PyExc_ValueError, "%s: expected an array of real numbers", what);
+    PyErr_Format(phm_py_ModelError, "%s: expected an array of real numbers", what);
     return NULL;
   }
   int t = PyArray_TYPE(raw);
@@ -43,7 +43,7 @@ PyArrayObject *phm_py_double_array(PyObject *obj, const char *what, const npy_in
                        : PyTypeNum_ISSTRING(t) ? "string"
                        : PyTypeNum_ISOBJECT(t) ? "object (e.g. None or mixed types)"
                                                : "non-numeric";
-    PyErr_Format(PyExc_ValueError, "%s: expected an array of real numbers, got %s values", what,
+    PyErr_Format(phm_py_ModelError, "%s: expected an array of real numbers, got %s values", what,
                  kind);
     Py_DECREF(raw);
     return NULL;
@@ -63,7 +63,7 @@ PyArrayObject *phm_py_double_array(PyObject *obj, const char *what, const npy_in
     n = 0;
     for (int i = 0; i < nd && n < sizeof got; i++)
       n += (size_t)snprintf(got + n, sizeof got - n, i ? ", %ld" : "%ld", (long)PyArray_DIM(a, i));
-    PyErr_Format(PyExc_ValueError, "%s: expected shape (%s%s), got (%s)", what,
+    PyErr_Format(phm_py_ModelError, "%s: expected shape (%s%s), got (%s)", what,
                  stack ? "..., " : "", want, got);
     Py_DECREF(a);
     return NULL;
@@ -72,7 +72,7 @@ PyArrayObject *phm_py_double_array(PyObject *obj, const char *what, const npy_in
   npy_intp size = PyArray_SIZE(a);
   for (npy_intp i = 0; i < size; i++) {
     if (!isfinite(d[i])) {
-      PyErr_Format(PyExc_ValueError, "%s: contains a non-finite value (NaN or inf)", what);
+      PyErr_Format(phm_py_ModelError, "%s: contains a non-finite value (NaN or inf)", what);
       Py_DECREF(a);
       return NULL;
     }

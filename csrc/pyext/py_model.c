@@ -24,7 +24,7 @@ static int parse_law(PyObject *obj, phm_law *law, PyObject *keep, const char *wh
   PyObject *tab = Py_None;
   if (!PyArg_ParseTuple(obj, "iddddddO", &law->kind, &law->amplitude, &law->t0, &law->duration,
                         &law->frequency, &law->phase, &law->offset, &tab)) {
-    PyErr_Format(PyExc_ValueError, "%s: a time law must be a tuple (kind, amplitude, t0, duration, frequency, phase, offset, table)", what);
+    PyErr_Format(phm_py_ModelError, "%s: a time law must be a tuple (kind, amplitude, t0, duration, frequency, phase, offset, table)", what);
     return -1;
   }
   if (tab != Py_None) {
@@ -33,7 +33,7 @@ static int parse_law(PyObject *obj, phm_law *law, PyObject *keep, const char *wh
     if (!a) return -1;
     if (PyArray_NDIM(a) != 2) {
       Py_DECREF(a);
-      PyErr_Format(PyExc_ValueError, "%s: table must have shape (n, 2)", what);
+      PyErr_Format(phm_py_ModelError, "%s: table must have shape (n, 2)", what);
       return -1;
     }
     law->ntable = (int)PyArray_DIM(a, 0);
@@ -112,7 +112,7 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
   PyArrayObject *mass = kept(phm_py_double_array(o[1], "carrier masses", NULL, 0, 1), keep);
   if (!mass) goto fail;
   if (PyArray_NDIM(mass) != 1) {
-    PyErr_SetString(PyExc_ValueError, "carrier masses: expected a 1-D array");
+    PyErr_SetString(phm_py_ModelError, "carrier masses: expected a 1-D array");
     goto fail;
   }
   npy_intp nc = PyArray_DIM(mass, 0);
@@ -123,7 +123,7 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
   if (!elh) goto fail;
   npy_intp ne = PyArray_NDIM(elh) == 1 ? PyArray_DIM(elh, 0) : -1;
   if (ne < 0) {
-    PyErr_SetString(PyExc_ValueError, "element lengths: expected a 1-D array");
+    PyErr_SetString(phm_py_ModelError, "element lengths: expected a 1-D array");
     goto fail;
   }
   PyArrayObject *elab = arr(o[5], "element nodes", ne, t2, 1, keep), *elK = arr(o[7], "element stiffness", ne, t66, 2, keep),
@@ -133,7 +133,7 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
   if (!prt) goto fail;
   npy_intp np_ = PyArray_NDIM(prt) == 1 ? PyArray_DIM(prt, 0) : -1;
   if (np_ < 0) {
-    PyErr_SetString(PyExc_ValueError, "pair types: expected a 1-D array");
+    PyErr_SetString(phm_py_ModelError, "pair types: expected a 1-D array");
     goto fail;
   }
   PyArrayObject *prab = arr(o[11], "pair carriers", np_, t2, 1, keep), *prTa = arr(o[12], "pair frames Ta", np_, t44, 2, keep),
@@ -141,21 +141,21 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
                 *prax = arr(o[15], "pair motion axes", np_, t6, 1, keep);
   if (!prab || !prTa || !prTb || !prdr || !prax) goto fail;
   if (!PyList_Check(o[16]) || PyList_GET_SIZE(o[16]) != np_) {
-    PyErr_SetString(PyExc_ValueError, "pair laws: expected a list with one law per pair");
+    PyErr_SetString(phm_py_ModelError, "pair laws: expected a list with one law per pair");
     goto fail;
   }
   PyArrayObject *ldc = kept(phm_py_double_array(o[17], "load carriers", NULL, 0, 1), keep);
   if (!ldc) goto fail;
   npy_intp nl = PyArray_NDIM(ldc) == 1 ? PyArray_DIM(ldc, 0) : -1;
   if (nl < 0) {
-    PyErr_SetString(PyExc_ValueError, "load carriers: expected a 1-D array");
+    PyErr_SetString(phm_py_ModelError, "load carriers: expected a 1-D array");
     goto fail;
   }
   PyArrayObject *ldw = arr(o[18], "load frames", nl, NULL, 0, keep), *ldp = arr(o[19], "load points", nl, t3, 1, keep),
                 *ldv = arr(o[20], "load wrenches", nl, t6, 1, keep), *grav;
   if (!ldw || !ldp || !ldv) goto fail;
   if (!PyList_Check(o[21]) || PyList_GET_SIZE(o[21]) != nl) {
-    PyErr_SetString(PyExc_ValueError, "load laws: expected a list with one law per load");
+    PyErr_SetString(phm_py_ModelError, "load laws: expected a list with one law per load");
     goto fail;
   }
   {
@@ -174,7 +174,7 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
     if (!acp) goto fail;
     na = PyArray_NDIM(acp) == 1 ? PyArray_DIM(acp, 0) : -1;
     if (na < 0) {
-      PyErr_SetString(PyExc_ValueError, "actuator pairs: expected a 1-D array");
+      PyErr_SetString(phm_py_ModelError, "actuator pairs: expected a 1-D array");
       goto fail;
     }
     if (!(ack = arr(o[28], "actuator kinds", na, NULL, 0, keep)) || !(acv = arr(o[29], "actuator vectors", na, t6, 1, keep)) ||
@@ -182,7 +182,7 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
         !(acx = arr(o[32], "actuator set points", na, t6, 1, keep)))
       goto fail;
     if (!PyList_Check(o[33]) || PyList_GET_SIZE(o[33]) != na) {
-      PyErr_SetString(PyExc_ValueError, "actuator laws: expected a list with one law per actuator");
+      PyErr_SetString(phm_py_ModelError, "actuator laws: expected a list with one law per actuator");
       goto fail;
     }
   }
@@ -191,7 +191,7 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
     if (!spk) goto fail;
     ns = PyArray_NDIM(spk) == 2 ? PyArray_DIM(spk, 0) : -1;
     if (ns < 0) {
-      PyErr_SetString(PyExc_ValueError, "spring parameters: expected an (n, 3) array");
+      PyErr_SetString(phm_py_ModelError, "spring parameters: expected an (n, 3) array");
       goto fail;
     }
     if (!(spab = arr(o[34], "spring carriers", ns, t2, 1, keep)) || !(sppa = arr(o[35], "spring points a", ns, t3, 1, keep)) ||
@@ -401,6 +401,11 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
     return NULL;
   }
   npy_intp nout = PyArray_DIM(tout, 0);
+  if (nout > INT_MAX) {
+    Py_DECREF(tout);
+    PyErr_Format(phm_py_ModelError, "output times: %ld of them, at most %d", (long)nout, INT_MAX);
+    return NULL;
+  }
   if (po != Py_None) {
     npy_intp tail[3] = {nc, 4, 4};
     if (!(P = phm_py_double_array(po, "initial poses", tail, 3, 0))) goto fail0;

@@ -18,12 +18,36 @@ static PyArrayObject *new_out(PyArrayObject *in, int ntail_in, const npy_intp *t
   npy_intp dims[NPY_MAXDIMS];
   int ns = PyArray_NDIM(in) - ntail_in;
   if (ns + ntail > NPY_MAXDIMS) {
-    PyErr_SetString(PyExc_ValueError, "too many stack dimensions");
+    PyErr_SetString(phm_py_ModelError, "too many stack dimensions");
     return NULL;
   }
   for (int i = 0; i < ns; i++) dims[i] = PyArray_DIM(in, i);
   for (int i = 0; i < ntail; i++) dims[ns + i] = tail[i];
   return (PyArrayObject *)PyArray_SimpleNew(ns + ntail, dims, NPY_DOUBLE);
+}
+
+/* The result o of `what` must be finite: finite input whose magnitude is beyond the function's
+ * range in double precision (exp of a 1e300 rad rotation, the inverse of a pose with 1e300
+ * entries) gives NaN or inf, which is refused here instead of being returned. Releases o and
+ * returns NULL with phmech.ModelError set, or returns o. */
+static PyObject *finite_or_raise(PyArrayObject *o, PyArrayObject *in, const char *what) {
+  const double *y = (const double *)PyArray_DATA(o);
+  npy_intp n = PyArray_SIZE(o);
+  for (npy_intp i = 0; i < n; i++) {
+    if (!isfinite(y[i])) {
+      const double *x = (const double *)PyArray_DATA(in);
+      double big = 0;
+      for (npy_intp j = 0; j < PyArray_SIZE(in); j++) big = fmax(big, fabs(x[j]));
+      char mag[32]; /* PyErr_Format has no floating-point conversions */
+      snprintf(mag, sizeof mag, "%.3g", big);
+      PyErr_Format(phm_py_ModelError,
+                   "%s: the result is not finite although the input is (largest |entry| %s): "
+                   "the input is beyond this function's range in double precision", what, mag);
+      Py_DECREF(o);
+      return NULL;
+    }
+  }
+  return (PyObject *)o;
 }
 
 static npy_intp prod(const npy_intp *t, int n) {
@@ -48,8 +72,9 @@ static PyObject *unary(PyObject *arg, const char *what, const npy_intp *tin, int
   Py_BEGIN_ALLOW_THREADS
   for (npy_intp i = 0; i < n; i++) k(x + i * si, y + i * so);
   Py_END_ALLOW_THREADS
+  PyObject *r = finite_or_raise(o, a, what);
   Py_DECREF(a);
-  return (PyObject *)o;
+  return r;
 }
 
 static const npy_intp T3[] = {3}, T4[] = {4}, T6[] = {6}, T33[] = {3, 3}, T44[] = {4, 4},
@@ -92,7 +117,7 @@ static PyObject *py_quat_to_rot(PyObject *self, PyObject *arg) {
     double m = fmax(fmax(fabs(c[0]), fabs(c[1])), fmax(fabs(c[2]), fabs(c[3])));
     if (!(m > 1e-150)) {
       Py_DECREF(a);
-      PyErr_Format(PyExc_ValueError, "quat_to_rot: q: quaternion %zd has zero norm", (Py_ssize_t)i);
+      PyErr_Format(phm_py_ModelError, "quat_to_rot: q: quaternion %zd has zero norm", (Py_ssize_t)i);
       return NULL;
     }
   }
@@ -117,7 +142,7 @@ static PyObject *py_se3_compose(PyObject *self, PyObject *args) {
       !PyArray_CompareLists(PyArray_DIMS(a), PyArray_DIMS(b), PyArray_NDIM(a))) {
     Py_DECREF(a);
     Py_DECREF(b);
-    PyErr_SetString(PyExc_ValueError,
+    PyErr_SetString(phm_py_ModelError,
                     "se3_compose: A and B must have the same shape (..., 4, 4); "
                     "phmech.se3.compose broadcasts them");
     return NULL;
@@ -130,6 +155,13 @@ static PyObject *py_se3_compose(PyObject *self, PyObject *args) {
     Py_BEGIN_ALLOW_THREADS
     for (npy_intp i = 0; i < n; i++) phm_se3_compose(x + 16 * i, y + 16 * i, z + 16 * i);
     Py_END_ALLOW_THREADS
+    /* the message reports the larger of the two inputs */
+    double ma = 0, mb = 0;
+    for (npy_intp i = 0; i < 16 * n; i++) {
+      ma = fmax(ma, fabs(x[i]));
+      mb = fmax(mb, fabs(y[i]));
+    }
+    o = (PyArrayObject *)finite_or_raise(o, ma >= mb ? a : b, "se3_compose: A B");
   }
   Py_DECREF(a);
   Py_DECREF(b);

@@ -23,7 +23,8 @@ PyObject *phm_py_raise(const phm_error *err);
 
 /* Convert obj to a C-contiguous float64 array whose trailing dimensions equal `tail`
  * (ntail of them; any number of leading "stack" dimensions allowed when stack != 0).
- * Rejects non-numeric input and non-finite values with ValueError naming `what`.
+ * Rejects non-numeric input and non-finite values with phmech.ModelError (a ValueError) naming
+ * `what`.
  * Returns a new reference or NULL with an exception set. */
 PyArrayObject *phm_py_double_array(PyObject *obj, const char *what, const npy_intp *tail, int ntail,
                                    int stack);

@@ -10,6 +10,7 @@ A beam's local x axis is its centre line; its section axes are y and z.
 from __future__ import annotations
 
 import dataclasses
+import os
 import warnings
 from typing import Callable, NamedTuple, Optional, Sequence, Union
 
@@ -17,13 +18,16 @@ import numpy as np
 
 from . import _core, _run, se3, topology
 from .graphs import MechanismGraph, Incidence
-from ._checks import positive, real
+from ._checks import array, integer, positive, real
 from ._core import ModelError, SolverError
 
 #: the adaptive generalized-alpha's default local error tolerance and spectral radius at
 #: infinity (docs/integrators.md: measured on benchmarks/scenes.py)
 DEFAULT_RTOL = 1e-4
 DEFAULT_RHO_INF = 0.9
+#: steps an integrator takes at most between two output times (csrc/phmech.h, phm_sim_options
+#: max_steps: its default)
+MAX_STEPS = 1_000_000
 
 __all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "Fixed", "Revolute", "Prismatic",
            "Helical", "Cylindrical", "Universal", "Spherical", "Planar", "Free", "Effort", "PD",
@@ -198,10 +202,11 @@ class Table(_Law):
     values: Sequence[float]
 
     def _tuple(self):
-        t = np.asarray(self.times, dtype=float).ravel()
-        v = np.asarray(self.values, dtype=float).ravel()
+        t = _numbers("Table times", self.times)
+        v = _numbers("Table values", self.values)
         if t.size < 1 or t.size != v.size:
-            raise ModelError("Table needs as many values as times (at least one)")
+            raise ModelError(f"Table needs as many values as times, at least one (got {t.size} "
+                             f"times and {v.size} values)")
         if not (np.all(np.isfinite(t)) and np.all(np.isfinite(v))):
             raise ModelError("Table entries must be finite")
         if np.any(np.diff(t) <= 0):
@@ -245,10 +250,7 @@ def _axis_rotation(axis, what: str) -> np.ndarray:
         if axis not in table:
             raise ModelError(f"{what}: axis must be 'x', 'y', 'z' or a 3-vector (got {axis!r})")
         return np.array(table[axis], dtype=float)
-    a = np.asarray(axis, dtype=float)
-    if a.shape != (3,) or not np.all(np.isfinite(a)) or np.linalg.norm(a) == 0:
-        raise ModelError(f"{what}: axis must be 'x', 'y', 'z' or a finite nonzero 3-vector")
-    z = a / np.linalg.norm(a)
+    z = _unit(axis, what)
     h = np.array([1.0, 0, 0]) if abs(z[0]) < 0.9 else np.array([0, 1.0, 0])
     x = h - z * (h @ z)
     x /= np.linalg.norm(x)
@@ -261,9 +263,12 @@ def _unit(v, what):
         if v not in d:
             raise ModelError(f"{what}: axis must be 'x', 'y', 'z' or a 3-vector (got {v!r})")
         return np.array(d[v])
-    a = np.asarray(v, dtype=float)
-    if a.shape != (3,) or not np.all(np.isfinite(a)) or np.linalg.norm(a) == 0:
-        raise ModelError(f"{what}: axis must be 'x', 'y', 'z' or a finite nonzero 3-vector")
+    expected = "'x', 'y', 'z' or a finite nonzero 3-vector"
+    a = array(f"{what}: axis", v, (3,), expected)
+    n = np.max(np.abs(a))
+    if n == 0:
+        raise ModelError(f"{what}: axis must be {expected} (got {v!r})")
+    a = a / n   # first to a unit max-norm: |a| of 1e300 entries would overflow
     return a / np.linalg.norm(a)
 
 
@@ -361,7 +366,13 @@ class Helical(_Pair):
     def _coords(self, h):
         a, p = _angle_z(h), self._pitch()
         if p != 0:   # the turn whose translation pitch * angle is nearest to h's
-            a += 2 * np.pi * np.round((h[2, 3] / p - a) / (2 * np.pi))
+            with np.errstate(over="ignore"):
+                turn = a + 2 * np.pi * np.round((h[2, 3] / p - a) / (2 * np.pi))
+            # ... unless that angle is beyond 1e15 rad, where a double no longer tells one turn
+            # from the next (a pitch of 1e-244 m/rad picked 1e226 turns out of round-off in the
+            # translation); the pose check then reports what the pair cannot reach
+            if abs(turn) <= 1e15:
+                a = turn
         return np.array([a])
 
 
@@ -464,14 +475,36 @@ class Free(_Pair):
 _ACT_EFFORT, _ACT_PD, _ACT_SPRING = range(3)
 
 
+def _numbers(what, v) -> np.ndarray:
+    """A number or a (nested) sequence of numbers, flattened; ModelError for anything else."""
+    try:
+        raw = np.asarray(v)
+    except (TypeError, ValueError):
+        raw = np.asarray(None)
+    if v is None or isinstance(v, (str, bytes)) or raw.dtype.kind not in "biuf":
+        raise ModelError(f"{what}: expected real numbers, got {v!r}")
+    return raw.astype(float).ravel()
+
+
+def _choice(what, value, options) -> str:
+    """``value`` if it is one of the strings ``options``, else ModelError naming them."""
+    if not isinstance(value, str) or value not in options:
+        raise ModelError(f"{what} must be {' or '.join(map(repr, options))} (got {value!r})")
+    return value
+
+
 def _kvec(v, k, what, default=1.0):
     if v is None:
         return np.full(k, float(default))
-    a = np.asarray(v, dtype=float).ravel()
+    expected = f"a number or {k} finite number{'s' if k != 1 else ''}"
+    try:
+        a = _numbers(what, v)
+    except ModelError:
+        raise ModelError(f"{what}: expected {expected}, got {v!r}") from None
     if a.size == 1:
         a = np.full(k, float(a[0]))
     if a.shape != (k,) or not np.all(np.isfinite(a)):
-        raise ModelError(f"{what}: expected a number or {k} finite numbers")
+        raise ModelError(f"{what}: expected {expected}, got {v!r}")
     return a
 
 
@@ -559,14 +592,17 @@ def _frame_of(x, mech: "Mechanism", what: str) -> Frame:
     the argument in error messages."""
     if isinstance(x, Frame):
         c = x.carrier
+        nm = repr(x.name) if x.name else "(unnamed)"
         if isinstance(c, bool) or not isinstance(c, (int, np.integer)) or c < -1 or c >= len(mech._car):
-            nm = repr(x.name) if x.name else "(unnamed)"
             raise ModelError(f"{what}: the frame {nm} is on carrier {c!r}, which this mechanism does not "
                              f"have (carriers -1 = the ground, 0..{len(mech._car) - 1}); take frames from "
                              f"this mechanism's bodies and links (body.frame, link.start, .end, "
                              f".node(k)) or ph.Frame(carrier, T) with such a carrier index")
-        return x
+        return Frame(int(c), _pose(x.T, f"{what}: the offset T of frame {nm}"), x.name)
     if isinstance(x, Body):
+        if mech._bodies.get(x.name) != x:
+            raise ModelError(f"{what}: body {x.name!r} (carrier {x.carrier!r}) is not a body of this "
+                             f"mechanism (bodies: {', '.join(map(repr, mech._bodies)) or 'none'})")
         return x.frame
     if isinstance(x, FlexibleLink):
         raise ModelError(f"{what}: give a frame of link {x.name!r} (.start, .end or .node(k))")
@@ -584,17 +620,41 @@ def _frame_of(x, mech: "Mechanism", what: str) -> Frame:
 
 
 def _pose(x, what):
-    H = np.asarray(x, dtype=float)
-    if H.shape != (4, 4) or not np.all(np.isfinite(H)):
-        raise ModelError(f"{what}: expected a finite 4x4 pose")
+    """A rigid pose [[R, p], [0, 0, 0, 1]] (R orthonormal with det +1 within 1e-6, the core's
+    test), or ModelError naming ``what``."""
+    H = array(what, x, (4, 4), "a finite 4x4 pose")
+    R = H[:3, :3]
+    big = np.max(np.abs(R)) > 2   # not a rotation (and R^T R could overflow)
+    err = np.inf if big else float(np.max(np.abs(R.T @ R - np.eye(3))))
+    det = np.inf if big else float(np.linalg.det(R))
+    if not (err <= 1e-6 and det > 0):
+        why = f"entries up to {np.max(np.abs(R)):.3g}" if big else f"|R^T R - I| = {err:.2g}, det R = {det:.3g}"
+        raise ModelError(f"{what}: expected a rigid 4x4 pose [[R, p], [0, 0, 0, 1]], but its R is "
+                         f"not a rotation ({why})")
+    if np.max(np.abs(H[3] - [0, 0, 0, 1])) > 1e-12:
+        raise ModelError(f"{what}: expected a rigid 4x4 pose, but its last row is {H[3].tolist()}, "
+                         f"not [0, 0, 0, 1]")
     return H
 
 
+def _positive_definite(A, cholesky=False) -> bool:
+    """A (finite) is symmetric positive definite: its eigenvalues, scaled by its largest entry,
+    are positive; with ``cholesky`` the test the core applies (a Cholesky factorization, no
+    tolerance)."""
+    scale = np.max(np.abs(A))
+    if not (np.isfinite(scale) and scale > 0):
+        return False
+    B = 0.5 * (A / scale + A.T / scale)   # scaled first: A + A^T may overflow
+    if cholesky:
+        try:
+            np.linalg.cholesky(A)
+        except np.linalg.LinAlgError:
+            return False
+    return bool(np.all(np.linalg.eigvalsh(B) > 0))
+
+
 def _mat6(x, what, spd=True):
-    A = np.asarray(x, dtype=float)
-    if A.shape != (6, 6) or not np.all(np.isfinite(A)):
-        raise ModelError(f"{what}: expected a finite 6x6 matrix")
-    return A
+    return array(what, x, (6, 6), "a finite 6x6 matrix")
 
 
 def _carrier_name(c: int, bodies: dict, links: dict) -> str:
@@ -611,6 +671,15 @@ def _carrier_name(c: int, bodies: dict, links: dict) -> str:
 
 
 # ------------------------------------------------------------------ results
+def _result_link(links: dict, link) -> "FlexibleLink":
+    """A link of the result's mechanism, given by itself or its name."""
+    lk = links.get(link) if isinstance(link, str) else link
+    if not isinstance(lk, FlexibleLink) or links.get(lk.name) != lk:
+        raise ModelError(f"expected a flexible link of this mechanism or its name (links: "
+                         f"{', '.join(map(repr, links)) or 'none'}), got {link!r}")
+    return lk
+
+
 class Momentum(NamedTuple):
     """World-frame momentum along a trajectory (SimulationResult.momentum): ``linear`` (nt, 3)
     [kg m/s] and ``angular`` (nt, 3) [kg m^2/s] about the point asked for."""
@@ -708,8 +777,9 @@ class SimulationResult:
         rates, ``effort`` (nt, k) sum of its actuators' efforts u, ``lambda`` (nt, m) constraint
         multipliers (W^C coordinates), ``wrench`` (nt, 6) constraint wrench W^C lambda on b in
         frame F_b (tau [N m], f [N])."""
-        if name not in self._pairs:
-            raise KeyError(f"unknown pair {name!r}")
+        if not isinstance(name, str) or name not in self._pairs:
+            raise ModelError(f"joint: unknown pair {name!r} (pairs: "
+                             f"{', '.join(map(repr, self._pairs)) or 'none'})")
         row, m, j, k = self._pairs[name]["layout"]
         ip = self._pairs[name]["index"]
         return dict(x=self.joints[:, j:j + k], xdot=self.joint_rates[:, j:j + k],
@@ -718,7 +788,7 @@ class SimulationResult:
 
     def positions(self, link: Union[str, FlexibleLink]) -> np.ndarray:
         """Node positions of a link [m], shape (nt, nnodes, 3)."""
-        lk = self._links[link] if isinstance(link, str) else link
+        lk = _result_link(self._links, link)
         return self.poses[:, self._columns(lk.nodes)][..., :3, 3]
 
     def tip(self, link: Union[str, FlexibleLink]) -> np.ndarray:
@@ -858,7 +928,8 @@ class StaticResult:
     _links: dict
 
     def positions(self, link: Union[str, FlexibleLink]) -> np.ndarray:
-        lk = self._links[link] if isinstance(link, str) else link
+        """Node positions of a link [m], shape (nodes, 3)."""
+        lk = _result_link(self._links, link)
         return self.poses[lk.nodes, :3, 3]
 
 
@@ -882,9 +953,7 @@ class Mechanism:
 
     def __init__(self, gravity: Sequence[float] = (0.0, 0.0, 0.0), strict: bool = False,
                  band: Optional[float] = None, frequency_tolerance: float = 1e-3):
-        g = np.asarray(gravity, dtype=float)
-        if g.shape != (3,) or not np.all(np.isfinite(g)):
-            raise ModelError("gravity: expected 3 finite numbers [m/s^2]")
+        g = array("gravity", gravity, (3,), "3 finite numbers [m/s^2]")
         if not isinstance(strict, (bool, np.bool_)):
             raise ModelError(f"strict must be True or False (got {strict!r})")
         if band is not None and not (real("band", band) > 0):
@@ -894,7 +963,7 @@ class Mechanism:
             raise ModelError(f"frequency_tolerance must be in (0, 1) (got {frequency_tolerance!r})")
         self.gravity = g
         self.strict = bool(strict)
-        self.band = None if band is None else float(band)
+        self.band = None if band is None else real("band", band)
         self.frequency_tolerance = tol
         self.ground = Frame(-1, np.eye(4), "ground")
         self._car = []      # dicts: M, mass, com, H0, t0
@@ -919,11 +988,15 @@ class Mechanism:
         self.initial_adjustments: list = []
 
     # -------------------------------------------------------------- building
-    def _new_name(self, name):
+    def _check_name(self, name):
+        """ModelError unless ``name`` is a new non-empty string."""
         if not isinstance(name, str) or not name:
-            raise ModelError("name must be a non-empty string")
+            raise ModelError(f"name must be a non-empty string (got {name!r})")
         if name in self._names:
             raise ModelError(f"name {name!r} is already used")
+
+    def _new_name(self, name):
+        self._check_name(name)
         self._names.add(name)
 
     def add_flexible_link(self, name: str, length: float, properties, elements: Optional[int] = None,
@@ -946,12 +1019,12 @@ class Mechanism:
         ``elements``: the number of se3 elements; None: chosen from ``band`` [Hz] and
         ``frequency_tolerance`` (default: the Mechanism's; see Mechanism and phmech.mesh), or 10
         without a band."""
-        if discretization != "se3":
+        if not isinstance(discretization, str) or discretization != "se3":
             raise ModelError(f"unknown discretization {discretization!r} (available: 'se3')")
         L = real("length", length)
         if L <= 0:
             raise ModelError(f"length must be > 0 (got {L} m)")
-        if elements is not None and (isinstance(elements, bool) or not isinstance(elements, (int, np.integer))
+        if elements is not None and (isinstance(elements, (bool, np.bool_)) or not isinstance(elements, (int, np.integer))
                                      or elements < 1):
             raise ModelError(f"elements must be an integer >= 1 or None (got {elements!r})")
         if elements is not None and band is not None:
@@ -960,16 +1033,14 @@ class Mechanism:
         I = _mat6(getattr(properties, "inertia", None), "properties.inertia")
         Dp = getattr(properties, "damping", None)
         Dm = np.zeros((6, 6)) if Dp is None else _mat6(Dp, "properties.damping")
-        if np.any(np.linalg.eigvalsh(0.5 * (K + K.T)) <= 0):
+        if not _positive_definite(K):
             raise ModelError("properties.stiffness must be symmetric positive definite")
-        if np.any(np.linalg.eigvalsh(0.5 * (I + I.T)) <= 0):
+        if not _positive_definite(I):
             raise ModelError("properties.inertia (per unit length) must be symmetric positive definite")
         H = np.eye(4) if pose is None else _pose(pose, "pose")
-        kap = np.zeros(3) if curvature is None else np.asarray(curvature, dtype=float)
-        if kap.shape != (3,) or not np.all(np.isfinite(kap)):
-            raise ModelError("curvature: expected 3 finite numbers [1/m] or None")
-        if name in self._names:
-            self._new_name(name)   # raises: the name is taken
+        kap = np.zeros(3) if curvature is None else \
+            array("curvature", curvature, (3,), "3 finite numbers [1/m] or None")
+        self._check_name(name)
         choice = None
         if elements is None:
             band = self.band if band is None else band
@@ -977,17 +1048,31 @@ class Mechanism:
             if band is not None:
                 from .mesh import choose_elements
                 choice = choose_elements(L, properties, band, tol, curvature=kap)
-        self._new_name(name)
         N = int(elements) if elements is not None else choice.elements if choice else 10
         h = L / N
         eps = np.concatenate([kap, [1.0, 0.0, 0.0]])
+        with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
+            scales = (I * h, K / h, Dm / h, L * eps)   # node inertias, element stiffness, shape
+        if not (h > 0 and all(np.all(np.isfinite(x)) for x in scales)):
+            raise ModelError(f"link {name!r}: length {L:g} m in {N} elements with these properties "
+                             f"gives node inertias or element stiffnesses that are not finite in "
+                             f"double precision")
+        try:   # the unstressed shape: node k at H exp(k h eps_hat)
+            with np.errstate(over="raise", invalid="raise"):
+                H0 = [H @ se3.exp(k * h * eps) for k in range(N + 1)]
+        except (ValueError, FloatingPointError):   # se3 refuses a non-finite result (ModelError)
+            H0 = None
+        if H0 is None or not np.all(np.isfinite(H0)):
+            raise ModelError(f"link {name!r}: curvature {kap.tolist()} 1/m over length {L:g} m gives "
+                             f"node poses that are not finite in double precision")
+        self._new_name(name)
         first = len(self._car)
         self._el_first[name] = len(self._el)
         for k in range(N + 1):
             share = h if 0 < k < N else h / 2
             Mk = I * share
-            self._car.append(dict(M=Mk, mass=float(Mk[3, 3]), com=np.zeros(3),
-                                  H0=H @ se3.exp(k * h * eps), t0=np.zeros(6)))
+            self._car.append(dict(M=Mk, mass=float(Mk[3, 3]), com=np.zeros(3), H0=H0[k],
+                                  t0=np.zeros(6)))
         for k in range(N):
             self._el.append(dict(a=first + k, b=first + k + 1, h=h, K=K, D=Dm, eps=eps))
         if pose is not None:
@@ -1007,21 +1092,26 @@ class Mechanism:
         m = real("mass", mass)
         if m <= 0:
             raise ModelError(f"mass must be > 0 (got {m} kg)")
-        J = np.asarray(inertia, dtype=float)
-        if J.shape != (3, 3) or not np.all(np.isfinite(J)) or np.any(np.linalg.eigvalsh(0.5 * (J + J.T)) <= 0):
-            raise ModelError("inertia: expected a symmetric positive definite 3x3 matrix [kg m^2]")
-        c = np.asarray(com, dtype=float)
-        tw = np.asarray(np.zeros(6) if twist is None else twist, dtype=float)
-        if c.shape != (3,) or tw.shape != (6,) or not (np.all(np.isfinite(c)) and np.all(np.isfinite(tw))):
-            raise ModelError("com: 3 numbers, twist: 6 numbers, all finite")
-        self._new_name(name)
+        spd = "a symmetric positive definite 3x3 matrix [kg m^2]"
+        J = array("inertia", inertia, (3, 3), spd)
+        if not _positive_definite(J):
+            raise ModelError(f"inertia: expected {spd}")
+        c = array("com", com, (3,), "3 finite numbers [m]")
+        tw = np.zeros(6) if twist is None else array("twist", twist, (6,), "6 finite numbers (omega [rad/s], v [m/s]) or None")
+        H0 = np.eye(4) if pose is None else _pose(pose, "pose")
         C = np.array([[0, -c[2], c[1]], [c[2], 0, -c[0]], [-c[1], c[0], 0]])
         M = np.zeros((6, 6))
-        M[:3, :3] = J - m * C @ C
-        M[:3, 3:] = m * C
-        M[3:, :3] = -m * C
-        M[3:, 3:] = m * np.eye(3)
-        self._car.append(dict(M=M, mass=m, com=c, H0=np.eye(4) if pose is None else _pose(pose, "pose"), t0=tw))
+        with np.errstate(over="ignore", invalid="ignore"):
+            M[:3, :3] = J - m * C @ C
+            M[:3, 3:] = m * C
+            M[3:, :3] = -m * C
+            M[3:, 3:] = m * np.eye(3)
+        if not (np.all(np.isfinite(M)) and _positive_definite(M, cholesky=True)):
+            raise ModelError(f"body {name!r}: mass {m:g} kg, inertia (largest {np.max(np.abs(J)):.3g} "
+                             f"kg m^2) and com {c.tolist()} m give a spatial inertia that is not "
+                             f"finite and positive definite in double precision")
+        self._new_name(name)
+        self._car.append(dict(M=M, mass=m, com=c, H0=H0, t0=tw))
         b = Body(name, len(self._car) - 1)
         if pose is not None:
             self._given[b.carrier] = np.array(self._car[b.carrier]["H0"])
@@ -1072,9 +1162,7 @@ class Mechanism:
             if not isinstance(pair, Fixed):
                 raise ModelError(f"pair {name!r}: only Fixed pairs take a prescribed Motion; drive a "
                                  f"{type(pair).__name__} pair with a PD actuator")
-            axis = np.asarray(driven.axis, dtype=float)
-            if axis.shape != (6,) or not np.all(np.isfinite(axis)):
-                raise ModelError(f"pair {name!r}: motion axis must be 6 finite numbers")
+            axis = array(f"pair {name!r}: motion axis", driven.axis, (6,), "6 finite numbers (omega, v)")
             law = _law_tuple(driven.law, f"pair {name!r}: Motion law")
         k = pair.k
         xv = np.zeros(6)
@@ -1085,7 +1173,7 @@ class Mechanism:
         xd = None if xdot0 is None else _kvec(xdot0, k, f"pair {name!r}: xdot0")
         if xdot0 is not None and k == 0:
             raise ModelError(f"pair {name!r}: a fixed pair has no joint rates (xdot0)")
-        self._new_name(name)
+        self._check_name(name)
         xdv = np.zeros(6)
         if xd is not None:
             xdv[:k] = xd
@@ -1094,11 +1182,17 @@ class Mechanism:
                      driven=driven is not None, axis=axis, law=law, pitch=pitch, k=k,
                      x0=xv, has_x0=x0 is not None, pair=pair, xdot0=xdv,
                      has_xdot0=xdot0 is not None)
-        self._pairs.append(entry)
+        # everything that can fail before anything is changed: a failed call adds nothing
+        act = None if actuator is None else self._actuator_entry(name, entry, len(self._pairs), actuator)
+        place = None
         if (x0 is not None or xdot0 is not None) and fb.carrier in self._body_carriers():
-            self._place(entry, xv[:k], np.zeros(k) if xd is None else xd)
-        if actuator is not None:
-            self._add_actuator(name, entry, actuator)
+            place = self._placed(entry, xv[:k], np.zeros(k) if xd is None else xd)
+        self._new_name(name)
+        self._pairs.append(entry)
+        if place is not None:
+            self._car[entry["b"]]["H0"], self._car[entry["b"]]["t0"] = place
+        if act is not None:
+            self._acts.append(act)
 
     def _carrier_name(self, c: int) -> str:
         return _carrier_name(c, self._bodies, self._links)
@@ -1110,25 +1204,34 @@ class Mechanism:
     def _body_carriers(self):
         return {b.carrier for b in self._bodies.values()}
 
-    def _place(self, e, x, xd):
-        """Put carrier b at H_a T_a h(x) T_b^-1 with the twist of a plus the joint rate."""
+    def _placed(self, e, x, xd):
+        """Pose H_a T_a h(x) T_b^-1 of carrier b and its twist (that of a plus the joint rate);
+        ModelError when x0 or xdot0 are beyond what double precision can place."""
         pair = e["pair"]
         Ha = np.eye(4) if e["a"] < 0 else self._car[e["a"]]["H0"]
         ta = np.zeros(6) if e["a"] < 0 else self._car[e["a"]]["t0"]
-        h = pair._fk(x)
-        Hb = Ha @ e["Ta"] @ h @ se3.inverse(e["Tb"])
-        # relative twist t_rel = psi(x) xdot, psi by central differences of h(x)
-        trel = np.zeros(6)
-        eps = 1e-6
-        hi = se3.inverse(h)
-        for i in range(len(x)):
-            d = np.zeros(len(x))
-            d[i] = eps
-            trel += xd[i] * (se3.log(hi @ pair._fk(x + d)) - se3.log(hi @ pair._fk(x - d))) / (2 * eps)
-        tA = se3.Ad(se3.inverse(e["Ta"])) @ ta               # body twist of F_a
-        tB = se3.Ad(hi) @ tA + trel                          # body twist of F_b
-        self._car[e["b"]]["H0"] = Hb
-        self._car[e["b"]]["t0"] = se3.Ad(e["Tb"]) @ tB
+        try:
+            with np.errstate(over="raise", invalid="raise"):
+                h = pair._fk(x)
+                Hb = Ha @ e["Ta"] @ h @ se3.inverse(e["Tb"])
+                # relative twist t_rel = psi(x) xdot, psi by central differences of h(x)
+                trel = np.zeros(6)
+                eps = 1e-6
+                hi = se3.inverse(h)
+                for i in range(len(x)):
+                    d = np.zeros(len(x))
+                    d[i] = eps
+                    trel += xd[i] * (se3.log(hi @ pair._fk(x + d)) - se3.log(hi @ pair._fk(x - d))) / (2 * eps)
+                tA = se3.Ad(se3.inverse(e["Ta"])) @ ta               # body twist of F_a
+                tB = se3.Ad(hi) @ tA + trel                          # body twist of F_b
+                tb = se3.Ad(e["Tb"]) @ tB
+        except (ValueError, FloatingPointError):   # se3 refuses non-finite input (ModelError)
+            tb = Hb = np.full(6, np.nan)
+        if not (np.all(np.isfinite(Hb)) and np.all(np.isfinite(tb))):
+            raise ModelError(f"pair {e['name']!r}: x0 {x.tolist()} and xdot0 {xd.tolist()} give a "
+                             f"non-finite initial pose or twist of {self._carrier_name(e['b'])} "
+                             f"in double precision")
+        return Hb, tb
 
     def _pair_entry(self, pair):
         for e in self._pairs:
@@ -1138,13 +1241,16 @@ class Mechanism:
 
     def add_actuator(self, name: str, pair: str, actuator) -> None:
         """An actuator (Effort, PD or Spring) named ``name`` on the pair named ``pair``."""
-        e = self._pair_entry(pair) if isinstance(pair, str) else None
-        if e is None:
-            raise ModelError(f"actuator {name!r}: pair must be given by its name")
+        if not isinstance(pair, str):
+            raise ModelError(f"actuator {name!r}: pair must be given by its name (got {pair!r})")
+        e = self._pair_entry(pair)
+        self._check_name(name)
+        act = self._actuator_entry(name, e, self._pairs.index(e), actuator)
         self._new_name(name)
-        self._add_actuator(name, e, actuator)
+        self._acts.append(act)
 
-    def _add_actuator(self, name, e, act):
+    def _actuator_entry(self, name, e, index, act):
+        """The actuator's row (pair entry e, at position index): validated, not yet added."""
         k = e["k"]
         what = f"actuator {name!r}"
         if k == 0:
@@ -1166,7 +1272,8 @@ class Mechanism:
                 law = _law_tuple(act.target, f"{what}: PD target")
                 vec[:k] = d
             else:
-                xs[:k] += _kvec(act.target, k, f"{what}: target") * (d if act.direction is not None else 1.0)
+                with np.errstate(over="ignore", invalid="ignore"):   # checked below
+                    xs[:k] += _kvec(act.target, k, f"{what}: target") * (d if act.direction is not None else 1.0)
                 law = Constant(0.0)._tuple()
         elif isinstance(act, Spring):
             kind = _ACT_SPRING
@@ -1177,8 +1284,10 @@ class Mechanism:
             raise ModelError(f"{what}: expected Effort, PD or Spring (got {type(act).__name__})")
         if kind != _ACT_EFFORT and (np.any(kp[:k] < 0) or np.any(kd[:k] < 0)):
             raise ModelError(f"{what}: gains must be >= 0")
-        self._acts.append(dict(name=name, pair=self._pairs.index(e), kind=kind, vec=vec, kp=kp,
-                               kd=kd, xset=xs, law=law))
+        if not np.all(np.isfinite(xs)):
+            raise ModelError(f"{what}: the set point (offset + target times direction) is not "
+                             f"finite in double precision: {xs[:k].tolist()}")
+        return dict(name=name, pair=index, kind=kind, vec=vec, kp=kp, kd=kd, xset=xs, law=law)
 
     def add_spring_damper(self, name: str, a, b, k: float, c: float = 0.0,
                           rest_length: Optional[float] = None, point_a=(0.0, 0.0, 0.0),
@@ -1193,10 +1302,8 @@ class Mechanism:
         kk, cc = real(f"spring {name!r}: k", k), real(f"spring {name!r}: c", c)
         if kk < 0 or cc < 0:
             raise ModelError(f"spring {name!r}: k and c must be >= 0")
-        pa = np.asarray(point_a, dtype=float)
-        pb = np.asarray(point_b, dtype=float)
-        if pa.shape != (3,) or pb.shape != (3,) or not (np.all(np.isfinite(pa)) and np.all(np.isfinite(pb))):
-            raise ModelError(f"spring {name!r}: points must be 3 finite numbers")
+        pa = array(f"spring {name!r}: point_a", point_a, (3,), "3 finite numbers [m]")
+        pb = array(f"spring {name!r}: point_b", point_b, (3,), "3 finite numbers [m]")
         pa = fa.T[:3, :3] @ pa + fa.T[:3, 3]
         pb = fb.T[:3, :3] @ pb + fb.T[:3, 3]
         d0 = None if rest_length is None else real(f"spring {name!r}: rest_length", rest_length)
@@ -1211,50 +1318,63 @@ class Mechanism:
         coordinates [m]), in "world" or "body" (target frame) axes; the opposite wrench acts on
         ``reaction`` (a frame or body; None = the ground) through the same point. Its injected
         power is a port of the ledger."""
-        self.add_wrench(name, target, wrench, law=law, frame=frame, point=point)
+        load = self._wrench_entry(name, target, wrench, law, frame, point)
         if reaction is not None:
             fr = _frame_of(reaction, self, f"interaction {name!r}, argument reaction")
-            if fr.carrier == self._loads[-1]["carrier"]:
-                self._loads.pop()
-                self._names.discard(name)
+            if fr.carrier == load["carrier"]:
                 raise ModelError(f"interaction {name!r}: target and reaction are on the same carrier")
-            self._loads[-1]["reaction"] = fr.carrier
-        self._loads[-1]["interaction"] = True
+            load["reaction"] = fr.carrier
+        load["interaction"] = True
+        self._new_name(name)
+        self._loads.append(load)
 
     def add_wrench(self, name: str, target, wrench, law: _Law = Constant(1.0),
                    frame: str = "world", point=(0.0, 0.0, 0.0)) -> None:
         """An applied wrench law(t) * (tau [N m], f [N]) on ``target`` (a Frame or Body), in
         ``frame`` "world" or "body" axes, applied at ``point`` (body coordinates [m])."""
-        f = _frame_of(target, self, f"wrench {name!r}, argument target")
+        load = self._wrench_entry(name, target, wrench, law, frame, point)
+        self._new_name(name)
+        self._loads.append(load)
+
+    def _wrench_entry(self, name, target, wrench, law, frame, point, what=None) -> dict:
+        """The load row of add_wrench, validated, not yet added."""
+        what = what or f"wrench {name!r}"
+        self._check_name(name)
+        f = _frame_of(target, self, f"{what}, argument target")
         if f.carrier < 0:
-            raise ModelError(f"wrench {name!r}: cannot load the ground")
-        if frame not in ("world", "body"):
-            raise ModelError(f"wrench {name!r}: frame must be 'world' or 'body' (got {frame!r})")
-        w = np.asarray(wrench, dtype=float).ravel()
-        p = np.asarray(point, dtype=float)
-        if w.shape != (6,) or p.shape != (3,) or not (np.all(np.isfinite(w)) and np.all(np.isfinite(p))):
-            raise ModelError(f"wrench {name!r}: wrench must be 6 finite numbers (tau, f), point 3")
-        law = _law_tuple(law, f"wrench {name!r}: law")
+            raise ModelError(f"{what}: cannot load the ground")
+        _choice(f"{what}: frame", frame, ("world", "body"))
+        w = array(f"{what}: wrench", wrench, (6,), "6 finite numbers (tau [N m], f [N])")
+        p = array(f"{what}: point", point, (3,), "3 finite numbers [m]")
+        law = _law_tuple(law, f"{what}: law")
         # the offset of a frame on its carrier moves the point of application
         pt = f.T[:3, :3] @ p + f.T[:3, 3]
         if frame == "body":
             R = f.T[:3, :3]
             w = np.concatenate([R @ w[:3], R @ w[3:]])
-        self._new_name(name)
-        self._loads.append(dict(name=name, carrier=f.carrier, world=frame == "world", point=pt,
-                                w=w, law=law, reaction=-1))
+        return dict(name=name, carrier=f.carrier, world=frame == "world", point=pt, w=w, law=law,
+                    reaction=-1)
 
     def add_distributed_load(self, name: str, link: FlexibleLink, force_per_length,
                              law: _Law = Constant(1.0), frame: str = "world") -> None:
         """Distributed force [N/m] on a link, lumped on its nodes (h/2 at the ends, h inside)."""
-        q = np.asarray(force_per_length, dtype=float)
-        if q.shape != (3,):
-            raise ModelError("force_per_length: expected 3 numbers [N/m]")
+        self._check_name(name)
+        if not isinstance(link, FlexibleLink) or self._links.get(link.name) != link:
+            raise ModelError(f"distributed load {name!r}: link must be a flexible link of this "
+                             f"mechanism (links: {', '.join(map(repr, self._links)) or 'none'}), "
+                             f"got {link!r}")
+        q = array(f"distributed load {name!r}: force_per_length", force_per_length, (3,),
+                  "3 finite numbers [N/m]")
         h = link.length / link.elements
+        loads = []
         for k, c in enumerate(link.nodes):
             share = h if 0 < k < link.elements else h / 2
-            self.add_wrench(f"{name}[{k}]", Frame(c, np.eye(4)), np.concatenate([np.zeros(3), q * share]),
-                            law=law, frame=frame)
+            loads.append(self._wrench_entry(f"{name}[{k}]", Frame(c, np.eye(4)),
+                                            np.concatenate([np.zeros(3), q * share]), law, frame,
+                                            (0.0, 0.0, 0.0), f"distributed load {name!r}"))
+        for ld in loads:   # all validated: add them all
+            self._new_name(ld["name"])
+            self._loads.append(ld)
 
     # -------------------------------------------------------------- core model
     # -------------------------------------------------------------- graphs, initial configuration
@@ -1301,7 +1421,18 @@ class Mechanism:
     def _initial(self):
         """Tree placement, loop closure and redundancy (see phmech.topology): returns poses,
         twists, the pairs' x0 rows and drop masks; sets ``redundant_constraints`` and
-        ``initial_adjustments`` (warns or, if ``strict``, raises on moves beyond tolerance)."""
+        ``initial_adjustments`` (warns or, if ``strict``, raises on moves beyond tolerance).
+        Overflow in these steps (given lengths, positions, x0 or rates beyond what double
+        precision can square) is a ModelError, never a NaN passed on."""
+        try:
+            with np.errstate(over="raise", invalid="raise"):
+                return self._initial_steps()
+        except FloatingPointError as e:
+            raise ModelError(f"initial configuration: {e} while placing the carriers and closing "
+                             f"the loops: the model's lengths, positions, x0 or xdot0 are beyond "
+                             f"what double precision can handle") from None
+
+    def _initial_steps(self):
         H, T, tree = topology.place_tree(self)
         x0 = np.array([p["x0"] for p in self._pairs]).reshape(-1, 6)
         adjustments = []
@@ -1403,8 +1534,13 @@ class Mechanism:
 
         def world(c_, p_):
             return p_ if c_ < 0 else H[c_][:3, :3] @ p_ + H[c_][:3, 3]
-        kcd = [(q["kcd"][0], q["kcd"][1], np.linalg.norm(world(q["b"], q["pb"]) - world(q["a"], q["pa"]))
-                if q["kcd"][2] is None else q["kcd"][2]) for q in sp]
+        with np.errstate(over="ignore", invalid="ignore"):   # checked below
+            kcd = [(q["kcd"][0], q["kcd"][1], np.linalg.norm(world(q["b"], q["pb"]) - world(q["a"], q["pa"]))
+                    if q["kcd"][2] is None else q["kcd"][2]) for q in sp]
+        for q, (_, _, d0) in zip(sp, kcd):
+            if not np.isfinite(d0):
+                raise ModelError(f"spring {q['name']!r}: the initial distance between its points "
+                                 f"(its default rest length) is not finite in double precision")
         return _core.model_new(
             M=np.array([c["M"] for c in car]), mass=np.array([c["mass"] for c in car]),
             com=np.array([c["com"] for c in car]), H0=np.asarray(H),
@@ -1479,6 +1615,12 @@ class Mechanism:
         ``phmech.CostWarning`` is issued when the steps are far smaller than the band needs and
         the run is on course to take long (it says why and what to do).
 
+        Limits: both integrators take at most 10^6 steps between two output times (a run whose
+        ``max_step``, ``step`` or ``band`` already implies more raises ModelError at once, any
+        other SolverError), and the outputs may take at most half the machine's memory. No
+        result holds a NaN or inf: a non-finite value (the model's numbers overflowing double
+        precision) raises SolverError with the finite part of the trajectory.
+
         ``result.stats`` reports what the run cost and how good it is: steps, evaluations, wall
         time, ``band`` [Hz], ``error_estimate`` (adaptive generalized-alpha: the sum of the local
         error estimates of the configuration, a bound without error propagation), ``floor_steps``
@@ -1514,12 +1656,12 @@ class Mechanism:
         if dt <= 0:
             raise ModelError(f"dt_out must be > 0 (got {dt})")
         solvers = {"dense": 0, "klu": 1}
-        if linear_solver == "auto":
+        if isinstance(linear_solver, str) and linear_solver == "auto":
             linear_solver = "klu" if len(self._car) >= 6 else "dense"
-        if linear_solver not in solvers:
+        if not isinstance(linear_solver, str) or linear_solver not in solvers:
             raise ModelError(f"unknown linear_solver {linear_solver!r} (available: 'auto', 'dense', 'klu')")
         integrators = {"ida": 0, "generalized-alpha": 1}
-        if integrator not in integrators:
+        if not isinstance(integrator, str) or integrator not in integrators:
             raise ModelError(f"unknown integrator {integrator!r} (available: {', '.join(map(repr, integrators))})")
         adaptive = integrator == "generalized-alpha" and step is None
         band = 0.5 / dt if band is None else positive("band", band)
@@ -1529,40 +1671,60 @@ class Mechanism:
             rho_inf = DEFAULT_RHO_INF if rho_inf is None else real("rho_inf", rho_inf)
             if not 0.0 <= rho_inf <= 1.0:
                 raise ModelError(f"rho_inf must be in [0, 1] (got {rho_inf})")
-            if error_test != "all" or max_order is not None:
+            if not (isinstance(error_test, str) and error_test == "all") or max_order is not None:
                 raise ModelError("error_test and max_order apply to integrator='ida' only")
-            if max_step and not adaptive:
+            if max_step is not None and not (isinstance(max_step, (int, float)) and max_step == 0) \
+                    and not adaptive:
                 raise ModelError("max_step applies to integrator='ida' and to the adaptive "
                                  "generalized-alpha (without step=)")
         elif step is not None:
             raise ModelError("step= applies to integrator='generalized-alpha' (IDA chooses its own steps; "
                              "use max_step to bound them)")
         tests = {"all": 0, "configuration": 1}
-        if error_test not in tests:
+        if not isinstance(error_test, str) or error_test not in tests:
             raise ModelError(f"unknown error_test {error_test!r} (available: 'all', 'configuration')")
         if max_order is None:
             max_order = 2 if error_test == "configuration" else 5
-        if isinstance(max_order, bool) or not isinstance(max_order, (int, np.integer)) or not 1 <= max_order <= 5:
+        if isinstance(max_order, (bool, np.bool_)) or not isinstance(max_order, (int, np.integer)) or not 1 <= max_order <= 5:
             raise ModelError(f"max_order must be an integer 1..5 (got {max_order!r})")
         if error_test == "configuration" and max_order > 2:
             raise ModelError(f"error_test='configuration' needs max_order 1 or 2 (got {max_order}): "
                              "without the twists in the error test, BDF orders 3-5 let unresolved "
                              "vibrations grow")
-        max_step = 0.0 if not max_step else positive("max_step", max_step)
+        max_step = 0.0 if max_step is None or (isinstance(max_step, (int, float)) and max_step == 0) \
+            else positive("max_step", max_step)
+        # the integrators stop after MAX_STEPS steps between two outputs: fail now, not then
+        h = min([x for x in (max_step, step, 1.0 / (_run.BAND_MAX_STEPS * band) if adaptive else 0.0)
+                 if x and x > 0] or [np.inf])
+        if dt / h > MAX_STEPS:
+            raise ModelError(f"simulate: steps of at most {h:.3g} s (" +
+                             ("max_step" if h == max_step else "step" if h == step else
+                              f"the {band:.4g} Hz band") +
+                             f") would take {dt / h:.3g} steps per output interval dt_out = {dt:g} s; "
+                             f"the integrators stop at {MAX_STEPS:.0e} steps between two outputs: "
+                             f"use a smaller dt_out, or longer steps")
         rtol = (DEFAULT_RTOL if adaptive else 1e-8) if rtol is None else real("rtol", rtol)
         atol = rtol * 1e-2 if atol is None else real("atol", atol)
         if rtol <= 0 or atol <= 0:
             raise ModelError("rtol and atol must be > 0")
-        n = int(np.floor((t1 - t0) / dt + 1e-9))
+        if callback is not None and not callable(callback):
+            raise ModelError(f"callback must be a function callback(t, i) or None (got {callback!r})")
+        if initial is not None and not isinstance(initial, StaticResult):
+            raise ModelError(f"initial must be a StaticResult (Mechanism.static) or None (got "
+                             f"{type(initial).__name__})")
+        with np.errstate(over="ignore"):
+            span = (t1 - t0) / dt
+        self._check_outputs(span, record)
+        n = int(np.floor(span + 1e-9))
         tout = t0 + dt * np.arange(n + 1)
         if tout[-1] < t1 - 1e-12 * max(1.0, abs(t1)):
             tout = np.append(tout, t1)
         rec = None if record is None else self._record_carriers(record)
+        model = self._build()   # finds the redundant constraints
         if rec is not None and self.redundant_constraints:
             raise ModelError("record= cannot be combined with redundant constraints yet: the "
                              "minimum-norm multipliers need every carrier's pose")
-        model = self._build()
-        poses = None if initial is None else np.asarray(initial.poses, dtype=float)
+        poses = None if initial is None else self._start_poses(initial, "initial")
         twists = None if initial is None else np.zeros((len(self._car), 6))
         monitor = _run.RunMonitor(t0, t1, band, integrator, progress, callback)
         with _run.sigterm_as_interrupt(monitor):
@@ -1609,14 +1771,52 @@ class Mechanism:
             raise err
         return result
 
+    def _check_outputs(self, span: float, record) -> None:
+        """ModelError when (t_end - t_start) / dt_out output times would take more than half the
+        machine's memory (an accidental t_end / dt_out of 1e10 would otherwise allocate 75 GB,
+        or fail inside NumPy)."""
+        nc = len(self._car)
+        # per output: pose and twist of each recorded carrier; per pair at most 6 multipliers, 6
+        # pair wrench entries, 6 joint coordinates, rates and efforts; 7 energies; the ports; t
+        per = 8 * (22 * nc + 30 * len(self._pairs) + 7 + len(self._acts) + len(self._loads)
+                   + len(self._springs) + 1)
+        if record is not None:
+            per = max(8 * 30, per - 8 * 22 * (nc - 1))   # at least one carrier recorded
+        try:
+            limit = 0.5 * os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+        except (AttributeError, ValueError, OSError):
+            limit = 8e9
+        if not (span * per <= limit):
+            raise ModelError(f"simulate: (t_end - t_start) / dt_out = {span:.3g} output times would "
+                             f"take about {span * per / 1e9:.3g} GB, more than half this machine's "
+                             f"memory ({2 * limit / 1e9:.3g} GB); use a larger dt_out, a shorter run "
+                             f"or record= fewer carriers")
+
+    def _start_poses(self, start, what) -> np.ndarray:
+        """The poses of a StaticResult used as a starting point, checked against this mechanism."""
+        if not isinstance(start, StaticResult):
+            raise ModelError(f"{what} must be a StaticResult (Mechanism.static) or None (got "
+                             f"{type(start).__name__})")
+        return array(f"{what}.poses", start.poses, (len(self._car), 4, 4),
+                     f"finite poses of this mechanism's {len(self._car)} carriers, shape "
+                     f"({len(self._car)}, 4, 4)")
+
     def _record_carriers(self, record) -> list:
         """Carrier indices for simulate(record=...): bodies, links, frames or their names."""
-        items = [record] if isinstance(record, (str, FlexibleLink, Body, Frame)) else list(record)
+        if isinstance(record, (str, FlexibleLink, Body, Frame)):
+            items = [record]
+        elif isinstance(record, (list, tuple)):
+            items = list(record)
+        else:
+            raise ModelError(f"record: expected a body, link, frame, a name, or a list of them "
+                             f"(got {type(record).__name__})")
         out = []
         for x in items:
             if isinstance(x, str) and x in self._links:
                 x = self._links[x]
             if isinstance(x, FlexibleLink):
+                if self._links.get(x.name) != x:
+                    raise ModelError(f"record: link {x.name!r} is not a link of this mechanism")
                 out += [c for c in x.nodes if c not in out]
                 continue
             c = _frame_of(x, self, "record").carrier
@@ -1664,7 +1864,10 @@ class Mechanism:
         the strain order (torsion, bending y, bending z [N m], axial, shear y, shear z [N]);
         eps = log(H_k^-1 H_k+1) / h and h eps_dot = dexp_{-X}^-1 t_k+1 - dexp_X^-1 t_k, the
         same constant-strain element the core integrates (DESIGN.md section 4)."""
-        lk = self._links[link] if isinstance(link, str) else link
+        lk = self._link("stress_resultants", link)
+        if not isinstance(result, SimulationResult):
+            raise ModelError(f"stress_resultants: result must be a SimulationResult (got "
+                             f"{type(result).__name__})")
         cols = result._columns(lk.nodes)
         H, T = result.poses[:, cols], result.twists[:, cols]
         els = [e for e in self._el if e["a"] in lk.nodes]
@@ -1678,10 +1881,21 @@ class Mechanism:
         return (np.einsum("kij,tkj->tki", K, X / h - eps_hat)
                 + np.einsum("kij,tkj->tki", D, rate))
 
+    def _link(self, what, link) -> FlexibleLink:
+        """A link of this mechanism given by itself or its name."""
+        lk = self._links.get(link) if isinstance(link, str) else link
+        if not isinstance(lk, FlexibleLink) or self._links.get(lk.name) != lk:
+            raise ModelError(f"{what}: expected a flexible link of this mechanism or its name "
+                             f"(links: {', '.join(map(repr, self._links)) or 'none'}), got {link!r}")
+        return lk
+
     def constraint_residuals(self, result: "SimulationResult") -> dict:
         """Position and velocity constraint residuals of EVERY pair row (redundant rows included)
         along a simulation: ``position`` (nt,) max |g(H)| [rad or m], ``velocity`` (nt,) max |G t|
         [rad/s or m/s] (prescribed rates of driven pairs subtracted)."""
+        if not isinstance(result, SimulationResult):
+            raise ModelError(f"constraint_residuals: result must be a SimulationResult (got "
+                             f"{type(result).__name__})")
         if result.carriers is not None:
             raise ModelError("constraint_residuals needs every carrier's pose: simulate without record=")
         model = self._build()
@@ -1701,12 +1915,17 @@ class Mechanism:
     def modes(self, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0) -> ModesResult:
         """The ``n`` lowest linearized modes at the initial configuration, or at a static
         equilibrium ``at`` (its constraint wrenches give the geometric stiffness)."""
-        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
-            raise ModelError(f"n must be an integer >= 1 (got {n!r})")
+        n = integer("n", n, 1)
+        time = real("time", time)
+        if at is not None and not isinstance(at, StaticResult):
+            raise ModelError(f"at must be a StaticResult (Mechanism.static) or None (got "
+                             f"{type(at).__name__})")
         model = self._build()
-        poses = None if at is None else np.asarray(at.poses, dtype=float)
-        lam = None if at is None else np.asarray(at.constraint_wrenches, dtype=float)
-        om, ze, sh, nf = _core.model_modes(model, int(n), poses, lam, float(time))
+        poses = None if at is None else self._start_poses(at, "at")
+        lam = None if at is None else array("at.constraint_wrenches", at.constraint_wrenches,
+                                            np.shape(at.constraint_wrenches))
+        # at most 6 per carrier exist: asking for more allocates no more than that
+        om, ze, sh, nf = _core.model_modes(model, min(n, 6 * len(self._car)), poses, lam, time)
         return ModesResult(om[:nf], om[:nf] / (2 * np.pi), ze[:nf], sh[:nf])
 
     def static(self, loads: Sequence = (), steps: int = 10, time: float = 0.0,
@@ -1715,25 +1934,27 @@ class Mechanism:
         constant ``loads`` = [(target, wrench (tau, f), frame "world"|"body"), ...], reached in
         ``steps`` load steps (halved on failure); Newton tolerance ``tol`` on the tangent step."""
         extra = []
+        if not isinstance(loads, (list, tuple)):
+            raise ModelError(f"static loads: expected a list of (target, wrench, frame) tuples "
+                             f"(got {type(loads).__name__})")
         for i, ld in enumerate(loads):
-            try:
-                target, wrench, frame = ld
-            except (TypeError, ValueError):
-                raise ModelError("static loads: expected (target, wrench, frame) tuples") from None
+            if not isinstance(ld, (list, tuple)) or len(ld) != 3:
+                raise ModelError(f"static load {i}: expected a (target, wrench, frame) tuple "
+                                 f"(got {ld!r})")
+            target, wrench, frame = ld
             f = _frame_of(target, self, f"static load {i}, target")
-            if frame not in ("world", "body"):
-                raise ModelError(f"static load: frame must be 'world' or 'body' (got {frame!r})")
-            w = np.asarray(wrench, dtype=float)
-            if w.shape != (6,) or not np.all(np.isfinite(w)):
-                raise ModelError("static load: wrench must be 6 finite numbers (tau, f)")
+            if f.carrier < 0:
+                raise ModelError(f"static load {i}: cannot load the ground")
+            _choice(f"static load {i}: frame", frame, ("world", "body"))
+            w = array(f"static load {i}: wrench", wrench, (6,), "6 finite numbers (tau [N m], f [N])")
             if frame == "body":
                 R = f.T[:3, :3]
                 w = np.concatenate([R @ w[:3], R @ w[3:]])
             extra.append(dict(carrier=f.carrier, world=frame == "world", point=f.T[:3, 3], w=w,
                               law=Constant(1.0)._tuple()))
-        if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
-            raise ModelError(f"steps must be an integer >= 1 (got {steps!r})")
+        steps = min(integer("steps", steps, 1), 2 ** 31 - 1)
+        time, tol = real("time", time), positive("tol", tol)
+        poses = None if start is None else self._start_poses(start, "start")
         model = self._build(extra)
-        poses = None if start is None else np.asarray(start.poses, dtype=float)
-        P, lam, it = _core.model_static(model, poses, float(time), int(steps), float(tol))
+        P, lam, it = _core.model_static(model, poses, time, steps, tol)
         return StaticResult(P, lam, it, self._links)

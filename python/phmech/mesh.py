@@ -19,6 +19,7 @@ import math
 
 import numpy as np
 
+from ._checks import integer, real
 from ._core import ModelError
 
 __all__ = ["MeshChoice", "choose_elements"]
@@ -67,22 +68,40 @@ def choose_elements(length: float, properties, band: float, tolerance: float = 1
     and a count the law says could be smaller is tried once. ``properties``: as for
     ``Mechanism.add_flexible_link`` (and ``curvature``). Raises ModelError for a band or tolerance that is not
     positive and when ``max_elements`` are not enough."""
-    band = float(band)
-    tolerance = float(tolerance)
-    if not (math.isfinite(band) and band > 0):
+    band = real("band", band)
+    tolerance = real("frequency tolerance", tolerance)
+    if not band > 0:
         raise ModelError(f"band must be a frequency > 0 [Hz] (got {band!r})")
-    if not (math.isfinite(tolerance) and 0 < tolerance < 1):
+    if not 0 < tolerance < 1:
         raise ModelError(f"frequency tolerance must be in (0, 1) (got {tolerance!r})")
+    max_elements = integer("max_elements", max_elements, 1)
     N, last, best, tried = 2, None, None, set()
     while N <= max_elements and N not in tried:
         tried.add(N)
         f1 = _free_frequencies(length, properties, N, band, curvature)
         f2 = _free_frequencies(length, properties, 2 * N, band, curvature)
+        if not (np.all(f1 > 0) and np.all(f2 > 0)):
+            # an unstable "mode" (phm_modes reports omega^2 < 0 as a negative frequency) or a zero
+            # one: a link of 1e20 m had them, in a band of 1e-300 Hz; no error estimate is possible
+            bad = np.concatenate([f1, f2])
+            raise ModelError(f"the free-free modes of this link (length {length:g} m) include "
+                             f"{bad[~(bad > 0)][0]:.3g} Hz, not a positive frequency: its length, "
+                             f"stiffness or inertia are beyond what its linearization resolves in "
+                             f"double precision; give elements= instead of a band")
         inband = f2[f2 <= band]
         k = inband.size
         if k == 0:
             return MeshChoice(N, band, tolerance, 0, 0.0, ())
         if f1.size < k:   # the coarse mesh does not have that many modes yet
+            if k == f2.size and f2[-1] <= band:
+                # the band lies above every mode of the 2N-element mesh; the mesh's top frequency
+                # grows about like N, so it needs about this many elements
+                need = 2 * N * band / f2[-1] if f2[-1] > 0 else math.inf
+                if need > 2 * max_elements:
+                    raise ModelError(f"band {band:g} Hz lies above every mode of a {2 * N}-element "
+                                     f"mesh of this link (highest {f2[-1]:.3g} Hz): resolving it "
+                                     f"would take about {need:.3g} elements, more than "
+                                     f"max_elements = {max_elements}; ask for a lower band")
             N *= 2
             continue
         err = float(np.max(np.abs(f1[:k] - f2[:k]) / f2[:k]) * 4.0 / 3.0)

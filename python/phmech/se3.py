@@ -13,8 +13,11 @@ Conventions (DESIGN.md section 3):
 
 Every function accepts one element or a stack of them (leading dimensions ``...``) and returns
 C-ordered float64 arrays. Inputs must be real, finite numbers of the stated trailing shape;
-anything else raises ``ValueError``. The numerics are in the C core (``csrc/se3.c``): exp/log use
-series near angle 0 and a symmetric-part axis near angle pi.
+anything else raises ``ValueError`` (``phmech.ModelError``, a ValueError, from the C binding).
+Results are finite: an input beyond a function's range in double precision (the exponential of a
+1e300 rad rotation, a product of poses with 1e200 entries) raises ModelError instead of returning
+NaN or inf. The numerics are in the C core (``csrc/se3.c``): exp/log use series near angle 0 and
+a symmetric-part axis near angle pi.
 """
 from __future__ import annotations
 
@@ -206,10 +209,13 @@ def rotation(axis: Union[str, ArrayLike], angle: ArrayLike) -> Array:
         n = np.array(_AXES[axis.lower()])
     else:
         n = _vec3(axis, "rotation: axis")
-        nn = np.linalg.norm(n, axis=-1, keepdims=True)
-        if np.any(nn == 0.0):
+        # scaled by the largest entry first: the norm of a (1e300, 1e300, 0) axis overflows to
+        # inf and the axis would become 0 (the identity, silently)
+        big = np.max(np.abs(n), axis=-1, keepdims=True)
+        if np.any(big == 0.0):
             raise ValueError("rotation: axis has zero length")
-        n = n / nn
+        n = n / big
+        n = n / np.linalg.norm(n, axis=-1, keepdims=True)
     if isinstance(angle, (str, bytes)) or angle is None:
         raise ValueError(f"rotation: angle: expected real numbers, got {type(angle).__name__}")
     th = _as_real(angle, "rotation: angle")

@@ -17,7 +17,7 @@ from typing import Optional
 
 import numpy as np
 
-from ._checks import positive
+from ._checks import array, positive, real
 from ._core import ModelError
 
 __all__ = ["Material", "Section", "BeamProperties", "table1_properties", "TABLE1"]
@@ -46,10 +46,7 @@ class Material:
     def __post_init__(self):
         object.__setattr__(self, "E", positive("E", self.E))
         object.__setattr__(self, "density", positive("density", self.density))
-        try:
-            nu = float(self.nu)
-        except (TypeError, ValueError):
-            raise ModelError(f"nu must be a real number, got {self.nu!r}") from None
+        nu = real("nu", self.nu) if not (isinstance(self.nu, float) and math.isnan(self.nu)) else self.nu
         if not (-1.0 < nu < 0.5):
             raise ModelError(f"nu (Poisson's ratio) must satisfy -1 < nu < 0.5, got {nu!r}")
         object.__setattr__(self, "nu", nu)
@@ -74,7 +71,8 @@ def _rect_torsion(w: float, h: float) -> float:
     """
     a, b = max(w, h), min(w, h)
     n = np.arange(1, 2 * _SERIES_TERMS, 2, dtype=float)
-    s = np.sum(np.tanh(n * math.pi * a / (2.0 * b)) / n**5)
+    # tanh saturates at 1 long before a / b = 1e6 (which keeps the argument from overflowing)
+    s = np.sum(np.tanh(n * math.pi * min(a / b, 1e6) / 2.0) / n**5)
     return a * b**3 / 3.0 * (1.0 - 192.0 / math.pi**5 * (b / a) * s)
 
 
@@ -114,9 +112,23 @@ class Section:
         return cls("tube", (do, di))
 
     def __post_init__(self):
-        if self.kind not in ("rectangle", "circle", "tube"):
+        if not isinstance(self.kind, str) or self.kind not in ("rectangle", "circle", "tube"):
             raise ModelError(f"unknown section kind {self.kind!r}; use Section.rectangle, "
                              "Section.circle or Section.tube")
+        n = {"rectangle": 2, "circle": 1, "tube": 2}[self.kind]
+        if not isinstance(self.dims, tuple) or len(self.dims) != n:
+            raise ModelError(f"a {self.kind} section has {n} dimension(s) (got {self.dims!r})")
+        object.__setattr__(self, "dims", tuple(positive(f"{self.kind} dimension", d) for d in self.dims))
+        # area, second moments and torsion constant must be finite and positive numbers: dimensions
+        # of 1e100 m (d^4 overflows) or 1e-100 m (d^4 underflows to 0) have none
+        try:
+            props = (self.A, self.I_y, self.I_z, self.J)
+        except OverflowError:
+            props = (math.inf,)
+        if not all(math.isfinite(p) and p > 0 for p in props):
+            dims = " x ".join(f"{d:g}" for d in self.dims)
+            raise ModelError(f"{self.kind} section {dims} m: its area, second moments or torsion "
+                             f"constant are not finite positive numbers in double precision")
 
     # -- geometry ----------------------------------------------------------------------------
     @property
@@ -176,10 +188,7 @@ class Section:
 
         The same value applies to both directions for these shapes.
         """
-        try:
-            nu = float(nu)
-        except (TypeError, ValueError):
-            raise ModelError(f"nu must be a real number, got {nu!r}") from None
+        nu = real("nu", nu) if not (isinstance(nu, float) and math.isnan(nu)) else nu
         if not (-1.0 < nu < 0.5):
             raise ModelError(f"nu (Poisson's ratio) must satisfy -1 < nu < 0.5, got {nu!r}")
         if self.kind == "rectangle":
@@ -200,30 +209,39 @@ _STRAIN_NAMES = ("torsion", "bending_y", "bending_z", "axial", "shear_y", "shear
 def _matrix6(name: str, value, *, definite: bool) -> np.ndarray:
     """A read-only symmetric 6x6 float64 matrix, positive definite (or semi-definite)."""
     try:
-        m = np.array(value, dtype=float)
-    except (TypeError, ValueError):
+        m = array(name, value, (6, 6), "a 6x6 array of real numbers", finite=False)
+    except ModelError:
+        try:
+            raw = np.shape(value) if isinstance(value, (np.ndarray, list, tuple)) else None
+        except ValueError:   # ragged
+            raw = None
+        if raw is not None and raw != (6, 6):   # the historical message for a wrong shape
+            raise ModelError(f"{name} must have shape (6, 6), got {raw}") from None
         raise ModelError(f"{name} must be a 6x6 array of real numbers") from None
-    if m.shape != (6, 6):
-        raise ModelError(f"{name} must have shape (6, 6), got {m.shape}")
     if not np.all(np.isfinite(m)):
         raise ModelError(f"{name} contains non-finite entries")
     scale = np.max(np.abs(m))
-    if not np.allclose(m, m.T, rtol=0.0, atol=1e-12 * scale):
+    # the tests on m / scale (largest entry 1): m - m^T, m + m^T and a Cholesky factor of m
+    # itself may overflow for entries near 1e308
+    ms = m / scale if scale > 0 else m
+    if not np.allclose(ms, ms.T, rtol=0.0, atol=1e-12):
         raise ModelError(f"{name} must be symmetric")
-    m = 0.5 * (m + m.T)
+    ms = 0.5 * (ms + ms.T)
+    m = ms * scale if scale > 0 else ms
     if definite:
         try:
-            np.linalg.cholesky(m)
+            np.linalg.cholesky(ms)
         except np.linalg.LinAlgError:
             raise ModelError(f"{name} must be positive definite") from None
         # Cholesky succeeds on some numerically singular matrices; demand a sane condition number
-        ev = np.linalg.eigvalsh(m)
+        ev = np.linalg.eigvalsh(ms)
         if ev[0] <= 1e-14 * ev[-1]:
             raise ModelError(f"{name} must be positive definite (eigenvalue ratio {ev[0] / ev[-1]:.3g})")
     else:
-        ev = np.linalg.eigvalsh(m) if scale > 0 else np.zeros(6)
-        if ev[0] < -1e-12 * max(scale, 0.0):
-            raise ModelError(f"{name} must be positive semi-definite (smallest eigenvalue {ev[0]:.3g})")
+        ev = np.linalg.eigvalsh(ms) if scale > 0 else np.zeros(6)
+        if ev[0] < -1e-12:
+            raise ModelError(f"{name} must be positive semi-definite (smallest eigenvalue "
+                             f"{ev[0] * scale:.3g})")
     m.setflags(write=False)
     return m
 
