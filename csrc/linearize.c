@@ -24,7 +24,6 @@ typedef struct {
   double *Kb;
 } lin_t;
 
-/* Generalized forces at poses H: applied wrenches + G^T lambda (nc x 6, body frame). */
 /* 1 if x[0..n) are all finite. */
 static int all_finite(const double *x, size_t n) {
   for (size_t i = 0; i < n; i++)
@@ -32,6 +31,7 @@ static int all_finite(const double *x, size_t n) {
   return 1;
 }
 
+/* Generalized forces at poses H: applied wrenches + G^T lambda (nc x 6, body frame). */
 static void total_force(lin_t *L, const double *H, double *f) {
   const phm_model *m = L->m;
   phm_applied(m, H, NULL, NULL, L->time, L->tref, L->scale, f, NULL, NULL, NULL, NULL, NULL);
