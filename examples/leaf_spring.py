@@ -562,7 +562,7 @@ def main(argv=None) -> dict:
               f"SPACAR {F_PAPER_SPACAR}")
         for k, v in brk.items():
             print(f"  modes, {k:28s}: {v:.5f} Hz ({(v / brk['base'] - 1) * 100:+.4f} %)")
-        print(f"IDA: {st['steps']} steps, {st['residual_evals']} residuals, {st['jacobian_evals']} "
+        print(f"simulate (default integrator): {st['steps']} steps, {st['residual_evals']} residuals, {st['jacobian_evals']} "
               f"Jacobians; CPU simulate {out['cpu_sim']:.2f} s, total {cpu:.2f} s")
         if a.misalignment:
             mis = result["misalignment"]
