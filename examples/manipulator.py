@@ -481,7 +481,7 @@ def main(argv=None) -> dict:
               f"velocity {s['constraint_residuals']['velocity_max']:.2e}")
         print("modes at the target [Hz]: " + ", ".join(f"{f:.3f} (zeta {z:.3f})" for f, z in zip(s["modes_hz"], s["damping_ratios"])))
         ida = s["ida"]
-        print(f"IDA: {ida['steps']} steps, {ida['residual_evals']} residuals, {ida['jacobian_evals']} Jacobians; CPU "
+        print(f"simulate: {ida['steps']} steps, {ida['residual_evals']} residuals, {ida['jacobian_evals']} Jacobians; CPU "
               + ", ".join(f"{k} {v:.2f} s" for k, v in s["cpu_s"].items()))
     return s
 
