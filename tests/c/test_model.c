@@ -6,7 +6,17 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "model_internal.h"
+#include "model.h"
+#include "pose.h"
+
+/* The rows of the pair table (csrc/model/pair.c) in its order; main checks them by name. */
+enum {
+  PHM_PAIR_FIXED, PHM_PAIR_REVOLUTE, PHM_PAIR_PRISMATIC, PHM_PAIR_HELICAL, PHM_PAIR_CYLINDRICAL,
+  PHM_PAIR_UNIVERSAL, PHM_PAIR_SPHERICAL, PHM_PAIR_PLANAR, PHM_PAIR_FREE, PAIR_TYPES
+};
+static const char *const pair_names[PAIR_TYPES] = {"fixed", "revolute", "prismatic", "helical",
+                                                   "cylindrical", "universal", "spherical",
+                                                   "planar", "free"};
 
 static int n_pass = 0, n_fail = 0;
 static void check(const char *name, double err, double tol) {
@@ -64,7 +74,7 @@ static void test_element(void) {
     phm_se3_exp(x, E);
     phm_se3_compose(Ha, E, Hb);
     double wa[6], wb[6], V;
-    phm_element_eval(&e, Ha, Hb, NULL, NULL, wa, wb, &V, NULL);
+    phm_element_eval(&e, Ha, Hb, NULL, NULL, wa, wb, &V, NULL, NULL);
     /* generalized force = -dV/d(delta) for H -> H exp(delta) */
     double errmax = 0, wmax = 0, eps = 1e-6;
     for (int node = 0; node < 2; node++)
@@ -74,13 +84,13 @@ static void test_element(void) {
         if (node == 0) {
           perturbed(Ha, d, eps, Hp);
           perturbed(Ha, d, -eps, Hm);
-          phm_element_eval(&e, Hp, Hb, NULL, NULL, ta, tb, &Vp, NULL);
-          phm_element_eval(&e, Hm, Hb, NULL, NULL, ta, tb, &Vm, NULL);
+          phm_element_eval(&e, Hp, Hb, NULL, NULL, ta, tb, &Vp, NULL, NULL);
+          phm_element_eval(&e, Hm, Hb, NULL, NULL, ta, tb, &Vm, NULL, NULL);
         } else {
           perturbed(Hb, d, eps, Hp);
           perturbed(Hb, d, -eps, Hm);
-          phm_element_eval(&e, Ha, Hp, NULL, NULL, ta, tb, &Vp, NULL);
-          phm_element_eval(&e, Ha, Hm, NULL, NULL, ta, tb, &Vm, NULL);
+          phm_element_eval(&e, Ha, Hp, NULL, NULL, ta, tb, &Vp, NULL, NULL);
+          phm_element_eval(&e, Ha, Hm, NULL, NULL, ta, tb, &Vm, NULL, NULL);
         }
         double fd = -(Vp - Vm) / (2 * eps), w = node ? wb[j] : wa[j];
         errmax = fmax(errmax, fabs(fd - w));
@@ -94,14 +104,14 @@ static void test_element(void) {
       tb[i] = urand();
     }
     double P, V1, V2, dummy[6], dummy2[6];
-    phm_element_eval(&e, Ha, Hb, ta, tb, wa, wb, &V, &P);
+    phm_element_eval(&e, Ha, Hb, ta, tb, wa, wb, &V, &P, NULL);
     double tau = 1e-6, H1a[16], H1b[16], H2a[16], H2b[16];
     perturbed(Ha, ta, tau, H1a);
     perturbed(Hb, tb, tau, H1b);
     perturbed(Ha, ta, -tau, H2a);
     perturbed(Hb, tb, -tau, H2b);
-    phm_element_eval(&e, H1a, H1b, NULL, NULL, dummy, dummy2, &V1, NULL);
-    phm_element_eval(&e, H2a, H2b, NULL, NULL, dummy, dummy2, &V2, NULL);
+    phm_element_eval(&e, H1a, H1b, NULL, NULL, dummy, dummy2, &V1, NULL, NULL);
+    phm_element_eval(&e, H2a, H2b, NULL, NULL, dummy, dummy2, &V2, NULL, NULL);
     double Vdot = (V1 - V2) / (2 * tau), pw = 0, scale = fabs(Vdot) + P;
     for (int i = 0; i < 6; i++) pw += wa[i] * ta[i] + wb[i] * tb[i];
     check("element power balance (node powers + dV/dt + dissipation = 0)", fabs(pw + Vdot + P) / scale, 1e-7);
@@ -274,7 +284,7 @@ static void test_pair_types(void) {
   for (int type = 1; type <= PHM_PAIR_FREE; type++)
     for (int trial = 0; trial < 6; trial++) {
       char name[96];
-      const char *tn = phm_pair_types[type].name;
+      const char *tn = phm_pair_type(type)->name;
       phm_carrier_desc car[2];
       carrier_default(&car[0]);
       carrier_default(&car[1]);
@@ -286,7 +296,7 @@ static void test_pair_types(void) {
       pr.pitch = type == PHM_PAIR_HELICAL ? 0.3 * urand() : 0.0;
       rand_pose(pr.Ta, 1.0);
       rand_pose(pr.Tb, 1.0);
-      int mc = phm_pair_types[type].m, k = 6 - mc;
+      int mc = phm_pair_type(type)->m, k = 6 - mc;
       double x[6], xi[6];
       for (int i = 0; i < 6; i++) {
         x[i] = 1.2 * urand();
@@ -491,6 +501,9 @@ static void test_sim(void) {
 }
 
 int main(void) {
+  check("pair table: number of types", fabs((double)(phm_pair_type_count() - PAIR_TYPES)), 0);
+  for (int t = 0; t < PAIR_TYPES; t++)
+    check(pair_names[t], strcmp(phm_pair_type(t)->name, pair_names[t]) != 0, 0);
   test_element();
   test_pair();
   test_pair_types();

@@ -1,4 +1,5 @@
-/* se3.c -- so(3)/SO(3), se(3)/SE(3) and quaternion algebra (conventions: phmech.h, DESIGN.md 3).
+/* se3.c -- so(3)/SO(3), se(3)/SE(3) and quaternion algebra (conventions: csrc/include/phmech_types.h,
+ * docs/method.md section 3).
  *
  * All matrices row-major. Twist x = (omega, v). No allocation, no printing.
  * Near theta = 0 the trigonometric coefficients are evaluated by truncated Taylor series

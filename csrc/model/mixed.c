@@ -48,32 +48,29 @@
  *     For alpha = 1/2 (d = 1) these are alternating sums; for alpha > 1/2 (d > 1) they grow like
  *     d^N, which is why alpha > 1/2 is refused once d^N > 1e6.
  */
-#include "phmech.h"
+#include "linalg.h"
+#include "check.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* LAPACK (Fortran) */
-void dgesvd_(const char *jobu, const char *jobvt, const int *m, const int *n, double *a,
-             const int *lda, double *s, double *u, const int *ldu, double *vt, const int *ldvt,
-             double *work, const int *lwork, int *info);
 
 static int pos_finite(double x) { return isfinite(x) && x > 0.0; }
 
 phm_status phm_mixed_check(const phm_mixed_beam *b, phm_error *err) {
-  if (!b) return phm_error_set(err, PHM_EINVAL, "mixed beam: NULL parameters");
+  if (!b) return PHM_FAIL(err, PHM_EINVAL, "mixed beam: NULL parameters");
   if (b->N < 1 || b->N > PHM_MIXED_NMAX)
-    return phm_error_set(err, PHM_EINVAL, "mixed beam: N = %d elements, need 1 <= N <= %d", b->N,
+    return PHM_FAIL(err, PHM_EINVAL, "mixed beam: N = %d elements, need 1 <= N <= %d", b->N,
                          PHM_MIXED_NMAX);
   const double v[5] = {b->L, b->EI, b->kGA, b->rhoA, b->rhoI};
   const char *nm[5] = {"L", "EI", "kGA", "rhoA", "rhoI"};
   for (int i = 0; i < 5; i++)
     if (!pos_finite(v[i]))
-      return phm_error_set(err, PHM_EINVAL, "mixed beam: %s = %g must be finite and > 0", nm[i],
+      return PHM_FAIL(err, PHM_EINVAL, "mixed beam: %s = %g must be finite and > 0", nm[i],
                            v[i]);
   if (!isfinite(b->alpha) || b->alpha < 0.0 || b->alpha >= 1.0)
-    return phm_error_set(err, PHM_EINVAL, "mixed beam: alpha = %g, need 0 <= alpha < 1", b->alpha);
+    return PHM_FAIL(err, PHM_EINVAL, "mixed beam: alpha = %g, need 0 <= alpha < 1", b->alpha);
   return PHM_OK;
 }
 
@@ -86,7 +83,7 @@ phm_status phm_mixed_bc_from_name(const char *name, phm_mixed_bc *bc, phm_error 
         *bc = (phm_mixed_bc)i;
         return PHM_OK;
       }
-  return phm_error_set(err, PHM_EINVAL,
+  return PHM_FAIL(err, PHM_EINVAL,
                        "mixed beam: unknown boundary condition '%s' (expected clamped-free, "
                        "clamped-clamped, pinned-pinned or clamped-pinned)",
                        name ? name : "(null)");
@@ -153,7 +150,7 @@ phm_status phm_mixed_assemble(const phm_mixed_beam *beam, double *J, double *Q, 
   const int N = beam->N, n = 4 * N;
   const double h = beam->L / N, beta = 1.0 / (1.0 - beam->alpha), d = beam->alpha * beta;
   double *pw = malloc((size_t)(N + 1) * sizeof *pw); /* pw[m] = (-d)^m */
-  if (!pw) return phm_error_set(err, PHM_ENOMEM, "mixed beam: out of memory");
+  if (!pw) return PHM_FAIL(err, PHM_ENOMEM, "mixed beam: out of memory");
   pw[0] = 1.0;
   for (int m = 1; m <= N; m++) pw[m] = -d * pw[m - 1];
   /* alpha > 1/2: the node recursion amplifies by d = alpha/(1-alpha) > 1 per element; refuse
@@ -161,7 +158,7 @@ phm_status phm_mixed_assemble(const phm_mixed_beam *beam, double *J, double *Q, 
   const double growth = fabs(pw[N]);
   if (!isfinite(growth) || growth > 1e6) {
     free(pw);
-    return phm_error_set(err, PHM_EINVAL,
+    return PHM_FAIL(err, PHM_EINVAL,
                          "mixed beam: alpha = %g with N = %d is ill-conditioned: the node "
                          "recursion grows like (alpha/(1-alpha))^N = %.3g > 1e6; use alpha <= 1/2 "
                          "or fewer elements",
@@ -288,12 +285,12 @@ phm_status phm_mixed_frequencies(const phm_mixed_beam *beam, phm_mixed_bc bc, in
                                  double *omega, phm_error *err) {
   phm_status st = phm_mixed_check(beam, err);
   if (st) return st;
-  if ((int)bc < 0 || (int)bc > 3) return phm_error_set(err, PHM_EINVAL, "mixed beam: bad bc");
+  if ((int)bc < 0 || (int)bc > 3) return PHM_FAIL(err, PHM_EINVAL, "mixed beam: bad bc");
   const int N = beam->N, n = 4 * N, m = 2 * N;
   if (nfreq < 1 || nfreq > m)
-    return phm_error_set(err, PHM_EINVAL, "mixed beam: %d frequencies requested, need 1..%d",
+    return PHM_FAIL(err, PHM_EINVAL, "mixed beam: %d frequencies requested, need 1..%d",
                          nfreq, m);
-  if (!omega) return phm_error_set(err, PHM_EINVAL, "mixed beam: NULL output");
+  if (!omega) return PHM_FAIL(err, PHM_EINVAL, "mixed beam: NULL output");
   int con[4];
   phm_mixed_bc_ports(bc, con);
 
@@ -304,7 +301,7 @@ phm_status phm_mixed_frequencies(const phm_mixed_beam *beam, phm_mixed_bc bc, in
   double *W = malloc((size_t)m * 4 * sizeof *W), *v = malloc((size_t)m * sizeof *v);
   double *s = malloc((size_t)n * sizeof *s), *sv = malloc((size_t)m * sizeof *sv), *work = NULL;
   if (!J || !C || !Qm || !B || !Up || !Uq || !W || !v || !s || !sv) {
-    st = phm_error_set(err, PHM_ENOMEM, "mixed beam: out of memory (N = %d)", N);
+    st = PHM_FAIL(err, PHM_ENOMEM, "mixed beam: out of memory (N = %d)", N);
     goto done;
   }
   st = phm_mixed_assemble(beam, J, Qm, B, NULL, err);
@@ -336,19 +333,19 @@ phm_status phm_mixed_frequencies(const phm_mixed_beam *beam, phm_mixed_bc bc, in
   double wq = 0.0, dummy = 0.0;
   dgesvd_("N", "N", &m, &m, C, &m, sv, &dummy, &one, &dummy, &one, &wq, &lwork, &info);
   if (info != 0) {
-    st = phm_error_set(err, PHM_ESOLVER, "mixed beam: dgesvd workspace query failed (%d)", info);
+    st = PHM_FAIL(err, PHM_ESOLVER, "mixed beam: dgesvd workspace query failed (%d)", info);
     goto done;
   }
   lwork = (int)wq;
   if (lwork < 5 * m) lwork = 5 * m;
   work = malloc((size_t)lwork * sizeof *work);
   if (!work) {
-    st = phm_error_set(err, PHM_ENOMEM, "mixed beam: out of memory");
+    st = PHM_FAIL(err, PHM_ENOMEM, "mixed beam: out of memory");
     goto done;
   }
   dgesvd_("N", "N", &m, &m, C, &m, sv, &dummy, &one, &dummy, &one, work, &lwork, &info);
   if (info != 0) {
-    st = phm_error_set(err, PHM_ESOLVER, "mixed beam: dgesvd failed to converge (info = %d)", info);
+    st = PHM_FAIL(err, PHM_ESOLVER, "mixed beam: dgesvd failed to converge (info = %d)", info);
     goto done;
   }
   /* sv is descending; skip the round-off zeros (~ eps sigma_max) of constraint/rigid modes. */
@@ -357,7 +354,7 @@ phm_status phm_mixed_frequencies(const phm_mixed_beam *beam, phm_mixed_bc bc, in
   for (int i = m - 1; i >= 0; i--)
     if (sv[i] > tol) s[cnt++] = sv[i];
   if (cnt < nfreq) {
-    st = phm_error_set(err, PHM_EINVAL,
+    st = PHM_FAIL(err, PHM_EINVAL,
                        "mixed beam: only %d nonzero frequencies for N = %d with these boundary "
                        "conditions, %d requested",
                        cnt, N, nfreq);

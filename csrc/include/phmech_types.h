@@ -1,6 +1,5 @@
-/* phmech.h -- the public C API of phmech, one section per concept.
- *
- * Conventions (DESIGN.md section 3):
+/* phmech_types.h -- the data types of phmech's public C API (csrc/include/phmech.h lists the
+ * functions). Conventions (docs/method.md section 3):
  *   - every matrix is a row-major (C-ordered) array of doubles: a 3x3 is double[9],
  *     a 4x4 homogeneous pose is double[16], a 6x6 is double[36];
  *   - twist t = (omega, v), wrench w = (tau, f): angular part first;
@@ -9,15 +8,13 @@
  *     the duals ad*_t := ad_t^T and Ad*_H := Ad_H^T act on wrenches;
  *   - dexp_X = sum_k ad_X^k / (k+1)!, so that H = H0 exp(hat X) gives H^-1 dH/dt = dexp_{-X} dX/dt;
  *   - quaternions are scalar first: q = (w, x, y, z), unit norm.
- * The library never prints, exits or aborts: functions that can fail return a phm_status and
- * leave a message in a phm_error.
- */
-#ifndef PHMECH_H
-#define PHMECH_H
+ * Sections follow the data path: errors, the mixed element (a separate linear model), the
+ * model description (time laws, carriers, elements, pairs, actuators, springs, loads), the
+ * simulation options and outputs. */
+#ifndef PHMECH_TYPES_H
+#define PHMECH_TYPES_H
 
 #include <stddef.h>
-
-#define PHM_VERSION "0.1.0"
 
 /* ---------------------------------------------------------------- errors */
 typedef enum {
@@ -32,41 +29,11 @@ typedef enum {
 typedef struct {
   phm_status code;
   char msg[512];
+  const char *file; /* where in csrc/ the error was raised (PHM_FAIL), or NULL */
+  int line;
 } phm_error;
 
-/* Record code and a printf-style message in err (err may be NULL); returns code. */
-phm_status phm_error_set(phm_error *err, phm_status code, const char *fmt, ...);
-/* Reset err to PHM_OK with an empty message. */
-void phm_error_clear(phm_error *err);
-
-/* ---------------------------------------------------------------- so(3) / SO(3) */
-void phm_so3_hat(const double w[3], double W[9]);        /* W = hat(w), W x = w cross x   */
-void phm_so3_vee(const double W[9], double w[3]);        /* inverse of hat (skew part)    */
-void phm_so3_exp(const double w[3], double R[9]);        /* Rodrigues, series near 0      */
-void phm_so3_log(const double R[9], double w[3]);        /* |w| in [0, pi], robust near pi */
-void phm_so3_jac(const double w[3], double A[9]);        /* sum_k hat(w)^k/(k+1)! (left Jacobian) */
-void phm_so3_jac_inv(const double w[3], double Ai[9]);   /* inverse of phm_so3_jac, |w| < 2 pi */
-
-/* ---------------------------------------------------------------- se(3) / SE(3) */
-void phm_se3_hat(const double x[6], double X[16]);       /* 4x4 matrix of twist coordinates */
-void phm_se3_vee(const double X[16], double x[6]);
-void phm_se3_exp(const double x[6], double H[16]);
-void phm_se3_log(const double H[16], double x[6]);       /* |omega| in [0, pi]               */
-void phm_se3_compose(const double A[16], const double B[16], double AB[16]);
-void phm_se3_inverse(const double H[16], double Hi[16]);
-void phm_se3_Ad(const double H[16], double A[36]);       /* Ad_H                          */
-void phm_se3_Ad_dual(const double H[16], double A[36]);  /* Ad*_H = Ad_H^T (wrenches)      */
-void phm_se3_ad(const double x[6], double a[36]);        /* ad_x                          */
-void phm_se3_ad_dual(const double x[6], double a[36]);   /* ad*_x = ad_x^T                 */
-void phm_se3_dexp(const double x[6], double D[36]);      /* sum_k ad_x^k/(k+1)!            */
-void phm_se3_dexp_inv(const double x[6], double Di[36]); /* its inverse, |omega| < 2 pi    */
-void phm_se3_log_dexp_inv(const double H[16], double x[6], double Ai[9], double L[9]); /* x = log H, dexp_x^-1 = [[Ai,0],[L,Ai]]; dexp_{-x}^-1 = [[Ai^T,0],[L^T,Ai^T]] */
-
-/* ---------------------------------------------------------------- quaternions */
-void phm_quat_to_rot(const double q[4], double R[9]);    /* q need not be normalized       */
-void phm_quat_from_rot(const double R[9], double q[4]);  /* Shepperd; returns q with w >= 0 */
-
-/* ---------------------------------------------------------------- mixed finite element (beam_mixed.c) */
+/* ---------------------------------------------------------------- mixed finite element (csrc/model/mixed.c) */
 /* Golo's mixed finite element (alpha family; alpha = 1/2 is the paper's) for the LINEAR planar
  * Timoshenko beam: transverse displacement w, section rotation phi, s in [0, L].
  * State of element k (h = L/N), integrated energy variables, x_k = (P_t, E_s, P_r, K):
@@ -96,37 +63,16 @@ typedef struct {
                                    * is refused when (alpha/(1-alpha))^N > 1e6 (ill-conditioned) */
 } phm_mixed_beam;
 
-/* Validate the parameters (finite, positive, N in range, alpha in [0, 1)). */
-phm_status phm_mixed_check(const phm_mixed_beam *beam, phm_error *err);
-/* Parse "clamped-free", "clamped-clamped", "pinned-pinned", "clamped-pinned". */
-phm_status phm_mixed_bc_from_name(const char *name, phm_mixed_bc *bc, phm_error *err);
-/* For each of the four ports of u: 0 = input set to zero, 1 = output constrained to zero. */
-void phm_mixed_bc_ports(phm_mixed_bc bc, int constrained[4]);
-/* One element of length h, ports u = (v_a, omega_a, Qs_b, M_b), y = (-Qs_a, -M_a, v_b, omega_b):
- * J, Q, B, D are 4x4 (Q diagonal, stored full). */
-phm_status phm_mixed_element(double h, double EI, double kGA, double rhoA, double rhoI,
-                             double alpha, double J[16], double Q[16], double B[16], double D[16],
-                             phm_error *err);
-/* The chain of N elements interconnected through their node ports (any output may be NULL). */
-phm_status phm_mixed_assemble(const phm_mixed_beam *beam, double *J, double *Q, double *B,
-                              double *D, phm_error *err);
-/* The first n natural frequencies [rad/s], ascending, of the beam under bc, 1 <= n <= 2N: the
- * positive imaginary parts of the eigenvalues of Q^1/2 J Q^1/2 on the constraint subspace,
- * computed as singular values (LAPACK dgesvd) of its momentum-strain block; zero frequencies of
- * rigid-body or constraint modes are skipped. */
-phm_status phm_mixed_frequencies(const phm_mixed_beam *beam, phm_mixed_bc bc, int n, double *omega,
-                                 phm_error *err);
 
-
-/* ---------------------------------------------------------------- model, simulation, modes (model.c) */
+/* ---------------------------------------------------------------- the model (csrc/model/) */
 
 /* A model is built once from flat descriptions (copied; the caller may free them afterwards) and
  * is immutable. Carriers are rigid bodies and beam nodes alike: a frame with a 6x6 spatial inertia
  * M (body coordinates, centre of mass may be offset), the mass and centre of mass used for
  * gravity, an initial pose H0 and body twist t0. Carrier state: unit quaternion q (scalar first),
- * world position p, body twist t = (omega, v). Equations of motion (DESIGN section 6, GGL form):
+ * world position p, body twist t = (omega, v). Equations of motion (docs/method.md section 6, GGL form):
  *   q' = 1/2 q (x) (omega + dw),  p' = R (v + dv)        with (dw, dv) = this carrier's (G^T mu)
- *   M t' - ad_t^T (M t) = w(H, t, time) + (G^T lambda)  with ad*_t = ad_t^T (DESIGN section 3)
+ *   M t' - ad_t^T (M t) = w(H, t, time) + (G^T lambda)  with ad*_t = ad_t^T (docs/method.md section 3)
  *   G(H) t = prescribed rate,  g(H, time) = 0.                                                  */
 
 /* Scalar time laws s(t); an applied wrench or a prescribed motion is s(t) times a fixed vector. */
@@ -147,9 +93,6 @@ typedef struct {
   const double *table;                /* table: ntable (t, s) pairs, row-major [ntable][2]   */
 } phm_law;
 
-/* s(t) and its first two derivatives (ds, dds may be NULL). The piece of a piecewise law is
- * chosen by tref (a time inside the current breakpoint interval), its formula evaluated at t. */
-double phm_law_eval(const phm_law *law, double t, double tref, double *ds, double *dds);
 
 typedef struct {
   double M[36];      /* spatial inertia at the carrier frame, body coordinates, kg, kg m, kg m^2 */
@@ -159,7 +102,7 @@ typedef struct {
   double t0[6];      /* initial body twist (omega, v)                                     */
 } phm_carrier_desc;
 
-/* se3 beam element between carriers a (node k) and b (node k+1) (DESIGN section 4). */
+/* se3 beam element between carriers a (node k) and b (node k+1) (docs/method.md section 4). */
 typedef struct {
   int a, b;          /* carrier indices                                                   */
   double h;          /* element length, m                                                 */
@@ -168,17 +111,18 @@ typedef struct {
   double eps_hat[6]; /* unstressed strain (kappa_hat, 1, 0, 0) for the curved/straight shape */
 } phm_element_desc;
 
-typedef enum {
-  PHM_PAIR_FIXED = 0,       /* k = 0: relative pose = r(t) (identity unless driven)           */
-  PHM_PAIR_REVOLUTE = 1,    /* k = 1: rotation about z; x = angle [rad] (multi-turn)           */
-  PHM_PAIR_PRISMATIC = 2,   /* k = 1: translation along z; x = displacement [m]                */
-  PHM_PAIR_HELICAL = 3,     /* k = 1: screw about z, p_z = pitch * angle; x = angle [rad]      */
-  PHM_PAIR_CYLINDRICAL = 4, /* k = 2: x = (angle about z, displacement along z)                */
-  PHM_PAIR_UNIVERSAL = 5,   /* k = 2: h = Rx(x0) Ry(x1): first axis x of F_a, second y of F_b  */
-  PHM_PAIR_SPHERICAL = 6,   /* k = 3: x = rotation vector log(R) [rad]; xdot = omega (F_b)     */
-  PHM_PAIR_PLANAR = 7,      /* k = 3: normal z; x = (angle, p_x, p_y) with p in F_a            */
-  PHM_PAIR_FREE = 8         /* k = 6: x = (log R, p in F_a); xdot = (omega in F_b, dp/dt in F_a) */
-} phm_pair_type;
+/* A pair type: a row of THE pair table (csrc/model/pair.c, the only place that defines pair
+ * types; phm_pair_type(i) returns row i, phm_pair_type_count() the number of rows; Python builds its
+ * pair classes from it). Joint axis = local z of both pair frames unless the row says otherwise. */
+typedef struct {
+  const char *name;          /* lower case, e.g. "revolute"; Python's class is "Revolute"      */
+  int m;                     /* constraint rows; k = 6 - m joint coordinates                   */
+  const char *params;        /* constructor parameters with defaults, e.g. "axis=z,pitch=0"     */
+  const char *units[6];      /* unit of each joint coordinate: "rad" or "m"                   */
+  const char *directions[6]; /* name of each constraint-wrench direction (W^C column), in F_b  */
+  int drivable;              /* 1: its relative pose can be prescribed (phm_pair_desc.driven)  */
+  const char *doc;           /* one sentence for the docstring (x, xdot and their meaning)     */
+} phm_pair_type_info;
 
 /* A kinematic pair between frame Ta on carrier a and Tb on carrier b (-1 = ground). Frames
  * F_a = H_a Ta, F_b = H_b Tb; relative pose h = F_a^-1 F_b = (R, p); relative twist
@@ -186,13 +130,13 @@ typedef enum {
  * dual effort basis Phi (psi^T Phi = I), the constraint-wrench basis W^C (6 x m, m = 6 - k),
  * position constraints g(h) (m) with dg = W^C^T t_rel at g = 0, joint coordinates x (k) and
  * rates xdot = Phi^T t_rel. Velocity constraint W^C^T t_rel = prescribed rate; constraint wrench
- * W^C lambda acts on b (in F_b) and equal and opposite on a. Only FIXED pairs can be driven:
+ * W^C lambda acts on b (in F_b) and equal and opposite on a. Only drivable types (fixed) can be driven:
  * reference r(t) = exp(law(t) axis), g = log(r^-1 h). */
 typedef struct {
-  int type;          /* phm_pair_type                                                     */
+  int type;          /* row of the pair table (phm_pair_type)                             */
   int a, b;          /* carriers, -1 = ground                                             */
   double Ta[16], Tb[16];
-  int driven;        /* 0: r = identity; 1: r(t) = exp(law(t) * axis) (FIXED only)         */
+  int driven;        /* 0: r = identity; 1: r(t) = exp(law(t) * axis) (drivable types)      */
   double axis[6];    /* twist direction of the prescribed motion (omega, v)               */
   phm_law law;
   double pitch;      /* HELICAL: translation per rotation, m/rad                          */
@@ -250,31 +194,6 @@ typedef struct {
 
 typedef struct phm_model phm_model;
 
-/* Validate and copy a description into a new model (*out); free with phm_model_free. */
-phm_status phm_model_create(const phm_model_desc *desc, phm_model **out, phm_error *err);
-void phm_model_free(phm_model *model);
-int phm_model_ncarriers(const phm_model *model);
-int phm_model_nconstraints(const phm_model *model);   /* rows of G (lambda's length)      */
-int phm_model_npairs(const phm_model *model);
-int phm_model_njoints(const phm_model *model);        /* joint coordinates, all pairs (sum of k) */
-int phm_model_nports(const phm_model *model);         /* ports: actuators, loads, springs, in order */
-/* First constraint row, constraint rows m, first joint coordinate and k of pair ip. */
-void phm_model_pair_layout(const phm_model *model, int ip, int *row, int *m, int *joint, int *k);
-
-/* ---- topology helpers (owner: graphs/initial configuration) ----
- * All constraint rows of every pair type, including the rows dropped as redundant (phm_pair_desc
- * drop), at poses H (nc x 16), joint branch references xs (nj; NULL: x0) and time: g (nfull),
- * G (nfull x 6nc, row-major), W (npairs x 36: each pair's full W^C, frame F_b, first m columns
- * used); any output may be NULL. nfull = sum over pairs of the type's constraint count. */
-int phm_model_nconstraints_full(const phm_model *model);
-void phm_constraints_full(const phm_model *model, const double *H, const double *xs, double time,
-                          double *g, double *G, double *W);
-/* Joint coordinates x (nj) of every pair at poses H, angles on the branch of xs (NULL: x0). */
-void phm_model_joints(const phm_model *model, const double *H, const double *xs, double *x);
-
-/* Energies at poses H (nc x 16) and twists t (nc x 6): e[0] kinetic, e[1] elastic (beam elements
- * and point-to-point springs; not joint springs, whose power is a port), e[2] gravity. */
-void phm_model_energy(const phm_model *model, const double *H, const double *t, double e[3]);
 
 typedef int (*phm_callback)(void *ctx, double t, int iout); /* non-zero return stops the run */
 /* Called during integration at least every PHM_MONITOR_STEPS steps (and at each output): time
@@ -354,27 +273,4 @@ typedef struct {
   double wall_time;                             /* seconds             */
 } phm_sim_output;
 
-/* Integrate from tout[0] (initial poses/twists: poses0/twists0, or the model's H0/t0 if NULL),
- * after a consistent-initial-value projection, and sample at the increasing times tout[0..nout).
- * An output with a non-finite value stops the run with PHM_ESOLVER (out->nout_done counts only
- * the finite outputs before it). */
-phm_status phm_simulate(const phm_model *model, const double *poses0, const double *twists0,
-                        const double *tout, int nout, const phm_sim_options *opt,
-                        phm_sim_output *out, phm_error *err);
-
-/* Linearized modes at poses (NULL: H0) with constraint wrenches lambda (NULL: zero), loads at
- * `time`: nmodes lowest omega (rad/s), damping ratios zeta, shapes [nmodes][nc][6] (tangent
- * coordinates, mass-normalized); *nfound = modes returned (<= nmodes, limited by the free DOF).
- * A non-finite linearization or result is PHM_ESOLVER, never returned. */
-phm_status phm_modes(const phm_model *model, const double *poses, const double *lambda,
-                     double time, int nmodes, double *omega, double *zeta, double *shapes,
-                     int *nfound, phm_error *err);
-
-/* Static equilibrium under the loads and gravity at `time`, scaled from 0 to 1 in `steps` load
- * steps (halved on failure); Newton with dense LU. poses: start (NULL: H0); results in poses_out
- * (nc x 16) and lambda_out (nconstraints); *iters = total Newton iterations. */
-phm_status phm_static(const phm_model *model, const double *poses, double time, int steps,
-                      double tol, double *poses_out, double *lambda_out, int *iters,
-                      phm_error *err);
-
-#endif /* PHMECH_H */
+#endif /* PHMECH_TYPES_H */

@@ -1,0 +1,112 @@
+/* output.c -- what a simulation hands back at each output time: the recorded poses and twists,
+ * multipliers, joint coordinates, rates and efforts, pair wrenches, port energies and the energy
+ * ledger; every output checked finite before it counts. */
+#include "dae.h"
+
+#include <string.h>
+
+#include "check.h"
+#include "linalg.h"
+
+/* Output iout must be finite: a NaN or inf in a result is never handed back silently. PHM_OK, or
+ * PHM_ESOLVER naming the quantity (output iout is then not counted as done). */
+static phm_status check_output(const dae_t *d, const phm_sim_output *out, int iout, double time,
+                               phm_error *err) {
+  const phm_model *m = d->m;
+  size_t nr = out->record ? (size_t)out->nrecord : (size_t)m->nc, i = (size_t)iout;
+  struct {
+    const char *name;
+    const double *base;
+    size_t n;
+  } q[] = {{"poses", out->poses, 16 * nr},
+           {"twists", out->twists, 6 * nr},
+           {"constraint wrenches", out->lambda, (size_t)m->ncons},
+           {"energies", out->energy, PHM_NENERGY},
+           {"joint coordinates", out->joints, (size_t)m->nj},
+           {"joint rates", out->jrates, (size_t)m->nj},
+           {"actuator efforts", out->efforts, (size_t)m->nj},
+           {"pair wrenches", out->pwrench, 6 * (size_t)m->np},
+           {"port energies", out->ports, (size_t)m->nport}};
+  for (size_t k = 0; k < sizeof q / sizeof q[0]; k++) {
+    if (!q[k].base || !q[k].n) continue;
+    long j = phm_first_nonfinite(q[k].base + i * q[k].n, q[k].n);
+    if (j >= 0)
+      return PHM_FAIL(err, PHM_ESOLVER,
+                           "non-finite %s at t = %.9g s (entry %ld is %g): the model's numbers "
+                           "overflow double precision (check for huge or tiny masses, stiffnesses, "
+                           "loads, lengths or initial values)",
+                           q[k].name, time, j, q[k].base[i * q[k].n + (size_t)j]);
+  }
+  return PHM_OK;
+}
+
+static void record(dae_t *d, const double *y, phm_sim_output *out, int iout, double E0[1],
+                   double time) {
+  const phm_model *m = d->m;
+  int nc = m->nc;
+  dae_unpack(m, y, d->H, d->tw);
+  if (out->record) { /* only the carriers the caller asked for: memory stays small on long runs */
+    for (int k = 0; k < out->nrecord; k++) {
+      size_t o = (size_t)iout * out->nrecord + (size_t)k;
+      int c = out->record[k];
+      if (out->poses) memcpy(out->poses + 16 * o, d->H + 16 * c, sizeof(double) * 16);
+      if (out->twists) memcpy(out->twists + 6 * o, d->tw + 6 * c, sizeof(double) * 6);
+    }
+  } else {
+    if (out->poses) memcpy(out->poses + (size_t)iout * 16 * nc, d->H, sizeof(double) * 16 * nc);
+    if (out->twists) memcpy(out->twists + (size_t)iout * 6 * nc, d->tw, sizeof(double) * 6 * nc);
+  }
+  if (out->lambda && m->ncons)
+    memcpy(out->lambda + (size_t)iout * m->ncons, y + d->il, sizeof(double) * m->ncons);
+  const double *xs = y + d->ix;
+  for (int ip = 0; ip < m->np; ip++) {
+    const phm_pair_desc *pr = &m->pair[ip];
+    const double *Ha = pr->a >= 0 ? d->H + 16 * pr->a : NULL, *Hb = pr->b >= 0 ? d->H + 16 * pr->b : NULL;
+    int j0 = m->pair_j[ip];
+    double x[6], xd[6];
+    phm_pair_joint(m, ip, Ha, Hb, pr->a >= 0 ? d->tw + 6 * pr->a : NULL,
+                   pr->b >= 0 ? d->tw + 6 * pr->b : NULL, xs + j0, x, xd);
+    for (int c = 0; c < m->pair_k[ip]; c++) {
+      if (out->joints) out->joints[(size_t)iout * m->nj + j0 + c] = x[c];
+      if (out->jrates) out->jrates[(size_t)iout * m->nj + j0 + c] = xd[c];
+    }
+    if (out->pwrench)
+      phm_pair_wrench(m, ip, Ha, Hb, xs + j0, y + d->il + m->pair_row[ip],
+                      out->pwrench + ((size_t)iout * m->np + ip) * 6);
+  }
+  if (out->efforts && m->nj) {
+    phm_applied(m, d->H, d->tw, xs, time, d->tref, 1.0, d->wr, NULL, NULL, NULL, NULL, d->eff);
+    memcpy(out->efforts + (size_t)iout * m->nj, d->eff, sizeof(double) * (size_t)m->nj);
+  }
+  if (out->ports && m->nport)
+    memcpy(out->ports + (size_t)iout * m->nport, y + d->ie + 2, sizeof(double) * (size_t)m->nport);
+  double e[3];
+  phm_model_energy(m, d->H, d->tw, e);
+  double tot = e[0] + e[1] + e[2];
+  if (iout == 0) E0[0] = tot;
+  if (out->energy) {
+    double *o = out->energy + (size_t)iout * PHM_NENERGY;
+    o[0] = e[0];
+    o[1] = e[1];
+    o[2] = e[2];
+    o[3] = y[d->ie];
+    o[4] = y[d->ie + 1];
+    o[5] = tot;
+    o[6] = tot - E0[0] - (y[d->ie + 1] - y[d->ie]);
+  }
+}
+
+/* Store output iout (state y at time t) and call the user's callbacks. PHM_EINTERRUPT if the
+ * interrupt callback asks; *stop = 1 if the progress callback asks to stop quietly. */
+phm_status dae_emit_output(dae_t *d, const double *y, phm_sim_output *out, int iout, double E0[1],
+                              double t, const phm_sim_options *opt, int *stop, phm_error *err) {
+  *stop = 0;
+  record(d, y, out, iout, E0, t);
+  phm_status st = check_output(d, out, iout, t, err);
+  if (st) return st;
+  out->nout_done = iout + 1;
+  if (opt->interrupt && opt->interrupt(opt->ctx, t, iout))
+    return PHM_FAIL(err, PHM_EINTERRUPT, "interrupted at t = %g s", t);
+  if (opt->progress && opt->progress(opt->ctx, t, iout)) *stop = 1;
+  return PHM_OK;
+}

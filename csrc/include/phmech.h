@@ -1,0 +1,128 @@
+/* phmech.h -- the public C API of phmech: a table of contents, one line per function, in the
+ * order of the data path (docs/architecture.md):
+ *   description (phm_model_desc) -> model (immutable, csrc/model/) -> per-evaluation data and
+ *   the DAE residual/Jacobian (csrc/dae/) -> integrators, linearization, modes, statics
+ *   (csrc/solve/) -> results (caller-allocated arrays).
+ * The types, their units and conventions are in phmech_types.h. The library never prints, exits
+ * or aborts: a function that can fail returns a phm_status and leaves a message in a phm_error. */
+#ifndef PHMECH_H
+#define PHMECH_H
+
+#include "phmech_types.h"
+
+#define PHM_VERSION "0.1.0"
+
+/* ---------------------------------------------------------------- errors (csrc/util/error.c) */
+phm_status phm_error_set(phm_error *err, phm_status code, const char *fmt, ...); /* record code and message; returns code */
+void phm_error_clear(phm_error *err);                                             /* PHM_OK, empty message            */
+
+/* ---------------------------------------------------------------- SO(3), SE(3), quaternions (csrc/util/se3.c) */
+void phm_so3_hat(const double w[3], double W[9]);        /* W = hat(w), W x = w cross x          */
+void phm_so3_vee(const double W[9], double w[3]);        /* inverse of hat (skew part)           */
+void phm_so3_exp(const double w[3], double R[9]);        /* Rodrigues, series near 0             */
+void phm_so3_log(const double R[9], double w[3]);        /* |w| in [0, pi], robust near pi       */
+void phm_so3_jac(const double w[3], double A[9]);        /* sum_k hat(w)^k/(k+1)! (left Jacobian) */
+void phm_so3_jac_inv(const double w[3], double Ai[9]);   /* inverse of phm_so3_jac, |w| < 2 pi   */
+void phm_se3_hat(const double x[6], double X[16]);       /* 4x4 matrix of twist coordinates      */
+void phm_se3_vee(const double X[16], double x[6]);       /* inverse of hat                       */
+void phm_se3_exp(const double x[6], double H[16]);
+void phm_se3_log(const double H[16], double x[6]);       /* |omega| in [0, pi]                   */
+void phm_se3_compose(const double A[16], const double B[16], double AB[16]);
+void phm_se3_inverse(const double H[16], double Hi[16]);
+void phm_se3_Ad(const double H[16], double A[36]);       /* Ad_H                                 */
+void phm_se3_Ad_dual(const double H[16], double A[36]);  /* Ad*_H = Ad_H^T (wrenches)            */
+void phm_se3_ad(const double x[6], double a[36]);        /* ad_x                                 */
+void phm_se3_ad_dual(const double x[6], double a[36]);   /* ad*_x = ad_x^T                       */
+void phm_se3_dexp(const double x[6], double D[36]);      /* sum_k ad_x^k/(k+1)!                  */
+void phm_se3_dexp_inv(const double x[6], double Di[36]); /* its inverse, |omega| < 2 pi          */
+void phm_se3_log_dexp_inv(const double H[16], double x[6], double Ai[9], double L[9]); /* x = log H, dexp_x^-1 = [[Ai,0],[L,Ai]], dexp_{-x}^-1 = [[Ai^T,0],[L^T,Ai^T]] */
+void phm_quat_to_rot(const double q[4], double R[9]);    /* q need not be normalized             */
+void phm_quat_from_rot(const double R[9], double q[4]);  /* Shepperd; returns q with w >= 0      */
+
+/* ---------------------------------------------------------------- time laws (csrc/util/law.c) */
+/* s(t) and its first two derivatives (ds, dds may be NULL); the piece of a piecewise law is
+ * chosen by tref (a time inside the current breakpoint interval), its formula evaluated at t. */
+double phm_law_eval(const phm_law *law, double t, double tref, double *ds, double *dds);
+
+/* ---------------------------------------------------------------- mixed finite element (csrc/model/mixed.c) */
+phm_status phm_mixed_check(const phm_mixed_beam *beam, phm_error *err);                  /* finite, positive, N in range, alpha in [0, 1) */
+phm_status phm_mixed_bc_from_name(const char *name, phm_mixed_bc *bc, phm_error *err);   /* "clamped-free", "clamped-clamped", "pinned-pinned", "clamped-pinned" */
+void phm_mixed_bc_ports(phm_mixed_bc bc, int constrained[4]);                            /* per port of u: 0 input = 0, 1 output = 0 */
+phm_status phm_mixed_element(double h, double EI, double kGA, double rhoA, double rhoI,  /* one element's J, Q, B, D (4x4) */
+                             double alpha, double J[16], double Q[16], double B[16], double D[16],
+                             phm_error *err);
+phm_status phm_mixed_assemble(const phm_mixed_beam *beam, double *J, double *Q, double *B, /* the chain (outputs may be NULL) */
+                              double *D, phm_error *err);
+/* The first n natural frequencies [rad/s], ascending, 1 <= n <= 2N: the positive imaginary parts
+ * of the eigenvalues of Q^1/2 J Q^1/2 on the constraint subspace, as singular values (LAPACK
+ * dgesvd) of its momentum-strain block; zero frequencies of rigid-body or constraint modes are
+ * skipped. */
+phm_status phm_mixed_frequencies(const phm_mixed_beam *beam, phm_mixed_bc bc, int n, double *omega,
+                                 phm_error *err);
+
+/* ---------------------------------------------------------------- the model (csrc/model/model.c) */
+phm_status phm_model_create(const phm_model_desc *desc, phm_model **out, phm_error *err); /* validate and copy; free with phm_model_free */
+void phm_model_free(phm_model *model);
+int phm_model_ncarriers(const phm_model *model);
+int phm_model_nconstraints(const phm_model *model);   /* rows of G (lambda's length)             */
+int phm_model_npairs(const phm_model *model);
+int phm_model_njoints(const phm_model *model);        /* joint coordinates, all pairs (sum of k) */
+int phm_model_nports(const phm_model *model);         /* ports: actuators, loads, springs, in order */
+void phm_model_pair_layout(const phm_model *model, int ip, int *row, int *m, int *joint, int *k); /* first row, rows, first joint coordinate, k of pair ip */
+/* Reset the initial poses H0 (nc x 16), twists t0 (nc x 6; NULL: keep), joint coordinates x0
+ * (npairs x 6; NULL: keep) and redundant-row masks drop (npairs; NULL: keep) of a model without
+ * rebuilding it (the loop closure changes only these). */
+phm_status phm_model_set_initial(phm_model *model, const double *H0, const double *t0,
+                                 const double *x0, const int *drop, phm_error *err);
+
+/* ---------------------------------------------------------------- pairs (csrc/model/pair.c) */
+int phm_pair_type_count(void);                                   /* number of pair types          */
+const phm_pair_type_info *phm_pair_type(int type);               /* the pair table: names, k, m, units, directions; NULL if unknown */
+/* Relative pose h (4x4) of a pair type's frames at joint coordinates x (k of them). */
+void phm_pair_type_pose(int type, double pitch, const double *x, double h[16]);
+/* Joint coordinates x (k) of a relative pose h, angles nearest xref (NULL: principal values). */
+void phm_pair_type_coordinates(int type, double pitch, const double h[16], const double *xref, double *x);
+int phm_model_nconstraints_full(const phm_model *model);      /* rows before dropping redundant ones */
+/* All constraint rows, dropped ones included, at poses H (nc x 16), joint branch references xs
+ * (nj; NULL: x0) and time: g (nfull), G (nfull x 6nc, row-major), W (npairs x 36: each pair's
+ * full W^C in F_b, first m columns used); any output may be NULL. */
+void phm_constraints_full(const phm_model *model, const double *H, const double *xs, double time,
+                          double *g, double *G, double *W);
+void phm_model_joints(const phm_model *model, const double *H, const double *xs, double *x); /* joint coordinates (nj) at poses H */
+
+/* ---------------------------------------------------------------- elements (csrc/model/element.c) */
+/* Stress resultants sigma = K (eps - eps_hat) + D eps' (6 per element, body frame of node a's
+ * element chart) of every element at poses H (nc x 16) and twists t (nc x 6; NULL: no damping part). */
+void phm_model_stress_resultants(const phm_model *model, const double *H, const double *t, double *sigma);
+
+/* ---------------------------------------------------------------- energy (csrc/model/energy.c) */
+/* e[0] kinetic, e[1] elastic (elements and point-to-point springs; joint springs are ports),
+ * e[2] gravity, at poses H (nc x 16) and twists t (nc x 6). */
+void phm_model_energy(const phm_model *model, const double *H, const double *t, double e[3]);
+
+/* ---------------------------------------------------------------- simulation (csrc/solve/simulate.c) */
+/* Integrate from tout[0] (initial poses/twists: poses0/twists0, or the model's H0/t0 if NULL)
+ * after a consistent-initial-value projection, sampling at the increasing times tout[0..nout);
+ * integrators: csrc/solve/ida.c, csrc/solve/galpha.c. A non-finite output stops the run with
+ * PHM_ESOLVER (out->nout_done counts the finite outputs before it). */
+phm_status phm_simulate(const phm_model *model, const double *poses0, const double *twists0,
+                        const double *tout, int nout, const phm_sim_options *opt,
+                        phm_sim_output *out, phm_error *err);
+
+/* ---------------------------------------------------------------- modes (csrc/solve/modes.c) */
+/* Linearized modes at poses (NULL: H0) with constraint wrenches lambda (NULL: zero), loads at
+ * `time`: the nmodes lowest omega [rad/s], damping ratios zeta, shapes [nmodes][nc][6] (tangent
+ * coordinates, mass-normalized); *nfound modes returned (<= nmodes, limited by the free DOF). */
+phm_status phm_modes(const phm_model *model, const double *poses, const double *lambda,
+                     double time, int nmodes, double *omega, double *zeta, double *shapes,
+                     int *nfound, phm_error *err);
+
+/* ---------------------------------------------------------------- statics (csrc/solve/statics.c) */
+/* Static equilibrium under the loads and gravity at `time`, scaled from 0 to 1 in `steps` load
+ * steps (halved on failure); damped Newton, sparse LU (KLU). poses: start (NULL: H0); results in
+ * poses_out (nc x 16) and lambda_out (nconstraints); *iters = total Newton iterations. */
+phm_status phm_static(const phm_model *model, const double *poses, double time, int steps,
+                      double tol, double *poses_out, double *lambda_out, int *iters,
+                      phm_error *err);
+
+#endif /* PHMECH_H */

@@ -1,0 +1,205 @@
+/* applied.c -- the applied wrenches on every carrier: beam elements, gravity, actuators on pairs,
+ * external wrenches and interactions, point-to-point springs; with the elastic energy, the
+ * dissipated power and the power of every port (the energy ledger's inputs). */
+#include "model.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "linalg.h"
+
+/* World position and velocity of body point r of carrier c (-1: ground, r is a world point). */
+static void point_state(const double *H, const double *tw, int c, const double r[3], double x[3],
+                        double v[3]) {
+  if (c < 0) {
+    for (int i = 0; i < 3; i++) { x[i] = r[i]; v[i] = 0; }
+    return;
+  }
+  const double *Hc = H + 16 * c;
+  double vb[3] = {0, 0, 0};
+  if (tw) {
+    const double *w = tw + 6 * c, *u = w + 3;
+    vb[0] = u[0] + w[1] * r[2] - w[2] * r[1];
+    vb[1] = u[1] + w[2] * r[0] - w[0] * r[2];
+    vb[2] = u[2] + w[0] * r[1] - w[1] * r[0];
+  }
+  for (int i = 0; i < 3; i++) {
+    x[i] = Hc[4 * i + 3] + Hc[4 * i] * r[0] + Hc[4 * i + 1] * r[1] + Hc[4 * i + 2] * r[2];
+    v[i] = Hc[4 * i] * vb[0] + Hc[4 * i + 1] * vb[1] + Hc[4 * i + 2] * vb[2];
+  }
+}
+
+/* Add the world force F and world torque T (about the world point x) to carrier c's body wrench. */
+static void add_world_wrench(const double *H, int c, const double x[3], const double F[3],
+                             const double T[3], double *wr) {
+  if (c < 0) return;
+  const double *Hc = H + 16 * c;
+  double f[3], t[3], d[3], r[3];
+  for (int i = 0; i < 3; i++) d[i] = x[i] - Hc[4 * i + 3];
+  for (int i = 0; i < 3; i++) {
+    f[i] = Hc[i] * F[0] + Hc[4 + i] * F[1] + Hc[8 + i] * F[2];
+    t[i] = Hc[i] * T[0] + Hc[4 + i] * T[1] + Hc[8 + i] * T[2];
+    r[i] = Hc[i] * d[0] + Hc[4 + i] * d[1] + Hc[8 + i] * d[2];
+  }
+  double *w = wr + 6 * c;
+  w[0] += t[0] + r[1] * f[2] - r[2] * f[1];
+  w[1] += t[1] + r[2] * f[0] - r[0] * f[2];
+  w[2] += t[2] + r[0] * f[1] - r[1] * f[0];
+  w[3] += f[0];
+  w[4] += f[1];
+  w[5] += f[2];
+}
+
+/* Point-to-point spring-damper: tension f = k (d - d0) + c dd/dt along the line of its points. */
+void phm_spring_eval(const phm_spring_desc *sp, const double *H, const double *tw, double *wr,
+                     double *V, double *Pd) {
+  double xa[3], va[3], xb[3], vb[3], n[3], F[3], T[3] = {0, 0, 0};
+  point_state(H, tw, sp->a, sp->pa, xa, va);
+  point_state(H, tw, sp->b, sp->pb, xb, vb);
+  for (int i = 0; i < 3; i++) n[i] = xb[i] - xa[i];
+  double d = sqrt(phm_dot(n, n, 3));
+  double dd = 0;
+  if (d > 0) {
+    for (int i = 0; i < 3; i++) n[i] /= d;
+    for (int i = 0; i < 3; i++) dd += n[i] * (vb[i] - va[i]);
+  }
+  double f = sp->k * (d - sp->d0) + sp->c * dd;
+  if (V) *V = 0.5 * sp->k * (d - sp->d0) * (d - sp->d0);
+  if (Pd) *Pd = sp->c * dd * dd;
+  if (!wr || d == 0) return;
+  for (int i = 0; i < 3; i++) F[i] = -f * n[i];
+  add_world_wrench(H, sp->b, xb, F, T, wr);
+  for (int i = 0; i < 3; i++) F[i] = f * n[i];
+  add_world_wrench(H, sp->a, xa, F, T, wr);
+}
+
+void phm_applied(const phm_model *m, const double *H, const double *tw, const double *xs,
+                 double time, double tref, double scale, double *wr, double *Vel, double *Pdiss,
+                 double *Psupp, double *Pport, double *effort) {
+  memset(wr, 0, sizeof(double) * 6 * (size_t)m->nc);
+  if (effort && m->nj) memset(effort, 0, sizeof(double) * (size_t)m->nj);
+  double V = 0, Pd = 0, Ps = 0;
+  for (int ie = 0; ie < m->ne; ie++) {
+    const phm_element_desc *e = &m->el[ie];
+    double wa[6], wb[6], v, p;
+    phm_element_eval(e, H + 16 * e->a, H + 16 * e->b, tw ? tw + 6 * e->a : NULL,
+                     tw ? tw + 6 * e->b : NULL, wa, wb, &v, &p, NULL);
+    V += v;
+    Pd += p;
+    for (int i = 0; i < 6; i++) {
+      wr[6 * e->a + i] += wa[i];
+      wr[6 * e->b + i] += wb[i];
+    }
+  }
+  double gn = fabs(m->gravity[0]) + fabs(m->gravity[1]) + fabs(m->gravity[2]);
+  if (gn > 0)
+    for (int c = 0; c < m->nc; c++) {
+      const double *Hc = H + 16 * c;
+      const phm_carrier_desc *cd = &m->car[c];
+      double f[3];
+      for (int i = 0; i < 3; i++) /* R^T m g */
+        f[i] = scale * cd->mass *
+               (Hc[i] * m->gravity[0] + Hc[4 + i] * m->gravity[1] + Hc[8 + i] * m->gravity[2]);
+      const double *r = cd->com;
+      double *w = wr + 6 * c;
+      w[0] += r[1] * f[2] - r[2] * f[1];
+      w[1] += r[2] * f[0] - r[0] * f[2];
+      w[2] += r[0] * f[1] - r[1] * f[0];
+      w[3] += f[0];
+      w[4] += f[1];
+      w[5] += f[2];
+    }
+  /* actuators */
+  for (int ia = 0; ia < m->na; ia++) {
+    const phm_actuator_desc *ac = &m->act[ia];
+    int ip = ac->pair, k = m->pair_k[ip], j0 = m->pair_j[ip];
+    const phm_pair_desc *pr = &m->pair[ip];
+    const double *Ha = pr->a >= 0 ? H + 16 * pr->a : NULL, *Hb = pr->b >= 0 ? H + 16 * pr->b : NULL;
+    const double *ta = (tw && pr->a >= 0) ? tw + 6 * pr->a : NULL, *tb = (tw && pr->b >= 0) ? tw + 6 * pr->b : NULL;
+    double h[16], Phi[36], AdTbi[36], AdBa[36], tr[6], x[6], xd[6] = {0}, u[6] = {0}, s = 0, ds = 0;
+    phm_pair_frames(m, ip, Ha, Hb, h, AdTbi, AdBa);
+    phm_pair_kin(pr->type, pr->pitch, h, xs ? xs + j0 : m->xref0 + j0, NULL, NULL, Phi, x);
+    phm_pair_rel_twist(AdTbi, AdBa, ta, tb, tr);
+    for (int c = 0; c < k; c++) {
+      double acc = 0;
+      for (int i = 0; i < 6; i++) acc += Phi[6 * i + c] * tr[i];
+      xd[c] = acc;
+    }
+    if (ac->kind != PHM_ACT_SPRING) s = phm_law_eval(&ac->law, time, tref, &ds, NULL);
+    for (int c = 0; c < k; c++) {
+      if (ac->kind == PHM_ACT_EFFORT) u[c] = scale * s * ac->vec[c];
+      else if (ac->kind == PHM_ACT_PD)
+        u[c] = -ac->kp[c] * (x[c] - ac->x_set[c] - s * ac->vec[c]) - ac->kd[c] * (xd[c] - ds * ac->vec[c]);
+      else u[c] = -ac->kp[c] * (x[c] - ac->x_set[c]) - ac->kd[c] * xd[c];
+      if (effort) effort[j0 + c] += u[c];
+    }
+    double wB[6], wv[6];
+    for (int i = 0; i < 6; i++) {
+      double acc = 0;
+      for (int c = 0; c < k; c++) acc += Phi[6 * i + c] * u[c];
+      wB[i] = acc;
+    }
+    if (Hb) {
+      phm_mtv6(AdTbi, wB, wv);
+      for (int i = 0; i < 6; i++) wr[6 * pr->b + i] += wv[i];
+    }
+    if (pr->a >= 0) {
+      phm_mtv6(AdBa, wB, wv);
+      for (int i = 0; i < 6; i++) wr[6 * pr->a + i] -= wv[i];
+    }
+    double P = phm_dot(u, xd, k);
+    Ps += P;
+    if (Pport) Pport[ia] = P;
+  }
+  /* external wrenches and interactions */
+  for (int il = 0; il < m->nl; il++) {
+    const phm_load_desc *l = &m->load[il];
+    double s = scale * phm_law_eval(&l->law, time, tref, NULL, NULL);
+    if (Pport) Pport[m->na + il] = 0;
+    if (s == 0) continue;
+    const double *Hc = H + 16 * l->carrier;
+    double tau[3], f[3], w[6];
+    for (int i = 0; i < 3; i++) {
+      if (l->world) {
+        tau[i] = s * (Hc[i] * l->w[0] + Hc[4 + i] * l->w[1] + Hc[8 + i] * l->w[2]);
+        f[i] = s * (Hc[i] * l->w[3] + Hc[4 + i] * l->w[4] + Hc[8 + i] * l->w[5]);
+      } else {
+        tau[i] = s * l->w[i];
+        f[i] = s * l->w[3 + i];
+      }
+    }
+    const double *r = l->point;
+    w[0] = tau[0] + r[1] * f[2] - r[2] * f[1];
+    w[1] = tau[1] + r[2] * f[0] - r[0] * f[2];
+    w[2] = tau[2] + r[0] * f[1] - r[1] * f[0];
+    w[3] = f[0];
+    w[4] = f[1];
+    w[5] = f[2];
+    for (int i = 0; i < 6; i++) wr[6 * l->carrier + i] += w[i];
+    double P = tw ? phm_dot(w, tw + 6 * l->carrier, 6) : 0;
+    if (l->reaction >= 0) {
+      double x[3], v[3], F[3], T[3], before[6];
+      point_state(H, NULL, l->carrier, r, x, v);
+      for (int i = 0; i < 3; i++) { /* world force and torque (about x), reversed */
+        F[i] = -(Hc[4 * i] * f[0] + Hc[4 * i + 1] * f[1] + Hc[4 * i + 2] * f[2]);
+        T[i] = -(Hc[4 * i] * tau[0] + Hc[4 * i + 1] * tau[1] + Hc[4 * i + 2] * tau[2]);
+      }
+      memcpy(before, wr + 6 * l->reaction, sizeof before);
+      add_world_wrench(H, l->reaction, x, F, T, wr);
+      if (tw)
+        for (int i = 0; i < 6; i++) P += (wr[6 * l->reaction + i] - before[i]) * tw[6 * l->reaction + i];
+    }
+    Ps += P;
+    if (Pport) Pport[m->na + il] = P;
+  }
+  for (int is = 0; is < m->ns; is++) {
+    double v = 0, p = 0;
+    phm_spring_eval(&m->spr[is], H, tw, wr, &v, &p);
+    V += v;
+    Pd += p;
+    if (Pport) Pport[m->na + m->nl + is] = -p;
+  }
+  if (Vel) *Vel = V;
+  if (Pdiss) *Pdiss = Pd;
+  if (Psupp) *Psupp = Ps;
+}

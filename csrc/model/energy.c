@@ -1,0 +1,35 @@
+/* energy.c -- kinetic, elastic and gravitational energy of a state (the energy ledger's stored
+ * part; the dissipated and supplied parts are integrated in the DAE, csrc/dae/residual.c). */
+#include "model.h"
+
+#include "linalg.h"
+
+void phm_model_energy(const phm_model *m, const double *H, const double *t, double e[3]) {
+  double K = 0, Vg = 0, Vel = 0;
+  for (int c = 0; c < m->nc; c++) {
+    if (t) {
+      double Mt[6];
+      phm_mv6(m->car[c].M, t + 6 * c, Mt);
+      K += 0.5 * phm_dot(Mt, t + 6 * c, 6);
+    }
+    const double *Hc = H + 16 * c, *r = m->car[c].com;
+    for (int i = 0; i < 3; i++) {
+      double x = Hc[4 * i + 3] + Hc[4 * i] * r[0] + Hc[4 * i + 1] * r[1] + Hc[4 * i + 2] * r[2];
+      Vg -= m->car[c].mass * m->gravity[i] * x;
+    }
+  }
+  for (int ie = 0; ie < m->ne; ie++) {
+    const phm_element_desc *el = &m->el[ie];
+    double wa[6], wb[6], v;
+    phm_element_eval(el, H + 16 * el->a, H + 16 * el->b, NULL, NULL, wa, wb, &v, NULL, NULL);
+    Vel += v;
+  }
+  for (int is = 0; is < m->ns; is++) {
+    double v = 0;
+    phm_spring_eval(&m->spr[is], H, NULL, NULL, &v, NULL);
+    Vel += v;
+  }
+  e[0] = K;
+  e[1] = Vel;
+  e[2] = Vg;
+}

@@ -1,0 +1,327 @@
+/* model.c -- the immutable model: validation of a description (phm_model_desc), its copy, the
+ * layout of constraint rows and joint coordinates per pair, the laws' breakpoints. Built once
+ * per analysis; every later stage only reads it. */
+#include "model.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "law.h"
+#include "linalg.h"
+
+static phm_status check_pose(const double H[16], const char *what, int idx, phm_error *err) {
+  if (!phm_all_finite(H, 16)) return PHM_FAIL(err, PHM_EINVAL, "%s %d: pose has a non-finite entry", what, idx);
+  double e = 0;
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) {
+      double s = 0;
+      for (int k = 0; k < 3; k++) s += H[4 * k + i] * H[4 * k + j];
+      e = fmax(e, fabs(s - (i == j)));
+    }
+  double det = H[0] * (H[5] * H[10] - H[6] * H[9]) - H[1] * (H[4] * H[10] - H[6] * H[8]) +
+               H[2] * (H[4] * H[9] - H[5] * H[8]);
+  if (e > 1e-6 || det < 0)
+    return PHM_FAIL(err, PHM_EINVAL, "%s %d: pose rotation is not orthonormal with det +1 (|R^T R - I| = %.2e)", what, idx, e);
+  if (fabs(H[12]) + fabs(H[13]) + fabs(H[14]) + fabs(H[15] - 1) > 1e-12)
+    return PHM_FAIL(err, PHM_EINVAL, "%s %d: pose last row must be (0, 0, 0, 1)", what, idx);
+  return PHM_OK;
+}
+
+/* Symmetric positive (semi)definite within a relative tolerance: a Cholesky factorization of A
+ * (semidefinite: of A + 1e-12 max|A_ii| I) succeeds. */
+static int spd6(const double A[36], int semi) {
+  double L[36], scale = 0;
+  for (int i = 0; i < 6; i++) scale = fmax(scale, fabs(A[7 * i]));
+  for (int i = 0; i < 6; i++)
+    for (int j = 0; j < 6; j++)
+      if (fabs(A[6 * i + j] - A[6 * j + i]) > 1e-9 * (scale + 1e-300)) return 0;
+  if (semi)
+    for (int i = 0; i < 6; i++)
+      if (A[7 * i] < 0) return 0;
+  return !phm_chol6(A, semi ? 1e-12 * scale + 1e-300 : 0.0, 0.0, L);
+}
+
+void phm_model_free(phm_model *m) {
+  if (!m) return;
+  free(m->car);
+  free(m->el);
+  free(m->pair);
+  free(m->pair_row);
+  free(m->pair_m);
+  free(m->pair_j);
+  free(m->pair_k);
+  free(m->pair_sel);
+  free(m->pair_rowf);
+  free(m->pair_AdTbi);
+  free(m->xref0);
+  free(m->act);
+  free(m->spr);
+  free(m->load);
+  free(m->bp);
+  free(m->tables);
+  free(m);
+}
+
+/* Constraint rows (kept and full) and joint coordinates of every pair, from the types and drop
+ * masks; the branch references xref0 from the given x0. */
+static void pair_layout(phm_model *m) {
+  int row = 0, jt = 0, rowf = 0;
+  for (int i = 0; i < m->np; i++) {
+    int mt = phm_pair_type(m->pair[i].type)->m, kept = 0;
+    for (int r = 0; r < mt; r++)
+      if (!(m->pair[i].drop & (1 << r))) m->pair_sel[6 * i + kept++] = r;
+    m->pair_row[i] = row;
+    m->pair_rowf[i] = rowf;
+    m->pair_m[i] = kept;
+    row += kept;
+    rowf += mt;
+    m->pair_j[i] = jt;
+    m->pair_k[i] = 6 - mt;
+    if (m->pair[i].has_x0) memcpy(m->xref0 + jt, m->pair[i].x0, sizeof(double) * (size_t)m->pair_k[i]);
+    jt += m->pair_k[i];
+  }
+  m->ncons = row;
+  m->ncons_full = rowf;
+  m->nj = jt;
+}
+
+static int cmp_double(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error *err) {
+  phm_error_clear(err);
+  if (!d || !out) return PHM_FAIL(err, PHM_EINVAL, "phm_model_create: NULL argument");
+  *out = NULL;
+  if (d->ncarriers < 1) return PHM_FAIL(err, PHM_EINVAL, "model has no carrier (body or beam node)");
+  if (d->nelements < 0 || d->npairs < 0 || d->nloads < 0)
+    return PHM_FAIL(err, PHM_EINVAL, "negative element, pair or load count");
+  if (!phm_all_finite(d->gravity, 3)) return PHM_FAIL(err, PHM_EINVAL, "gravity has a non-finite entry");
+  phm_status st;
+  for (int i = 0; i < d->ncarriers; i++) {
+    const phm_carrier_desc *c = &d->carriers[i];
+    if (!phm_all_finite(c->M, 36) || !isfinite(c->mass) || !phm_all_finite(c->com, 3) || !phm_all_finite(c->t0, 6))
+      return PHM_FAIL(err, PHM_EINVAL, "carrier %d: non-finite inertia, mass, centre of mass or twist", i);
+    if (!(c->mass > 0)) return PHM_FAIL(err, PHM_EINVAL, "carrier %d: mass must be > 0 (got %g kg)", i, c->mass);
+    if (!spd6(c->M, 0)) return PHM_FAIL(err, PHM_EINVAL, "carrier %d: spatial inertia is not symmetric positive definite", i);
+    if ((st = check_pose(c->H0, "carrier", i, err))) return st;
+  }
+  for (int i = 0; i < d->nelements; i++) {
+    const phm_element_desc *e = &d->elements[i];
+    if (e->a < 0 || e->a >= d->ncarriers || e->b < 0 || e->b >= d->ncarriers || e->a == e->b)
+      return PHM_FAIL(err, PHM_EINVAL, "element %d: carriers (%d, %d) out of range or equal", i, e->a, e->b);
+    if (!(e->h > 0) || !isfinite(e->h)) return PHM_FAIL(err, PHM_EINVAL, "element %d: length must be > 0 (got %g m)", i, e->h);
+    if (!phm_all_finite(e->K, 36) || !phm_all_finite(e->D, 36) || !phm_all_finite(e->eps_hat, 6))
+      return PHM_FAIL(err, PHM_EINVAL, "element %d: non-finite stiffness, damping or unstressed strain", i);
+    if (!spd6(e->K, 0)) return PHM_FAIL(err, PHM_EINVAL, "element %d: section stiffness is not symmetric positive definite", i);
+    if (!spd6(e->D, 1)) return PHM_FAIL(err, PHM_EINVAL, "element %d: section damping is not symmetric positive semidefinite", i);
+  }
+  for (int i = 0; i < d->npairs; i++) {
+    const phm_pair_desc *p = &d->pairs[i];
+    if (p->type < 0 || p->type >= phm_pair_type_count()) return PHM_FAIL(err, PHM_EINVAL, "pair %d: unknown pair type %d", i, p->type);
+    if (p->a < -1 || p->a >= d->ncarriers || p->b < -1 || p->b >= d->ncarriers || p->a == p->b)
+      return PHM_FAIL(err, PHM_EINVAL, "pair %d: carriers (%d, %d) out of range or equal", i, p->a, p->b);
+    if ((st = check_pose(p->Ta, "pair frame Ta of pair", i, err))) return st;
+    if ((st = check_pose(p->Tb, "pair frame Tb of pair", i, err))) return st;
+    if (p->driven) {
+      if (!phm_pair_type(p->type)->drivable)
+        return PHM_FAIL(err, PHM_EINVAL, "pair %d: only fixed pairs can be driven by a prescribed motion (use a PD actuator on a %s pair)", i, phm_pair_type(p->type)->name);
+      if (!phm_all_finite(p->axis, 6)) return PHM_FAIL(err, PHM_EINVAL, "pair %d: non-finite motion axis", i);
+      if ((st = phm_law_check(&p->law, "pair", i, err))) return st;
+    }
+    if (!isfinite(p->pitch)) return PHM_FAIL(err, PHM_EINVAL, "pair %d: non-finite pitch", i);
+    if (p->drop < 0 || p->drop >= (1 << phm_pair_type(p->type)->m))
+      return PHM_FAIL(err, PHM_EINVAL, "pair %d: drop mask %d names rows beyond the %d constraint rows of a %s pair", i, p->drop, phm_pair_type(p->type)->m, phm_pair_type(p->type)->name);
+    if (p->has_x0 && !phm_all_finite(p->x0, 6 - phm_pair_type(p->type)->m))
+      return PHM_FAIL(err, PHM_EINVAL, "pair %d: non-finite initial joint coordinates", i);
+  }
+  if (d->nactuators < 0 || d->nsprings < 0) return PHM_FAIL(err, PHM_EINVAL, "negative actuator or spring count");
+  for (int i = 0; i < d->nactuators; i++) {
+    const phm_actuator_desc *a = &d->actuators[i];
+    if (a->pair < 0 || a->pair >= d->npairs) return PHM_FAIL(err, PHM_EINVAL, "actuator %d: pair %d out of range", i, a->pair);
+    int k = 6 - phm_pair_type(d->pairs[a->pair].type)->m;
+    if (k == 0) return PHM_FAIL(err, PHM_EINVAL, "actuator %d: pair %d is fixed (no allowed direction to actuate)", i, a->pair);
+    if (a->kind < PHM_ACT_EFFORT || a->kind > PHM_ACT_SPRING) return PHM_FAIL(err, PHM_EINVAL, "actuator %d: unknown kind %d", i, a->kind);
+    if (!phm_all_finite(a->vec, k) || !phm_all_finite(a->kp, k) || !phm_all_finite(a->kd, k) || !phm_all_finite(a->x_set, k))
+      return PHM_FAIL(err, PHM_EINVAL, "actuator %d: non-finite direction, gain or set point", i);
+    if (a->kind != PHM_ACT_EFFORT)
+      for (int j = 0; j < k; j++)
+        if (a->kp[j] < 0 || a->kd[j] < 0) return PHM_FAIL(err, PHM_EINVAL, "actuator %d: gains must be >= 0 (kp %g, kd %g)", i, a->kp[j], a->kd[j]);
+    if (a->kind != PHM_ACT_SPRING && (st = phm_law_check(&a->law, "actuator", i, err))) return st;
+  }
+  for (int i = 0; i < d->nsprings; i++) {
+    const phm_spring_desc *sp = &d->springs[i];
+    if (sp->a < -1 || sp->a >= d->ncarriers || sp->b < -1 || sp->b >= d->ncarriers || sp->a == sp->b)
+      return PHM_FAIL(err, PHM_EINVAL, "spring %d: carriers (%d, %d) out of range or equal", i, sp->a, sp->b);
+    if (!phm_all_finite(sp->pa, 3) || !phm_all_finite(sp->pb, 3) || !isfinite(sp->k) || !isfinite(sp->c) || !isfinite(sp->d0))
+      return PHM_FAIL(err, PHM_EINVAL, "spring %d: non-finite point or parameter", i);
+    if (sp->k < 0 || sp->c < 0 || sp->d0 < 0)
+      return PHM_FAIL(err, PHM_EINVAL, "spring %d: stiffness, damping and rest length must be >= 0 (got %g, %g, %g)", i, sp->k, sp->c, sp->d0);
+  }
+  for (int i = 0; i < d->nloads; i++) {
+    const phm_load_desc *l = &d->loads[i];
+    if (l->carrier < 0 || l->carrier >= d->ncarriers) return PHM_FAIL(err, PHM_EINVAL, "load %d: carrier %d out of range", i, l->carrier);
+    if (l->reaction < -1 || l->reaction >= d->ncarriers || l->reaction == l->carrier)
+      return PHM_FAIL(err, PHM_EINVAL, "load %d: reaction carrier %d out of range or equal to the loaded one", i, l->reaction);
+    if (!phm_all_finite(l->w, 6) || !phm_all_finite(l->point, 3)) return PHM_FAIL(err, PHM_EINVAL, "load %d: non-finite wrench or point", i);
+    if ((st = phm_law_check(&l->law, "load", i, err))) return st;
+  }
+
+  phm_model *m = calloc(1, sizeof *m);
+  if (!m) return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+  m->nc = d->ncarriers;
+  m->ne = d->nelements;
+  m->np = d->npairs;
+  m->nl = d->nloads;
+  m->na = d->nactuators;
+  m->ns = d->nsprings;
+  memcpy(m->gravity, d->gravity, sizeof m->gravity);
+  m->car = malloc(sizeof *m->car * (size_t)m->nc);
+  m->el = malloc(sizeof *m->el * (size_t)(m->ne + 1));
+  m->pair = malloc(sizeof *m->pair * (size_t)(m->np + 1));
+  m->pair_row = malloc(sizeof(int) * (size_t)(m->np + 1));
+  m->pair_m = malloc(sizeof(int) * (size_t)(m->np + 1));
+  m->load = malloc(sizeof *m->load * (size_t)(m->nl + 1));
+  m->pair_j = malloc(sizeof(int) * (size_t)(m->np + 1));
+  m->pair_k = malloc(sizeof(int) * (size_t)(m->np + 1));
+  m->xref0 = calloc((size_t)(6 * m->np + 1), sizeof(double));
+  m->pair_sel = calloc((size_t)(6 * m->np + 1), sizeof(int));
+  m->pair_rowf = calloc((size_t)(m->np + 1), sizeof(int));
+  m->pair_AdTbi = malloc(sizeof(double) * (size_t)(36 * m->np + 1));
+  m->act = malloc(sizeof *m->act * (size_t)(m->na + 1));
+  m->spr = malloc(sizeof *m->spr * (size_t)(m->ns + 1));
+  int ntab = 0, nbp = 0;
+  for (int i = 0; i < m->na; i++)
+    if (d->actuators[i].kind != PHM_ACT_SPRING) {
+      nbp += phm_law_breakpoints(&d->actuators[i].law, NULL);
+      if (d->actuators[i].law.kind == PHM_LAW_TABLE) ntab += d->actuators[i].law.ntable;
+    }
+  for (int i = 0; i < m->np; i++)
+    if (d->pairs[i].driven) {
+      nbp += phm_law_breakpoints(&d->pairs[i].law, NULL);
+      if (d->pairs[i].law.kind == PHM_LAW_TABLE) ntab += d->pairs[i].law.ntable;
+    }
+  for (int i = 0; i < m->nl; i++) {
+    nbp += phm_law_breakpoints(&d->loads[i].law, NULL);
+    if (d->loads[i].law.kind == PHM_LAW_TABLE) ntab += d->loads[i].law.ntable;
+  }
+  m->bp = malloc(sizeof(double) * (size_t)(nbp + 1));
+  m->tables = malloc(sizeof(double) * (size_t)(2 * ntab + 1));
+  if (!m->car || !m->el || !m->pair || !m->pair_row || !m->pair_m || !m->load || !m->bp || !m->tables ||
+      !m->pair_j || !m->pair_k || !m->xref0 || !m->act || !m->spr || !m->pair_sel || !m->pair_rowf || !m->pair_AdTbi) {
+    phm_model_free(m);
+    return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+  }
+  memcpy(m->car, d->carriers, sizeof *m->car * (size_t)m->nc);
+  if (m->ne) memcpy(m->el, d->elements, sizeof *m->el * (size_t)m->ne);
+  if (m->np) memcpy(m->pair, d->pairs, sizeof *m->pair * (size_t)m->np);
+  for (int i = 0; i < m->np; i++) { /* constant: computed once, read by every pair evaluation */
+    double Tbi[16];
+    phm_se3_inverse(m->pair[i].Tb, Tbi);
+    phm_se3_Ad(Tbi, m->pair_AdTbi + 36 * i);
+  }
+  if (m->nl) memcpy(m->load, d->loads, sizeof *m->load * (size_t)m->nl);
+  if (m->na) memcpy(m->act, d->actuators, sizeof *m->act * (size_t)m->na);
+  if (m->ns) memcpy(m->spr, d->springs, sizeof *m->spr * (size_t)m->ns);
+  double *tp = m->tables;
+  for (int i = 0; i < m->na; i++) {
+    phm_law *l = &m->act[i].law;
+    if (m->act[i].kind != PHM_ACT_SPRING && l->kind == PHM_LAW_TABLE) {
+      memcpy(tp, l->table, sizeof(double) * 2 * (size_t)l->ntable);
+      l->table = tp;
+      tp += 2 * l->ntable;
+    } else if (m->act[i].kind == PHM_ACT_SPRING) {
+      memset(l, 0, sizeof *l);
+    }
+  }
+  for (int i = 0; i < m->np; i++) {
+    phm_law *l = &m->pair[i].law;
+    if (m->pair[i].driven && l->kind == PHM_LAW_TABLE) {
+      memcpy(tp, l->table, sizeof(double) * 2 * (size_t)l->ntable);
+      l->table = tp;
+      tp += 2 * l->ntable;
+    } else if (!m->pair[i].driven) {
+      memset(l, 0, sizeof *l);
+    }
+  }
+  for (int i = 0; i < m->nl; i++) {
+    phm_law *l = &m->load[i].law;
+    if (l->kind == PHM_LAW_TABLE) {
+      memcpy(tp, l->table, sizeof(double) * 2 * (size_t)l->ntable);
+      l->table = tp;
+      tp += 2 * l->ntable;
+    }
+  }
+  pair_layout(m);
+  m->nport = m->na + m->nl + m->ns;
+  nbp = 0;
+  for (int i = 0; i < m->na; i++)
+    if (m->act[i].kind != PHM_ACT_SPRING) nbp += phm_law_breakpoints(&m->act[i].law, m->bp + nbp);
+  for (int i = 0; i < m->np; i++)
+    if (m->pair[i].driven) nbp += phm_law_breakpoints(&m->pair[i].law, m->bp + nbp);
+  for (int i = 0; i < m->nl; i++) nbp += phm_law_breakpoints(&m->load[i].law, m->bp + nbp);
+  qsort(m->bp, (size_t)nbp, sizeof(double), cmp_double);
+  int k = 0;
+  for (int i = 0; i < nbp; i++)
+    if (k == 0 || m->bp[i] > m->bp[k - 1]) m->bp[k++] = m->bp[i];
+  m->nbp = k;
+  double lref = 0;
+  for (int i = 0; i < m->ne; i++) lref = fmax(lref, m->el[i].h);
+  m->lref = lref > 0 ? lref : 1.0;
+  *out = m;
+  return PHM_OK;
+}
+
+int phm_model_ncarriers(const phm_model *m) { return m->nc; }
+int phm_model_nconstraints(const phm_model *m) { return m->ncons; }
+int phm_model_npairs(const phm_model *m) { return m->np; }
+int phm_model_njoints(const phm_model *m) { return m->nj; }
+int phm_model_nports(const phm_model *m) { return m->nport; }
+void phm_model_pair_layout(const phm_model *m, int ip, int *row, int *mc, int *joint, int *k) {
+  if (row) *row = m->pair_row[ip];
+  if (mc) *mc = m->pair_m[ip];
+  if (joint) *joint = m->pair_j[ip];
+  if (k) *k = m->pair_k[ip];
+}
+
+double phm_model_tref(const phm_model *m, double t, double *next_bp) {
+  for (int i = 0; i < m->nbp; i++)
+    if (m->bp[i] > t * (1 + 1e-14) + 1e-300 && m->bp[i] > t) {
+      if (next_bp) *next_bp = m->bp[i];
+      return 0.5 * (t + m->bp[i]);
+    }
+  if (next_bp) *next_bp = INFINITY;
+  return t + 1.0;
+}
+
+phm_status phm_model_set_initial(phm_model *m, const double *H0, const double *t0,
+                                 const double *x0, const int *drop, phm_error *err) {
+  phm_error_clear(err);
+  PHM_CHECK(m && H0, err, PHM_EINVAL, "phm_model_set_initial: NULL argument");
+  phm_status st;
+  for (int c = 0; c < m->nc; c++) {
+    if ((st = check_pose(H0 + 16 * c, "carrier", c, err))) return st;
+    PHM_CHECK(!t0 || phm_all_finite(t0 + 6 * c, 6), err, PHM_EINVAL, "carrier %d: non-finite twist", c);
+  }
+  for (int i = 0; i < m->np; i++) {
+    int mt = phm_pair_type(m->pair[i].type)->m;
+    PHM_CHECK(!x0 || phm_all_finite(x0 + 6 * i, 6 - mt), err, PHM_EINVAL,
+              "pair %d: non-finite initial joint coordinates", i);
+    PHM_CHECK(!drop || (drop[i] >= 0 && drop[i] < (1 << mt)), err, PHM_EINVAL,
+              "pair %d: drop mask %d names rows beyond the %d constraint rows of a %s pair", i,
+              drop ? drop[i] : 0, mt, phm_pair_type(m->pair[i].type)->name);
+  }
+  for (int c = 0; c < m->nc; c++) {
+    memcpy(m->car[c].H0, H0 + 16 * c, sizeof(double) * 16);
+    if (t0) memcpy(m->car[c].t0, t0 + 6 * c, sizeof(double) * 6);
+  }
+  for (int i = 0; i < m->np; i++) {
+    if (x0) memcpy(m->pair[i].x0, x0 + 6 * i, sizeof(double) * 6);
+    if (drop) m->pair[i].drop = drop[i];
+  }
+  pair_layout(m);
+  return PHM_OK;
+}

@@ -1,0 +1,111 @@
+/* model.h -- the immutable model (struct phm_model) and the kernels every later stage reads:
+ * pairs (csrc/model/pair.c), the se3 beam element (element.c), applied wrenches (applied.c),
+ * energy (energy.c), the carrier coupling graph (graph.c). Private to csrc/ and the C tests. */
+#ifndef PHM_MODEL_H
+#define PHM_MODEL_H
+
+#include "phmech.h"
+
+#define PHM_MAXCON 6 /* constraint rows per pair, at most */
+
+struct phm_model {
+  int nc, ne, np, nl, ncons, na, ns, nj, nport;
+  phm_carrier_desc *car;
+  phm_element_desc *el;
+  phm_pair_desc *pair;
+  int *pair_row;    /* first constraint row of each pair */
+  int *pair_m;      /* constraint rows of each pair      */
+  int *pair_j;      /* first joint coordinate of each pair */
+  int *pair_k;      /* joint coordinates of each pair    */
+  int *pair_sel;    /* 6 per pair: the type's row index of each kept constraint row (drop mask) */
+  int *pair_rowf;   /* first row of each pair in the full (undropped) constraint set */
+  double *pair_AdTbi; /* 36 per pair: Ad of the inverse of frame b's fixed offset Tb (row-major) */
+  int ncons_full;   /* constraint rows before dropping redundant ones */
+  double *xref0;    /* nj: branch references (x0 or 0) for statics, modes and the start */
+  phm_actuator_desc *act;
+  phm_spring_desc *spr;
+  phm_load_desc *load;
+  double gravity[3];
+  double *bp;       /* sorted distinct breakpoints of all laws */
+  int nbp;
+  double *tables;   /* owned copies of the law tables */
+  double lref;      /* length scale for finite differences, m */
+};
+
+/* tref for the interval [t, ...): midpoint between t and the next breakpoint (or t + 1). */
+double phm_model_tref(const phm_model *m, double t, double *next_bp);
+
+/* ---------------------------------------------------------------- pairs (pair.c) */
+/* Kinematics of a pair type at relative pose h (docs/method.md section 4): position constraints
+ * g (m), constraint-wrench basis W (6 x 6 row-major, first m columns used), dual effort basis Phi
+ * (6 x 6, first k columns), joint coordinates x (k), angles nearest xref (NULL: principal
+ * values). Any output may be NULL. Fixed pairs: g = log(h). */
+void phm_pair_kin(int type, double pitch, const double h[16], const double *xref, double *g,
+                  double *W, double *Phi, double *x);
+
+/* Frames of pair ip at carrier poses Ha, Hb (NULL = ground): relative pose h = F_a^-1 F_b,
+ * AdTbi = Ad_{Tb^-1}, AdBa = Ad_{F_b^-1 H_a} (either may be NULL), so that the relative twist is
+ * t_rel = AdTbi t_b - AdBa t_a (in F_b). */
+void phm_pair_frames(const phm_model *m, int ip, const double *Ha, const double *Hb, double h[16],
+                     double AdTbi[36], double AdBa[36]);
+/* t_rel = AdTbi tb - AdBa ta (ta, tb NULL = at rest). */
+void phm_pair_rel_twist(const double AdTbi[36], const double AdBa[36], const double *ta,
+                        const double *tb, double tr[6]);
+
+/* Pair ip: position constraint g (m), velocity blocks Ga, Gb (m x 6, row-major) such that the
+ * velocity constraint is Ga ta + Gb tb = vt (m). Ha or Hb NULL = ground (identity). xref: branch
+ * reference of this pair's joint coordinates (k values; NULL: the model's x0). */
+void phm_pair_eval(const phm_model *m, int ip, const double *Ha, const double *Hb,
+                   const double *xref, double time, double tref, double *g, double *Ga,
+                   double *Gb, double *vt);
+/* Joint coordinates x and rates xdot (k each; xdot needs ta/tb, NULL = at rest) of pair ip. */
+void phm_pair_joint(const phm_model *m, int ip, const double *Ha, const double *Hb,
+                    const double *ta, const double *tb, const double *xref, double *x,
+                    double *xdot);
+/* Constraint wrench W^C lambda (6, frame F_b) of pair ip for its multipliers lam (m). */
+void phm_pair_wrench(const phm_model *m, int ip, const double *Ha, const double *Hb,
+                     const double *xref, const double *lam, double w[6]);
+/* Pair constraints g (ncons), their Jacobian G (ncons x n, row-major; carrier c's 6 columns at
+ * 6 cmap[c], or 6 c when cmap is NULL) and prescribed rates vt; any output may be NULL. */
+void phm_constraints_columns(const phm_model *m, const double *H, const double *xs, double time,
+                             double tref, const int *cmap, int n, double *g, double *G,
+                             double *vt);
+/* The same with every carrier's columns (n = 6 nc). */
+void phm_constraints_dense(const phm_model *m, const double *H, const double *xs, double time,
+                           double tref, double *g, double *G, double *vt);
+/* f += G^T lam: the constraint wrenches of multipliers lam (ncons) on every carrier (nc x 6). */
+void phm_constraint_forces(const phm_model *m, const double *H, double time, double tref,
+                           const double *lam, double *f);
+
+/* ---------------------------------------------------------------- se3 beam element (element.c) */
+/* Body wrenches on its nodes (wa, wb), elastic energy *V, dissipated power *P, stress resultant
+ * sigma (6; any of V, P, sigma may be NULL). ta, tb may be NULL (no damping). */
+void phm_element_eval(const phm_element_desc *e, const double Ha[16], const double Hb[16],
+                      const double ta[6], const double tb[6], double wa[6], double wb[6],
+                      double *V, double *P, double *sigma);
+
+/* ---------------------------------------------------------------- applied wrenches (applied.c) */
+/* Applied wrenches (elastic + damping + gravity + springs + actuators + external x scale) on every
+ * carrier, body frame: wr (nc x 6). tw may be NULL (static: rates zero). xs: joint-coordinate
+ * branch references (nj; NULL: the model's x0). Optional outputs (may be NULL): elastic energy,
+ * dissipated power, power supplied by external wrenches and actuators (needs tw), the power of
+ * every port (nport, needs tw), the actuator efforts summed per joint coordinate (nj). Effort
+ * sources and loads are scaled by `scale`; springs and PD actuators are not. */
+void phm_applied(const phm_model *m, const double *H, const double *tw, const double *xs,
+                 double time, double tref, double scale, double *wr, double *Vel, double *Pdiss,
+                 double *Psupp, double *Pport, double *effort);
+/* Point-to-point spring-damper: adds its wrenches to wr (may be NULL), elastic energy *V and
+ * damping power *Pd (>= 0; either may be NULL). tw NULL: at rest. */
+void phm_spring_eval(const phm_spring_desc *sp, const double *H, const double *tw, double *wr,
+                     double *V, double *Pd);
+
+/* ---------------------------------------------------------------- coupling graph (graph.c) */
+/* Carrier coupling graph (CSR, self included): carriers that share an element, pair, spring or
+ * load; a perturbation of carrier c changes only the forces of its neighbours. Allocates
+ * *ptr_out (nc + 1) and *nbr_out. */
+phm_status phm_carrier_graph(const phm_model *m, int **ptr_out, int **nbr_out, phm_error *err);
+/* Greedy distance-2 colouring of a CSR graph: vertices of one colour share no neighbour. col (n)
+ * gets the colours, mark (n) is scratch; returns the number of colours. */
+int phm_graph_colours(int n, const int *ptr, const int *nbr, int *col, int *mark);
+
+#endif

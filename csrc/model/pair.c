@@ -1,0 +1,395 @@
+/* pair.c -- THE pair table: every kinematic pair type (its constraint rows, joint coordinates,
+ * units, constraint-wrench directions, parameters and kinematics) is defined here and only here;
+ * Python builds its pair classes from this table (phm_pair_type). Then the evaluation of a pair
+ * of the model: frames, constraints g and their Jacobian blocks G, joint coordinates and rates,
+ * constraint wrenches. Adding a pair type: docs/architecture.md. */
+#include "model.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "linalg.h"
+
+/* Type codes: the rows of the table below, in this order. */
+enum {
+  PAIR_FIXED, PAIR_REVOLUTE, PAIR_PRISMATIC, PAIR_HELICAL, PAIR_CYLINDRICAL, PAIR_UNIVERSAL,
+  PAIR_SPHERICAL, PAIR_PLANAR, PAIR_FREE, PAIR_NTYPES
+};
+
+static const phm_pair_type_info pair_table[PAIR_NTYPES] = {
+    {"fixed", 6, "", {0}, {"tau_x", "tau_y", "tau_z", "f_x", "f_y", "f_z"}, 1,
+     "Fixed (welded) pair: 6 constraints, relative pose = identity (or the driven motion)."},
+    {"revolute", 5, "axis=z", {"rad"}, {"tau_x", "tau_y", "f_x", "f_y", "f_z"}, 0,
+     "Revolute pair about ``axis`` (of both pair frames); x = angle [rad], multi-turn."},
+    {"prismatic", 5, "axis=z", {"m"}, {"tau_x", "tau_y", "tau_z", "f_x", "f_y"}, 0,
+     "Prismatic pair along ``axis``; x = displacement [m]."},
+    {"helical", 5, "axis=z,pitch=0", {"rad"}, {"tau_x", "tau_y", "f_x", "f_y", "f_z-pitch*tau_z"}, 0,
+     "Helical (screw) pair about ``axis``: translation = ``pitch`` [m/rad] x angle; x = angle."},
+    {"cylindrical", 4, "axis=z", {"rad", "m"}, {"tau_x", "tau_y", "f_x", "f_y"}, 0,
+     "Cylindrical pair along ``axis``; x = (angle [rad], displacement [m])."},
+    {"universal", 4, "axis1=x,axis2=y", {"rad", "rad"}, {"tau_n", "f_x", "f_y", "f_z"}, 0,
+     "Universal (Cardan) pair: first axis ``axis1`` fixed in F_a, second ``axis2`` fixed in F_b "
+     "(perpendicular when both frames coincide); x = (angle about axis1, angle about axis2) [rad], "
+     "h = Rx(x0) Ry(x1) in the pair frames (x = axis1, y = axis2; tau_n = axis1 x axis2)."},
+    {"spherical", 3, "", {"rad", "rad", "rad"}, {"f_x", "f_y", "f_z"}, 0,
+     "Spherical (ball) pair; x = rotation vector of F_b in F_a [rad], xdot = angular velocity "
+     "(in F_b) -- a quasi-velocity, not dx/dt."},
+    {"planar", 3, "normal=z", {"rad", "m", "m"}, {"tau_x", "tau_y", "f_z"}, 0,
+     "Planar pair with plane ``normal``; x = (angle [rad], p_x, p_y [m]) with p the position of "
+     "F_b's origin in F_a (x, y of the frame whose z is the normal)."},
+    {"free", 0, "", {"rad", "rad", "rad", "m", "m", "m"}, {0}, 0,
+     "Free pair (no constraint): x = (rotation vector, position of F_b in F_a); xdot = (angular "
+     "velocity in F_b, dp/dt in F_a). Useful to measure or actuate a relative motion."},
+};
+
+int phm_pair_type_count(void) { return PAIR_NTYPES; }
+const phm_pair_type_info *phm_pair_type(int type) {
+  return type >= 0 && type < PAIR_NTYPES ? &pair_table[type] : NULL;
+}
+
+static double wrap_pi(double a) { return a - 2 * PHM_PI * floor((a + PHM_PI) / (2 * PHM_PI)); }
+static double near_angle(double a, const double *xref, int i) { return xref ? xref[i] + wrap_pi(a - xref[i]) : a; }
+
+/* Column c of a 6x6 row-major basis: set entries (rows r0..r0+2) to v. */
+static void setcol(double *B, int c, int r0, double v0, double v1, double v2) {
+  B[6 * r0 + c] = v0;
+  B[6 * (r0 + 1) + c] = v1;
+  B[6 * (r0 + 2) + c] = v2;
+}
+
+/* Position constraints are written so that dg = W^T t_rel at g = 0 (up to a unit-triangular
+ * factor for helical/cylindrical): rotations through the z axis of F_a seen in F_b, R^T e_z, whose
+ * rate is e_z x omega; translations through R^T p (rate v - omega x R^T p) or p (rate R v). */
+void phm_pair_kin(int type, double pitch, const double h[16], const double *xref, double *g,
+                  double *W, double *Phi, double *x) {
+#define R(i, j) h[4 * (i) + (j)]
+  double p[3] = {h[3], h[7], h[11]}, q[3]; /* q = R^T p */
+  for (int i = 0; i < 3; i++) q[i] = R(0, i) * p[0] + R(1, i) * p[1] + R(2, i) * p[2];
+  double gg[6] = {0}, xx[6] = {0}, Wl[36] = {0}, Pl[36] = {0};
+  double th = atan2(R(1, 0), R(0, 0));
+  switch (type) {
+  case PAIR_FIXED:
+    phm_se3_log(h, gg);
+    for (int i = 0; i < 6; i++) Wl[7 * i] = 1;
+    break;
+  case PAIR_REVOLUTE:
+    gg[0] = R(2, 1); gg[1] = -R(2, 0); gg[2] = q[0]; gg[3] = q[1]; gg[4] = q[2];
+    setcol(Wl, 0, 0, 1, 0, 0); setcol(Wl, 1, 0, 0, 1, 0);
+    setcol(Wl, 2, 3, 1, 0, 0); setcol(Wl, 3, 3, 0, 1, 0); setcol(Wl, 4, 3, 0, 0, 1);
+    setcol(Pl, 0, 0, 0, 0, 1);
+    xx[0] = near_angle(th, xref, 0);
+    break;
+  case PAIR_PRISMATIC: {
+    double Rm[9], w[3];
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) Rm[3 * i + j] = R(i, j);
+    phm_so3_log(Rm, w);
+    gg[0] = w[0]; gg[1] = w[1]; gg[2] = w[2]; gg[3] = p[0]; gg[4] = p[1];
+    setcol(Wl, 0, 0, 1, 0, 0); setcol(Wl, 1, 0, 0, 1, 0); setcol(Wl, 2, 0, 0, 0, 1);
+    setcol(Wl, 3, 3, 1, 0, 0); setcol(Wl, 4, 3, 0, 1, 0);
+    setcol(Pl, 0, 3, 0, 0, 1);
+    xx[0] = p[2];
+  } break;
+  case PAIR_HELICAL: {
+    double a = near_angle(th, xref, 0), s = 1.0 / sqrt(1 + pitch * pitch), s2 = 1.0 / (1 + pitch * pitch);
+    gg[0] = R(2, 1); gg[1] = -R(2, 0); gg[2] = q[0]; gg[3] = q[1]; gg[4] = s * (q[2] - pitch * a);
+    setcol(Wl, 0, 0, 1, 0, 0); setcol(Wl, 1, 0, 0, 1, 0);
+    setcol(Wl, 2, 3, 1, 0, 0); setcol(Wl, 3, 3, 0, 1, 0);
+    setcol(Wl, 4, 0, 0, 0, -pitch * s); setcol(Wl, 4, 3, 0, 0, s);
+    setcol(Pl, 0, 0, 0, 0, s2); setcol(Pl, 0, 3, 0, 0, pitch * s2);
+    xx[0] = a;
+  } break;
+  case PAIR_CYLINDRICAL:
+    gg[0] = R(2, 1); gg[1] = -R(2, 0); gg[2] = q[0]; gg[3] = q[1];
+    setcol(Wl, 0, 0, 1, 0, 0); setcol(Wl, 1, 0, 0, 1, 0);
+    setcol(Wl, 2, 3, 1, 0, 0); setcol(Wl, 3, 3, 0, 1, 0);
+    setcol(Pl, 0, 0, 0, 0, 1); setcol(Pl, 1, 3, 0, 0, 1);
+    xx[0] = near_angle(th, xref, 0);
+    xx[1] = q[2];
+    break;
+  case PAIR_UNIVERSAL:
+    /* a = R^T e_x (first axis seen in F_b), second axis e_y; x of F_a stays normal to y of F_b */
+    gg[0] = -R(0, 1); gg[1] = q[0]; gg[2] = q[1]; gg[3] = q[2];
+    setcol(Wl, 0, 0, -R(0, 2), 0, R(0, 0)); /* a x e_y */
+    setcol(Wl, 1, 3, 1, 0, 0); setcol(Wl, 2, 3, 0, 1, 0); setcol(Wl, 3, 3, 0, 0, 1);
+    setcol(Pl, 0, 0, R(0, 0), R(0, 1), R(0, 2)); setcol(Pl, 1, 0, 0, 1, 0);
+    xx[0] = near_angle(atan2(R(2, 1), R(1, 1)), xref, 0);
+    xx[1] = near_angle(atan2(R(0, 2), R(0, 0)), xref, 1);
+    break;
+  case PAIR_SPHERICAL: {
+    double Rm[9];
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) Rm[3 * i + j] = R(i, j);
+    phm_so3_log(Rm, xx);
+    gg[0] = q[0]; gg[1] = q[1]; gg[2] = q[2];
+    setcol(Wl, 0, 3, 1, 0, 0); setcol(Wl, 1, 3, 0, 1, 0); setcol(Wl, 2, 3, 0, 0, 1);
+    setcol(Pl, 0, 0, 1, 0, 0); setcol(Pl, 1, 0, 0, 1, 0); setcol(Pl, 2, 0, 0, 0, 1);
+  } break;
+  case PAIR_PLANAR:
+    gg[0] = R(2, 1); gg[1] = -R(2, 0); gg[2] = p[2];
+    setcol(Wl, 0, 0, 1, 0, 0); setcol(Wl, 1, 0, 0, 1, 0); setcol(Wl, 2, 3, 0, 0, 1);
+    setcol(Pl, 0, 0, 0, 0, 1);
+    setcol(Pl, 1, 3, R(0, 0), R(0, 1), R(0, 2)); setcol(Pl, 2, 3, R(1, 0), R(1, 1), R(1, 2));
+    xx[0] = near_angle(th, xref, 0);
+    xx[1] = p[0];
+    xx[2] = p[1];
+    break;
+  case PAIR_FREE:
+  default: {
+    double Rm[9];
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) Rm[3 * i + j] = R(i, j);
+    phm_so3_log(Rm, xx);
+    xx[3] = p[0]; xx[4] = p[1]; xx[5] = p[2];
+    setcol(Pl, 0, 0, 1, 0, 0); setcol(Pl, 1, 0, 0, 1, 0); setcol(Pl, 2, 0, 0, 0, 1);
+    for (int j = 0; j < 3; j++) setcol(Pl, 3 + j, 3, R(j, 0), R(j, 1), R(j, 2));
+  } break;
+  }
+#undef R
+  int mm = (type >= 0 && type < PAIR_NTYPES) ? pair_table[type].m : 0;
+  if (g) memcpy(g, gg, sizeof(double) * (size_t)mm);
+  if (x) memcpy(x, xx, sizeof(double) * (size_t)(6 - mm));
+  if (W) memcpy(W, Wl, sizeof Wl);
+  if (Phi) memcpy(Phi, Pl, sizeof Pl);
+}
+
+/* ---------------------------------------------------------------- pairs */
+/* Frames of pair ip: B = H_b Tb, h = (H_a Ta)^-1 B, AdTbi = Ad_{Tb^-1}, AdBa = Ad_{B^-1 H_a}, so
+ * that the relative twist is t_rel = AdTbi t_b - AdBa t_a (in F_b). */
+void phm_pair_frames(const phm_model *m, int ip, const double *Ha, const double *Hb, double h[16],
+                     double AdTbi[36], double AdBa[36]) {
+  const phm_pair_desc *pr = &m->pair[ip];
+  double A[16], B[16], Ai[16], Bi[16], T[16];
+  if (Ha) phm_se3_compose(Ha, pr->Ta, A); else memcpy(A, pr->Ta, sizeof A);
+  if (Hb) phm_se3_compose(Hb, pr->Tb, B); else memcpy(B, pr->Tb, sizeof B);
+  phm_se3_inverse(A, Ai);
+  phm_se3_compose(Ai, B, h);
+  if (AdTbi) memcpy(AdTbi, m->pair_AdTbi + 36 * ip, 36 * sizeof(double));
+  if (AdBa) {
+    phm_se3_inverse(B, Bi);
+    if (Ha) phm_se3_compose(Bi, Ha, T); else memcpy(T, Bi, sizeof T);
+    phm_se3_Ad(T, AdBa);
+  }
+}
+
+void phm_pair_rel_twist(const double AdTbi[36], const double AdBa[36], const double *ta,
+                        const double *tb, double tr[6]) {
+  double u[6] = {0}, v[6] = {0};
+  if (tb) phm_mv6(AdTbi, tb, u);
+  if (ta) phm_mv6(AdBa, ta, v);
+  for (int i = 0; i < 6; i++) tr[i] = u[i] - v[i];
+}
+
+/* Keep the rows of pair ip that its drop mask leaves in the DAE: g[r] = g[sel r], W column r =
+ * W column sel r (sel increasing, so the forward in-place copy is safe). */
+static void select_rows(const phm_model *m, int ip, double *g, double W[36]) {
+  if (!m->pair[ip].drop) return;
+  const int *sel = m->pair_sel + 6 * ip;
+  for (int r = 0; r < m->pair_m[ip]; r++) {
+    if (g) g[r] = g[sel[r]];
+    for (int i = 0; i < 6; i++) W[6 * i + r] = W[6 * i + sel[r]];
+  }
+}
+
+static void pair_eval_rows(const phm_model *m, int ip, const double *Ha, const double *Hb,
+                           const double *xref, double time, double tref, double *g, double *Ga,
+                           double *Gb, double *vt, int all) {
+  const phm_pair_desc *pr = &m->pair[ip];
+  int mc = all ? pair_table[pr->type].m : m->pair_m[ip];
+  double h[16], W[36], AdTbi[36], AdBa[36];
+  if (!xref) xref = m->xref0 + m->pair_j[ip];
+  phm_pair_frames(m, ip, Ha, Hb, h, (Ga || Gb) ? AdTbi : NULL, Ga ? AdBa : NULL);
+  double s = 0, ds = 0;
+  if (pr->driven) s = phm_law_eval(&pr->law, time, tref, &ds, NULL);
+  double gf[6];
+  if (pr->driven && g) {
+    double x[6], r[16], ri[16], E[16];
+    for (int i = 0; i < 6; i++) x[i] = s * pr->axis[i];
+    phm_se3_exp(x, r);
+    phm_se3_inverse(r, ri);
+    phm_se3_compose(ri, h, E);
+    phm_pair_kin(pr->type, pr->pitch, E, xref, gf, W, NULL, NULL);
+  } else {
+    phm_pair_kin(pr->type, pr->pitch, h, xref, gf, W, NULL, NULL);
+  }
+  if (!all) select_rows(m, ip, gf, W);
+  if (g) memcpy(g, gf, sizeof(double) * (size_t)mc);
+  /* G_b = W^T Ad_{Tb^-1},  G_a = -W^T Ad_{(H_b Tb)^-1 H_a} */
+  for (int r = 0; r < mc; r++)
+    for (int j = 0; j < 6; j++) {
+      double sb = 0, sa = 0;
+      for (int k = 0; k < 6; k++) {
+        if (Gb) sb += W[6 * k + r] * AdTbi[6 * k + j];
+        if (Ga) sa += W[6 * k + r] * AdBa[6 * k + j];
+      }
+      if (Gb) Gb[6 * r + j] = sb;
+      if (Ga) Ga[6 * r + j] = -sa;
+    }
+  if (vt) {
+    for (int r = 0; r < mc; r++) {
+      double acc = 0;
+      if (pr->driven)
+        for (int k = 0; k < 6; k++) acc += W[6 * k + r] * ds * pr->axis[k];
+      vt[r] = acc;
+    }
+  }
+}
+
+void phm_pair_eval(const phm_model *m, int ip, const double *Ha, const double *Hb,
+                   const double *xref, double time, double tref, double *g, double *Ga,
+                   double *Gb, double *vt) {
+  pair_eval_rows(m, ip, Ha, Hb, xref, time, tref, g, Ga, Gb, vt, 0);
+}
+
+void phm_pair_wrench(const phm_model *m, int ip, const double *Ha, const double *Hb,
+                     const double *xref, const double *lam, double w[6]) {
+  const phm_pair_desc *pr = &m->pair[ip];
+  double h[16], W[36];
+  if (!xref) xref = m->xref0 + m->pair_j[ip];
+  phm_pair_frames(m, ip, Ha, Hb, h, NULL, NULL);
+  phm_pair_kin(pr->type, pr->pitch, h, xref, NULL, W, NULL, NULL); /* driven: fixed, W = I */
+  select_rows(m, ip, NULL, W);
+  for (int i = 0; i < 6; i++) {
+    double acc = 0;
+    for (int r = 0; r < m->pair_m[ip]; r++) acc += W[6 * i + r] * lam[r];
+    w[i] = acc;
+  }
+}
+
+void phm_pair_joint(const phm_model *m, int ip, const double *Ha, const double *Hb,
+                    const double *ta, const double *tb, const double *xref, double *x,
+                    double *xdot) {
+  const phm_pair_desc *pr = &m->pair[ip];
+  int k = m->pair_k[ip];
+  double h[16], Phi[36], AdTbi[36], AdBa[36], tr[6];
+  if (!xref) xref = m->xref0 + m->pair_j[ip];
+  phm_pair_frames(m, ip, Ha, Hb, h, AdTbi, AdBa);
+  phm_pair_kin(pr->type, pr->pitch, h, xref, NULL, NULL, Phi, x);
+  if (xdot) {
+    phm_pair_rel_twist(AdTbi, AdBa, ta, tb, tr);
+    for (int c = 0; c < k; c++) {
+      double acc = 0;
+      for (int i = 0; i < 6; i++) acc += Phi[6 * i + c] * tr[i];
+      xdot[c] = acc;
+    }
+  }
+}
+
+void phm_constraints_columns(const phm_model *m, const double *H, const double *xs, double time,
+                             double tref, const int *cmap, int n, double *g, double *G,
+                             double *vt) {
+  if (G) memset(G, 0, sizeof(double) * (size_t)m->ncons * (size_t)n);
+  for (int ip = 0; ip < m->np; ip++) {
+    const phm_pair_desc *pr = &m->pair[ip];
+    int r0 = m->pair_row[ip], mc = m->pair_m[ip];
+    double Ga[36], Gb[36];
+    phm_pair_eval(m, ip, pr->a >= 0 ? H + 16 * pr->a : NULL, pr->b >= 0 ? H + 16 * pr->b : NULL,
+                  xs ? xs + m->pair_j[ip] : NULL, time, tref, g ? g + r0 : NULL, Ga, Gb,
+                  vt ? vt + r0 : NULL);
+    if (G)
+      for (int r = 0; r < mc; r++)
+        for (int j = 0; j < 6; j++) {
+          if (pr->a >= 0) G[(size_t)(r0 + r) * n + 6 * (cmap ? cmap[pr->a] : pr->a) + j] += Ga[6 * r + j];
+          if (pr->b >= 0) G[(size_t)(r0 + r) * n + 6 * (cmap ? cmap[pr->b] : pr->b) + j] += Gb[6 * r + j];
+        }
+  }
+}
+
+void phm_constraints_dense(const phm_model *m, const double *H, const double *xs, double time,
+                           double tref, double *g, double *G, double *vt) {
+  phm_constraints_columns(m, H, xs, time, tref, NULL, 6 * m->nc, g, G, vt);
+}
+
+int phm_model_nconstraints_full(const phm_model *m) { return m->ncons_full; }
+
+void phm_constraints_full(const phm_model *m, const double *H, const double *xs, double time,
+                          double *g, double *G, double *W) {
+  int n = 6 * m->nc;
+  double tref = phm_model_tref(m, time, NULL);
+  if (G) memset(G, 0, sizeof(double) * (size_t)m->ncons_full * (size_t)n);
+  for (int ip = 0; ip < m->np; ip++) {
+    const phm_pair_desc *pr = &m->pair[ip];
+    int r0 = m->pair_rowf[ip], mc = pair_table[pr->type].m;
+    const double *Ha = pr->a >= 0 ? H + 16 * pr->a : NULL, *Hb = pr->b >= 0 ? H + 16 * pr->b : NULL;
+    const double *xr = xs ? xs + m->pair_j[ip] : NULL;
+    double Ga[36], Gb[36], gl[6];
+    pair_eval_rows(m, ip, Ha, Hb, xr, time, tref, gl, Ga, Gb, NULL, 1);
+    if (g) memcpy(g + r0, gl, sizeof(double) * (size_t)mc);
+    if (G)
+      for (int r = 0; r < mc; r++)
+        for (int j = 0; j < 6; j++) {
+          if (pr->a >= 0) G[(size_t)(r0 + r) * n + 6 * pr->a + j] += Ga[6 * r + j];
+          if (pr->b >= 0) G[(size_t)(r0 + r) * n + 6 * pr->b + j] += Gb[6 * r + j];
+        }
+    if (W) {
+      double h[16];
+      phm_pair_frames(m, ip, Ha, Hb, h, NULL, NULL);
+      phm_pair_kin(pr->type, pr->pitch, h, xr ? xr : m->xref0 + m->pair_j[ip], NULL, W + 36 * ip, NULL, NULL);
+    }
+  }
+}
+
+void phm_model_joints(const phm_model *m, const double *H, const double *xs, double *x) {
+  for (int ip = 0; ip < m->np; ip++) {
+    const phm_pair_desc *pr = &m->pair[ip];
+    if (m->pair_k[ip] == 0) continue;
+    phm_pair_joint(m, ip, pr->a >= 0 ? H + 16 * pr->a : NULL, pr->b >= 0 ? H + 16 * pr->b : NULL,
+                   NULL, NULL, xs ? xs + m->pair_j[ip] : NULL, x + m->pair_j[ip], NULL);
+  }
+}
+
+
+/* f += G^T lam on every carrier: the "evaluate the pair, scatter G^T lambda" loop, once. */
+void phm_constraint_forces(const phm_model *m, const double *H, double time, double tref,
+                           const double *lam, double *f) {
+  for (int ip = 0; ip < m->np; ip++) {
+    const phm_pair_desc *pr = &m->pair[ip];
+    int r0 = m->pair_row[ip], mc = m->pair_m[ip];
+    double Ga[6 * PHM_MAXCON], Gb[6 * PHM_MAXCON];
+    phm_pair_eval(m, ip, pr->a >= 0 ? H + 16 * pr->a : NULL, pr->b >= 0 ? H + 16 * pr->b : NULL,
+                  NULL, time, tref, NULL, Ga, Gb, NULL);
+    for (int r = 0; r < mc; r++)
+      for (int j = 0; j < 6; j++) {
+        if (pr->a >= 0) f[6 * pr->a + j] += Ga[6 * r + j] * lam[r0 + r];
+        if (pr->b >= 0) f[6 * pr->b + j] += Gb[6 * r + j] * lam[r0 + r];
+      }
+  }
+}
+
+/* ---------------------------------------------------------------- a type's kinematics alone */
+void phm_pair_type_pose(int type, double pitch, const double *x, double h[16]) {
+  double z[6] = {0}, A[16], B[16];
+  switch (type) {
+  case PAIR_REVOLUTE: z[2] = x[0]; break;
+  case PAIR_PRISMATIC: z[5] = x[0]; break;
+  case PAIR_HELICAL: z[2] = x[0]; z[5] = pitch * x[0]; break;
+  case PAIR_CYLINDRICAL: z[2] = x[0]; z[5] = x[1]; break;
+  case PAIR_UNIVERSAL: /* h = Rx(x0) Ry(x1) */
+    z[0] = x[0];
+    phm_se3_exp(z, A);
+    z[0] = 0;
+    z[1] = x[1];
+    phm_se3_exp(z, B);
+    phm_se3_compose(A, B, h);
+    return;
+  case PAIR_SPHERICAL: z[0] = x[0]; z[1] = x[1]; z[2] = x[2]; break;
+  case PAIR_PLANAR: z[2] = x[0]; break;
+  case PAIR_FREE: z[0] = x[0]; z[1] = x[1]; z[2] = x[2]; break;
+  default: break;
+  }
+  phm_se3_exp(z, h);
+  if (type == PAIR_PLANAR) { h[3] = x[1]; h[7] = x[2]; }
+  if (type == PAIR_FREE) { h[3] = x[3]; h[7] = x[4]; h[11] = x[5]; }
+}
+
+void phm_pair_type_coordinates(int type, double pitch, const double h[16], const double *xref,
+                               double *x) {
+  phm_pair_kin(type, pitch, h, xref, NULL, NULL, NULL, x);
+  /* without a reference, a helical pair's turn is the one whose translation pitch * angle is
+   * nearest to h's -- unless that angle is beyond 1e15 rad, where a double no longer tells one
+   * turn from the next (the pose check then reports what the pair cannot reach) */
+  if (type == PAIR_HELICAL && !xref && pitch != 0) {
+    double turn = x[0] + 2 * PHM_PI * nearbyint((h[11] / pitch - x[0]) / (2 * PHM_PI));
+    if (fabs(turn) <= 1e15) x[0] = turn;
+  }
+}

@@ -1,0 +1,379 @@
+/* galpha.c -- the generalized-alpha integrator (the default), with step-size control from a
+ * configuration error estimate inside the band window (phm_sim_options in
+ * csrc/include/phmech_types.h; measurements in docs/integrators.md). */
+#include "solve.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+
+/* Generalized-alpha for first-order systems (Jansen, Whiting & Hulbert 2000) applied to the DAE.
+ * With rho = rho_inf: alpha_f = 1/(1+rho), alpha_m = (3-rho)/(2(1+rho)), gamma = 1/2 + alpha_m -
+ * alpha_f (second order, A-stable, spectral radius rho as h*omega -> infinity):
+ *   y1 = y0 + h y0' + gamma h (y1' - y0'),
+ *   differential rows of F at (t0 + alpha_f h, y0 + alpha_f (y1 - y0), y0' + alpha_m (y1' - y0')),
+ *   constraint rows (g = 0, G t = vt) at (t1, y1): the constraints hold at every step;
+ * lambda and mu are stage values (not interpolated). Unknown: y1. Modified Newton on the coloured
+ * finite-difference Jacobian, refreshed when convergence is slow or the step changed; a step
+ * whose Newton fails with a fresh Jacobian is retried with half the step (up to 2^-10).
+ * Steps are shortened (evenly) to land on the output times and on the breakpoints of the laws. */
+typedef struct {
+  double af, am, gam;
+  int euler; /* this step is backward Euler (see run_galpha) */
+  N_Vector y0, yp0, Y, Yp, ya, ypa, Ra, R, dY, w, yq, ypq, yqq; /* yq, ypq: previous step; yqq: the one before */
+} galpha_t;
+
+/* alpha_f of this step (1 for a backward Euler step: the stage is t1) */
+static double stage_af(const galpha_t *g) { return g->euler ? 1.0 : g->af; }
+
+/* Stage values from the unknown y1 (= g->Y) for a step h; fills Yp (y1'), ya, ypa. */
+static void galpha_stage(const dae_t *d, galpha_t *g, double h) {
+  const double *y0 = N_VGetArrayPointer(g->y0), *yp0 = N_VGetArrayPointer(g->yp0);
+  const double *Y = N_VGetArrayPointer(g->Y);
+  double *Yp = N_VGetArrayPointer(g->Yp), *ya = N_VGetArrayPointer(g->ya), *ypa = N_VGetArrayPointer(g->ypa);
+  if (g->euler) { /* written without y0', which may be huge after a restart */
+    double ih = 1.0 / h;
+    for (int i = 0; i < d->il; i++) {
+      Yp[i] = ypa[i] = (Y[i] - y0[i]) * ih;
+      ya[i] = Y[i];
+    }
+  } else {
+    double igh = 1.0 / (g->gam * h);
+    for (int i = 0; i < d->il; i++) {
+      Yp[i] = yp0[i] + (Y[i] - y0[i] - h * yp0[i]) * igh;
+      ya[i] = y0[i] + g->af * (Y[i] - y0[i]);
+      ypa[i] = yp0[i] + g->am * (Yp[i] - yp0[i]);
+    }
+  }
+  for (int i = d->il; i < d->n; i++) {
+    Yp[i] = ypa[i] = 0;
+    ya[i] = Y[i];
+  }
+}
+
+/* R = [differential rows at the stage; constraint rows at (t1, y1)]; Ra keeps the full stage
+ * residual (the base of the finite-difference Jacobian). */
+static void galpha_residual(dae_t *d, galpha_t *g, double t0, double h) {
+  double *Ra = N_VGetArrayPointer(g->Ra), *R = N_VGetArrayPointer(g->R);
+  dae_residual(d, t0 + stage_af(g) * h, N_VGetArrayPointer(g->ya), N_VGetArrayPointer(g->ypa), Ra);
+  dae_unpack(d->m, N_VGetArrayPointer(g->Y), d->H, d->tw);
+  dae_pair_rows(d, t0 + h, N_VGetArrayPointer(g->Y), N_VGetArrayPointer(g->Yp), R);
+  memcpy(R, Ra, sizeof(double) * (size_t)d->il); /* incl. the joint-rate rows dae_pair_rows wrote */
+}
+
+/* dR/dy1 ~ alpha_f (dF/dy + cj dF/dy') on the differential block (cj = alpha_m / (alpha_f gamma h)),
+ * dF/dy on the multiplier columns and on the constraint rows; dense copy when LS is dense. */
+static int galpha_jacobian(dae_t *d, galpha_t *g, double t0, double h, SUNMatrix Js, SUNMatrix A) {
+  double cj = g->euler ? 1.0 / h : g->am / (g->af * g->gam * h);
+  double af = stage_af(g);
+  if (dae_jacobian(d, t0 + af * h, cj, N_VGetArrayPointer(g->ya), N_VGetArrayPointer(g->ypa),
+                   N_VGetArrayPointer(g->Ra), Js))
+    return 1;
+  sunindextype *cp = SUNSparseMatrix_IndexPointers(Js), *ri = SUNSparseMatrix_IndexValues(Js);
+  double *val = SUNSparseMatrix_Data(Js);
+  for (int j = 0; j < d->il; j++)
+    for (sunindextype k = cp[j]; k < cp[j + 1]; k++)
+      if (ri[k] < d->il) val[k] *= af;
+  if (A != Js) {
+    SUNMatZero(A);
+    for (int j = 0; j < d->n; j++)
+      for (sunindextype k = cp[j]; k < cp[j + 1]; k++) SM_ELEMENT_D(A, ri[k], j) = val[k];
+  }
+  return 0;
+}
+
+/* Local error estimate of a converged step h (previous steps hq, hqq; 0: not there), WRMS-normed
+ * with the error weights of the configuration states (poses, joint coordinates; twists, ledger
+ * integrals and multipliers are left out): the trapezoidal local error h^3 y'''/12, with y''' = 6
+ * times the third divided difference of y over the last four points. Positions, not rates: a fast
+ * vibration the step does not resolve has a tiny amplitude in the poses and a large one in the
+ * rates (by omega), so an estimate from the rates would resolve it. Returns -1 without enough
+ * history (the first two steps after a start or a breakpoint). *emax: the max-norm estimate. */
+static double galpha_error(const dae_t *d, const galpha_t *g, double h, double hq, double hqq,
+                           double rtol, double atol, double *emax) {
+  *emax = 0;
+  if (!(hq > 0 && hqq > 0)) return -1.0;
+  const double *Y = N_VGetArrayPointer(g->Y), *y0 = N_VGetArrayPointer(g->y0);
+  const double *yq = N_VGetArrayPointer(g->yq), *yqq = N_VGetArrayPointer(g->yqq);
+  double sum = 0, mx = 0;
+  int cnt = 0;
+  /* reciprocals once: six divisions per state per step were ~5 % of a flexible scene's CPU */
+  double ih = 1.0 / h, ihq = 1.0 / hq, ihqq = 1.0 / hqq, ia = 1.0 / (h + hq), ib = 1.0 / (hq + hqq);
+  double c3 = 0.5 * h * h * h / (h + hq + hqq);
+  for (int i = 0; i < d->ie; i++) {
+    if (dae_is_twist(d, i)) continue;
+    double d10 = (Y[i] - y0[i]) * ih, d0q = (y0[i] - yq[i]) * ihq, dqq = (yq[i] - yqq[i]) * ihqq;
+    double dd2a = (d10 - d0q) * ia, dd2b = (d0q - dqq) * ib;
+    double e = c3 * (dd2a - dd2b);
+    double wgt = rtol * fabs(Y[i]) + atol;
+    sum += (e / wgt) * (e / wgt);
+    mx = fmax(mx, fabs(e));
+    cnt++;
+  }
+  *emax = mx;
+  return cnt ? sqrt(sum / cnt) : 0.0;
+}
+
+phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vector yy,
+                             N_Vector yp, const double *tout, int nout, double *H, double *tw,
+                             double *qprev, double E0[1], double nbp, phm_sim_output *out,
+                             phm_error *err) {
+  int n = d->n;
+  phm_status st = PHM_OK;
+  double rho = opt->rho_inf;
+  int adaptive = opt->adaptive;
+  /* the band's floor: no step below it for accuracy's sake (Newton failures still halve) */
+  double hfloor = adaptive && opt->band > 0 ? 1.0 / (PHM_BAND_STEPS * opt->band) : 0.0;
+  double hmax = opt->max_step > 0 ? opt->max_step : INFINITY;
+  /* and no step above 1/(PHM_BAND_MAX_STEPS band): the band is resolved, whatever the estimate */
+  if (adaptive && opt->band > 0) hmax = fmin(hmax, 1.0 / (PHM_BAND_MAX_STEPS * opt->band));
+  /* proposed step: fixed, or the controller's (first: the given step, else the floor, else 1e-4
+   * of the span) */
+  double h0 = adaptive ? (opt->step > 0 ? opt->step : hfloor > 0 ? hfloor : 1e-4 * (tout[nout - 1] - tout[0]))
+                       : opt->step;
+  if (adaptive) h0 = fmin(h0, hmax);
+  /* Newton's tolerances (fixed step: rtol/atol are Newton's). Adaptive: never looser than
+   * rtol 1e-7 (atol 1e-9 for the default atol 1e-6): a loose Newton test breaks the physics,
+   * not only the accuracy, since strains are position errors over the element length (at
+   * Newton rtol 1e-4 a 0.6 m double pendulum's tip ended 0.88 m from its pivot), and the
+   * energy: Newton's residual error is biased (the iteration matrix is kept for many steps) and
+   * adds up over the steps -- measured ledger residuals at Newton 1e-6 / 1e-7: free-flying beam
+   * 1.4e-3 / 1.2e-5, double pendulum 1.7e-4 / 4.5e-6, flexible arm 6.2e-4 / 3.5e-5, at the same
+   * number of iterations within 10 % (docs/integrators.md). Not tighter: at 1e-8 the
+   * manipulator's first step fails (round-off of its 3e9 rad/s^2 start). Never tighter than
+   * the error tolerance either. The multipliers keep their tolerances (state_atol): their
+   * corrections carry the round-off of G t / h. */
+  double newton_tol = adaptive ? fmin(1.0, PHM_NEWTON_RTOL / opt->rtol) : 1.0;
+  double span = tout[nout - 1] - tout[0];
+  galpha_t g;
+  memset(&g, 0, sizeof g);
+  g.af = 1.0 / (1.0 + rho);
+  g.am = 0.5 * (3.0 - rho) / (1.0 + rho);
+  g.gam = 0.5 + g.am - g.af;
+  SUNMatrix Js = NULL, A = NULL;
+  SUNLinearSolver LS = NULL;
+  N_Vector *vs[] = {&g.y0, &g.yp0, &g.Y, &g.Yp, &g.ya, &g.ypa, &g.Ra, &g.R, &g.dY, &g.w, &g.yq, &g.ypq, &g.yqq};
+  int nv = (int)(sizeof vs / sizeof vs[0]);
+  for (int k = 0; k < nv; k++) {
+    if (!(*vs[k] = N_VNew_Serial(n, ctx))) {
+      st = PHM_FAIL(err, PHM_ENOMEM, "out of memory (N_Vector)");
+      goto done;
+    }
+    N_VConst(0.0, *vs[k]); /* N_VNew leaves the data uninitialized */
+  }
+  if ((st = dae_jacobian_pattern(d, err))) goto done;
+  Js = SUNSparseMatrix(n, n, d->nnz, CSC_MAT, ctx);
+  A = opt->linear_solver == 1 ? Js : SUNDenseMatrix(n, n, ctx);
+  if (!Js || !A) {
+    st = PHM_FAIL(err, PHM_ENOMEM, "out of memory (matrix)");
+    goto done;
+  }
+  LS = opt->linear_solver == 1 ? SUNLinSol_KLU(yy, A, ctx) : SUNLinSol_Dense(yy, A, ctx);
+  if (!LS || SUNLinSolInitialize(LS) != SUNLS_SUCCESS) {
+    st = PHM_FAIL(err, PHM_ESOLVER, "could not create the linear solver");
+    goto done;
+  }
+  double *y0 = N_VGetArrayPointer(g.y0), *yp0 = N_VGetArrayPointer(g.yp0), *Y = N_VGetArrayPointer(g.Y);
+  double *Yp = N_VGetArrayPointer(g.Yp), *dY = N_VGetArrayPointer(g.dY), *w = N_VGetArrayPointer(g.w);
+  double *y = N_VGetArrayPointer(yy), *ypd = N_VGetArrayPointer(yp);
+  double *yq = N_VGetArrayPointer(g.yq), *ypq = N_VGetArrayPointer(g.ypq), hq = 0; /* hq = 0: no history */
+  double *yqq = N_VGetArrayPointer(g.yqq), hqq = 0;
+  memcpy(y0, y, sizeof(double) * (size_t)n);
+  memcpy(yp0, ypd, sizeof(double) * (size_t)n);
+  double t = tout[0], hjac = 0;
+  int iout = 1, fresh = 0;
+  /* restart: the first step, and the first after each breakpoint. If it fails, it is redone as
+   * backward Euler, which does not use y0': consistent_ic computes y0' exactly, but it can be
+   * huge (a joint torque on a light node of the manipulator: 3e9 rad/s^2); carried into the step
+   * it drives the unresolved fast modes and the stage powers to 1e14 W, and the finite-difference
+   * Jacobian loses every digit. One first-order step adds an O(h^2) error once, so the global
+   * error stays second order (with twice the error constant on a pendulum: why it is a fallback
+   * and not the rule). */
+  int restart = 1;
+  long max_steps = opt->max_steps > 0 ? opt->max_steps : 1000000L, steps_out = 0;
+  while (iout < nout) {
+    /* A breakpoint within bptol (1e-9 of a step) of t counts as reached: restart on its new
+     * piece. Landing on it exactly would take a step of round-off size: a Step law at
+     * 1e-3 + 1e-13 s with outputs every 1e-3 s gave a step of 1e-13 s (h = -inf from ceil(-0)
+     * before this rule), and the first step after it fails. */
+    double bptol = 1e-9 * h0;
+    if (isfinite(nbp) && t >= nbp - bptol) {
+      if ((st = dae_restart_at_breakpoint(d, t, fmax(t, nbp), &nbp, y0, yp0, H, tw, qprev, err))) goto done;
+      hjac = hq = hqq = 0;
+      restart = 1;
+    }
+    /* steps land on the output times and the breakpoints of the laws: the largest step <= h0
+     * that divides what is left of the interval evenly (outputs need no interpolation, and the
+     * constraints hold at every output); a breakpoint within bptol before an output is left to
+     * the restart above, at the output */
+    double target = tout[iout];
+    if (isfinite(nbp) && nbp > t && nbp < target - bptol) target = nbp;
+    double h = (target - t) / fmax(1.0, ceil((target - t) / h0 - 1e-9));
+    if (!(t + h > t)) {
+      st = PHM_FAIL(err, PHM_ESOLVER, "generalized-alpha: step %.3g s too small to advance "
+                         "t = %.9g s in double precision", h, t);
+      goto done;
+    }
+    if (++steps_out > max_steps) {
+      st = PHM_FAIL(err, PHM_ESOLVER, "generalized-alpha: more than %ld steps between two "
+                         "output times (t = %.9g s, step %.3g s)", max_steps, t, h);
+      goto done;
+    }
+    int halvings = 0;
+    double errn = 0, emax = 0;
+    for (;;) { /* one step of size h (halved on Newton failure, shortened on error-test failure) */
+      /* predictor: y' (and the multipliers) extrapolated linearly from the last two steps */
+      /* (no history on the first step and after a restart: yq, ypq are not read then) */
+      double r = hq > 0 ? h / hq : 0;
+      for (int i = 0; i < d->il; i++)
+        Y[i] = g.euler ? y0[i] : y0[i] + h * yp0[i] + (hq > 0 ? g.gam * h * r * (yp0[i] - ypq[i]) : 0.0);
+      for (int i = d->il; i < n; i++) Y[i] = hq > 0 ? y0[i] + r * (y0[i] - yq[i]) : y0[i];
+      /* the iteration matrix scales with 1/h: refreshed when h moved by more than 20 % (fixed
+       * step) or 50 % (adaptive: the controller moves h a little at every step, and a stale
+       * matrix only slows the convergence, which a failure then refreshes) */
+      if (fabs(h / hjac - 1.0) > (adaptive ? 0.5 : 0.2)) hjac = 0;
+      fresh = 0;
+      int ok = 0;
+      double nrm0 = 0;
+      /* the absolute part of Newton's error weights, once per step attempt (the relative part
+       * follows the iterate, as before: weights fixed from the step's start, or from the larger
+       * of the start and the predictor, raised the energy-ledger residuals of the double
+       * pendulum and the flexible arm of benchmarks/scenes.py 16-18x). Twists: a velocity error
+       * dv moves the poses by h dv in a step, so the tolerance on the twists that matches atol
+       * on the poses is atol / h */
+      for (int i = 0; i < n; i++)
+        w[i] = (i < d->il ? newton_tol : 1.0) * (dae_is_twist(d, i) ? opt->atol / h : dae_state_atol(d, i, opt->atol));
+      for (int it = 0; it < 4; it++) {
+        galpha_stage(d, &g, h);
+        galpha_residual(d, &g, t, h);
+        out->nres++;
+        if (hjac == 0) {
+          if (galpha_jacobian(d, &g, t, h, Js, A) || SUNLinSolSetup(LS, A) != SUNLS_SUCCESS) {
+            if (restart && !g.euler) break; /* redone as backward Euler below */
+            if (adaptive) { /* a shorter step (Newton-failure path): fresh, so it halves */
+              fresh = 1;
+              break;
+            }
+            st = PHM_FAIL(err, PHM_ESOLVER, "generalized-alpha: singular iteration matrix at t = %.9g s", t);
+            goto done;
+          }
+          out->njac++;
+          hjac = h;
+          fresh = 1;
+        }
+        N_VScale(-1.0, g.R, g.dY);
+        if (SUNLinSolSolve(LS, A, g.dY, g.dY, 0.0) != SUNLS_SUCCESS) {
+          st = PHM_FAIL(err, PHM_ESOLVER, "generalized-alpha: linear solve failed at t = %.9g s", t);
+          goto done;
+        }
+        out->nniters++;
+        /* WRMS norm of the correction, weights 1 / (ntol (rtol |Y| + a)) at the updated iterate */
+        double sum = 0, rd = newton_tol * opt->rtol;
+        for (int i = 0; i < d->il; i++) {
+          Y[i] += dY[i];
+          double e = dY[i] / (rd * fabs(Y[i]) + w[i]);
+          sum += e * e;
+        }
+        for (int i = d->il; i < n; i++) {
+          Y[i] += dY[i];
+          double e = dY[i] / (opt->rtol * fabs(Y[i]) + w[i]);
+          sum += e * e;
+        }
+        double nrm = sqrt(sum / n);
+        if (!isfinite(nrm)) break;
+        if (it == 0) {
+          nrm0 = nrm;
+          if (nrm <= 0.033) { ok = 1; break; }
+        } else {
+          double rate = pow(nrm / nrm0, 1.0 / it);
+          if (rate > 0.9) break;
+          if (nrm * rate / (1.0 - rate) <= 0.33) { ok = 1; break; }
+        }
+      }
+      if (ok && adaptive) {
+        /* per unit step: the local estimate times the number of such steps in the run, so that
+         * the estimates summed over the run (an oscillation's phase error adds up step after
+         * step) stay within the tolerance, not only each one. Measured on the impulsed
+         * cantilever (benchmarks/scenes.py): per step, its 149 Hz mode (4 % of the energy, in
+         * the 500 Hz band) drifted a full period off in 1 s and the tip 17 um off IDA; per unit
+         * step 6.7 um, at the band's floor step. */
+        errn = galpha_error(d, &g, h, hq, hqq, opt->rtol, opt->atol, &emax);
+        if (errn > 0) errn *= span / h;
+        if (errn > 1.0 && h > hfloor * (1.0 + 1e-9)) { /* error test failed: shorter step, same t */
+          out->netf++;
+          h = fmax(hfloor, h * fmax(0.2, 0.8 * pow(errn, -0.5))); /* errn ~ h^2 (per unit step) */
+          h0 = h;
+          continue;
+        }
+      }
+      if (ok) break;
+      out->nncf++;
+      if (restart && !g.euler && (fresh || hjac == 0)) { /* see `restart` */
+        g.euler = 1;
+        hjac = 0;
+        continue;
+      }
+      if (!fresh) { hjac = 0; continue; }            /* retry with a fresh Jacobian */
+      if (++halvings > 10) {
+        st = PHM_FAIL(err, PHM_ESOLVER, "generalized-alpha: Newton failed at t = %.9g s even with "
+                           "step %.3g s (fresh Jacobian, 10 halvings)", t, h);
+        goto done;
+      }
+      h *= 0.5;
+      hjac = 0;
+    }
+    galpha_stage(d, &g, h); /* y1' of the converged y1 */
+    double t1 = fabs(target - (t + h)) < 1e-9 * h ? target : t + h;
+    out->nsteps++;
+    out->last_step = h;
+    if (adaptive) {
+      /* next proposal, with a dead band against chattering (every change of h costs Newton
+       * iterations with the iteration matrix of another h, and measured on the double pendulum
+       * a controller that also shrank h after accepted steps made 4x more convergence failures
+       * and a larger error): an accepted step keeps h unless the estimate allows >= 1.25x (then
+       * at most 1.5x); a rejected step (above) has already shortened it. A step shortened to
+       * land on an output neither shrinks the proposal nor blocks its growth (its estimate is
+       * scaled to the proposal by (h0/h)^2). */
+      if (errn > 1.0) out->nfloor++;
+      out->err_est += emax;
+      double base = fmax(h, h0), eb = errn * pow(base / h, 2.0); /* the estimate scaled to h0 */
+      double fac = errn < 0 ? 1.0 : eb > 0 ? 0.8 * pow(eb, -0.5) : 1.5;
+      double hn = fac >= 1.25 ? base * fmin(1.5, fac) : base;
+      h0 = fmin(hmax, fmax(hfloor, hn));
+    }
+    if (opt->monitor && out->nsteps % PHM_MONITOR_STEPS == 0 && opt->monitor(opt->ctx, t1, out->nsteps, h)) {
+      st = PHM_FAIL(err, PHM_EINTERRUPT, "interrupted at t = %g s", t1);
+      goto done;
+    }
+    if (t1 == tout[iout]) {
+      int stop;
+      if ((st = dae_emit_output(d, Y, out, iout, E0, t1, opt, &stop, err)) || stop) goto done;
+      iout++;
+      steps_out = 0;
+    }
+    t = t1;
+    hqq = hq;
+    hq = g.euler ? 0 : h; /* no history across the Euler step (its y0' is not this scheme's) */
+    memcpy(yqq, yq, sizeof(double) * (size_t)n);
+    if (g.euler) hjac = 0; /* other coefficients from here on */
+    /* adaptive: the two steps after a restart have no error estimate yet and start from the
+     * restart's rates; a failing one is redone as backward Euler too */
+    if (g.euler) hjac = 0;
+    restart = adaptive && restart > 0 && restart < 3 ? restart + 1 : 0;
+    g.euler = 0;
+    memcpy(yq, y0, sizeof(double) * (size_t)n);
+    memcpy(ypq, yp0, sizeof(double) * (size_t)n);
+    memcpy(y0, Y, sizeof(double) * (size_t)n);
+    memcpy(yp0, Yp, sizeof(double) * (size_t)n);
+  }
+done:
+  out->last_order = 2;
+  if (LS) SUNLinSolFree(LS);
+  if (A && A != Js) SUNMatDestroy(A);
+  if (Js) SUNMatDestroy(Js);
+  for (int k = 0; k < nv; k++)
+    if (*vs[k]) N_VDestroy(*vs[k]);
+  return st;
+}

@@ -1,0 +1,186 @@
+/* ida.c -- the IDA driver (SUNDIALS' variable-order BDF): tolerances per state, the linear
+ * solver (dense with IDA's own difference quotients, or KLU with the coloured Jacobian of
+ * csrc/dae/jacobian.c), output times, breakpoints of the laws (restart from consistent values)
+ * and the monitor. */
+#include "solve.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "check.h"
+
+static int ida_res(sunrealtype t, N_Vector yy, N_Vector yp, N_Vector rr, void *ud) {
+  return dae_residual((dae_t *)ud, t, N_VGetArrayPointer(yy), N_VGetArrayPointer(yp),
+                      N_VGetArrayPointer(rr));
+}
+
+static int ida_jac(sunrealtype t, sunrealtype cj, N_Vector yy, N_Vector yp, N_Vector rr, SUNMatrix J,
+                   void *ud, N_Vector t1, N_Vector t2, N_Vector t3) {
+  (void)t1; (void)t2; (void)t3;
+  return dae_jacobian((dae_t *)ud, t, cj, N_VGetArrayPointer(yy), N_VGetArrayPointer(yp),
+                      N_VGetArrayPointer(rr), J);
+}
+
+static void ida_err_handler(int code, const char *module, const char *function, char *msg, void *ud) {
+  dae_t *d = (dae_t *)ud;
+  (void)code;
+  snprintf(d->idamsg, sizeof d->idamsg, "%s/%s: %s", module, function, msg);
+}
+
+/* ---------------------------------------------------------------- driver */
+#define IDACHK(call)                                                                           \
+  do {                                                                                         \
+    int flag_ = (call);                                                                        \
+    if (flag_ < 0) {                                                                           \
+      char *nm_ = IDAGetReturnFlagName(flag_);                                                 \
+      st = PHM_FAIL(err, PHM_ESOLVER, "IDA set-up failed: %s returned %s", #call,         \
+                         nm_ ? nm_ : "?");                                                     \
+      free(nm_);                                                                               \
+      goto done;                                                                               \
+    }                                                                                          \
+  } while (0)
+
+static void add_stats(void *mem, phm_sim_output *out, int use_klu) {
+  long a = 0;
+  if (IDAGetNumSteps(mem, &a) == 0) out->nsteps += a;
+  a = 0;
+  if (IDAGetNumResEvals(mem, &a) == 0) out->nres += a;
+  a = 0;
+  if (!use_klu && IDAGetNumLinResEvals(mem, &a) == 0) out->nres += a;
+  a = 0;
+  if (IDAGetNumJacEvals(mem, &a) == 0) out->njac += a;
+  a = 0;
+  if (IDAGetNumNonlinSolvIters(mem, &a) == 0) out->nniters += a;
+  a = 0;
+  if (IDAGetNumErrTestFails(mem, &a) == 0) out->netf += a;
+  a = 0;
+  if (IDAGetNumNonlinSolvConvFails(mem, &a) == 0) out->nncf += a;
+  double h = 0;
+  if (IDAGetLastStep(mem, &h) == 0) out->last_step = h;
+  int q = 0;
+  if (IDAGetLastOrder(mem, &q) == 0) out->last_order = q;
+}
+
+phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vector yy, N_Vector yp,
+                   const double *tout, int nout, double *H, double *tw, double *qprev,
+                   double E0[1], double nbp, phm_sim_output *out, phm_error *err) {
+  phm_status st = PHM_OK;
+  N_Vector id = NULL;
+  SUNMatrix A = NULL;
+  SUNLinearSolver LS = NULL;
+  void *mem = NULL;
+  int stop;
+  double t = tout[0];
+  double *y = N_VGetArrayPointer(yy), *ypd = N_VGetArrayPointer(yp);
+  id = N_VNew_Serial(d->n, ctx);
+  if (!id) {
+    st = PHM_FAIL(err, PHM_ENOMEM, "out of memory (N_Vector)");
+    goto done;
+  }
+  double *idd = N_VGetArrayPointer(id);
+  /* id: 1 differential, 0 algebraic. IDA uses it only to leave the 0 components out of the local
+   * error test (IDASetSuppressAlg; no IDACalcIC here), so the configuration error test marks the
+   * twists 0 as well: they keep their weights in the Newton convergence test. */
+  for (int i = 0; i < d->n; i++)
+    idd[i] = i < d->il && !(dae_is_twist(d, i) && opt->error_test == PHM_ERRTEST_CONFIGURATION) ? 1.0 : 0.0;
+  mem = IDACreate(ctx);
+  if (!mem) {
+    st = PHM_FAIL(err, PHM_ENOMEM, "IDACreate failed");
+    goto done;
+  }
+  IDACHK(IDASetErrHandlerFn(mem, ida_err_handler, d));
+  IDACHK(IDAInit(mem, ida_res, t, yy, yp));
+  {
+    N_Vector av = N_VNew_Serial(d->n, ctx);
+    if (!av) {
+      st = PHM_FAIL(err, PHM_ENOMEM, "out of memory (N_Vector)");
+      goto done;
+    }
+    double *a = N_VGetArrayPointer(av);
+    for (int i = 0; i < d->n; i++) a[i] = dae_state_atol(d, i, opt->atol);
+    int fl = IDASVtolerances(mem, opt->rtol, av);
+    N_VDestroy(av);
+    IDACHK(fl);
+  }
+  IDACHK(IDASetUserData(mem, d));
+  IDACHK(IDASetId(mem, id));
+  IDACHK(IDASetSuppressAlg(mem, SUNTRUE));
+  /* bounded failure: at most 10^6 steps per output interval, and no step below 1e-14 of the
+   * simulated span (a corrector that keeps failing ends in IDA_CONV_FAIL/IDA_ERR_FAIL there
+   * instead of creeping on at h ~ 1e-18) */
+  /* with a monitor, IDASolve returns every PHM_MONITOR_STEPS steps (IDA_TOO_MUCH_WORK, state
+   * intact) so the monitor sees long output intervals; the per-interval limit is counted here */
+  long max_steps = opt->max_steps > 0 ? opt->max_steps : 1000000L;
+  IDACHK(IDASetMaxNumSteps(mem, opt->monitor ? PHM_MONITOR_STEPS : max_steps));
+  IDACHK(IDASetMinStep(mem, 1e-14 * fmax(1.0, tout[nout - 1] - tout[0])));
+  IDACHK(IDASetInitStep(mem, fmin(1e-8, 1e-3 * (tout[nout - 1] - tout[0]))));
+  if (opt->max_step > 0) IDACHK(IDASetMaxStep(mem, opt->max_step));
+  if (opt->max_order > 0) IDACHK(IDASetMaxOrd(mem, opt->max_order < 5 ? opt->max_order : 5));
+  if (opt->linear_solver == 1) {
+    if ((st = dae_jacobian_pattern(d, err))) goto done;
+    A = SUNSparseMatrix(d->n, d->n, d->nnz, CSC_MAT, ctx);
+    if (!A) {
+      st = PHM_FAIL(err, PHM_ENOMEM, "out of memory (sparse matrix)");
+      goto done;
+    }
+    LS = SUNLinSol_KLU(yy, A, ctx);
+  } else {
+    A = SUNDenseMatrix(d->n, d->n, ctx);
+    if (!A) {
+      st = PHM_FAIL(err, PHM_ENOMEM, "out of memory (dense matrix)");
+      goto done;
+    }
+    LS = SUNLinSol_Dense(yy, A, ctx);
+  }
+  if (!LS) {
+    st = PHM_FAIL(err, PHM_ESOLVER, "could not create the linear solver");
+    goto done;
+  }
+  IDACHK(IDASetLinearSolver(mem, LS, A));
+  if (opt->linear_solver == 1) IDACHK(IDASetJacFn(mem, ida_jac));
+
+  for (int iout = 1; iout < nout; iout++) {
+    double target = tout[iout];
+    long chunks = 0;
+    while (t < target) {
+      if (isfinite(nbp)) IDACHK(IDASetStopTime(mem, nbp));
+      double tret = t;
+      int flag = IDASolve(mem, target, &tret, yy, yp, IDA_NORMAL);
+      if (flag == IDA_TOO_MUCH_WORK && opt->monitor && ++chunks * PHM_MONITOR_STEPS < max_steps) {
+        long ns = 0;
+        double hl = 0;
+        IDAGetNumSteps(mem, &ns);
+        IDAGetLastStep(mem, &hl);
+        t = tret;
+        if (opt->monitor(opt->ctx, t, out->nsteps + ns, hl)) {
+          st = PHM_FAIL(err, PHM_EINTERRUPT, "interrupted at t = %g s", t);
+          goto done;
+        }
+        continue;
+      }
+      if (flag < 0) {
+        char *nm = IDAGetReturnFlagName(flag);
+        st = PHM_FAIL(err, PHM_ESOLVER, "IDA failed with %s at t = %.9g s (%s)", nm ? nm : "?", tret, d->idamsg);
+        free(nm);
+        goto done;
+      }
+      t = tret;
+      if (flag == IDA_TSTOP_RETURN) {
+        /* breakpoint: new piece of the laws, re-initialize from consistent values */
+        add_stats(mem, out, opt->linear_solver);
+        if ((st = dae_restart_at_breakpoint(d, t, t, &nbp, y, ypd, H, tw, qprev, err))) goto done;
+        IDACHK(IDAReInit(mem, t, yy, yp));
+        if (t >= target) t = target;
+      }
+    }
+    if ((st = dae_emit_output(d, y, out, iout, E0, t, opt, &stop, err)) || stop) goto done;
+  }
+done:
+  if (mem) add_stats(mem, out, opt->linear_solver);
+  if (mem) IDAFree(&mem);
+  if (LS) SUNLinSolFree(LS);
+  if (A) SUNMatDestroy(A);
+  if (id) N_VDestroy(id);
+  return st;
+}

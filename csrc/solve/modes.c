@@ -1,0 +1,254 @@
+/* modes.c -- linearized modes (docs/method.md section 7): stiffness and damping blocks on the
+ * tangent space (csrc/solve/linearize.c), the null space of the constraint Jacobian, and the
+ * lowest eigenpairs of the reduced generalized problem (LAPACK dsygvx). */
+#include "solve.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "linalg.h"
+
+/* Structure: the stiffness K = -df/ddelta and damping D = -df/dt are block-sparse (only
+ * neighbouring carriers couple) and computed by coloured differences; the constraint Jacobian G
+ * touches only the carriers of the pairs, so the null-space basis is Z = diag(U0, I): U0 from the
+ * SVD of G restricted to the constrained carriers, identity on the free ones. The reduced problem
+ * Kr y = omega^2 Mr y is solved for the lowest modes only (dsygvx). */
+phm_status phm_modes(const phm_model *m, const double *poses, const double *lambda, double time,
+                     int nmodes, double *omega, double *zeta, double *shapes, int *nfound,
+                     phm_error *err) {
+  phm_error_clear(err);
+  if (!m || !omega || !nfound) return PHM_FAIL(err, PHM_EINVAL, "phm_modes: NULL argument");
+  if (nmodes < 1) return PHM_FAIL(err, PHM_EINVAL, "number of modes must be >= 1 (got %d)", nmodes);
+  *nfound = 0;
+  int nc = m->nc, n6 = 6 * nc, nk = m->ncons;
+  phm_status st = PHM_OK;
+  lin_t L = {0};
+  int *cmap = NULL, *clist = NULL, *red = NULL;
+  int *iwork = NULL, *ifail = NULL;
+  double *H = malloc(sizeof(double) * 16 * (size_t)nc);
+  double *f0 = malloc(sizeof(double) * (size_t)n6), *f1 = malloc(sizeof(double) * (size_t)n6);
+  double *f2 = malloc(sizeof(double) * (size_t)n6), *tw = calloc((size_t)n6, sizeof(double));
+  double *Db = NULL, *Gc = NULL, *U = NULL, *sv = NULL, *work = NULL;
+  double *Kr = NULL, *Mr = NULL, *Dr = NULL, *ev = NULL, *Y = NULL;
+  if (!H || !f0 || !f1 || !f2 || !tw) goto oom;
+  if ((st = lin_alloc(&L, m, err)) || (st = lin_colour(&L, err))) goto done;
+  const int *ptr = L.ptr, *nbr = L.nbr, *col = L.col, ncol = L.ncol;
+  double *Kb = L.Kb;
+  int nb = ptr[nc];
+  Db = calloc((size_t)nb * 36, sizeof(double));
+  if (!Db) goto oom;
+  L.time = time;
+  L.tref = phm_model_tref(m, time, NULL);
+  L.scale = 1.0;
+  L.lam = lambda;
+  for (int c = 0; c < nc; c++) memcpy(H + 16 * c, poses ? poses + 16 * c : m->car[c].H0, 16 * sizeof(double));
+  /* stiffness K = -d f / d delta, block-sparse */
+  lin_force_jacobian_blocks(&L, H, f1, f2);
+  for (size_t i = 0; i < (size_t)nb * 36; i++) Kb[i] = -Kb[i];
+  /* damping D = -dw/dt (linear in t: one-sided differences are exact up to round-off) */
+  phm_applied(m, H, tw, NULL, time, L.tref, 1.0, f0, NULL, NULL, NULL, NULL, NULL);
+  for (int k = 0; k < ncol; k++)
+    for (int j = 0; j < 6; j++) {
+      for (int c = 0; c < nc; c++) tw[6 * c + j] = col[c] == k ? 1.0 : 0.0;
+      phm_applied(m, H, tw, NULL, time, L.tref, 1.0, f2, NULL, NULL, NULL, NULL, NULL);
+      for (int c = 0; c < nc; c++) tw[6 * c + j] = 0.0;
+      for (int r = 0; r < nc; r++)
+        for (int q = ptr[r]; q < ptr[r + 1]; q++)
+          if (col[nbr[q]] == k)
+            for (int i = 0; i < 6; i++) Db[36 * (size_t)q + 6 * i + j] = -(f2[6 * r + i] - f0[6 * r + i]);
+    }
+  /* constrained carriers and the null space of G restricted to them */
+  cmap = malloc(sizeof(int) * (size_t)nc);
+  clist = malloc(sizeof(int) * (size_t)(nc + 1));
+  if (!cmap || !clist) goto oom;
+  int ncc = 0;
+  for (int c = 0; c < nc; c++) cmap[c] = -1;
+  if (nk > 0)
+    for (int ip = 0; ip < m->np; ip++) {
+      int ab[2] = {m->pair[ip].a, m->pair[ip].b};
+      for (int s = 0; s < 2; s++)
+        if (ab[s] >= 0 && cmap[ab[s]] < 0) { cmap[ab[s]] = ncc; clist[ncc++] = ab[s]; }
+    }
+  int n6c = 6 * ncc, rank = 0, n0 = n6c;
+  if (nk > 0 && n6c > 0) {
+    Gc = calloc((size_t)n6c * nk, sizeof(double)); /* column-major G^T: n6c x nk */
+    U = malloc(sizeof(double) * (size_t)n6c * n6c);
+    sv = malloc(sizeof(double) * (size_t)(nk < n6c ? nk : n6c) + sizeof(double));
+    if (!Gc || !U || !sv) goto oom;
+    for (int ip = 0; ip < m->np; ip++) {
+      const phm_pair_desc *pr = &m->pair[ip];
+      int r0 = m->pair_row[ip], mc = m->pair_m[ip];
+      double Ga[36], Gb[36];
+      phm_pair_eval(m, ip, pr->a >= 0 ? H + 16 * pr->a : NULL, pr->b >= 0 ? H + 16 * pr->b : NULL,
+                    NULL, time, L.tref, NULL, Ga, Gb, NULL);
+      for (int r = 0; r < mc; r++)
+        for (int j = 0; j < 6; j++) {
+          if (pr->a >= 0) Gc[(size_t)(r0 + r) * n6c + 6 * cmap[pr->a] + j] += Ga[6 * r + j];
+          if (pr->b >= 0) Gc[(size_t)(r0 + r) * n6c + 6 * cmap[pr->b] + j] += Gb[6 * r + j];
+        }
+    }
+    int lw = -1, info = 0, one = 1;
+    double wq;
+    dgesvd_("A", "N", &n6c, &nk, Gc, &n6c, sv, U, &n6c, NULL, &one, &wq, &lw, &info);
+    lw = (int)wq + 1;
+    work = malloc(sizeof(double) * (size_t)lw);
+    if (!work) goto oom;
+    dgesvd_("A", "N", &n6c, &nk, Gc, &n6c, sv, U, &n6c, NULL, &one, work, &lw, &info);
+    free(work);
+    work = NULL;
+    if (info != 0) {
+      st = PHM_FAIL(err, PHM_ESINGULAR, "SVD of the constraint Jacobian failed (dgesvd info %d)", info);
+      goto done;
+    }
+    int ns = nk < n6c ? nk : n6c;
+    for (int i = 0; i < ns; i++)
+      if (sv[i] > 1e-10 * sv[0]) rank++;
+    n0 = n6c - rank;
+  }
+  /* reduced coordinates: first the n0 null-space directions of the constrained carriers (U0 =
+   * columns rank.. of U), then 6 per free carrier in carrier order (red[c]: first index) */
+  red = malloc(sizeof(int) * (size_t)nc);
+  if (!red) goto oom;
+  int nr = n0;
+  for (int c = 0; c < nc; c++) {
+    red[c] = cmap[c] < 0 ? nr : -1;
+    if (cmap[c] < 0) nr += 6;
+  }
+  if (nr == 0) {
+    st = PHM_FAIL(err, PHM_EINVAL, "the mechanism has no degree of freedom: no modes");
+    goto done;
+  }
+  Kr = calloc((size_t)nr * nr, sizeof(double));
+  Mr = calloc((size_t)nr * nr, sizeof(double));
+  Dr = calloc((size_t)nr * nr, sizeof(double));
+  ev = malloc(sizeof(double) * (size_t)nr);
+  if (!Kr || !Mr || !Dr || !ev) goto oom;
+  const double *U0 = U ? U + (size_t)rank * n6c : NULL; /* column a of U0: U0[a * n6c + i] */
+  /* X_r = Z^T X Z block by block; (Kr, Dr) from the blocks, Mr from the block-diagonal mass */
+  for (int w = 0; w < 3; w++) {
+    double *out = w == 0 ? Kr : w == 1 ? Dr : Mr;
+    for (int r = 0; r < nc; r++)
+      for (int q = ptr[r]; q < ptr[r + 1]; q++) {
+        int c = nbr[q];
+        const double *B;
+        if (w < 2) B = (w == 0 ? Kb : Db) + 36 * (size_t)q;
+        else if (c == r) B = m->car[c].M;
+        else continue;
+        if (red[r] >= 0 && red[c] >= 0) {
+          for (int i = 0; i < 6; i++)
+            for (int j = 0; j < 6; j++) out[(size_t)(red[r] + i) * nr + red[c] + j] += B[6 * i + j];
+        } else if (red[r] >= 0) { /* row free, column constrained: B U0 */
+          int c6 = 6 * cmap[c];
+          for (int i = 0; i < 6; i++)
+            for (int a = 0; a < n0; a++) {
+              double s = 0;
+              for (int j = 0; j < 6; j++) s += B[6 * i + j] * U0[(size_t)a * n6c + c6 + j];
+              out[(size_t)(red[r] + i) * nr + a] += s;
+            }
+        } else if (red[c] >= 0) { /* row constrained: U0^T B */
+          int r6 = 6 * cmap[r];
+          for (int a = 0; a < n0; a++)
+            for (int j = 0; j < 6; j++) {
+              double s = 0;
+              for (int i = 0; i < 6; i++) s += U0[(size_t)a * n6c + r6 + i] * B[6 * i + j];
+              out[(size_t)a * nr + red[c] + j] += s;
+            }
+        } else { /* both constrained: U0^T B U0 */
+          int r6 = 6 * cmap[r], c6 = 6 * cmap[c];
+          for (int b = 0; b < n0; b++) {
+            double BU[6];
+            for (int i = 0; i < 6; i++) {
+              double s = 0;
+              for (int j = 0; j < 6; j++) s += B[6 * i + j] * U0[(size_t)b * n6c + c6 + j];
+              BU[i] = s;
+            }
+            for (int a = 0; a < n0; a++) {
+              double s = 0;
+              for (int i = 0; i < 6; i++) s += U0[(size_t)a * n6c + r6 + i] * BU[i];
+              out[(size_t)a * nr + b] += s;
+            }
+          }
+        }
+      }
+    for (int a = 0; a < nr; a++)
+      for (int b = 0; b < a; b++) {
+        double s = 0.5 * (out[(size_t)a * nr + b] + out[(size_t)b * nr + a]);
+        out[(size_t)a * nr + b] = out[(size_t)b * nr + a] = s;
+      }
+  }
+  if (!phm_all_finite(Kr, (size_t)nr * nr) || !phm_all_finite(Mr, (size_t)nr * nr) ||
+      !phm_all_finite(Dr, (size_t)nr * nr)) {
+    st = PHM_FAIL(err, PHM_ESOLVER, "modes: the linearized stiffness, damping or mass is not "
+                       "finite: the model's numbers overflow double precision");
+    goto done;
+  }
+  int nf = nmodes < nr ? nmodes : nr, mfound = 0;
+  Y = malloc(sizeof(double) * (size_t)nr * nf);
+  iwork = malloc(sizeof(int) * 5 * (size_t)nr);
+  ifail = malloc(sizeof(int) * (size_t)nr);
+  if (!Y || !iwork || !ifail) goto oom;
+  {
+    int one = 1, lw = -1, info = 0;
+    double wq, vl = 0, vu = 0, abstol = 2 * dlamch_("S");
+    dsygvx_(&one, "V", "I", "U", &nr, Kr, &nr, Mr, &nr, &vl, &vu, &one, &nf, &abstol, &mfound, ev,
+            Y, &nr, &wq, &lw, iwork, ifail, &info);
+    lw = (int)wq + 1;
+    if (lw < 8 * nr) lw = 8 * nr;
+    work = malloc(sizeof(double) * (size_t)lw);
+    if (!work) goto oom;
+    dsygvx_(&one, "V", "I", "U", &nr, Kr, &nr, Mr, &nr, &vl, &vu, &one, &nf, &abstol, &mfound, ev,
+            Y, &nr, work, &lw, iwork, ifail, &info);
+    if (info != 0 || mfound < nf) {
+      st = PHM_FAIL(err, PHM_ESINGULAR, "generalized eigenproblem failed (dsygvx info %d, %d of "
+                         "%d eigenvalues found%s)", info, mfound, nf,
+                         info > nr ? ": mass matrix not positive definite" : "");
+      goto done;
+    }
+  }
+  for (int k = 0; k < nf; k++) {
+    double lamk = ev[k];
+    omega[k] = lamk >= 0 ? sqrt(lamk) : -sqrt(-lamk);
+    const double *yk = Y + (size_t)k * nr; /* column-major: eigenvector k is contiguous */
+    if (zeta) {
+      double s = 0;
+      for (int a = 0; a < nr; a++) {
+        double t = 0;
+        for (int b = 0; b < nr; b++) t += Dr[(size_t)a * nr + b] * yk[b];
+        s += yk[a] * t;
+      }
+      zeta[k] = omega[k] > 0 ? s / (2 * omega[k]) : 0.0;
+    }
+    if (shapes)
+      for (int c = 0; c < nc; c++)
+        for (int i = 0; i < 6; i++) {
+          double s = 0;
+          if (red[c] >= 0) s = yk[red[c] + i];
+          else
+            for (int a = 0; a < n0; a++) s += U0[(size_t)a * n6c + 6 * cmap[c] + i] * yk[a];
+          shapes[(size_t)k * n6 + 6 * c + i] = s;
+        }
+  }
+  if (!phm_all_finite(omega, (size_t)nf) || (zeta && !phm_all_finite(zeta, (size_t)nf)) ||
+      (shapes && !phm_all_finite(shapes, (size_t)nf * n6))) {
+    st = PHM_FAIL(err, PHM_ESOLVER, "modes: non-finite frequencies, damping ratios or mode "
+                       "shapes: the model's numbers overflow double precision");
+    goto done;
+  }
+  *nfound = nf;
+  goto done;
+oom:
+  st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+done:
+  lin_free(&L);
+  free(cmap); free(clist); free(red);
+  free(iwork); free(ifail);
+  free(H); free(f0); free(f1); free(f2); free(tw);
+  free(Db); free(Gc); free(U); free(sv); free(work);
+  free(Kr); free(Mr); free(Dr); free(ev); free(Y);
+  return st;
+}
+
+/* ---------------------------------------------------------------- statics */
+/* One Newton solve at load scale s from (H, lam); returns 0 on convergence. */

@@ -1,0 +1,42 @@
+/* solve.h -- what reads the DAE and the model to produce results: the integrators (ida.c,
+ * galpha.c, dispatched by simulate.c) and the linearization shared by modes.c and statics.c. */
+#ifndef PHM_SOLVE_H
+#define PHM_SOLVE_H
+
+#include "dae.h"
+
+/* ---------------------------------------------------------------- integrators */
+/* Integrate from the consistent state in yy, yp at tout[0] (output 0 already emitted; E0 its
+ * energy) to tout[nout - 1], emitting outputs 1..nout-1. H, tw, qprev: scratch (nc x 16, nc x 6,
+ * n); nbp: the next breakpoint of the laws. */
+phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vector yy, N_Vector yp,
+                   const double *tout, int nout, double *H, double *tw, double *qprev,
+                   double E0[1], double nbp, phm_sim_output *out, phm_error *err);
+phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vector yy,
+                      N_Vector yp, const double *tout, int nout, double *H, double *tw,
+                      double *qprev, double E0[1], double nbp, phm_sim_output *out,
+                      phm_error *err);
+
+/* ---------------------------------------------------------------- linearization (linearize.c) */
+typedef struct {
+  const phm_model *m;
+  double time, tref, scale;
+  const double *lam; /* constraint wrenches added to the forces (may be NULL) */
+  double *wr, *gl, *G, *Hp;
+  /* carrier coupling graph (CSR), its distance-2 colouring and the force Jacobian blocks
+   * (lin_colour; modes and statics) */
+  int *ptr, *nbr, *col, ncol;
+  double *Kb;
+} lin_t;
+
+phm_status lin_alloc(lin_t *L, const phm_model *m, phm_error *err);
+void lin_free(lin_t *L);
+/* The coupling graph of L's model, its colouring and room for the force Jacobian blocks. */
+phm_status lin_colour(lin_t *L, phm_error *err);
+/* Generalized forces at poses H: applied wrenches (x L->scale) + G^T L->lam (nc x 6, body frame). */
+void lin_total_force(lin_t *L, const double *H, double *f);
+/* L->Kb[q] = d f_r / d delta_c for block q = (row carrier r, column carrier nbr[q]) of the
+ * coupling graph, by coloured central differences; f1, f2: scratch (6 nc). */
+void lin_force_jacobian_blocks(lin_t *L, const double *H, double *f1, double *f2);
+
+#endif

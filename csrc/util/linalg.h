@@ -1,0 +1,66 @@
+/* linalg.h -- the small dense linear algebra of the core (6-vectors, 6x6 row-major blocks), the
+ * LAPACK routines it calls (declared once here) and finiteness tests. */
+#ifndef PHM_LINALG_H
+#define PHM_LINALG_H
+
+#include <math.h>
+#include <stddef.h>
+
+#include "phmech.h"
+
+#define PHM_PI 3.14159265358979323846
+
+static inline void phm_mv6(const double A[36], const double x[6], double y[6]) { /* y = A x */
+  for (int i = 0; i < 6; i++) {
+    double s = 0;
+    for (int j = 0; j < 6; j++) s += A[6 * i + j] * x[j];
+    y[i] = s;
+  }
+}
+
+static inline void phm_mtv6(const double A[36], const double x[6], double y[6]) { /* y = A^T x */
+  for (int i = 0; i < 6; i++) {
+    double s = 0;
+    for (int j = 0; j < 6; j++) s += A[6 * j + i] * x[j];
+    y[i] = s;
+  }
+}
+
+static inline double phm_dot(const double *a, const double *b, int n) {
+  double s = 0;
+  for (int i = 0; i < n; i++) s += a[i] * b[i];
+  return s;
+}
+
+/* The first non-finite entry of x[0..n), or -1. */
+static inline long phm_first_nonfinite(const double *x, size_t n) {
+  for (size_t i = 0; i < n; i++)
+    if (!isfinite(x[i])) return (long)i;
+  return -1;
+}
+static inline int phm_all_finite(const double *x, size_t n) { return phm_first_nonfinite(x, n) < 0; }
+
+/* Cholesky factor L (lower, row-major) of the symmetric 6x6 A + shift I; 0 if every pivot is
+ * above rtol times its diagonal entry of A (positive definite), 1 otherwise. */
+int phm_chol6(const double A[36], double shift, double rtol, double L[36]);
+/* x = A^-1 x with A = L L^T (phm_chol6). */
+void phm_chol6_solve(const double L[36], double x[6]);
+/* Min-norm least squares A x = b (A: rows x cols, row-major, overwritten); b has max(rows, cols)
+ * entries and holds x on return; rank in *rank (may be NULL). Allocates: set-up code only. */
+phm_status phm_lstsq(int rows, int cols, double *A, double *b, int *rank, phm_error *err);
+
+/* LAPACK (Fortran calling convention) */
+void dgelss_(const int *m, const int *n, const int *nrhs, double *a, const int *lda, double *b,
+             const int *ldb, double *s, const double *rcond, int *rank, double *work,
+             const int *lwork, int *info);
+void dgesvd_(const char *jobu, const char *jobvt, const int *m, const int *n, double *a,
+             const int *lda, double *s, double *u, const int *ldu, double *vt, const int *ldvt,
+             double *work, const int *lwork, int *info);
+void dsygvx_(const int *itype, const char *jobz, const char *range, const char *uplo, const int *n,
+             double *a, const int *lda, double *b, const int *ldb, const double *vl,
+             const double *vu, const int *il, const int *iu, const double *abstol, int *m,
+             double *w, double *z, const int *ldz, double *work, const int *lwork, int *iwork,
+             int *ifail, int *info);
+double dlamch_(const char *cmach);
+
+#endif
