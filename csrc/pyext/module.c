@@ -19,7 +19,17 @@ PyObject *phm_py_raise(const phm_error *err) {
   case PHM_EINTERRUPT: type = PyExc_KeyboardInterrupt; break;
   default: type = phm_py_SolverError; break;
   }
-  PyErr_SetString(type, err->msg[0] ? err->msg : "phmech: unspecified error");
+  PyObject *exc = PyObject_CallFunction(type, "s", err->msg[0] ? err->msg : "phmech: unspecified error");
+  if (!exc) return NULL;
+  /* where in the core it was raised (csrc/util/check.h), for bug reports */
+  PyObject *where = err->file ? PyUnicode_FromFormat("%s:%d", err->file, err->line) : Py_NewRef(Py_None);
+  if (where) {
+    PyObject_SetAttrString(exc, "core_location", where);
+    Py_DECREF(where);
+  }
+  PyErr_Clear(); /* a failed attribute set only loses the location */
+  PyErr_SetObject(type, exc);
+  Py_DECREF(exc);
   return NULL;
 }
 
@@ -133,7 +143,7 @@ static PyMethodDef module_methods[] = {
     {NULL, NULL, 0, NULL}};
 
 static PyMethodDef *all_tables[] = {module_methods, phm_py_se3_methods, phm_py_mixed_methods,
-                                    phm_py_model_methods};
+                                    phm_py_model_methods, phm_py_pair_methods};
 
 static struct PyModuleDef core_module = {PyModuleDef_HEAD_INIT, "phmech._core",
                                          "phmech C core (SE(3) algebra, components, DAE, IDA).", -1,

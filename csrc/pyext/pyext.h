@@ -12,6 +12,8 @@
 #endif
 #include <numpy/arrayobject.h>
 
+#include <math.h>
+
 #include "phmech.h"
 
 /* Exception types, created at import: ModelError(ValueError), SolverError(RuntimeError). */
@@ -33,5 +35,6 @@ PyArrayObject *phm_py_double_array(PyObject *obj, const char *what, const npy_in
 extern PyMethodDef phm_py_se3_methods[];
 extern PyMethodDef phm_py_mixed_methods[];
 extern PyMethodDef phm_py_model_methods[];
+extern PyMethodDef phm_py_pair_methods[];
 
 #endif
