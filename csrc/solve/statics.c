@@ -1,5 +1,5 @@
 /* statics.c -- static equilibrium: Newton on [df/ddelta G^T; G 0] with sparse LU (KLU), damped
- * to one radian (or one length scale) per iteration, with load stepping (halved on failure). */
+ * steps and load stepping (halved on failure). */
 #include "solve.h"
 
 #include <math.h>
@@ -9,6 +9,7 @@
 #include <klu.h>
 
 #include "check.h"
+#include "linalg.h"
 #include "pose.h"
 
 /* The static Newton matrix [df/ddelta  G^T; G  0] in compressed columns, with the source of every
@@ -16,7 +17,7 @@
  * blocks only couple neighbouring carriers and G only the carriers of each pair, so the cost per
  * iteration stays O(N) where a dense LU was O(N^3). */
 typedef struct {
-  int n, *Ap, *Ai, *src; /* src >= 0: Kb[src]; src < 0: G[-src - 1] (G nk x n6, row-major) */
+  int n, *Ap, *Ai, *src; /* src >= 0: Kb[src]; src < 0: Gp[-src - 1] (Gp: the pairs' blocks) */
   double *Ax;
   klu_symbolic *sym;
   klu_numeric *num;
@@ -69,7 +70,7 @@ static phm_status static_matrix_build(static_matrix_t *S, const lin_t *L, phm_er
           for (int rr = 0; rr < m->pair_m[ip]; rr++) {
             int r = m->pair_row[ip] + rr;
             S->Ai[k] = n6 + r;
-            S->src[k++] = -(r * n6 + 6 * c + j) - 1;
+            S->src[k++] = -(12 * r + 6 * (m->pair[ip].b == c) + j) - 1;
           }
     }
   }
@@ -83,7 +84,7 @@ static phm_status static_matrix_build(static_matrix_t *S, const lin_t *L, phm_er
         if (c < 0) continue;
         for (int i = 0; i < 6; i++) {
           S->Ai[k] = 6 * c + i;
-          S->src[k++] = -(r * n6 + 6 * c + i) - 1;
+          S->src[k++] = -(12 * r + 6 * (b == c) + i) - 1;
         }
       }
     }
@@ -94,7 +95,24 @@ static phm_status static_matrix_build(static_matrix_t *S, const lin_t *L, phm_er
   return PHM_OK;
 }
 
-/* Fill the values from Kb and G, factor (with fresh pivoting: the Newton matrix of a buckling
+/* The pairs' constraint Jacobian blocks at poses H: row r of pair ip holds G_a in Gp[12 r ..] and
+ * G_b in Gp[12 r + 6 ..] (O(N) storage and work; a dense G would be O(N^2)). */
+static void constraint_blocks(const lin_t *L, const double *H, double *Gp) {
+  const phm_model *m = L->m;
+  for (int ip = 0; ip < m->np; ip++) {
+    const phm_pair_desc *pr = &m->pair[ip];
+    double Ga[6 * PHM_MAXCON], Gb[6 * PHM_MAXCON];
+    phm_pair_eval(m, ip, pr->a >= 0 ? H + 16 * pr->a : NULL, pr->b >= 0 ? H + 16 * pr->b : NULL,
+                  NULL, L->time, L->tref, NULL, Ga, Gb, NULL);
+    for (int rr = 0; rr < m->pair_m[ip]; rr++) {
+      double *row = Gp + 12 * (m->pair_row[ip] + rr);
+      memcpy(row, Ga + 6 * rr, 6 * sizeof(double));
+      memcpy(row + 6, Gb + 6 * rr, 6 * sizeof(double));
+    }
+  }
+}
+
+/* Fill the values from Kb and Gp, factor (with fresh pivoting: the Newton matrix of a buckling
  * problem changes a lot) and solve in place; 0 on success, 1 if singular. */
 static int static_matrix_solve(static_matrix_t *S, const double *Kb, const double *G, double *x) {
   for (int k = 0; k < S->Ap[S->n]; k++) S->Ax[k] = S->src[k] >= 0 ? Kb[S->src[k]] : G[-S->src[k] - 1];
@@ -104,26 +122,46 @@ static int static_matrix_solve(static_matrix_t *S, const double *Kb, const doubl
   return !klu_solve(S->sym, S->num, S->n, 1, x, &S->common);
 }
 
+/* The static residual at poses H and multipliers L->lam: forces f (6 nc, applied x scale +
+ * G^T lambda), then the constraints g (nk). */
+static void static_residual(lin_t *L, const double *H, double *R) {
+  const phm_model *m = L->m;
+  lin_total_force(L, H, R);
+  if (m->ncons) phm_constraints_dense(m, H, NULL, L->time, L->tref, R + 6 * m->nc, NULL, NULL);
+}
+
+/* Work arrays of one Newton solve (allocated once by phm_static). */
+typedef struct {
+  double *R, *f1, *f2, *Gp, *Hsave, *lsave;
+} static_work_t;
+
+/* Newton from (H, lam) at the load scale L->scale; 0 on convergence (H, lam updated), 1 on
+ * failure (H, lam restored). Each iteration: the tangent [K G^T; G 0] (force blocks by coloured
+ * differences, O(N) force evaluations, csrc/solve/linearize.c) solved by KLU; a step larger than
+ * 1 rad or one element length lref is scaled down to that size. Converged when the step is below
+ * tol (rad, and lengths in units of lref), or when it stalls at round-off below 1e3 tol.
+ * Measured (docs/performance.md, statics): because lref is the element length, the iteration
+ * count grows with N (a cantilever under P L^2/EI = 3 in 10 load steps: 54 iterations at N = 20,
+ * 858 at N = 1000); capping the rotations only makes it N-independent there (51 and 52) but made
+ * the Fig. 3 manipulator's static Newton, which wanders for tens of iterations at any cap
+ * (finite-difference tangent), take 1461 iterations instead of 113 in 20 load steps; a line
+ * search on the residual norm was worse still. Kept until the analytic tangent lands. */
 static int newton(lin_t *L, static_matrix_t *S, double *H, double *lam, double tol, int maxit,
-                  double *R, double *f1, double *f2, double *Hsave, double *lsave, int *iters) {
+                  static_work_t *w, int *iters) {
   const phm_model *m = L->m;
   int nc = m->nc, n6 = 6 * nc, nk = m->ncons, N = n6 + nk;
-  memcpy(Hsave, H, sizeof(double) * 16 * (size_t)nc);
-  if (nk) memcpy(lsave, lam, sizeof(double) * (size_t)nk);
+  double *R = w->R;
+  memcpy(w->Hsave, H, sizeof(double) * 16 * (size_t)nc);
+  if (nk) memcpy(w->lsave, lam, sizeof(double) * (size_t)nk);
   L->lam = lam;
   double sprev = INFINITY;
   for (int it = 0; it < maxit; it++) {
     (*iters)++;
-    /* residual */
-    lin_total_force(L, H, R);
-    if (nk) phm_constraints_dense(m, H, NULL, L->time, L->tref, R + n6, NULL, NULL);
-    /* Jacobian: force blocks by coloured differences (O(N) force evaluations per iteration
-     * instead of O(N^2) column by column), constraint rows dg/ddelta = G, multiplier columns G^T;
-     * sparse LU (KLU) */
-    lin_force_jacobian_blocks(L, H, f1, f2);
-    if (nk) phm_constraints_dense(m, H, NULL, L->time, L->tref, NULL, L->G, NULL);
+    static_residual(L, H, R);
+    lin_force_jacobian_blocks(L, H, w->f1, w->f2);
+    if (nk) constraint_blocks(L, H, w->Gp);
     for (int i = 0; i < N; i++) R[i] = -R[i];
-    if (static_matrix_solve(S, L->Kb, L->G, R)) break;
+    if (static_matrix_solve(S, L->Kb, w->Gp, R)) break;
     double sn = 0;
     for (int c = 0; c < nc; c++)
       for (int j = 0; j < 6; j++) sn = fmax(sn, fabs(R[6 * c + j]) / (j < 3 ? 1.0 : m->lref));
@@ -137,8 +175,8 @@ static int newton(lin_t *L, static_matrix_t *S, double *H, double *lam, double t
     if (sn < 1e3 * tol && sn > 0.25 * sprev) return 0;
     sprev = sn;
   }
-  memcpy(H, Hsave, sizeof(double) * 16 * (size_t)nc);
-  if (nk) memcpy(lam, lsave, sizeof(double) * (size_t)nk);
+  memcpy(H, w->Hsave, sizeof(double) * 16 * (size_t)nc);
+  if (nk) memcpy(lam, w->lsave, sizeof(double) * (size_t)nk);
   return 1;
 }
 
@@ -153,11 +191,13 @@ phm_status phm_static(const phm_model *m, const double *poses, double time, int 
   lin_t L = {0};
   static_matrix_t S;
   memset(&S, 0, sizeof S);
-  double *R = malloc(sizeof(double) * (size_t)N);
-  double *f1 = malloc(sizeof(double) * (size_t)n6), *f2 = malloc(sizeof(double) * (size_t)n6);
-  double *Hs = malloc(sizeof(double) * 16 * (size_t)nc), *ls = malloc(sizeof(double) * (size_t)(nk + 1));
+  static_work_t w = {
+      .R = malloc(sizeof(double) * (size_t)N),
+      .f1 = malloc(sizeof(double) * (size_t)n6), .f2 = malloc(sizeof(double) * (size_t)n6),
+      .Gp = malloc(sizeof(double) * 12 * (size_t)(nk + 1)),
+      .Hsave = malloc(sizeof(double) * 16 * (size_t)nc), .lsave = malloc(sizeof(double) * (size_t)(nk + 1))};
   double *lam = calloc((size_t)(nk + 1), sizeof(double));
-  if (!R || !f1 || !f2 || !Hs || !ls || !lam) {
+  if (!w.R || !w.f1 || !w.f2 || !w.Gp || !w.Hsave || !w.lsave || !lam) {
     st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
     goto done;
   }
@@ -169,12 +209,12 @@ phm_status phm_static(const phm_model *m, const double *poses, double time, int 
   /* meet the constraints without load first */
   L.scale = 0.0;
   /* (a mechanism with a free degree of freedom is singular without load: then go on directly) */
-  int pre_failed = newton(&L, &S, poses_out, lam, tol, 50, R, f1, f2, Hs, ls, &it);
+  int pre_failed = newton(&L, &S, poses_out, lam, tol, 50, &w, &it);
   double s = 0, ds = 1.0 / steps;
   while (s < 1.0) {
     double snew = fmin(1.0, s + ds);
     L.scale = snew;
-    if (newton(&L, &S, poses_out, lam, tol, 30, R, f1, f2, Hs, ls, &it)) {
+    if (newton(&L, &S, poses_out, lam, tol, 30, &w, &it)) {
       ds *= 0.5;
       if (ds < 1e-4 / steps) {
         st = PHM_FAIL(err, PHM_ESOLVER, "static equilibrium: Newton failed at load factor %.6g after step halving (%d iterations)%s", snew, it,
@@ -195,7 +235,7 @@ done:
   if (iters) *iters = it;
   lin_free(&L);
   static_matrix_free(&S);
-  free(R); free(f1); free(f2);
-  free(Hs); free(ls); free(lam);
+  free(w.R); free(w.f1); free(w.f2); free(w.Gp);
+  free(w.Hsave); free(w.lsave); free(lam);
   return st;
 }
