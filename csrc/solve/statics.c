@@ -104,6 +104,8 @@ static int static_matrix_solve(static_matrix_t *S, const double *Kb, const doubl
   return !klu_solve(S->sym, S->num, S->n, 1, x, &S->common);
 }
 
+/* One Newton solve at load scale L->scale from (H, lam); returns 0 on convergence (H and lam
+ * updated), 1 on failure (H and lam restored). */
 static int newton(lin_t *L, static_matrix_t *S, double *H, double *lam, double tol, int maxit,
                   double *R, double *f1, double *f2, double *Hsave, double *lsave, int *iters) {
   const phm_model *m = L->m;
