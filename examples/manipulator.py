@@ -1,6 +1,7 @@
 """The manipulator of the paper's Fig. 3 / Sec. VIII-C: 3 rigid and 3 flexible links.
 
-Topology exactly as the paper (DESIGN.md section 10); an edge (a, b) is ``add_pair(name, pair, a, b)``:
+Topology exactly as the paper (docs/method.md section 8.3); an edge (a, b) is
+``add_pair(name, pair, a, b)``:
 
     k1 = (1L, 0)   shoulder: F1's start to the ground             actuated (PD)
     k2 = (1, 1R)   elbow hub R1 on F1's tip                       actuated (PD)

@@ -24,7 +24,7 @@ def test_cantilever_modes_timoshenko_N21():
     md = m.modes(5)
     ref = timoshenko.frequencies(5, TABLE1["L"], TABLE1["EI"], TABLE1["kGA"], TABLE1["rhoA"], TABLE1["rhoI"])
     err = np.abs(md.omega / ref - 1)
-    # DESIGN section 4: lumped se3, N = 21, first five modes within about 0.7 %
+    # docs/method.md section 4.2: lumped se3, N = 21, first five modes within about 0.7 %
     assert np.all(err < 0.007), err
     # second order convergence: N = 42 reduces the error about four times
     m2, _ = cantilever(table1_properties(), N=42)

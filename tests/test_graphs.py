@@ -15,8 +15,8 @@ def fig3_graph() -> MechanismGraph:
     return g
 
 
-# The paper's (25), written out by hand from the edge list of DESIGN.md §10 and the rule
-# -1 at l(e), +1 at r(e); rows 1, 2, 3 and 1L, 1R, 2L, 2R, 3L, 3R.
+# The paper's (25), written out by hand from the edge list of docs/method.md section 8.3 and the
+# rule -1 at l(e), +1 at r(e); rows 1, 2, 3 and 1L, 1R, 2L, 2R, 3L, 3R.
 B_K_r = [[0, -1, 1, 1, 0, 0, 0],
          [0, 0, 0, 0, -1, -1, 1],
          [0, 0, 0, 0, 0, 0, -1]]

@@ -181,8 +181,8 @@ def test_model_errors(build, msg):
 
 
 def test_x0_places_a_link_through_the_spanning_tree():
-    # The initial configuration walks the tree from the ground (DESIGN section 5): a link hinged
-    # to the ground with x0 = 0.5 rad about z starts rotated by 0.5 rad, unstressed.
+    # The initial configuration walks the tree from the ground (docs/method.md section 5.3): a
+    # link hinged to the ground with x0 = 0.5 rad about z starts rotated by 0.5 rad, unstressed.
     m = pm.Mechanism()
     lk_props = type("P", (), dict(stiffness=np.eye(6) * 1e3, inertia=np.eye(6) * 0.1))
     lk = m.add_flexible_link("L", 1.0, lk_props, elements=2)

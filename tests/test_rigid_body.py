@@ -1,7 +1,8 @@
 """Validation of free rigid bodies (issue 4) against closed-form references.
 
-Conventions (DESIGN.md section 3): body twist (omega, v) at the body frame, pose H = (R, p) maps
-body to world, inertia given about the centre of mass in body axes, ``com`` in body coordinates.
+Conventions (docs/method.md section 3): body twist (omega, v) at the body frame, pose H = (R, p)
+maps body to world, inertia given about the centre of mass in body axes, ``com`` in body
+coordinates.
 References are independent of phmech: Euler's equations solved in closed form (Jacobi elliptic
 functions, Landau & Lifshitz Mechanics section 37), the closed-form torque-free motion of an
 axisymmetric body, scipy's ``solve_ivp`` on the quaternion ODE, and Newton's laws for the centre of

@@ -192,7 +192,7 @@ def test_ad_bracket_and_dual():
     e = np.abs(hat_ref(np.einsum("nij,nj->ni", se3.ad(x), y)) - (X @ Y - Y @ X)).max()
     record("hat(ad_x y) = [hat x, hat y]", e, 1e-14)
     assert np.array_equal(se3.ad_dual(x), np.swapaxes(se3.ad(x), -1, -2))
-    # DESIGN.md 3: with m = (L, P), ad*_t m = (-w x L - v x P, -w x P)
+    # docs/method.md section 3.4: with m = (L, P), ad*_t m = (-w x L - v x P, -w x P)
     m = rng.normal(size=(2000, 6))
     r = np.einsum("nij,nj->ni", se3.ad_dual(x), m)
     ref = np.concatenate([-np.cross(x[:, :3], m[:, :3]) - np.cross(x[:, 3:], m[:, 3:]),
@@ -207,7 +207,7 @@ def test_ad_bracket_and_dual():
 
 
 def test_dexp_finite_differences():
-    """H^-1 dH = hat(dexp_{-x} dx) (DESIGN.md 3), central differences with h = 1e-6."""
+    """H^-1 dH = hat(dexp_{-x} dx) (docs/method.md section 3.6), central differences with h = 1e-6."""
     rng = np.random.default_rng(10)
     x = rand_twists(rng, 400)
     h = 1e-6

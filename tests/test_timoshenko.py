@@ -17,7 +17,7 @@ from phmech import timoshenko as tim
 
 BCS = ("clamped-free", "clamped-clamped", "pinned-pinned")
 
-# The paper's Table I beam (DESIGN.md section 10)
+# The paper's Table I beam (docs/method.md section 8.1)
 TABLE1 = dict(L=1.0, EI=5143.0, kGA=656625.0, rhoA=873.0, rhoI=2.1797)
 # A thick beam (rectangle h/L = 0.5, E/(kG) = 3.12): several of the first 8 modes lie above
 # the cut-off sqrt(kGA/rhoI).

@@ -226,12 +226,12 @@ enum { PHM_ERRTEST_ALL = 0, PHM_ERRTEST_CONFIGURATION = 1 };
 #define PHM_BAND_STEPS 20
 #define PHM_BAND_MAX_STEPS 12
 /* Variable step: Newton's relative tolerance on the differential states is min(rtol, this)
- * (the energy ledger needs it; measurements in csrc/dae.c, run_galpha). */
+ * (the energy ledger needs it; measurements in csrc/solve/galpha.c, run_galpha). */
 #define PHM_NEWTON_RTOL 1e-7
 enum { PHM_INTEGRATOR_IDA = 0, PHM_INTEGRATOR_GALPHA = 1 };
 
 typedef struct {
-  double rtol, atol;      /* IDA tolerances (atol scalar)                                  */
+  double rtol, atol;      /* error tolerances (atol scalar); GALPHA fixed step: Newton's   */
   int linear_solver;      /* 0 dense (IDA difference-quotient Jacobian), 1 KLU (coloured FD) */
   long max_steps;         /* per output interval (IDA and GALPHA); <= 0: 10^6               */
   double max_step;        /* <= 0: no limit                                                 */
@@ -264,12 +264,12 @@ typedef struct {
   double *ports;   /* [nout][nports] energy supplied through each port, J (actuators: int u.xdot;
                     * loads: int w.t; springs: minus the dissipated energy)              */
   int nout_done;   /* outputs filled                                    */
-  long nsteps, nres, njac, nniters, netf, nncf; /* IDA statistics      */
+  long nsteps, nres, njac, nniters, netf, nncf; /* integrator statistics (IDA or GALPHA) */
   long nfloor;     /* adaptive GALPHA: steps accepted at the band floor above the tolerance */
   double err_est;  /* adaptive GALPHA: sum over steps of the max-norm local error estimate of
                     * the configuration (m, rad-like units): a bound of the global error
                     * without error propagation                                       */
-  double last_step; int last_order;             /* IDA's last step [s] and BDF order */
+  double last_step; int last_order;             /* last step [s] and order (BDF order; GALPHA: 2) */
   double wall_time;                             /* seconds             */
 } phm_sim_output;
 

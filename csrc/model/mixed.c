@@ -1,4 +1,5 @@
-/* beam_mixed.c -- Golo's mixed finite element for the linear planar Timoshenko beam.
+/* mixed.c -- Golo's mixed finite element for the linear planar Timoshenko beam (docs/method.md
+ * section 4.8).
  *
  * References: Golo, Talasila, van der Schaft, Maschke, "Hamiltonian discretization of boundary
  * control systems", Automatica 40 (2004) (the paper's [51]); Bassi, Macchelli, Melchiorri (2006)

@@ -90,7 +90,7 @@ void phm_element_eval(const phm_element_desc *e, const double Ha[16], const doub
  * branch references (nj; NULL: the model's x0). Optional outputs (may be NULL): elastic energy,
  * dissipated power, power supplied by external wrenches and actuators (needs tw), the power of
  * every port (nport, needs tw), the actuator efforts summed per joint coordinate (nj). Effort
- * sources and loads are scaled by `scale`; springs and PD actuators are not. */
+ * sources, loads and gravity are scaled by `scale`; springs and PD actuators are not. */
 void phm_applied(const phm_model *m, const double *H, const double *tw, const double *xs,
                  double time, double tref, double scale, double *wr, double *Vel, double *Pdiss,
                  double *Psupp, double *Pport, double *effort);

@@ -1,4 +1,4 @@
-/* py_mixed.c -- bindings of Golo's mixed finite element (beam_mixed.c). */
+/* py_mixed.c -- bindings of Golo's mixed finite element (csrc/model/mixed.c). */
 #include "pyext.h"
 
 #include <limits.h>

@@ -1,5 +1,5 @@
-/* py_model.c -- bindings of the model, simulation, modes and statics (csrc/model.c, dae.c,
- * linearize.c). A model lives in a capsule; python/phmech/mechanism.py builds the flat arrays. */
+/* py_model.c -- bindings of the model, simulation, modes and statics (csrc/model/, csrc/dae/,
+ * csrc/solve/). A model lives in a capsule; python/phmech/mechanism.py builds the flat arrays. */
 #include "pyext.h"
 
 #include <limits.h>

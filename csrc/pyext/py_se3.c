@@ -1,4 +1,5 @@
-/* py_se3.c -- bindings of the SE(3) algebra (csrc/se3.c) as phmech._core.so3_* / se3_* / quat_*.
+/* py_se3.c -- bindings of the SE(3) algebra (csrc/util/se3.c) as phmech._core.so3_* / se3_* /
+ * quat_*.
  *
  * Every function takes one element or a stack (..., tail) of them, validates it here (real
  * numbers only, right trailing shape, finite values), loops over the stack calling the C kernel

@@ -143,7 +143,7 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
    * 1.4e-3 / 1.2e-5, double pendulum 1.7e-4 / 4.5e-6, flexible arm 6.2e-4 / 3.5e-5, at the same
    * number of iterations within 10 % (docs/integrators.md). Not tighter: at 1e-8 the
    * manipulator's first step fails (round-off of its 3e9 rad/s^2 start). Never tighter than
-   * the error tolerance either. The multipliers keep their tolerances (state_atol): their
+   * the error tolerance either. The multipliers keep their tolerances (dae_state_atol): their
    * corrections carry the round-off of G t / h. */
   double newton_tol = adaptive ? fmin(1.0, PHM_NEWTON_RTOL / opt->rtol) : 1.0;
   double span = tout[nout - 1] - tout[0];
@@ -185,7 +185,7 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
   double t = tout[0], hjac = 0;
   int iout = 1, fresh = 0;
   /* restart: the first step, and the first after each breakpoint. If it fails, it is redone as
-   * backward Euler, which does not use y0': consistent_ic computes y0' exactly, but it can be
+   * backward Euler, which does not use y0': dae_consistent_ic computes y0' exactly, but it can be
    * huge (a joint torque on a light node of the manipulator: 3e9 rad/s^2); carried into the step
    * it drives the unresolved fast modes and the stage powers to 1e14 W, and the finite-difference
    * Jacobian loses every digit. One first-order step adds an O(h^2) error once, so the global

@@ -58,7 +58,7 @@ phm_status lin_colour(lin_t *L, phm_error *err) {
 }
 
 /* Kb[q] = d f_r / d delta_c for block q = (row carrier r, column carrier nbr[q]) of the coupling
- * graph (6 x 6, row-major), f = total_force on the perturbed carriers' charts, f_c(delta) =
+ * graph (6 x 6, row-major), f = lin_total_force on the perturbed carriers' charts, f_c(delta) =
  * dexp_{-delta}^T w_c(H_c exp(delta)); central differences, one pass per colour and direction
  * (carriers of one colour share no neighbour, so their columns do not mix). Into L->Kb. */
 void lin_force_jacobian_blocks(lin_t *L, const double *H, double *f1, double *f2) {

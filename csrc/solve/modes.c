@@ -249,6 +249,3 @@ done:
   free(Kr); free(Mr); free(Dr); free(ev); free(Y);
   return st;
 }
-
-/* ---------------------------------------------------------------- statics */
-/* One Newton solve at load scale s from (H, lam); returns 0 on convergence. */

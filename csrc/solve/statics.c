@@ -140,7 +140,7 @@ typedef struct {
  * differences, O(N) force evaluations, csrc/solve/linearize.c) solved by KLU; a step larger than
  * 1 rad or one element length lref is scaled down to that size. Converged when the step is below
  * tol (rad, and lengths in units of lref), or when it stalls at round-off below 1e3 tol.
- * Measured (docs/performance.md, statics): because lref is the element length, the iteration
+ * Measured (benchmarks/statics_newton.py): because lref is the element length, the iteration
  * count grows with N (a cantilever under P L^2/EI = 3 in 10 load steps: 54 iterations at N = 20,
  * 858 at N = 1000); capping the rotations only makes it N-independent there (51 and 52) but made
  * the Fig. 3 manipulator's static Newton, which wanders for tens of iterations at any cap

@@ -8,8 +8,8 @@ void phm_qp_to_H(const double q[4], const double p[3], double H[16]);
 void phm_H_to_qp(const double H[16], double q[4], double p[3]);
 void phm_retract(double H[16], const double delta[6]); /* H <- H exp(delta) */
 
-/* ad*_t m = ad_t^T m = (-w x L - v x P, -w x P) for a twist t = (w, v) and a momentum
- * m = (L, P): the gyroscopic term of the momentum balance. */
+/* out = ad*_t mm = ad_t^T mm for a momentum mm = (L, P) and a twist t = (omega, v):
+ * (-omega x L - v x P, -omega x P) (docs/method.md section 3.4): the gyroscopic term. */
 static inline void phm_ad_dual_apply(const double t[6], const double mm[6], double out[6]) {
   const double *w = t, *v = t + 3, *L = mm, *P = mm + 3;
   out[0] = -(w[1] * L[2] - w[2] * L[1]) - (v[1] * P[2] - v[2] * P[1]);

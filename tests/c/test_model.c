@@ -1,4 +1,4 @@
-/* test_model.c -- C unit tests of the model kernels (csrc/model.c, dae.c, linearize.c) against
+/* test_model.c -- C unit tests of the model kernels (csrc/model/, csrc/dae/, csrc/solve/) against
  * independent references: central finite differences of the elastic energy and of the position
  * constraints, the power balance of an element, energy conservation of a free body. */
 #include <math.h>

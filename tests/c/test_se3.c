@@ -1,4 +1,4 @@
-/* test_se3.c -- C unit tests of the SE(3) algebra (csrc/se3.c) against independent references:
+/* test_se3.c -- C unit tests of the SE(3) algebra (csrc/util/se3.c) against independent references:
  * truncated power series, scaling-and-squaring matrix exponentials, central finite differences,
  * group identities. Random elements include angles within 1e-8 of 0 and of pi. */
 #include <math.h>
