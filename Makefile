@@ -6,7 +6,7 @@ PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.phmech-deps
-SOURCES := $(shell find csrc python -type f -name '*.[ch]' -o -type f -name '*.py') meson.build pyproject.toml
+SOURCES := $(shell find csrc python -type f -name '*.[ch]' -o -type f -name '*.py') meson.build meson.options pyproject.toml
 
 .PHONY: all demo test ctest pytest sanitize build sysdeps validate bench clean info
 
