@@ -6,9 +6,9 @@ PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.phmech-deps
-SOURCES := $(shell find csrc python -type f -name '*.[ch]' -o -type f -name '*.py') meson.build pyproject.toml
+SOURCES := $(shell find csrc python -type f -name '*.[ch]' -o -type f -name '*.py') meson.build meson.options pyproject.toml
 
-.PHONY: all demo test ctest pytest sanitize build sysdeps validate bench clean info
+.PHONY: all demo test ctest pytest sanitize sundials7-check build sysdeps validate bench clean info
 
 all: build
 
@@ -72,6 +72,33 @@ sanitize: sysdeps $(STAMP)
 	  $(PY) -c "import phmech; assert '$(SAN_DIR)' in phmech.__file__, phmech.__file__; print('sanitized phmech:', phmech.__file__)"
 	$(SAN_ENV) LD_PRELOAD="$(SAN_PRELOAD)" PYTHONPATH=$(SAN_DIR)/pkg PHMECH_FUZZ_LIMIT=60 \
 	  $(PY) -m pytest -q -p no:cacheprovider $(SAN_TESTS)
+
+# SUNDIALS 7 (not part of `make test`, whose builds use Debian's 6.4.1): the core and the extension
+# built in build/sun7 against the SUNDIALS 7.x installed at SUNDIALS7_PREFIX (release flags and
+# -Werror, like ctest; meson's build rpath points at its libraries), the C unit tests, then
+# SUN7_TESTS against that build through PYTHONPATH (the .venv's phmech is not touched).
+# docs/building.md says what that install needs and what this run gave.
+SUN7_DIR   := build/sun7
+SUN7_TESTS := tests/test_se3.py tests/test_pairs.py tests/test_rigid_body.py \
+              tests/test_beam_dynamics.py tests/test_statics.py tests/test_default_integrator.py \
+              tests/test_leaf_spring.py tests/test_generalized_alpha.py tests/test_topology.py \
+              tests/test_info.py
+
+sundials7-check: sysdeps $(STAMP)
+	@test -n "$(SUNDIALS7_PREFIX)" || { echo "usage: make sundials7-check SUNDIALS7_PREFIX=<install prefix of SUNDIALS 7.x> (docs/building.md)" >&2; exit 2; }
+	@if test -f $(SUN7_DIR)/build.ninja; then \
+	  $(VENV)/bin/meson configure $(SUN7_DIR) -Dsundials_prefix=$(abspath $(SUNDIALS7_PREFIX)); \
+	else \
+	  $(VENV)/bin/meson setup $(SUN7_DIR) --buildtype=release -Dwerror=true \
+	    -Dsundials_prefix=$(abspath $(SUNDIALS7_PREFIX)) >/dev/null; \
+	fi
+	$(VENV)/bin/meson compile -C $(SUN7_DIR)
+	$(VENV)/bin/meson test -C $(SUN7_DIR) --print-errorlogs
+	@rm -rf $(SUN7_DIR)/pkg && mkdir -p $(SUN7_DIR)/pkg/phmech
+	@cp python/phmech/*.py $(SUN7_DIR)/_core*.so $(SUN7_DIR)/pkg/phmech/
+	PYTHONPATH=$(SUN7_DIR)/pkg $(PY) -c "import io, phmech; v = phmech.info(file=io.StringIO())['sundials']; \
+	  assert '$(SUN7_DIR)' in phmech.__file__ and v.startswith('7.'), (phmech.__file__, v); print('phmech', phmech.__file__, 'SUNDIALS', v)"
+	PHMECH_EXPECT_SUNDIALS_MAJOR=7 PYTHONPATH=$(SUN7_DIR)/pkg $(PY) -m pytest -q -p no:cacheprovider $(SUN7_TESTS)
 
 # Long validation studies (not part of `make test`); figures land in benchmarks/results/.
 validate: build

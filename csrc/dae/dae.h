@@ -19,7 +19,8 @@ typedef struct {
   int n, ix, ie, il, im; /* sizes and offsets of the state blocks */
   double tref;
   double *H, *tw, *wr, *gl, *gm, *pport, *eff; /* scratch, allocated at set-up */
-  char idamsg[256];
+  char idamsg[256];         /* IDA's last error message, through idasink (csrc/solve/ida.c) */
+  phm_sun_errsink idasink; /* here, not in run_ida: SUNDIALS 7 keeps it on the context */
   /* KLU: sparsity pattern (CSC) and column colouring for the finite-difference Jacobian */
   int nnz, ncolor;
   sunindextype *colptr, *rowind;

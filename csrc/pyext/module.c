@@ -6,7 +6,7 @@
 #include <math.h>
 #include <string.h>
 
-#include <sundials/sundials_config.h>
+#include "sundials_compat.h" /* SUNDIALS_VERSION: the headers built against, 6.x or 7.x */
 
 PyObject *phm_py_ModelError = NULL;
 PyObject *phm_py_SolverError = NULL;

@@ -171,7 +171,7 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
     goto done;
   }
   LS = opt->linear_solver == 1 ? SUNLinSol_KLU(yy, A, ctx) : SUNLinSol_Dense(yy, A, ctx);
-  if (!LS || SUNLinSolInitialize(LS) != SUNLS_SUCCESS) {
+  if (!LS || SUNLinSolInitialize(LS) != PHM_SUN_SUCCESS) {
     st = PHM_FAIL(err, PHM_ESOLVER, "could not create the linear solver");
     goto done;
   }
@@ -250,7 +250,7 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
         galpha_residual(d, &g, t, h);
         out->nres++;
         if (hjac == 0) {
-          if (galpha_jacobian(d, &g, t, h, Js, A) || SUNLinSolSetup(LS, A) != SUNLS_SUCCESS) {
+          if (galpha_jacobian(d, &g, t, h, Js, A) || SUNLinSolSetup(LS, A) != PHM_SUN_SUCCESS) {
             if (restart && !g.euler) break; /* redone as backward Euler below */
             if (adaptive) { /* a shorter step (Newton-failure path): fresh, so it halves */
               fresh = 1;
@@ -264,7 +264,7 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
           fresh = 1;
         }
         N_VScale(-1.0, g.R, g.dY);
-        if (SUNLinSolSolve(LS, A, g.dY, g.dY, 0.0) != SUNLS_SUCCESS) {
+        if (SUNLinSolSolve(LS, A, g.dY, g.dY, 0.0) != PHM_SUN_SUCCESS) {
           st = PHM_FAIL(err, PHM_ESOLVER, "generalized-alpha: linear solve failed at t = %.9g s", t);
           goto done;
         }

@@ -65,7 +65,7 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
     memcpy(H + 16 * c, poses0 ? poses0 + 16 * c : m->car[c].H0, 16 * sizeof(double));
     memcpy(tw + 6 * c, twists0 ? twists0 + 6 * c : m->car[c].t0, 6 * sizeof(double));
   }
-  if (SUNContext_Create(NULL, &ctx) != 0) {
+  if (phm_sun_context_create(&ctx) != 0) {
     st = PHM_FAIL(err, PHM_ESOLVER, "SUNContext_Create failed");
     goto done;
   }
