@@ -66,7 +66,9 @@ void phm_pair_kin(int type, double pitch, const double h[16], const double *xref
   double p[3] = {h[3], h[7], h[11]}, q[3]; /* q = R^T p */
   for (int i = 0; i < 3; i++) q[i] = R(0, i) * p[0] + R(1, i) * p[1] + R(2, i) * p[2];
   double gg[6] = {0}, xx[6] = {0}, Wl[36] = {0}, Pl[36] = {0};
-  double th = atan2(R(1, 0), R(0, 0));
+  double th = atan2(R(1, 0), R(0, 0)), Rm[9]; /* Rm: the rotation of h */
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) Rm[3 * i + j] = R(i, j);
   switch (type) {
   case PAIR_FIXED:
     phm_se3_log(h, gg);
@@ -80,9 +82,7 @@ void phm_pair_kin(int type, double pitch, const double h[16], const double *xref
     xx[0] = near_angle(th, xref, 0);
     break;
   case PAIR_PRISMATIC: {
-    double Rm[9], w[3];
-    for (int i = 0; i < 3; i++)
-      for (int j = 0; j < 3; j++) Rm[3 * i + j] = R(i, j);
+    double w[3];
     phm_so3_log(Rm, w);
     gg[0] = w[0]; gg[1] = w[1]; gg[2] = w[2]; gg[3] = p[0]; gg[4] = p[1];
     setcol(Wl, 0, 0, 1, 0, 0); setcol(Wl, 1, 0, 0, 1, 0); setcol(Wl, 2, 0, 0, 0, 1);
@@ -117,9 +117,6 @@ void phm_pair_kin(int type, double pitch, const double h[16], const double *xref
     xx[1] = near_angle(atan2(R(0, 2), R(0, 0)), xref, 1);
     break;
   case PAIR_SPHERICAL: {
-    double Rm[9];
-    for (int i = 0; i < 3; i++)
-      for (int j = 0; j < 3; j++) Rm[3 * i + j] = R(i, j);
     phm_so3_log(Rm, xx);
     gg[0] = q[0]; gg[1] = q[1]; gg[2] = q[2];
     setcol(Wl, 0, 3, 1, 0, 0); setcol(Wl, 1, 3, 0, 1, 0); setcol(Wl, 2, 3, 0, 0, 1);
@@ -134,16 +131,13 @@ void phm_pair_kin(int type, double pitch, const double h[16], const double *xref
     xx[1] = p[0];
     xx[2] = p[1];
     break;
-  case PAIR_FREE:
-  default: {
-    double Rm[9];
-    for (int i = 0; i < 3; i++)
-      for (int j = 0; j < 3; j++) Rm[3 * i + j] = R(i, j);
+  case PAIR_FREE: {
     phm_so3_log(Rm, xx);
     xx[3] = p[0]; xx[4] = p[1]; xx[5] = p[2];
     setcol(Pl, 0, 0, 1, 0, 0); setcol(Pl, 1, 0, 0, 1, 0); setcol(Pl, 2, 0, 0, 0, 1);
     for (int j = 0; j < 3; j++) setcol(Pl, 3 + j, 3, R(j, 0), R(j, 1), R(j, 2));
   } break;
+  default: break; /* a type without its case here has no kinematics: phm_model_create refuses it */
   }
 #undef R
   int mm = (type >= 0 && type < PAIR_NTYPES) ? pair_table[type].m : 0;
