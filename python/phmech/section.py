@@ -246,6 +246,11 @@ def _matrix6(name: str, value, *, definite: bool) -> np.ndarray:
     return m
 
 
+def _diagonal(matrix: str, k: int, doc: str) -> property:
+    """A read-only property: the k-th diagonal entry of the 6x6 ``matrix`` attribute."""
+    return property(lambda self: float(getattr(self, matrix)[k, k]), doc=doc)
+
+
 @dataclass(frozen=True)
 class BeamProperties:
     """Section properties of a flexible link per unit length, in the strain order
@@ -337,55 +342,16 @@ class BeamProperties:
         return cls(K, np.diag([rJ, rIy, rIz, rA, rA, rA]), damping)
 
     # -- convenience accessors (diagonal entries) --------------------------------------------
-    @property
-    def GJ(self) -> float:
-        """Torsional stiffness [N m^2]."""
-        return float(self.stiffness[0, 0])
-
-    @property
-    def EI_y(self) -> float:
-        """Bending stiffness about local y (x-z plane) [N m^2]."""
-        return float(self.stiffness[1, 1])
-
-    @property
-    def EI_z(self) -> float:
-        """Bending stiffness about local z (x-y plane) [N m^2]."""
-        return float(self.stiffness[2, 2])
-
-    @property
-    def EA(self) -> float:
-        """Axial stiffness [N]."""
-        return float(self.stiffness[3, 3])
-
-    @property
-    def GA_y(self) -> float:
-        """Shear stiffness in y, ``k_y G A`` [N]."""
-        return float(self.stiffness[4, 4])
-
-    @property
-    def GA_z(self) -> float:
-        """Shear stiffness in z, ``k_z G A`` [N]."""
-        return float(self.stiffness[5, 5])
-
-    @property
-    def rhoJ(self) -> float:
-        """Torsional rotary inertia per length [kg m]."""
-        return float(self.inertia[0, 0])
-
-    @property
-    def rhoI_y(self) -> float:
-        """Rotary inertia per length about local y [kg m]."""
-        return float(self.inertia[1, 1])
-
-    @property
-    def rhoI_z(self) -> float:
-        """Rotary inertia per length about local z [kg m]."""
-        return float(self.inertia[2, 2])
-
-    @property
-    def rhoA(self) -> float:
-        """Mass per length [kg/m]."""
-        return float(self.inertia[3, 3])
+    GJ = _diagonal("stiffness", 0, "Torsional stiffness [N m^2].")
+    EI_y = _diagonal("stiffness", 1, "Bending stiffness about local y (x-z plane) [N m^2].")
+    EI_z = _diagonal("stiffness", 2, "Bending stiffness about local z (x-y plane) [N m^2].")
+    EA = _diagonal("stiffness", 3, "Axial stiffness [N].")
+    GA_y = _diagonal("stiffness", 4, "Shear stiffness in y, ``k_y G A`` [N].")
+    GA_z = _diagonal("stiffness", 5, "Shear stiffness in z, ``k_z G A`` [N].")
+    rhoJ = _diagonal("inertia", 0, "Torsional rotary inertia per length [kg m].")
+    rhoI_y = _diagonal("inertia", 1, "Rotary inertia per length about local y [kg m].")
+    rhoI_z = _diagonal("inertia", 2, "Rotary inertia per length about local z [kg m].")
+    rhoA = _diagonal("inertia", 3, "Mass per length [kg/m].")
 
 
 # ----------------------------------------------------------------------------------------------
