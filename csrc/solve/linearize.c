@@ -97,3 +97,100 @@ void lin_force_jacobian_blocks(lin_t *L, const double *H, double *f1, double *f2
     }
 }
 
+
+void lin_kkt_free(lin_kkt_t *S) {
+  if (S->num) klu_free_numeric(&S->num, &S->common);
+  if (S->sym) klu_free_symbolic(&S->sym, &S->common);
+  free(S->Ap); free(S->Ai); free(S->src); free(S->Ax);
+}
+
+static int cmp_int(const void *a, const void *b) { return (*(const int *)a > *(const int *)b) - (*(const int *)a < *(const int *)b); }
+
+phm_status lin_kkt_build(lin_kkt_t *S, const lin_t *L, phm_error *err) {
+  const phm_model *m = L->m;
+  int nc = m->nc, n6 = 6 * nc, nk = m->ncons, N = n6 + nk;
+  const int *ptr = L->ptr, *nbr = L->nbr;
+  memset(S, 0, sizeof *S);
+  klu_defaults(&S->common);
+  S->n = N;
+  /* entries: force blocks 36 per graph slot, G and G^T: 2 x 6 per row and carrier of its pair */
+  size_t cap = 36 * (size_t)ptr[nc] + 12 * 2 * (size_t)nk + 1;
+  S->Ap = malloc(sizeof(int) * (size_t)(N + 1));
+  S->Ai = malloc(sizeof(int) * cap);
+  S->src = malloc(sizeof(int) * cap);
+  S->Ax = malloc(sizeof(double) * cap);
+  int *rows = malloc(sizeof(int) * (size_t)(ptr[nc] + 1));
+  if (!S->Ap || !S->Ai || !S->src || !S->Ax || !rows) {
+    free(rows);
+    return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+  }
+  int k = 0;
+  for (int c = 0; c < nc; c++) {
+    int deg = ptr[c + 1] - ptr[c];
+    memcpy(rows, nbr + ptr[c], sizeof(int) * (size_t)deg); /* the graph is symmetric */
+    qsort(rows, (size_t)deg, sizeof(int), cmp_int);
+    for (int j = 0; j < 6; j++) {
+      S->Ap[6 * c + j] = k;
+      for (int t = 0; t < deg; t++) {
+        int r = rows[t], q = ptr[r];
+        while (nbr[q] != c) q++; /* block (row r, column c) in r's list */
+        for (int i = 0; i < 6; i++) {
+          S->Ai[k] = 6 * r + i;
+          S->src[k++] = 36 * q + 6 * i + j;
+        }
+      }
+      for (int ip = 0; ip < m->np; ip++) /* pairs in order: their rows ascend */
+        if (m->pair[ip].a == c || m->pair[ip].b == c)
+          for (int rr = 0; rr < m->pair_m[ip]; rr++) {
+            int r = m->pair_row[ip] + rr;
+            S->Ai[k] = n6 + r;
+            S->src[k++] = -(12 * r + 6 * (m->pair[ip].b == c) + j) - 1;
+          }
+    }
+  }
+  for (int ip = 0; ip < m->np; ip++)
+    for (int rr = 0; rr < m->pair_m[ip]; rr++) {
+      int r = m->pair_row[ip] + rr, a = m->pair[ip].a, b = m->pair[ip].b;
+      int lo = a < b ? a : b, hi = a < b ? b : a;
+      S->Ap[n6 + r] = k;
+      for (int side = 0; side < 2; side++) {
+        int c = side ? hi : lo;
+        if (c < 0) continue;
+        for (int i = 0; i < 6; i++) {
+          S->Ai[k] = 6 * c + i;
+          S->src[k++] = -(12 * r + 6 * (b == c) + i) - 1;
+        }
+      }
+    }
+  S->Ap[N] = k;
+  free(rows);
+  S->sym = klu_analyze(N, S->Ap, S->Ai, &S->common);
+  if (!S->sym) return PHM_FAIL(err, PHM_ESOLVER, "static equilibrium: KLU analysis failed (status %d)", S->common.status);
+  return PHM_OK;
+}
+
+/* The pairs' constraint Jacobian blocks at poses H: row r of pair ip holds G_a in Gp[12 r ..] and
+ * G_b in Gp[12 r + 6 ..] (O(N) storage and work; a dense G would be O(N^2)). */
+void lin_constraint_blocks(const lin_t *L, const double *H, double *Gp) {
+  const phm_model *m = L->m;
+  for (int ip = 0; ip < m->np; ip++) {
+    const phm_pair_desc *pr = &m->pair[ip];
+    double Ga[6 * PHM_MAXCON], Gb[6 * PHM_MAXCON];
+    phm_pair_eval(m, ip, pr->a >= 0 ? H + 16 * pr->a : NULL, pr->b >= 0 ? H + 16 * pr->b : NULL,
+                  NULL, L->time, L->tref, NULL, Ga, Gb, NULL);
+    for (int rr = 0; rr < m->pair_m[ip]; rr++) {
+      double *row = Gp + 12 * (m->pair_row[ip] + rr);
+      memcpy(row, Ga + 6 * rr, 6 * sizeof(double));
+      memcpy(row + 6, Gb + 6 * rr, 6 * sizeof(double));
+    }
+  }
+}
+
+int lin_kkt_factor(lin_kkt_t *S, const double *Kb, const double *Gp) {
+  for (int k = 0; k < S->Ap[S->n]; k++) S->Ax[k] = S->src[k] >= 0 ? Kb[S->src[k]] : Gp[-S->src[k] - 1];
+  if (S->num) klu_free_numeric(&S->num, &S->common);
+  S->num = klu_factor(S->Ap, S->Ai, S->Ax, S->sym, &S->common);
+  return !S->num || S->common.status != KLU_OK;
+}
+
+int lin_kkt_solve(lin_kkt_t *S, double *x) { return !klu_solve(S->sym, S->num, S->n, 1, x, &S->common); }

@@ -3,6 +3,8 @@
 #ifndef PHM_SOLVE_H
 #define PHM_SOLVE_H
 
+#include <klu.h>
+
 #include "dae.h"
 
 /* ---------------------------------------------------------------- integrators */
@@ -38,5 +40,30 @@ void lin_total_force(lin_t *L, const double *H, double *f);
 /* L->Kb[q] = d f_r / d delta_c for block q = (row carrier r, column carrier nbr[q]) of the
  * coupling graph, by coloured central differences; f1, f2: scratch (6 nc). */
 void lin_force_jacobian_blocks(lin_t *L, const double *H, double *f1, double *f2);
+
+/* The KKT matrix [K G^T; G 0] of the linearization (K: 6x6 blocks on the slots of the carrier
+ * graph, G: the pairs' constraint rows) in compressed columns, with the source of every entry,
+ * factored by KLU: the blocks only couple neighbouring carriers and G only the carriers of each
+ * pair, so a factorization costs O(N) where a dense LU was O(N^3). Statics (Newton matrix
+ * [df/ddelta G^T; G 0]) and sparse modes (K - sigma M) share it. */
+typedef struct {
+  int n, *Ap, *Ai, *src; /* src >= 0: Kb[src]; src < 0: Gp[-src - 1] (lin_constraint_blocks) */
+  double *Ax;
+  klu_symbolic *sym;
+  klu_numeric *num;
+  klu_common common;
+} lin_kkt_t;
+
+/* The pattern of L's KKT matrix (needs lin_colour) and its KLU analysis. */
+phm_status lin_kkt_build(lin_kkt_t *S, const lin_t *L, phm_error *err);
+void lin_kkt_free(lin_kkt_t *S);
+/* Values from the blocks Kb (36 per graph slot) and Gp, then a KLU factorization with fresh
+ * pivoting; 0 on success, 1 if singular. */
+int lin_kkt_factor(lin_kkt_t *S, const double *Kb, const double *Gp);
+/* x <- KKT^-1 x with the last factorization; 0 on success. */
+int lin_kkt_solve(lin_kkt_t *S, double *x);
+/* The pairs' constraint Jacobian blocks at poses H: row r holds G_a in Gp[12 r ..] and G_b in
+ * Gp[12 r + 6 ..] (12 per constraint row). */
+void lin_constraint_blocks(const lin_t *L, const double *H, double *Gp);
 
 #endif
