@@ -1,7 +1,8 @@
 /* test_pair.c -- csrc/model/pair.c, the pair table and the evaluation of a pair: the table's rows
  * and their order, a driven fixed pair against its prescribed motion, every pair type's
  * constraints, Jacobian blocks and joint coordinates against finite differences and an
- * independent forward kinematics (pair_fk below). */
+ * independent forward kinematics (pair_fk below), phm_pair_type_pose and
+ * phm_pair_type_coordinates, and the rows a drop mask keeps. */
 #include "check.h"
 #include "model.h"
 
@@ -77,7 +78,16 @@ static void pair_table_lists_the_types_in_order(void) {
     char name[96];
     snprintf(name, sizeof name, "pair table row %d is %s", t, pair_names[t]);
     check(name, strcmp(phm_pair_type(t)->name, pair_names[t]) != 0, 0);
+    /* k = 6 - m joint coordinates with a unit each, m constraint-wrench directions */
+    const phm_pair_type_info *ti = phm_pair_type(t);
+    int k = 6 - ti->m, ok = ti->m >= 0 && ti->m <= 6;
+    for (int i = 0; i < 6 && ok; i++) {
+      ok &= (i < k) == (ti->units[i] != NULL) && (i < ti->m) == (ti->directions[i] != NULL);
+      if (ok && i < k) ok = strcmp(ti->units[i], "rad") == 0 || strcmp(ti->units[i], "m") == 0;
+    }
+    CHECK(ok, "pair table row %s: k = %d units (rad or m) and m = %d directions", ti->name, k, ti->m);
   }
+  CHECK(phm_pair_type(-1) == NULL && phm_pair_type(PAIR_TYPES) == NULL, "no row outside the table");
 }
 
 /* A fixed pair, driven (r(t) = exp(law(t) axis)) or not, to ground or between two carriers: g = 0
@@ -260,6 +270,102 @@ static void every_type_vanishes_on_its_manifold_with_consistent_jacobians(void) 
     }
 }
 
+/* phm_pair_type_pose is the forward kinematics pair_fk; phm_pair_type_coordinates inverts it:
+ * coordinates(pose(x)) = x with a branch reference near x, and without one for principal
+ * angles (and a helical pair's turn, read from its translation); pose(coordinates(h)) = h for
+ * every h on the type's manifold, multi-turn angles included. */
+static void type_pose_and_coordinates_are_inverse(void) {
+  for (int type = 0; type < PAIR_TYPES; type++)
+    for (int trial = 0; trial < 12; trial++) {
+      char name[112];
+      const char *tn = phm_pair_type(type)->name;
+      int k = 6 - phm_pair_type(type)->m;
+      double pitch = type == PHM_PAIR_HELICAL ? (trial == 0 ? 0.0 : 0.3 * rand11()) : 0.0;
+      double x[6], xp[6], xref[6], xe[6], h[16], hfk[16], he[16];
+      /* principal values: angles in (-pi, pi) (Universal's too), rotation vectors of norm < pi */
+      for (int i = 0; i < 6; i++) xp[i] = 3.0 * rand11();
+      if (type == PHM_PAIR_SPHERICAL || type == PHM_PAIR_FREE) {
+        double n[3], th = rand_angle(trial % 4);
+        rand_unit3(n);
+        for (int i = 0; i < 3; i++) xp[i] = th * n[i];
+      }
+      memcpy(x, xp, sizeof x);
+      if (pair_winds(type)) x[0] += 2 * CHECK_PI * (trial % 5 - 2);
+      phm_pair_type_pose(type, pitch, x, h);
+      pair_fk(type, pitch, x, hfk);
+      snprintf(name, sizeof name, "%s: phm_pair_type_pose = forward kinematics", tn);
+      check(name, maxdiff(16, h, hfk), 1e-14);
+      if (k == 0) continue; /* fixed: no coordinates */
+      for (int i = 0; i < 6; i++) xref[i] = x[i] + 0.3 * rand11();
+      phm_pair_type_coordinates(type, pitch, h, xref, xe);
+      snprintf(name, sizeof name, "%s: coordinates(pose(x), xref near x) = x", tn);
+      check(name, maxdiff(k, xe, x), 1e-12);
+      phm_pair_type_pose(type, pitch, xp, h);
+      phm_pair_type_coordinates(type, pitch, h, NULL, xe);
+      snprintf(name, sizeof name, "%s: coordinates(pose(x), no reference) = x (principal values)", tn);
+      check(name, maxdiff(k, xe, xp), 1e-12);
+      /* h on the manifold (pair_fk, multi-turn): pose(coordinates(h)) = h without a reference */
+      phm_pair_type_coordinates(type, pitch, hfk, NULL, xe);
+      phm_pair_type_pose(type, pitch, xe, he);
+      snprintf(name, sizeof name, "%s: pose(coordinates(h)) = h on the manifold", tn);
+      check(name, maxdiff(16, he, hfk) / (1.0 + maxabs(16, hfk)), 1e-12);
+      if (type == PHM_PAIR_HELICAL && pitch != 0) {
+        snprintf(name, sizeof name, "helical: the turn is read from the translation (x = %.3f)", x[0]);
+        check(name, fabs(xe[0] - x[0]), 1e-12 * (1.0 + fabs(x[0])));
+      }
+    }
+}
+
+/* A drop mask leaves out the named rows: the kept rows of g and G (phm_constraints_dense) are
+ * those rows of the full set (phm_constraints_full), and phm_pair_wrench uses their W^C columns. */
+static void drop_mask_keeps_the_other_rows_of_the_full_set(void) {
+  const struct { int type, drop; } cases[] = {
+      {PHM_PAIR_REVOLUTE, 0x12}, {PHM_PAIR_SPHERICAL, 0x1}, {PHM_PAIR_FIXED, 0x2c}, {PHM_PAIR_UNIVERSAL, 0x0}};
+  for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+    const char *tn = phm_pair_type(cases[c].type)->name;
+    phm_pair_desc pr;
+    memset(&pr, 0, sizeof pr);
+    pr.type = cases[c].type;
+    pr.a = c % 2 ? -1 : 0;
+    pr.b = 1;
+    pr.drop = cases[c].drop;
+    rand_pose(pr.Ta, 1.0);
+    rand_pose(pr.Tb, 1.0);
+    phm_model *m = two_carrier_model(&pr, NULL, 0);
+    if (!m) continue;
+    int mt = phm_pair_type(pr.type)->m, kept = 0, sel[6];
+    for (int r = 0; r < mt; r++)
+      if (!(pr.drop & (1 << r))) sel[kept++] = r;
+    CHECK(phm_model_nconstraints(m) == kept && phm_model_nconstraints_full(m) == mt,
+          "%s, drop %#x: %d of %d rows kept (model says %d of %d)", tn, pr.drop, kept, mt,
+          phm_model_nconstraints(m), phm_model_nconstraints_full(m));
+    double H[32], g[6], G[6 * 12], vt[6], gf[6], Gf[6 * 12], W[36], lam[6], w[6], wref[6] = {0};
+    rand_pose(H, 1.0); /* off the manifold: g != 0 */
+    rand_pose(H + 16, 1.0);
+    phm_constraints_dense(m, H, NULL, 0.0, 0.5, g, G, vt);
+    phm_constraints_full(m, H, NULL, 0.0, gf, Gf, W);
+    double eg = 0, eG = 0;
+    for (int r = 0; r < kept; r++) {
+      eg = fmax(eg, fabs(g[r] - gf[sel[r]]));
+      eG = fmax(eG, maxdiff(12, G + 12 * r, Gf + 12 * sel[r]));
+    }
+    char name[96];
+    snprintf(name, sizeof name, "%s, drop %#x: kept g rows = full rows", tn, pr.drop);
+    check(name, eg, 0.0);
+    snprintf(name, sizeof name, "%s, drop %#x: kept G rows = full rows", tn, pr.drop);
+    check(name, eG, 0.0);
+    for (int r = 0; r < kept; r++) lam[r] = rand11();
+    for (int i = 0; i < 6; i++)
+      for (int r = 0; r < kept; r++) wref[i] += W[6 * i + sel[r]] * lam[r];
+    phm_pair_wrench(m, 0, pr.a < 0 ? NULL : H, H + 16, NULL, lam, w);
+    snprintf(name, sizeof name, "%s, drop %#x: wrench = kept W^C columns lambda", tn, pr.drop);
+    check(name, maxdiff(6, w, wref), 1e-15 * (1.0 + maxabs(6, wref)));
+    phm_model_free(m);
+  }
+}
+
 CHECK_MAIN(CHECK_CASE(pair_table_lists_the_types_in_order),
            CHECK_CASE(driven_fixed_pair_follows_its_prescribed_motion),
-           CHECK_CASE(every_type_vanishes_on_its_manifold_with_consistent_jacobians))
+           CHECK_CASE(every_type_vanishes_on_its_manifold_with_consistent_jacobians),
+           CHECK_CASE(type_pose_and_coordinates_are_inverse),
+           CHECK_CASE(drop_mask_keeps_the_other_rows_of_the_full_set))
