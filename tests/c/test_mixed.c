@@ -1,36 +1,12 @@
-/* test_mixed.c -- Golo's mixed finite element for the linear Timoshenko beam. */
-#include "phmech.h"
-
-#include <math.h>
-#include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
-
-static int npass = 0, nfail = 0;
-#define CHECK(cond, ...)                                                                           \
-  do {                                                                                             \
-    if (cond) {                                                                                    \
-      npass++;                                                                                     \
-    } else {                                                                                       \
-      nfail++;                                                                                     \
-      printf("FAIL %s:%d: ", __FILE__, __LINE__);                                                  \
-      printf(__VA_ARGS__);                                                                         \
-      printf("\n");                                                                                \
-    }                                                                                              \
-  } while (0)
+/* test_mixed.c -- csrc/model/mixed.c: Golo's mixed finite element for the linear Timoshenko beam
+ * (element matrices, the assembled chain against sequential substitution, pinned-pinned
+ * frequencies against the exact Timoshenko ones, refused inputs). */
+#include "check.h"
 
 /* Table I parameters */
 static phm_mixed_beam table1(int N, double alpha) {
   phm_mixed_beam b = {N, 1.0, 5143.0, 656625.0, 873.0, 2.1797, alpha};
   return b;
-}
-
-static unsigned long long rng = 88172645463325252ULL;
-static double urand(void) {
-  rng ^= rng << 13;
-  rng ^= rng >> 7;
-  rng ^= rng << 17;
-  return (double)(rng >> 11) / 9007199254740992.0 * 2.0 - 1.0;
 }
 
 static double max_skew_defect(const double *M, int n) {
@@ -49,7 +25,7 @@ static void exact_pinned(const phm_mixed_beam *b, int n, double *out) {
   double all[80];
   int m = 0;
   for (int j = 1; j <= 40; j++) {
-    const double k = j * 3.14159265358979323846 / b->L;
+    const double k = j * CHECK_PI / b->L;
     const double a = b->rhoA * b->rhoI;
     const double bb = -(b->rhoA * (b->EI * k * k + b->kGA) + b->rhoI * b->kGA * k * k);
     const double c = b->kGA * k * k * b->EI * k * k;
@@ -66,7 +42,7 @@ static void exact_pinned(const phm_mixed_beam *b, int n, double *out) {
   memcpy(out, all, (size_t)n * sizeof *out);
 }
 
-static void test_element(void) {
+static void element_matrices_have_the_structure_of_the_alpha_family(void) {
   double J[16], Q[16], B[16], D[16];
   phm_error err;
   const double alphas[3] = {0.0, 0.5, 0.3};
@@ -89,7 +65,7 @@ static void test_element(void) {
 /* The chain, rebuilt independently from the element matrices by sequential substitution:
  * velocities from the left, forces from the right, then each element's x' = J_e e + B_e u_e and
  * output y_e = B_e^T e + D_e u_e. Compared with phm_mixed_assemble on random e, u. */
-static void test_chain(int N, double alpha) {
+static void check_chain(int N, double alpha) {
   phm_mixed_beam b = table1(N, alpha);
   const int n = 4 * N;
   double *J = malloc(sizeof(double) * n * n), *Q = malloc(sizeof(double) * n * n);
@@ -111,8 +87,8 @@ static void test_chain(int N, double alpha) {
   CHECK(Qe[5] == Q[1 * n + 1] && Qe[15] == Q[(n - 1) * n + n - 1], "element Q = block of chain Q");
   for (int trial = 0; trial < 3; trial++) {
     double u[4];
-    for (int i = 0; i < n; i++) e[i] = urand();
-    for (int i = 0; i < 4; i++) u[i] = urand();
+    for (int i = 0; i < n; i++) e[i] = rand11();
+    for (int i = 0; i < 4; i++) u[i] = rand11();
     /* forward: element outputs v_b = y_e[2], om_b = y_e[3] depend on (e, v_a, om_a) only */
     vn[0] = u[0];
     wn[0] = u[1];
@@ -177,7 +153,7 @@ static void test_chain(int N, double alpha) {
   free(mn);
 }
 
-static void test_pinned_convergence(void) {
+static void pinned_pinned_frequencies_converge_at_second_order(void) {
   double ex[5], w1[5], w2[5];
   phm_error err;
   phm_mixed_beam b1 = table1(20, 0.5), b2 = table1(40, 0.5);
@@ -192,7 +168,7 @@ static void test_pinned_convergence(void) {
   }
 }
 
-static void test_errors(void) {
+static void invalid_beams_are_refused(void) {
   phm_error err;
   double w[4];
   phm_mixed_beam b = table1(0, 0.5);
@@ -220,15 +196,15 @@ static void test_errors(void) {
   free(J);
 }
 
-int main(void) {
-  test_element();
-  test_chain(1, 0.5);
-  test_chain(7, 0.5);
-  test_chain(6, 0.3);
-  test_chain(5, 0.0);
-  test_chain(5, 0.7);
-  test_pinned_convergence();
-  test_errors();
-  printf("%d passed, %d failed\n", npass, nfail);
-  return nfail != 0;
+static void chain_matches_its_elements_by_sequential_substitution(void) {
+  check_chain(1, 0.5);
+  check_chain(7, 0.5);
+  check_chain(6, 0.3);
+  check_chain(5, 0.0);
+  check_chain(5, 0.7);
 }
+
+CHECK_MAIN(CHECK_CASE(element_matrices_have_the_structure_of_the_alpha_family),
+           CHECK_CASE(chain_matches_its_elements_by_sequential_substitution),
+           CHECK_CASE(pinned_pinned_frequencies_converge_at_second_order),
+           CHECK_CASE(invalid_beams_are_refused))

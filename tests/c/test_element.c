@@ -1,0 +1,137 @@
+/* test_element.c -- csrc/model/element.c, the se3 beam element: its node wrenches against central
+ * finite differences of its elastic energy, its power balance and dissipation, and
+ * phm_model_stress_resultants against sigma = K (log(Ha^-1 Hb)/h - eps_hat) + D eps' computed
+ * here (eps' by central differences). */
+#include "check.h"
+#include "model.h"
+
+/* A random element: length in [0.1, 0.5), K and D symmetric positive definite, a curved
+ * unstressed shape (kappa_x, kappa_z, stretch 1). */
+static void rand_element(phm_element_desc *e) {
+  memset(e, 0, sizeof *e);
+  e->h = 0.1 + 0.4 * fabs(rand11());
+  rand_spd6(e->K, 2.0);
+  rand_spd6(e->D, 0.5);
+  e->eps_hat[0] = 0.5 * rand11();
+  e->eps_hat[2] = 2.0 * rand11();
+  e->eps_hat[3] = 1.0;
+}
+
+static void element_wrenches_are_minus_energy_gradient_and_power_balances(void) {
+  for (int trial = 0; trial < 20; trial++) {
+    phm_element_desc e;
+    rand_element(&e);
+    double Ha[16], Hb[16], E[16], x[6];
+    rand_pose(Ha, 1.0);
+    for (int i = 0; i < 6; i++) x[i] = e.h * (e.eps_hat[i] + 0.3 * rand11()); /* large strain */
+    if (trial % 4 == 0) for (int i = 0; i < 3; i++) x[i] *= 8.0;          /* rotations up to ~ 3 rad */
+    phm_se3_exp(x, E);
+    phm_se3_compose(Ha, E, Hb);
+    double wa[6], wb[6], V;
+    phm_element_eval(&e, Ha, Hb, NULL, NULL, wa, wb, &V, NULL, NULL);
+    /* generalized force = -dV/d(delta) for H -> H exp(delta) */
+    double errmax = 0, wmax = 0, eps = 1e-6;
+    for (int node = 0; node < 2; node++)
+      for (int j = 0; j < 6; j++) {
+        double d[6] = {0}, Hp[16], Hm[16], Vp, Vm, ta[6], tb[6];
+        d[j] = 1;
+        perturbed(node ? Hb : Ha, d, eps, Hp);
+        perturbed(node ? Hb : Ha, d, -eps, Hm);
+        phm_element_eval(&e, node ? Ha : Hp, node ? Hp : Hb, NULL, NULL, ta, tb, &Vp, NULL, NULL);
+        phm_element_eval(&e, node ? Ha : Hm, node ? Hm : Hb, NULL, NULL, ta, tb, &Vm, NULL, NULL);
+        double fd = -(Vp - Vm) / (2 * eps), w = node ? wb[j] : wa[j];
+        errmax = fmax(errmax, fabs(fd - w));
+        wmax = fmax(wmax, fabs(w));
+      }
+    check("element wrenches = -dV/ddelta (central FD)", errmax / (wmax + 1e-300), 1e-6);
+    /* power balance: wa.ta + wb.tb + dV/dt + P_diss = 0 */
+    double ta[6], tb[6];
+    for (int i = 0; i < 6; i++) {
+      ta[i] = rand11();
+      tb[i] = rand11();
+    }
+    double P, V1, V2, dummy[6], dummy2[6];
+    phm_element_eval(&e, Ha, Hb, ta, tb, wa, wb, &V, &P, NULL);
+    double tau = 1e-6, H1a[16], H1b[16], H2a[16], H2b[16];
+    perturbed(Ha, ta, tau, H1a);
+    perturbed(Hb, tb, tau, H1b);
+    perturbed(Ha, ta, -tau, H2a);
+    perturbed(Hb, tb, -tau, H2b);
+    phm_element_eval(&e, H1a, H1b, NULL, NULL, dummy, dummy2, &V1, NULL, NULL);
+    phm_element_eval(&e, H2a, H2b, NULL, NULL, dummy, dummy2, &V2, NULL, NULL);
+    double Vdot = (V1 - V2) / (2 * tau), pw = 0, scale = fabs(Vdot) + P;
+    for (int i = 0; i < 6; i++) pw += wa[i] * ta[i] + wb[i] * tb[i];
+    check("element power balance (node powers + dV/dt + dissipation = 0)", fabs(pw + Vdot + P) / scale, 1e-7);
+    check("element dissipation >= 0", P >= 0 ? 0 : -P, 0);
+  }
+}
+
+/* Strain log(Ha^-1 Hb)/h of an element at poses H (carriers a, b). */
+static void strain(const phm_element_desc *e, const double *H, double eps[6]) {
+  double Hai[16], Hab[16], X[6];
+  phm_se3_inverse(H + 16 * e->a, Hai);
+  phm_se3_compose(Hai, H + 16 * e->b, Hab);
+  phm_se3_log(Hab, X);
+  for (int i = 0; i < 6; i++) eps[i] = X[i] / e->h;
+}
+
+/* Four carriers, three elements (0-1, 1-2, 3-0: not every element between consecutive
+ * carriers): sigma = K (eps - eps_hat) without twists, + D eps' with twists. */
+static void stress_resultants_are_stiffness_times_strain_plus_damping_times_rate(void) {
+  enum { NC = 4, NE = 3 };
+  for (int trial = 0; trial < 10; trial++) {
+    phm_carrier_desc car[NC];
+    phm_element_desc el[NE];
+    const int ends[NE][2] = {{0, 1}, {1, 2}, {3, 0}};
+    double H[16 * NC], tw[6 * NC];
+    for (int c = 0; c < NC; c++) {
+      carrier_unit(&car[c]);
+      for (int i = 0; i < 6; i++) tw[6 * c + i] = rand11();
+    }
+    rand_pose(H, 1.0);
+    for (int ie = 0; ie < NE; ie++) {
+      rand_element(&el[ie]);
+      el[ie].a = ends[ie][0];
+      el[ie].b = ends[ie][1];
+    }
+    for (int c = 1; c < NC; c++) { /* each carrier a strained element length from the previous */
+      double x[6], E[16];
+      for (int i = 0; i < 6; i++) x[i] = 0.3 * (el[0].eps_hat[i] + 0.3 * rand11());
+      phm_se3_exp(x, E);
+      phm_se3_compose(H + 16 * (c - 1), E, H + 16 * c);
+    }
+    phm_model_desc d = {.ncarriers = NC, .carriers = car, .nelements = NE, .elements = el};
+    phm_model *m = create_model(&d);
+    if (!m) return;
+    double sig[6 * NE], sigt[6 * NE];
+    phm_model_stress_resultants(m, H, NULL, sig);
+    phm_model_stress_resultants(m, H, tw, sigt);
+    for (int ie = 0; ie < NE; ie++) {
+      const phm_element_desc *e = &el[ie];
+      double eps[6], de[6], ref[6], epsdot[6], Hp[16 * NC], Hm[16 * NC], ep[6], em[6], tau = 1e-6;
+      strain(e, H, eps);
+      for (int i = 0; i < 6; i++) de[i] = eps[i] - e->eps_hat[i];
+      for (int i = 0; i < 6; i++) {
+        ref[i] = 0;
+        for (int j = 0; j < 6; j++) ref[i] += e->K[6 * i + j] * de[j];
+      }
+      check("stress resultant = K (log(Ha^-1 Hb)/h - eps_hat)",
+            maxdiff(6, sig + 6 * ie, ref) / maxabs(6, ref), 1e-12);
+      for (int c = 0; c < NC; c++) {
+        perturbed(H + 16 * c, tw + 6 * c, tau, Hp + 16 * c);
+        perturbed(H + 16 * c, tw + 6 * c, -tau, Hm + 16 * c);
+      }
+      strain(e, Hp, ep);
+      strain(e, Hm, em);
+      for (int i = 0; i < 6; i++) epsdot[i] = (ep[i] - em[i]) / (2 * tau);
+      for (int i = 0; i < 6; i++)
+        for (int j = 0; j < 6; j++) ref[i] += e->D[6 * i + j] * epsdot[j];
+      check("stress resultant with twists = K (eps - eps_hat) + D eps' (eps' by central FD)",
+            maxdiff(6, sigt + 6 * ie, ref) / maxabs(6, ref), 1e-7);
+    }
+    phm_model_free(m);
+  }
+}
+
+CHECK_MAIN(CHECK_CASE(element_wrenches_are_minus_energy_gradient_and_power_balances),
+           CHECK_CASE(stress_resultants_are_stiffness_times_strain_plus_damping_times_rate))
