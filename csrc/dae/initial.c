@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "check.h"
+#include "phm_check.h"
 #include "linalg.h"
 #include "pose.h"
 

@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "check.h"
+#include "phm_check.h"
 
 phm_status dae_jacobian_pattern(dae_t *d, phm_error *err) {
   const phm_model *m = d->m;

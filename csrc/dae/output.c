@@ -5,7 +5,7 @@
 
 #include <string.h>
 
-#include "check.h"
+#include "phm_check.h"
 #include "linalg.h"
 
 /* Output iout must be finite: a NaN or inf in a result is never handed back silently. PHM_OK, or

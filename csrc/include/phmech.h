@@ -70,8 +70,9 @@ int phm_model_njoints(const phm_model *model);        /* joint coordinates, all 
 int phm_model_nports(const phm_model *model);         /* ports: actuators, loads, springs, in order */
 void phm_model_pair_layout(const phm_model *model, int ip, int *row, int *m, int *joint, int *k); /* first row, rows, first joint coordinate, k of pair ip */
 /* Reset the initial poses H0 (nc x 16), twists t0 (nc x 6; NULL: keep), joint coordinates x0
- * (npairs x 6; NULL: keep) and redundant-row masks drop (npairs; NULL: keep) of a model without
- * rebuilding it (the loop closure changes only these). */
+ * (npairs x 6; NULL: keep; they become branch references only for pairs created with has_x0)
+ * and redundant-row masks drop (npairs; NULL: keep) of a model without rebuilding it (the loop
+ * closure changes only these). */
 phm_status phm_model_set_initial(phm_model *model, const double *H0, const double *t0,
                                  const double *x0, const int *drop, phm_error *err);
 

@@ -5,7 +5,7 @@
 
 #include <stdlib.h>
 
-#include "check.h"
+#include "phm_check.h"
 
 phm_status phm_carrier_graph(const phm_model *m, int **ptr_out, int **nbr_out, phm_error *err) {
   int nc = m->nc, ned = m->ne + m->np + m->nl + m->ns;

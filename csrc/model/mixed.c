@@ -50,7 +50,7 @@
  *     d^N, which is why alpha > 1/2 is refused once d^N > 1e6.
  */
 #include "linalg.h"
-#include "check.h"
+#include "phm_check.h"
 
 #include <math.h>
 #include <stdlib.h>

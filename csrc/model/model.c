@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "check.h"
+#include "phm_check.h"
 #include "law.h"
 #include "linalg.h"
 
@@ -97,6 +97,10 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   if (!d || !out) return PHM_FAIL(err, PHM_EINVAL, "phm_model_create: NULL argument");
   *out = NULL;
   if (d->ncarriers < 1) return PHM_FAIL(err, PHM_EINVAL, "model has no carrier (body or beam node)");
+  PHM_CHECK(d->carriers && (d->nelements <= 0 || d->elements) && (d->npairs <= 0 || d->pairs) &&
+                (d->nloads <= 0 || d->loads) && (d->nactuators <= 0 || d->actuators) &&
+                (d->nsprings <= 0 || d->springs),
+            err, PHM_EINVAL, "model description: a component count is positive but its array is NULL");
   if (d->nelements < 0 || d->npairs < 0 || d->nloads < 0)
     return PHM_FAIL(err, PHM_EINVAL, "negative element, pair or load count");
   if (!phm_all_finite(d->gravity, 3)) return PHM_FAIL(err, PHM_EINVAL, "gravity has a non-finite entry");

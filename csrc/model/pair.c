@@ -378,6 +378,7 @@ void phm_pair_type_pose(int type, double pitch, const double *x, double h[16]) {
 
 void phm_pair_type_coordinates(int type, double pitch, const double h[16], const double *xref,
                                double *x) {
+  if (type < 0 || type >= PAIR_NTYPES) return; /* unknown type: no coordinates */
   phm_pair_kin(type, pitch, h, xref, NULL, NULL, NULL, x);
   /* without a reference, a helical pair's turn is the one whose translation pitch * angle is
    * nearest to h's -- unless that angle is beyond 1e15 rad, where a double no longer tells one

@@ -21,7 +21,7 @@ PyObject *phm_py_raise(const phm_error *err) {
   }
   PyObject *exc = PyObject_CallFunction(type, "s", err->msg[0] ? err->msg : "phmech: unspecified error");
   if (!exc) return NULL;
-  /* where in the core it was raised (csrc/util/check.h), for bug reports */
+  /* where in the core it was raised (csrc/util/phm_check.h), for bug reports */
   PyObject *where = err->file ? PyUnicode_FromFormat("%s:%d", err->file, err->line) : Py_NewRef(Py_None);
   if (where) {
     PyObject_SetAttrString(exc, "core_location", where);

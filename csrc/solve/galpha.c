@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "check.h"
+#include "phm_check.h"
 
 /* Generalized-alpha for first-order systems (Jansen, Whiting & Hulbert 2000) applied to the DAE.
  * With rho = rho_inf: alpha_f = 1/(1+rho), alpha_m = (3-rho)/(2(1+rho)), gamma = 1/2 + alpha_m -

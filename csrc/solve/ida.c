@@ -8,7 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "check.h"
+#include "phm_check.h"
 
 static int ida_res(sunrealtype t, N_Vector yy, N_Vector yp, N_Vector rr, void *ud) {
   return dae_residual((dae_t *)ud, t, N_VGetArrayPointer(yy), N_VGetArrayPointer(yp),

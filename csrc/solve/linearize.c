@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "check.h"
+#include "phm_check.h"
 #include "pose.h"
 
 /* Generalized forces at poses H: applied wrenches + G^T lambda (nc x 6, body frame). */

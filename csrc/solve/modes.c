@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "check.h"
+#include "phm_check.h"
 #include "linalg.h"
 
 /* Structure: the stiffness K = -df/ddelta and damping D = -df/dt are block-sparse (only

@@ -9,7 +9,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "check.h"
+#include "phm_check.h"
 
 static double now(void) {
   struct timespec ts;

@@ -1,6 +1,6 @@
 /* error.c -- error records: a status code, a message and where it was raised; never printed by
- * the library (csrc/util/check.h has the macros that fill them). */
-#include "check.h"
+ * the library (csrc/util/phm_check.h has the macros that fill them). */
+#include "phm_check.h"
 
 #include <stdarg.h>
 #include <stdio.h>

@@ -4,7 +4,7 @@
 
 #include <math.h>
 
-#include "check.h"
+#include "phm_check.h"
 #include "linalg.h"
 
 double phm_law_eval(const phm_law *l, double t, double tref, double *ds, double *dds) {

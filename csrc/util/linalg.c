@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "check.h"
+#include "phm_check.h"
 
 int phm_chol6(const double A[36], double shift, double rtol, double L[36]) {
   memset(L, 0, 36 * sizeof(double));

@@ -1,7 +1,7 @@
-/* check.h -- error handling inside the library: every failure records its status, a message and
+/* phm_check.h -- error handling inside the library: every failure records its status, a message and
  * the file:line that raised it (phm_error.file/.line), then returns the status up the stack. */
-#ifndef PHM_CHECK_H
-#define PHM_CHECK_H
+#ifndef PHM_PHM_CHECK_H
+#define PHM_PHM_CHECK_H
 
 #include "phmech.h"
 
