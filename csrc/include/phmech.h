@@ -113,10 +113,11 @@ phm_status phm_simulate(const phm_model *model, const double *poses0, const doub
 /* ---------------------------------------------------------------- modes (csrc/solve/modes.c) */
 /* Linearized modes at poses (NULL: H0) with constraint wrenches lambda (NULL: zero), loads at
  * `time`: the nmodes lowest omega [rad/s], damping ratios zeta, shapes [nmodes][nc][6] (tangent
- * coordinates, mass-normalized); *nfound modes returned (<= nmodes, limited by the free DOF). */
+ * coordinates, mass-normalized); *nfound modes returned (<= nmodes, limited by the free DOF).
+ * method: PHM_MODES_AUTO (dense below PHM_SPARSE_MODES_MIN carrier coordinates), _DENSE, _SPARSE. */
 phm_status phm_modes(const phm_model *model, const double *poses, const double *lambda,
-                     double time, int nmodes, double *omega, double *zeta, double *shapes,
-                     int *nfound, phm_error *err);
+                     double time, int nmodes, int method, double *omega, double *zeta,
+                     double *shapes, int *nfound, phm_error *err);
 
 /* ---------------------------------------------------------------- statics (csrc/solve/statics.c) */
 /* Static equilibrium under the loads and gravity at `time`, scaled from 0 to 1 in `steps` load

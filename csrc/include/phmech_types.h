@@ -247,6 +247,13 @@ typedef struct {
   phm_monitor monitor;    /* may be NULL; called with ctx                                   */
 } phm_sim_options;
 
+/* How phm_modes solves its eigenproblem: dense LAPACK on the reduced problem (O(N^3)), or
+ * subspace iteration on the sparse KKT system (O(N) per iteration); AUTO: sparse from
+ * PHM_SPARSE_MODES_MIN carrier coordinates (6 per carrier) on (measured crossover:
+ * benchmarks/modes_scaling.py). */
+enum { PHM_MODES_AUTO = 0, PHM_MODES_DENSE = 1, PHM_MODES_SPARSE = 2 };
+#define PHM_SPARSE_MODES_MIN 300
+
 #define PHM_NENERGY 7 /* kinetic, elastic, gravity, dissipated, supplied, total, ledger residual */
 
 /* Caller-allocated output for nout times (arrays may be NULL to skip). */

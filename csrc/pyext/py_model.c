@@ -507,9 +507,9 @@ fail0:
 static PyObject *py_model_modes(PyObject *self, PyObject *args) {
   (void)self;
   PyObject *cap, *po = Py_None, *lo = Py_None;
-  int n;
+  int n, method = PHM_MODES_AUTO;
   double time = 0;
-  if (!PyArg_ParseTuple(args, "Oi|OOd", &cap, &n, &po, &lo, &time)) return NULL;
+  if (!PyArg_ParseTuple(args, "Oi|OOdi", &cap, &n, &po, &lo, &time, &method)) return NULL;
   phm_model *m = get_model(cap);
   if (!m) return NULL;
   if (n < 1) {
@@ -539,7 +539,7 @@ static PyObject *py_model_modes(PyObject *self, PyObject *args) {
     phm_error err;
     phm_status st;
     Py_BEGIN_ALLOW_THREADS
-    st = phm_modes(m, P ? PyArray_DATA(P) : NULL, L ? PyArray_DATA(L) : NULL, time, n,
+    st = phm_modes(m, P ? PyArray_DATA(P) : NULL, L ? PyArray_DATA(L) : NULL, time, n, method,
                    PyArray_DATA(om), PyArray_DATA(ze), PyArray_DATA(sh), &nf, &err);
     Py_END_ALLOW_THREADS
     if (st) phm_py_raise(&err);
@@ -679,7 +679,8 @@ PyMethodDef phm_py_model_methods[] = {
      "callback=None, max_step=0, max_order=0, record=None, error_test=0, integrator=0, step=0, "
      "rho_inf=1) -> dict of arrays and solver statistics."},
     {"model_modes", py_model_modes, METH_VARARGS,
-     "model_modes(model, n, poses=None, lambda=None, time=0) -> (omega, zeta, shapes, nfound)."},
+     "model_modes(model, n, poses=None, lambda=None, time=0, method=0) -> (omega, zeta, shapes, "
+     "nfound); method 0 auto, 1 dense, 2 sparse (phm_modes)."},
     {"model_static", py_model_static, METH_VARARGS,
      "model_static(model, poses=None, time=0, steps=1, tol=1e-10) -> (poses, lambda, iterations)."},
     {"model_sizes", py_model_sizes, METH_O, "model_sizes(model) -> (ncarriers, nconstraints, njoints, nports, [(row, m, joint, k) per pair])."},

@@ -62,5 +62,7 @@ void dsygvx_(const int *itype, const char *jobz, const char *range, const char *
              double *w, double *z, const int *ldz, double *work, const int *lwork, int *iwork,
              int *ifail, int *info);
 double dlamch_(const char *cmach);
+void dsyev_(const char *jobz, const char *uplo, const int *n, double *a, const int *lda, double *w,
+            double *work, const int *lwork, int *info);
 
 #endif
