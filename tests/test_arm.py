@@ -1,4 +1,4 @@
-"""Issue 4: a PD-controlled serial arm of a rigid and a flexible link under gravity.
+"""A PD-controlled serial arm of a rigid and a flexible link under gravity.
 
 Arm in the vertical x-z plane (gravity -z): revolute j1 (axis y) at the ground drives a rigid link
 (0.5 m, 2 kg); revolute j2 (axis y) at its end drives an aluminium flexible link (0.6 m,

@@ -1,4 +1,4 @@
-"""Single flexible link (issue 3): modes, statics, free vibration energy, input validation.
+"""Single flexible link: modes, statics, free vibration energy, input validation.
 References: the exact Timoshenko frequency equation (phmech.timoshenko), the analytic roll-up of
 a cantilever under an end moment 2 pi EI / L, conservation of energy, the energy ledger."""
 import numpy as np

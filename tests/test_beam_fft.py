@@ -1,4 +1,4 @@
-"""Issue 3: the FFT of the tip motion after a small impulse gives the linearized first frequency
+"""The FFT of the tip motion after a small impulse gives the linearized first frequency
 (within 0.1 %) -- time integration (IDA) and linearization (LAPACK) checked against each other."""
 import numpy as np
 

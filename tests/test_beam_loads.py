@@ -1,4 +1,4 @@
-"""Issue 3, item 1 and 4: distributed load, gravity, curved unstressed shape, driven end.
+"""Distributed load, gravity, curved unstressed shape, driven end.
 References: linear Timoshenko statics, equality of gravity and the equivalent distributed load,
 the geometry of a circular arc, the energy ledger of a driven clamp."""
 import numpy as np

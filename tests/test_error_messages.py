@@ -1,4 +1,4 @@
-"""Issue 14, "no silent wrong answer": bad input gets a ModelError that says what was wrong
+"""Bad input gets a ModelError that says what was wrong
 (python/phmech/mechanism.py: FlexibleLink.node, _law_tuple, _frame_of)."""
 import numpy as np
 import pytest

@@ -1,4 +1,4 @@
-"""Issue 4: a closed chain containing a flexible link -- a slider-crank whose connecting rod is an
+"""A closed chain containing a flexible link -- a slider-crank whose connecting rod is an
 se3 flexible link (4 elements), hinged with 3-D revolute pairs, slider on a prismatic pair. No
 actuation, no gravity, started with a crank rate of 20 rad/s and the rod/slider moving rigidly
 with it (consistent initial velocities through x0/xdot0 of the tree pairs). The rod's compliance

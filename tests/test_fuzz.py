@@ -1,4 +1,4 @@
-"""Issue 14, "no silent wrong answer", part 5: property-based fuzzing of the model-building API.
+"""Property-based fuzzing of the model-building API.
 
 Hypothesis generates small random mechanisms -- rigid bodies, flexible links with random sections
 and materials, pairs of every type between random frames, actuators, spring-dampers, loads, time

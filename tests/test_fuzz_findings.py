@@ -1,4 +1,4 @@
-"""Issue 14, "no silent wrong answer", part 5: one regression test per finding of the fuzz tests
+"""One regression test per finding of the fuzz tests
 (tests/test_fuzz.py). Each input once gave a raw NumPy/Python error from the internals, a silent
 NaN or inf, a half-built model, a hang or a wrong result; each now gives what the test asserts
 (the message names the argument and says what was expected)."""

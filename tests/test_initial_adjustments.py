@@ -1,4 +1,4 @@
-"""Issue 14, "no silent wrong answer": when the loop closure of the initial configuration moves a
+"""When the loop closure of the initial configuration moves a
 given joint coordinate (x0) or a given pose, phmech reports how far (Mechanism.initial_adjustments,
 an InitialValueWarning, or a ModelError with Mechanism(strict=True)).
 

@@ -1,4 +1,4 @@
-"""Long runs stop cleanly on Ctrl-C and return what was computed so far (issue 4, item 10)."""
+"""Long runs stop cleanly on Ctrl-C and return what was computed so far."""
 import os
 import signal
 import threading

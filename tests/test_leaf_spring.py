@@ -1,4 +1,4 @@
-"""Issue 5: the paper's leaf-spring mechanism (Sec. VIII-D), examples/leaf_spring.py in quick mode.
+"""The paper's leaf-spring mechanism (Sec. VIII-D), examples/leaf_spring.py in quick mode.
 
 References computed here independently of the example and of phmech: the paper's formula
 f = (1/pi) sqrt(6 E I_y / (m_R L^3)) for two guided-clamped leaves (stiffness 12 E I / L^3 each)

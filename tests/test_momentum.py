@@ -1,4 +1,4 @@
-"""SimulationResult.momentum, mass and centre_of_mass (issue 14, conserved quantities) against
+"""SimulationResult.momentum, mass and centre_of_mass against
 references that do not use them: a rigid body's momentum by hand (m v_com, I_com omega + r_com x
 m v_com) and Newton's laws for it, a free-flying flexible beam after an impulse (momentum = the
 impulse, then conserved), gravity (dP/dt = m g), and what breaks conservation (a pin to the

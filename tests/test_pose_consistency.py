@@ -1,4 +1,4 @@
-"""Issue 14, "no silent wrong answer": given poses are honoured by the pairs on them
+"""Given poses are honoured by the pairs on them
 (python/phmech/topology.py, place_tree and pair_reference; docs/user_guide.md, "Initial
 configuration"). Before, a Fixed pair re-posed a given link to its frame on the other side:
 a rotated root, or a welded L-frame, silently became the unrotated / straight beam.

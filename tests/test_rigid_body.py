@@ -1,4 +1,4 @@
-"""Validation of free rigid bodies (issue 4) against closed-form references.
+"""Validation of free rigid bodies against closed-form references.
 
 Conventions (docs/method.md section 3): body twist (omega, v) at the body frame, pose H = (R, p)
 maps body to world, inertia given about the centre of mass in body axes, ``com`` in body

@@ -1,4 +1,4 @@
-"""Issue 4: static cantilever under a tip load.
+"""Static cantilever under a tip load.
 
 References (independent of phmech):
 - small load: linear Timoshenko tip deflection P L^3/(3 EI) + P L/kGA, and the closed-form

@@ -1,5 +1,5 @@
 """The paper's Table I (cantilever Timoshenko beam): exact frequencies, the paper's mixed element
-and phmech's se3 link, against the statements of the paper and our own targets (issue 3)."""
+and phmech's se3 link, against the statements of the paper and our own targets."""
 import json
 import subprocess
 import sys
