@@ -41,11 +41,7 @@ phm_status dae_jacobian_pattern(dae_t *d, phm_error *err) {
   int *blk = malloc(sizeof(int) * (size_t)n);
   d->colptr = malloc(sizeof(sunindextype) * (size_t)(n + 1));
   d->color = malloc(sizeof(int) * (size_t)n);
-  d->ytmp = malloc(sizeof(double) * (size_t)n);
-  d->yptmp = malloc(sizeof(double) * (size_t)n);
-  d->rtmp = malloc(sizeof(double) * (size_t)n);
-  d->r0 = malloc(sizeof(double) * (size_t)n);
-  if (!blk || !d->colptr || !d->color || !d->ytmp || !d->yptmp || !d->rtmp || !d->r0) {
+  if (!blk || !d->colptr || !d->color) {
     free(adj);
     free(blk);
     return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
@@ -148,24 +144,25 @@ int dae_jacobian(dae_t *d, double t, double cj, const double *y, const double *y
   for (int j = 0; j <= n; j++) cp[j] = d->colptr[j];
   for (int k = 0; k < d->nnz; k++) ri[k] = d->rowind[k];
   double sq = sqrt(2.2e-16);
+  phm_data *D = &d->data;
   for (int col = 0; col < d->ncolor; col++) {
     int any = 0;
-    memcpy(d->ytmp, y, sizeof(double) * n);
-    memcpy(d->yptmp, ypv, sizeof(double) * n);
+    memcpy(D->ytmp, y, sizeof(double) * n);
+    memcpy(D->yptmp, ypv, sizeof(double) * n);
     for (int j = 0; j < n; j++)
       if (d->color[j] == col) {
         double inc = sq * fmax(fabs(y[j]), fmax(fabs(ypv[j]) / (cj > 0 ? cj : 1), 1e-3));
-        d->ytmp[j] += inc;
-        d->yptmp[j] += cj * inc;
-        d->r0[j] = inc; /* store the increment of column j */
+        D->ytmp[j] += inc;
+        D->yptmp[j] += cj * inc;
+        D->inc[j] = inc; /* the increment of column j */
         any = 1;
       }
     if (!any) continue;
-    if (dae_residual(d, t, d->ytmp, d->yptmp, d->rtmp)) return 1;
+    if (dae_residual(d, t, D->ytmp, D->yptmp, D->rtmp)) return 1;
     for (int j = 0; j < n; j++)
       if (d->color[j] == col)
         for (sunindextype k = cp[j]; k < cp[j + 1]; k++)
-          val[k] = (d->rtmp[ri[k]] - r0[ri[k]]) / d->r0[j];
+          val[k] = (D->rtmp[ri[k]] - r0[ri[k]]) / D->inc[j];
   }
   return 0;
 }
