@@ -104,7 +104,9 @@ phm_status dae_restart_at_breakpoint(dae_t *d, double t, double tpiece, double *
                                      double *yp, phm_error *err);
 
 /* ---------------------------------------------------------------- jacobian.c */
-/* The CSC pattern of dF/dy + cj dF/dy' and its column colouring (into d). */
+/* The CSC pattern of dF/dy + cj dF/dy' (row indices ascending in each column) and its column
+ * colouring (into d), from the coupling graph of carriers and pairs (phm_carrier_graph): time and
+ * memory linear in the number of nonzeros. */
 phm_status dae_jacobian_pattern(dae_t *d, phm_error *err);
 /* J = dF/dy + cj dF/dy' at (t, y, y') with residual r0 = F(t, y, y'), by coloured forward
  * differences into the sparse matrix J (pattern from dae_jacobian_pattern). 0 on success. */

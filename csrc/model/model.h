@@ -1,6 +1,7 @@
 /* model.h -- the immutable model (struct phm_model) and the kernels every later stage reads:
  * pairs (csrc/model/pair.c), the se3 beam element (element.c), applied wrenches (applied.c),
- * energy (energy.c), the carrier coupling graph (graph.c). Private to csrc/ and the C tests. */
+ * energy (energy.c), the coupling graph of carriers and pairs (graph.c). Private to csrc/ and the
+ * C tests. */
 #ifndef PHM_MODEL_H
 #define PHM_MODEL_H
 
@@ -134,10 +135,16 @@ void phm_spring_eval(const phm_spring_desc *sp, const double *H, const double *t
                      double *V, double *Pd);
 
 /* ---------------------------------------------------------------- coupling graph (graph.c) */
-/* Carrier coupling graph (CSR, self included): carriers that share an element, pair, spring or
- * load; a perturbation of carrier c changes only the forces of its neighbours. Allocates
- * *ptr_out (nc + 1) and *nbr_out. */
-phm_status phm_carrier_graph(const phm_model *m, int **ptr_out, int **nbr_out, phm_error *err);
+/* The coupling graph (CSR) of the model's carriers and, with pairs != 0, of its pairs too:
+ * vertices 0..nc-1 are the carriers, nc + ip pair ip. Two carriers are neighbours when they share
+ * an element, pair, spring or load (a perturbation of carrier c changes only the forces of its
+ * neighbours); a pair is the neighbour of its carriers (its multipliers and joint coordinates
+ * couple to their states only). Every vertex lists itself first, then its neighbours once each,
+ * in the order of the components that couple them (elements, pairs, loads, springs, then pair
+ * vertices). Time and memory linear in the number of components. Allocates *ptr_out (vertices
+ * + 1) and *nbr_out. */
+phm_status phm_carrier_graph(const phm_model *m, int pairs, int **ptr_out, int **nbr_out,
+                             phm_error *err);
 /* Greedy distance-2 colouring of a CSR graph: vertices of one colour share no neighbour. col (n)
  * gets the colours, mark (n) is scratch; returns the number of colours. */
 int phm_graph_colours(int n, const int *ptr, const int *nbr, int *col, int *mark);
