@@ -65,7 +65,9 @@ typedef struct {
   double g[PHM_MAXCON];          /* position constraints (m kept rows)                            */
   double Ga[6 * PHM_MAXCON], Gb[6 * PHM_MAXCON]; /* velocity blocks (m x 6, row-major)            */
   double vt[PHM_MAXCON];         /* prescribed rates of the velocity constraints                  */
-  double W[36];                  /* constraint-wrench basis (6 x 6 row-major, first m columns)    */
+  double W[36];                  /* constraint-wrench basis (6 x 6 row-major, first m columns);
+                                  * a driven pair's at its prescribed pose: driven pairs are fixed
+                                  * ones, whose basis is the identity at any pose                */
   double Phi[36];                /* dual effort basis (6 x 6 row-major, first k columns)          */
   double x[6], xdot[6];          /* joint coordinates and rates (first k)                         */
 } phm_pair_data;
