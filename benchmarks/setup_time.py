@@ -16,7 +16,8 @@ and splits each call into the C core (every call into ``phmech._core``, by funct
 consistent initial values, the sparsity pattern and colouring of csrc/dae/jacobian.c -- and the
 one output interval), the Python topology (``phmech.topology``'s entry points, less the core calls
 they make) and the rest of Python (marshalling, checks, results). Writes
-``benchmarks/results/setup_time[_LABEL].json``.
+``benchmarks/results/setup_time[_LABEL].json``; with ``--calls`` the other calls' entries are kept
+from the existing file (as bench_scaling.py's ``--only``).
 """
 from __future__ import annotations
 
@@ -143,12 +144,19 @@ def main() -> None:
     ap.add_argument("--calls", nargs="*", default=list(CALLS), choices=list(CALLS))
     ap.add_argument("--label", default="", help="suffix of the JSON file (e.g. before, after)")
     a = ap.parse_args()
-    res = dict(elements=a.elements, reps=a.reps, reps_modes=a.reps_modes,
-               load_average_before=os.getloadavg(), cpus=os.cpu_count(), phmech=ph.__version__,
-               calls=measure(a.elements, a.calls, a.reps, a.reps_modes))
-    res["load_average_after"] = os.getloadavg()
-    os.makedirs(RESULTS, exist_ok=True)
     path = os.path.join(RESULTS, "setup_time" + (f"_{a.label}" if a.label else "") + ".json")
+    load0 = os.getloadavg()
+    calls = measure(a.elements, a.calls, a.reps, a.reps_modes)
+    for name, entry in calls.items():
+        entry.update(load_average_before=load0, load_average_after=os.getloadavg())
+    if os.path.exists(path):
+        with open(path) as f:
+            old = json.load(f)
+        if old.get("elements") == a.elements:
+            calls = {**old["calls"], **calls}
+    res = dict(elements=a.elements, reps=a.reps, reps_modes=a.reps_modes, cpus=os.cpu_count(),
+               phmech=ph.__version__, calls={k: calls[k] for k in CALLS if k in calls})
+    os.makedirs(RESULTS, exist_ok=True)
     with open(path, "w") as f:
         json.dump(res, f, indent=1)
     print(f"wrote {path}")
