@@ -1,43 +1,91 @@
-/* dae.h -- the stabilized index-2 DAE of a model (docs/method.md section 6) and its workspace.
+/* dae.h -- the stabilized index-2 DAE of a model (docs/method.md section 6) and its data.
  * State layout y (n entries): per carrier (q[4], p[3], t[6]) (PHM_NSTATE each); then the joint
  * coordinates (nj, integrated from their rates; they select the branch of multi-turn angles);
  * then the energy ledger integrals (dissipated, supplied, one per port); then lambda (ncons);
  * then mu (ncons). Residual F(t, y, y') = 0 (residual.c), consistent initial values
  * (initial.c), the sparsity pattern and coloured finite-difference Jacobian (jacobian.c), the
- * outputs (output.c). Everything a residual, Jacobian, output or restart needs is allocated by
- * dae_init and dae_jacobian_pattern: no allocation after set-up. */
+ * outputs (output.c).
+ *
+ * Model and data, as MuJoCo's mjModel and mjData: the model (phm_model, csrc/model/model.h) is
+ * immutable; everything a run writes lives in its phm_data, allocated once by dae_init from the
+ * model's sizes. A residual evaluation fills it stage by stage -- the carriers' poses and twists
+ * (dae_unpack), every pair once (dae_eval_pairs: frames, constraint rows, joint coordinates and
+ * rates, read by the pair rows, the actuators and the outputs), the applied wrenches, G^T lambda
+ * and G^T mu -- and the Jacobian, the outputs and the consistent initial values (at the start
+ * and at every breakpoint of the laws) work in its scratch. After dae_init and
+ * dae_jacobian_pattern nothing in csrc/dae/ or the integrators allocates (tests/c/test_no_alloc.c
+ * counts it). */
 #ifndef PHM_DAE_H
 #define PHM_DAE_H
 
+#include "linalg.h"
 #include "model.h"
 #include "sundials_compat.h"
 
 #define PHM_NSTATE 13 /* per carrier: q (4), p (3), t (6) */
 
+/* Scratch of the consistent initial values (dae_consistent_ic), sized from the model. */
+typedef struct {
+  int ncc;          /* constrained carriers (those of the pairs; 0 without constraint rows)  */
+  int *cmap;        /* nc: carrier -> its place among the constrained ones, -1 if free        */
+  int *clist;       /* ncc: the constrained carriers in that order                            */
+  int kkt;          /* a constrained carrier's inertia fails phm_chol6: the KKT system is
+                     * solved instead of the Schur complement (so A and ls are sized for it)  */
+  double *H, *tw;   /* poses and twists projected (nc x 16, nc x 6): the start's, a restart's */
+  double *qprev;    /* n: the state before a restart (quaternion signs, joint branches, ledger) */
+  double *Lc;       /* nc x 36: Cholesky factors of the inertias                              */
+  double *acc;      /* 6 nc: accelerations t'                                                 */
+  double *G, *X;    /* ncons x 6 ncc: G on the constrained carriers; M^-1 G^T (or dc/dt's G)  */
+  double *A, *b;    /* least-squares matrix (the largest of the systems) and right-hand side  */
+  double *g, *vt, *c1, *lam; /* ncons: g, prescribed rates, 2 ncons: dc/dt's sides, lambda    */
+  double *Hp;       /* nc x 16: poses moved along the motion (dc/dt)                          */
+  double *res;      /* n: a residual (the rates of joint coordinates and ledger)              */
+  phm_lstsq_work ls; /* dgelss's memory for every system above                                */
+} dae_ic_work;
+
+/* The mutable data of a DAE: one residual evaluation's results and every scratch buffer. */
+typedef struct {
+  /* one evaluation (dae_residual; dae_pair_rows; the outputs) */
+  double *H, *tw;        /* carrier poses (nc x 16) and twists (nc x 6) of the state          */
+  phm_pair_data *pair;   /* np: every pair at that state (dae_eval_pairs)                      */
+  double *wr;            /* nc x 6: applied wrenches (body frames)                             */
+  double *gl, *gm;       /* nc x 6: G^T lambda and G^T mu per carrier                          */
+  double *pport;         /* nport: power of every port                                         */
+  double *eff;           /* nj: actuator efforts summed per joint coordinate (outputs)          */
+  /* the coloured finite-difference Jacobian (dae_jacobian) */
+  double *ytmp, *yptmp, *rtmp, *inc; /* n each: perturbed y, y', their residual, increments */
+  /* consistent initial values (dae_consistent_ic, dae_restart_at_breakpoint) */
+  dae_ic_work ic;
+} phm_data;
+
 typedef struct {
   const phm_model *m;
   int n, ix, ie, il, im; /* sizes and offsets of the state blocks */
-  double tref;
-  double *H, *tw, *wr, *gl, *gm, *pport, *eff; /* scratch, allocated at set-up */
+  double tref;           /* reference time of the laws' current piece (phm_model_tref) */
+  phm_data data;         /* allocated by dae_init */
   char idamsg[256];         /* IDA's last error message, through idasink (csrc/solve/ida.c) */
   phm_sun_errsink idasink; /* here, not in run_ida: SUNDIALS 7 keeps it on the context */
   /* KLU: sparsity pattern (CSC) and column colouring for the finite-difference Jacobian */
   int nnz, ncolor;
   sunindextype *colptr, *rowind;
   int *color;
-  double *ytmp, *yptmp, *rtmp, *r0;
 } dae_t;
 
 /* ---------------------------------------------------------------- residual.c */
+/* The layout of m's DAE and its data (every buffer of phm_data; the Jacobian's pattern is
+ * dae_jacobian_pattern's). */
 phm_status dae_init(dae_t *d, const phm_model *m, phm_error *err);
 void dae_free(dae_t *d);
 /* Carrier poses H (nc x 16) and twists tw (nc x 6) from the state vector y. */
 void dae_unpack(const phm_model *m, const double *y, double *H, double *tw);
+/* Every pair at the poses and twists in d->data (H, tw) and the joint-coordinate branches of y,
+ * at time: into d->data.pair. */
+void dae_eval_pairs(dae_t *d, double time, const double *y);
 /* F(time, y, y'); 0 on success. No allocation. */
 int dae_residual(dae_t *d, double time, const double *y, const double *yp, double *F);
 /* The pairs' rows of F (joint-coordinate rates, velocity and position constraints) at the poses
- * and twists already unpacked into d->H, d->tw; accumulates G^T lambda and G^T mu per carrier
- * into d->gl, d->gm. */
+ * and twists already unpacked into d->data (H, tw): evaluates every pair (dae_eval_pairs) and
+ * accumulates G^T lambda and G^T mu per carrier into d->data.gl, gm. */
 void dae_pair_rows(dae_t *d, double time, const double *y, const double *yp, double *F);
 /* Absolute tolerance of state i for the error weights (the multipliers' own floors). */
 double dae_state_atol(const dae_t *d, int i, double atol);
@@ -52,14 +100,14 @@ int dae_is_twist(const dae_t *d, int i);
 phm_status dae_consistent_ic(dae_t *d, double time, double *H, double *tw, const double *qprev,
                              const double *xs, int check_x0, double *y, double *yp, phm_error *err);
 /* New piece of the laws at time t (tpiece: the time that selects the piece): consistent values
- * from the current state, ledger integrals carried over; *nbp = next breakpoint. H, tw, qprev:
- * scratch (nc x 16, nc x 6, n). */
+ * from the current state, ledger integrals carried over; *nbp = next breakpoint. */
 phm_status dae_restart_at_breakpoint(dae_t *d, double t, double tpiece, double *nbp, double *y,
-                                     double *yp, double *H, double *tw, double *qprev,
-                                     phm_error *err);
+                                     double *yp, phm_error *err);
 
 /* ---------------------------------------------------------------- jacobian.c */
-/* The CSC pattern of dF/dy + cj dF/dy' and its column colouring (into d). */
+/* The CSC pattern of dF/dy + cj dF/dy' (row indices ascending in each column) and its column
+ * colouring (into d), from the coupling graph of carriers and pairs (phm_carrier_graph): time and
+ * memory linear in the number of nonzeros. */
 phm_status dae_jacobian_pattern(dae_t *d, phm_error *err);
 /* J = dF/dy + cj dF/dy' at (t, y, y') with residual r0 = F(t, y, y'), by coloured forward
  * differences into the sparse matrix J (pattern from dae_jacobian_pattern). 0 on success. */

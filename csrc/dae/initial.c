@@ -4,7 +4,6 @@
 #include "dae.h"
 
 #include <math.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include "phm_check.h"
@@ -21,44 +20,16 @@
  * minimum-norm lambda for redundant rows), t' = M^-1 (b1 + G^T lambda). If a constrained carrier's
  * inertia is singular, the KKT system of the constrained carriers is solved instead. */
 phm_status dae_consistent_ic(dae_t *d, double time, double *H, double *tw, const double *qprev,
-                                const double *xs, int check_x0, double *y, double *yp,
-                                phm_error *err) {
+                             const double *xs, int check_x0, double *y, double *yp,
+                             phm_error *err) {
   const phm_model *m = d->m;
-  int nc = m->nc, n6 = 6 * nc, nk = m->ncons;
+  dae_ic_work *w = &d->data.ic;
+  int nc = m->nc, nk = m->ncons;
   phm_status st = PHM_OK;
-  int *cmap = malloc(sizeof(int) * (size_t)(nc + 1)), *clist = malloc(sizeof(int) * (size_t)(nc + 1));
-  double *Lc = malloc(sizeof(double) * 36 * (size_t)(nc + 1));
-  double *acc = malloc(sizeof(double) * (size_t)(n6 + 1)), *lam = NULL;
-  double *G = NULL, *A = NULL, *b = NULL, *g = NULL, *vt = NULL, *Hp = NULL, *c1 = NULL, *X = NULL;
-  if (!cmap || !clist || !Lc || !acc) {
-    st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
-    goto done;
-  }
-  int ncc = 0;
-  for (int c = 0; c < nc; c++) cmap[c] = -1;
-  for (int ip = 0; ip < m->np; ip++) {
-    int ab[2] = {m->pair[ip].a, m->pair[ip].b};
-    for (int s = 0; s < 2; s++)
-      if (ab[s] >= 0 && cmap[ab[s]] < 0) {
-        cmap[ab[s]] = ncc;
-        clist[ncc++] = ab[s];
-      }
-  }
-  if (nk == 0) ncc = 0;
-  int n6c = 6 * ncc, Nk = n6c + nk, mx = Nk > nk ? Nk : nk;
-  G = malloc(sizeof(double) * ((size_t)nk * n6c + 1));
-  A = malloc(sizeof(double) * ((size_t)Nk * Nk + (size_t)nk * n6c + 1));
-  b = malloc(sizeof(double) * (size_t)(mx + 1));
-  g = malloc(sizeof(double) * (size_t)(nk + 1));
-  vt = malloc(sizeof(double) * (size_t)(nk + 1));
-  Hp = malloc(sizeof(double) * 16 * (size_t)nc);
-  c1 = malloc(sizeof(double) * (size_t)(nk + 1) * 2);
-  X = malloc(sizeof(double) * ((size_t)n6c * nk + 1));
-  lam = malloc(sizeof(double) * (size_t)(nk + 1));
-  if (!G || !A || !b || !g || !vt || !Hp || !c1 || !X || !lam) {
-    st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
-    goto done;
-  }
+  const int *cmap = w->cmap, *clist = w->clist;
+  double *Lc = w->Lc, *acc = w->acc, *lam = w->lam, *G = w->G, *A = w->A, *b = w->b, *g = w->g;
+  double *vt = w->vt, *Hp = w->Hp, *c1 = w->c1, *X = w->X;
+  int ncc = w->ncc, n6c = 6 * ncc, Nk = n6c + nk;
   if (nk > 0) {
     /* positions */
     double gn = 0;
@@ -70,7 +41,7 @@ phm_status dae_consistent_ic(dae_t *d, double time, double *H, double *tw, const
       if (gn < 1e-13) break;
       memcpy(A, G, sizeof(double) * (size_t)nk * n6c);
       for (int i = 0; i < nk; i++) b[i] = -g[i];
-      if ((st = phm_lstsq(nk, n6c, A, b, NULL, err))) goto done;
+      if ((st = phm_lstsq_in(nk, n6c, A, b, NULL, &w->ls, err))) goto done;
       for (int k = 0; k < ncc; k++) phm_retract(H + 16 * clist[k], b + 6 * k);
     }
     if (gn > 1e-9) {
@@ -86,26 +57,26 @@ phm_status dae_consistent_ic(dae_t *d, double time, double *H, double *tw, const
       b[r] = -s;
     }
     memcpy(A, G, sizeof(double) * (size_t)nk * n6c);
-    if ((st = phm_lstsq(nk, n6c, A, b, NULL, err))) goto done;
+    if ((st = phm_lstsq_in(nk, n6c, A, b, NULL, &w->ls, err))) goto done;
     for (int k = 0; k < ncc; k++)
       for (int j = 0; j < 6; j++) tw[6 * clist[k] + j] += b[6 * k + j];
   }
   /* acceleration level: [M -G^T; G 0] [t'; lambda] = [b1; b2], b1 = ad^T M t + w, b2 = -dc/dt */
-  phm_applied(m, H, tw, xs, time, d->tref, 1.0, d->wr, NULL, NULL, NULL, NULL, NULL);
+  phm_applied(m, H, tw, xs, time, d->tref, 1.0, d->data.wr, NULL, NULL, NULL, NULL, NULL);
   int spd = 1;
   for (int c = 0; c < nc; c++) {
     const double *M = m->car[c].M;
     double Mt[6], adm[6];
     phm_mv6(M, tw + 6 * c, Mt);
     phm_ad_dual_apply(tw + 6 * c, Mt, adm);
-    for (int i = 0; i < 6; i++) acc[6 * c + i] = adm[i] + d->wr[6 * c + i];
+    for (int i = 0; i < 6; i++) acc[6 * c + i] = adm[i] + d->data.wr[6 * c + i];
     if (phm_chol6(M, 0.0, 1e-10, Lc + 36 * c)) {
       if (cmap[c] >= 0 && nk > 0) spd = 0;
       else { /* free carrier with singular inertia: minimum-norm solution of its own block */
         double Mc[36], bc[6];
         memcpy(Mc, M, sizeof Mc);
         memcpy(bc, acc + 6 * c, sizeof bc);
-        if ((st = phm_lstsq(6, 6, Mc, bc, NULL, err))) goto done;
+        if ((st = phm_lstsq_in(6, 6, Mc, bc, NULL, &w->ls, err))) goto done;
         memcpy(acc + 6 * c, bc, sizeof bc);
       }
     } else if (cmap[c] < 0 || nk == 0) phm_chol6_solve(Lc + 36 * c, acc + 6 * c);
@@ -160,7 +131,7 @@ phm_status dae_consistent_ic(dae_t *d, double time, double *H, double *tw, const
       }
       for (int r = 0; r < nk; r++) /* symmetrize */
         for (int s = 0; s < r; s++) A[(size_t)r * nk + s] = A[(size_t)s * nk + r] = 0.5 * (A[(size_t)r * nk + s] + A[(size_t)s * nk + r]);
-      if ((st = phm_lstsq(nk, nk, A, b, NULL, err))) goto done;
+      if ((st = phm_lstsq_in(nk, nk, A, b, NULL, &w->ls, err))) goto done;
       memcpy(lam, b, sizeof(double) * (size_t)nk);
       for (int k = 0; k < ncc; k++)
         for (int j = 0; j < 6; j++) {
@@ -169,7 +140,12 @@ phm_status dae_consistent_ic(dae_t *d, double time, double *H, double *tw, const
           acc[6 * clist[k] + j] += v;
         }
     } else {
-      /* KKT system of the constrained carriers, minimum-norm least squares */
+      /* KKT system of the constrained carriers, minimum-norm least squares (ic_alloc in
+       * csrc/dae/residual.c sized A for it: w->kkt) */
+      if (!w->kkt) {
+        st = PHM_FAIL(err, PHM_ESINGULAR, "consistent initial values: a constrained carrier's inertia failed the Cholesky test that set-up passed");
+        goto done;
+      }
       memset(A, 0, sizeof(double) * (size_t)Nk * Nk);
       for (int k = 0; k < ncc; k++) {
         const double *M = m->car[clist[k]].M;
@@ -185,7 +161,7 @@ phm_status dae_consistent_ic(dae_t *d, double time, double *H, double *tw, const
         }
         b[n6c + r] = b2[r];
       }
-      if ((st = phm_lstsq(Nk, Nk, A, b, NULL, err))) goto done;
+      if ((st = phm_lstsq_in(Nk, Nk, A, b, NULL, &w->ls, err))) goto done;
       for (int k = 0; k < ncc; k++) memcpy(acc + 6 * clist[k], b + 6 * k, 6 * sizeof(double));
       memcpy(lam, b + n6c, sizeof(double) * (size_t)nk);
     }
@@ -230,41 +206,21 @@ phm_status dae_consistent_ic(dae_t *d, double time, double *H, double *tw, const
     memcpy(y + d->ix + j0, x, sizeof(double) * (size_t)k);
   }
   /* rates of the joint coordinates and of the ledger from the residual (yp = 0 there) */
-  {
-    double *tmp = malloc(sizeof(double) * (size_t)d->n);
-    if (!tmp) {
-      st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
-      goto done;
-    }
-    for (int i = d->ix; i < d->il; i++) yp[i] = 0;
-    dae_residual(d, time, y, yp, tmp);
-    for (int i = d->ix; i < d->il; i++) yp[i] = -tmp[i];
-    free(tmp);
-  }
+  for (int i = d->ix; i < d->il; i++) yp[i] = 0;
+  dae_residual(d, time, y, yp, w->res);
+  for (int i = d->ix; i < d->il; i++) yp[i] = -w->res[i];
 done:
-  free(cmap);
-  free(clist);
-  free(Lc);
-  free(acc);
-  free(lam);
-  free(G);
-  free(A);
-  free(b);
-  free(g);
-  free(vt);
-  free(Hp);
-  free(c1);
-  free(X);
   return st;
 }
 
 /* At a breakpoint of the laws (a new piece): the new reference time and next breakpoint *nbp
  * (the piece that follows time tpiece: t, or the breakpoint when t is within round-off before
  * it), then consistent values from the current poses and twists; the ledger integrals carry
- * over. qprev: scratch of n (previous state, for quaternion sign continuity). */
+ * over. The poses, twists and previous state (for quaternion sign continuity) are kept in the
+ * data's scratch: a restart allocates nothing. */
 phm_status dae_restart_at_breakpoint(dae_t *d, double t, double tpiece, double *nbp, double *y,
-                                        double *yp, double *H, double *tw, double *qprev,
-                                        phm_error *err) {
+                                     double *yp, phm_error *err) {
+  double *H = d->data.ic.H, *tw = d->data.ic.tw, *qprev = d->data.ic.qprev;
   d->tref = phm_model_tref(d->m, tpiece, nbp);
   dae_unpack(d->m, y, H, tw);
   memcpy(qprev, y, sizeof(double) * (size_t)d->n);

@@ -1,7 +1,7 @@
 /* jacobian.c -- the Jacobian dF/dy + cj dF/dy' of the DAE: its sparsity pattern from the block
  * structure (carriers couple through elements, pairs, springs and loads; a pair's multipliers
- * and joint coordinates through its two carriers), a colouring of its columns, and the coloured
- * forward differences that fill it. */
+ * and joint coordinates through its two carriers: the coupling graph of csrc/model/graph.c), a
+ * colouring of its columns, and the coloured forward differences that fill it. */
 #include "dae.h"
 
 #include <math.h>
@@ -10,113 +10,95 @@
 
 #include "phm_check.h"
 
+/* The rows of a column of block b, ascending, into rows (NULL: only count them): the states of
+ * the blocks coupled to b (nb: b's coupling-graph neighbours sorted ascending, nnb of them). A
+ * carrier's states come first (they precede the joint coordinates), then the pairs' joint
+ * coordinates, multipliers lambda and mu, each range in pair order. A pair without joint
+ * coordinates leaves itself out: its rows are constraints, which its own multipliers do not
+ * enter. */
+static int block_rows(const dae_t *d, int b, const int *nb, int nnb, sunindextype *rows) {
+  const phm_model *m = d->m;
+  int nc = m->nc, cnt = 0, q = 0;
+  for (; q < nnb && nb[q] < nc; q++) {
+    if (rows)
+      for (int i = 0; i < PHM_NSTATE; i++) rows[cnt + i] = PHM_NSTATE * nb[q] + i;
+    cnt += PHM_NSTATE;
+  }
+  int q0 = q;
+  for (int part = 0; part < 3; part++)
+    for (q = q0; q < nnb; q++) {
+      int ip = nb[q] - nc, first, len;
+      if (nb[q] == b && m->pair_k[ip] == 0) continue;
+      if (part == 0) first = d->ix + m->pair_j[ip], len = m->pair_k[ip];
+      else first = (part == 1 ? d->il : d->im) + m->pair_row[ip], len = m->pair_m[ip];
+      if (rows)
+        for (int i = 0; i < len; i++) rows[cnt + i] = first + i;
+      cnt += len;
+    }
+  return cnt;
+}
+
+/* The blocks of the state: carrier c's 13 states form block c; pair ip's joint coordinates,
+ * lambda and mu form block nc + ip; the ledger belongs to none (no row depends on it). A
+ * state's column couples to the rows of the blocks next to its block in the coupling graph of
+ * carriers and pairs (csrc/model/graph.c); the ledger rows keep only their diagonal (their
+ * dependence on the other states is left out of the Newton matrix: nothing else depends on
+ * them, so this only delays their convergence by one iteration). */
 phm_status dae_jacobian_pattern(dae_t *d, phm_error *err) {
   const phm_model *m = d->m;
-  int n = d->n, nc = m->nc;
-  /* column block of each state index: carrier c -> c; ledger -> none (no row depends on it);
-   * lambda/mu row r of pair ip -> "pair block". Build a dense boolean block adjacency. */
-  int nb = nc + m->np; /* blocks: carriers, then pairs (their lambda and mu) */
-  char *adj = calloc((size_t)nb * nb, 1);
-  if (!adj) return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
-  for (int c = 0; c < nc; c++) adj[(size_t)c * nb + c] = 1;
-  for (int ie = 0; ie < m->ne; ie++) {
-    int a = m->el[ie].a, b = m->el[ie].b;
-    adj[(size_t)a * nb + b] = adj[(size_t)b * nb + a] = 1;
-  }
-  for (int is = 0; is < m->ns; is++) {
-    int a = m->spr[is].a, b = m->spr[is].b;
-    if (a >= 0 && b >= 0) adj[(size_t)a * nb + b] = adj[(size_t)b * nb + a] = 1;
-  }
-  for (int il = 0; il < m->nl; il++) {
-    int a = m->load[il].carrier, b = m->load[il].reaction;
-    if (a >= 0 && b >= 0) adj[(size_t)a * nb + b] = adj[(size_t)b * nb + a] = 1;
-  }
-  for (int ip = 0; ip < m->np; ip++) {
-    int a = m->pair[ip].a, b = m->pair[ip].b, p = nc + ip;
-    if (m->pair_k[ip] > 0) adj[(size_t)p * nb + p] = 1; /* joint coordinates: own rate */
-    if (a >= 0 && b >= 0) adj[(size_t)a * nb + b] = adj[(size_t)b * nb + a] = 1;
-    if (a >= 0) adj[(size_t)a * nb + p] = adj[(size_t)p * nb + a] = 1;
-    if (b >= 0) adj[(size_t)b * nb + p] = adj[(size_t)p * nb + b] = 1;
-  }
-  int *blk = malloc(sizeof(int) * (size_t)n);
+  int n = d->n, nc = m->nc, nb = nc + m->np;
+  int *ptr = NULL, *nbr = NULL, *srt = NULL, *fill = NULL, *blk = NULL, *bcol = NULL;
+  phm_status st = phm_carrier_graph(m, 1, &ptr, &nbr, err);
+  if (st) return st;
+  free(d->colptr);
+  free(d->rowind);
+  free(d->color);
+  d->rowind = NULL;
+  srt = malloc(sizeof(int) * (size_t)(ptr[nb] + 1));
+  fill = malloc(sizeof(int) * (size_t)(nb + 1));
+  blk = malloc(sizeof(int) * (size_t)(n + 1));
+  bcol = malloc(sizeof(int) * (size_t)(nb + 1));
   d->colptr = malloc(sizeof(sunindextype) * (size_t)(n + 1));
-  d->color = malloc(sizeof(int) * (size_t)n);
-  d->ytmp = malloc(sizeof(double) * (size_t)n);
-  d->yptmp = malloc(sizeof(double) * (size_t)n);
-  d->rtmp = malloc(sizeof(double) * (size_t)n);
-  d->r0 = malloc(sizeof(double) * (size_t)n);
-  if (!blk || !d->colptr || !d->color || !d->ytmp || !d->yptmp || !d->rtmp || !d->r0) {
-    free(adj);
-    free(blk);
-    return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+  d->color = malloc(sizeof(int) * (size_t)(n + 1));
+  if (!srt || !fill || !blk || !bcol || !d->colptr || !d->color) goto oom;
+  /* every neighbour list in ascending order: the graph is symmetric, so listing v in the lists
+   * of its neighbours for v = 0, 1, ... sorts them (one pass, no comparison sort) */
+  for (int v = 0; v < nb; v++) fill[v] = ptr[v];
+  for (int v = 0; v < nb; v++)
+    for (int q = ptr[v]; q < ptr[v + 1]; q++) srt[fill[nbr[q]]++] = v;
+  for (int i = 0; i < n; i++) blk[i] = -1; /* the ledger */
+  for (int i = 0; i < d->ix; i++) blk[i] = i / PHM_NSTATE;
+  for (int ip = 0; ip < m->np; ip++) {
+    for (int c = 0; c < m->pair_k[ip]; c++) blk[d->ix + m->pair_j[ip] + c] = nc + ip;
+    for (int r = 0; r < m->pair_m[ip]; r++)
+      blk[d->il + m->pair_row[ip] + r] = blk[d->im + m->pair_row[ip] + r] = nc + ip;
   }
-  for (int i = 0; i < n; i++) {
-    if (i < d->ix) blk[i] = i / PHM_NSTATE;
-    else if (i < d->ie) {
-      int ip = 0;
-      while (ip + 1 < m->np && m->pair_j[ip + 1] <= i - d->ix) ip++;
-      blk[i] = nc + ip;
-    } else if (i < d->il) blk[i] = -1; /* ledger */
-    else {
-      int r = (i < d->im ? i - d->il : i - d->im), ip = 0;
-      while (ip + 1 < m->np && m->pair_row[ip + 1] <= r) ip++;
-      blk[i] = nc + ip;
-    }
-  }
-  /* column j (block bj) has entries in the rows of the blocks adjacent to bj; the ledger rows keep
-   * only their diagonal (their dependence on the other states is left out of the Newton matrix:
-   * nothing else depends on them, so this only delays their convergence by one iteration) */
   long nnz = 0;
   for (int j = 0; j < n; j++) {
     int bj = blk[j];
-    if (bj < 0) { nnz += 1; continue; }
-    for (int i = 0; i < n; i++) {
-      int bi = blk[i];
-      if (bi >= 0 && adj[(size_t)bi * nb + bj]) nnz++;
-    }
+    nnz += bj < 0 ? 1 : block_rows(d, bj, srt + ptr[bj], ptr[bj + 1] - ptr[bj], NULL);
+  }
+  if (nnz > 2147483647L) {
+    st = PHM_FAIL(err, PHM_EINVAL, "the Jacobian has %ld nonzeros, more than KLU's int indices hold", nnz);
+    goto fail;
   }
   d->nnz = (int)nnz;
-  d->rowind = malloc(sizeof(sunindextype) * (size_t)nnz);
-  if (!d->rowind) {
-    free(adj);
-    free(blk);
-    return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
-  }
+  d->rowind = malloc(sizeof(sunindextype) * (size_t)(nnz + 1));
+  if (!d->rowind) goto oom;
   long k = 0;
   for (int j = 0; j < n; j++) {
     d->colptr[j] = k;
     int bj = blk[j];
-    if (bj < 0) { d->rowind[k++] = j; continue; }
-    for (int i = 0; i < n; i++) {
-      int bi = blk[i];
-      if (bi >= 0 && adj[(size_t)bi * nb + bj]) d->rowind[k++] = i;
-    }
+    if (bj < 0) d->rowind[k++] = j;
+    else k += block_rows(d, bj, srt + ptr[bj], ptr[bj + 1] - ptr[bj], d->rowind + k);
   }
   d->colptr[n] = k;
-  /* greedy colouring of the blocks (distance-2 in the block graph); every column of a block
-   * gets a different colour offset: colour = blockcolour * 13 + (index within block) */
-  int *bcol = malloc(sizeof(int) * (size_t)nb);
-  char *used = malloc((size_t)nb + 1);
-  if (!bcol || !used) {
-    free(adj); free(blk); free(bcol); free(used);
-    return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
-  }
-  int nbcol = 0;
-  for (int b = 0; b < nb; b++) {
-    memset(used, 0, (size_t)nb + 1);
-    for (int x = 0; x < nb; x++) {
-      if (!adj[(size_t)b * nb + x]) continue;
-      for (int z = 0; z < b; z++)
-        if (adj[(size_t)x * nb + z]) used[bcol[z]] = 1;
-    }
-    int cidx = 0;
-    while (used[cidx]) cidx++;
-    bcol[b] = cidx;
-    if (cidx + 1 > nbcol) nbcol = cidx + 1;
-  }
-  /* a block's columns: a carrier's 13 states, or a pair's lambda (m), mu (m) and joint
-   * coordinates (k), k + 2m <= 12 since k + m = 6: 13 colours per block colour (was 18: the
-   * leaf spring of benchmarks/scenes.py needs 81 residuals per Jacobian instead of 111) */
+  /* greedy distance-2 colouring of the blocks (two blocks of one colour share no neighbour);
+   * every column of a block gets a different colour offset: colour = blockcolour * 13 + (index
+   * within block). A block's columns: a carrier's 13 states, or a pair's lambda (m), mu (m) and
+   * joint coordinates (k), k + 2m <= 12 since k + m = 6: 13 colours per block colour (was 18:
+   * the leaf spring of benchmarks/scenes.py needs 81 residuals per Jacobian instead of 111) */
+  int nbcol = phm_graph_colours(nb, ptr, nbr, bcol, fill);
   int width = PHM_NSTATE;
   for (int i = 0; i < n; i++) {
     int b = blk[i];
@@ -132,11 +114,23 @@ phm_status dae_jacobian_pattern(dae_t *d, phm_error *err) {
     d->color[i] = bcol[b] * width + off;
   }
   d->ncolor = nbcol * width + (d->il - d->ie);
-  free(adj);
+  goto done;
+oom:
+  st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+fail:
+  free(d->colptr);
+  free(d->rowind);
+  free(d->color);
+  d->colptr = d->rowind = NULL;
+  d->color = NULL;
+done:
+  free(ptr);
+  free(nbr);
+  free(srt);
+  free(fill);
   free(blk);
   free(bcol);
-  free(used);
-  return PHM_OK;
+  return st;
 }
 
 /* J = dF/dy + cj dF/dyp by coloured forward differences (no allocation). */
@@ -148,24 +142,25 @@ int dae_jacobian(dae_t *d, double t, double cj, const double *y, const double *y
   for (int j = 0; j <= n; j++) cp[j] = d->colptr[j];
   for (int k = 0; k < d->nnz; k++) ri[k] = d->rowind[k];
   double sq = sqrt(2.2e-16);
+  phm_data *D = &d->data;
   for (int col = 0; col < d->ncolor; col++) {
     int any = 0;
-    memcpy(d->ytmp, y, sizeof(double) * n);
-    memcpy(d->yptmp, ypv, sizeof(double) * n);
+    memcpy(D->ytmp, y, sizeof(double) * n);
+    memcpy(D->yptmp, ypv, sizeof(double) * n);
     for (int j = 0; j < n; j++)
       if (d->color[j] == col) {
         double inc = sq * fmax(fabs(y[j]), fmax(fabs(ypv[j]) / (cj > 0 ? cj : 1), 1e-3));
-        d->ytmp[j] += inc;
-        d->yptmp[j] += cj * inc;
-        d->r0[j] = inc; /* store the increment of column j */
+        D->ytmp[j] += inc;
+        D->yptmp[j] += cj * inc;
+        D->inc[j] = inc; /* the increment of column j */
         any = 1;
       }
     if (!any) continue;
-    if (dae_residual(d, t, d->ytmp, d->yptmp, d->rtmp)) return 1;
+    if (dae_residual(d, t, D->ytmp, D->yptmp, D->rtmp)) return 1;
     for (int j = 0; j < n; j++)
       if (d->color[j] == col)
         for (sunindextype k = cp[j]; k < cp[j + 1]; k++)
-          val[k] = (d->rtmp[ri[k]] - r0[ri[k]]) / d->r0[j];
+          val[k] = (D->rtmp[ri[k]] - r0[ri[k]]) / D->inc[j];
   }
   return 0;
 }

@@ -43,45 +43,44 @@ static phm_status check_output(const dae_t *d, const phm_sim_output *out, int io
 static void record(dae_t *d, const double *y, phm_sim_output *out, int iout, double E0[1],
                    double time) {
   const phm_model *m = d->m;
+  phm_data *D = &d->data;
   int nc = m->nc;
-  dae_unpack(m, y, d->H, d->tw);
+  dae_unpack(m, y, D->H, D->tw);
   if (out->record) { /* only the carriers the caller asked for: memory stays small on long runs */
     for (int k = 0; k < out->nrecord; k++) {
       size_t o = (size_t)iout * out->nrecord + (size_t)k;
       int c = out->record[k];
-      if (out->poses) memcpy(out->poses + 16 * o, d->H + 16 * c, sizeof(double) * 16);
-      if (out->twists) memcpy(out->twists + 6 * o, d->tw + 6 * c, sizeof(double) * 6);
+      if (out->poses) memcpy(out->poses + 16 * o, D->H + 16 * c, sizeof(double) * 16);
+      if (out->twists) memcpy(out->twists + 6 * o, D->tw + 6 * c, sizeof(double) * 6);
     }
   } else {
-    if (out->poses) memcpy(out->poses + (size_t)iout * 16 * nc, d->H, sizeof(double) * 16 * nc);
-    if (out->twists) memcpy(out->twists + (size_t)iout * 6 * nc, d->tw, sizeof(double) * 6 * nc);
+    if (out->poses) memcpy(out->poses + (size_t)iout * 16 * nc, D->H, sizeof(double) * 16 * nc);
+    if (out->twists) memcpy(out->twists + (size_t)iout * 6 * nc, D->tw, sizeof(double) * 6 * nc);
   }
   if (out->lambda && m->ncons)
     memcpy(out->lambda + (size_t)iout * m->ncons, y + d->il, sizeof(double) * m->ncons);
-  const double *xs = y + d->ix;
+  /* every pair once: joint coordinates and rates, constraint wrenches, the actuators' efforts */
+  dae_eval_pairs(d, time, y);
   for (int ip = 0; ip < m->np; ip++) {
-    const phm_pair_desc *pr = &m->pair[ip];
-    const double *Ha = pr->a >= 0 ? d->H + 16 * pr->a : NULL, *Hb = pr->b >= 0 ? d->H + 16 * pr->b : NULL;
+    const phm_pair_data *p = D->pair + ip;
     int j0 = m->pair_j[ip];
-    double x[6], xd[6];
-    phm_pair_joint(m, ip, Ha, Hb, pr->a >= 0 ? d->tw + 6 * pr->a : NULL,
-                   pr->b >= 0 ? d->tw + 6 * pr->b : NULL, xs + j0, x, xd);
     for (int c = 0; c < m->pair_k[ip]; c++) {
-      if (out->joints) out->joints[(size_t)iout * m->nj + j0 + c] = x[c];
-      if (out->jrates) out->jrates[(size_t)iout * m->nj + j0 + c] = xd[c];
+      if (out->joints) out->joints[(size_t)iout * m->nj + j0 + c] = p->x[c];
+      if (out->jrates) out->jrates[(size_t)iout * m->nj + j0 + c] = p->xdot[c];
     }
     if (out->pwrench)
-      phm_pair_wrench(m, ip, Ha, Hb, xs + j0, y + d->il + m->pair_row[ip],
+      phm_pair_wrench(m, ip, p, y + d->il + m->pair_row[ip],
                       out->pwrench + ((size_t)iout * m->np + ip) * 6);
   }
   if (out->efforts && m->nj) {
-    phm_applied(m, d->H, d->tw, xs, time, d->tref, 1.0, d->wr, NULL, NULL, NULL, NULL, d->eff);
-    memcpy(out->efforts + (size_t)iout * m->nj, d->eff, sizeof(double) * (size_t)m->nj);
+    phm_applied_pairs(m, D->pair, D->H, D->tw, y + d->ix, time, d->tref, 1.0, D->wr, NULL, NULL,
+                      NULL, NULL, D->eff);
+    memcpy(out->efforts + (size_t)iout * m->nj, D->eff, sizeof(double) * (size_t)m->nj);
   }
   if (out->ports && m->nport)
     memcpy(out->ports + (size_t)iout * m->nport, y + d->ie + 2, sizeof(double) * (size_t)m->nport);
   double e[3];
-  phm_model_energy(m, d->H, d->tw, e);
+  phm_model_energy(m, D->H, D->tw, e);
   double tot = e[0] + e[1] + e[2];
   if (iout == 0) E0[0] = tot;
   if (out->energy) {

@@ -22,60 +22,68 @@ void dae_unpack(const phm_model *m, const double *y, double *H, double *tw) {
   }
 }
 
-/* The pairs' rows of the residual at the poses/twists already unpacked into d->H, d->tw: joint
- * coordinate rates (F[ix..ie)), velocity constraints (F[il..im)) and position constraints
- * (F[im..n)); accumulates G^T lambda and G^T mu per carrier into d->gl, d->gm. No allocation. */
-void dae_pair_rows(dae_t *d, double time, const double *y, const double *yp, double *F) {
+void dae_eval_pairs(dae_t *d, double time, const double *y) {
   const phm_model *m = d->m;
-  int nc = m->nc;
-  const double *xs = y + d->ix;
-  memset(d->gl, 0, sizeof(double) * 6 * (size_t)nc);
-  memset(d->gm, 0, sizeof(double) * 6 * (size_t)nc);
+  const double *H = d->data.H, *tw = d->data.tw, *xs = y + d->ix;
   for (int ip = 0; ip < m->np; ip++) {
     const phm_pair_desc *pr = &m->pair[ip];
-    int r0 = m->pair_row[ip], mc = m->pair_m[ip];
-    double g[PHM_MAXCON], Ga[6 * PHM_MAXCON], Gb[6 * PHM_MAXCON], vt[PHM_MAXCON], x[6], xd[6];
-    const double *Ha = pr->a >= 0 ? d->H + 16 * pr->a : NULL, *Hb = pr->b >= 0 ? d->H + 16 * pr->b : NULL;
-    int j0 = m->pair_j[ip], k = m->pair_k[ip];
-    phm_pair_eval(m, ip, Ha, Hb, xs + j0, time, d->tref, g, Ga, Gb, vt);
-    if (k > 0) {
-      phm_pair_joint(m, ip, Ha, Hb, pr->a >= 0 ? d->tw + 6 * pr->a : NULL,
-                     pr->b >= 0 ? d->tw + 6 * pr->b : NULL, xs + j0, x, xd);
-      for (int c = 0; c < k; c++) F[d->ix + j0 + c] = yp[d->ix + j0 + c] - xd[c];
-    }
-    const double *lam = y + d->il + r0, *mu = y + d->im + r0;
+    phm_pair_evaluate(m, ip, pr->a >= 0 ? H + 16 * pr->a : NULL, pr->b >= 0 ? H + 16 * pr->b : NULL,
+                      pr->a >= 0 ? tw + 6 * pr->a : NULL, pr->b >= 0 ? tw + 6 * pr->b : NULL,
+                      xs + m->pair_j[ip], time, d->tref, 1, d->data.pair + ip);
+  }
+}
+
+/* The pairs' rows of the residual at the poses/twists already unpacked into d->data: joint
+ * coordinate rates (F[ix..ie)), velocity constraints (F[il..im)) and position constraints
+ * (F[im..n)); accumulates G^T lambda and G^T mu per carrier into gl, gm. No allocation. */
+void dae_pair_rows(dae_t *d, double time, const double *y, const double *yp, double *F) {
+  const phm_model *m = d->m;
+  phm_data *D = &d->data;
+  int nc = m->nc;
+  memset(D->gl, 0, sizeof(double) * 6 * (size_t)nc);
+  memset(D->gm, 0, sizeof(double) * 6 * (size_t)nc);
+  dae_eval_pairs(d, time, y);
+  for (int ip = 0; ip < m->np; ip++) {
+    const phm_pair_desc *pr = &m->pair[ip];
+    const phm_pair_data *p = D->pair + ip;
+    int r0 = m->pair_row[ip], mc = m->pair_m[ip], j0 = m->pair_j[ip], k = m->pair_k[ip];
+    for (int c = 0; c < k; c++) F[d->ix + j0 + c] = yp[d->ix + j0 + c] - p->xdot[c];
+    const double *lam = y + d->il + r0, *mu = y + d->im + r0, *Ga = p->Ga, *Gb = p->Gb;
     for (int r = 0; r < mc; r++) {
-      double c = -vt[r];
+      double c = -p->vt[r];
       for (int j = 0; j < 6; j++) {
         if (pr->a >= 0) {
-          c += Ga[6 * r + j] * d->tw[6 * pr->a + j];
-          d->gl[6 * pr->a + j] += Ga[6 * r + j] * lam[r];
-          d->gm[6 * pr->a + j] += Ga[6 * r + j] * mu[r];
+          c += Ga[6 * r + j] * D->tw[6 * pr->a + j];
+          D->gl[6 * pr->a + j] += Ga[6 * r + j] * lam[r];
+          D->gm[6 * pr->a + j] += Ga[6 * r + j] * mu[r];
         }
         if (pr->b >= 0) {
-          c += Gb[6 * r + j] * d->tw[6 * pr->b + j];
-          d->gl[6 * pr->b + j] += Gb[6 * r + j] * lam[r];
-          d->gm[6 * pr->b + j] += Gb[6 * r + j] * mu[r];
+          c += Gb[6 * r + j] * D->tw[6 * pr->b + j];
+          D->gl[6 * pr->b + j] += Gb[6 * r + j] * lam[r];
+          D->gm[6 * pr->b + j] += Gb[6 * r + j] * mu[r];
         }
       }
-      F[d->il + r0 + r] = c;    /* velocity constraint -> lambda */
-      F[d->im + r0 + r] = g[r]; /* position constraint -> mu     */
+      F[d->il + r0 + r] = c;       /* velocity constraint -> lambda */
+      F[d->im + r0 + r] = p->g[r]; /* position constraint -> mu     */
     }
   }
 }
 
-/* The DAE residual; no allocation. */
+/* The DAE residual; no allocation. The pairs are evaluated once (dae_pair_rows) and their
+ * actuators read that evaluation. */
 int dae_residual(dae_t *d, double time, const double *y, const double *yp, double *F) {
   const phm_model *m = d->m;
+  phm_data *D = &d->data;
   int nc = m->nc;
-  dae_unpack(m, y, d->H, d->tw);
+  dae_unpack(m, y, D->H, D->tw);
   double Pd = 0, Ps = 0;
-  phm_applied(m, d->H, d->tw, y + d->ix, time, d->tref, 1.0, d->wr, NULL, &Pd, &Ps, d->pport, NULL);
   dae_pair_rows(d, time, y, yp, F);
+  phm_applied_pairs(m, D->pair, D->H, D->tw, y + d->ix, time, d->tref, 1.0, D->wr, NULL, &Pd, &Ps,
+                    D->pport, NULL);
   for (int c = 0; c < nc; c++) {
     const double *yc = y + PHM_NSTATE * c, *ypc = yp + PHM_NSTATE * c;
     double *Fc = F + PHM_NSTATE * c;
-    const double *q = yc, *t = yc + 7, *Hc = d->H + 16 * c, *gm = d->gm + 6 * c;
+    const double *q = yc, *t = yc + 7, *Hc = D->H + 16 * c, *gm = D->gm + 6 * c;
     double w[3] = {t[0] + gm[0], t[1] + gm[1], t[2] + gm[2]};
     double v[3] = {t[3] + gm[3], t[4] + gm[4], t[5] + gm[5]};
     /* q' = 1/2 q (x) (0, w) */
@@ -89,30 +97,81 @@ int dae_residual(dae_t *d, double time, const double *y, const double *yp, doubl
     phm_mv6(d->m->car[c].M, t, Mt);
     phm_ad_dual_apply(t, Mt, adm);
     phm_mv6(d->m->car[c].M, ypc + 7, Mtd);
-    for (int i = 0; i < 6; i++) Fc[7 + i] = Mtd[i] - adm[i] - d->wr[6 * c + i] - d->gl[6 * c + i];
-    for (int i = 0; i < 6; i++) Ps += d->gl[6 * c + i] * t[i]; /* power of constraint wrenches */
+    for (int i = 0; i < 6; i++) Fc[7 + i] = Mtd[i] - adm[i] - D->wr[6 * c + i] - D->gl[6 * c + i];
+    for (int i = 0; i < 6; i++) Ps += D->gl[6 * c + i] * t[i]; /* power of constraint wrenches */
   }
   F[d->ie] = yp[d->ie] - Pd;
   F[d->ie + 1] = yp[d->ie + 1] - Ps;
-  for (int k = 0; k < m->nport; k++) F[d->ie + 2 + k] = yp[d->ie + 2 + k] - d->pport[k];
+  for (int k = 0; k < m->nport; k++) F[d->ie + 2 + k] = yp[d->ie + 2 + k] - D->pport[k];
   return 0;
 }
 
 void dae_free(dae_t *d) {
-  free(d->H);
-  free(d->tw);
-  free(d->wr);
-  free(d->gl);
-  free(d->gm);
-  free(d->pport);
-  free(d->eff);
-  free(d->colptr);
-  free(d->rowind);
-  free(d->color);
-  free(d->ytmp);
-  free(d->yptmp);
-  free(d->rtmp);
-  free(d->r0);
+  phm_data *D = &d->data;
+  dae_ic_work *w = &D->ic;
+  void *bufs[] = {D->H, D->tw, D->pair, D->wr, D->gl, D->gm, D->pport, D->eff, D->ytmp, D->yptmp,
+                  D->rtmp, D->inc, w->cmap, w->clist, w->H, w->tw, w->qprev, w->Lc, w->acc, w->G,
+                  w->X, w->A, w->b, w->g, w->vt, w->c1, w->lam, w->Hp, w->res, d->colptr,
+                  d->rowind, d->color};
+  for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) free(bufs[i]);
+  phm_lstsq_work_free(&w->ls);
+  memset(D, 0, sizeof *D);
+  d->colptr = d->rowind = NULL;
+  d->color = NULL;
+}
+
+/* The consistent initial values' scratch (dae_consistent_ic): its systems are least-squares
+ * problems in the columns of the constrained carriers only (G vanishes elsewhere). */
+static phm_status ic_alloc(dae_t *d, phm_error *err) {
+  const phm_model *m = d->m;
+  dae_ic_work *w = &d->data.ic;
+  size_t nc = (size_t)m->nc, nk = (size_t)m->ncons, n = (size_t)d->n;
+  w->cmap = malloc(sizeof(int) * (nc + 1));
+  w->clist = malloc(sizeof(int) * (nc + 1));
+  if (!w->cmap || !w->clist) return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+  int ncc = 0;
+  for (size_t c = 0; c < nc; c++) w->cmap[c] = -1;
+  for (int ip = 0; ip < m->np; ip++) {
+    int ab[2] = {m->pair[ip].a, m->pair[ip].b};
+    for (int s = 0; s < 2; s++)
+      if (ab[s] >= 0 && w->cmap[ab[s]] < 0) {
+        w->cmap[ab[s]] = ncc;
+        w->clist[ncc++] = ab[s];
+      }
+  }
+  if (nk == 0) ncc = 0;
+  w->ncc = ncc;
+  /* the inertias are constant: whether the KKT path is ever taken is known now */
+  w->kkt = 0;
+  for (int k = 0; k < ncc; k++) {
+    double L[36];
+    if (phm_chol6(m->car[w->clist[k]].M, 0.0, 1e-10, L)) w->kkt = 1;
+  }
+  size_t n6c = 6 * (size_t)ncc, Nk = n6c + nk, na = nk * n6c;
+  if (nk * nk > na) na = nk * nk;
+  if (w->kkt && Nk * Nk > na) na = Nk * Nk;
+  w->H = malloc(sizeof(double) * 16 * nc);
+  w->tw = malloc(sizeof(double) * 6 * nc);
+  w->qprev = malloc(sizeof(double) * n);
+  w->Lc = malloc(sizeof(double) * 36 * nc);
+  w->acc = malloc(sizeof(double) * 6 * nc);
+  w->G = malloc(sizeof(double) * (nk * n6c + 1));
+  w->X = malloc(sizeof(double) * (nk * n6c + 1));
+  w->A = malloc(sizeof(double) * (na + 1));
+  w->b = malloc(sizeof(double) * (Nk + 1));
+  w->g = malloc(sizeof(double) * (nk + 1));
+  w->vt = malloc(sizeof(double) * (nk + 1));
+  w->c1 = malloc(sizeof(double) * (2 * nk + 1));
+  w->lam = malloc(sizeof(double) * (nk + 1));
+  w->Hp = malloc(sizeof(double) * 16 * nc);
+  w->res = malloc(sizeof(double) * n);
+  if (!w->H || !w->tw || !w->qprev || !w->Lc || !w->acc || !w->G || !w->X || !w->A || !w->b ||
+      !w->g || !w->vt || !w->c1 || !w->lam || !w->Hp || !w->res)
+    return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+  /* the systems: positions and velocities (nk x n6c), Schur complement (nk x nk), a free
+   * carrier's own inertia (6 x 6), the KKT system (Nk x Nk) */
+  int shapes[] = {(int)nk, (int)n6c, (int)nk, (int)nk, 6, 6, (int)Nk, (int)Nk};
+  return phm_lstsq_work_alloc(&w->ls, w->kkt ? 4 : 3, shapes, err);
 }
 
 phm_status dae_init(dae_t *d, const phm_model *m, phm_error *err) {
@@ -123,19 +182,28 @@ phm_status dae_init(dae_t *d, const phm_model *m, phm_error *err) {
   d->il = d->ie + 2 + m->nport;
   d->im = d->il + m->ncons;
   d->n = d->im + m->ncons;
-  size_t nc = (size_t)m->nc;
-  d->H = malloc(sizeof(double) * 16 * nc);
-  d->tw = malloc(sizeof(double) * 6 * nc);
-  d->wr = malloc(sizeof(double) * 6 * nc);
-  d->gl = malloc(sizeof(double) * 6 * nc);
-  d->gm = malloc(sizeof(double) * 6 * nc);
-  d->pport = malloc(sizeof(double) * (size_t)(m->nport + 1));
-  d->eff = malloc(sizeof(double) * (size_t)(m->nj + 1));
-  if (!d->H || !d->tw || !d->wr || !d->gl || !d->gm || !d->pport || !d->eff) {
-    dae_free(d);
-    return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
-  }
-  return PHM_OK;
+  phm_data *D = &d->data;
+  size_t nc = (size_t)m->nc, n = (size_t)d->n;
+  D->H = malloc(sizeof(double) * 16 * nc);
+  D->tw = malloc(sizeof(double) * 6 * nc);
+  D->pair = malloc(sizeof(phm_pair_data) * (size_t)(m->np + 1));
+  D->wr = malloc(sizeof(double) * 6 * nc);
+  D->gl = malloc(sizeof(double) * 6 * nc);
+  D->gm = malloc(sizeof(double) * 6 * nc);
+  D->pport = malloc(sizeof(double) * (size_t)(m->nport + 1));
+  D->eff = malloc(sizeof(double) * (size_t)(m->nj + 1));
+  D->ytmp = malloc(sizeof(double) * n);
+  D->yptmp = malloc(sizeof(double) * n);
+  D->rtmp = malloc(sizeof(double) * n);
+  D->inc = malloc(sizeof(double) * n);
+  phm_status st = PHM_OK;
+  if (!D->H || !D->tw || !D->pair || !D->wr || !D->gl || !D->gm || !D->pport || !D->eff ||
+      !D->ytmp || !D->yptmp || !D->rtmp || !D->inc)
+    st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+  else
+    st = ic_alloc(d, err);
+  if (st) dae_free(d);
+  return st;
 }
 
 /* Absolute tolerance of state i (IDA's error weights; the generalized-alpha's Newton test).

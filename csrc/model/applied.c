@@ -76,6 +76,13 @@ void phm_spring_eval(const phm_spring_desc *sp, const double *H, const double *t
 void phm_applied(const phm_model *m, const double *H, const double *tw, const double *xs,
                  double time, double tref, double scale, double *wr, double *Vel, double *Pdiss,
                  double *Psupp, double *Pport, double *effort) {
+  phm_applied_pairs(m, NULL, H, tw, xs, time, tref, scale, wr, Vel, Pdiss, Psupp, Pport, effort);
+}
+
+void phm_applied_pairs(const phm_model *m, const phm_pair_data *pd, const double *H,
+                       const double *tw, const double *xs, double time, double tref, double scale,
+                       double *wr, double *Vel, double *Pdiss, double *Psupp, double *Pport,
+                       double *effort) {
   memset(wr, 0, sizeof(double) * 6 * (size_t)m->nc);
   if (effort && m->nj) memset(effort, 0, sizeof(double) * (size_t)m->nj);
   double V = 0, Pd = 0, Ps = 0;
@@ -114,17 +121,15 @@ void phm_applied(const phm_model *m, const double *H, const double *tw, const do
     const phm_actuator_desc *ac = &m->act[ia];
     int ip = ac->pair, k = m->pair_k[ip], j0 = m->pair_j[ip];
     const phm_pair_desc *pr = &m->pair[ip];
-    const double *Ha = pr->a >= 0 ? H + 16 * pr->a : NULL, *Hb = pr->b >= 0 ? H + 16 * pr->b : NULL;
-    const double *ta = (tw && pr->a >= 0) ? tw + 6 * pr->a : NULL, *tb = (tw && pr->b >= 0) ? tw + 6 * pr->b : NULL;
-    double h[16], Phi[36], AdTbi[36], AdBa[36], tr[6], x[6], xd[6] = {0}, u[6] = {0}, s = 0, ds = 0;
-    phm_pair_frames(m, ip, Ha, Hb, h, AdTbi, AdBa);
-    phm_pair_kin(pr->type, pr->pitch, h, xs ? xs + j0 : m->xref0 + j0, NULL, NULL, Phi, x);
-    phm_pair_rel_twist(AdTbi, AdBa, ta, tb, tr);
-    for (int c = 0; c < k; c++) {
-      double acc = 0;
-      for (int i = 0; i < 6; i++) acc += Phi[6 * i + c] * tr[i];
-      xd[c] = acc;
+    phm_pair_data own;
+    if (!pd) { /* evaluated here: frames, joint coordinates and rates (no constraint rows) */
+      phm_pair_evaluate(m, ip, pr->a >= 0 ? H + 16 * pr->a : NULL, pr->b >= 0 ? H + 16 * pr->b : NULL,
+                        (tw && pr->a >= 0) ? tw + 6 * pr->a : NULL, (tw && pr->b >= 0) ? tw + 6 * pr->b : NULL,
+                        xs ? xs + j0 : NULL, time, tref, 0, &own);
     }
+    const phm_pair_data *p = pd ? pd + ip : &own;
+    const double *Phi = p->Phi, *x = p->x, *xd = p->xdot, *AdTbi = m->pair_AdTbi + 36 * ip;
+    double u[6] = {0}, s = 0, ds = 0;
     if (ac->kind != PHM_ACT_SPRING) s = phm_law_eval(&ac->law, time, tref, &ds, NULL);
     for (int c = 0; c < k; c++) {
       if (ac->kind == PHM_ACT_EFFORT) u[c] = scale * s * ac->vec[c];
@@ -139,12 +144,12 @@ void phm_applied(const phm_model *m, const double *H, const double *tw, const do
       for (int c = 0; c < k; c++) acc += Phi[6 * i + c] * u[c];
       wB[i] = acc;
     }
-    if (Hb) {
+    if (pr->b >= 0) {
       phm_mtv6(AdTbi, wB, wv);
       for (int i = 0; i < 6; i++) wr[6 * pr->b + i] += wv[i];
     }
     if (pr->a >= 0) {
-      phm_mtv6(AdBa, wB, wv);
+      phm_mtv6(p->AdBa, wB, wv);
       for (int i = 0; i < 6; i++) wr[6 * pr->a + i] -= wv[i];
     }
     double P = phm_dot(u, xd, k);

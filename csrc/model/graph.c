@@ -1,52 +1,65 @@
-/* graph.c -- the carrier coupling graph (which carriers share an element, pair, spring or load)
- * and its distance-2 colouring: the structure behind every coloured finite-difference Jacobian
- * (modes, statics). */
+/* graph.c -- the coupling graph of the carriers (which share an element, pair, spring or load)
+ * and of the pairs (each coupled to its carriers), and its distance-2 colouring: the structure
+ * behind every coloured finite-difference Jacobian (the DAE's, csrc/dae/jacobian.c, on carriers
+ * and pairs; modes and statics, csrc/solve/linearize.c, on the carriers). */
 #include "model.h"
 
 #include <stdlib.h>
 
 #include "phm_check.h"
 
-phm_status phm_carrier_graph(const phm_model *m, int **ptr_out, int **nbr_out, phm_error *err) {
-  int nc = m->nc, ned = m->ne + m->np + m->nl + m->ns;
+phm_status phm_carrier_graph(const phm_model *m, int pairs, int **ptr_out, int **nbr_out,
+                             phm_error *err) {
+  int nc = m->nc, nv = nc + (pairs ? m->np : 0), ned = m->ne + m->np + m->nl + m->ns;
+  if (pairs) ned += 2 * m->np;
+  /* the edges in the order of the components; a pair's vertex meets its carriers after all
+   * carrier-carrier edges */
   int *ea = malloc(sizeof(int) * (size_t)(ned + 1)), *eb = malloc(sizeof(int) * (size_t)(ned + 1));
-  int *ptr = calloc((size_t)nc + 1, sizeof(int)), *nbr = NULL, *fill = NULL;
+  int *ptr = calloc((size_t)nv + 1, sizeof(int)), *nbr = NULL, *seen = NULL;
   if (!ea || !eb || !ptr) goto oom;
   int k = 0;
   for (int i = 0; i < m->ne; i++) { ea[k] = m->el[i].a; eb[k++] = m->el[i].b; }
   for (int i = 0; i < m->np; i++) { ea[k] = m->pair[i].a; eb[k++] = m->pair[i].b; }
   for (int i = 0; i < m->nl; i++) { ea[k] = m->load[i].carrier; eb[k++] = m->load[i].reaction; }
   for (int i = 0; i < m->ns; i++) { ea[k] = m->spr[i].a; eb[k++] = m->spr[i].b; }
-  for (int c = 0; c < nc; c++) ptr[c + 1] = 1;
+  if (pairs)
+    for (int i = 0; i < m->np; i++) {
+      ea[k] = nc + i; eb[k++] = m->pair[i].a;
+      ea[k] = nc + i; eb[k++] = m->pair[i].b;
+    }
+  /* every vertex itself first, then both directions of each edge in order (with repeats) */
+  for (int v = 0; v < nv; v++) ptr[v + 1] = 1;
   for (int e = 0; e < k; e++)
     if (ea[e] >= 0 && eb[e] >= 0 && ea[e] != eb[e]) { ptr[ea[e] + 1]++; ptr[eb[e] + 1]++; }
-  for (int c = 0; c < nc; c++) ptr[c + 1] += ptr[c];
-  nbr = malloc(sizeof(int) * (size_t)(ptr[nc] + 1));
-  fill = malloc(sizeof(int) * (size_t)(nc + 1));
-  if (!nbr || !fill) goto oom;
-  for (int c = 0; c < nc; c++) { nbr[ptr[c]] = c; fill[c] = ptr[c] + 1; }
+  for (int v = 0; v < nv; v++) ptr[v + 1] += ptr[v];
+  nbr = malloc(sizeof(int) * (size_t)(ptr[nv] + 1));
+  seen = malloc(sizeof(int) * (size_t)(nv + 1));
+  if (!nbr || !seen) goto oom;
+  for (int v = 0; v < nv; v++) { nbr[ptr[v]] = v; seen[v] = ptr[v] + 1; } /* seen: fill point */
   for (int e = 0; e < k; e++)
     if (ea[e] >= 0 && eb[e] >= 0 && ea[e] != eb[e]) {
-      int a = ea[e], b = eb[e], dup = 0;
-      for (int q = ptr[a]; q < fill[a]; q++) dup |= nbr[q] == b;
-      if (dup) continue;
-      nbr[fill[a]++] = b;
-      nbr[fill[b]++] = a;
+      nbr[seen[ea[e]]++] = eb[e];
+      nbr[seen[eb[e]]++] = ea[e];
     }
-  /* compact away duplicate slots */
-  int w = 0;
-  for (int c = 0; c < nc; c++) {
-    int s0 = ptr[c], s1 = fill[c];
-    ptr[c] = w;
-    for (int q = s0; q < s1; q++) nbr[w++] = nbr[q];
+  /* drop the repeats, keeping each neighbour's first place (seen[u] = v: u already listed by v) */
+  for (int v = 0; v < nv; v++) seen[v] = -1;
+  int wpos = 0;
+  for (int v = 0; v < nv; v++) {
+    int s0 = ptr[v], s1 = ptr[v + 1];
+    ptr[v] = wpos;
+    for (int q = s0; q < s1; q++)
+      if (seen[nbr[q]] != v) {
+        seen[nbr[q]] = v;
+        nbr[wpos++] = nbr[q];
+      }
   }
-  ptr[nc] = w;
-  free(ea); free(eb); free(fill);
+  ptr[nv] = wpos;
+  free(ea); free(eb); free(seen);
   *ptr_out = ptr;
   *nbr_out = nbr;
   return PHM_OK;
 oom:
-  free(ea); free(eb); free(ptr); free(nbr); free(fill);
+  free(ea); free(eb); free(ptr); free(nbr); free(seen);
   return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
 }
 

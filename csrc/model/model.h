@@ -1,6 +1,7 @@
 /* model.h -- the immutable model (struct phm_model) and the kernels every later stage reads:
  * pairs (csrc/model/pair.c), the se3 beam element (element.c), applied wrenches (applied.c),
- * energy (energy.c), the carrier coupling graph (graph.c). Private to csrc/ and the C tests. */
+ * energy (energy.c), the coupling graph of carriers and pairs (graph.c). Private to csrc/ and the
+ * C tests. */
 #ifndef PHM_MODEL_H
 #define PHM_MODEL_H
 
@@ -52,6 +53,34 @@ void phm_pair_frames(const phm_model *m, int ip, const double *Ha, const double 
 void phm_pair_rel_twist(const double AdTbi[36], const double AdBa[36], const double *ta,
                         const double *tb, double tr[6]);
 
+/* What one evaluation of pair ip at one state yields (phm_pair_evaluate): its frames, its kept
+ * constraint rows and its joint coordinates. The DAE keeps one per pair in its per-evaluation
+ * data (phm_data in csrc/dae/dae.h), filled once per residual and read by the pair rows, the
+ * actuators (phm_applied_pairs) and the outputs, which otherwise would each recompute the frames
+ * and kinematics. */
+typedef struct {
+  double h[16];                  /* relative pose F_a^-1 F_b                                     */
+  double AdBa[36];               /* Ad_{F_b^-1 H_a}: t_rel = AdTbi t_b - AdBa t_a, with AdTbi =
+                                  * Ad_{Tb^-1} of the model (pair_AdTbi)                         */
+  double g[PHM_MAXCON];          /* position constraints (m kept rows)                            */
+  double Ga[6 * PHM_MAXCON], Gb[6 * PHM_MAXCON]; /* velocity blocks (m x 6, row-major)            */
+  double vt[PHM_MAXCON];         /* prescribed rates of the velocity constraints                  */
+  double W[36];                  /* constraint-wrench basis (6 x 6 row-major, first m columns);
+                                  * a driven pair's at its prescribed pose: driven pairs are fixed
+                                  * ones, whose basis is the identity at any pose                */
+  double Phi[36];                /* dual effort basis (6 x 6 row-major, first k columns)          */
+  double x[6], xdot[6];          /* joint coordinates and rates (first k)                         */
+} phm_pair_data;
+
+/* Evaluate pair ip at carrier poses Ha, Hb (NULL = ground) and twists ta, tb (NULL = at rest) into
+ * *pd: frames, joint coordinates x (nearest the branch references xref, k values; NULL: the
+ * model's x0) and rates, and with rows != 0 its constraint rows at (time, tref) too (g, Ga, Gb,
+ * vt, W; the same numbers as phm_pair_eval). The kinematics of the pair type is evaluated once
+ * for both (twice for a driven pair with joint coordinates: g at the prescribed pose, x at h). */
+void phm_pair_evaluate(const phm_model *m, int ip, const double *Ha, const double *Hb,
+                       const double *ta, const double *tb, const double *xref, double time,
+                       double tref, int rows, phm_pair_data *pd);
+
 /* Pair ip: position constraint g (m), velocity blocks Ga, Gb (m x 6, row-major) such that the
  * velocity constraint is Ga ta + Gb tb = vt (m). Ha or Hb NULL = ground (identity). xref: branch
  * reference of this pair's joint coordinates (k values; NULL: the model's x0). */
@@ -62,9 +91,10 @@ void phm_pair_eval(const phm_model *m, int ip, const double *Ha, const double *H
 void phm_pair_joint(const phm_model *m, int ip, const double *Ha, const double *Hb,
                     const double *ta, const double *tb, const double *xref, double *x,
                     double *xdot);
-/* Constraint wrench W^C lambda (6, frame F_b) of pair ip for its multipliers lam (m). */
-void phm_pair_wrench(const phm_model *m, int ip, const double *Ha, const double *Hb,
-                     const double *xref, const double *lam, double w[6]);
+/* Constraint wrench W^C lambda (6, frame F_b) of pair ip for its multipliers lam (m), from its
+ * evaluation pd (phm_pair_evaluate with rows). */
+void phm_pair_wrench(const phm_model *m, int ip, const phm_pair_data *pd, const double *lam,
+                     double w[6]);
 /* Pair constraints g (ncons), their Jacobian G (ncons x n, row-major; carrier c's 6 columns at
  * 6 cmap[c], or 6 c when cmap is NULL) and prescribed rates vt; any output may be NULL. */
 void phm_constraints_columns(const phm_model *m, const double *H, const double *xs, double time,
@@ -94,16 +124,29 @@ void phm_element_eval(const phm_element_desc *e, const double Ha[16], const doub
 void phm_applied(const phm_model *m, const double *H, const double *tw, const double *xs,
                  double time, double tref, double scale, double *wr, double *Vel, double *Pdiss,
                  double *Psupp, double *Pport, double *effort);
+/* The same with every pair already evaluated at H, tw, xs (pd: np results of phm_pair_evaluate):
+ * the actuators read their pair's frames, joint coordinates and rates from pd. pd NULL:
+ * phm_applied, which evaluates the actuated pairs itself. */
+void phm_applied_pairs(const phm_model *m, const phm_pair_data *pd, const double *H,
+                       const double *tw, const double *xs, double time, double tref, double scale,
+                       double *wr, double *Vel, double *Pdiss, double *Psupp, double *Pport,
+                       double *effort);
 /* Point-to-point spring-damper: adds its wrenches to wr (may be NULL), elastic energy *V and
  * damping power *Pd (>= 0; either may be NULL). tw NULL: at rest. */
 void phm_spring_eval(const phm_spring_desc *sp, const double *H, const double *tw, double *wr,
                      double *V, double *Pd);
 
 /* ---------------------------------------------------------------- coupling graph (graph.c) */
-/* Carrier coupling graph (CSR, self included): carriers that share an element, pair, spring or
- * load; a perturbation of carrier c changes only the forces of its neighbours. Allocates
- * *ptr_out (nc + 1) and *nbr_out. */
-phm_status phm_carrier_graph(const phm_model *m, int **ptr_out, int **nbr_out, phm_error *err);
+/* The coupling graph (CSR) of the model's carriers and, with pairs != 0, of its pairs too:
+ * vertices 0..nc-1 are the carriers, nc + ip pair ip. Two carriers are neighbours when they share
+ * an element, pair, spring or load (a perturbation of carrier c changes only the forces of its
+ * neighbours); a pair is the neighbour of its carriers (its multipliers and joint coordinates
+ * couple to their states only). Every vertex lists itself first, then its neighbours once each,
+ * in the order of the components that couple them (elements, pairs, loads, springs, then pair
+ * vertices). Time and memory linear in the number of components. Allocates *ptr_out (vertices
+ * + 1) and *nbr_out. */
+phm_status phm_carrier_graph(const phm_model *m, int pairs, int **ptr_out, int **nbr_out,
+                             phm_error *err);
 /* Greedy distance-2 colouring of a CSR graph: vertices of one colour share no neighbour. col (n)
  * gets the colours, mark (n) is scratch; returns the number of colours. */
 int phm_graph_colours(int n, const int *ptr, const int *nbr, int *col, int *mark);

@@ -185,26 +185,29 @@ static void select_rows(const phm_model *m, int ip, double *g, double W[36]) {
   }
 }
 
-static void pair_eval_rows(const phm_model *m, int ip, const double *Ha, const double *Hb,
-                           const double *xref, double time, double tref, double *g, double *Ga,
-                           double *Gb, double *vt, int all) {
+/* The constraint rows of pair ip from its frames (h; AdTbi and AdBa when Ga or Gb are asked for):
+ * g, Ga, Gb, vt (any may be NULL) of the kept rows (all rows with `all`), W their wrench basis
+ * (room for 36); Phi, x (may be NULL): the joint's effort basis and coordinates, from the same
+ * evaluation of the type's kinematics unless the pair is driven. */
+static void pair_rows(const phm_model *m, int ip, const double h[16], const double AdTbi[36],
+                      const double AdBa[36], const double *xref, double time, double tref, int all,
+                      double *g, double *Ga, double *Gb, double *vt, double W[36], double *Phi,
+                      double *x) {
   const phm_pair_desc *pr = &m->pair[ip];
   int mc = all ? pair_table[pr->type].m : m->pair_m[ip];
-  double h[16], W[36], AdTbi[36], AdBa[36];
-  if (!xref) xref = m->xref0 + m->pair_j[ip];
-  phm_pair_frames(m, ip, Ha, Hb, h, (Ga || Gb) ? AdTbi : NULL, Ga ? AdBa : NULL);
   double s = 0, ds = 0;
   if (pr->driven) s = phm_law_eval(&pr->law, time, tref, &ds, NULL);
   double gf[6];
   if (pr->driven && g) {
-    double x[6], r[16], ri[16], E[16];
-    for (int i = 0; i < 6; i++) x[i] = s * pr->axis[i];
-    phm_se3_exp(x, r);
+    double xv[6], r[16], ri[16], E[16];
+    for (int i = 0; i < 6; i++) xv[i] = s * pr->axis[i];
+    phm_se3_exp(xv, r);
     phm_se3_inverse(r, ri);
     phm_se3_compose(ri, h, E);
     phm_pair_kin(pr->type, pr->pitch, E, xref, gf, W, NULL, NULL);
+    if (Phi || x) phm_pair_kin(pr->type, pr->pitch, h, xref, NULL, NULL, Phi, x);
   } else {
-    phm_pair_kin(pr->type, pr->pitch, h, xref, gf, W, NULL, NULL);
+    phm_pair_kin(pr->type, pr->pitch, h, xref, gf, W, Phi, x);
   }
   if (!all) select_rows(m, ip, gf, W);
   if (g) memcpy(g, gf, sizeof(double) * (size_t)mc);
@@ -229,23 +232,48 @@ static void pair_eval_rows(const phm_model *m, int ip, const double *Ha, const d
   }
 }
 
+static void pair_eval_rows(const phm_model *m, int ip, const double *Ha, const double *Hb,
+                           const double *xref, double time, double tref, double *g, double *Ga,
+                           double *Gb, double *vt, int all) {
+  double h[16], W[36], AdTbi[36], AdBa[36];
+  if (!xref) xref = m->xref0 + m->pair_j[ip];
+  phm_pair_frames(m, ip, Ha, Hb, h, (Ga || Gb) ? AdTbi : NULL, Ga ? AdBa : NULL);
+  pair_rows(m, ip, h, AdTbi, AdBa, xref, time, tref, all, g, Ga, Gb, vt, W, NULL, NULL);
+}
+
 void phm_pair_eval(const phm_model *m, int ip, const double *Ha, const double *Hb,
                    const double *xref, double time, double tref, double *g, double *Ga,
                    double *Gb, double *vt) {
   pair_eval_rows(m, ip, Ha, Hb, xref, time, tref, g, Ga, Gb, vt, 0);
 }
 
-void phm_pair_wrench(const phm_model *m, int ip, const double *Ha, const double *Hb,
-                     const double *xref, const double *lam, double w[6]) {
+void phm_pair_evaluate(const phm_model *m, int ip, const double *Ha, const double *Hb,
+                       const double *ta, const double *tb, const double *xref, double time,
+                       double tref, int rows, phm_pair_data *pd) {
   const phm_pair_desc *pr = &m->pair[ip];
-  double h[16], W[36];
+  const double *AdTbi = m->pair_AdTbi + 36 * ip;
+  double tr[6];
   if (!xref) xref = m->xref0 + m->pair_j[ip];
-  phm_pair_frames(m, ip, Ha, Hb, h, NULL, NULL);
-  phm_pair_kin(pr->type, pr->pitch, h, xref, NULL, W, NULL, NULL); /* driven: fixed, W = I */
-  select_rows(m, ip, NULL, W);
+  phm_pair_frames(m, ip, Ha, Hb, pd->h, NULL, pd->AdBa);
+  if (rows)
+    pair_rows(m, ip, pd->h, AdTbi, pd->AdBa, xref, time, tref, 0, pd->g, pd->Ga, pd->Gb, pd->vt,
+              pd->W, pd->Phi, pd->x);
+  else
+    phm_pair_kin(pr->type, pr->pitch, pd->h, xref, NULL, NULL, pd->Phi, pd->x);
+  /* xdot = Phi^T t_rel */
+  phm_pair_rel_twist(AdTbi, pd->AdBa, ta, tb, tr);
+  for (int c = 0; c < m->pair_k[ip]; c++) {
+    double acc = 0;
+    for (int i = 0; i < 6; i++) acc += pd->Phi[6 * i + c] * tr[i];
+    pd->xdot[c] = acc;
+  }
+}
+
+void phm_pair_wrench(const phm_model *m, int ip, const phm_pair_data *pd, const double *lam,
+                     double w[6]) {
   for (int i = 0; i < 6; i++) {
     double acc = 0;
-    for (int r = 0; r < m->pair_m[ip]; r++) acc += W[6 * i + r] * lam[r];
+    for (int r = 0; r < m->pair_m[ip]; r++) acc += pd->W[6 * i + r] * lam[r];
     w[i] = acc;
   }
 }
@@ -253,20 +281,10 @@ void phm_pair_wrench(const phm_model *m, int ip, const double *Ha, const double 
 void phm_pair_joint(const phm_model *m, int ip, const double *Ha, const double *Hb,
                     const double *ta, const double *tb, const double *xref, double *x,
                     double *xdot) {
-  const phm_pair_desc *pr = &m->pair[ip];
-  int k = m->pair_k[ip];
-  double h[16], Phi[36], AdTbi[36], AdBa[36], tr[6];
-  if (!xref) xref = m->xref0 + m->pair_j[ip];
-  phm_pair_frames(m, ip, Ha, Hb, h, AdTbi, AdBa);
-  phm_pair_kin(pr->type, pr->pitch, h, xref, NULL, NULL, Phi, x);
-  if (xdot) {
-    phm_pair_rel_twist(AdTbi, AdBa, ta, tb, tr);
-    for (int c = 0; c < k; c++) {
-      double acc = 0;
-      for (int i = 0; i < 6; i++) acc += Phi[6 * i + c] * tr[i];
-      xdot[c] = acc;
-    }
-  }
+  phm_pair_data pd;
+  phm_pair_evaluate(m, ip, Ha, Hb, ta, tb, xref, 0.0, 0.0, 0, &pd);
+  memcpy(x, pd.x, sizeof(double) * (size_t)m->pair_k[ip]);
+  if (xdot) memcpy(xdot, pd.xdot, sizeof(double) * (size_t)m->pair_k[ip]);
 }
 
 void phm_constraints_columns(const phm_model *m, const double *H, const double *xs, double time,

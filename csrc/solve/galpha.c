@@ -58,7 +58,7 @@ static void galpha_stage(const dae_t *d, galpha_t *g, double h) {
 static void galpha_residual(dae_t *d, galpha_t *g, double t0, double h) {
   double *Ra = N_VGetArrayPointer(g->Ra), *R = N_VGetArrayPointer(g->R);
   dae_residual(d, t0 + stage_af(g) * h, N_VGetArrayPointer(g->ya), N_VGetArrayPointer(g->ypa), Ra);
-  dae_unpack(d->m, N_VGetArrayPointer(g->Y), d->H, d->tw);
+  dae_unpack(d->m, N_VGetArrayPointer(g->Y), d->data.H, d->data.tw);
   dae_pair_rows(d, t0 + h, N_VGetArrayPointer(g->Y), N_VGetArrayPointer(g->Yp), R);
   memcpy(R, Ra, sizeof(double) * (size_t)d->il); /* incl. the joint-rate rows dae_pair_rows wrote */
 }
@@ -117,9 +117,8 @@ static double galpha_error(const dae_t *d, const galpha_t *g, double h, double h
 }
 
 phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vector yy,
-                             N_Vector yp, const double *tout, int nout, double *H, double *tw,
-                             double *qprev, double E0[1], double nbp, phm_sim_output *out,
-                             phm_error *err) {
+                      N_Vector yp, const double *tout, int nout, double E0[1], double nbp,
+                      phm_sim_output *out, phm_error *err) {
   int n = d->n;
   phm_status st = PHM_OK;
   double rho = opt->rho_inf;
@@ -163,7 +162,6 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
     }
     N_VConst(0.0, *vs[k]); /* N_VNew leaves the data uninitialized */
   }
-  if ((st = dae_jacobian_pattern(d, err))) goto done;
   Js = SUNSparseMatrix(n, n, d->nnz, CSC_MAT, ctx);
   A = opt->linear_solver == 1 ? Js : SUNDenseMatrix(n, n, ctx);
   if (!Js || !A) {
@@ -200,7 +198,7 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
      * before this rule), and the first step after it fails. */
     double bptol = 1e-9 * h0;
     if (isfinite(nbp) && t >= nbp - bptol) {
-      if ((st = dae_restart_at_breakpoint(d, t, fmax(t, nbp), &nbp, y0, yp0, H, tw, qprev, err))) goto done;
+      if ((st = dae_restart_at_breakpoint(d, t, fmax(t, nbp), &nbp, y0, yp0, err))) goto done;
       hjac = hq = hqq = 0;
       restart = 1;
     }

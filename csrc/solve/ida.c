@@ -64,8 +64,8 @@ static void add_stats(void *mem, phm_sim_output *out, int use_klu) {
 }
 
 phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vector yy, N_Vector yp,
-                   const double *tout, int nout, double *H, double *tw, double *qprev,
-                   double E0[1], double nbp, phm_sim_output *out, phm_error *err) {
+                   const double *tout, int nout, double E0[1], double nbp, phm_sim_output *out,
+                   phm_error *err) {
   phm_status st = PHM_OK;
   N_Vector id = NULL;
   SUNMatrix A = NULL;
@@ -120,7 +120,6 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
   if (opt->max_step > 0) IDACHK(IDASetMaxStep(mem, opt->max_step));
   if (opt->max_order > 0) IDACHK(IDASetMaxOrd(mem, opt->max_order < 5 ? opt->max_order : 5));
   if (opt->linear_solver == 1) {
-    if ((st = dae_jacobian_pattern(d, err))) goto done;
     A = SUNSparseMatrix(d->n, d->n, d->nnz, CSC_MAT, ctx);
     if (!A) {
       st = PHM_FAIL(err, PHM_ENOMEM, "out of memory (sparse matrix)");
@@ -171,7 +170,7 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
       if (flag == IDA_TSTOP_RETURN) {
         /* breakpoint: new piece of the laws, re-initialize from consistent values */
         add_stats(mem, out, opt->linear_solver);
-        if ((st = dae_restart_at_breakpoint(d, t, t, &nbp, y, ypd, H, tw, qprev, err))) goto done;
+        if ((st = dae_restart_at_breakpoint(d, t, t, &nbp, y, ypd, err))) goto done;
         IDACHK(IDAReInit(mem, t, yy, yp));
         if (t >= target) t = target;
       }

@@ -43,7 +43,7 @@ void lin_free(lin_t *L) {
 phm_status lin_colour(lin_t *L, phm_error *err) {
   const phm_model *m = L->m;
   int nc = m->nc;
-  phm_status st = phm_carrier_graph(m, &L->ptr, &L->nbr, err);
+  phm_status st = phm_carrier_graph(m, 0, &L->ptr, &L->nbr, err);
   if (st) return st;
   int *mark = malloc(sizeof(int) * (size_t)(nc + 1));
   L->col = malloc(sizeof(int) * (size_t)nc);

@@ -5,7 +5,6 @@
 #include "solve.h"
 
 #include <math.h>
-#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
@@ -50,17 +49,17 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
   out->nsteps = out->nres = out->njac = out->nniters = out->netf = out->nncf = out->nfloor = 0;
   out->err_est = 0;
   phm_status st = PHM_OK;
+  /* set-up: the DAE's data and Jacobian pattern (the integrators' coloured Jacobian: every
+   * generalized-alpha run, IDA with KLU); nothing of phmech's allocates after it */
   dae_t d;
   if ((st = dae_init(&d, m, err))) return st;
   SUNContext ctx = NULL;
   N_Vector yy = NULL, yp = NULL;
   int nc = m->nc;
-  double *H = malloc(sizeof(double) * 16 * (size_t)nc), *tw = malloc(sizeof(double) * 6 * (size_t)nc);
-  double *qprev = malloc(sizeof(double) * (size_t)d.n);
-  if (!H || !tw || !qprev) {
-    st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+  double *H = d.data.ic.H, *tw = d.data.ic.tw;
+  if ((opt->integrator == PHM_INTEGRATOR_GALPHA || opt->linear_solver == 1) &&
+      (st = dae_jacobian_pattern(&d, err)))
     goto done;
-  }
   for (int c = 0; c < nc; c++) {
     memcpy(H + 16 * c, poses0 ? poses0 + 16 * c : m->car[c].H0, 16 * sizeof(double));
     memcpy(tw + 6 * c, twists0 ? twists0 + 6 * c : m->car[c].t0, 6 * sizeof(double));
@@ -86,17 +85,14 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
   if ((st = dae_emit_output(&d, y, out, 0, &E0, t, opt, &stop, err)) || stop) goto done;
   if (nout == 1) goto done;
   if (opt->integrator == PHM_INTEGRATOR_GALPHA)
-    st = run_galpha(&d, opt, ctx, yy, yp, tout, nout, H, tw, qprev, &E0, nbp, out, err);
+    st = run_galpha(&d, opt, ctx, yy, yp, tout, nout, &E0, nbp, out, err);
   else
-    st = run_ida(&d, opt, ctx, yy, yp, tout, nout, H, tw, qprev, &E0, nbp, out, err);
+    st = run_ida(&d, opt, ctx, yy, yp, tout, nout, &E0, nbp, out, err);
 
 done:
   if (yy) N_VDestroy(yy);
   if (yp) N_VDestroy(yp);
   if (ctx) SUNContext_Free(&ctx);
-  free(H);
-  free(tw);
-  free(qprev);
   dae_free(&d);
   out->wall_time = now() - t_start;
   return st;

@@ -9,15 +9,14 @@
 
 /* ---------------------------------------------------------------- integrators */
 /* Integrate from the consistent state in yy, yp at tout[0] (output 0 already emitted; E0 its
- * energy) to tout[nout - 1], emitting outputs 1..nout-1. H, tw, qprev: scratch (nc x 16, nc x 6,
- * n); nbp: the next breakpoint of the laws. */
+ * energy) to tout[nout - 1], emitting outputs 1..nout-1. d: set up with its Jacobian pattern
+ * (dae_jacobian_pattern; IDA's dense solver needs none); nbp: the next breakpoint of the laws. */
 phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vector yy, N_Vector yp,
-                   const double *tout, int nout, double *H, double *tw, double *qprev,
-                   double E0[1], double nbp, phm_sim_output *out, phm_error *err);
+                   const double *tout, int nout, double E0[1], double nbp, phm_sim_output *out,
+                   phm_error *err);
 phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vector yy,
-                      N_Vector yp, const double *tout, int nout, double *H, double *tw,
-                      double *qprev, double E0[1], double nbp, phm_sim_output *out,
-                      phm_error *err);
+                      N_Vector yp, const double *tout, int nout, double E0[1], double nbp,
+                      phm_sim_output *out, phm_error *err);
 
 /* ---------------------------------------------------------------- linearization (linearize.c) */
 typedef struct {

@@ -49,6 +49,23 @@ void phm_chol6_solve(const double L[36], double x[6]);
  * entries and holds x on return; rank in *rank (may be NULL). Allocates: set-up code only. */
 phm_status phm_lstsq(int rows, int cols, double *A, double *b, int *rank, phm_error *err);
 
+/* The memory of LAPACK's dgelss for a set of problem shapes, allocated once so that the solves
+ * allocate nothing (the consistent initial values at every breakpoint, csrc/dae/initial.c). */
+typedef struct {
+  double *a, *s, *work; /* A transposed (column-major), singular values, dgelss's workspace */
+  size_t na, ns;        /* their sizes                                                      */
+  int lwork;            /* the largest optimal workspace of LAPACK's queries for the shapes  */
+} phm_lstsq_work;
+/* Size w for the nshape problems (rows, cols) = (shape[2 i], shape[2 i + 1]): a workspace
+ * query per shape. */
+phm_status phm_lstsq_work_alloc(phm_lstsq_work *w, int nshape, const int *shape, phm_error *err);
+void phm_lstsq_work_free(phm_lstsq_work *w);
+/* phm_lstsq in w (sized for this shape by phm_lstsq_work_alloc): no allocation. dgelss takes
+ * the same path with any workspace at least its optimal one (its blocked steps shrink the
+ * block only below that), so the numbers are phm_lstsq's. */
+phm_status phm_lstsq_in(int rows, int cols, double *A, double *b, int *rank, phm_lstsq_work *w,
+                        phm_error *err);
+
 /* LAPACK (Fortran calling convention) */
 void dgelss_(const int *m, const int *n, const int *nrhs, double *a, const int *lda, double *b,
              const int *ldb, double *s, const double *rcond, int *rank, double *work,

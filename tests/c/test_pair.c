@@ -357,7 +357,9 @@ static void drop_mask_keeps_the_other_rows_of_the_full_set(void) {
     for (int r = 0; r < kept; r++) lam[r] = rand11();
     for (int i = 0; i < 6; i++)
       for (int r = 0; r < kept; r++) wref[i] += W[6 * i + sel[r]] * lam[r];
-    phm_pair_wrench(m, 0, pr.a < 0 ? NULL : H, H + 16, NULL, lam, w);
+    phm_pair_data pd;
+    phm_pair_evaluate(m, 0, pr.a < 0 ? NULL : H, H + 16, NULL, NULL, NULL, 0.0, 1.0, 1, &pd);
+    phm_pair_wrench(m, 0, &pd, lam, w);
     snprintf(name, sizeof name, "%s, drop %#x: wrench = kept W^C columns lambda", tn, pr.drop);
     check(name, maxdiff(6, w, wref), 1e-15 * (1.0 + maxabs(6, wref)));
     phm_model_free(m);

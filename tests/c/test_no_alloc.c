@@ -1,0 +1,268 @@
+/* test_no_alloc.c -- after set-up, a simulation allocates nothing of phmech's own: the residual,
+ * the Jacobian, the outputs and the restarts at the laws' breakpoints work in the DAE's data
+ * (phm_data, csrc/dae/dae.h), allocated once by dae_init and dae_jacobian_pattern.
+ *
+ * How it counts: this executable is linked with -Wl,--wrap=malloc,--wrap=calloc,--wrap=realloc
+ * (meson.build), so every call to those functions from an object linked into it -- the test and
+ * the core's static library -- goes through the counters below. SUNDIALS, KLU and LAPACK are
+ * shared libraries whose calls the wrap does not see: IDA's and the linear solvers' set-up (after
+ * the first output: run_ida and run_galpha create them) and their internals are not phmech's and
+ * are not counted. The count is read at the first output (the progress callback, output 0: the
+ * consistent initial values are done) and after phm_simulate returns; the difference must be 0,
+ * for the generalized-alpha integrator (adaptive, and fixed step) and IDA (KLU and dense), on a
+ * model with a driven pair, a PD-actuated pair, a spring, a load with a reaction and Table laws
+ * with several breakpoints inside the run (each one a restart from consistent values). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "linalg.h"
+#include "model.h"
+
+/* ---------------------------------------------------------------- the counting wrappers */
+void *__real_malloc(size_t size);
+void *__real_calloc(size_t n, size_t size);
+void *__real_realloc(void *p, size_t size);
+void *__wrap_malloc(size_t size);
+void *__wrap_calloc(size_t n, size_t size);
+void *__wrap_realloc(void *p, size_t size);
+
+static long n_alloc = 0;
+void *__wrap_malloc(size_t size) {
+  n_alloc++;
+  return __real_malloc(size);
+}
+void *__wrap_calloc(size_t n, size_t size) {
+  n_alloc++;
+  return __real_calloc(n, size);
+}
+void *__wrap_realloc(void *p, size_t size) {
+  n_alloc++;
+  return __real_realloc(p, size);
+}
+
+static int n_pass = 0, n_fail = 0;
+static void check(const char *name, int ok) {
+  if (ok) {
+    n_pass++;
+  } else {
+    n_fail++;
+    printf("FAIL %s\n", name);
+  }
+}
+
+/* ---------------------------------------------------------------- the model */
+/* A flexible strip of NE elements along x whose root is turned about z by a driven fixed pair
+ * (a Table law), a rigid body on its tip on a revolute pair about z held by a PD actuator with a
+ * Table set point, a spring from the body to the ground, a load on a node with its reaction on
+ * the body, gravity. */
+enum { NE = 4, NC = NE + 2 };
+static const double drive_table[] = {0.0, 0.0, 0.01, 0.02, 0.02, 0.03, 0.03, 0.03, 0.04, 0.0};
+static const double setpoint_table[] = {0.0, 0.0, 0.015, 0.1, 0.035, 0.1};
+
+static int type_code(const char *name) {
+  for (int t = 0; t < phm_pair_type_count(); t++)
+    if (!strcmp(phm_pair_type(t)->name, name)) return t;
+  return -1;
+}
+
+static void translation(double H[16], double x) {
+  memset(H, 0, 16 * sizeof(double));
+  for (int i = 0; i < 4; i++) H[5 * i] = 1;
+  H[3] = x;
+}
+
+static phm_model *build(void) {
+  static phm_carrier_desc car[NC];
+  static phm_element_desc el[NE];
+  static phm_pair_desc pr[2];
+  static phm_actuator_desc act[1];
+  static phm_spring_desc spr[1];
+  static phm_load_desc ld[1];
+  double h = 0.1;
+  memset(car, 0, sizeof car);
+  for (int c = 0; c < NC; c++) {
+    double mass = c < NC - 1 ? 0.05 : 0.2, J = c < NC - 1 ? 1e-5 : 1e-4;
+    for (int i = 0; i < 3; i++) {
+      car[c].M[7 * i] = J;
+      car[c].M[7 * (i + 3)] = mass;
+    }
+    car[c].mass = mass;
+    translation(car[c].H0, h * (c < NC - 1 ? c : NE));
+  }
+  memset(el, 0, sizeof el);
+  double K[6] = {5.0, 8.0, 8.0, 2e5, 1e5, 1e5};
+  for (int e = 0; e < NE; e++) {
+    el[e].a = e;
+    el[e].b = e + 1;
+    el[e].h = h;
+    for (int i = 0; i < 6; i++) {
+      el[e].K[7 * i] = K[i] / h;
+      el[e].D[7 * i] = 1e-3 * K[i] / h;
+    }
+    el[e].eps_hat[3] = 1.0;
+  }
+  memset(pr, 0, sizeof pr);
+  for (int p = 0; p < 2; p++) {
+    translation(pr[p].Ta, 0);
+    translation(pr[p].Tb, 0);
+  }
+  pr[0].type = type_code("fixed"); /* driven: the root turned about z */
+  pr[0].a = -1;
+  pr[0].b = 0;
+  pr[0].driven = 1;
+  pr[0].axis[2] = 1.0;
+  pr[0].law.kind = PHM_LAW_TABLE;
+  pr[0].law.ntable = 5;
+  pr[0].law.table = drive_table;
+  pr[1].type = type_code("revolute"); /* about z */
+  pr[1].a = NE;
+  pr[1].b = NC - 1;
+  memset(act, 0, sizeof act);
+  act[0].pair = 1;
+  act[0].kind = PHM_ACT_PD;
+  act[0].vec[0] = 1.0;
+  act[0].kp[0] = 2.0;
+  act[0].kd[0] = 0.05;
+  act[0].law.kind = PHM_LAW_TABLE;
+  act[0].law.ntable = 3;
+  act[0].law.table = setpoint_table;
+  memset(spr, 0, sizeof spr);
+  spr[0].a = NC - 1;
+  spr[0].b = -1;
+  spr[0].pb[0] = h * NE;
+  spr[0].pb[1] = 0.05;
+  spr[0].k = 20.0;
+  spr[0].c = 0.1;
+  spr[0].d0 = 0.05;
+  memset(ld, 0, sizeof ld);
+  ld[0].carrier = 2;
+  ld[0].reaction = NC - 1;
+  ld[0].w[4] = 0.5;
+  ld[0].law.kind = PHM_LAW_CONSTANT;
+  ld[0].law.amplitude = 1.0;
+  phm_model_desc d;
+  memset(&d, 0, sizeof d);
+  d.ncarriers = NC;
+  d.carriers = car;
+  d.nelements = NE;
+  d.elements = el;
+  d.npairs = 2;
+  d.pairs = pr;
+  d.nactuators = 1;
+  d.actuators = act;
+  d.nsprings = 1;
+  d.springs = spr;
+  d.nloads = 1;
+  d.loads = ld;
+  d.gravity[2] = -9.81;
+  phm_model *m = NULL;
+  phm_error err;
+  if (phm_model_create(&d, &m, &err)) {
+    printf("model: %s\n", err.msg);
+    return NULL;
+  }
+  return m;
+}
+
+/* ---------------------------------------------------------------- one run */
+static long at_first_output = -1;
+static int first_output(void *ctx, double t, int iout) {
+  (void)ctx;
+  (void)t;
+  if (iout == 0) at_first_output = n_alloc;
+  return 0;
+}
+
+enum { NOUT = 11 };
+
+static void run(const phm_model *m, const char *name, phm_sim_options opt) {
+  int nc = phm_model_ncarriers(m), nk = phm_model_nconstraints(m), np = phm_model_npairs(m);
+  int nj = phm_model_njoints(m), nport = phm_model_nports(m);
+  double tout[NOUT];
+  for (int i = 0; i < NOUT; i++) tout[i] = 0.005 * i; /* to 0.05 s: past every breakpoint */
+  phm_sim_output out;
+  memset(&out, 0, sizeof out);
+  out.poses = malloc(sizeof(double) * NOUT * 16 * (size_t)nc);
+  out.twists = malloc(sizeof(double) * NOUT * 6 * (size_t)nc);
+  out.lambda = malloc(sizeof(double) * NOUT * (size_t)(nk + 1));
+  out.energy = malloc(sizeof(double) * NOUT * PHM_NENERGY);
+  out.joints = malloc(sizeof(double) * NOUT * (size_t)(nj + 1));
+  out.jrates = malloc(sizeof(double) * NOUT * (size_t)(nj + 1));
+  out.efforts = malloc(sizeof(double) * NOUT * (size_t)(nj + 1));
+  out.pwrench = malloc(sizeof(double) * NOUT * 6 * (size_t)np);
+  out.ports = malloc(sizeof(double) * NOUT * (size_t)(nport + 1));
+  opt.progress = first_output;
+  at_first_output = -1;
+  phm_error err;
+  long before = n_alloc;
+  phm_status st = phm_simulate(m, NULL, NULL, tout, NOUT, &opt, &out, &err);
+  long after = n_alloc;
+  char msg[200];
+  snprintf(msg, sizeof msg, "%s: runs to the end (%d outputs, %ld steps)", name, out.nout_done, out.nsteps);
+  check(msg, st == PHM_OK && out.nout_done == NOUT);
+  if (st) printf("  %s\n", err.msg);
+  snprintf(msg, sizeof msg, "%s: set-up allocates through the counted functions (%ld calls)", name,
+           at_first_output - before);
+  check(msg, at_first_output > before);
+  snprintf(msg, sizeof msg, "%s: no allocation after the first output (%ld)", name, after - at_first_output);
+  check(msg, at_first_output >= 0 && after == at_first_output);
+  printf("%-36s %5ld steps, %4ld allocations in set-up, %ld after the first output\n", name,
+         out.nsteps, at_first_output - before, after - at_first_output);
+  free(out.poses);
+  free(out.twists);
+  free(out.lambda);
+  free(out.energy);
+  free(out.joints);
+  free(out.jrates);
+  free(out.efforts);
+  free(out.pwrench);
+  free(out.ports);
+}
+
+int main(void) {
+  phm_model *m = build();
+  check("model created", m != NULL);
+  if (!m) return 1;
+  check("breakpoints inside the run (0.01 ... 0.04 s)", m->nbp >= 5 && m->bp[m->nbp - 1] < 0.05);
+  phm_sim_options base;
+  memset(&base, 0, sizeof base);
+  base.rtol = 1e-6;
+  base.atol = 1e-8;
+  base.error_test = PHM_ERRTEST_ALL;
+  base.rho_inf = 0.9;
+
+  phm_sim_options o = base; /* simulate()'s defaults (python/phmech/mechanism.py) */
+  o.integrator = PHM_INTEGRATOR_GALPHA;
+  o.adaptive = 1;
+  o.rtol = 1e-4;
+  o.atol = 1e-6;
+  o.band = 100.0; /* 1 / (2 dt_out) */
+  o.linear_solver = 1;
+  run(m, "generalized-alpha, adaptive, KLU", o);
+  o.linear_solver = 0;
+  run(m, "generalized-alpha, adaptive, dense", o);
+  o = base;
+  o.integrator = PHM_INTEGRATOR_GALPHA;
+  o.step = 2.5e-4;
+  o.rtol = 1e-8;
+  o.atol = 1e-10;
+  o.linear_solver = 1;
+  run(m, "generalized-alpha, fixed step, KLU", o);
+  o = base;
+  o.integrator = PHM_INTEGRATOR_IDA;
+  o.linear_solver = 1;
+  run(m, "IDA, KLU", o);
+  o.linear_solver = 0;
+  run(m, "IDA, dense", o);
+
+  /* the counters see the core's own calls: a least-squares solve without a workspace allocates */
+  double A[4] = {2, 0, 0, 1}, b[2] = {1, 1};
+  phm_error err;
+  long before = n_alloc;
+  phm_lstsq(2, 2, A, b, NULL, &err);
+  check("the core's allocations are counted (phm_lstsq)", n_alloc > before);
+  phm_model_free(m);
+  printf("%d passed, %d failed\n", n_pass, n_fail);
+  return n_fail != 0;
+}
