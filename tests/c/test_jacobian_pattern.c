@@ -10,17 +10,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "check.h"
 #include "dae.h"
 
-static int n_pass = 0, n_fail = 0;
-static void check(const char *name, int ok) {
-  if (ok) {
-    n_pass++;
-  } else {
-    n_fail++;
-    printf("FAIL %s\n", name);
-  }
-}
 
 /* ---------------------------------------------------------------- the reference */
 /* The pattern and colouring as csrc/dae/jacobian.c built them before the coupling graph: a dense
@@ -230,15 +222,15 @@ static void compare(const char *name, builder *b) {
   snprintf(msg, sizeof msg, "%s: model created", name);
   if (phm_model_create(&b->d, &m, &err)) {
     printf("  %s\n", err.msg);
-    check(msg, 0);
+    CHECK(0, "%s", msg);
     return;
   }
-  check(msg, 1);
+  CHECK(1, "%s", msg);
   dae_t d;
   pattern ref = {0};
   if (dae_init(&d, m, &err) || dae_jacobian_pattern(&d, &err) || reference_pattern(&d, &ref)) {
     snprintf(msg, sizeof msg, "%s: set-up", name);
-    check(msg, 0);
+    CHECK(0, "%s", msg);
     printf("  %s\n", err.msg);
     phm_model_free(m);
     return;
@@ -247,16 +239,16 @@ static void compare(const char *name, builder *b) {
   for (int j = 0; same && j <= d.n; j++) same = d.colptr[j] == ref.colptr[j];
   for (int k = 0; same && k < d.nnz; k++) same = d.rowind[k] == ref.rowind[k];
   snprintf(msg, sizeof msg, "%s: CSC pattern identical (n %d, nnz %d vs %d)", name, d.n, d.nnz, ref.nnz);
-  check(msg, same);
+  CHECK(same, "%s", msg);
   same = d.ncolor == ref.ncolor;
   for (int j = 0; same && j < d.n; j++) same = d.color[j] == ref.color[j];
   snprintf(msg, sizeof msg, "%s: colouring identical (%d vs %d colours)", name, d.ncolor, ref.ncolor);
-  check(msg, same);
+  CHECK(same, "%s", msg);
   int ascending = 1;
   for (int j = 0; j < d.n; j++)
     for (sunindextype k = d.colptr[j] + 1; k < d.colptr[j + 1]; k++) ascending &= d.rowind[k] > d.rowind[k - 1];
   snprintf(msg, sizeof msg, "%s: rows ascending in every column", name);
-  check(msg, ascending);
+  CHECK(ascending, "%s", msg);
   /* a valid colouring: no two columns of one colour share a row */
   int *owner = malloc(sizeof(int) * (size_t)d.n), valid = 1;
   for (int c = 0; c < d.ncolor && valid; c++) {
@@ -270,7 +262,7 @@ static void compare(const char *name, builder *b) {
   }
   free(owner);
   snprintf(msg, sizeof msg, "%s: columns of one colour share no row", name);
-  check(msg, valid);
+  CHECK(valid, "%s", msg);
   pattern_free(&ref);
   dae_free(&d);
   phm_model_free(m);
@@ -380,6 +372,6 @@ int main(void) {
     snprintf(name, sizeof name, "random model %d (%d carriers, %d pairs)", trial, nc, b.d.npairs);
     compare(name, &b);
   }
-  printf("%d passed, %d failed\n", n_pass, n_fail);
-  return n_fail != 0;
+  printf("%d passed, %d failed\n", check_npass, check_nfail);
+  return check_nfail != 0 || check_npass == 0;
 }

@@ -16,6 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "check.h"
 #include "linalg.h"
 #include "model.h"
 
@@ -41,15 +42,6 @@ void *__wrap_realloc(void *p, size_t size) {
   return __real_realloc(p, size);
 }
 
-static int n_pass = 0, n_fail = 0;
-static void check(const char *name, int ok) {
-  if (ok) {
-    n_pass++;
-  } else {
-    n_fail++;
-    printf("FAIL %s\n", name);
-  }
-}
 
 /* ---------------------------------------------------------------- the model */
 /* A flexible strip of NE elements along x whose root is turned about z by a driven fixed pair
@@ -200,13 +192,13 @@ static void run(const phm_model *m, const char *name, phm_sim_options opt) {
   long after = n_alloc;
   char msg[200];
   snprintf(msg, sizeof msg, "%s: runs to the end (%d outputs, %ld steps)", name, out.nout_done, out.nsteps);
-  check(msg, st == PHM_OK && out.nout_done == NOUT);
+  CHECK(st == PHM_OK && out.nout_done == NOUT, "%s", msg);
   if (st) printf("  %s\n", err.msg);
   snprintf(msg, sizeof msg, "%s: set-up allocates through the counted functions (%ld calls)", name,
            at_first_output - before);
-  check(msg, at_first_output > before);
+  CHECK(at_first_output > before, "%s", msg);
   snprintf(msg, sizeof msg, "%s: no allocation after the first output (%ld)", name, after - at_first_output);
-  check(msg, at_first_output >= 0 && after == at_first_output);
+  CHECK(at_first_output >= 0 && after == at_first_output, "%s", msg);
   printf("%-36s %5ld steps, %4ld allocations in set-up, %ld after the first output\n", name,
          out.nsteps, at_first_output - before, after - at_first_output);
   free(out.poses);
@@ -222,9 +214,9 @@ static void run(const phm_model *m, const char *name, phm_sim_options opt) {
 
 int main(void) {
   phm_model *m = build();
-  check("model created", m != NULL);
+  CHECK(m != NULL, "%s", "model created");
   if (!m) return 1;
-  check("breakpoints inside the run (0.01 ... 0.04 s)", m->nbp >= 5 && m->bp[m->nbp - 1] < 0.05);
+  CHECK(m->nbp >= 5 && m->bp[m->nbp - 1] < 0.05, "%s", "breakpoints inside the run (0.01 ... 0.04 s)");
   phm_sim_options base;
   memset(&base, 0, sizeof base);
   base.rtol = 1e-6;
@@ -261,8 +253,8 @@ int main(void) {
   phm_error err;
   long before = n_alloc;
   phm_lstsq(2, 2, A, b, NULL, &err);
-  check("the core's allocations are counted (phm_lstsq)", n_alloc > before);
+  CHECK(n_alloc > before, "%s", "the core's allocations are counted (phm_lstsq)");
   phm_model_free(m);
-  printf("%d passed, %d failed\n", n_pass, n_fail);
-  return n_fail != 0;
+  printf("%d passed, %d failed\n", check_npass, check_nfail);
+  return check_nfail != 0 || check_npass == 0;
 }
