@@ -71,3 +71,14 @@ def test_one_hour_with_flat_memory():
 def test_beck_modes_below_flutter():
     omega = S.beck_modes(10.0)
     assert omega[0] > 0 and abs(omega[0] / S.beck_simulated_frequency(10.0) - 1) < 0.02
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "measured: the steel strip pendulum (10 elements) released from 2 rad with dt_out = 0.05 s "
+    "stretches by 1.30e-4 m at the bottom of its swing, 186 times the physical 7.0e-7 m; its "
+    "elastic energy reaches 0.357 J (10 % of E0) and the ledger 1.7e-2; the stretch falls as "
+    "h^2 with the band (dt_out 0.01 s: 5.9e-6 m, 0.005 s: 2.0e-6 m, ledger 5e-6)"))
+def test_swinging_strip_does_not_stretch():
+    s = S.swinging_strip(0.05)
+    print(s)
+    assert s["stretch"] <= 10 * s["physical"]
