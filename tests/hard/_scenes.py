@@ -559,7 +559,7 @@ BECK = 20.05   #: Beck 1952, "Die Knicklast des einseitig eingespannten, tangent
 
 def beck_column(P: float, N: int):
     """Cantilever (EI = 1 about y, 10 about z: it flutters in the x-z plane) under a follower
-    compression P EI/L^2 (a body-frame wrench at its end), at its static equilibrium."""
+    compression P EI/L^2 (a body-frame wrench at its end); callers start it from static()."""
     m, b = cantilever(rod_properties(10.0, 1.0, stiff=1e5, EI_other=1.0), 1.0, N)
     m.add_wrench("follower", b.end, (0, 0, 0, -P, 0, 0), frame="body")
     return m, b
