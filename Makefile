@@ -101,11 +101,13 @@ sundials7-check: sysdeps $(STAMP)
 	PHMECH_EXPECT_SUNDIALS_MAJOR=7 PYTHONPATH=$(SUN7_DIR)/pkg $(PY) -m pytest -q -p no:cacheprovider $(SUN7_TESTS)
 
 # Long validation studies (not part of `make test`); figures land in benchmarks/results/.
+# hard_cases.py: the long versions of tests/hard (docs/validation.md), ~5 min CPU.
 validate: build
 	@mkdir -p benchmarks/results
 	$(PY) examples/timoshenko_table.py --json --plot benchmarks/results/timoshenko_convergence.png > benchmarks/results/timoshenko_table.json
 	$(PY) benchmarks/validate_energy_drift.py
 	$(PY) benchmarks/all_state_reference.py
+	$(PY) benchmarks/hard_cases.py
 
 # Work-precision benchmarks against Exudyn and MuJoCo (installed into .venv from
 # benchmarks/requirements.txt when missing); BENCH_ARGS=--quick for a short run (~4.5 min instead
