@@ -75,3 +75,73 @@ def array(name: str, value, shape: tuple, expected: str = None, finite: bool = T
     if finite and not np.all(np.isfinite(a)):
         raise ModelError(f"{name}: expected {expected}, got a non-finite value (NaN or inf)")
     return a
+
+
+def real_numbers(what: str, v) -> np.ndarray:
+    """A number or a (nested) sequence of numbers, flattened to float64; ModelError for anything
+    else (strings, None, objects)."""
+    try:
+        raw = np.asarray(v)
+    except (TypeError, ValueError):
+        raw = np.asarray(None)
+    if v is None or isinstance(v, (str, bytes)) or raw.dtype.kind not in "biuf":
+        raise ModelError(f"{what}: expected real numbers, got {v!r}")
+    return raw.astype(float).ravel()
+
+
+def choice(what: str, value, options) -> str:
+    """``value`` if it is one of the strings ``options``, else ModelError naming them."""
+    if not isinstance(value, str) or value not in options:
+        raise ModelError(f"{what} must be {' or '.join(map(repr, options))} (got {value!r})")
+    return value
+
+
+def per_coordinate(v, k: int, what: str, default: float = 1.0) -> np.ndarray:
+    """One finite value per joint coordinate, (k,): ``v`` a number (the same for all) or k
+    numbers; None gives ``default`` for all."""
+    if v is None:
+        return np.full(k, float(default))
+    expected = f"a number or {k} finite number{'s' if k != 1 else ''}"
+    try:
+        a = real_numbers(what, v)
+    except ModelError:
+        raise ModelError(f"{what}: expected {expected}, got {v!r}") from None
+    if a.size == 1:
+        a = np.full(k, float(a[0]))
+    if a.shape != (k,) or not np.all(np.isfinite(a)):
+        raise ModelError(f"{what}: expected {expected}, got {v!r}")
+    return a
+
+
+def positive_definite(A: np.ndarray, cholesky: bool = False) -> bool:
+    """A (finite) is symmetric positive definite: its eigenvalues, scaled by its largest entry,
+    are positive; with ``cholesky`` the test the core applies (a Cholesky factorization, no
+    tolerance)."""
+    scale = np.max(np.abs(A))
+    if not (np.isfinite(scale) and scale > 0):
+        return False
+    B = 0.5 * (A / scale + A.T / scale)   # scaled first: A + A^T may overflow
+    if cholesky:
+        try:
+            np.linalg.cholesky(A)
+        except np.linalg.LinAlgError:
+            return False
+    return bool(np.all(np.linalg.eigvalsh(B) > 0))
+
+
+def rigid_pose(x, what: str) -> np.ndarray:
+    """A rigid pose [[R, p], [0, 0, 0, 1]] (R orthonormal with det +1 within 1e-6, the core's
+    test; p in m), or ModelError naming ``what``."""
+    H = array(what, x, (4, 4), "a finite 4x4 pose")
+    R = H[:3, :3]
+    big = np.max(np.abs(R)) > 2   # not a rotation (and R^T R could overflow)
+    err = np.inf if big else float(np.max(np.abs(R.T @ R - np.eye(3))))
+    det = np.inf if big else float(np.linalg.det(R))
+    if not (err <= 1e-6 and det > 0):
+        why = f"entries up to {np.max(np.abs(R)):.3g}" if big else f"|R^T R - I| = {err:.2g}, det R = {det:.3g}"
+        raise ModelError(f"{what}: expected a rigid 4x4 pose [[R, p], [0, 0, 0, 1]], but its R is "
+                         f"not a rotation ({why})")
+    if np.max(np.abs(H[3] - [0, 0, 0, 1])) > 1e-12:
+        raise ModelError(f"{what}: expected a rigid 4x4 pose, but its last row is {H[3].tolist()}, "
+                         f"not [0, 0, 0, 1]")
+    return H

@@ -1,4 +1,4 @@
-"""The mechanism's oriented graphs and incidence matrices (paper Sec. IV, DESIGN.md §5).
+"""The mechanism's oriented graphs and incidence matrices (paper Sec. IV).
 
 Vertices: the ground ``0``; rigid bodies ``1..n_r``; the two ends ``nL``, ``nR`` of each flexible
 link. Edges: kinematic pairs (graph G_K), flexible links (G_F, the edge (nL, nR)) and interactions
@@ -10,10 +10,14 @@ from __future__ import annotations
 
 from collections import deque
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ._core import ModelError
+
+if TYPE_CHECKING:
+    from .description import ModelDescription
 
 GROUND = "0"
 
@@ -188,3 +192,68 @@ class MechanismGraph:
                     queue.append(w)
         closing = [edges[k] for k in range(len(edges)) if not used[k]]
         return tree, closing, seen
+
+
+# ---- the graphs of a mechanism ------------------------------------------------------------
+@dataclass(frozen=True)
+class Graphs:
+    """The mechanism's graphs (paper Sec. IV). Vertices ``G_B``: "0" (ground), the
+    rigid bodies by name in the order added, then "<link>L", "<link>R" per flexible link (and
+    "<link>[k]" for interior nodes used by a pair). Edges (name, l, r): ``G_K`` pairs, ``G_F``
+    links, ``G_I`` interactions (add_interaction, whose reaction defaults to the ground, and
+    spring-dampers). ``B_K``/``B_I``: incidence matrices with labels (-1 at l(e), +1 at r(e));
+    ``B_K_r`` etc. are their rigid and flexible row blocks, as in the paper's (24)-(25)."""
+    graph: MechanismGraph
+    B_K: Incidence
+    B_I: Incidence
+
+    G_B = property(lambda self: ["0"] + self.graph.vertices())
+    G_K = property(lambda self: list(self.graph.pairs))
+    G_F = property(lambda self: self.graph.flexible_edges())
+    G_I = property(lambda self: list(self.graph.interactions))
+    B_K_r = property(lambda self: self.B_K.rigid)
+    B_K_f = property(lambda self: self.B_K.flexible)
+    B_I_r = property(lambda self: self.B_I.rigid)
+    B_I_f = property(lambda self: self.B_I.flexible)
+
+    def loops(self) -> list:
+        """One independent loop per loop-closing edge (lists of pair and link names)."""
+        return self.graph.loops()
+
+
+def _vertex(desc: "ModelDescription", carrier: int, inner: dict) -> str:
+    """The vertex label of a carrier: "0", a body's name, "<link>L", "<link>R", or "<link>[k]"
+    for an interior node k (recorded in ``inner``)."""
+    if carrier < 0:
+        return GROUND
+    for b in desc.bodies.values():
+        if b.carrier == carrier:
+            return b.name
+    for lk in desc.links.values():
+        if carrier in lk.nodes:
+            k = lk.nodes.index(carrier)
+            if k == 0:
+                return lk.name + "L"
+            if k == lk.elements:
+                return lk.name + "R"
+            lab = f"{lk.name}[{k}]"
+            if (k, lab) not in inner.setdefault(lk.name, []):
+                inner[lk.name].append((k, lab))
+            return lab
+    raise ModelError(f"carrier {carrier} belongs to no body or link")
+
+
+def mechanism_graphs(desc: "ModelDescription") -> Graphs:
+    """The graphs of the mechanism ``desc`` describes: a pair or interaction added between a
+    and b, in that order, is the edge (a, b): -1 at row a, +1 at row b."""
+    inner: dict = {}
+    g = MechanismGraph(rigid=list(desc.bodies), flexible=list(desc.links), inner=inner)
+    for e in desc.pairs:
+        g.pairs.append((e["name"], _vertex(desc, e["a"], inner), _vertex(desc, e["b"], inner)))
+    for ld in desc.loads:
+        if ld.get("interaction"):
+            g.interactions.append((ld["name"], _vertex(desc, ld["carrier"], inner),
+                                   _vertex(desc, ld["reaction"], inner)))
+    for q in desc.springs:
+        g.interactions.append((q["name"], _vertex(desc, q["a"], inner), _vertex(desc, q["b"], inner)))
+    return Graphs(g, g.incidence_pairs(), g.incidence_interactions())

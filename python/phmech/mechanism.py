@@ -1,32 +1,46 @@
-"""Mechanisms of rigid bodies and flexible links: model building, simulation, modes, statics.
+"""The Mechanism builder and its analyses: simulation, modes, statics.
 
-Thin layer over the C core (``phmech._core``): it lays out carriers (rigid bodies and beam nodes),
-``se3`` beam elements, kinematic pairs and applied wrenches as flat arrays; everything numerical
-runs in C (SUNDIALS IDA for time integration, LAPACK for modes and statics).
+A Mechanism collects rigid bodies, flexible links (``se3`` beam elements), kinematic pairs,
+actuators and applied wrenches into a model description (phmech.description), finds the initial
+configuration from it (phmech.topology) and runs the analyses in
+the C core (``phmech._core``; phmech._marshal hands the description over): SUNDIALS IDA or the
+generalized-alpha method for time integration, LAPACK for modes and statics.
 
 Conventions: SI units; twist (omega, v) and wrench (tau, f), angular part first; poses 4x4.
 A beam's local x axis is its centre line; its section axes are y and z.
+
+The classes a model is built from live in their own modules and are re-exported here and from
+``phmech``: laws (Constant, ..., Motion), pairs (Fixed, ..., Free), actuators (Effort, PD,
+Spring), frames (Frame, Body, FlexibleLink), results (SimulationResult, ...), graphs (Graphs).
 """
 from __future__ import annotations
 
-import dataclasses
 import os
 import warnings
-from typing import Callable, NamedTuple, Optional, Sequence, Union
+from typing import Callable, Optional, Sequence, Union
 
 import numpy as np
 
-from . import _core, _run, se3, topology
-from .graphs import MechanismGraph, Incidence
-from ._checks import array, integer, positive, real
+from . import _core, _marshal, _run, postprocess, se3, topology
+from ._checks import array, choice, integer, per_coordinate, positive, positive_definite, real, rigid_pose
 from ._core import ModelError, SolverError
+from .actuators import PD, Effort, Spring, actuator_row
+from .description import ModelDescription
+from .frames import Body, FlexibleLink, Frame, frame_of, link_of
+from .graphs import Graphs, mechanism_graphs
+from .laws import Constant, Cycloidal, Motion, Pulse, Sine, Step, Table, _Law, checked_law
+from .pairs import (Cylindrical, Fixed, Free, Helical, Planar, Prismatic, Revolute, Spherical,
+                    Universal, _Pair)
+from .results import (ENERGY_NAMES, InitialAdjustment, InitialConfiguration, ModesResult, Momentum,
+                      SimulationResult, StaticResult)
+from .topology import InitialValueWarning, RedundantConstraintWarning
 
 #: the adaptive generalized-alpha's default local error tolerance and spectral radius at
 #: infinity (docs/integrators.md: measured on benchmarks/scenes.py)
 DEFAULT_RTOL = 1e-4
 DEFAULT_RHO_INF = 0.9
-#: steps an integrator takes at most between two output times (csrc/phmech.h, phm_sim_options
-#: max_steps: its default)
+#: steps an integrator takes at most between two output times (csrc/include/phmech_types.h,
+#: phm_sim_options max_steps: its default)
 MAX_STEPS = 1_000_000
 
 __all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "Fixed", "Revolute", "Prismatic",
@@ -36,904 +50,11 @@ __all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "Fixed", "Revolute", "P
            "InitialValueWarning", "InitialAdjustment", "InitialConfiguration", "Momentum"]
 
 
-class RedundantConstraintWarning(UserWarning):
-    """The mechanism is hyperconstrained: some constraint rows are dependent at the initial
-    configuration and were left out of the DAE (see ``Mechanism.redundant_constraints``)."""
-
-
-class InitialValueWarning(UserWarning):
-    """The loop closure of the initial configuration moved a given joint coordinate (``x0``) or
-    a given pose beyond its tolerance (see ``Mechanism.initial_adjustments``; with
-    ``Mechanism(strict=True)`` this is a ModelError instead)."""
-
-
-@dataclasses.dataclass(frozen=True)
-class InitialAdjustment:
-    """How far the consistent initial configuration moved one given initial value.
-
-    ``name``: the pair (joint coordinates) or the body / flexible link (poses). ``quantity``:
-    ``"x"`` (``"x[i]"`` for pairs with several coordinates), ``"xdot"`` (``"xdot[i]"``) for a
-    given rate, or ``"position"`` / ``"orientation"`` of a body or link (for a link the largest
-    over its nodes). ``given``/``reached``: the given ``x0`` (``xdot0``) and the initial value
-    [rad or m, per s for rates] (None for poses). ``moved``: |reached - given| [same units]; for
-    poses the distance an origin moved [m] or the angle a frame turned [rad].
-    ``tolerance``: ``moved`` beyond it is reported (see Mechanism)."""
-    name: str
-    quantity: str
-    given: Optional[float]
-    reached: Optional[float]
-    moved: float
-    unit: str
-    tolerance: float
-
-    @property
-    def exceeds(self) -> bool:
-        """True when ``moved`` is beyond ``tolerance``."""
-        return self.moved > self.tolerance
-
-    def __str__(self) -> str:
-        if self.given is not None:
-            q = "" if self.quantity == "x" else " " + self.quantity
-            return (f"joint {self.name!r}{q} given {self.given:.6g} {self.unit}, closed at "
-                    f"{self.reached:.6g} {self.unit} (moved {self.moved:.3g} {self.unit})")
-        return f"pose of {self.name!r}: {self.quantity} moved {self.moved:.3g} {self.unit}"
-
-
-@dataclasses.dataclass
-class InitialConfiguration:
-    """The initial configuration an analysis starts from: ``poses`` (ncarriers, 4, 4), body
-    ``twists`` (ncarriers, 6), ``adjustments`` (list of InitialAdjustment: every given ``x0``
-    coordinate and every given pose kept by the tree placement, with how far the loop closure
-    moved it) and ``redundant_constraints``."""
-    poses: np.ndarray
-    twists: np.ndarray
-    adjustments: list
-    redundant_constraints: list
-
-
-@dataclasses.dataclass(frozen=True)
-class Graphs:
-    """The mechanism's graphs (paper Sec. IV, DESIGN.md §5). Vertices ``G_B``: "0" (ground), the
-    rigid bodies by name in the order added, then "<link>L", "<link>R" per flexible link (and
-    "<link>[k]" for interior nodes used by a pair). Edges (name, l, r): ``G_K`` pairs, ``G_F``
-    links, ``G_I`` interactions (add_interaction, whose reaction defaults to the ground, and
-    spring-dampers). ``B_K``/``B_I``: incidence matrices with labels (-1 at l(e), +1 at r(e));
-    ``B_K_r`` etc. are their rigid and flexible row blocks, as in the paper's (24)-(25)."""
-    graph: MechanismGraph
-    B_K: Incidence
-    B_I: Incidence
-
-    G_B = property(lambda self: ["0"] + self.graph.vertices())
-    G_K = property(lambda self: list(self.graph.pairs))
-    G_F = property(lambda self: self.graph.flexible_edges())
-    G_I = property(lambda self: list(self.graph.interactions))
-    B_K_r = property(lambda self: self.B_K.rigid)
-    B_K_f = property(lambda self: self.B_K.flexible)
-    B_I_r = property(lambda self: self.B_I.rigid)
-    B_I_f = property(lambda self: self.B_I.flexible)
-
-    def loops(self) -> list:
-        """One independent loop per loop-closing edge (lists of pair and link names)."""
-        return self.graph.loops()
-
-_LAW_CONSTANT, _LAW_STEP, _LAW_PULSE, _LAW_SINE, _LAW_TABLE, _LAW_CYCLOIDAL = range(6)
-ENERGY_NAMES = ("kinetic", "elastic", "gravity", "dissipated", "supplied", "total", "ledger")
-
-
-# ------------------------------------------------------------------ time laws
-class _Law:
-    def _tuple(self):
-        raise NotImplementedError
-
-
-_LAW_NAMES = "Constant, Step, Pulse, Sine, Table or Cycloidal"
-
-
-def _law_tuple(law, what: str, numbers: bool = False):
-    """The core's tuple of a time law; a clear ModelError for anything else (a plain Python
-    function cannot be a law: laws are evaluated in C, see csrc/phmech.h). ``numbers``: a
-    number c also stands for Constant(c)."""
-    if isinstance(law, _Law):
-        return law._tuple()
-    if numbers and isinstance(law, (int, float, np.integer, np.floating)) and not isinstance(law, bool):
-        return Constant(real(what, law))._tuple()
-    accepted = f"a time law ({_LAW_NAMES}{', or a number' if numbers else ''})"
-    if callable(law):
-        fname = getattr(law, "__name__", type(law).__name__)
-        raise ModelError(f"{what}: got the Python function {fname!r}, expected {accepted}; laws are "
-                         "evaluated in the C core, so a Python function cannot be one: tabulate it "
-                         "with Table(times, values)")
-    raise ModelError(f"{what}: expected {accepted} (got {type(law).__name__})")
-
-
-
-@dataclasses.dataclass(frozen=True)
-class Constant(_Law):
-    """s(t) = value."""
-    value: float = 1.0
-
-    def _tuple(self):
-        return (_LAW_CONSTANT, real("Constant value", self.value), 0.0, 0.0, 0.0, 0.0, 0.0, None)
-
-
-@dataclasses.dataclass(frozen=True)
-class Step(_Law):
-    """s(t) = value for t >= t0 [s], else 0."""
-    t0: float = 0.0
-    value: float = 1.0
-
-    def _tuple(self):
-        return (_LAW_STEP, real("Step value", self.value), real("Step t0", self.t0), 0.0, 0.0, 0.0, 0.0, None)
-
-
-@dataclasses.dataclass(frozen=True)
-class Pulse(_Law):
-    """Rectangular pulse ('impulse'): s(t) = value for t0 <= t < t0 + duration [s], else 0.
-    Its impulse is value * duration."""
-    t0: float = 0.0
-    duration: float = 1e-3
-    value: float = 1.0
-
-    def _tuple(self):
-        d = real("Pulse duration", self.duration)
-        if d <= 0:
-            raise ModelError(f"Pulse duration must be > 0 (got {d} s)")
-        return (_LAW_PULSE, real("Pulse value", self.value), real("Pulse t0", self.t0), d, 0.0, 0.0, 0.0, None)
-
-
-@dataclasses.dataclass(frozen=True)
-class Sine(_Law):
-    """s(t) = offset + amplitude * sin(2 pi frequency t + phase); frequency in Hz, phase in rad."""
-    amplitude: float = 1.0
-    frequency: float = 1.0
-    phase: float = 0.0
-    offset: float = 0.0
-
-    def _tuple(self):
-        return (_LAW_SINE, real("Sine amplitude", self.amplitude), 0.0, 0.0,
-                real("Sine frequency", self.frequency), real("Sine phase", self.phase),
-                real("Sine offset", self.offset), None)
-
-
-@dataclasses.dataclass(frozen=True)
-class Table(_Law):
-    """Piecewise linear through points (t_i [s], s_i), held constant outside."""
-    times: Sequence[float]
-    values: Sequence[float]
-
-    def _tuple(self):
-        t = _numbers("Table times", self.times)
-        v = _numbers("Table values", self.values)
-        if t.size < 1 or t.size != v.size:
-            raise ModelError(f"Table needs as many values as times, at least one (got {t.size} "
-                             f"times and {v.size} values)")
-        if not (np.all(np.isfinite(t)) and np.all(np.isfinite(v))):
-            raise ModelError("Table entries must be finite")
-        if np.any(np.diff(t) <= 0):
-            raise ModelError("Table times must be strictly increasing")
-        return (_LAW_TABLE, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, np.column_stack([t, v]))
-
-
-@dataclasses.dataclass(frozen=True)
-class Cycloidal(_Law):
-    """Smooth (C2) ramp from 0 to value over [t0, t0 + duration] [s]."""
-    value: float = 1.0
-    t0: float = 0.0
-    duration: float = 1.0
-
-    def _tuple(self):
-        d = real("Cycloidal duration", self.duration)
-        if d <= 0:
-            raise ModelError(f"Cycloidal duration must be > 0 (got {d} s)")
-        return (_LAW_CYCLOIDAL, real("Cycloidal value", self.value), real("Cycloidal t0", self.t0), d, 0.0, 0.0, 0.0, None)
-
-
-@dataclasses.dataclass(frozen=True)
-class Motion:
-    """Prescribed relative motion of a driven pair: r(t) = exp(law(t) * axis), axis a twist
-    (omega, v) in the pair's frame on b, e.g. (0,0,1,0,0,0) with an angle law [rad], or
-    (0,0,0,0,1,0) with a displacement law [m]."""
-    axis: Sequence[float]
-    law: _Law
-
-
-# ------------------------------------------------------------------ pair types
-# Conventions (C core, phm_pair_type): joint axis = local z of both pair frames F_a = H_a T_a and
-# F_b = H_b T_b; relative pose h = F_a^-1 F_b. The classes below orient z along ``axis`` by
-# rotating both frames by the same rotation Q (T <- T [Q, 0; 0, 1]).
-
-def _axis_rotation(axis, what: str) -> np.ndarray:
-    """A rotation Q with Q e_z = axis ("x", "y", "z" or a nonzero 3-vector)."""
-    if isinstance(axis, str):
-        table = {"x": [[0, 0, 1], [1, 0, 0], [0, 1, 0]], "y": [[0, 1, 0], [0, 0, 1], [1, 0, 0]],
-                 "z": np.eye(3)}
-        if axis not in table:
-            raise ModelError(f"{what}: axis must be 'x', 'y', 'z' or a 3-vector (got {axis!r})")
-        return np.array(table[axis], dtype=float)
-    z = _unit(axis, what)
-    h = np.array([1.0, 0, 0]) if abs(z[0]) < 0.9 else np.array([0, 1.0, 0])
-    x = h - z * (h @ z)
-    x /= np.linalg.norm(x)
-    return np.column_stack([x, np.cross(z, x), z])
-
-
-def _unit(v, what):
-    if isinstance(v, str):
-        d = {"x": [1.0, 0, 0], "y": [0, 1.0, 0], "z": [0, 0, 1.0]}
-        if v not in d:
-            raise ModelError(f"{what}: axis must be 'x', 'y', 'z' or a 3-vector (got {v!r})")
-        return np.array(d[v])
-    expected = "'x', 'y', 'z' or a finite nonzero 3-vector"
-    a = array(f"{what}: axis", v, (3,), expected)
-    n = np.max(np.abs(a))
-    if n == 0:
-        raise ModelError(f"{what}: axis must be {expected} (got {v!r})")
-    a = a / n   # first to a unit max-norm: |a| of 1e300 entries would overflow
-    return a / np.linalg.norm(a)
-
-
-class _Pair:
-    _code = -1
-    k = 0
-    _units = ()   # unit of each joint coordinate ("rad" or "m")
-
-    def _rotation(self) -> np.ndarray:
-        return np.eye(3)
-
-    def _pitch(self) -> float:
-        return 0.0
-
-    def _fk(self, x) -> np.ndarray:
-        """Relative pose h(x) of the pair frames at joint coordinates x."""
-        return np.eye(4)
-
-    def _coords(self, h) -> np.ndarray:
-        """Joint coordinates x of a relative pose h of the pair frames (the inverse of _fk on
-        the pair's allowed motions; the part of h it cannot produce is fk(x)^-1 h)."""
-        return np.zeros(0)
-
-
-def _ez(*v):
-    return np.array(v, dtype=float)
-
-
-def _angle_z(h) -> float:
-    """Angle [rad] of a relative pose's rotation about z, in (-pi, pi]."""
-    return float(np.arctan2(h[1, 0], h[0, 0]))
-
-
-@dataclasses.dataclass(frozen=True)
-class Fixed(_Pair):
-    """Fixed (welded) pair: 6 constraints, relative pose = identity (or the driven motion)."""
-    _code = 0
-    k = 0
-
-
-@dataclasses.dataclass(frozen=True)
-class Revolute(_Pair):
-    """Revolute pair about ``axis`` (of both pair frames); x = angle [rad], multi-turn."""
-    axis: object = "z"
-    _code = 1
-    k = 1
-    _units = ("rad",)
-
-    def _rotation(self):
-        return _axis_rotation(self.axis, "Revolute")
-
-    def _fk(self, x):
-        return se3.exp(_ez(0, 0, x[0], 0, 0, 0))
-
-    def _coords(self, h):
-        return np.array([_angle_z(h)])
-
-
-@dataclasses.dataclass(frozen=True)
-class Prismatic(_Pair):
-    """Prismatic pair along ``axis``; x = displacement [m]."""
-    axis: object = "z"
-    _code = 2
-    k = 1
-    _units = ("m",)
-
-    def _rotation(self):
-        return _axis_rotation(self.axis, "Prismatic")
-
-    def _fk(self, x):
-        return se3.exp(_ez(0, 0, 0, 0, 0, x[0]))
-
-    def _coords(self, h):
-        return np.array([h[2, 3]])
-
-
-@dataclasses.dataclass(frozen=True)
-class Helical(_Pair):
-    """Helical (screw) pair about ``axis``: translation = ``pitch`` [m/rad] x angle; x = angle."""
-    axis: object = "z"
-    pitch: float = 0.0
-    _code = 3
-    k = 1
-    _units = ("rad",)
-
-    def _rotation(self):
-        return _axis_rotation(self.axis, "Helical")
-
-    def _pitch(self):
-        return real("Helical pitch", self.pitch)
-
-    def _fk(self, x):
-        return se3.exp(_ez(0, 0, x[0], 0, 0, self._pitch() * x[0]))
-
-    def _coords(self, h):
-        a, p = _angle_z(h), self._pitch()
-        if p != 0:   # the turn whose translation pitch * angle is nearest to h's
-            with np.errstate(over="ignore"):
-                turn = a + 2 * np.pi * np.round((h[2, 3] / p - a) / (2 * np.pi))
-            # ... unless that angle is beyond 1e15 rad, where a double no longer tells one turn
-            # from the next (a pitch of 1e-244 m/rad picked 1e226 turns out of round-off in the
-            # translation); the pose check then reports what the pair cannot reach
-            if abs(turn) <= 1e15:
-                a = turn
-        return np.array([a])
-
-
-@dataclasses.dataclass(frozen=True)
-class Cylindrical(_Pair):
-    """Cylindrical pair along ``axis``; x = (angle [rad], displacement [m])."""
-    axis: object = "z"
-    _code = 4
-    k = 2
-    _units = ("rad", "m")
-
-    def _rotation(self):
-        return _axis_rotation(self.axis, "Cylindrical")
-
-    def _fk(self, x):
-        return se3.exp(_ez(0, 0, x[0], 0, 0, x[1]))
-
-    def _coords(self, h):
-        return np.array([_angle_z(h), h[2, 3]])
-
-
-@dataclasses.dataclass(frozen=True)
-class Universal(_Pair):
-    """Universal (Cardan) pair: first axis ``axis1`` fixed in F_a, second ``axis2`` fixed in F_b
-    (perpendicular when both frames coincide); x = (angle about axis1, angle about axis2) [rad],
-    h = Rx(x0) Ry(x1) in the pair frames (x = axis1, y = axis2)."""
-    axis1: object = "x"
-    axis2: object = "y"
-    _code = 5
-    k = 2
-    _units = ("rad", "rad")
-
-    def _rotation(self):
-        a, b = _unit(self.axis1, "Universal axis1"), _unit(self.axis2, "Universal axis2")
-        if abs(a @ b) > 1e-9:
-            raise ModelError("Universal: axis1 and axis2 must be perpendicular")
-        return np.column_stack([a, b, np.cross(a, b)])
-
-    def _fk(self, x):
-        return se3.exp(_ez(x[0], 0, 0, 0, 0, 0)) @ se3.exp(_ez(0, x[1], 0, 0, 0, 0))
-
-    def _coords(self, h):
-        return np.array([np.arctan2(h[2, 1], h[1, 1]), np.arctan2(h[0, 2], h[0, 0])])
-
-
-@dataclasses.dataclass(frozen=True)
-class Spherical(_Pair):
-    """Spherical (ball) pair; x = rotation vector of F_b in F_a [rad], xdot = angular velocity
-    (in F_b) -- a quasi-velocity, not dx/dt."""
-    _code = 6
-    k = 3
-    _units = ("rad",) * 3
-
-    def _fk(self, x):
-        return se3.exp(_ez(x[0], x[1], x[2], 0, 0, 0))
-
-    def _coords(self, h):
-        return np.asarray(se3.log(np.ascontiguousarray(h[:3, :3])), dtype=float)
-
-
-@dataclasses.dataclass(frozen=True)
-class Planar(_Pair):
-    """Planar pair with plane ``normal``; x = (angle [rad], p_x, p_y [m]) with p the position of
-    F_b's origin in F_a (x, y of the frame whose z is the normal)."""
-    normal: object = "z"
-    _code = 7
-    k = 3
-    _units = ("rad", "m", "m")
-
-    def _rotation(self):
-        return _axis_rotation(self.normal, "Planar")
-
-    def _fk(self, x):
-        H = se3.exp(_ez(0, 0, x[0], 0, 0, 0))
-        H[0, 3], H[1, 3] = x[1], x[2]
-        return H
-
-    def _coords(self, h):
-        return np.array([_angle_z(h), h[0, 3], h[1, 3]])
-
-
-@dataclasses.dataclass(frozen=True)
-class Free(_Pair):
-    """Free pair (no constraint): x = (rotation vector, position of F_b in F_a); xdot = (angular
-    velocity in F_b, dp/dt in F_a). Useful to measure or actuate a relative motion."""
-    _code = 8
-    k = 6
-    _units = ("rad",) * 3 + ("m",) * 3
-
-    def _fk(self, x):
-        H = se3.exp(_ez(x[0], x[1], x[2], 0, 0, 0))
-        H[:3, 3] = x[3:6]
-        return H
-
-    def _coords(self, h):
-        return np.concatenate([se3.log(np.ascontiguousarray(h[:3, :3])), h[:3, 3]])
-
-
-# ------------------------------------------------------------------ actuators
-_ACT_EFFORT, _ACT_PD, _ACT_SPRING = range(3)
-
-
-def _numbers(what, v) -> np.ndarray:
-    """A number or a (nested) sequence of numbers, flattened; ModelError for anything else."""
-    try:
-        raw = np.asarray(v)
-    except (TypeError, ValueError):
-        raw = np.asarray(None)
-    if v is None or isinstance(v, (str, bytes)) or raw.dtype.kind not in "biuf":
-        raise ModelError(f"{what}: expected real numbers, got {v!r}")
-    return raw.astype(float).ravel()
-
-
-def _choice(what, value, options) -> str:
-    """``value`` if it is one of the strings ``options``, else ModelError naming them."""
-    if not isinstance(value, str) or value not in options:
-        raise ModelError(f"{what} must be {' or '.join(map(repr, options))} (got {value!r})")
-    return value
-
-
-def _kvec(v, k, what, default=1.0):
-    if v is None:
-        return np.full(k, float(default))
-    expected = f"a number or {k} finite number{'s' if k != 1 else ''}"
-    try:
-        a = _numbers(what, v)
-    except ModelError:
-        raise ModelError(f"{what}: expected {expected}, got {v!r}") from None
-    if a.size == 1:
-        a = np.full(k, float(a[0]))
-    if a.shape != (k,) or not np.all(np.isfinite(a)):
-        raise ModelError(f"{what}: expected {expected}, got {v!r}")
-    return a
-
-
-@dataclasses.dataclass(frozen=True)
-class Effort:
-    """Effort source u(t) = law(t) * direction on the pair's joint coordinates (torque [N m] for
-    angles, force [N] for displacements); power u . xdot."""
-    law: object = None
-    direction: object = None
-
-
-@dataclasses.dataclass(frozen=True)
-class PD:
-    """PD control to a set-point trajectory: u = -kp (x - x_ref) - kd (xdot - xdot_ref), with
-    x_ref(t) = offset + target(t) * direction and xdot_ref = target'(t) * direction. ``target``: a
-    time law or a number; gains: numbers or one per coordinate."""
-    kp: object
-    kd: object
-    target: object = 0.0
-    direction: object = None
-    offset: object = None
-
-
-@dataclasses.dataclass(frozen=True)
-class Spring:
-    """Joint spring-damper: u = -k (x - rest) - c xdot; ``rest`` defaults to the pair's x0 (or 0)."""
-    k: object
-    c: object = 0.0
-    rest: object = None
-
-
-# ------------------------------------------------------------------ frames, bodies, links
-@dataclasses.dataclass(frozen=True)
-class Frame:
-    """A frame with fixed offset ``T`` (4x4) on a carrier (``carrier`` = -1 for the ground)."""
-    carrier: int
-    T: np.ndarray
-    name: str = ""
-
-
-@dataclasses.dataclass
-class Body:
-    name: str
-    carrier: int
-
-    @property
-    def frame(self) -> Frame:
-        return Frame(self.carrier, np.eye(4), self.name)
-
-
-@dataclasses.dataclass
-class FlexibleLink:
-    """A beam discretized into ``elements`` se3 elements; ``nodes`` are carrier indices;
-    ``mesh``: what phmech.mesh.choose_elements chose when the count came from a band (else
-    None)."""
-    name: str
-    length: float
-    elements: int
-    nodes: list
-    mesh: Optional["MeshChoice"] = None
-
-    @property
-    def start(self) -> Frame:
-        return Frame(self.nodes[0], np.eye(4), self.name + ".start")
-
-    @property
-    def end(self) -> Frame:
-        return Frame(self.nodes[-1], np.eye(4), self.name + ".end")
-
-    def node(self, k: int) -> Frame:
-        """The frame of node ``k``, 0 (start) .. ``elements`` (end), at distance k L / elements
-        from the start; Python-style negative k counts from the end (-1 is the end node)."""
-        n = len(self.nodes)
-        if isinstance(k, bool) or not isinstance(k, (int, np.integer)):
-            raise ModelError(f"link {self.name!r}: node index must be an integer (got {k!r})")
-        if not -n <= k < n:
-            raise ModelError(f"link {self.name!r} has nodes 0..{n - 1} ({self.elements} elements; "
-                             f"negative indices -{n}..-1 count from the end); got node({k})")
-        k = int(k) % n
-        return Frame(self.nodes[k], np.eye(4), f"{self.name}.node{k}")
-
-
 def _frame_of(x, mech: "Mechanism", what: str) -> Frame:
-    """``x`` (a Frame, Body, 'ground' or a body's name) as a Frame of ``mech``; ``what`` names
-    the argument in error messages."""
-    if isinstance(x, Frame):
-        c = x.carrier
-        nm = repr(x.name) if x.name else "(unnamed)"
-        if isinstance(c, bool) or not isinstance(c, (int, np.integer)) or c < -1 or c >= len(mech._car):
-            raise ModelError(f"{what}: the frame {nm} is on carrier {c!r}, which this mechanism does not "
-                             f"have (carriers -1 = the ground, 0..{len(mech._car) - 1}); take frames from "
-                             f"this mechanism's bodies and links (body.frame, link.start, .end, "
-                             f".node(k)) or ph.Frame(carrier, T) with such a carrier index")
-        return Frame(int(c), _pose(x.T, f"{what}: the offset T of frame {nm}"), x.name)
-    if isinstance(x, Body):
-        if mech._bodies.get(x.name) != x:
-            raise ModelError(f"{what}: body {x.name!r} (carrier {x.carrier!r}) is not a body of this "
-                             f"mechanism (bodies: {', '.join(map(repr, mech._bodies)) or 'none'})")
-        return x.frame
-    if isinstance(x, FlexibleLink):
-        raise ModelError(f"{what}: give a frame of link {x.name!r} (.start, .end or .node(k))")
-    if isinstance(x, str):
-        if x == "ground":
-            return mech.ground
-        if x in mech._bodies:
-            return mech._bodies[x].frame
-        if x in mech._links:
-            raise ModelError(f"{what}: {x!r} is a flexible link; give one of its frames "
-                             f"(.start, .end or .node(k))")
-        raise ModelError(f"{what}: unknown body {x!r}, neither 'ground' nor a body of this mechanism "
-                         f"(bodies: {', '.join(map(repr, mech._bodies)) or 'none'})")
-    raise ModelError(f"{what}: expected a Frame, Body or 'ground' (got {type(x).__name__})")
+    """``x`` (a Frame, Body, 'ground' or a body's name) as a Frame of ``mech`` (frames.frame_of)."""
+    return frame_of(x, mech._desc, what)
 
 
-def _pose(x, what):
-    """A rigid pose [[R, p], [0, 0, 0, 1]] (R orthonormal with det +1 within 1e-6, the core's
-    test), or ModelError naming ``what``."""
-    H = array(what, x, (4, 4), "a finite 4x4 pose")
-    R = H[:3, :3]
-    big = np.max(np.abs(R)) > 2   # not a rotation (and R^T R could overflow)
-    err = np.inf if big else float(np.max(np.abs(R.T @ R - np.eye(3))))
-    det = np.inf if big else float(np.linalg.det(R))
-    if not (err <= 1e-6 and det > 0):
-        why = f"entries up to {np.max(np.abs(R)):.3g}" if big else f"|R^T R - I| = {err:.2g}, det R = {det:.3g}"
-        raise ModelError(f"{what}: expected a rigid 4x4 pose [[R, p], [0, 0, 0, 1]], but its R is "
-                         f"not a rotation ({why})")
-    if np.max(np.abs(H[3] - [0, 0, 0, 1])) > 1e-12:
-        raise ModelError(f"{what}: expected a rigid 4x4 pose, but its last row is {H[3].tolist()}, "
-                         f"not [0, 0, 0, 1]")
-    return H
-
-
-def _positive_definite(A, cholesky=False) -> bool:
-    """A (finite) is symmetric positive definite: its eigenvalues, scaled by its largest entry,
-    are positive; with ``cholesky`` the test the core applies (a Cholesky factorization, no
-    tolerance)."""
-    scale = np.max(np.abs(A))
-    if not (np.isfinite(scale) and scale > 0):
-        return False
-    B = 0.5 * (A / scale + A.T / scale)   # scaled first: A + A^T may overflow
-    if cholesky:
-        try:
-            np.linalg.cholesky(A)
-        except np.linalg.LinAlgError:
-            return False
-    return bool(np.all(np.linalg.eigvalsh(B) > 0))
-
-
-def _mat6(x, what, spd=True):
-    return array(what, x, (6, 6), "a finite 6x6 matrix")
-
-
-def _carrier_name(c: int, bodies: dict, links: dict) -> str:
-    """'the ground', "body 'b'" or "node k of link 'L'" for carrier index c."""
-    if c < 0:
-        return "the ground"
-    for b in bodies.values():
-        if b.carrier == c:
-            return f"body {b.name!r}"
-    for lk in links.values():
-        if c in lk.nodes:
-            return f"node {lk.nodes.index(c)} of link {lk.name!r}"
-    return f"carrier {c}"
-
-
-# ------------------------------------------------------------------ results
-def _result_link(links: dict, link) -> "FlexibleLink":
-    """A link of the result's mechanism, given by itself or its name."""
-    lk = links.get(link) if isinstance(link, str) else link
-    if not isinstance(lk, FlexibleLink) or links.get(lk.name) != lk:
-        raise ModelError(f"expected a flexible link of this mechanism or its name (links: "
-                         f"{', '.join(map(repr, links)) or 'none'}), got {link!r}")
-    return lk
-
-
-class Momentum(NamedTuple):
-    """World-frame momentum along a trajectory (SimulationResult.momentum): ``linear`` (nt, 3)
-    [kg m/s] and ``angular`` (nt, 3) [kg m^2/s] about the point asked for."""
-    linear: np.ndarray
-    angular: np.ndarray
-
-
-@dataclasses.dataclass
-class SimulationResult:
-    """Sampled solution. ``poses`` (nt, ncarriers, 4, 4), ``twists`` (nt, ncarriers, 6) body
-    twists, ``constraint_wrenches`` (nt, nconstraints), ``energy`` dict of (nt,) arrays [J]
-    (kinetic, elastic, gravity, dissipated, supplied, total, ledger = E - E0 - (supplied -
-    dissipated)), ``stats`` (IDA steps, residual/Jacobian evaluations, wall time [s]),
-    ``interrupted`` (stopped by Ctrl-C or the callback).
-
-    ``port_energy``: dict port name -> (nt,) energy supplied through that port [J] (actuators:
-    int u . xdot; interactions and wrenches: int w . t; spring-dampers: minus their dissipated
-    energy). Supplied = sum over actuators and wrenches (+ power of driven pairs); the ledger
-    residual is ``energy["ledger"]``. ``joint(name)`` gives a pair's coordinates and efforts.
-
-    Conserved quantities: ``momentum(x=None, about=(0, 0, 0))`` is the world-frame linear
-    momentum P [kg m/s] and angular momentum L [kg m^2/s] about a world point, of the whole
-    mechanism or of bodies/links, as ``Momentum(linear, angular)``, each (nt, 3). Every carrier
-    (rigid body or beam node) contributes its body momentum M t (M its 6x6 spatial inertia about
-    its frame, t its body twist), moved to the world frame by the dual adjoint Ad*_{H^-1}:
-    P = sum R P_b, L = sum R L_b + (p - about) x R P_b, i.e. sum of r x m v over the mass,
-    right-handed. Free mechanisms without loads keep both constant; gravity g changes P at the
-    rate ``mass() * g``. ``mass(x=None)`` [kg] and ``centre_of_mass(x=None)`` (nt, 3) [m] go with
-    it. All three need the poses and twists of the carriers asked for: after
-    ``simulate(record=...)`` only what was recorded can be asked for (ModelError otherwise)."""
-    t: np.ndarray
-    poses: np.ndarray
-    twists: np.ndarray
-    constraint_wrenches: np.ndarray
-    energy: dict
-    stats: dict
-    interrupted: bool
-    _links: dict
-    port_energy: dict = dataclasses.field(default_factory=dict)
-    joints: np.ndarray = None
-    joint_rates: np.ndarray = None
-    efforts: np.ndarray = None
-    pair_wrenches: np.ndarray = None
-    _pairs: dict = dataclasses.field(default_factory=dict)
-    #: (pair, direction) rows left out of the DAE as redundant; when non-empty,
-    #: ``constraint_wrenches`` holds the minimum-norm multipliers of ALL rows (see
-    #: Mechanism._min_norm_multipliers) and ``pair_wrenches`` the matching pair wrenches.
-    redundant_constraints: list = dataclasses.field(default_factory=list)
-    #: carrier index of each column of ``poses``/``twists`` (all carriers unless ``record=`` chose)
-    carriers: np.ndarray = None
-    _frame: Callable = None  # resolves a body, frame or name to a Frame (set by simulate)
-    #: every carrier's 6x6 spatial inertia (body frame), mass and centre of mass (body
-    #: coordinates) as the model had them (set by simulate; momentum, mass, centre_of_mass)
-    _inertia: np.ndarray = None
-    _mass: np.ndarray = None
-    _com: np.ndarray = None
-    _bodies: dict = dataclasses.field(default_factory=dict)
-
-    def pose(self, x) -> np.ndarray:
-        """World pose of a body or frame (a Frame, Body, link end, or a body's name), (nt, 4, 4)."""
-        f = self._frame(x)
-        if f.carrier < 0:
-            return np.broadcast_to(f.T, (len(self.t), 4, 4)).copy()
-        return self.poses[:, self._columns([f.carrier])[0]] @ f.T
-
-    def position(self, x) -> np.ndarray:
-        """World position of a body's or frame's origin [m], (nt, 3)."""
-        return self.pose(x)[:, :3, 3]
-
-    def orientation(self, x) -> np.ndarray:
-        """World orientation (rotation matrix) of a body or frame, (nt, 3, 3)."""
-        return self.pose(x)[:, :3, :3]
-
-    def twist(self, x) -> np.ndarray:
-        """Body twist (omega [rad/s], v [m/s]) of a body or frame in its own axes, (nt, 6):
-        Ad_{T^-1} of the carrier's twist, T the frame's offset on it."""
-        f = self._frame(x)
-        if f.carrier < 0:
-            return np.zeros((len(self.t), 6))
-        t = self.twists[:, self._columns([f.carrier])[0]]
-        return t @ se3.Ad(se3.inverse(f.T)).T
-
-    def _columns(self, carriers) -> list:
-        """Columns of ``poses`` holding these carriers; ModelError if one was not recorded."""
-        if self.carriers is None:
-            return list(carriers)
-        where = {int(c): i for i, c in enumerate(self.carriers)}
-        missing = [c for c in carriers if c not in where]
-        if missing:
-            raise ModelError(f"carriers {missing} were not recorded (simulate(record=...))")
-        return [where[c] for c in carriers]
-
-    def joint(self, name: str) -> dict:
-        """Pair ``name``: ``x`` (nt, k) joint coordinates (exact, multi-turn), ``xdot`` (nt, k)
-        rates, ``effort`` (nt, k) sum of its actuators' efforts u, ``lambda`` (nt, m) constraint
-        multipliers (W^C coordinates), ``wrench`` (nt, 6) constraint wrench W^C lambda on b in
-        frame F_b (tau [N m], f [N])."""
-        if not isinstance(name, str) or name not in self._pairs:
-            raise ModelError(f"joint: unknown pair {name!r} (pairs: "
-                             f"{', '.join(map(repr, self._pairs)) or 'none'})")
-        row, m, j, k = self._pairs[name]["layout"]
-        ip = self._pairs[name]["index"]
-        return dict(x=self.joints[:, j:j + k], xdot=self.joint_rates[:, j:j + k],
-                    effort=self.efforts[:, j:j + k], **{"lambda": self.constraint_wrenches[:, row:row + m]},
-                    wrench=self.pair_wrenches[:, ip])
-
-    def positions(self, link: Union[str, FlexibleLink]) -> np.ndarray:
-        """Node positions of a link [m], shape (nt, nnodes, 3)."""
-        lk = _result_link(self._links, link)
-        return self.poses[:, self._columns(lk.nodes)][..., :3, 3]
-
-    def tip(self, link: Union[str, FlexibleLink]) -> np.ndarray:
-        """Position of the link's end node [m], shape (nt, 3)."""
-        return self.positions(link)[:, -1, :]
-
-    # ---------------------------------------------------------- conserved quantities
-
-    def _mass_carriers(self, x, need_motion: bool, what: str) -> list:
-        """Carrier indices of ``x`` (None: all; a Body, FlexibleLink, a body's or link's name,
-        or a list of these); with ``need_motion``, ModelError unless all were recorded."""
-        if self._mass is None:
-            raise ModelError(f"{what}: this result carries no inertia data (made by simulate?)")
-        if x is None:
-            carriers, whom = list(range(len(self._mass))), "the whole mechanism"
-        else:
-            items = list(x) if isinstance(x, (list, tuple)) else [x]
-            carriers, names = [], []
-            for it in items:
-                if isinstance(it, str):
-                    it = self._links.get(it, self._bodies.get(it, it))
-                if isinstance(it, Body) and self._bodies.get(it.name) == it:
-                    cs = [it.carrier]
-                elif isinstance(it, FlexibleLink) and self._links.get(it.name) is it:
-                    cs = list(it.nodes)
-                elif isinstance(it, (str, Body, FlexibleLink)):
-                    nm = it if isinstance(it, str) else it.name
-                    raise ModelError(f"{what}: {nm!r} is not a body or link of this mechanism "
-                                     f"(bodies: {', '.join(map(repr, self._bodies)) or 'none'}; "
-                                     f"links: {', '.join(map(repr, self._links)) or 'none'})")
-                else:
-                    raise ModelError(f"{what}: expected None (the whole mechanism), a Body, a "
-                                     f"FlexibleLink, a body's or link's name, or a list of these "
-                                     f"(got {type(it).__name__}; a frame or the ground has no mass "
-                                     f"of its own)")
-                carriers += [c for c in cs if c not in carriers]
-                names.append(repr(it.name))
-            whom = ", ".join(names)
-            if not carriers:
-                raise ModelError(f"{what}: an empty selection (None is the whole mechanism)")
-            if max(carriers) >= len(self._mass):
-                raise ModelError(f"{what}: {whom} was added to the mechanism after this simulation")
-        if need_motion and self.carriers is not None:
-            kept = {int(c) for c in self.carriers}
-            missing = [c for c in carriers if c not in kept]
-            if missing:
-                full = [repr(b.name) for b in self._bodies.values() if b.carrier in kept]
-                full += [repr(lk.name) for lk in self._links.values() if all(c in kept for c in lk.nodes)]
-                lost = ", ".join(_carrier_name(c, self._bodies, self._links) for c in missing[:5])
-                lost += f" and {len(missing) - 5} more" if len(missing) > 5 else ""
-                raise ModelError(
-                    f"{what} of {whom} needs the poses and twists of every carrier in it, but "
-                    f"simulate(record=...) did not record {lost}. It can be computed for what was "
-                    f"recorded in full ({', '.join(full) or 'nothing'}); simulate without record= "
-                    f"(or record these too) for the rest")
-        return carriers
-
-    def momentum(self, x=None, about=(0.0, 0.0, 0.0)) -> "Momentum":
-        """World-frame linear and angular momentum of the whole mechanism (``x`` None) or of a
-        body, a flexible link (all its nodes), a body's or link's name, or a list of these:
-        ``Momentum(linear, angular)``, each (nt, 3), in kg m/s and kg m^2/s.
-
-        Each carrier (a rigid body, or a beam node with its lumped inertia) contributes its body
-        momentum (L_b, P_b) = M t, M its 6x6 spatial inertia about the carrier frame (centre of
-        mass possibly offset) and t = (omega, v) its body twist, moved to the world frame by the
-        dual adjoint, (L, P) = Ad*_{H^-1} (L_b, P_b) with H = (R, p) the carrier's pose:
-        P = R P_b, L = R L_b + (p - about) x P. So ``linear`` is sum m v_com and ``angular`` the
-        moment of momentum sum (r - about) x m v + I_com omega about the world point ``about``
-        (right-handed: positive about an axis when the mass turns counterclockwise seen from
-        its tip), with the absolute (world) velocities. ``about``: a fixed world point (3,), one
-        point per output (nt, 3) (e.g. a moving pivot), or ``"com"``: the selection's own centre
-        of mass at each output (its spin angular momentum).
-
-        Without external wrenches (no gravity, loads, or pairs, springs or actuators to the
-        ground) both are constant; under gravity alone d(linear)/dt = mass(x) g. After
-        ``simulate(record=...)``, ``x`` must be bodies/links whose carriers were all recorded
-        (ModelError naming what is missing otherwise); the whole mechanism needs every carrier."""
-        cars = self._mass_carriers(x, True, "momentum")
-        nt = len(self.t)
-        if isinstance(about, str):
-            if about != "com":
-                raise ModelError(f"momentum: about must be a world point (3,), points (nt, 3) or "
-                                 f"'com' (got {about!r})")
-            a = self.centre_of_mass(x)
-        else:
-            a = np.asarray(about, dtype=float)
-            if a.shape not in ((3,), (nt, 3)) or not np.all(np.isfinite(a)):
-                raise ModelError(f"momentum: about must be a finite world point (3,) or one point "
-                                 f"per output ({nt}, 3) [m] (got shape {a.shape})")
-        cols = self._columns(cars)
-        P = np.zeros((nt, 3))
-        L = np.zeros((nt, 3))
-        for c, j in zip(cars, cols):          # per carrier, vectorized over time
-            mb = self.twists[:, j] @ self._inertia[c].T         # body momentum (L_b, P_b)
-            R = self.poses[:, j, :3, :3]
-            Pw = np.einsum("nij,nj->ni", R, mb[:, 3:])
-            P += Pw
-            L += np.einsum("nij,nj->ni", R, mb[:, :3]) + np.cross(self.poses[:, j, :3, 3] - a, Pw)
-        return Momentum(P, L)
-
-    def mass(self, x=None) -> float:
-        """Mass [kg] of the whole mechanism (``x`` None) or of bodies/links (as in momentum): the
-        sum of the carriers' masses (a link's node masses add up to its mass per length times its
-        length). Needs no recorded motion."""
-        return float(np.sum(self._mass[self._mass_carriers(x, False, "mass")]))
-
-    def centre_of_mass(self, x=None) -> np.ndarray:
-        """World position of the centre of mass [m], (nt, 3), of the whole mechanism (``x``
-        None) or of bodies/links (as in momentum): sum m_i (p_i + R_i c_i) / sum m_i over the
-        carriers, c_i the centre of mass in carrier coordinates (the masses and centres of mass
-        gravity acts on). Needs the recorded poses of those carriers (see momentum)."""
-        cars = self._mass_carriers(x, True, "centre_of_mass")
-        cols = self._columns(cars)
-        H = self.poses[:, cols]                                   # (nt, k, 4, 4)
-        r = np.einsum("nkij,kj->nki", H[..., :3, :3], self._com[cars]) + H[..., :3, 3]
-        m = self._mass[cars]
-        return np.einsum("k,nki->ni", m, r) / m.sum()
-
-
-@dataclasses.dataclass
-class ModesResult:
-    """Linearized modes: ``omega`` [rad/s], ``frequency`` [Hz], ``damping_ratio``, ``shapes``
-    (n, ncarriers, 6) tangent displacements (rotation, translation) per carrier, mass-normalized."""
-    omega: np.ndarray
-    frequency: np.ndarray
-    damping_ratio: np.ndarray
-    shapes: np.ndarray
-
-
-@dataclasses.dataclass
-class StaticResult:
-    """Static equilibrium: ``poses`` (ncarriers, 4, 4), ``constraint_wrenches``, Newton
-    ``iterations``."""
-    poses: np.ndarray
-    constraint_wrenches: np.ndarray
-    iterations: int
-    _links: dict
-
-    def positions(self, link: Union[str, FlexibleLink]) -> np.ndarray:
-        """Node positions of a link [m], shape (nodes, 3)."""
-        lk = _result_link(self._links, link)
-        return self.poses[lk.nodes, :3, 3]
-
-
-# ------------------------------------------------------------------ the mechanism
 class Mechanism:
     """A mechanism under construction: add links, bodies, pairs and wrenches, then simulate,
     compute modes or static equilibria. ``gravity`` [m/s^2] in world coordinates.
@@ -961,23 +82,14 @@ class Mechanism:
         tol = real("frequency_tolerance", frequency_tolerance)
         if not 0 < tol < 1:
             raise ModelError(f"frequency_tolerance must be in (0, 1) (got {frequency_tolerance!r})")
-        self.gravity = g
         self.strict = bool(strict)
         self.band = None if band is None else real("band", band)
         self.frequency_tolerance = tol
         self.ground = Frame(-1, np.eye(4), "ground")
-        self._car = []      # dicts: M, mass, com, H0, t0
-        self._el = []       # dicts: a, b, h, K, D, eps
-        self._pairs = []    # dicts: name, type, a, b, Ta, Tb, driven
-        self._loads = []    # dicts: name, carrier, world, point, w, law, reaction
-        self._acts = []     # dicts: name, pair, kind, vec, kp, kd, xset, law
-        self._springs = []  # dicts: name, a, b, pa, pb, kcd
-        self._links = {}
-        self._bodies = {}
+        self._desc = ModelDescription(g)
         self._names = set()
-        self._el_first = {}     # link name -> index of its first element
-        self._given = {}        # carrier -> the pose the user gave it (4x4), if any
-        self._twist_given = set()  # carriers whose twist the user gave (add_rigid_body(twist=))
+        #: the initial configuration the last analysis started from (topology.InitialState)
+        self._state: Optional[topology.InitialState] = None
         self._warned = None
         self._warned_initial = None
         #: (pair name, constraint direction) rows found redundant at the initial configuration and
@@ -986,6 +98,26 @@ class Mechanism:
         #: InitialAdjustment rows: how far the loop closure moved each given x0 coordinate and
         #: each given pose (set when the core model is built, like redundant_constraints)
         self.initial_adjustments: list = []
+
+    @property
+    def gravity(self) -> np.ndarray:
+        """Gravitational acceleration [m/s^2] in world coordinates, (3,)."""
+        return self._desc.gravity
+
+    @gravity.setter
+    def gravity(self, g) -> None:
+        self._desc.gravity = array("gravity", g, (3,), "3 finite numbers [m/s^2]")
+
+    # the description's rows under the names tests and examples read (see description.py)
+    _car = property(lambda self: self._desc.carriers)
+    _el = property(lambda self: self._desc.elements)
+    _pairs = property(lambda self: self._desc.pairs)
+    _loads = property(lambda self: self._desc.loads)
+    _acts = property(lambda self: self._desc.actuators)
+    _springs = property(lambda self: self._desc.springs)
+    _links = property(lambda self: self._desc.links)
+    _bodies = property(lambda self: self._desc.bodies)
+    _given = property(lambda self: self._desc.given)
 
     # -------------------------------------------------------------- building
     def _check_name(self, name):
@@ -1029,15 +161,16 @@ class Mechanism:
             raise ModelError(f"elements must be an integer >= 1 or None (got {elements!r})")
         if elements is not None and band is not None:
             raise ModelError(f"link {name!r}: give elements= or band=, not both")
-        K = _mat6(getattr(properties, "stiffness", None), "properties.stiffness")
-        I = _mat6(getattr(properties, "inertia", None), "properties.inertia")
+        mat6 = "a finite 6x6 matrix"
+        K = array("properties.stiffness", getattr(properties, "stiffness", None), (6, 6), mat6)
+        I = array("properties.inertia", getattr(properties, "inertia", None), (6, 6), mat6)
         Dp = getattr(properties, "damping", None)
-        Dm = np.zeros((6, 6)) if Dp is None else _mat6(Dp, "properties.damping")
-        if not _positive_definite(K):
+        Dm = np.zeros((6, 6)) if Dp is None else array("properties.damping", Dp, (6, 6), mat6)
+        if not positive_definite(K):
             raise ModelError("properties.stiffness must be symmetric positive definite")
-        if not _positive_definite(I):
+        if not positive_definite(I):
             raise ModelError("properties.inertia (per unit length) must be symmetric positive definite")
-        H = np.eye(4) if pose is None else _pose(pose, "pose")
+        H = np.eye(4) if pose is None else rigid_pose(pose, "pose")
         kap = np.zeros(3) if curvature is None else \
             array("curvature", curvature, (3,), "3 finite numbers [1/m] or None")
         self._check_name(name)
@@ -1067,7 +200,7 @@ class Mechanism:
                              f"node poses that are not finite in double precision")
         self._new_name(name)
         first = len(self._car)
-        self._el_first[name] = len(self._el)
+        self._desc.first_element[name] = len(self._el)
         for k in range(N + 1):
             share = h if 0 < k < N else h / 2
             Mk = I * share
@@ -1094,11 +227,11 @@ class Mechanism:
             raise ModelError(f"mass must be > 0 (got {m} kg)")
         spd = "a symmetric positive definite 3x3 matrix [kg m^2]"
         J = array("inertia", inertia, (3, 3), spd)
-        if not _positive_definite(J):
+        if not positive_definite(J):
             raise ModelError(f"inertia: expected {spd}")
         c = array("com", com, (3,), "3 finite numbers [m]")
         tw = np.zeros(6) if twist is None else array("twist", twist, (6,), "6 finite numbers (omega [rad/s], v [m/s]) or None")
-        H0 = np.eye(4) if pose is None else _pose(pose, "pose")
+        H0 = np.eye(4) if pose is None else rigid_pose(pose, "pose")
         C = np.array([[0, -c[2], c[1]], [c[2], 0, -c[0]], [-c[1], c[0], 0]])
         M = np.zeros((6, 6))
         with np.errstate(over="ignore", invalid="ignore"):
@@ -1106,7 +239,7 @@ class Mechanism:
             M[:3, 3:] = m * C
             M[3:, :3] = -m * C
             M[3:, 3:] = m * np.eye(3)
-        if not (np.all(np.isfinite(M)) and _positive_definite(M, cholesky=True)):
+        if not (np.all(np.isfinite(M)) and positive_definite(M, cholesky=True)):
             raise ModelError(f"body {name!r}: mass {m:g} kg, inertia (largest {np.max(np.abs(J)):.3g} "
                              f"kg m^2) and com {c.tolist()} m give a spatial inertia that is not "
                              f"finite and positive definite in double precision")
@@ -1116,7 +249,7 @@ class Mechanism:
         if pose is not None:
             self._given[b.carrier] = np.array(self._car[b.carrier]["H0"])
         if twist is not None:
-            self._twist_given.add(b.carrier)
+            self._desc.twist_given.add(b.carrier)
         self._bodies[name] = b
         return b
 
@@ -1145,7 +278,8 @@ class Mechanism:
         if not isinstance(pair, _Pair):
             raise ModelError(f"pair {name!r}: unsupported pair type {type(pair).__name__} (available: "
                              "Fixed, Revolute, Prismatic, Helical, Cylindrical, Universal, Spherical, Planar, Free)")
-        fa, fb = _frame_of(a, self, f"pair {name!r}, argument a"), _frame_of(b, self, f"pair {name!r}, argument b")
+        fa = frame_of(a, self._desc, f"pair {name!r}, argument a")
+        fb = frame_of(b, self._desc, f"pair {name!r}, argument b")
         if fa.carrier == fb.carrier:
             raise ModelError(f"pair {name!r}: both frames are on the same carrier (a body cannot be paired with itself)")
         try:
@@ -1159,18 +293,18 @@ class Mechanism:
         if driven is not None:
             if not isinstance(driven, Motion):
                 raise ModelError(f"pair {name!r}: driven must be a Motion")
-            if not isinstance(pair, Fixed):
+            if not pair._type.drivable:
                 raise ModelError(f"pair {name!r}: only Fixed pairs take a prescribed Motion; drive a "
                                  f"{type(pair).__name__} pair with a PD actuator")
             axis = array(f"pair {name!r}: motion axis", driven.axis, (6,), "6 finite numbers (omega, v)")
-            law = _law_tuple(driven.law, f"pair {name!r}: Motion law")
+            law = checked_law(driven.law, f"pair {name!r}: Motion law")
         k = pair.k
         xv = np.zeros(6)
         if x0 is not None:
             if k == 0:
                 raise ModelError(f"pair {name!r}: a fixed pair has no joint coordinates (x0)")
-            xv[:k] = _kvec(x0, k, f"pair {name!r}: x0")
-        xd = None if xdot0 is None else _kvec(xdot0, k, f"pair {name!r}: xdot0")
+            xv[:k] = per_coordinate(x0, k, f"pair {name!r}: x0")
+        xd = None if xdot0 is None else per_coordinate(xdot0, k, f"pair {name!r}: xdot0")
         if xdot0 is not None and k == 0:
             raise ModelError(f"pair {name!r}: a fixed pair has no joint rates (xdot0)")
         self._check_name(name)
@@ -1183,9 +317,9 @@ class Mechanism:
                      x0=xv, has_x0=x0 is not None, pair=pair, xdot0=xdv,
                      has_xdot0=xdot0 is not None)
         # everything that can fail before anything is changed: a failed call adds nothing
-        act = None if actuator is None else self._actuator_entry(name, entry, len(self._pairs), actuator)
+        act = None if actuator is None else actuator_row(name, entry, len(self._pairs), actuator)
         place = None
-        if (x0 is not None or xdot0 is not None) and fb.carrier in self._body_carriers():
+        if (x0 is not None or xdot0 is not None) and fb.carrier in self._desc.body_carriers():
             place = self._placed(entry, xv[:k], np.zeros(k) if xd is None else xd)
         self._new_name(name)
         self._pairs.append(entry)
@@ -1194,42 +328,23 @@ class Mechanism:
         if act is not None:
             self._acts.append(act)
 
-    def _carrier_name(self, c: int) -> str:
-        return _carrier_name(c, self._bodies, self._links)
-
     def _describe(self, f: Frame) -> str:
         """A frame's name in quotes, or where an unnamed frame sits."""
-        return repr(f.name) if f.name else f"(unnamed frame on {self._carrier_name(f.carrier)})"
-
-    def _body_carriers(self):
-        return {b.carrier for b in self._bodies.values()}
+        return repr(f.name) if f.name else f"(unnamed frame on {self._desc.carrier_name(f.carrier)})"
 
     def _placed(self, e, x, xd):
         """Pose H_a T_a h(x) T_b^-1 of carrier b and its twist (that of a plus the joint rate);
         ModelError when x0 or xdot0 are beyond what double precision can place."""
-        pair = e["pair"]
         Ha = np.eye(4) if e["a"] < 0 else self._car[e["a"]]["H0"]
         ta = np.zeros(6) if e["a"] < 0 else self._car[e["a"]]["t0"]
         try:
             with np.errstate(over="raise", invalid="raise"):
-                h = pair._fk(x)
-                Hb = Ha @ e["Ta"] @ h @ se3.inverse(e["Tb"])
-                # relative twist t_rel = psi(x) xdot, psi by central differences of h(x)
-                trel = np.zeros(6)
-                eps = 1e-6
-                hi = se3.inverse(h)
-                for i in range(len(x)):
-                    d = np.zeros(len(x))
-                    d[i] = eps
-                    trel += xd[i] * (se3.log(hi @ pair._fk(x + d)) - se3.log(hi @ pair._fk(x - d))) / (2 * eps)
-                tA = se3.Ad(se3.inverse(e["Ta"])) @ ta               # body twist of F_a
-                tB = se3.Ad(hi) @ tA + trel                          # body twist of F_b
-                tb = se3.Ad(e["Tb"]) @ tB
+                Hb, tb = topology.pose_across(e, x, xd, Ha, ta)
         except (ValueError, FloatingPointError):   # se3 refuses non-finite input (ModelError)
             tb = Hb = np.full(6, np.nan)
         if not (np.all(np.isfinite(Hb)) and np.all(np.isfinite(tb))):
             raise ModelError(f"pair {e['name']!r}: x0 {x.tolist()} and xdot0 {xd.tolist()} give a "
-                             f"non-finite initial pose or twist of {self._carrier_name(e['b'])} "
+                             f"non-finite initial pose or twist of {self._desc.carrier_name(e['b'])} "
                              f"in double precision")
         return Hb, tb
 
@@ -1245,49 +360,9 @@ class Mechanism:
             raise ModelError(f"actuator {name!r}: pair must be given by its name (got {pair!r})")
         e = self._pair_entry(pair)
         self._check_name(name)
-        act = self._actuator_entry(name, e, self._pairs.index(e), actuator)
+        act = actuator_row(name, e, self._pairs.index(e), actuator)
         self._new_name(name)
         self._acts.append(act)
-
-    def _actuator_entry(self, name, e, index, act):
-        """The actuator's row (pair entry e, at position index): validated, not yet added."""
-        k = e["k"]
-        what = f"actuator {name!r}"
-        if k == 0:
-            raise ModelError(f"{what}: a fixed pair has no allowed direction to actuate")
-        z = np.zeros(6)
-        vec, kp, kd, xs, law = z.copy(), z.copy(), z.copy(), z.copy(), None
-        if isinstance(act, Effort):
-            kind = _ACT_EFFORT
-            law = _law_tuple(Constant(1.0) if act.law is None else act.law, f"{what}: Effort law",
-                             numbers=True)
-            vec[:k] = _kvec(act.direction, k, f"{what}: direction")
-        elif isinstance(act, PD):
-            kind = _ACT_PD
-            kp[:k] = _kvec(act.kp, k, f"{what}: kp")
-            kd[:k] = _kvec(act.kd, k, f"{what}: kd")
-            d = _kvec(act.direction, k, f"{what}: direction")
-            xs[:k] = _kvec(act.offset, k, f"{what}: offset", default=0.0)
-            if isinstance(act.target, _Law) or callable(act.target):
-                law = _law_tuple(act.target, f"{what}: PD target")
-                vec[:k] = d
-            else:
-                with np.errstate(over="ignore", invalid="ignore"):   # checked below
-                    xs[:k] += _kvec(act.target, k, f"{what}: target") * (d if act.direction is not None else 1.0)
-                law = Constant(0.0)._tuple()
-        elif isinstance(act, Spring):
-            kind = _ACT_SPRING
-            kp[:k] = _kvec(act.k, k, f"{what}: k")
-            kd[:k] = _kvec(act.c, k, f"{what}: c")
-            xs[:k] = e["x0"][:k] if act.rest is None else _kvec(act.rest, k, f"{what}: rest")
-        else:
-            raise ModelError(f"{what}: expected Effort, PD or Spring (got {type(act).__name__})")
-        if kind != _ACT_EFFORT and (np.any(kp[:k] < 0) or np.any(kd[:k] < 0)):
-            raise ModelError(f"{what}: gains must be >= 0")
-        if not np.all(np.isfinite(xs)):
-            raise ModelError(f"{what}: the set point (offset + target times direction) is not "
-                             f"finite in double precision: {xs[:k].tolist()}")
-        return dict(name=name, pair=index, kind=kind, vec=vec, kp=kp, kd=kd, xset=xs, law=law)
 
     def add_spring_damper(self, name: str, a, b, k: float, c: float = 0.0,
                           rest_length: Optional[float] = None, point_a=(0.0, 0.0, 0.0),
@@ -1296,7 +371,8 @@ class Mechanism:
         ``b`` (frame coordinates [m]; the ground's points are world points): tension
         k (d - rest_length) + c dd/dt [N], ``rest_length`` defaulting to the initial distance.
         Its elastic energy is part of the total energy, its dissipation a port of the ledger."""
-        fa, fb = _frame_of(a, self, f"spring {name!r}, argument a"), _frame_of(b, self, f"spring {name!r}, argument b")
+        fa = frame_of(a, self._desc, f"spring {name!r}, argument a")
+        fb = frame_of(b, self._desc, f"spring {name!r}, argument b")
         if fa.carrier == fb.carrier:
             raise ModelError(f"spring {name!r}: both ends are on the same carrier")
         kk, cc = real(f"spring {name!r}: k", k), real(f"spring {name!r}: c", c)
@@ -1320,7 +396,7 @@ class Mechanism:
         power is a port of the ledger."""
         load = self._wrench_entry(name, target, wrench, law, frame, point)
         if reaction is not None:
-            fr = _frame_of(reaction, self, f"interaction {name!r}, argument reaction")
+            fr = frame_of(reaction, self._desc, f"interaction {name!r}, argument reaction")
             if fr.carrier == load["carrier"]:
                 raise ModelError(f"interaction {name!r}: target and reaction are on the same carrier")
             load["reaction"] = fr.carrier
@@ -1340,13 +416,13 @@ class Mechanism:
         """The load row of add_wrench, validated, not yet added."""
         what = what or f"wrench {name!r}"
         self._check_name(name)
-        f = _frame_of(target, self, f"{what}, argument target")
+        f = frame_of(target, self._desc, f"{what}, argument target")
         if f.carrier < 0:
             raise ModelError(f"{what}: cannot load the ground")
-        _choice(f"{what}: frame", frame, ("world", "body"))
+        choice(f"{what}: frame", frame, ("world", "body"))
         w = array(f"{what}: wrench", wrench, (6,), "6 finite numbers (tau [N m], f [N])")
         p = array(f"{what}: point", point, (3,), "3 finite numbers [m]")
-        law = _law_tuple(law, f"{what}: law")
+        law = checked_law(law, f"{what}: law")
         # the offset of a frame on its carrier moves the point of application
         pt = f.T[:3, :3] @ p + f.T[:3, 3]
         if frame == "body":
@@ -1376,87 +452,38 @@ class Mechanism:
             self._new_name(ld["name"])
             self._loads.append(ld)
 
-    # -------------------------------------------------------------- core model
     # -------------------------------------------------------------- graphs, initial configuration
-    def _vertex(self, carrier: int, inner: dict) -> str:
-        if carrier < 0:
-            return "0"
-        for b in self._bodies.values():
-            if b.carrier == carrier:
-                return b.name
-        for lk in self._links.values():
-            if carrier in lk.nodes:
-                k = lk.nodes.index(carrier)
-                if k == 0:
-                    return lk.name + "L"
-                if k == lk.elements:
-                    return lk.name + "R"
-                lab = f"{lk.name}[{k}]"
-                if (k, lab) not in inner.setdefault(lk.name, []):
-                    inner[lk.name].append((k, lab))
-                return lab
-        raise ModelError(f"carrier {carrier} belongs to no body or link")
-
     def graphs(self) -> Graphs:
         """G_B, G_K, G_F, G_I and the incidence matrices B_K,r, B_K,f, B_I,r, B_I,f with row and
-        column labels (DESIGN.md §5). A pair or interaction added between a and b, in that order,
-        is the edge (a, b): -1 at row a, +1 at row b."""
-        inner: dict = {}
-        g = MechanismGraph(rigid=list(self._bodies), flexible=list(self._links), inner=inner)
-        for e in self._pairs:
-            g.pairs.append((e["name"], self._vertex(e["a"], inner), self._vertex(e["b"], inner)))
-        for ld in self._loads:
-            if ld.get("interaction"):
-                g.interactions.append((ld["name"], self._vertex(ld["carrier"], inner),
-                                       self._vertex(ld["reaction"], inner)))
-        for q in self._springs:
-            g.interactions.append((q["name"], self._vertex(q["a"], inner), self._vertex(q["b"], inner)))
-        return Graphs(g, g.incidence_pairs(), g.incidence_interactions())
+        column labels (paper Sec. IV). A pair or interaction added between a and b, in that
+        order, is the edge (a, b): -1 at row a, +1 at row b."""
+        return mechanism_graphs(self._desc)
 
-    def _loops_through(self, pairs: list) -> list:
-        loops = self.graphs().loops()
-        hit = [lp for lp in loops if set(lp) & set(pairs)]
-        return hit or loops
-
-    def _initial(self):
-        """Tree placement, loop closure and redundancy (see phmech.topology): returns poses,
-        twists, the pairs' x0 rows and drop masks; sets ``redundant_constraints`` and
-        ``initial_adjustments`` (warns or, if ``strict``, raises on moves beyond tolerance).
-        Overflow in these steps (given lengths, positions, x0 or rates beyond what double
-        precision can square) is a ModelError, never a NaN passed on."""
+    def _initial_state(self, extra_loads: Sequence[dict] = ()):
+        """The initial configuration (topology.initial_state); returns (InitialState, model),
+        ``model`` the core model the steps built (with ``extra_loads``) when it is the
+        analysis's, else None. Sets ``redundant_constraints`` and ``initial_adjustments`` and
+        warns or, if ``strict``, raises on moves beyond tolerance. Overflow in these steps (given
+        lengths, positions, x0 or rates beyond what double precision can square) is a
+        ModelError, never a NaN passed on."""
+        if not self._car:
+            raise ModelError("the mechanism is empty")
         try:
             with np.errstate(over="raise", invalid="raise"):
-                return self._initial_steps()
+                self._state, model = topology.initial_state(self._desc, extra_loads)
         except FloatingPointError as e:
             raise ModelError(f"initial configuration: {e} while placing the carriers and closing "
                              f"the loops: the model's lengths, positions, x0 or xdot0 are beyond "
                              f"what double precision can handle") from None
+        self._report(self._state)
+        return self._state, model
 
-    def _initial_steps(self):
-        H, T, tree = topology.place_tree(self)
-        x0 = np.array([p["x0"] for p in self._pairs]).reshape(-1, 6)
-        adjustments = []
-        if self._pairs:
-            model = self._core_model(H, T, x0, None, ())
-            H_tree = H.copy()
-            H = topology.close_loops(self, model, H, tree, None, self._loops_through)
-            T, rates = topology.close_rates(self, model, H, T, tree, None)
-            # joint coordinates reached (on the branch of x0): the core checks x0 at the start
-            x = _core.model_joints(model, H, None)
-            lay = _core.model_sizes(model)[4]
-            adjustments = self._adjustments(H_tree, H, x, lay, rates)
-            for ip, e in enumerate(self._pairs):
-                _, _, j, k = lay[ip]
-                if e["has_x0"] and k:
-                    x0[ip, :k] = x[j:j + k]
-            _, G, _ = _core.model_constraints_full(model, H, None, 0.0)
-            masks, dropped = topology.redundant_rows(self, G, tree)
-        else:
-            masks, dropped = [], []
-        self.redundant_constraints = dropped
-        self.initial_adjustments = adjustments
-        self._drop_masks = masks
-        moved = [a for a in adjustments if a.exceeds]
+    def _report(self, state: topology.InitialState) -> None:
+        """Publish the redundant rows and the adjustments of ``state``; warn about them (once per
+        distinct message) or raise ModelError with ``strict``."""
+        self.redundant_constraints = list(state.redundant)
+        self.initial_adjustments = list(state.adjustments)
+        moved = [a for a in state.adjustments if a.exceeds]
         if moved:
             msg = ("initial configuration: closing the loops moved given initial values beyond "
                    "their tolerance: " + "; ".join(str(a) for a in moved) +
@@ -1467,49 +494,17 @@ class Mechanism:
             if self._warned_initial != msg:
                 self._warned_initial = msg
                 warnings.warn(msg, InitialValueWarning, stacklevel=3)
+        dropped = state.redundant
         if dropped and self._warned != dropped:
             self._warned = list(dropped)
             warnings.warn(f"hyperconstrained mechanism: {len(dropped)} redundant constraint "
                           f"directions left out of the DAE (pair, direction in F_b): {dropped}",
                           RedundantConstraintWarning, stacklevel=3)
-        return H, T, x0, masks
 
-    def _adjustments(self, H_tree, H, x, lay, rates) -> list:
-        """InitialAdjustment rows: every given x0 (xdot0) coordinate against the reached x
-        (``rates``: joint row -> reached rate), and every given pose the tree placement kept
-        against the closed poses H."""
-        L = topology.length_scale(self)
-        tol_m, tol_r = topology.POSE_TOL * L, topology.POSE_TOL
-        rows = []
-        for ip, e in enumerate(self._pairs):
-            _, _, j, k = lay[ip]
-            for c in range(k):
-                unit = e["pair"]._units[c]
-                for key, given, now, u in (("x0", "has_x0", x, unit), ("xdot0", "has_xdot0", rates, unit + "/s")):
-                    if not e.get(given, False):
-                        continue
-                    g, reached = float(e[key][c]), float(now[j + c])
-                    tol = tol_r * max(1.0, abs(g)) if unit == "rad" else tol_m * max(1.0, abs(g) / L)
-                    q = "x" if key == "x0" else "xdot"
-                    rows.append(InitialAdjustment(e["name"], q if k == 1 else f"{q}[{c}]", g,
-                                                  reached, abs(reached - g), u, tol))
-
-        def moves(Ha, Hb):
-            return (float(np.linalg.norm(Hb[:3, 3] - Ha[:3, 3])),
-                    topology._rot_angle(Ha[:3, :3].T @ Hb[:3, :3]))
-
-        groups = [(b.name, [b.carrier]) for b in self._bodies.values()] + \
-                 [(lk.name, list(lk.nodes)) for lk in self._links.values()]
-        for name, cs in groups:
-            if not all(c in self._given for c in cs):
-                continue
-            tree = [moves(self._given[c], H_tree[c]) for c in cs]
-            if max(d for d, _ in tree) > tol_m or max(a for _, a in tree) > tol_r:
-                continue   # placed by an x0 up the tree: its pose is not the given one by request
-            now = [moves(self._given[c], H[c]) for c in cs]
-            rows.append(InitialAdjustment(name, "position", None, None, max(d for d, _ in now), "m", tol_m))
-            rows.append(InitialAdjustment(name, "orientation", None, None, max(a for _, a in now), "rad", tol_r))
-        return rows
+    def _initial(self) -> tuple:
+        """Copies of the initial poses, twists, the pairs' x0 rows and drop masks."""
+        state, _ = self._initial_state()
+        return state.poses.copy(), state.twists.copy(), state.x0.copy(), list(state.drop_masks)
 
     def initial_configuration(self) -> InitialConfiguration:
         """The initial configuration the analyses start from (tree placement from the given
@@ -1517,68 +512,17 @@ class Mechanism:
         InitialAdjustment table (also left in ``initial_adjustments``) and the redundant
         constraints. Warns (InitialValueWarning) or, with ``strict``, raises ModelError like
         the analyses when the loop closure moved a given value beyond its tolerance."""
-        if not self._car:
-            raise ModelError("the mechanism is empty")
         H, T, _, _ = self._initial()
         return InitialConfiguration(H, T, list(self.initial_adjustments), list(self.redundant_constraints))
 
-    def _build(self, extra_loads=()):
-        if not self._car:
-            raise ModelError("the mechanism is empty")
-        H, T, x0, masks = self._initial()
-        return self._core_model(H, T, x0, masks, extra_loads)
-
-    def _core_model(self, H, T, x0, masks, extra_loads):
-        car, el, pr, ac, sp = self._car, self._el, self._pairs, self._acts, self._springs
-        loads = list(self._loads) + list(extra_loads)
-
-        def world(c_, p_):
-            return p_ if c_ < 0 else H[c_][:3, :3] @ p_ + H[c_][:3, 3]
-        with np.errstate(over="ignore", invalid="ignore"):   # checked below
-            kcd = [(q["kcd"][0], q["kcd"][1], np.linalg.norm(world(q["b"], q["pb"]) - world(q["a"], q["pa"]))
-                    if q["kcd"][2] is None else q["kcd"][2]) for q in sp]
-        for q, (_, _, d0) in zip(sp, kcd):
-            if not np.isfinite(d0):
-                raise ModelError(f"spring {q['name']!r}: the initial distance between its points "
-                                 f"(its default rest length) is not finite in double precision")
-        return _core.model_new(
-            M=np.array([c["M"] for c in car]), mass=np.array([c["mass"] for c in car]),
-            com=np.array([c["com"] for c in car]), H0=np.asarray(H),
-            t0=np.asarray(T),
-            el_ab=np.array([[e["a"], e["b"]] for e in el], dtype=float).reshape(-1, 2),
-            el_h=np.array([e["h"] for e in el], dtype=float),
-            el_K=np.array([e["K"] for e in el]).reshape(-1, 6, 6),
-            el_D=np.array([e["D"] for e in el]).reshape(-1, 6, 6),
-            el_eps=np.array([e["eps"] for e in el]).reshape(-1, 6),
-            pr_type=np.array([p["type"] for p in pr], dtype=float),
-            pr_ab=np.array([[p["a"], p["b"]] for p in pr], dtype=float).reshape(-1, 2),
-            pr_Ta=np.array([p.get("Ta_eff", p["Ta"]) for p in pr]).reshape(-1, 4, 4),
-            pr_Tb=np.array([p["Tb"] for p in pr]).reshape(-1, 4, 4),
-            pr_driven=np.array([float(p["driven"]) for p in pr]),
-            pr_axis=np.array([p["axis"] for p in pr]).reshape(-1, 6),
-            pr_law=[p["law"] for p in pr],
-            ld_carrier=np.array([l["carrier"] for l in loads], dtype=float),
-            ld_world=np.array([float(l["world"]) for l in loads]),
-            ld_point=np.array([l["point"] for l in loads]).reshape(-1, 3),
-            ld_w=np.array([l["w"] for l in loads]).reshape(-1, 6),
-            ld_law=[l["law"] for l in loads],
-            gravity=self.gravity,
-            pr_pitch=np.array([p["pitch"] for p in pr], dtype=float),
-            pr_x0=np.asarray(x0, dtype=float).reshape(-1, 6),
-            pr_drop=None if masks is None else np.array(masks, dtype=float),
-            pr_has_x0=np.array([float(p["has_x0"]) for p in pr]),
-            ld_reaction=np.array([l.get("reaction", -1) for l in loads], dtype=float),
-            ac_pair=np.array([a["pair"] for a in ac], dtype=float),
-            ac_kind=np.array([a["kind"] for a in ac], dtype=float),
-            ac_vec=np.array([a["vec"] for a in ac]).reshape(-1, 6),
-            ac_kp=np.array([a["kp"] for a in ac]).reshape(-1, 6),
-            ac_kd=np.array([a["kd"] for a in ac]).reshape(-1, 6),
-            ac_xset=np.array([a["xset"] for a in ac]).reshape(-1, 6),
-            ac_law=[a["law"] for a in ac],
-            sp_ab=np.array([[q["a"], q["b"]] for q in sp], dtype=float).reshape(-1, 2),
-            sp_pa=np.array([q["pa"] for q in sp]).reshape(-1, 3),
-            sp_pb=np.array([q["pb"] for q in sp]).reshape(-1, 3),
-            sp_kcd=np.array(kcd, dtype=float).reshape(-1, 3))
+    def _build(self, extra_loads: Sequence[dict] = ()):
+        """The core model of this mechanism at its initial configuration, with ``extra_loads``
+        (load rows) after its own."""
+        state, model = self._initial_state(extra_loads)
+        if model is None:
+            model = _marshal.core_model(self._desc, state.poses, state.twists, state.x0,
+                                        state.drop_masks, state.frames_a, extra_loads)
+        return model
 
     # -------------------------------------------------------------- analyses
     def simulate(self, t_end: float, dt_out: float, rtol: Optional[float] = None,
@@ -1721,6 +665,7 @@ class Mechanism:
             tout = np.append(tout, t1)
         rec = None if record is None else self._record_carriers(record)
         model = self._build()   # finds the redundant constraints
+        drop_masks = self._state.drop_masks
         if rec is not None and self.redundant_constraints:
             raise ModelError("record= cannot be combined with redundant constraints yet: the "
                              "minimum-norm multipliers need every carrier's pose")
@@ -1737,13 +682,12 @@ class Mechanism:
         k = r["nout"]
         e = r["energy"][:k]
         energy = {nm: e[:, i].copy() for i, nm in enumerate(ENERGY_NAMES)}
-        names = [a["name"] for a in self._acts] + [l["name"] for l in self._loads] + \
-            [q["name"] for q in self._springs]
-        ports = {nm: r["ports"][:k, i].copy() for i, nm in enumerate(names)}
+        ports = {nm: r["ports"][:k, i].copy() for i, nm in enumerate(self._desc.port_names())}
         layout = _core.model_sizes(model)[4]
         lam, pw = r["lambda"][:k], r["pair_wrenches"][:k]
         if self.redundant_constraints and k > 0:
-            lam, pw, layout = self._min_norm_multipliers(model, r["poses"][:k], r["joints"][:k], lam, tout[:k])
+            lam, pw, layout = postprocess.min_norm_multipliers(
+                self._desc, model, drop_masks, r["poses"][:k], r["joints"][:k], lam, tout[:k])
         pairs = {p["name"]: dict(index=i, layout=layout[i]) for i, p in enumerate(self._pairs)}
         stats = {**r["stats"], "linear_solver": linear_solver, "integrator": integrator,
                  "adaptive": adaptive, "rtol": rtol, "atol": atol,
@@ -1758,7 +702,7 @@ class Mechanism:
                                   pair_wrenches=pw, _pairs=pairs,
                                   redundant_constraints=list(self.redundant_constraints),
                                   carriers=None if rec is None else np.array(rec),
-                                  _frame=lambda x: _frame_of(x, self, "result"),
+                                  _frame=lambda x: frame_of(x, self._desc, "result"),
                                   _inertia=np.array([c["M"] for c in self._car], dtype=float),
                                   _mass=np.array([c["mass"] for c in self._car], dtype=float),
                                   _com=np.array([c["com"] for c in self._car], dtype=float),
@@ -1819,7 +763,7 @@ class Mechanism:
                     raise ModelError(f"record: link {x.name!r} is not a link of this mechanism")
                 out += [c for c in x.nodes if c not in out]
                 continue
-            c = _frame_of(x, self, "record").carrier
+            c = frame_of(x, self._desc, "record").carrier
             if c < 0:
                 raise ModelError("record: the ground has no recorded pose")
             if c not in out:
@@ -1828,89 +772,22 @@ class Mechanism:
             raise ModelError("record: nothing to record")
         return out
 
-    def _full_layout(self):
-        lay, row, j = [], 0, 0
-        for e in self._pairs:
-            m = len(topology.DIRECTIONS[e["type"]])
-            lay.append((row, m, j, 6 - m))
-            row += m
-            j += 6 - m
-        return lay
-
-    def _min_norm_multipliers(self, model, poses, joints, lam, times):
-        """Hyperconstrained mechanisms: the DAE's multipliers (independent rows only) mapped to
-        the minimum-norm multipliers of ALL rows giving the same generalized constraint forces,
-        lambda_full = argmin |l| s.t. G_full^T l = G_kept^T lambda; pair wrenches W^C lambda_full."""
-        full = self._full_layout()
-        keep = []
-        for ip, e in enumerate(self._pairs):
-            row, m, _, _ = full[ip]
-            keep += [row + r for r in range(m) if not (self._drop_masks[ip] >> r) & 1]
-        nf = full[-1][0] + full[-1][1] if full else 0
-        lam_f = np.zeros((len(poses), nf))
-        pw = np.zeros((len(poses), len(self._pairs), 6))
-        for i in range(len(poses)):
-            _, G, W = _core.model_constraints_full(model, poses[i], joints[i], float(times[i]))
-            f = G[keep].T @ lam[i]
-            lam_f[i] = np.linalg.lstsq(G.T, f, rcond=None)[0]
-            for ip in range(len(self._pairs)):
-                row, m, _, _ = full[ip]
-                pw[i, ip] = W[ip][:, :m] @ lam_f[i, row:row + m]
-        return lam_f, pw, full
-
-    def stress_resultants(self, result: "SimulationResult", link: Union[str, FlexibleLink]) -> np.ndarray:
+    def stress_resultants(self, result: SimulationResult, link: Union[str, FlexibleLink]) -> np.ndarray:
         """Section stress resultants of each element of ``link`` along a simulation, shape
-        (nt, elements, 6): sigma = K (eps - eps_hat) + D eps_dot in the element's own frame, in
-        the strain order (torsion, bending y, bending z [N m], axial, shear y, shear z [N]);
-        eps = log(H_k^-1 H_k+1) / h and h eps_dot = dexp_{-X}^-1 t_k+1 - dexp_X^-1 t_k, the
-        same constant-strain element the core integrates (DESIGN.md section 4)."""
-        lk = self._link("stress_resultants", link)
-        if not isinstance(result, SimulationResult):
-            raise ModelError(f"stress_resultants: result must be a SimulationResult (got "
-                             f"{type(result).__name__})")
-        cols = result._columns(lk.nodes)
-        H, T = result.poses[:, cols], result.twists[:, cols]
-        els = [e for e in self._el if e["a"] in lk.nodes]
-        K = np.array([e["K"] for e in els])
-        D = np.array([e["D"] for e in els])
-        eps_hat = np.array([e["eps"] for e in els])
-        h = np.array([e["h"] for e in els])[:, None]
-        X = se3.log(se3.compose(se3.inverse(H[:, :-1]), H[:, 1:]))         # (nt, N, 6)
-        rate = (np.einsum("...ij,...j->...i", se3.dexp_inv(-X), T[:, 1:])
-                - np.einsum("...ij,...j->...i", se3.dexp_inv(X), T[:, :-1])) / h
-        return (np.einsum("kij,tkj->tki", K, X / h - eps_hat)
-                + np.einsum("kij,tkj->tki", D, rate))
+        (nt, elements, 6), in the strain order (torsion, bending y, bending z [N m], axial,
+        shear y, shear z [N]); see phmech.postprocess.stress_resultants."""
+        lk = link_of(self._links, link, "stress_resultants")
+        return postprocess.stress_resultants(self._desc, result, lk)
 
-    def _link(self, what, link) -> FlexibleLink:
-        """A link of this mechanism given by itself or its name."""
-        lk = self._links.get(link) if isinstance(link, str) else link
-        if not isinstance(lk, FlexibleLink) or self._links.get(lk.name) != lk:
-            raise ModelError(f"{what}: expected a flexible link of this mechanism or its name "
-                             f"(links: {', '.join(map(repr, self._links)) or 'none'}), got {link!r}")
-        return lk
-
-    def constraint_residuals(self, result: "SimulationResult") -> dict:
+    def constraint_residuals(self, result: SimulationResult) -> dict:
         """Position and velocity constraint residuals of EVERY pair row (redundant rows included)
         along a simulation: ``position`` (nt,) max |g(H)| [rad or m], ``velocity`` (nt,) max |G t|
-        [rad/s or m/s] (prescribed rates of driven pairs subtracted)."""
-        if not isinstance(result, SimulationResult):
-            raise ModelError(f"constraint_residuals: result must be a SimulationResult (got "
-                             f"{type(result).__name__})")
+        [rad/s or m/s] (prescribed rates of driven pairs subtracted); see
+        phmech.postprocess.constraint_residuals."""
+        result = postprocess.simulation_result(result, "constraint_residuals")
         if result.carriers is not None:
             raise ModelError("constraint_residuals needs every carrier's pose: simulate without record=")
-        model = self._build()
-        nt = len(result.t)
-        pos, vel = np.zeros(nt), np.zeros(nt)
-        for i in range(nt):
-            g, G, _ = _core.model_constraints_full(model, result.poses[i], result.joints[i], float(result.t[i]))
-            gv = G @ result.twists[i].ravel()
-            if any(e["driven"] for e in self._pairs):   # subtract the prescribed rates by differencing g
-                dt = 1e-7
-                g2 = _core.model_constraints_full(model, result.poses[i], result.joints[i], float(result.t[i]) + dt)[0]
-                gv = gv + (g2 - g) / dt
-            pos[i] = np.max(np.abs(g)) if g.size else 0.0
-            vel[i] = np.max(np.abs(gv)) if gv.size else 0.0
-        return dict(position=pos, velocity=vel)
+        return postprocess.constraint_residuals(self._desc, self._build(), result)
 
     def modes(self, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0) -> ModesResult:
         """The ``n`` lowest linearized modes at the initial configuration, or at a static
@@ -1942,19 +819,20 @@ class Mechanism:
                 raise ModelError(f"static load {i}: expected a (target, wrench, frame) tuple "
                                  f"(got {ld!r})")
             target, wrench, frame = ld
-            f = _frame_of(target, self, f"static load {i}, target")
+            f = frame_of(target, self._desc, f"static load {i}, target")
             if f.carrier < 0:
                 raise ModelError(f"static load {i}: cannot load the ground")
-            _choice(f"static load {i}: frame", frame, ("world", "body"))
+            choice(f"static load {i}: frame", frame, ("world", "body"))
             w = array(f"static load {i}: wrench", wrench, (6,), "6 finite numbers (tau [N m], f [N])")
             if frame == "body":
                 R = f.T[:3, :3]
                 w = np.concatenate([R @ w[:3], R @ w[3:]])
             extra.append(dict(carrier=f.carrier, world=frame == "world", point=f.T[:3, 3], w=w,
-                              law=Constant(1.0)._tuple()))
+                              law=Constant(1.0)))
         steps = min(integer("steps", steps, 1), 2 ** 31 - 1)
         time, tol = real("time", time), positive("tol", tol)
         poses = None if start is None else self._start_poses(start, "start")
         model = self._build(extra)
         P, lam, it = _core.model_static(model, poses, time, steps, tol)
         return StaticResult(P, lam, it, self._links)
+

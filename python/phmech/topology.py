@@ -1,6 +1,7 @@
-"""Initial configuration and redundant constraints of a mechanism (paper Sec. V, DESIGN.md §5-6).
+"""Initial configuration and redundant constraints of a mechanism (paper Sec. V).
 
-Three steps, run by :class:`phmech.Mechanism` each time it builds its core model:
+It works on a model description (phmech.description.ModelDescription) and never changes it.
+Three steps (``initial_state``), run by :class:`phmech.Mechanism` for each analysis:
 
 1. **Tree placement.** A breadth-first walk of the kinematic graph G_K ∪ G_F from the ground
    places every carrier it reaches: across a pair (a, b) the far frame sits at
@@ -16,12 +17,13 @@ Three steps, run by :class:`phmech.Mechanism` each time it builds its core model
      those of its two frames at the given poses (pair_reference; for a carrier without a given
      pose its placed pose counts), and the far carrier keeps its given pose relative to the
      near one -- exactly its given pose unless an ``x0`` up the tree moved the near one. A
-     Fixed pair welds its frames in their relative orientation at the given poses (stored in
-     the pair's offset ``Ta_eff``) when neither frame offset has a rotation of its own. Given
-     poses that violate a pair's constrained directions (origins apart, a revolute's axes not
-     parallel, a rotated Fixed frame that disagrees) raise ModelError naming the pair, its
-     frames and the mismatch in m and rad; tolerance POSE_TOL (rad) and POSE_TOL * L (m), L =
-     length_scale(mech). Loop-closing pairs between two given poses are checked the same way.
+     Fixed pair welds its frames in their relative orientation at the given poses (its frame
+     offset on a, ``InitialState.frames_a``) when neither frame offset has a rotation of its
+     own. Given poses that violate a pair's constrained directions (origins apart, a
+     revolute's axes not parallel, a rotated Fixed frame that disagrees) raise ModelError
+     naming the pair, its frames and the mismatch in m and rad; tolerance POSE_TOL (rad) and
+     POSE_TOL * L (m), L = length_scale(desc). Loop-closing pairs between two given poses are
+     checked the same way.
    Carriers not connected to the ground keep their given poses (a free body is allowed; it may
    also be tied to the ground with ``ph.Free()``).
 2. **Loop closure.** Loop-closing pairs are then met by a Newton projection: all constraint rows
@@ -30,7 +32,7 @@ Three steps, run by :class:`phmech.Mechanism` each time it builds its core model
    own values); the correction is the minimum-norm one on the tangent space among the solutions.
    If the residual stays above 1e-9 the loop cannot close and a ModelError names it (its pairs
    and links, from :meth:`MechanismGraph.loops`). How far this moved each given x0 and each
-   given pose the tree kept is reported by Mechanism (``initial_adjustments``, a warning, or a
+   given pose the tree kept is ``initial_adjustments``; Mechanism reports it (a warning, or a
    ModelError with ``strict=True``).
 3. **Redundant constraints.** At the closed configuration the rank of the full constraint
    Jacobian G is found from its singular values (tolerance 1e-9 times the largest); rows are taken
@@ -40,34 +42,58 @@ Three steps, run by :class:`phmech.Mechanism` each time it builds its core model
 """
 from __future__ import annotations
 
+import dataclasses
 from collections import deque
+from typing import Optional
 
 import numpy as np
 
-from . import _core, se3
+from . import _core, _marshal, se3
 from ._core import ModelError
-
-#: Names of the constraint-wrench directions W^C of each pair type (core phm_pair_type order),
-#: in the pair frame F_b whose z axis is the joint axis (Universal: x = axis1, y = axis2).
-DIRECTIONS = {
-    0: ("tau_x", "tau_y", "tau_z", "f_x", "f_y", "f_z"),     # fixed
-    1: ("tau_x", "tau_y", "f_x", "f_y", "f_z"),              # revolute
-    2: ("tau_x", "tau_y", "tau_z", "f_x", "f_y"),            # prismatic
-    3: ("tau_x", "tau_y", "f_x", "f_y", "f_z-pitch*tau_z"),  # helical
-    4: ("tau_x", "tau_y", "f_x", "f_y"),                     # cylindrical
-    5: ("tau_n", "f_x", "f_y", "f_z"),                       # universal (tau_n = axis1 x axis2)
-    6: ("f_x", "f_y", "f_z"),                                # spherical
-    7: ("tau_x", "tau_y", "f_z"),                            # planar
-    8: (),                                                   # free
-}
+from .description import ModelDescription
+from .graphs import mechanism_graphs
+from .pairs import DIRECTIONS
+from .results import InitialAdjustment
 
 CLOSURE_TOL = 1e-9   # max |g| accepted after the loop-closure projection
-POSE_TOL = 1e-6      # given poses vs pairs [rad], and [m] times length_scale(mech)
+POSE_TOL = 1e-6      # given poses vs pairs [rad], and [m] times length_scale(desc)
 RANK_TOL = 1e-9      # relative to the largest singular value of G
 
 
-def _twist_across(e, pair, x, xd, Ha, ta, forward):
-    """Pose and twist of the far carrier of pair entry e, the near one being at (Ha, ta)."""
+class RedundantConstraintWarning(UserWarning):
+    """The mechanism is hyperconstrained: some constraint rows are dependent at the initial
+    configuration and were left out of the DAE (see ``Mechanism.redundant_constraints``)."""
+
+
+class InitialValueWarning(UserWarning):
+    """The loop closure of the initial configuration moved a given joint coordinate (``x0``) or
+    a given pose beyond its tolerance (see ``Mechanism.initial_adjustments``; with
+    ``Mechanism(strict=True)`` this is a ModelError instead)."""
+
+
+@dataclasses.dataclass
+class InitialState:
+    """What the three steps give for a description: the closed ``poses`` (nc, 4, 4) and body
+    ``twists`` (nc, 6); ``x0`` (npairs, 6), the pairs' joint coordinates (given x0 replaced by
+    the coordinates reached, on their branch); ``drop_masks``, per pair the bits of its
+    redundant constraint rows; ``frames_a``, every pair's frame offset on a (a Fixed pair's weld
+    orientation taken from the given poses); ``redundant``, the (pair name, direction) rows
+    dropped; ``adjustments``, the InitialAdjustment rows."""
+    poses: np.ndarray
+    twists: np.ndarray
+    x0: np.ndarray
+    drop_masks: list
+    frames_a: list
+    redundant: list
+    adjustments: list
+
+
+def pose_across(e: dict, x, xd, Ha, ta, forward: bool = True, Ta: Optional[np.ndarray] = None):
+    """Pose and body twist of the far carrier of pair row ``e`` at joint coordinates x and rates
+    xd, the near carrier being at pose Ha with twist ta (``forward``: near = a, far = b); ``Ta``:
+    the pair's frame offset on a (default: the row's). The relative twist is psi(x) xd, psi by
+    central differences of h(x)."""
+    pair = e["pair"]
     h = pair._fk(x)
     hi = se3.inverse(h)
     trel = np.zeros(6)
@@ -78,7 +104,7 @@ def _twist_across(e, pair, x, xd, Ha, ta, forward):
         d = np.zeros(len(x))
         d[i] = eps
         trel += xd[i] * (se3.log(hi @ pair._fk(x + d)) - se3.log(hi @ pair._fk(x - d))) / (2 * eps)
-    Ta = e.get("Ta_eff", e["Ta"])
+    Ta = e["Ta"] if Ta is None else Ta
     if forward:   # near = a, far = b
         Fb = Ha @ Ta @ h
         tFa = se3.Ad(se3.inverse(Ta)) @ ta
@@ -90,38 +116,39 @@ def _twist_across(e, pair, x, xd, Ha, ta, forward):
     return Fa @ se3.inverse(Ta), se3.Ad(Ta) @ tFa
 
 
-def length_scale(mech) -> float:
+def length_scale(desc: ModelDescription) -> float:
     """The mechanism's size L [m] that sets the position tolerances (POSE_TOL * L): the largest
     of the link lengths, the pair frames' offsets and the extent (bounding-box diagonal) of the
     carriers' initial origins, with the world origin when a pair or carrier uses the ground;
     1 m when all of these are zero."""
-    pts = [np.asarray(c["H0"])[:3, 3] for c in mech._car]
-    if any(e["a"] < 0 or e["b"] < 0 for e in mech._pairs):
+    pts = [np.asarray(c["H0"])[:3, 3] for c in desc.carriers]
+    if any(e["a"] < 0 or e["b"] < 0 for e in desc.pairs):
         pts.append(np.zeros(3))
     L = 0.0
     if pts:
         P = np.array(pts)
         L = float(np.linalg.norm(P.max(axis=0) - P.min(axis=0)))
-    for lk in mech._links.values():
+    for lk in desc.links.values():
         L = max(L, float(lk.length))
-    for e in mech._pairs:
+    for e in desc.pairs:
         L = max(L, float(np.linalg.norm(e["Ta"][:3, 3])), float(np.linalg.norm(e["Tb"][:3, 3])))
     return L if L > 0 else 1.0
 
 
-def _rot_angle(R) -> float:
+def rotation_angle(R) -> float:
     """Rotation angle [rad] of a rotation matrix, in [0, pi]."""
     return float(np.linalg.norm(se3.log(np.ascontiguousarray(R))))
 
 
-def pair_reference(mech, e, Ga, Gb, tol_m):
-    """Check pair entry ``e`` against the given poses Ga, Gb (4x4) of its carriers and return the
-    joint coordinates x (k,) of its frames' relative pose h = (Ga Ta)^-1 (Gb Tb).
+def pair_reference(e: dict, Ga, Gb, tol_m: float):
+    """Check pair row ``e`` against the given poses Ga, Gb (4x4) of its carriers; return the
+    joint coordinates x (k,) of its frames' relative pose h = (Ga Ta)^-1 (Gb Tb) and the pair's
+    frame offset on a.
 
     Part of h the pair type cannot produce (its constrained directions: fk(x)^-1 h) beyond
-    POSE_TOL (POSE_TOL * L in m) raises ModelError naming the pair, its frames and the mismatch.
-    A Fixed pair instead takes the relative orientation of its frames as the weld's (sets
-    e["Ta_eff"] = Ta R), when neither frame offset has a rotation of its own and the pair is not
+    POSE_TOL (``tol_m`` in m) raises ModelError naming the pair, its frames and the mismatch.
+    A Fixed pair instead takes the relative orientation of its frames as the weld's (the offset
+    returned is Ta R), when neither frame offset has a rotation of its own and the pair is not
     driven; a rotated frame offset that disagrees with the given poses is an error, because the
     frames and the poses then state two different welds."""
     h = se3.inverse(Ga @ e["Ta"]) @ (Gb @ e["Tb"])
@@ -130,9 +157,9 @@ def pair_reference(mech, e, Ga, Gb, tol_m):
     x = pair._coords(h)
     E = se3.inverse(pair._fk(x)) @ h
     if e["driven"]:   # a driven weld starts at r(0) = exp(s(0) axis)
-        E = se3.inverse(se3.exp(_law_at_zero(e["law"]) * np.asarray(e["axis"]))) @ h
+        E = se3.inverse(se3.exp(e["law"].start_value() * np.asarray(e["axis"]))) @ h
     dist = float(np.linalg.norm(E[:3, 3]))
-    ang = _rot_angle(E[:3, :3])
+    ang = rotation_angle(E[:3, :3])
     names = f"{e['fa_name']} and {e['fb_name']}"
     hint = ("give poses that satisfy the pair, or give the far carrier no pose (pose=None) so "
             "that it is placed from the pair")
@@ -146,8 +173,7 @@ def pair_reference(mech, e, Ga, Gb, tol_m):
         if kind == "Fixed" and not e["driven"] and _plain(e["Ta"]) and _plain(e["Tb"]):
             R = np.eye(4)
             R[:3, :3] = h[:3, :3]
-            e["Ta_eff"] = e["Ta"] @ R
-            return x
+            return x, e["Ta"] @ R
         if kind == "Fixed":
             why = ("the pair is driven" if e["driven"] else
                    "a frame offset has a rotation of its own, so the frames and the given poses "
@@ -160,7 +186,7 @@ def pair_reference(mech, e, Ga, Gb, tol_m):
         raise ModelError(f"pair {e['name']!r} ({kind}): at the given poses its frames {names} are "
                          f"{ang:.6g} rad apart in a constrained rotation (tolerance {POSE_TOL:g} "
                          f"rad; origins {dist:.6g} m apart); {hint}")
-    return x
+    return x, e["Ta"]
 
 
 def _plain(T) -> bool:
@@ -168,45 +194,23 @@ def _plain(T) -> bool:
     return bool(np.max(np.abs(np.asarray(T)[:3, :3] - np.eye(3))) <= 1e-12)
 
 
-def _law_at_zero(law) -> float:
-    """s(0) of a law tuple (kind, value, t0, duration, frequency, phase, offset, table)."""
-    kind, v, t0, d, f, ph, off, table = law
-    if kind == 0:
-        return v
-    if kind == 1:
-        return v if 0.0 >= t0 else 0.0
-    if kind == 2:
-        return v if t0 <= 0.0 < t0 + d else 0.0
-    if kind == 3:
-        return off + v * np.sin(ph)
-    if kind == 4:
-        return float(np.interp(0.0, table[:, 0], table[:, 1]))
-    if kind == 5:
-        if 0.0 <= t0:
-            return 0.0
-        u = min(1.0, (0.0 - t0) / d)
-        return v * (u - np.sin(2 * np.pi * u) / (2 * np.pi))
-    return 0.0
-
-
-def place_tree(mech):
+def place_tree(desc: ModelDescription):
     """Step 1: poses H (nc, 4, 4) and twists t (nc, 6) from the tree walk; returns (H, t,
-    tree_pairs) with tree_pairs the set of pair indices used as tree edges. Sets e["Ta_eff"] of
-    every pair (its frame offset on a, with a Fixed pair's weld orientation taken from the given
-    poses, see pair_reference); raises ModelError when given poses violate a pair."""
-    nc = len(mech._car)
-    H = np.array([c["H0"] for c in mech._car], dtype=float).reshape(nc, 4, 4)
-    T = np.array([c["t0"] for c in mech._car], dtype=float).reshape(nc, 6)
-    given = mech._given
-    tol_m = POSE_TOL * length_scale(mech)
-    for e in mech._pairs:
-        e["Ta_eff"] = e["Ta"]
+    tree_pairs, frames_a): tree_pairs the set of pair indices used as tree edges, frames_a every
+    pair's frame offset on a (with a Fixed pair's weld orientation taken from the given poses,
+    see pair_reference). Raises ModelError when given poses violate a pair."""
+    nc = len(desc.carriers)
+    H = np.array([c["H0"] for c in desc.carriers], dtype=float).reshape(nc, 4, 4)
+    T = np.array([c["t0"] for c in desc.carriers], dtype=float).reshape(nc, 6)
+    given = desc.given
+    tol_m = POSE_TOL * length_scale(desc)
+    frames_a = [e["Ta"] for e in desc.pairs]
     link_of = {}
-    for lk in mech._links.values():
+    for lk in desc.links.values():
         for k, c in enumerate(lk.nodes):
             link_of[c] = (lk, k)
     adj = {c: [] for c in range(-1, nc)}
-    for ip, e in enumerate(mech._pairs):
+    for ip, e in enumerate(desc.pairs):
         adj[e["a"]].append((ip, e["b"], True))
         adj[e["b"]].append((ip, e["a"], False))
     placed = {-1}
@@ -219,12 +223,12 @@ def place_tree(mech):
     def place_link_from(c):
         lk, k = link_of[c]
         h = lk.length / lk.elements
-        eps = mech._el[mech._el_first[lk.name]]["eps"]
+        eps = desc.link_unstressed_strain(lk)
         out = []
         for j, cj in enumerate(lk.nodes):
             if cj == c:
                 continue
-            E = se3.exp((j - k) * h * np.asarray(eps))
+            E = se3.exp((j - k) * h * eps)
             H[cj] = H[c] @ E
             T[cj] = se3.Ad(se3.inverse(E)) @ T[c]
             placed.add(cj)
@@ -245,7 +249,7 @@ def place_tree(mech):
             for ip, w, forward in adj[c]:
                 if w in placed or ip in tree_pairs:
                     continue
-                e = mech._pairs[ip]
+                e = desc.pairs[ip]
                 tree_pairs.add(ip)
                 k = e["k"]
                 has_xd = e.get("has_xdot0", False)
@@ -254,39 +258,44 @@ def place_tree(mech):
                 tn = np.zeros(6) if c < 0 else T[c]
                 if e["has_x0"] or w not in given:
                     # placed from the pair at x0 (x = 0 if not given), moving with the near carrier
-                    H[w], T[w] = _twist_across(e, e["pair"], e["x0"][:k], xd, Hn, tn, forward)
+                    H[w], T[w] = pose_across(e, e["x0"][:k], xd, Hn, tn, forward, frames_a[ip])
                 else:
                     # the given poses are the reference: the pair's coordinates (Fixed: its weld
                     # orientation) are those of its frames at the given poses, and w keeps its
                     # pose relative to c (exactly its given pose when c kept its own)
-                    x = pair_reference(mech, e, G(e["a"]), G(e["b"]), tol_m)
-                    _, Tw = _twist_across(e, e["pair"], x, xd, Hn, tn, forward)
+                    x, frames_a[ip] = pair_reference(e, G(e["a"]), G(e["b"]), tol_m)
+                    _, Tw = pose_across(e, x, xd, Hn, tn, forward, frames_a[ip])
                     H[w] = Hn @ se3.inverse(G(c)) @ given[w]
                     # rates: xdot0 (0 if not given) like the branch above; only a twist the
                     # user gave (add_rigid_body(twist=...)) is kept as given
-                    if k == 0 or has_xd or w not in mech._twist_given:
+                    if k == 0 or has_xd or w not in desc.twist_given:
                         T[w] = Tw
                 placed.add(w)
                 queue.append(w)
                 if w in link_of:
                     queue.extend(place_link_from(w))
     # loop-closing pairs between two given poses: the same check (and a Fixed pair's reference)
-    for ip, e in enumerate(mech._pairs):
+    for ip, e in enumerate(desc.pairs):
         if ip in tree_pairs:
             continue
         if (e["a"] < 0 or e["a"] in given) and (e["b"] < 0 or e["b"] in given):
-            pair_reference(mech, e, G(e["a"]), G(e["b"]), tol_m)
-    return H, T, tree_pairs
+            _, frames_a[ip] = pair_reference(e, G(e["a"]), G(e["b"]), tol_m)
+    return H, T, tree_pairs, frames_a
 
 
-def _element_residual(mech, H):
-    """Unstressed-shape residual log(H_a^-1 H_b) - h eps_hat of every element and its Jacobian."""
-    nc = len(mech._car)
-    ne = len(mech._el)
+def _element_strains(desc: ModelDescription, H) -> np.ndarray:
+    """X_i = log(H_a^-1 H_b) of every element i, (ne, 6)."""
+    return np.array([se3.log(se3.inverse(H[el["a"]]) @ H[el["b"]]) for el in desc.elements]).reshape(-1, 6)
+
+
+def _element_residual(desc: ModelDescription, H):
+    """Unstressed-shape residual log(H_a^-1 H_b) - h eps_hat of every element and its Jacobian
+    (dense, (6 ne, 6 nc))."""
+    nc = len(desc.carriers)
+    ne = len(desc.elements)
     r = np.zeros(6 * ne)
     J = np.zeros((6 * ne, 6 * nc))
-    for i, el in enumerate(mech._el):
-        X = se3.log(se3.inverse(H[el["a"]]) @ H[el["b"]])
+    for i, (el, X) in enumerate(zip(desc.elements, _element_strains(desc, H))):
         r[6 * i:6 * i + 6] = X - el["h"] * np.asarray(el["eps"])
         J[6 * i:6 * i + 6, 6 * el["a"]:6 * el["a"] + 6] = -se3.dexp_inv(X)
         J[6 * i:6 * i + 6, 6 * el["b"]:6 * el["b"] + 6] = se3.dexp_inv(-X)
@@ -314,27 +323,33 @@ def _joint_jacobian(model, H, xref, rows):
     return Jx
 
 
-def close_loops(mech, model, H, tree_pairs, xref, loops_of):
+def _loops_through(desc: ModelDescription, pairs: list) -> list:
+    """The loops (lists of pair and link names) through any of ``pairs``; all loops if none."""
+    loops = mechanism_graphs(desc).loops()
+    hit = [lp for lp in loops if set(lp) & set(pairs)]
+    return hit or loops
+
+
+def close_loops(desc: ModelDescription, model, H, tree_pairs, xref):
     """Step 2: Newton projection onto g(H) = 0 with the links unstressed (see the module doc).
-    ``xref``: joint branch references (nj); ``loops_of(bad_pairs)``: loop descriptions for the
-    error message. Returns the closed poses. The given x0 are first held exactly (hard
-    equations); if the loops cannot close so, they become soft targets of weight 10^3."""
+    ``xref``: joint branch references (nj). Returns the closed poses (H itself when it already
+    closes). The given x0 are first held exactly (hard equations); if the loops cannot close
+    so, they become soft targets of weight 10^3."""
     g, G, _ = _core.model_constraints_full(model, H, xref, 0.0)
     if g.size == 0 or np.max(np.abs(g)) < 1e-12:
         return H
     try:
-        return _close(mech, model, H, tree_pairs, xref, loops_of, hard_x0=True)
+        return _close(desc, model, H, tree_pairs, xref, hard_x0=True)
     except ModelError:
-        return _close(mech, model, H, tree_pairs, xref, loops_of, hard_x0=False)
+        return _close(desc, model, H, tree_pairs, xref, hard_x0=False)
 
 
-def _close(mech, model, H, tree_pairs, xref, loops_of, hard_x0):
-    nc = H.shape[0]
+def _close(desc: ModelDescription, model, H, tree_pairs, xref, hard_x0):
     # soft targets: joint coordinates of pairs with x0 (weight 1e3) and of tree pairs (weight 1)
     sizes = _core.model_sizes(model)[4]
     rows, target, weight, hard_rows, hard_target = [], [], [], [], []
     x_now = _core.model_joints(model, H, xref)
-    for ip, e in enumerate(mech._pairs):
+    for ip, e in enumerate(desc.pairs):
         _, _, j, k = sizes[ip]
         if k == 0:
             continue
@@ -349,17 +364,15 @@ def _close(mech, model, H, tree_pairs, xref, loops_of, hard_x0):
                 weight.append(w)
     rows, target, weight = np.array(rows, dtype=int), np.array(target), np.array(weight)
     hard_rows, hard_target = np.array(hard_rows, dtype=int), np.array(hard_target)
-    best = None
     for it in range(40):
         g, G, _ = _core.model_constraints_full(model, H, xref, 0.0)
-        re, Je = _element_residual(mech, H)
+        re, Je = _element_residual(desc, H)
         A = np.vstack([G, Je])
         r = np.concatenate([g, re])
         if hard_rows.size:
             A = np.vstack([A, _joint_jacobian(model, H, xref, hard_rows)])
             r = np.concatenate([r, _core.model_joints(model, H, xref)[hard_rows] - hard_target])
         gn = np.max(np.abs(r)) if r.size else 0.0
-        best = gn
         dp = -np.linalg.lstsq(A, r, rcond=None)[0]
         if rows.size:
             U, s, Vt = np.linalg.svd(A)
@@ -378,7 +391,7 @@ def _close(mech, model, H, tree_pairs, xref, loops_of, hard_x0):
         if gn < 1e-12 and np.max(np.abs(delta)) < 1e-10:
             break
     g, G, _ = _core.model_constraints_full(model, H, xref, 0.0)
-    re, _ = _element_residual(mech, H)
+    re, _ = _element_residual(desc, H)
     gn = max(np.max(np.abs(g)) if g.size else 0.0, np.max(np.abs(re)) if re.size else 0.0)
     if hard_rows.size:
         gn = max(gn, np.max(np.abs(_core.model_joints(model, H, xref)[hard_rows] - hard_target)))
@@ -386,18 +399,18 @@ def _close(mech, model, H, tree_pairs, xref, loops_of, hard_x0):
         # name the pairs still violated and the loops through them
         bad = []
         row = 0
-        for e in mech._pairs:
+        for e in desc.pairs:
             m = len(DIRECTIONS[e["type"]])
             if m and np.max(np.abs(g[row:row + m])) > CLOSURE_TOL:
                 bad.append(e["name"])
             row += m
         raise ModelError(f"initial configuration: loop cannot close (|g| = {gn:.3e} after the "
                          f"Newton projection; pairs still violated: {bad}); loops: "
-                         f"{loops_of(bad)}; check the pairs' frames and x0 along the loop")
+                         f"{_loops_through(desc, bad)}; check the pairs' frames and x0 along the loop")
     return H
 
 
-def close_rates(mech, model, H, T, tree_pairs, xref):
+def close_rates(desc: ModelDescription, model, H, T, tree_pairs, xref):
     """Step 2b: twists T (nc, 6) meeting every pair's velocity constraint with the links moving
     rigidly (strain rates zero), closest to the tree's joint rates. The tree walk gives rates
     that ignore loop-closing pairs (a slider-crank's rod turns with its crank); projected later
@@ -410,10 +423,10 @@ def close_rates(mech, model, H, T, tree_pairs, xref):
     weight 10^3, as the given x0 in close_loops); soft: the tree pairs' joint rates (weight 1),
     the correction being the minimum-norm one among the solutions. Returns (T, reached): T
     unchanged when it already meets the hard rows (to 1e-12); reached: joint row -> the initial
-    rate of every given xdot0 (for Mechanism.initial_adjustments)."""
+    rate of every given xdot0 (for initial_adjustments)."""
     eps = 1e-6
     g, G, _ = _core.model_constraints_full(model, H, xref, 0.0)
-    _, Je = _element_residual(mech, H)
+    _, Je = _element_residual(desc, H)
     gp = _core.model_constraints_full(model, H, xref, eps)[0]
     gm = _core.model_constraints_full(model, H, xref, -eps)[0]
     A = np.vstack([G, Je])
@@ -422,7 +435,7 @@ def close_rates(mech, model, H, T, tree_pairs, xref):
     scale = max(1.0, float(np.max(np.abs(t)))) if t.size else 1.0
     sizes = _core.model_sizes(model)[4]
     given, given_rate, tree = [], [], []
-    for ip, e in enumerate(mech._pairs):
+    for ip, e in enumerate(desc.pairs):
         _, _, j, k = sizes[ip]
         if k and e.get("has_xdot0", False):
             given += [j + c for c in range(k)]
@@ -431,6 +444,7 @@ def close_rates(mech, model, H, T, tree_pairs, xref):
             tree += [j + c for c in range(k)]
     given, given_rate, tree = np.array(given, dtype=int), np.array(given_rate), np.array(tree, dtype=int)
     Jg = _joint_jacobian(model, H, xref, given) if given.size else np.zeros((0, t.size))
+
     def reached(t):
         return dict(zip(given.tolist(), (Jg @ t).tolist()))
 
@@ -462,21 +476,21 @@ def close_rates(mech, model, H, T, tree_pairs, xref):
             return (t + dp).reshape(T.shape), reached(t + dp)
 
 
-def redundant_rows(mech, G, tree_pairs):
+def redundant_rows(desc: ModelDescription, G, tree_pairs):
     """Step 3: the drop mask of each pair and the list of (pair name, direction) dropped."""
     order = []   # (row, pair index, local row), tree pairs first
     rowf = 0
     spans = []
-    for ip, e in enumerate(mech._pairs):
+    for ip, e in enumerate(desc.pairs):
         m = len(DIRECTIONS[e["type"]])
         spans.append((rowf, m))
         rowf += m
     for pref in (True, False):
-        for ip, e in enumerate(mech._pairs):
+        for ip, e in enumerate(desc.pairs):
             if (ip in tree_pairs) == pref:
                 r0, m = spans[ip]
                 order += [(r0 + r, ip, r) for r in range(m)]
-    masks = [0] * len(mech._pairs)
+    masks = [0] * len(desc.pairs)
     if G.shape[0] == 0:
         return masks, []
     s = np.linalg.svd(G, compute_uv=False)
@@ -503,5 +517,68 @@ def redundant_rows(mech, G, tree_pairs):
     for row, ip, r in sorted(order):
         if row not in keep:
             masks[ip] |= 1 << r
-            dropped.append((mech._pairs[ip]["name"], DIRECTIONS[mech._pairs[ip]["type"]][r]))
+            dropped.append((desc.pairs[ip]["name"], DIRECTIONS[desc.pairs[ip]["type"]][r]))
     return masks, dropped
+
+
+def initial_adjustments(desc: ModelDescription, H_tree, H, x, layout, rates) -> list:
+    """InitialAdjustment rows: every given x0 (xdot0) coordinate against the reached x
+    (``rates``: joint row -> reached rate), and every given pose the tree placement kept
+    (H_tree) against the closed poses H. ``layout``: (row, m, joint, k) per pair (the core's)."""
+    L = length_scale(desc)
+    tol_m, tol_r = POSE_TOL * L, POSE_TOL
+    rows = []
+    for ip, e in enumerate(desc.pairs):
+        _, _, j, k = layout[ip]
+        for c in range(k):
+            unit = e["pair"]._units[c]
+            for key, given, now, u in (("x0", "has_x0", x, unit), ("xdot0", "has_xdot0", rates, unit + "/s")):
+                if not e.get(given, False):
+                    continue
+                g, reached = float(e[key][c]), float(now[j + c])
+                tol = tol_r * max(1.0, abs(g)) if unit == "rad" else tol_m * max(1.0, abs(g) / L)
+                q = "x" if key == "x0" else "xdot"
+                rows.append(InitialAdjustment(e["name"], q if k == 1 else f"{q}[{c}]", g,
+                                              reached, abs(reached - g), u, tol))
+
+    def moves(Ha, Hb):
+        return (float(np.linalg.norm(Hb[:3, 3] - Ha[:3, 3])),
+                rotation_angle(Ha[:3, :3].T @ Hb[:3, :3]))
+
+    for name, cs in desc.groups():
+        if not all(c in desc.given for c in cs):
+            continue
+        tree = [moves(desc.given[c], H_tree[c]) for c in cs]
+        if max(d for d, _ in tree) > tol_m or max(a for _, a in tree) > tol_r:
+            continue   # placed by an x0 up the tree: its pose is not the given one by request
+        now = [moves(desc.given[c], H[c]) for c in cs]
+        rows.append(InitialAdjustment(name, "position", None, None, max(d for d, _ in now), "m", tol_m))
+        rows.append(InitialAdjustment(name, "orientation", None, None, max(a for _, a in now), "rad", tol_r))
+    return rows
+
+
+def initial_state(desc: ModelDescription, extra_loads=()):
+    """The three steps for ``desc``: returns (InitialState, model). Placing the tree needs no
+    model; closing the loops and finding the redundant rows use a core model built at the
+    tree's poses (with ``extra_loads``). ``model`` is None: the analysis builds its own from the
+    state. Raises ModelError when given poses violate a pair or a loop cannot close;
+    floating-point overflow raises FloatingPointError (see Mechanism)."""
+    H, T, tree, frames_a = place_tree(desc)
+    x0 = np.array([p["x0"] for p in desc.pairs]).reshape(-1, 6)
+    if not desc.pairs:
+        return InitialState(H, T, x0, [], frames_a, [], []), None
+    model = _marshal.core_model(desc, H, T, x0, None, frames_a, extra_loads)
+    H_tree = H.copy()
+    H = close_loops(desc, model, H, tree, None)
+    T, rates = close_rates(desc, model, H, T, tree, None)
+    # joint coordinates reached (on the branch of x0): the core checks x0 at the start
+    x = _core.model_joints(model, H, None)
+    layout = _core.model_sizes(model)[4]
+    adjustments = initial_adjustments(desc, H_tree, H, x, layout, rates)
+    for ip, e in enumerate(desc.pairs):
+        _, _, j, k = layout[ip]
+        if e["has_x0"] and k:
+            x0[ip, :k] = x[j:j + k]
+    _, G, _ = _core.model_constraints_full(model, H, None, 0.0)
+    masks, dropped = redundant_rows(desc, G, tree)
+    return InitialState(H, T, x0, masks, frames_a, dropped, adjustments), None

@@ -1,0 +1,103 @@
+"""The one place that knows how a model description reaches the C core (``_core.model_new``).
+
+``model_new`` takes the description as flat arrays, one per field of the core's description
+structs (csrc/include/phmech_types.h, phm_*_desc), prefixed by the component kind (``el_``,
+``pr_``, ``ld_``, ``ac_``, ``sp_``); laws are tuples (csrc/pyext/py_model.c, parse_law).
+"""
+from __future__ import annotations
+
+from typing import Optional, Sequence
+
+import numpy as np
+
+from . import _core
+from ._core import ModelError
+from .description import ModelDescription
+from .laws import Constant, Cycloidal, Pulse, Sine, Step, Table, _Law
+
+#: phm_law_kind of each law class, and its (amplitude, t0, duration, frequency, phase, offset,
+#: table) fields of phm_law
+_LAWS = {
+    Constant: (0, lambda s: (s.value, 0.0, 0.0, 0.0, 0.0, 0.0, None)),
+    Step: (1, lambda s: (s.value, s.t0, 0.0, 0.0, 0.0, 0.0, None)),
+    Pulse: (2, lambda s: (s.value, s.t0, s.duration, 0.0, 0.0, 0.0, None)),
+    Sine: (3, lambda s: (s.amplitude, 0.0, 0.0, s.frequency, s.phase, s.offset, None)),
+    Table: (4, lambda s: (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, np.column_stack([s.times, s.values]))),
+    Cycloidal: (5, lambda s: (s.value, s.t0, s.duration, 0.0, 0.0, 0.0, None)),
+}
+
+#: phm_actuator_kind of each actuator kind of the description
+_ACTUATOR_KINDS = {"effort": 0, "pd": 1, "spring": 2}
+
+
+def _law(law: Optional[_Law]) -> Optional[tuple]:
+    """The core's law tuple (kind, amplitude, t0, duration, frequency, phase, offset, table) of
+    a checked law (laws.checked_law), or None."""
+    if law is None:
+        return None
+    kind, fields = _LAWS[type(law)]
+    return (kind, *fields(law))
+
+
+def _column(rows: list, key: str, shape: tuple = ()) -> np.ndarray:
+    """The column ``key`` of ``rows`` as a float array of shape (len(rows), *shape)."""
+    return np.array([r[key] for r in rows], dtype=float).reshape(-1, *shape)
+
+
+def _ends(rows: list) -> np.ndarray:
+    """The carriers (a, b) of each row, as a float array (n, 2) (-1 = the ground)."""
+    return np.array([[r["a"], r["b"]] for r in rows], dtype=float).reshape(-1, 2)
+
+
+def _rest_lengths(desc: ModelDescription, poses: np.ndarray) -> np.ndarray:
+    """Each spring's rest length [m]: the one given, else the distance of its points at
+    ``poses``; ModelError when that distance is not finite."""
+    def world(c, p):
+        return p if c < 0 else poses[c][:3, :3] @ p + poses[c][:3, 3]
+    out = []
+    for q in desc.springs:
+        d0 = q["kcd"][2]
+        if d0 is None:
+            with np.errstate(over="ignore", invalid="ignore"):   # checked below
+                d0 = np.linalg.norm(world(q["b"], q["pb"]) - world(q["a"], q["pa"]))
+            if not np.isfinite(d0):
+                raise ModelError(f"spring {q['name']!r}: the initial distance between its points "
+                                 f"(its default rest length) is not finite in double precision")
+        out.append(d0)
+    return np.array(out, dtype=float)
+
+
+def core_model(desc: ModelDescription, poses: np.ndarray, twists: np.ndarray, x0: np.ndarray,
+               drop_masks: Optional[Sequence[int]] = None, frames_a: Optional[Sequence] = None,
+               extra_loads: Sequence[dict] = ()):
+    """A core model (capsule) of ``desc`` at initial ``poses`` (nc, 4, 4) and body ``twists``
+    (nc, 6), with the pairs' joint coordinates ``x0`` (npairs, 6), their redundant-row masks
+    ``drop_masks`` (None: none dropped) and frame offsets on carrier a ``frames_a`` (None: the
+    rows' Ta; see topology.place_tree), and ``extra_loads`` (load rows) after the description's
+    own loads. Raises ModelError when the core refuses the model."""
+    car, el, pr, ac, sp = desc.carriers, desc.elements, desc.pairs, desc.actuators, desc.springs
+    loads = list(desc.loads) + list(extra_loads)
+    frames_a = [p["Ta"] for p in pr] if frames_a is None else frames_a
+    rest = _rest_lengths(desc, poses)
+    return _core.model_new(
+        M=_column(car, "M", (6, 6)), mass=_column(car, "mass"), com=_column(car, "com", (3,)),
+        H0=np.asarray(poses, dtype=float), t0=np.asarray(twists, dtype=float),
+        el_ab=_ends(el), el_h=_column(el, "h"), el_K=_column(el, "K", (6, 6)),
+        el_D=_column(el, "D", (6, 6)), el_eps=_column(el, "eps", (6,)),
+        pr_type=_column(pr, "type"), pr_ab=_ends(pr),
+        pr_Ta=np.array(frames_a, dtype=float).reshape(-1, 4, 4), pr_Tb=_column(pr, "Tb", (4, 4)),
+        pr_driven=_column(pr, "driven"), pr_axis=_column(pr, "axis", (6,)),
+        pr_law=[_law(p["law"]) if p["driven"] else None for p in pr],
+        ld_carrier=_column(loads, "carrier"), ld_world=_column(loads, "world"),
+        ld_point=_column(loads, "point", (3,)), ld_w=_column(loads, "w", (6,)),
+        ld_law=[_law(ld["law"]) for ld in loads], gravity=np.asarray(desc.gravity, dtype=float),
+        pr_pitch=_column(pr, "pitch"), pr_x0=np.asarray(x0, dtype=float).reshape(-1, 6),
+        pr_drop=None if drop_masks is None else np.array(drop_masks, dtype=float),
+        pr_has_x0=_column(pr, "has_x0"),
+        ld_reaction=np.array([ld.get("reaction", -1) for ld in loads], dtype=float),
+        ac_pair=_column(ac, "pair"),
+        ac_kind=np.array([_ACTUATOR_KINDS[a["kind"]] for a in ac], dtype=float),
+        ac_vec=_column(ac, "vec", (6,)), ac_kp=_column(ac, "kp", (6,)), ac_kd=_column(ac, "kd", (6,)),
+        ac_xset=_column(ac, "xset", (6,)), ac_law=[_law(a["law"]) for a in ac],
+        sp_ab=_ends(sp), sp_pa=_column(sp, "pa", (3,)), sp_pb=_column(sp, "pb", (3,)),
+        sp_kcd=np.column_stack([[q["kcd"][0] for q in sp], [q["kcd"][1] for q in sp], rest]).reshape(-1, 3))

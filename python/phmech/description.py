@@ -1,0 +1,77 @@
+"""The model description: what a Mechanism has collected, as plain rows, before any analysis.
+
+The builder (phmech.mechanism) appends validated rows; the initial configuration
+(phmech.topology) reads them and the marshalling (phmech._marshal) hands them to the C core.
+Neither changes them. Rows are dicts (units: SI, poses 4x4, twists (omega, v), wrenches (tau, f)):
+
+- carriers: M (6x6 spatial inertia at the carrier frame), mass [kg], com [m, body coordinates],
+  H0 (initial pose), t0 (initial body twist)
+- elements: a, b (carriers of nodes k, k+1), h [m], K, D (6x6 section stiffness and damping),
+  eps (unstressed strain (kappa [1/m], 1, 0, 0))
+- pairs: name, type (pairs.PairType code), pair (the Fixed, Revolute, ... object), k, a, b
+  (carriers, -1 = ground), Ta, Tb (frame offsets, already turned to the joint axis), fa_name,
+  fb_name (for messages), driven, axis (twist), law (laws._Law or None), pitch [m/rad], x0,
+  has_x0, xdot0, has_xdot0 (joint coordinates and rates, 6 entries of which k are used)
+- loads: name, carrier, world (axes of w), point [m, carrier coordinates], w, law, reaction
+  (carrier, -1 = ground), interaction (True for add_interaction)
+- actuators: name, pair (index), kind ("effort", "pd", "spring"), vec, kp, kd, xset (6 entries
+  of which k are used), law (or None)
+- springs: name, a, b, pa, pb [m, frame coordinates], kcd (k [N/m], c [N s/m], rest length [m]
+  or None for the initial distance)
+"""
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from .frames import FlexibleLink, carrier_name
+
+
+@dataclasses.dataclass
+class ModelDescription:
+    """A mechanism's components as rows (see the module doc), its bodies and links by name, the
+    poses and twists the user gave, and ``gravity`` [m/s^2] in world coordinates."""
+    gravity: np.ndarray
+    carriers: list = dataclasses.field(default_factory=list)
+    elements: list = dataclasses.field(default_factory=list)
+    pairs: list = dataclasses.field(default_factory=list)
+    loads: list = dataclasses.field(default_factory=list)
+    actuators: list = dataclasses.field(default_factory=list)
+    springs: list = dataclasses.field(default_factory=list)
+    bodies: dict = dataclasses.field(default_factory=dict)     # name -> Body
+    links: dict = dataclasses.field(default_factory=dict)      # name -> FlexibleLink
+    #: link name -> index of its first element (its elements are consecutive)
+    first_element: dict = dataclasses.field(default_factory=dict)
+    #: carrier -> the pose (4x4) the user gave it (add_rigid_body or add_flexible_link pose=)
+    given: dict = dataclasses.field(default_factory=dict)
+    #: carriers whose twist the user gave (add_rigid_body(twist=))
+    twist_given: set = dataclasses.field(default_factory=set)
+
+    def carrier_name(self, c: int) -> str:
+        """'the ground', "body 'b'" or "node k of link 'L'" for carrier index c."""
+        return carrier_name(c, self.bodies, self.links)
+
+    def link_unstressed_strain(self, link: FlexibleLink) -> np.ndarray:
+        """The unstressed strain eps_hat (6,) of a link's elements."""
+        return np.asarray(self.elements[self.first_element[link.name]]["eps"])
+
+    def body_carriers(self) -> set:
+        """Carrier indices of the rigid bodies."""
+        return {b.carrier for b in self.bodies.values()}
+
+    def groups(self) -> list:
+        """(name, carriers) of every body and every link, bodies first, in the order added."""
+        return [(b.name, [b.carrier]) for b in self.bodies.values()] + \
+            [(lk.name, list(lk.nodes)) for lk in self.links.values()]
+
+    def link_elements(self, link: FlexibleLink) -> list:
+        """The element rows of a link, from its start."""
+        first = self.first_element[link.name]
+        return self.elements[first:first + link.elements]
+
+    def port_names(self) -> list:
+        """Names of the ports in the core's order: actuators, loads, springs."""
+        return [a["name"] for a in self.actuators] + [ld["name"] for ld in self.loads] + \
+            [q["name"] for q in self.springs]
+

@@ -1,0 +1,127 @@
+"""Frames on carriers: rigid bodies, flexible links and their nodes, and resolving what a user
+passes for a frame (a Frame, a Body, 'ground' or a body's name) against a model description.
+
+A carrier is a rigid body or a beam node (csrc/include/phmech_types.h, phm_carrier_desc); carrier -1 is the
+ground. A frame is a fixed offset T (4x4, translation in m) on a carrier."""
+from __future__ import annotations
+
+import dataclasses
+from typing import TYPE_CHECKING, Optional
+
+import numpy as np
+
+from ._checks import rigid_pose
+from ._core import ModelError
+
+if TYPE_CHECKING:
+    from .description import ModelDescription
+    from .mesh import MeshChoice
+
+__all__ = ["Frame", "Body", "FlexibleLink"]
+
+
+@dataclasses.dataclass(frozen=True)
+class Frame:
+    """A frame with fixed offset ``T`` (4x4) on a carrier (``carrier`` = -1 for the ground)."""
+    carrier: int
+    T: np.ndarray
+    name: str = ""
+
+
+@dataclasses.dataclass
+class Body:
+    name: str
+    carrier: int
+
+    @property
+    def frame(self) -> Frame:
+        return Frame(self.carrier, np.eye(4), self.name)
+
+
+@dataclasses.dataclass
+class FlexibleLink:
+    """A beam discretized into ``elements`` se3 elements; ``nodes`` are carrier indices;
+    ``mesh``: what phmech.mesh.choose_elements chose when the count came from a band (else
+    None)."""
+    name: str
+    length: float
+    elements: int
+    nodes: list
+    mesh: Optional["MeshChoice"] = None
+
+    @property
+    def start(self) -> Frame:
+        return Frame(self.nodes[0], np.eye(4), self.name + ".start")
+
+    @property
+    def end(self) -> Frame:
+        return Frame(self.nodes[-1], np.eye(4), self.name + ".end")
+
+    def node(self, k: int) -> Frame:
+        """The frame of node ``k``, 0 (start) .. ``elements`` (end), at distance k L / elements
+        from the start; Python-style negative k counts from the end (-1 is the end node)."""
+        n = len(self.nodes)
+        if isinstance(k, bool) or not isinstance(k, (int, np.integer)):
+            raise ModelError(f"link {self.name!r}: node index must be an integer (got {k!r})")
+        if not -n <= k < n:
+            raise ModelError(f"link {self.name!r} has nodes 0..{n - 1} ({self.elements} elements; "
+                             f"negative indices -{n}..-1 count from the end); got node({k})")
+        k = int(k) % n
+        return Frame(self.nodes[k], np.eye(4), f"{self.name}.node{k}")
+
+
+def frame_of(x, desc: "ModelDescription", what: str) -> Frame:
+    """``x`` (a Frame, Body, 'ground' or a body's name) as a Frame of the mechanism described by
+    ``desc``; ``what`` names the argument in error messages."""
+    ncar = len(desc.carriers)
+    if isinstance(x, Frame):
+        c = x.carrier
+        nm = repr(x.name) if x.name else "(unnamed)"
+        if isinstance(c, bool) or not isinstance(c, (int, np.integer)) or c < -1 or c >= ncar:
+            raise ModelError(f"{what}: the frame {nm} is on carrier {c!r}, which this mechanism does not "
+                             f"have (carriers -1 = the ground, 0..{ncar - 1}); take frames from "
+                             f"this mechanism's bodies and links (body.frame, link.start, .end, "
+                             f".node(k)) or ph.Frame(carrier, T) with such a carrier index")
+        return Frame(int(c), rigid_pose(x.T, f"{what}: the offset T of frame {nm}"), x.name)
+    if isinstance(x, Body):
+        if desc.bodies.get(x.name) != x:
+            raise ModelError(f"{what}: body {x.name!r} (carrier {x.carrier!r}) is not a body of this "
+                             f"mechanism (bodies: {', '.join(map(repr, desc.bodies)) or 'none'})")
+        return x.frame
+    if isinstance(x, FlexibleLink):
+        raise ModelError(f"{what}: give a frame of link {x.name!r} (.start, .end or .node(k))")
+    if isinstance(x, str):
+        if x == "ground":
+            return Frame(-1, np.eye(4), "ground")
+        if x in desc.bodies:
+            return desc.bodies[x].frame
+        if x in desc.links:
+            raise ModelError(f"{what}: {x!r} is a flexible link; give one of its frames "
+                             f"(.start, .end or .node(k))")
+        raise ModelError(f"{what}: unknown body {x!r}, neither 'ground' nor a body of this mechanism "
+                         f"(bodies: {', '.join(map(repr, desc.bodies)) or 'none'})")
+    raise ModelError(f"{what}: expected a Frame, Body or 'ground' (got {type(x).__name__})")
+
+
+def carrier_name(c: int, bodies: dict, links: dict) -> str:
+    """'the ground', "body 'b'" or "node k of link 'L'" for carrier index c."""
+    if c < 0:
+        return "the ground"
+    for b in bodies.values():
+        if b.carrier == c:
+            return f"body {b.name!r}"
+    for lk in links.values():
+        if c in lk.nodes:
+            return f"node {lk.nodes.index(c)} of link {lk.name!r}"
+    return f"carrier {c}"
+
+
+def link_of(links: dict, link, what: str) -> FlexibleLink:
+    """A link of ``links`` (name -> FlexibleLink) given by itself or its name; ModelError
+    starting with ``what`` (if any) otherwise."""
+    lk = links.get(link) if isinstance(link, str) else link
+    if not isinstance(lk, FlexibleLink) or links.get(lk.name) != lk:
+        lead = f"{what}: expected" if what else "expected"
+        raise ModelError(f"{lead} a flexible link of this mechanism or its name (links: "
+                         f"{', '.join(map(repr, links)) or 'none'}), got {link!r}")
+    return lk

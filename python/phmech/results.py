@@ -1,0 +1,319 @@
+"""What the analyses return: simulation, modes and static results, and the initial
+configuration an analysis starts from (with how far it moved the given initial values).
+
+Conventions: SI units; twist (omega [rad/s], v [m/s]) and wrench (tau [N m], f [N]), angular
+part first; poses 4x4; arrays indexed by carrier (rigid bodies and beam nodes, in the order
+added; csrc/include/phmech_types.h, phm_carrier_desc)."""
+from __future__ import annotations
+
+import dataclasses
+from typing import Callable, NamedTuple, Optional, Union
+
+import numpy as np
+
+from . import se3
+from ._core import ModelError
+from .frames import Body, FlexibleLink, carrier_name, link_of
+
+__all__ = ["SimulationResult", "ModesResult", "StaticResult", "Momentum", "InitialAdjustment",
+           "InitialConfiguration"]
+
+#: the energies of SimulationResult.energy, in the order the core writes them
+ENERGY_NAMES = ("kinetic", "elastic", "gravity", "dissipated", "supplied", "total", "ledger")
+
+@dataclasses.dataclass(frozen=True)
+class InitialAdjustment:
+    """How far the consistent initial configuration moved one given initial value.
+
+    ``name``: the pair (joint coordinates) or the body / flexible link (poses). ``quantity``:
+    ``"x"`` (``"x[i]"`` for pairs with several coordinates), ``"xdot"`` (``"xdot[i]"``) for a
+    given rate, or ``"position"`` / ``"orientation"`` of a body or link (for a link the largest
+    over its nodes). ``given``/``reached``: the given ``x0`` (``xdot0``) and the initial value
+    [rad or m, per s for rates] (None for poses). ``moved``: |reached - given| [same units]; for
+    poses the distance an origin moved [m] or the angle a frame turned [rad].
+    ``tolerance``: ``moved`` beyond it is reported (see Mechanism)."""
+    name: str
+    quantity: str
+    given: Optional[float]
+    reached: Optional[float]
+    moved: float
+    unit: str
+    tolerance: float
+
+    @property
+    def exceeds(self) -> bool:
+        """True when ``moved`` is beyond ``tolerance``."""
+        return self.moved > self.tolerance
+
+    def __str__(self) -> str:
+        if self.given is not None:
+            q = "" if self.quantity == "x" else " " + self.quantity
+            return (f"joint {self.name!r}{q} given {self.given:.6g} {self.unit}, closed at "
+                    f"{self.reached:.6g} {self.unit} (moved {self.moved:.3g} {self.unit})")
+        return f"pose of {self.name!r}: {self.quantity} moved {self.moved:.3g} {self.unit}"
+
+
+@dataclasses.dataclass
+class InitialConfiguration:
+    """The initial configuration an analysis starts from: ``poses`` (ncarriers, 4, 4), body
+    ``twists`` (ncarriers, 6), ``adjustments`` (list of InitialAdjustment: every given ``x0``
+    coordinate and every given pose kept by the tree placement, with how far the loop closure
+    moved it) and ``redundant_constraints``."""
+    poses: np.ndarray
+    twists: np.ndarray
+    adjustments: list
+    redundant_constraints: list
+
+
+class Momentum(NamedTuple):
+    """World-frame momentum along a trajectory (SimulationResult.momentum): ``linear`` (nt, 3)
+    [kg m/s] and ``angular`` (nt, 3) [kg m^2/s] about the point asked for."""
+    linear: np.ndarray
+    angular: np.ndarray
+
+
+@dataclasses.dataclass
+class SimulationResult:
+    """Sampled solution. ``poses`` (nt, ncarriers, 4, 4), ``twists`` (nt, ncarriers, 6) body
+    twists, ``constraint_wrenches`` (nt, nconstraints), ``energy`` dict of (nt,) arrays [J]
+    (kinetic, elastic, gravity, dissipated, supplied, total, ledger = E - E0 - (supplied -
+    dissipated)), ``stats`` (IDA steps, residual/Jacobian evaluations, wall time [s]),
+    ``interrupted`` (stopped by Ctrl-C or the callback).
+
+    ``port_energy``: dict port name -> (nt,) energy supplied through that port [J] (actuators:
+    int u . xdot; interactions and wrenches: int w . t; spring-dampers: minus their dissipated
+    energy). Supplied = sum over actuators and wrenches (+ power of driven pairs); the ledger
+    residual is ``energy["ledger"]``. ``joint(name)`` gives a pair's coordinates and efforts.
+
+    Conserved quantities: ``momentum(x=None, about=(0, 0, 0))`` is the world-frame linear
+    momentum P [kg m/s] and angular momentum L [kg m^2/s] about a world point, of the whole
+    mechanism or of bodies/links, as ``Momentum(linear, angular)``, each (nt, 3). Every carrier
+    (rigid body or beam node) contributes its body momentum M t (M its 6x6 spatial inertia about
+    its frame, t its body twist), moved to the world frame by the dual adjoint Ad*_{H^-1}:
+    P = sum R P_b, L = sum R L_b + (p - about) x R P_b, i.e. sum of r x m v over the mass,
+    right-handed. Free mechanisms without loads keep both constant; gravity g changes P at the
+    rate ``mass() * g``. ``mass(x=None)`` [kg] and ``centre_of_mass(x=None)`` (nt, 3) [m] go with
+    it. All three need the poses and twists of the carriers asked for: after
+    ``simulate(record=...)`` only what was recorded can be asked for (ModelError otherwise)."""
+    t: np.ndarray
+    poses: np.ndarray
+    twists: np.ndarray
+    constraint_wrenches: np.ndarray
+    energy: dict
+    stats: dict
+    interrupted: bool
+    _links: dict
+    port_energy: dict = dataclasses.field(default_factory=dict)
+    joints: np.ndarray = None
+    joint_rates: np.ndarray = None
+    efforts: np.ndarray = None
+    pair_wrenches: np.ndarray = None
+    _pairs: dict = dataclasses.field(default_factory=dict)
+    #: (pair, direction) rows left out of the DAE as redundant; when non-empty,
+    #: ``constraint_wrenches`` holds the minimum-norm multipliers of ALL rows (see
+    #: postprocess.min_norm_multipliers) and ``pair_wrenches`` the matching pair wrenches.
+    redundant_constraints: list = dataclasses.field(default_factory=list)
+    #: carrier index of each column of ``poses``/``twists`` (all carriers unless ``record=`` chose)
+    carriers: np.ndarray = None
+    _frame: Callable = None  # resolves a body, frame or name to a Frame (set by simulate)
+    #: every carrier's 6x6 spatial inertia (body frame), mass and centre of mass (body
+    #: coordinates) as the model had them (set by simulate; momentum, mass, centre_of_mass)
+    _inertia: np.ndarray = None
+    _mass: np.ndarray = None
+    _com: np.ndarray = None
+    _bodies: dict = dataclasses.field(default_factory=dict)
+
+    def pose(self, x) -> np.ndarray:
+        """World pose of a body or frame (a Frame, Body, link end, or a body's name), (nt, 4, 4)."""
+        f = self._frame(x)
+        if f.carrier < 0:
+            return np.broadcast_to(f.T, (len(self.t), 4, 4)).copy()
+        return self.poses[:, self._columns([f.carrier])[0]] @ f.T
+
+    def position(self, x) -> np.ndarray:
+        """World position of a body's or frame's origin [m], (nt, 3)."""
+        return self.pose(x)[:, :3, 3]
+
+    def orientation(self, x) -> np.ndarray:
+        """World orientation (rotation matrix) of a body or frame, (nt, 3, 3)."""
+        return self.pose(x)[:, :3, :3]
+
+    def twist(self, x) -> np.ndarray:
+        """Body twist (omega [rad/s], v [m/s]) of a body or frame in its own axes, (nt, 6):
+        Ad_{T^-1} of the carrier's twist, T the frame's offset on it."""
+        f = self._frame(x)
+        if f.carrier < 0:
+            return np.zeros((len(self.t), 6))
+        t = self.twists[:, self._columns([f.carrier])[0]]
+        return t @ se3.Ad(se3.inverse(f.T)).T
+
+    def _columns(self, carriers) -> list:
+        """Columns of ``poses`` holding these carriers; ModelError if one was not recorded."""
+        if self.carriers is None:
+            return list(carriers)
+        where = {int(c): i for i, c in enumerate(self.carriers)}
+        missing = [c for c in carriers if c not in where]
+        if missing:
+            raise ModelError(f"carriers {missing} were not recorded (simulate(record=...))")
+        return [where[c] for c in carriers]
+
+    def joint(self, name: str) -> dict:
+        """Pair ``name``: ``x`` (nt, k) joint coordinates (exact, multi-turn), ``xdot`` (nt, k)
+        rates, ``effort`` (nt, k) sum of its actuators' efforts u, ``lambda`` (nt, m) constraint
+        multipliers (W^C coordinates), ``wrench`` (nt, 6) constraint wrench W^C lambda on b in
+        frame F_b (tau [N m], f [N])."""
+        if not isinstance(name, str) or name not in self._pairs:
+            raise ModelError(f"joint: unknown pair {name!r} (pairs: "
+                             f"{', '.join(map(repr, self._pairs)) or 'none'})")
+        row, m, j, k = self._pairs[name]["layout"]
+        ip = self._pairs[name]["index"]
+        return dict(x=self.joints[:, j:j + k], xdot=self.joint_rates[:, j:j + k],
+                    effort=self.efforts[:, j:j + k], **{"lambda": self.constraint_wrenches[:, row:row + m]},
+                    wrench=self.pair_wrenches[:, ip])
+
+    def positions(self, link: Union[str, FlexibleLink]) -> np.ndarray:
+        """Node positions of a link [m], shape (nt, nnodes, 3)."""
+        lk = link_of(self._links, link, "")
+        return self.poses[:, self._columns(lk.nodes)][..., :3, 3]
+
+    def tip(self, link: Union[str, FlexibleLink]) -> np.ndarray:
+        """Position of the link's end node [m], shape (nt, 3)."""
+        return self.positions(link)[:, -1, :]
+
+    # ---------------------------------------------------------- conserved quantities
+
+    def _mass_carriers(self, x, need_motion: bool, what: str) -> list:
+        """Carrier indices of ``x`` (None: all; a Body, FlexibleLink, a body's or link's name,
+        or a list of these); with ``need_motion``, ModelError unless all were recorded."""
+        if self._mass is None:
+            raise ModelError(f"{what}: this result carries no inertia data (made by simulate?)")
+        if x is None:
+            carriers, whom = list(range(len(self._mass))), "the whole mechanism"
+        else:
+            items = list(x) if isinstance(x, (list, tuple)) else [x]
+            carriers, names = [], []
+            for it in items:
+                if isinstance(it, str):
+                    it = self._links.get(it, self._bodies.get(it, it))
+                if isinstance(it, Body) and self._bodies.get(it.name) == it:
+                    cs = [it.carrier]
+                elif isinstance(it, FlexibleLink) and self._links.get(it.name) is it:
+                    cs = list(it.nodes)
+                elif isinstance(it, (str, Body, FlexibleLink)):
+                    nm = it if isinstance(it, str) else it.name
+                    raise ModelError(f"{what}: {nm!r} is not a body or link of this mechanism "
+                                     f"(bodies: {', '.join(map(repr, self._bodies)) or 'none'}; "
+                                     f"links: {', '.join(map(repr, self._links)) or 'none'})")
+                else:
+                    raise ModelError(f"{what}: expected None (the whole mechanism), a Body, a "
+                                     f"FlexibleLink, a body's or link's name, or a list of these "
+                                     f"(got {type(it).__name__}; a frame or the ground has no mass "
+                                     f"of its own)")
+                carriers += [c for c in cs if c not in carriers]
+                names.append(repr(it.name))
+            whom = ", ".join(names)
+            if not carriers:
+                raise ModelError(f"{what}: an empty selection (None is the whole mechanism)")
+            if max(carriers) >= len(self._mass):
+                raise ModelError(f"{what}: {whom} was added to the mechanism after this simulation")
+        if need_motion and self.carriers is not None:
+            kept = {int(c) for c in self.carriers}
+            missing = [c for c in carriers if c not in kept]
+            if missing:
+                full = [repr(b.name) for b in self._bodies.values() if b.carrier in kept]
+                full += [repr(lk.name) for lk in self._links.values() if all(c in kept for c in lk.nodes)]
+                lost = ", ".join(carrier_name(c, self._bodies, self._links) for c in missing[:5])
+                lost += f" and {len(missing) - 5} more" if len(missing) > 5 else ""
+                raise ModelError(
+                    f"{what} of {whom} needs the poses and twists of every carrier in it, but "
+                    f"simulate(record=...) did not record {lost}. It can be computed for what was "
+                    f"recorded in full ({', '.join(full) or 'nothing'}); simulate without record= "
+                    f"(or record these too) for the rest")
+        return carriers
+
+    def momentum(self, x=None, about=(0.0, 0.0, 0.0)) -> "Momentum":
+        """World-frame linear and angular momentum of the whole mechanism (``x`` None) or of a
+        body, a flexible link (all its nodes), a body's or link's name, or a list of these:
+        ``Momentum(linear, angular)``, each (nt, 3), in kg m/s and kg m^2/s.
+
+        Each carrier (a rigid body, or a beam node with its lumped inertia) contributes its body
+        momentum (L_b, P_b) = M t, M its 6x6 spatial inertia about the carrier frame (centre of
+        mass possibly offset) and t = (omega, v) its body twist, moved to the world frame by the
+        dual adjoint, (L, P) = Ad*_{H^-1} (L_b, P_b) with H = (R, p) the carrier's pose:
+        P = R P_b, L = R L_b + (p - about) x P. So ``linear`` is sum m v_com and ``angular`` the
+        moment of momentum sum (r - about) x m v + I_com omega about the world point ``about``
+        (right-handed: positive about an axis when the mass turns counterclockwise seen from
+        its tip), with the absolute (world) velocities. ``about``: a fixed world point (3,), one
+        point per output (nt, 3) (e.g. a moving pivot), or ``"com"``: the selection's own centre
+        of mass at each output (its spin angular momentum).
+
+        Without external wrenches (no gravity, loads, or pairs, springs or actuators to the
+        ground) both are constant; under gravity alone d(linear)/dt = mass(x) g. After
+        ``simulate(record=...)``, ``x`` must be bodies/links whose carriers were all recorded
+        (ModelError naming what is missing otherwise); the whole mechanism needs every carrier."""
+        cars = self._mass_carriers(x, True, "momentum")
+        nt = len(self.t)
+        if isinstance(about, str):
+            if about != "com":
+                raise ModelError(f"momentum: about must be a world point (3,), points (nt, 3) or "
+                                 f"'com' (got {about!r})")
+            a = self.centre_of_mass(x)
+        else:
+            a = np.asarray(about, dtype=float)
+            if a.shape not in ((3,), (nt, 3)) or not np.all(np.isfinite(a)):
+                raise ModelError(f"momentum: about must be a finite world point (3,) or one point "
+                                 f"per output ({nt}, 3) [m] (got shape {a.shape})")
+        cols = self._columns(cars)
+        P = np.zeros((nt, 3))
+        L = np.zeros((nt, 3))
+        for c, j in zip(cars, cols):          # per carrier, vectorized over time
+            mb = self.twists[:, j] @ self._inertia[c].T         # body momentum (L_b, P_b)
+            R = self.poses[:, j, :3, :3]
+            Pw = np.einsum("nij,nj->ni", R, mb[:, 3:])
+            P += Pw
+            L += np.einsum("nij,nj->ni", R, mb[:, :3]) + np.cross(self.poses[:, j, :3, 3] - a, Pw)
+        return Momentum(P, L)
+
+    def mass(self, x=None) -> float:
+        """Mass [kg] of the whole mechanism (``x`` None) or of bodies/links (as in momentum): the
+        sum of the carriers' masses (a link's node masses add up to its mass per length times its
+        length). Needs no recorded motion."""
+        return float(np.sum(self._mass[self._mass_carriers(x, False, "mass")]))
+
+    def centre_of_mass(self, x=None) -> np.ndarray:
+        """World position of the centre of mass [m], (nt, 3), of the whole mechanism (``x``
+        None) or of bodies/links (as in momentum): sum m_i (p_i + R_i c_i) / sum m_i over the
+        carriers, c_i the centre of mass in carrier coordinates (the masses and centres of mass
+        gravity acts on). Needs the recorded poses of those carriers (see momentum)."""
+        cars = self._mass_carriers(x, True, "centre_of_mass")
+        cols = self._columns(cars)
+        H = self.poses[:, cols]                                   # (nt, k, 4, 4)
+        r = np.einsum("nkij,kj->nki", H[..., :3, :3], self._com[cars]) + H[..., :3, 3]
+        m = self._mass[cars]
+        return np.einsum("k,nki->ni", m, r) / m.sum()
+
+
+@dataclasses.dataclass
+class ModesResult:
+    """Linearized modes: ``omega`` [rad/s], ``frequency`` [Hz], ``damping_ratio``, ``shapes``
+    (n, ncarriers, 6) tangent displacements (rotation, translation) per carrier, mass-normalized."""
+    omega: np.ndarray
+    frequency: np.ndarray
+    damping_ratio: np.ndarray
+    shapes: np.ndarray
+
+
+@dataclasses.dataclass
+class StaticResult:
+    """Static equilibrium: ``poses`` (ncarriers, 4, 4), ``constraint_wrenches``, Newton
+    ``iterations``."""
+    poses: np.ndarray
+    constraint_wrenches: np.ndarray
+    iterations: int
+    _links: dict
+
+    def positions(self, link: Union[str, FlexibleLink]) -> np.ndarray:
+        """Node positions of a link [m], shape (nodes, 3)."""
+        lk = link_of(self._links, link, "")
+        return self.poses[lk.nodes, :3, 3]
+
