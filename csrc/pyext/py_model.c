@@ -1,5 +1,6 @@
 /* py_model.c -- bindings of the model, simulation, modes and statics (csrc/model/, csrc/dae/,
- * csrc/solve/). A model lives in a capsule; python/phmech/mechanism.py builds the flat arrays. */
+ * csrc/solve/). A model lives in a capsule; python/phmech/_marshal.py builds its description,
+ * one dict of columns per component kind (COMPONENTS below). */
 #include "pyext.h"
 
 #include <limits.h>
@@ -16,6 +17,135 @@ static void capsule_free(PyObject *cap) {
 static phm_model *get_model(PyObject *cap) {
   return (phm_model *)PyCapsule_GetPointer(cap, CAPSULE_NAME);
 }
+
+/* An index or enumeration code given as float64 (the columns of python/phmech/_marshal.py): it
+ * must be a whole number representable as int (the core then checks its range); converting
+ * anything else to int would truncate (1.5 -> carrier 1) or be undefined behaviour (1e20, C11
+ * 6.3.1.4). */
+static int to_int(double v, const char *what, npy_intp i, int *out) {
+  if (!(v >= INT_MIN && v <= INT_MAX && v == floor(v))) {
+    char got[32];
+    snprintf(got, sizeof got, "%.17g", v);
+    PyErr_Format(phm_py_ModelError, "%s %ld: expected a whole number, got %s", what, (long)i, got);
+    return -1;
+  }
+  *out = (int)v;
+  return 0;
+}
+
+/* ---------------------------------------------------------------- model_new
+ * One description per component kind: a dict of columns, each with one row per component (see
+ * python/phmech/_marshal.py). The tables below say, for each column, its key, its name in
+ * messages, how its values are read and where they go in the core's description struct
+ * (csrc/phmech.h, phm_*_desc). The first column of a kind gives the number of components. */
+typedef enum {
+  COL_REALS, /* doubles, copied                                                       */
+  COL_INDEX, /* whole numbers to int fields (indices, codes); a tail (2) fills two fields */
+  COL_FLAG,  /* nonzero -> 1                                                          */
+  COL_DROP,  /* redundant-row mask, an integer in [0, 64)                             */
+  COL_LAW    /* a list with one law tuple (or None, see law_rule) per component          */
+} column_kind;
+
+typedef enum {
+  LAW_ALWAYS,    /* every component has a law                                  */
+  LAW_OR_NONE,   /* None: no law (actuators that use none)                     */
+  LAW_IF_DRIVEN  /* read for driven pairs only (their `driven` column comes first) */
+} law_rule;
+
+typedef struct {
+  const char *key;   /* key in the component's dict                                      */
+  const char *what;  /* name in messages                                                 */
+  column_kind kind;
+  int ntail;         /* shape of one row                                                 */
+  npy_intp tail[2];
+  size_t offset[2];  /* where the row goes in the struct (COL_INDEX with tail (2): two fields) */
+  const char *label; /* COL_INDEX: "<label> <i>: expected a whole number"; COL_LAW: the law's name */
+  law_rule rule;     /* COL_LAW                                                          */
+} column;
+
+typedef struct {
+  const char *name;  /* argument of model_new                                            */
+  const char *noun;  /* one component, in messages                                       */
+  size_t size;       /* sizeof its description struct                                    */
+  const column *columns;
+  int ncolumns;
+} component;
+
+#define SCALAR(key, what, st, field) {key, what, COL_REALS, 0, {0}, {offsetof(st, field), 0}, NULL, 0}
+#define VECTOR(key, what, st, field, n) {key, what, COL_REALS, 1, {n}, {offsetof(st, field), 0}, NULL, 0}
+#define MATRIX(key, what, st, field, r, c) \
+  {key, what, COL_REALS, 2, {r, c}, {offsetof(st, field), 0}, NULL, 0}
+#define INDEX(key, what, st, field, label) \
+  {key, what, COL_INDEX, 0, {0}, {offsetof(st, field), 0}, label, 0}
+#define INDEX2(key, what, st, a, b, label) \
+  {key, what, COL_INDEX, 1, {2}, {offsetof(st, a), offsetof(st, b)}, label, 0}
+#define FLAG(key, what, st, field) {key, what, COL_FLAG, 0, {0}, {offsetof(st, field), 0}, NULL, 0}
+#define LAW(key, what, st, field, label, rule) \
+  {key, what, COL_LAW, 0, {0}, {offsetof(st, field), 0}, label, rule}
+
+static const column carrier_columns[] = {
+    SCALAR("mass", "carrier masses", phm_carrier_desc, mass),
+    MATRIX("M", "carrier inertias", phm_carrier_desc, M, 6, 6),
+    VECTOR("com", "centres of mass", phm_carrier_desc, com, 3),
+    MATRIX("H0", "carrier poses", phm_carrier_desc, H0, 4, 4),
+    VECTOR("t0", "carrier twists", phm_carrier_desc, t0, 6),
+};
+static const column element_columns[] = {
+    SCALAR("h", "element lengths", phm_element_desc, h),
+    INDEX2("nodes", "element nodes", phm_element_desc, a, b, "element"),
+    MATRIX("K", "element stiffness", phm_element_desc, K, 6, 6),
+    MATRIX("D", "element damping", phm_element_desc, D, 6, 6),
+    VECTOR("eps_hat", "element unstressed strain", phm_element_desc, eps_hat, 6),
+};
+static const column pair_columns[] = {
+    INDEX("type", "pair types", phm_pair_desc, type, "pair type of pair"),
+    INDEX2("carriers", "pair carriers", phm_pair_desc, a, b, "pair"),
+    MATRIX("Ta", "pair frames Ta", phm_pair_desc, Ta, 4, 4),
+    MATRIX("Tb", "pair frames Tb", phm_pair_desc, Tb, 4, 4),
+    FLAG("driven", "pair driven flags", phm_pair_desc, driven),
+    VECTOR("axis", "pair motion axes", phm_pair_desc, axis, 6),
+    LAW("law", "pair laws", phm_pair_desc, law, "pair motion law", LAW_IF_DRIVEN),
+    SCALAR("pitch", "pair pitches", phm_pair_desc, pitch),
+    VECTOR("x0", "pair initial coordinates", phm_pair_desc, x0, 6),
+    FLAG("has_x0", "pair x0 flags", phm_pair_desc, has_x0),
+    {"drop", "pair drop masks", COL_DROP, 0, {0}, {offsetof(phm_pair_desc, drop), 0}, NULL, 0},
+};
+static const column load_columns[] = {
+    INDEX("carrier", "load carriers", phm_load_desc, carrier, "load"),
+    FLAG("world", "load frames", phm_load_desc, world),
+    VECTOR("point", "load points", phm_load_desc, point, 3),
+    VECTOR("w", "load wrenches", phm_load_desc, w, 6),
+    LAW("law", "load laws", phm_load_desc, law, "load law", LAW_ALWAYS),
+    INDEX("reaction", "load reactions", phm_load_desc, reaction, "reaction of load"),
+};
+static const column actuator_columns[] = {
+    INDEX("pair", "actuator pairs", phm_actuator_desc, pair, "pair of actuator"),
+    INDEX("kind", "actuator kinds", phm_actuator_desc, kind, "kind of actuator"),
+    VECTOR("vec", "actuator vectors", phm_actuator_desc, vec, 6),
+    VECTOR("kp", "actuator kp", phm_actuator_desc, kp, 6),
+    VECTOR("kd", "actuator kd", phm_actuator_desc, kd, 6),
+    VECTOR("x_set", "actuator set points", phm_actuator_desc, x_set, 6),
+    LAW("law", "actuator laws", phm_actuator_desc, law, "actuator law", LAW_OR_NONE),
+};
+static const column spring_columns[] = {
+    SCALAR("k", "spring stiffnesses", phm_spring_desc, k),
+    INDEX2("carriers", "spring carriers", phm_spring_desc, a, b, "spring"),
+    VECTOR("pa", "spring points a", phm_spring_desc, pa, 3),
+    VECTOR("pb", "spring points b", phm_spring_desc, pb, 3),
+    SCALAR("c", "spring damping coefficients", phm_spring_desc, c),
+    SCALAR("rest_length", "spring rest lengths", phm_spring_desc, d0),
+};
+
+#define KIND(name, noun, st, cols) {name, noun, sizeof(st), cols, (int)(sizeof cols / sizeof cols[0])}
+enum { NKINDS = 6 };
+static const component COMPONENTS[NKINDS] = {
+    KIND("carriers", "carrier", phm_carrier_desc, carrier_columns),
+    KIND("elements", "element", phm_element_desc, element_columns),
+    KIND("pairs", "pair", phm_pair_desc, pair_columns),
+    KIND("loads", "load", phm_load_desc, load_columns),
+    KIND("actuators", "actuator", phm_actuator_desc, actuator_columns),
+    KIND("springs", "spring", phm_spring_desc, spring_columns),
+};
 
 /* law tuple: (kind, amplitude, t0, duration, frequency, phase, offset, table (n, 2) or None);
  * the table array is kept alive in `keep` until the model has copied it. */
@@ -45,254 +175,142 @@ static int parse_law(PyObject *obj, phm_law *law, PyObject *keep, const char *wh
   return 0;
 }
 
-/* Hand a new reference `a` to `keep`, which keeps it alive until the model has copied it;
- * returns a (borrowed) or NULL with the exception set (a is then released). */
-static PyArrayObject *kept(PyArrayObject *a, PyObject *keep) {
-  if (!a) return NULL;
-  int r = PyList_Append(keep, (PyObject *)a);
-  Py_DECREF(a);
-  return r < 0 ? NULL : a;
-}
-
-/* An index or enumeration code given as float64 (the flat arrays of mechanism.py): it must be a
- * whole number representable as int (the core then checks its range); converting anything else
- * to int would truncate (1.5 -> carrier 1) or be undefined behaviour (1e20, C11 6.3.1.4). */
-static int to_int(double v, const char *what, npy_intp i, int *out) {
-  if (!(v >= INT_MIN && v <= INT_MAX && v == floor(v))) {
-    char got[32];
-    snprintf(got, sizeof got, "%.17g", v);
-    PyErr_Format(phm_py_ModelError, "%s %ld: expected a whole number, got %s", what, (long)i, got);
+/* The laws of column `col`: a list of n entries, into the n structs at `items`. */
+static int fill_laws(const component *cp, const column *col, PyObject *list, npy_intp n, char *items,
+                     PyObject *keep) {
+  if (!PyList_Check(list) || PyList_GET_SIZE(list) != n) {
+    PyErr_Format(phm_py_ModelError, "%s: expected a list with one law per %s", col->what, cp->noun);
     return -1;
   }
-  *out = (int)v;
+  for (npy_intp i = 0; i < n; i++) {
+    char *item = items + (size_t)i * cp->size;
+    PyObject *lw = PyList_GET_ITEM(list, i);
+    int wanted = col->rule == LAW_ALWAYS || (col->rule == LAW_OR_NONE && lw != Py_None) ||
+                 (col->rule == LAW_IF_DRIVEN && ((const phm_pair_desc *)item)->driven);
+    if (wanted && parse_law(lw, (phm_law *)(item + col->offset[0]), keep, col->label) < 0) return -1;
+  }
   return 0;
 }
 
-/* array with leading length n (checked) and the given tail */
-static PyArrayObject *arr(PyObject *o, const char *what, npy_intp n, const npy_intp *tail, int ntail,
-                          PyObject *keep) {
-  npy_intp t2[4];
-  for (int i = 0; i < ntail; i++) t2[i + 1] = tail[i];
-  t2[0] = n;
-  return kept(phm_py_double_array(o, what, t2, ntail + 1, 0), keep);
+/* The numeric column `col` (an array of shape (n, tail)) into the n structs at `items`. */
+static int fill_numbers(const component *cp, const column *col, PyArrayObject *a, npy_intp n, char *items) {
+  npy_intp width = 1;
+  for (int t = 0; t < col->ntail; t++) width *= col->tail[t];
+  const double *v = (const double *)PyArray_DATA(a);
+  for (npy_intp i = 0; i < n; i++) {
+    char *item = items + (size_t)i * cp->size;
+    const double *row = v + i * width;
+    switch (col->kind) {
+    case COL_REALS: memcpy(item + col->offset[0], row, (size_t)width * sizeof(double)); break;
+    case COL_INDEX:
+      for (npy_intp j = 0; j < width; j++)
+        if (to_int(row[j], col->label, i, (int *)(item + col->offset[j])) < 0) return -1;
+      break;
+    case COL_FLAG: *(int *)(item + col->offset[0]) = row[0] != 0; break;
+    case COL_DROP:
+      if (!(row[0] >= 0 && row[0] < 64 && row[0] == (int)row[0])) {
+        PyErr_Format(phm_py_ModelError, "%s %d: drop mask must be an integer in [0, 64)", cp->noun, (int)i);
+        return -1;
+      }
+      *(int *)(item + col->offset[0]) = (int)row[0];
+      break;
+    case COL_LAW: break;
+    }
+  }
+  return 0;
 }
-#define D(a) ((const double *)PyArray_DATA(a))
+
+/* ModelError unless every key of the dict `d` is a column of `cp`. */
+static int known_columns(const component *cp, PyObject *d) {
+  Py_ssize_t pos = 0;
+  PyObject *key, *value;
+  while (PyDict_Next(d, &pos, &key, &value)) {
+    int known = 0;
+    for (int c = 0; c < cp->ncolumns && !known; c++)
+      known = PyUnicode_Check(key) && PyUnicode_CompareWithASCIIString(key, cp->columns[c].key) == 0;
+    if (!known) {
+      PyErr_Format(phm_py_ModelError, "%s: unknown column %R", cp->name, key);
+      return -1;
+    }
+  }
+  return 0;
+}
+
+/* The components of kind `cp` described by the dict `d`: *n of them in a new array *out (free
+ * it); law tables are kept alive in `keep`. */
+static int parse_component(const component *cp, PyObject *d, PyObject *keep, npy_intp *n, void **out) {
+  *out = NULL;
+  *n = 0;
+  if (!PyDict_Check(d)) {
+    PyErr_Format(phm_py_ModelError, "%s: expected a dict of columns, one row per %s", cp->name, cp->noun);
+    return -1;
+  }
+  if (known_columns(cp, d) < 0) return -1;
+  for (int c = 0; c < cp->ncolumns; c++) {
+    const column *col = &cp->columns[c];
+    PyObject *o = PyDict_GetItemString(d, col->key);
+    if (!o) {
+      PyErr_Format(phm_py_ModelError, "%s: missing the column '%s' (%s)", cp->name, col->key, col->what);
+      return -1;
+    }
+    if (col->kind == COL_LAW) {
+      if (fill_laws(cp, col, o, *n, (char *)*out, keep) < 0) return -1;
+      continue;
+    }
+    npy_intp shape[3];
+    shape[0] = *n;
+    for (int t = 0; t < col->ntail; t++) shape[t + 1] = col->tail[t];
+    /* the first column sets n: any leading length, checked to be one axis */
+    PyArrayObject *a = c == 0 ? phm_py_double_array(o, col->what, col->tail, col->ntail, 1)
+                              : phm_py_double_array(o, col->what, shape, col->ntail + 1, 0);
+    if (!a) return -1;
+    if (c == 0) {
+      if (PyArray_NDIM(a) != col->ntail + 1) {
+        PyErr_Format(phm_py_ModelError, "%s: expected a 1-D array", col->what);
+        Py_DECREF(a);
+        return -1;
+      }
+      *n = PyArray_DIM(a, 0);
+      *out = calloc((size_t)*n + 1, cp->size);
+      if (!*out) {
+        Py_DECREF(a);
+        PyErr_NoMemory();
+        return -1;
+      }
+    }
+    int r = fill_numbers(cp, col, a, *n, (char *)*out);
+    Py_DECREF(a);
+    if (r < 0) return -1;
+  }
+  if (*n > INT_MAX) {
+    PyErr_Format(phm_py_ModelError, "%s: %ld of them, at most %d", cp->name, (long)*n, INT_MAX);
+    return -1;
+  }
+  return 0;
+}
 
 static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
   (void)self;
-  static char *kwl[] = {"M", "mass", "com", "H0", "t0", "el_ab", "el_h", "el_K", "el_D", "el_eps",
-                        "pr_type", "pr_ab", "pr_Ta", "pr_Tb", "pr_driven", "pr_axis", "pr_law",
-                        "ld_carrier", "ld_world", "ld_point", "ld_w", "ld_law", "gravity",
-                        "pr_pitch", "pr_x0", "pr_has_x0", "ld_reaction", "ac_pair", "ac_kind",
-                        "ac_vec", "ac_kp", "ac_kd", "ac_xset", "ac_law", "sp_ab", "sp_pa", "sp_pb",
-                        "sp_kcd", "pr_drop", NULL};
-  PyObject *o[39];
-  for (int i = 23; i < 39; i++) o[i] = Py_None;
-  if (!PyArg_ParseTupleAndKeywords(args, kw, "OOOOOOOOOOOOOOOOOOOOOOO|OOOOOOOOOOOOOOOO", kwl, &o[0], &o[1], &o[2],
-                                   &o[3], &o[4], &o[5], &o[6], &o[7], &o[8], &o[9], &o[10], &o[11],
-                                   &o[12], &o[13], &o[14], &o[15], &o[16], &o[17], &o[18], &o[19],
-                                   &o[20], &o[21], &o[22], &o[23], &o[24], &o[25], &o[26], &o[27],
-                                   &o[28], &o[29], &o[30], &o[31], &o[32], &o[33], &o[34], &o[35],
-                                   &o[36], &o[37], &o[38]))
+  static char *kwl[] = {"carriers", "elements", "pairs", "loads", "actuators", "springs", "gravity", NULL};
+  PyObject *o[NKINDS + 1];
+  if (!PyArg_ParseTupleAndKeywords(args, kw, "OOOOOOO", kwl, &o[0], &o[1], &o[2], &o[3], &o[4], &o[5], &o[6]))
     return NULL;
   PyObject *keep = PyList_New(0);
   if (!keep) return NULL;
   PyObject *result = NULL;
-  phm_carrier_desc *car = NULL;
-  phm_element_desc *el = NULL;
-  phm_pair_desc *pr = NULL;
-  phm_load_desc *ld = NULL;
-  phm_actuator_desc *ac = NULL;
-  phm_spring_desc *sp = NULL;
-  PyArrayObject *prdrop = NULL, *prpi = NULL, *prx0 = NULL, *prh0 = NULL, *ldr = NULL, *acp = NULL, *ack = NULL, *acv = NULL,
-                *ackp = NULL, *ackd = NULL, *acx = NULL, *spab = NULL, *sppa = NULL, *sppb = NULL, *spk = NULL;
-  npy_intp na = 0, ns = 0;
-  npy_intp t1[1] = {1}, t3[1] = {3}, t6[1] = {6}, t2[1] = {2}, t66[2] = {6, 6}, t44[2] = {4, 4};
-  (void)t1;
-  PyArrayObject *mass = kept(phm_py_double_array(o[1], "carrier masses", NULL, 0, 1), keep);
-  if (!mass) goto fail;
-  if (PyArray_NDIM(mass) != 1) {
-    PyErr_SetString(phm_py_ModelError, "carrier masses: expected a 1-D array");
-    goto fail;
-  }
-  npy_intp nc = PyArray_DIM(mass, 0);
-  PyArrayObject *M = arr(o[0], "carrier inertias", nc, t66, 2, keep), *com = arr(o[2], "centres of mass", nc, t3, 1, keep),
-                *H0 = arr(o[3], "carrier poses", nc, t44, 2, keep), *tw0 = arr(o[4], "carrier twists", nc, t6, 1, keep);
-  if (!M || !com || !H0 || !tw0) goto fail;
-  PyArrayObject *elh = kept(phm_py_double_array(o[6], "element lengths", NULL, 0, 1), keep);
-  if (!elh) goto fail;
-  npy_intp ne = PyArray_NDIM(elh) == 1 ? PyArray_DIM(elh, 0) : -1;
-  if (ne < 0) {
-    PyErr_SetString(phm_py_ModelError, "element lengths: expected a 1-D array");
-    goto fail;
-  }
-  PyArrayObject *elab = arr(o[5], "element nodes", ne, t2, 1, keep), *elK = arr(o[7], "element stiffness", ne, t66, 2, keep),
-                *elD = arr(o[8], "element damping", ne, t66, 2, keep), *ele = arr(o[9], "element unstressed strain", ne, t6, 1, keep);
-  if (!elab || !elK || !elD || !ele) goto fail;
-  PyArrayObject *prt = kept(phm_py_double_array(o[10], "pair types", NULL, 0, 1), keep);
-  if (!prt) goto fail;
-  npy_intp np_ = PyArray_NDIM(prt) == 1 ? PyArray_DIM(prt, 0) : -1;
-  if (np_ < 0) {
-    PyErr_SetString(phm_py_ModelError, "pair types: expected a 1-D array");
-    goto fail;
-  }
-  PyArrayObject *prab = arr(o[11], "pair carriers", np_, t2, 1, keep), *prTa = arr(o[12], "pair frames Ta", np_, t44, 2, keep),
-                *prTb = arr(o[13], "pair frames Tb", np_, t44, 2, keep), *prdr = arr(o[14], "pair driven flags", np_, NULL, 0, keep),
-                *prax = arr(o[15], "pair motion axes", np_, t6, 1, keep);
-  if (!prab || !prTa || !prTb || !prdr || !prax) goto fail;
-  if (!PyList_Check(o[16]) || PyList_GET_SIZE(o[16]) != np_) {
-    PyErr_SetString(phm_py_ModelError, "pair laws: expected a list with one law per pair");
-    goto fail;
-  }
-  PyArrayObject *ldc = kept(phm_py_double_array(o[17], "load carriers", NULL, 0, 1), keep);
-  if (!ldc) goto fail;
-  npy_intp nl = PyArray_NDIM(ldc) == 1 ? PyArray_DIM(ldc, 0) : -1;
-  if (nl < 0) {
-    PyErr_SetString(phm_py_ModelError, "load carriers: expected a 1-D array");
-    goto fail;
-  }
-  PyArrayObject *ldw = arr(o[18], "load frames", nl, NULL, 0, keep), *ldp = arr(o[19], "load points", nl, t3, 1, keep),
-                *ldv = arr(o[20], "load wrenches", nl, t6, 1, keep), *grav;
-  if (!ldw || !ldp || !ldv) goto fail;
-  if (!PyList_Check(o[21]) || PyList_GET_SIZE(o[21]) != nl) {
-    PyErr_SetString(phm_py_ModelError, "load laws: expected a list with one law per load");
-    goto fail;
-  }
+  void *items[NKINDS] = {NULL};
+  npy_intp n[NKINDS] = {0};
+  npy_intp g3[1] = {3};
+  PyArrayObject *grav = NULL;
+  for (int k = 0; k < NKINDS; k++)
+    if (parse_component(&COMPONENTS[k], o[k], keep, &n[k], &items[k]) < 0) goto fail;
+  if (!(grav = phm_py_double_array(o[NKINDS], "gravity", g3, 1, 0))) goto fail;
   {
-    npy_intp g3[1] = {3};
-    grav = kept(phm_py_double_array(o[22], "gravity", g3, 1, 0), keep);
-    if (!grav) goto fail;
-  }
-  if ((o[23] != Py_None && !(prpi = arr(o[23], "pair pitches", np_, NULL, 0, keep))) ||
-      (o[24] != Py_None && !(prx0 = arr(o[24], "pair initial coordinates", np_, t6, 1, keep))) ||
-      (o[25] != Py_None && !(prh0 = arr(o[25], "pair x0 flags", np_, NULL, 0, keep))) ||
-      (o[26] != Py_None && !(ldr = arr(o[26], "load reactions", nl, NULL, 0, keep))) ||
-      (o[38] != Py_None && !(prdrop = arr(o[38], "pair drop masks", np_, NULL, 0, keep))))
-    goto fail;
-  if (o[27] != Py_None) {
-    acp = kept(phm_py_double_array(o[27], "actuator pairs", NULL, 0, 1), keep);
-    if (!acp) goto fail;
-    na = PyArray_NDIM(acp) == 1 ? PyArray_DIM(acp, 0) : -1;
-    if (na < 0) {
-      PyErr_SetString(phm_py_ModelError, "actuator pairs: expected a 1-D array");
-      goto fail;
-    }
-    if (!(ack = arr(o[28], "actuator kinds", na, NULL, 0, keep)) || !(acv = arr(o[29], "actuator vectors", na, t6, 1, keep)) ||
-        !(ackp = arr(o[30], "actuator kp", na, t6, 1, keep)) || !(ackd = arr(o[31], "actuator kd", na, t6, 1, keep)) ||
-        !(acx = arr(o[32], "actuator set points", na, t6, 1, keep)))
-      goto fail;
-    if (!PyList_Check(o[33]) || PyList_GET_SIZE(o[33]) != na) {
-      PyErr_SetString(phm_py_ModelError, "actuator laws: expected a list with one law per actuator");
-      goto fail;
-    }
-  }
-  if (o[34] != Py_None) {
-    spk = kept(phm_py_double_array(o[37], "spring parameters", t3, 1, 1), keep);
-    if (!spk) goto fail;
-    ns = PyArray_NDIM(spk) == 2 ? PyArray_DIM(spk, 0) : -1;
-    if (ns < 0) {
-      PyErr_SetString(phm_py_ModelError, "spring parameters: expected an (n, 3) array");
-      goto fail;
-    }
-    if (!(spab = arr(o[34], "spring carriers", ns, t2, 1, keep)) || !(sppa = arr(o[35], "spring points a", ns, t3, 1, keep)) ||
-        !(sppb = arr(o[36], "spring points b", ns, t3, 1, keep)))
-      goto fail;
-  }
-  ac = calloc((size_t)na + 1, sizeof *ac);
-  sp = calloc((size_t)ns + 1, sizeof *sp);
-  car = calloc((size_t)nc + 1, sizeof *car);
-  el = calloc((size_t)ne + 1, sizeof *el);
-  pr = calloc((size_t)np_ + 1, sizeof *pr);
-  ld = calloc((size_t)nl + 1, sizeof *ld);
-  if (!car || !el || !pr || !ld || !ac || !sp) {
-    PyErr_NoMemory();
-    goto fail;
-  }
-  for (npy_intp i = 0; i < nc; i++) {
-    memcpy(car[i].M, D(M) + 36 * i, 36 * sizeof(double));
-    car[i].mass = D(mass)[i];
-    memcpy(car[i].com, D(com) + 3 * i, 3 * sizeof(double));
-    memcpy(car[i].H0, D(H0) + 16 * i, 16 * sizeof(double));
-    memcpy(car[i].t0, D(tw0) + 6 * i, 6 * sizeof(double));
-  }
-  for (npy_intp i = 0; i < ne; i++) {
-    if (to_int(D(elab)[2 * i], "element", i, &el[i].a) < 0 ||
-        to_int(D(elab)[2 * i + 1], "element", i, &el[i].b) < 0)
-      goto fail;
-    el[i].h = D(elh)[i];
-    memcpy(el[i].K, D(elK) + 36 * i, 36 * sizeof(double));
-    memcpy(el[i].D, D(elD) + 36 * i, 36 * sizeof(double));
-    memcpy(el[i].eps_hat, D(ele) + 6 * i, 6 * sizeof(double));
-  }
-  for (npy_intp i = 0; i < np_; i++) {
-    if (to_int(D(prt)[i], "pair type of pair", i, &pr[i].type) < 0 ||
-        to_int(D(prab)[2 * i], "pair", i, &pr[i].a) < 0 ||
-        to_int(D(prab)[2 * i + 1], "pair", i, &pr[i].b) < 0)
-      goto fail;
-    memcpy(pr[i].Ta, D(prTa) + 16 * i, 16 * sizeof(double));
-    memcpy(pr[i].Tb, D(prTb) + 16 * i, 16 * sizeof(double));
-    pr[i].driven = D(prdr)[i] != 0;
-    memcpy(pr[i].axis, D(prax) + 6 * i, 6 * sizeof(double));
-    if (prpi) pr[i].pitch = D(prpi)[i];
-    if (prh0) pr[i].has_x0 = D(prh0)[i] != 0;
-    if (prx0) memcpy(pr[i].x0, D(prx0) + 6 * i, 6 * sizeof(double));
-    if (prdrop) {
-      double v = D(prdrop)[i];
-      if (!(v >= 0 && v < 64 && v == (int)v)) {
-        PyErr_Format(phm_py_ModelError, "pair %d: drop mask must be an integer in [0, 64)", (int)i);
-        goto fail;
-      }
-      pr[i].drop = (int)v;
-    }
-    PyObject *lw = PyList_GET_ITEM(o[16], i);
-    if (pr[i].driven && parse_law(lw, &pr[i].law, keep, "pair motion law") < 0) goto fail;
-  }
-  for (npy_intp i = 0; i < nl; i++) {
-    if (to_int(D(ldc)[i], "load", i, &ld[i].carrier) < 0) goto fail;
-    ld[i].world = D(ldw)[i] != 0;
-    memcpy(ld[i].point, D(ldp) + 3 * i, 3 * sizeof(double));
-    memcpy(ld[i].w, D(ldv) + 6 * i, 6 * sizeof(double));
-    ld[i].reaction = -1;
-    if (ldr && to_int(D(ldr)[i], "reaction of load", i, &ld[i].reaction) < 0) goto fail;
-    if (parse_law(PyList_GET_ITEM(o[21], i), &ld[i].law, keep, "load law") < 0) goto fail;
-  }
-  for (npy_intp i = 0; i < na; i++) {
-    if (to_int(D(acp)[i], "pair of actuator", i, &ac[i].pair) < 0 ||
-        to_int(D(ack)[i], "kind of actuator", i, &ac[i].kind) < 0)
-      goto fail;
-    memcpy(ac[i].vec, D(acv) + 6 * i, 6 * sizeof(double));
-    memcpy(ac[i].kp, D(ackp) + 6 * i, 6 * sizeof(double));
-    memcpy(ac[i].kd, D(ackd) + 6 * i, 6 * sizeof(double));
-    memcpy(ac[i].x_set, D(acx) + 6 * i, 6 * sizeof(double));
-    PyObject *lw = PyList_GET_ITEM(o[33], i);
-    if (lw != Py_None && parse_law(lw, &ac[i].law, keep, "actuator law") < 0) goto fail;
-  }
-  for (npy_intp i = 0; i < ns; i++) {
-    if (to_int(D(spab)[2 * i], "spring", i, &sp[i].a) < 0 ||
-        to_int(D(spab)[2 * i + 1], "spring", i, &sp[i].b) < 0)
-      goto fail;
-    memcpy(sp[i].pa, D(sppa) + 3 * i, 3 * sizeof(double));
-    memcpy(sp[i].pb, D(sppb) + 3 * i, 3 * sizeof(double));
-    sp[i].k = D(spk)[3 * i];
-    sp[i].c = D(spk)[3 * i + 1];
-    sp[i].d0 = D(spk)[3 * i + 2];
-  }
-  {
-    phm_model_desc d;
-    memset(&d, 0, sizeof d);
-    d.ncarriers = (int)nc;
-    d.carriers = car;
-    d.nelements = (int)ne;
-    d.elements = el;
-    d.npairs = (int)np_;
-    d.pairs = pr;
-    d.nloads = (int)nl;
-    d.loads = ld;
-    d.nactuators = (int)na;
-    d.actuators = ac;
-    d.nsprings = (int)ns;
-    d.springs = sp;
-    memcpy(d.gravity, D(grav), 3 * sizeof(double));
+    phm_model_desc d = {.ncarriers = (int)n[0], .carriers = items[0], .nelements = (int)n[1],
+                        .elements = items[1], .npairs = (int)n[2], .pairs = items[2],
+                        .nloads = (int)n[3], .loads = items[3], .nactuators = (int)n[4],
+                        .actuators = items[4], .nsprings = (int)n[5], .springs = items[5]};
+    memcpy(d.gravity, PyArray_DATA(grav), 3 * sizeof(double));
     phm_model *m = NULL;
     phm_error err;
     if (phm_model_create(&d, &m, &err)) {
@@ -303,12 +321,8 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
     if (!result) phm_model_free(m);
   }
 fail:
-  free(car);
-  free(el);
-  free(pr);
-  free(ld);
-  free(ac);
-  free(sp);
+  for (int k = 0; k < NKINDS; k++) free(items[k]);
+  Py_XDECREF(grav);
   Py_DECREF(keep);
   return result;
 }
@@ -669,11 +683,13 @@ PyMethodDef phm_py_model_methods[] = {
     {"model_joints", py_model_joints, METH_VARARGS,
      "model_joints(model, poses, xs=None) -> x (njoints,): joint coordinates at the poses."},
     {"model_new", (PyCFunction)(void (*)(void))py_model_new, METH_VARARGS | METH_KEYWORDS,
-     "model_new(M, mass, com, H0, t0, el_ab, el_h, el_K, el_D, el_eps, pr_type, pr_ab, pr_Ta, "
-     "pr_Tb, pr_driven, pr_axis, pr_law, ld_carrier, ld_world, ld_point, ld_w, ld_law, gravity, "
-     "pr_pitch=None, pr_x0=None, pr_has_x0=None, ld_reaction=None, ac_pair=None, ac_kind, ac_vec, "
-     "ac_kp, ac_kd, ac_xset, ac_law, sp_ab=None, sp_pa, sp_pb, sp_kcd (k, c, d0)) "
-     "-> model capsule (validated; raises ModelError)."},
+     "model_new(carriers, elements, pairs, loads, actuators, springs, gravity) -> model capsule "
+     "(validated; raises ModelError). Each component kind is a dict of columns with one row per "
+     "component (keys: carriers mass, M, com, H0, t0; elements h, nodes, K, D, eps_hat; pairs "
+     "type, carriers, Ta, Tb, driven, axis, law, pitch, x0, has_x0, drop; loads carrier, world, "
+     "point, w, law, reaction; actuators pair, kind, vec, kp, kd, x_set, law; springs k, "
+     "carriers, pa, pb, c, rest_length); laws are lists of tuples (kind, amplitude, t0, "
+     "duration, frequency, phase, offset, table or None); gravity (3,)."},
     {"model_simulate", (PyCFunction)(void (*)(void))py_model_simulate, METH_VARARGS | METH_KEYWORDS,
      "model_simulate(model, tout, rtol, atol, linear_solver, poses=None, twists=None, "
      "callback=None, max_step=0, max_order=0, record=None, error_test=0, integrator=0, step=0, "

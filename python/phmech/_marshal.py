@@ -1,8 +1,12 @@
 """The one place that knows how a model description reaches the C core (``_core.model_new``).
 
-``model_new`` takes the description as flat arrays, one per field of the core's description
-structs (csrc/include/phmech_types.h, phm_*_desc), prefixed by the component kind (``el_``,
-``pr_``, ``ld_``, ``ac_``, ``sp_``); laws are tuples (csrc/pyext/py_model.c, parse_law).
+``model_new(carriers, elements, pairs, loads, actuators, springs, gravity)`` takes one
+description per component kind: a dict of columns, each column an array whose first axis runs
+over the components of that kind (laws: a list with one law tuple, or None, per component). The
+columns are the fields of the core's description structs (csrc/include/phmech_types.h,
+phm_*_desc), which the binding (csrc/pyext/py_model.c, COMPONENTS) fills column by column and
+checks (shapes, finite values, whole-number indices); the core then validates the model
+(phm_model_create).
 """
 from __future__ import annotations
 
@@ -67,37 +71,49 @@ def _rest_lengths(desc: ModelDescription, poses: np.ndarray) -> np.ndarray:
     return np.array(out, dtype=float)
 
 
-def core_model(desc: ModelDescription, poses: np.ndarray, twists: np.ndarray, x0: np.ndarray,
+def components(desc: ModelDescription, poses: np.ndarray, twists: np.ndarray, x0: np.ndarray,
                drop_masks: Optional[Sequence[int]] = None, frames_a: Optional[Sequence] = None,
-               extra_loads: Sequence[dict] = ()):
-    """A core model (capsule) of ``desc`` at initial ``poses`` (nc, 4, 4) and body ``twists``
-    (nc, 6), with the pairs' joint coordinates ``x0`` (npairs, 6), their redundant-row masks
-    ``drop_masks`` (None: none dropped) and frame offsets on carrier a ``frames_a`` (None: the
-    rows' Ta; see topology.place_tree), and ``extra_loads`` (load rows) after the description's
-    own loads. Raises ModelError when the core refuses the model."""
+               extra_loads: Sequence[dict] = ()) -> dict:
+    """The arguments of ``_core.model_new`` for ``desc`` at initial ``poses`` (nc, 4, 4) and body
+    ``twists`` (nc, 6), with the pairs' joint coordinates ``x0`` (npairs, 6), their
+    redundant-row masks ``drop_masks`` (None: none dropped) and frame offsets on carrier a
+    ``frames_a`` (None: the rows' Ta; see topology.place_tree), and ``extra_loads`` (load rows)
+    after the description's own loads: one dict of columns per component kind, and gravity."""
     car, el, pr, ac, sp = desc.carriers, desc.elements, desc.pairs, desc.actuators, desc.springs
     loads = list(desc.loads) + list(extra_loads)
     frames_a = [p["Ta"] for p in pr] if frames_a is None else frames_a
     rest = _rest_lengths(desc, poses)
-    return _core.model_new(
-        M=_column(car, "M", (6, 6)), mass=_column(car, "mass"), com=_column(car, "com", (3,)),
-        H0=np.asarray(poses, dtype=float), t0=np.asarray(twists, dtype=float),
-        el_ab=_ends(el), el_h=_column(el, "h"), el_K=_column(el, "K", (6, 6)),
-        el_D=_column(el, "D", (6, 6)), el_eps=_column(el, "eps", (6,)),
-        pr_type=_column(pr, "type"), pr_ab=_ends(pr),
-        pr_Ta=np.array(frames_a, dtype=float).reshape(-1, 4, 4), pr_Tb=_column(pr, "Tb", (4, 4)),
-        pr_driven=_column(pr, "driven"), pr_axis=_column(pr, "axis", (6,)),
-        pr_law=[_law(p["law"]) if p["driven"] else None for p in pr],
-        ld_carrier=_column(loads, "carrier"), ld_world=_column(loads, "world"),
-        ld_point=_column(loads, "point", (3,)), ld_w=_column(loads, "w", (6,)),
-        ld_law=[_law(ld["law"]) for ld in loads], gravity=np.asarray(desc.gravity, dtype=float),
-        pr_pitch=_column(pr, "pitch"), pr_x0=np.asarray(x0, dtype=float).reshape(-1, 6),
-        pr_drop=None if drop_masks is None else np.array(drop_masks, dtype=float),
-        pr_has_x0=_column(pr, "has_x0"),
-        ld_reaction=np.array([ld.get("reaction", -1) for ld in loads], dtype=float),
-        ac_pair=_column(ac, "pair"),
-        ac_kind=np.array([_ACTUATOR_KINDS[a["kind"]] for a in ac], dtype=float),
-        ac_vec=_column(ac, "vec", (6,)), ac_kp=_column(ac, "kp", (6,)), ac_kd=_column(ac, "kd", (6,)),
-        ac_xset=_column(ac, "xset", (6,)), ac_law=[_law(a["law"]) for a in ac],
-        sp_ab=_ends(sp), sp_pa=_column(sp, "pa", (3,)), sp_pb=_column(sp, "pb", (3,)),
-        sp_kcd=np.column_stack([[q["kcd"][0] for q in sp], [q["kcd"][1] for q in sp], rest]).reshape(-1, 3))
+    return dict(
+        carriers=dict(M=_column(car, "M", (6, 6)), mass=_column(car, "mass"),
+                      com=_column(car, "com", (3,)), H0=np.asarray(poses, dtype=float),
+                      t0=np.asarray(twists, dtype=float)),
+        elements=dict(h=_column(el, "h"), nodes=_ends(el), K=_column(el, "K", (6, 6)),
+                      D=_column(el, "D", (6, 6)), eps_hat=_column(el, "eps", (6,))),
+        pairs=dict(type=_column(pr, "type"), carriers=_ends(pr),
+                   Ta=np.array(frames_a, dtype=float).reshape(-1, 4, 4), Tb=_column(pr, "Tb", (4, 4)),
+                   driven=_column(pr, "driven"), axis=_column(pr, "axis", (6,)),
+                   law=[_law(p["law"]) if p["driven"] else None for p in pr],
+                   pitch=_column(pr, "pitch"), x0=np.asarray(x0, dtype=float).reshape(-1, 6),
+                   has_x0=_column(pr, "has_x0"),
+                   drop=np.zeros(len(pr)) if drop_masks is None else np.array(drop_masks, dtype=float)),
+        loads=dict(carrier=_column(loads, "carrier"), world=_column(loads, "world"),
+                   point=_column(loads, "point", (3,)), w=_column(loads, "w", (6,)),
+                   law=[_law(ld["law"]) for ld in loads],
+                   reaction=np.array([ld.get("reaction", -1) for ld in loads], dtype=float)),
+        actuators=dict(pair=_column(ac, "pair"),
+                       kind=np.array([_ACTUATOR_KINDS[a["kind"]] for a in ac], dtype=float),
+                       vec=_column(ac, "vec", (6,)), kp=_column(ac, "kp", (6,)),
+                       kd=_column(ac, "kd", (6,)), x_set=_column(ac, "xset", (6,)),
+                       law=[_law(a["law"]) for a in ac]),
+        springs=dict(carriers=_ends(sp), pa=_column(sp, "pa", (3,)), pb=_column(sp, "pb", (3,)),
+                     k=np.array([q["kcd"][0] for q in sp], dtype=float),
+                     c=np.array([q["kcd"][1] for q in sp], dtype=float), rest_length=rest),
+        gravity=np.asarray(desc.gravity, dtype=float))
+
+
+def core_model(desc: ModelDescription, poses: np.ndarray, twists: np.ndarray, x0: np.ndarray,
+               drop_masks: Optional[Sequence[int]] = None, frames_a: Optional[Sequence] = None,
+               extra_loads: Sequence[dict] = ()):
+    """A core model (capsule) of ``desc`` at an initial state (the arguments of components).
+    Raises ModelError when the core refuses the model."""
+    return _core.model_new(**components(desc, poses, twists, x0, drop_masks, frames_a, extra_loads))
