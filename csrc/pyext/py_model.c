@@ -602,6 +602,36 @@ static PyObject *py_model_static(PyObject *self, PyObject *args) {
   return res;
 }
 
+/* model_set_initial(model, H0 (nc, 4, 4), t0 (nc, 6), x0 (npairs, 6), drop (npairs,)): the
+ * initial state the loop closure found, set on the model it was found with (phm_model_set_initial;
+ * the model is not rebuilt). */
+static PyObject *py_model_set_initial(PyObject *self, PyObject *args) {
+  (void)self;
+  PyObject *cap, *o[4];
+  if (!PyArg_ParseTuple(args, "OOOOO", &cap, &o[0], &o[1], &o[2], &o[3])) return NULL;
+  phm_model *m = get_model(cap);
+  if (!m) return NULL;
+  npy_intp nc = phm_model_ncarriers(m), np_ = phm_model_npairs(m);
+  const npy_intp shape[4][3] = {{nc, 4, 4}, {nc, 6}, {np_, 6}, {np_}};
+  const int ndim[4] = {3, 2, 2, 1};
+  const char *what[4] = {"carrier poses", "carrier twists", "pair initial coordinates", "pair drop masks"};
+  PyArrayObject *a[4] = {NULL, NULL, NULL, NULL};
+  int *drop = calloc((size_t)np_ + 1, sizeof *drop);
+  int ok = drop != NULL;
+  if (!ok) PyErr_NoMemory();
+  for (int i = 0; ok && i < 4; i++) ok = (a[i] = phm_py_double_array(o[i], what[i], shape[i], ndim[i], 0)) != NULL;
+  for (npy_intp i = 0; ok && i < np_; i++)
+    ok = to_int(((const double *)PyArray_DATA(a[3]))[i], "drop mask of pair", i, &drop[i]) == 0;
+  phm_error err;
+  if (ok && phm_model_set_initial(m, PyArray_DATA(a[0]), PyArray_DATA(a[1]), PyArray_DATA(a[2]), drop, &err)) {
+    phm_py_raise(&err);
+    ok = 0;
+  }
+  free(drop);
+  for (int i = 0; i < 4; i++) Py_XDECREF(a[i]);
+  return ok ? Py_NewRef(Py_None) : NULL;
+}
+
 static PyObject *py_model_sizes(PyObject *self, PyObject *cap) {
   (void)self;
   phm_model *m = get_model(cap);
@@ -690,6 +720,10 @@ PyMethodDef phm_py_model_methods[] = {
      "point, w, law, reaction; actuators pair, kind, vec, kp, kd, x_set, law; springs k, "
      "carriers, pa, pb, c, rest_length); laws are lists of tuples (kind, amplitude, t0, "
      "duration, frequency, phase, offset, table or None); gravity (3,)."},
+    {"model_set_initial", py_model_set_initial, METH_VARARGS,
+     "model_set_initial(model, H0 (nc, 4, 4), t0 (nc, 6), x0 (npairs, 6), drop (npairs,)) -> None: "
+     "a new initial state (poses, twists, joint coordinates, redundant-row masks) without "
+     "rebuilding the model."},
     {"model_simulate", (PyCFunction)(void (*)(void))py_model_simulate, METH_VARARGS | METH_KEYWORDS,
      "model_simulate(model, tout, rtol, atol, linear_solver, poses=None, twists=None, "
      "callback=None, max_step=0, max_order=0, record=None, error_test=0, integrator=0, step=0, "

@@ -6,7 +6,8 @@ over the components of that kind (laws: a list with one law tuple, or None, per 
 columns are the fields of the core's description structs (csrc/include/phmech_types.h,
 phm_*_desc), which the binding (csrc/pyext/py_model.c, COMPONENTS) fills column by column and
 checks (shapes, finite values, whole-number indices); the core then validates the model
-(phm_model_create).
+(phm_model_create). ``with_initial`` moves a model to another initial state without rebuilding it
+(``_core.model_set_initial``).
 """
 from __future__ import annotations
 
@@ -117,3 +118,18 @@ def core_model(desc: ModelDescription, poses: np.ndarray, twists: np.ndarray, x0
     """A core model (capsule) of ``desc`` at an initial state (the arguments of components).
     Raises ModelError when the core refuses the model."""
     return _core.model_new(**components(desc, poses, twists, x0, drop_masks, frames_a, extra_loads))
+
+
+def with_initial(model, desc: ModelDescription, built_at: np.ndarray, poses: np.ndarray,
+                 twists: np.ndarray, x0: np.ndarray, drop_masks: Sequence[int]):
+    """``model`` (made by core_model of ``desc`` at poses ``built_at``) moved to a new initial
+    state -- poses, twists, x0, drop masks, as in core_model -- without rebuilding it
+    (``_core.model_set_initial``); None when that state needs a new model: a spring's default
+    rest length (its initial distance) differs at ``poses``."""
+    if not np.array_equal(_rest_lengths(desc, built_at), _rest_lengths(desc, poses)):
+        return None
+    _core.model_set_initial(model, np.asarray(poses, dtype=float), np.asarray(twists, dtype=float),
+                            np.asarray(x0, dtype=float).reshape(-1, 6),
+                            np.array(drop_masks, dtype=float).reshape(-1))
+    return model
+

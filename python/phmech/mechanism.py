@@ -2,7 +2,7 @@
 
 A Mechanism collects rigid bodies, flexible links (``se3`` beam elements), kinematic pairs,
 actuators and applied wrenches into a model description (phmech.description), finds the initial
-configuration from it (phmech.topology) and runs the analyses in
+configuration from it (phmech.topology, once until the next ``add_*``) and runs the analyses in
 the C core (``phmech._core``; phmech._marshal hands the description over): SUNDIALS IDA or the
 generalized-alpha method for time integration, LAPACK for modes and statics.
 
@@ -88,7 +88,8 @@ class Mechanism:
         self.ground = Frame(-1, np.eye(4), "ground")
         self._desc = ModelDescription(g)
         self._names = set()
-        #: the initial configuration the last analysis started from (topology.InitialState)
+        #: the initial configuration of the description as it is (topology.InitialState), or
+        #: None until an analysis needs it; every add_* drops it
         self._state: Optional[topology.InitialState] = None
         self._warned = None
         self._warned_initial = None
@@ -128,8 +129,11 @@ class Mechanism:
             raise ModelError(f"name {name!r} is already used")
 
     def _new_name(self, name):
+        """Claim ``name`` for the component an add_* call is about to add: the description
+        changes, so the initial configuration found for it so far is dropped."""
         self._check_name(name)
         self._names.add(name)
+        self._state = None
 
     def add_flexible_link(self, name: str, length: float, properties, elements: Optional[int] = None,
                           pose=None, curvature=None, discretization: str = "se3",
@@ -460,21 +464,24 @@ class Mechanism:
         return mechanism_graphs(self._desc)
 
     def _initial_state(self, extra_loads: Sequence[dict] = ()):
-        """The initial configuration (topology.initial_state); returns (InitialState, model),
-        ``model`` the core model the steps built (with ``extra_loads``) when it is the
-        analysis's, else None. Sets ``redundant_constraints`` and ``initial_adjustments`` and
-        warns or, if ``strict``, raises on moves beyond tolerance. Overflow in these steps (given
-        lengths, positions, x0 or rates beyond what double precision can square) is a
-        ModelError, never a NaN passed on."""
+        """The initial configuration (topology.initial_state), found once per description and
+        kept until the next add_*; returns (InitialState, model), ``model`` the core model the
+        steps built (with ``extra_loads``) when it is the analysis's, else None. Sets
+        ``redundant_constraints`` and ``initial_adjustments`` and warns or, if ``strict``, raises
+        on moves beyond tolerance, at every call. Overflow in these steps (given lengths,
+        positions, x0 or rates beyond what double precision can square) is a ModelError, never
+        a NaN passed on."""
         if not self._car:
             raise ModelError("the mechanism is empty")
-        try:
-            with np.errstate(over="raise", invalid="raise"):
-                self._state, model = topology.initial_state(self._desc, extra_loads)
-        except FloatingPointError as e:
-            raise ModelError(f"initial configuration: {e} while placing the carriers and closing "
-                             f"the loops: the model's lengths, positions, x0 or xdot0 are beyond "
-                             f"what double precision can handle") from None
+        model = None
+        if self._state is None:
+            try:
+                with np.errstate(over="raise", invalid="raise"):
+                    self._state, model = topology.initial_state(self._desc, extra_loads)
+            except FloatingPointError as e:
+                raise ModelError(f"initial configuration: {e} while placing the carriers and closing "
+                                 f"the loops: the model's lengths, positions, x0 or xdot0 are beyond "
+                                 f"what double precision can handle") from None
         self._report(self._state)
         return self._state, model
 
@@ -517,7 +524,8 @@ class Mechanism:
 
     def _build(self, extra_loads: Sequence[dict] = ()):
         """The core model of this mechanism at its initial configuration, with ``extra_loads``
-        (load rows) after its own."""
+        (load rows) after its own: built once per call, or none when finding the initial
+        configuration built it."""
         state, model = self._initial_state(extra_loads)
         if model is None:
             model = _marshal.core_model(self._desc, state.poses, state.twists, state.x0,

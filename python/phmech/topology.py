@@ -1,7 +1,8 @@
 """Initial configuration and redundant constraints of a mechanism (paper Sec. V).
 
 It works on a model description (phmech.description.ModelDescription) and never changes it.
-Three steps (``initial_state``), run by :class:`phmech.Mechanism` for each analysis:
+Three steps (``initial_state``), run once per description by :class:`phmech.Mechanism`, which
+keeps the result until the next ``add_*`` call:
 
 1. **Tree placement.** A breadth-first walk of the kinematic graph G_K ∪ G_F from the ground
    places every carrier it reaches: across a pair (a, b) the far frame sits at
@@ -302,6 +303,19 @@ def _element_residual(desc: ModelDescription, H):
     return r, J
 
 
+def _element_rates(desc: ModelDescription, H, t) -> np.ndarray:
+    """The elements' strain rates times h, Je t = dexp_{-X}^-1 t_b - dexp_X^-1 t_a (6 ne,),
+    without forming Je (the rows of _element_residual's Jacobian times the twists t (6 nc,))."""
+    if not desc.elements:
+        return np.zeros(0)
+    X = _element_strains(desc, H)
+    tw = t.reshape(-1, 6)
+    a = [el["a"] for el in desc.elements]
+    b = [el["b"] for el in desc.elements]
+    return (np.einsum("nij,nj->ni", se3.dexp_inv(-X), tw[b])
+            - np.einsum("nij,nj->ni", se3.dexp_inv(X), tw[a])).ravel()
+
+
 def _retract_all(H, delta):
     out = H.copy()
     for c in range(H.shape[0]):
@@ -422,15 +436,13 @@ def close_rates(desc: ModelDescription, model, H, T, tree_pairs, xref):
     Je t = 0 and the given xdot0 (if they cannot all hold, the xdot0 become soft targets of
     weight 10^3, as the given x0 in close_loops); soft: the tree pairs' joint rates (weight 1),
     the correction being the minimum-norm one among the solutions. Returns (T, reached): T
-    unchanged when it already meets the hard rows (to 1e-12); reached: joint row -> the initial
-    rate of every given xdot0 (for initial_adjustments)."""
+    unchanged (the same array) when it already meets the hard rows (to 1e-12); reached: joint
+    row -> the initial rate of every given xdot0 (for initial_adjustments)."""
     eps = 1e-6
     g, G, _ = _core.model_constraints_full(model, H, xref, 0.0)
-    _, Je = _element_residual(desc, H)
     gp = _core.model_constraints_full(model, H, xref, eps)[0]
     gm = _core.model_constraints_full(model, H, xref, -eps)[0]
-    A = np.vstack([G, Je])
-    rhs = np.concatenate([-(gp - gm) / (2 * eps), np.zeros(Je.shape[0])])
+    rate_g = -(gp - gm) / (2 * eps)
     t = T.reshape(-1)
     scale = max(1.0, float(np.max(np.abs(t)))) if t.size else 1.0
     sizes = _core.model_sizes(model)[4]
@@ -448,9 +460,14 @@ def close_rates(desc: ModelDescription, model, H, T, tree_pairs, xref):
     def reached(t):
         return dict(zip(given.tolist(), (Jg @ t).tolist()))
 
-    if (rhs.size == 0 or np.max(np.abs(rhs - A @ t)) <= 1e-12 * scale) and \
+    # the hard rows already hold: checked without forming the elements' (dense) Jacobian
+    miss = np.concatenate([rate_g - G @ t, _element_rates(desc, H, t)])
+    if (miss.size == 0 or np.max(np.abs(miss)) <= 1e-12 * scale) and \
             np.all(np.abs(Jg @ t - given_rate) <= 1e-12 * scale):
         return T, reached(t)
+    _, Je = _element_residual(desc, H)
+    A = np.vstack([G, Je])
+    rhs = np.concatenate([rate_g, np.zeros(Je.shape[0])])
     Jt = _joint_jacobian(model, H, xref, tree) if tree.size else np.zeros((0, t.size))
     for hard in (True, False):
         if hard:
@@ -560,9 +577,11 @@ def initial_adjustments(desc: ModelDescription, H_tree, H, x, layout, rates) -> 
 def initial_state(desc: ModelDescription, extra_loads=()):
     """The three steps for ``desc``: returns (InitialState, model). Placing the tree needs no
     model; closing the loops and finding the redundant rows use a core model built at the
-    tree's poses (with ``extra_loads``). ``model`` is None: the analysis builds its own from the
-    state. Raises ModelError when given poses violate a pair or a loop cannot close;
-    floating-point overflow raises FloatingPointError (see Mechanism)."""
+    tree's poses (with ``extra_loads``, as the analysis will). ``model`` is that model moved to
+    the closed state (_marshal.with_initial), ready for the analysis, or None (no pairs, or a
+    spring whose default rest length changed: build it from the state). Raises ModelError when
+    given poses violate a pair or a loop cannot close; floating-point overflow raises
+    FloatingPointError (see Mechanism)."""
     H, T, tree, frames_a = place_tree(desc)
     x0 = np.array([p["x0"] for p in desc.pairs]).reshape(-1, 6)
     if not desc.pairs:
@@ -581,4 +600,5 @@ def initial_state(desc: ModelDescription, extra_loads=()):
             x0[ip, :k] = x[j:j + k]
     _, G, _ = _core.model_constraints_full(model, H, None, 0.0)
     masks, dropped = redundant_rows(desc, G, tree)
-    return InitialState(H, T, x0, masks, frames_a, dropped, adjustments), None
+    state = InitialState(H, T, x0, masks, frames_a, dropped, adjustments)
+    return state, _marshal.with_initial(model, desc, H_tree, H, T, x0, masks)
