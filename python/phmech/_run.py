@@ -13,7 +13,7 @@ from typing import Callable, Optional
 import numpy as np
 
 #: steps per period of the band's highest frequency at the adaptive integrator's smallest and
-#: largest step (csrc/phmech.h, PHM_BAND_STEPS and PHM_BAND_MAX_STEPS)
+#: largest step (csrc/include/phmech_types.h, PHM_BAND_STEPS and PHM_BAND_MAX_STEPS)
 BAND_STEPS = 20
 BAND_MAX_STEPS = 12
 
