@@ -66,6 +66,7 @@ void phm_model_free(phm_model *model);
 int phm_model_ncarriers(const phm_model *model);
 int phm_model_nconstraints(const phm_model *model);   /* rows of G (lambda's length)             */
 int phm_model_npairs(const phm_model *model);
+int phm_model_nelements(const phm_model *model);      /* se3 beam elements                       */
 int phm_model_njoints(const phm_model *model);        /* joint coordinates, all pairs (sum of k) */
 int phm_model_nports(const phm_model *model);         /* ports: actuators, loads, springs, in order */
 void phm_model_pair_layout(const phm_model *model, int ip, int *row, int *m, int *joint, int *k); /* first row, rows, first joint coordinate, k of pair ip */

@@ -282,6 +282,7 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
 int phm_model_ncarriers(const phm_model *m) { return m->nc; }
 int phm_model_nconstraints(const phm_model *m) { return m->ncons; }
 int phm_model_npairs(const phm_model *m) { return m->np; }
+int phm_model_nelements(const phm_model *m) { return m->ne; }
 int phm_model_njoints(const phm_model *m) { return m->nj; }
 int phm_model_nports(const phm_model *m) { return m->nport; }
 void phm_model_pair_layout(const phm_model *m, int ip, int *row, int *mc, int *joint, int *k) {

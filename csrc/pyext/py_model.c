@@ -706,7 +706,42 @@ static PyObject *py_model_joints(PyObject *self, PyObject *args) {
   return (PyObject *)x;
 }
 
+static PyObject *py_model_stress_resultants(PyObject *self, PyObject *args) {
+  (void)self;
+  PyObject *cap, *po, *to;
+  if (!PyArg_ParseTuple(args, "OOO", &cap, &po, &to)) return NULL;
+  phm_model *m = get_model(cap);
+  if (!m) return NULL;
+  int nc = phm_model_ncarriers(m), ne = phm_model_nelements(m);
+  npy_intp tp[3] = {nc, 4, 4}, tt[2] = {nc, 6};
+  PyArrayObject *P = phm_py_double_array(po, "poses", tp, 3, 1), *T = NULL, *S = NULL;
+  if (P) T = phm_py_double_array(to, "twists", tt, 2, 1);
+  if (P && T) {
+    npy_intp nt = PyArray_SIZE(P) / (16 * (npy_intp)nc);
+    if (PyArray_SIZE(T) / (6 * (npy_intp)nc) != nt) {
+      PyErr_SetString(phm_py_ModelError, "stress resultants: poses and twists have different numbers of states");
+    } else {
+      npy_intp dims[3] = {nt, ne, 6};
+      S = (PyArrayObject *)PyArray_ZEROS(3, dims, NPY_DOUBLE, 0);
+      if (S) {
+        const double *Pd = PyArray_DATA(P), *Td = PyArray_DATA(T);
+        double *Sd = PyArray_DATA(S);
+        Py_BEGIN_ALLOW_THREADS
+        for (npy_intp i = 0; i < nt; i++)
+          phm_model_stress_resultants(m, Pd + 16 * nc * i, Td + 6 * nc * i, Sd + 6 * ne * i);
+        Py_END_ALLOW_THREADS
+      }
+    }
+  }
+  Py_XDECREF(P);
+  Py_XDECREF(T);
+  return (PyObject *)S;
+}
+
 PyMethodDef phm_py_model_methods[] = {
+    {"model_stress_resultants", py_model_stress_resultants, METH_VARARGS,
+     "model_stress_resultants(model, poses (..., nc, 4, 4), twists (..., nc, 6)) -> (nt, nelements, "
+     "6): every element's stress resultants K (eps - eps_hat) + D eps' (csrc/model/element.c)."},
     {"model_constraints_full", py_model_constraints_full, METH_VARARGS,
      "model_constraints_full(model, poses, xs=None, time=0) -> (g (nfull,), G (nfull, 6 nc), W "
      "(npairs, 6, 6)): all constraint rows, redundant (dropped) ones included."},

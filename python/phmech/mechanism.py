@@ -785,7 +785,7 @@ class Mechanism:
         (nt, elements, 6), in the strain order (torsion, bending y, bending z [N m], axial,
         shear y, shear z [N]); see phmech.postprocess.stress_resultants."""
         lk = link_of(self._links, link, "stress_resultants")
-        return postprocess.stress_resultants(self._desc, result, lk)
+        return postprocess.stress_resultants(self._desc, self._build(), result, lk)
 
     def constraint_residuals(self, result: SimulationResult) -> dict:
         """Position and velocity constraint residuals of EVERY pair row (redundant rows included)

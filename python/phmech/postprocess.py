@@ -24,25 +24,27 @@ def simulation_result(result, what: str) -> SimulationResult:
     return result
 
 
-def stress_resultants(desc: ModelDescription, result: SimulationResult, link: FlexibleLink) -> np.ndarray:
+def stress_resultants(desc: ModelDescription, model, result: SimulationResult, link: FlexibleLink) -> np.ndarray:
     """Section stress resultants of each element of ``link`` along a simulation, shape
     (nt, elements, 6): sigma = K (eps - eps_hat) + D eps_dot in the element's own frame, in the
-    strain order (torsion, bending y, bending z [N m], axial, shear y, shear z [N]);
-    eps = log(H_k^-1 H_k+1) / h and h eps_dot = dexp_{-X}^-1 t_k+1 - dexp_X^-1 t_k, the same
-    constant-strain element the core integrates (csrc/model/element.c; docs/method.md section 4.2)."""
+    strain order (torsion, bending y, bending z [N m], axial, shear y, shear z [N]); computed by
+    the core's element (csrc/model/element.c; docs/method.md section 4.2), the one the simulation
+    integrated. ``model``: the core model of ``desc``."""
     result = simulation_result(result, "stress_resultants")
     cols = result._columns(link.nodes)
-    H, T = result.poses[:, cols], result.twists[:, cols]
-    els = desc.link_elements(link)
-    K = np.array([e["K"] for e in els])
-    D = np.array([e["D"] for e in els])
-    eps_hat = np.array([e["eps"] for e in els])
-    h = np.array([e["h"] for e in els])[:, None]
-    X = se3.log(se3.compose(se3.inverse(H[:, :-1]), H[:, 1:]))         # (nt, N, 6)
-    rate = (np.einsum("...ij,...j->...i", se3.dexp_inv(-X), T[:, 1:])
-            - np.einsum("...ij,...j->...i", se3.dexp_inv(X), T[:, :-1])) / h
-    return (np.einsum("kij,tkj->tki", K, X / h - eps_hat)
-            + np.einsum("kij,tkj->tki", D, rate))
+    nt, nc = len(result.t), len(desc.carriers)
+    first = desc.first_element[link.name]
+    out = np.empty((nt, link.elements, 6))
+    # the core evaluates every carrier's elements: the carriers not recorded sit at the identity
+    # and only this link's elements (whose nodes are all recorded) are kept; in chunks of time,
+    # so that a long recorded run needs no full-size copy
+    for t0 in range(0, nt, 256):
+        t1 = min(nt, t0 + 256)
+        H = np.broadcast_to(np.eye(4), (t1 - t0, nc, 4, 4)).copy()
+        T = np.zeros((t1 - t0, nc, 6))
+        H[:, link.nodes], T[:, link.nodes] = result.poses[t0:t1, cols], result.twists[t0:t1, cols]
+        out[t0:t1] = _core.model_stress_resultants(model, H, T)[:, first:first + link.elements]
+    return out
 
 
 def constraint_residuals(desc: ModelDescription, model, result: SimulationResult) -> dict:
