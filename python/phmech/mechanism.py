@@ -799,13 +799,14 @@ class Mechanism:
 
     def modes(self, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0) -> ModesResult:
         """The ``n`` lowest linearized modes at the initial configuration, or at a static
-        equilibrium ``at`` (its constraint wrenches give the geometric stiffness)."""
+        equilibrium ``at``: its constraint wrenches give the geometric stiffness, and the extra
+        loads it was found under (``static(loads=...)``) act as they did there."""
         n = integer("n", n, 1)
         time = real("time", time)
         if at is not None and not isinstance(at, StaticResult):
             raise ModelError(f"at must be a StaticResult (Mechanism.static) or None (got "
                              f"{type(at).__name__})")
-        model = self._build()
+        model = self._build(() if at is None else at.loads)
         poses = None if at is None else self._start_poses(at, "at")
         lam = None if at is None else array("at.constraint_wrenches", at.constraint_wrenches,
                                             np.shape(at.constraint_wrenches))
@@ -842,5 +843,5 @@ class Mechanism:
         poses = None if start is None else self._start_poses(start, "start")
         model = self._build(extra)
         P, lam, it = _core.model_static(model, poses, time, steps, tol)
-        return StaticResult(P, lam, it, self._links)
+        return StaticResult(P, lam, it, self._links, tuple(extra))
 

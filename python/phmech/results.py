@@ -306,11 +306,13 @@ class ModesResult:
 @dataclasses.dataclass
 class StaticResult:
     """Static equilibrium: ``poses`` (ncarriers, 4, 4), ``constraint_wrenches``, Newton
-    ``iterations``."""
+    ``iterations``; ``loads``: the extra loads it was found under (``static(loads=...)``), which
+    ``modes(at=...)`` linearizes with."""
     poses: np.ndarray
     constraint_wrenches: np.ndarray
     iterations: int
     _links: dict
+    loads: tuple = ()
 
     def positions(self, link: Union[str, FlexibleLink]) -> np.ndarray:
         """Node positions of a link [m], shape (nodes, 3)."""
