@@ -21,7 +21,6 @@ F1's base misalignment delta (the paper's "complete setup", ``--misalignment``):
 """
 from __future__ import annotations
 
-import argparse
 import dataclasses
 import json
 import math
@@ -33,6 +32,8 @@ import numpy as np
 
 import phmech as ph
 from phmech import se3
+
+from _cli import example_parser
 
 F_PAPER_ANALYTIC = 3.369  # Hz, Sec. VIII-D
 F_PAPER_20SIM = 3.366     # Hz
@@ -503,19 +504,11 @@ def plot(out: dict, p: LeafSpringParams, path_resp: str, path_spec: str) -> None
 
 
 def main(argv=None) -> dict:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="short run (5 s, no mesh refinement study)")
-    ap.add_argument("--json", action="store_true", help="print one JSON object")
-    ap.add_argument("--elements", type=int, default=None)
-    ap.add_argument("--t-end", type=float, default=None)
+    ap = example_parser(__doc__, "short run (5 s, no mesh refinement study)")
     ap.add_argument("--beta", type=float, default=1e-5, help="material damping D = beta K [s]")
-    ap.add_argument("--rtol", type=float, default=None, help="default: phmech's")
-    ap.add_argument("--atol", type=float, default=None, help="default: phmech's")
     ap.add_argument("--misalignment", action="store_true",
                     help="also sweep F1's base misalignment delta (0..2 deg): prestressed modes, "
                          "stability limit, pulse responses, parasitic motion of R1")
-    ap.add_argument("--no-plot", action="store_true")
-    ap.add_argument("--outdir", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "output"))
     a = ap.parse_args(argv)
     N = a.elements or 10
     t_end = a.t_end or (5.0 if a.quick else 10.0)

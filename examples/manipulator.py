@@ -42,7 +42,6 @@ indeterminate (out-of-plane), not kinematically redundant. The script reports
 """
 from __future__ import annotations
 
-import argparse
 import dataclasses
 import json
 import math
@@ -55,6 +54,8 @@ import numpy as np
 
 import phmech as ph
 from phmech import se3
+
+from _cli import example_parser
 
 ACTUATED = ("k1", "k2", "k4", "k7")
 PAIRS = ("k1", "k2", "k3", "k4", "k5", "k6", "k7")
@@ -436,16 +437,8 @@ def plot_response(out: dict, p: ManipulatorParams, path: str) -> None:
 
 
 def main(argv=None) -> dict:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="short run (N = 4 elements, 3 s)")
-    ap.add_argument("--json", action="store_true", help="print one JSON summary object")
-    ap.add_argument("--elements", type=int, default=None)
-    ap.add_argument("--t-end", type=float, default=None)
-    ap.add_argument("--rtol", type=float, default=None, help="default: phmech's")
-    ap.add_argument("--atol", type=float, default=None, help="default: phmech's")
-    ap.add_argument("--no-plot", action="store_true")
+    ap = example_parser(__doc__, "short run (N = 4 elements, 3 s)")
     ap.add_argument("--gif", action="store_true", help="also save an animated GIF (needs pillow)")
-    ap.add_argument("--outdir", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "output"))
     a = ap.parse_args(argv)
     N = a.elements or (4 if a.quick else 8)
     t_end = a.t_end or (3.0 if a.quick else 6.0)

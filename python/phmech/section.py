@@ -145,17 +145,19 @@ class Section:
     @property
     def I_y(self) -> float:
         """Second moment about local y, ``int z^2 dA`` [m^4] (bending in the x-z plane)."""
-        if self.kind == "rectangle":
-            w, h = self.dims
-            return w * h**3 / 12.0
-        return self._I_round()
+        return self._second_moment(1)
 
     @property
     def I_z(self) -> float:
         """Second moment about local z, ``int y^2 dA`` [m^4] (bending in the x-y plane)."""
+        return self._second_moment(0)
+
+    def _second_moment(self, depth: int) -> float:
+        """b d^3 / 12 of a rectangle whose side ``dims[depth]`` is the depth d (the direction
+        of bending); a round section's I."""
         if self.kind == "rectangle":
-            w, h = self.dims
-            return h * w**3 / 12.0
+            b, d = self.dims[1 - depth], self.dims[depth]
+            return b * d**3 / 12.0
         return self._I_round()
 
     @property
