@@ -82,7 +82,7 @@ sanitize: sysdeps $(STAMP)
 SUN7_DIR   := build/sun7
 SUN7_TESTS := tests/test_se3.py tests/test_pairs.py tests/test_rigid_body.py \
               tests/test_beam_dynamics.py tests/test_statics.py tests/test_default_integrator.py \
-              tests/test_leaf_spring.py tests/test_generalized_alpha.py tests/test_topology.py \
+              tests/paper/test_leaf_spring.py tests/test_generalized_alpha.py tests/test_topology.py \
               tests/test_info.py
 
 sundials7-check: sysdeps $(STAMP)

@@ -40,7 +40,7 @@ def test_se3_converges_at_second_order():
 
 
 def test_example_json_has_the_documented_keys(tmp_path):
-    script = Path(__file__).resolve().parents[1] / "examples" / "timoshenko_table.py"
+    script = Path(__file__).resolve().parents[2] / "examples" / "timoshenko_table.py"
     out = subprocess.run([sys.executable, str(script), "--json", "--quick",
                           "--plot", str(tmp_path / "conv.png")],
                          capture_output=True, text=True, check=True, timeout=300)

@@ -9,9 +9,10 @@ import pytest
 
 import phmech as ph
 
-from test_graphs import B_K_f, B_K_r
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "examples"))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # tests/: the paper's incidence matrices
+from test_graphs import B_K_f, B_K_r  # noqa: E402
 import manipulator as M  # noqa: E402
 
 # IDA at rtol 1e-6: the ledger assertions below are IDA's precision (each port integrated on
