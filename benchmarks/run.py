@@ -343,15 +343,15 @@ def bench_transient(quick: bool) -> dict:
               f"CPU {c:.3f} s, {stats['steps']} steps, {stats['nonlinear_iters']} Newton, "
               f"{stats['jacobian_evals']} jac", flush=True)
 
-    # IDA, every state in the error test (the default)
+    # IDA, every state in the error test (its default)
     for N in ph_N:
         for rtol in [1e-3, 1e-4, 1e-6, 1e-8]:
             for solver in (["klu", "dense"] if N <= 10 and rtol == 1e-6 else ["klu"]):
-                phmech_point(f"se3-ida-{solver}", N, rtol, solver)
+                phmech_point(f"se3-ida-{solver}", N, rtol, solver, integrator="ida")
     # IDA, twists out of the error test (BDF order <= 2)
     for N in ph_N:
         for rtol in [1e-3, 1e-4, 1e-5, 1e-6]:
-            phmech_point("se3-ida-config", N, rtol, error_test="configuration")
+            phmech_point("se3-ida-config", N, rtol, error_test="configuration", integrator="ida")
     # fixed-step generalized-alpha (rho_inf 0.9, as Exudyn's default); rtol = Newton tolerance
     for N in ph_N + ([] if quick else [80]):
         for h in [1e-2, 5e-3, 2e-3, 1e-3, 5e-4]:
