@@ -17,7 +17,7 @@ of the energy variables, ``4 N`` of them, ordered ``(P_t, E_s, P_r, K)`` per ele
 
 with boundary ports ``u = (v(0), omega(0), Q(L), M(L))`` and ``y = (-Q(0), -M(0), v(L),
 omega(L))``; ``J`` and ``D`` are skew, ``Q`` is diagonal positive. The derivation is in the
-header comment of ``csrc/beam_mixed.c``.
+header comment of ``csrc/model/mixed.c``.
 """
 from __future__ import annotations
 

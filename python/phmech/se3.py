@@ -1,6 +1,6 @@
 """SE(3) algebra: rotations, poses, twists and the maps between them.
 
-Conventions (DESIGN.md section 3):
+Conventions (docs/method.md section 3):
 
 * a twist is ``x = (omega, v)`` [rad/s, m/s] (or, as exponential coordinates, [rad, m]),
   a wrench is ``(tau, f)`` [N m, N]: angular part first;

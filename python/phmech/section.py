@@ -1,7 +1,7 @@
 """Materials, cross-sections and the section properties of a flexible link.
 
 Axes: the beam axis is the local x axis; the section lies in the local y-z plane. Strains are
-ordered as the twist, angular part first (DESIGN.md section 3):
+ordered as the twist, angular part first (docs/method.md section 4.2):
 ``(kappa_x, kappa_y, kappa_z, eps_x, gamma_y, gamma_z)`` = (torsion, bending about y, bending
 about z, extension, shear in y, shear in z). ``I_y = int z^2 dA`` is the second moment about the
 local y axis, so ``EI_y`` resists bending in the x-z plane (deflection along z) together with the
@@ -357,7 +357,7 @@ class BeamProperties:
 
 
 # ----------------------------------------------------------------------------------------------
-#: The paper's Table I beam (DESIGN.md section 10): cantilever of length ``L`` [m] bending in the
+#: The paper's Table I beam (docs/method.md section 8.1): cantilever of length ``L`` [m] bending in the
 #: x-z plane with ``rhoA`` [kg/m], ``rhoI`` [kg m], ``EI`` [N m^2], ``kGA`` [N].
 TABLE1 = {"L": 1.0, "rhoA": 873.0, "rhoI": 2.1797, "EI": 5143.0, "kGA": 656625.0}
 

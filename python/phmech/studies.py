@@ -12,7 +12,7 @@ from . import mixed, timoshenko
 from .mechanism import Fixed, Mechanism
 from .section import BeamProperties, table1_properties
 
-#: Table I of the paper (DESIGN.md §10): L [m], rhoA [kg/m], rhoI [kg m], EI [N m^2], kGA [N].
+#: Table I of the paper (docs/method.md section 8.1): L [m], rhoA [kg/m], rhoI [kg m], EI [N m^2], kGA [N].
 TABLE1 = dict(L=1.0, rhoA=873.0, rhoI=2.1797, EI=5143.0, kGA=656625.0)
 
 
