@@ -116,11 +116,10 @@ static phm_status modes_sparse(const phm_model *m, lin_t *L, const double *H, co
     W[i] = (double)(rng >> 11) / 9007199254740992.0 - 0.5;
   }
   for (int j = 0; j < b; j++) prev[j] = INFINITY;
-  int converged = 0, first = 1;
+  if ((st = apply_op(m, &S, W, W, b, n6, nk, rhs, err))) goto done; /* W = Op(random) */
+  int converged = 0;
   for (int it = 0; it < 1000 && !converged; it++) {
-    /* Y = W, M-orthonormal (modified Gram-Schmidt, twice); at the start W = Op(random) */
-    if (first && (st = apply_op(m, &S, W, W, b, n6, nk, rhs, err))) goto done;
-    first = 0;
+    /* Y = W, M-orthonormal (modified Gram-Schmidt, twice) */
     memcpy(Y, W, sizeof(double) * (size_t)n6 * b);
     for (int j = 0; j < b; j++) {
       double *yj = Y + (size_t)j * n6;
@@ -282,22 +281,12 @@ phm_status phm_modes(const phm_model *m, const double *poses, const double *lamb
     }
   int n6c = 6 * ncc, rank = 0, n0 = n6c;
   if (nk > 0 && n6c > 0) {
-    Gc = calloc((size_t)n6c * nk, sizeof(double)); /* column-major G^T: n6c x nk */
+    Gc = malloc(sizeof(double) * (size_t)n6c * nk); /* column-major G^T: n6c x nk */
     U = malloc(sizeof(double) * (size_t)n6c * n6c);
     sv = malloc(sizeof(double) * (size_t)(nk < n6c ? nk : n6c) + sizeof(double));
     if (!Gc || !U || !sv) goto oom;
-    for (int ip = 0; ip < m->np; ip++) {
-      const phm_pair_desc *pr = &m->pair[ip];
-      int r0 = m->pair_row[ip], mc = m->pair_m[ip];
-      double Ga[36], Gb[36];
-      phm_pair_eval(m, ip, pr->a >= 0 ? H + 16 * pr->a : NULL, pr->b >= 0 ? H + 16 * pr->b : NULL,
-                    NULL, time, L.tref, NULL, Ga, Gb, NULL);
-      for (int r = 0; r < mc; r++)
-        for (int j = 0; j < 6; j++) {
-          if (pr->a >= 0) Gc[(size_t)(r0 + r) * n6c + 6 * cmap[pr->a] + j] += Ga[6 * r + j];
-          if (pr->b >= 0) Gc[(size_t)(r0 + r) * n6c + 6 * cmap[pr->b] + j] += Gb[6 * r + j];
-        }
-    }
+    /* row-major G over the constrained carriers' columns: column-major G^T for dgesvd */
+    phm_constraints_columns(m, H, NULL, time, L.tref, cmap, n6c, NULL, Gc, NULL);
     int lw = -1, info = 0, one = 1;
     double wq;
     dgesvd_("A", "N", &n6c, &nk, Gc, &n6c, sv, U, &n6c, NULL, &one, &wq, &lw, &info);

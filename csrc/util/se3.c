@@ -5,12 +5,10 @@
  * Near theta = 0 the trigonometric coefficients are evaluated by truncated Taylor series
  * (or in forms without cancellation); near theta = pi the SO(3) log takes its axis from the
  * symmetric part of R. */
-#include "phmech.h"
+#include "linalg.h"
 
 #include <math.h>
 #include <string.h>
-
-#define PHM_PI 3.14159265358979323846
 
 /* ---------------------------------------------------------------- small helpers */
 
