@@ -20,8 +20,6 @@ from . import _core
 from ._checks import array, real
 from ._core import ModelError
 
-__all__ = [row["name"].capitalize() for row in _core.pair_types()]
-
 
 # ------------------------------------------------------------------ axes and frames
 def _unit(v, what: str) -> np.ndarray:
@@ -162,3 +160,4 @@ def _pair_class(t: PairType) -> type:
 # every type of the core's table becomes a class of this module: a new pair type in
 # csrc/model/pair.c needs no Python change (docs/architecture.md, "Adding a pair type")
 globals().update({t.name: _pair_class(t) for t in PAIR_TYPES})
+__all__ = [t.name for t in PAIR_TYPES]
