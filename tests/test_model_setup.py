@@ -46,6 +46,9 @@ def counted(monkeypatch):
 def test_initial_configuration_is_found_once_and_one_model_is_built_per_analysis(counted):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ph.RedundantConstraintWarning)
+        # static() from x0 = 0.6 ends with the crank near the top (1.60 rad), an unstable
+        # equilibrium (lowest mode -6.36 rad/s: measured), and says so
+        warnings.simplefilter("ignore", ph.StabilityWarning)
         m = fourbar()
         first = m.initial_configuration()
         assert counted == {"initial_state": 1, "model_new": 1}

@@ -112,3 +112,43 @@ def test_elastica_reference_small_load_limit():
     np.testing.assert_allclose(-z, lam * L / 3, rtol=1e-4)
     np.testing.assert_allclose(th, lam / 2, rtol=1e-4)
 
+
+
+# ------------------------------------------------------------------ stability of the equilibrium
+def _pendulum(com_z: float, g: float = 9.81):
+    """A rigid pendulum (1 kg, 0.01 kg m^2 about its centre) on a y-axis revolute at the origin,
+    its centre at (0, 0, com_z) [m]: hanging (com_z < 0) or inverted (com_z > 0)."""
+    m = ph.Mechanism(gravity=(0, 0, -g))
+    b = m.add_rigid_body("b", 1.0, 0.01 * np.eye(3), com=(0, 0, com_z))
+    m.add_pair("r", ph.Revolute(axis=(0, 1, 0)), m.ground, b.frame)
+    return m
+
+
+def test_static_reports_the_stability_of_the_equilibrium():
+    # small oscillations about the pivot: omega^2 = m g l / (I_c + m l^2); the inverted pendulum
+    # is an equilibrium with omega^2 of the opposite sign, and static() must say it is unstable
+    omega = np.sqrt(9.81 * 0.5 / (0.01 + 0.25))
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        st = _pendulum(-0.5).static()
+    assert st.stable is True and st.steps == 10
+    assert st.lowest_omega == pytest.approx(omega, rel=1e-6)
+    with pytest.warns(ph.StabilityWarning, match="unstable.*-4.343 rad/s.*100 load steps"):
+        st = _pendulum(0.5).static()
+    assert st.stable is False and st.lowest_omega == pytest.approx(-omega, rel=1e-6)
+    st = _pendulum(0.5).static(check_stability=False)
+    assert st.stable is None and np.isnan(st.lowest_omega)
+
+
+def test_follower_loads_are_not_judged_and_modes_warns():
+    # a body-frame wrench turns with its carrier: its load stiffness is not symmetric, so neither
+    # static()'s check nor modes() can judge stability (Beck's column: tests/hard)
+    m = ph.Mechanism()
+    b = m.add_flexible_link("b", L, table1_properties(1.0), elements=4)
+    m.add_pair("clamp", ph.Fixed(), m.ground, b.start)
+    m.add_wrench("push", b.end, (0, 0, 0, -1.0, 0, 0), frame="body")
+    st = m.static()
+    assert st.stable is None
+    with pytest.warns(ph.StabilityWarning, match="follower loads \\['push'\\]"):
+        m.modes(2, at=st)

@@ -32,7 +32,7 @@ from .laws import Constant, Cycloidal, Motion, Pulse, Sine, Step, Table, _Law, c
 from .pairs import (Cylindrical, Fixed, Free, Helical, Planar, Prismatic, Revolute, Spherical,
                     Universal, _Pair)
 from .results import (ENERGY_NAMES, InitialAdjustment, InitialConfiguration, ModesResult, Momentum,
-                      SimulationResult, StaticResult)
+                      SimulationResult, StabilityWarning, StaticResult)
 from .topology import InitialValueWarning, RedundantConstraintWarning
 
 #: the adaptive generalized-alpha's default local error tolerance and spectral radius at
@@ -47,7 +47,8 @@ __all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "Fixed", "Revolute", "P
            "Helical", "Cylindrical", "Universal", "Spherical", "Planar", "Free", "Effort", "PD",
            "Spring", "Motion", "Constant", "Step", "Pulse", "Sine", "Table", "Cycloidal",
            "SimulationResult", "ModesResult", "StaticResult", "Graphs", "RedundantConstraintWarning",
-           "InitialValueWarning", "InitialAdjustment", "InitialConfiguration", "Momentum"]
+           "InitialValueWarning", "InitialAdjustment", "InitialConfiguration", "Momentum",
+           "StabilityWarning"]
 
 
 def _frame_of(x, mech: "Mechanism", what: str) -> Frame:
@@ -807,6 +808,12 @@ class Mechanism:
             raise ModelError(f"at must be a StaticResult (Mechanism.static) or None (got "
                              f"{type(at).__name__})")
         model = self._build(() if at is None else at.loads)
+        followers = self._follower_loads()
+        if followers:
+            warnings.warn(f"modes(): the follower loads {followers} (body-frame wrenches) have a "
+                          "non-symmetric load stiffness, which modes() symmetrizes: its frequencies "
+                          "treat them as dead loads and cannot show flutter; simulate to see how "
+                          "the mechanism moves under them", StabilityWarning, stacklevel=2)
         poses = None if at is None else self._start_poses(at, "at")
         lam = None if at is None else array("at.constraint_wrenches", at.constraint_wrenches,
                                             np.shape(at.constraint_wrenches))
@@ -814,11 +821,36 @@ class Mechanism:
         om, ze, sh, nf = _core.model_modes(model, min(n, 6 * len(self._car)), poses, lam, time)
         return ModesResult(om[:nf], om[:nf] / (2 * np.pi), ze[:nf], sh[:nf])
 
+    def _follower_loads(self) -> list:
+        """Names of the wrenches given in body axes (they turn with their carrier)."""
+        return [ld["name"] for ld in self._loads if not ld["world"]]
+
+    def _potential_loads_only(self, extra: Sequence[dict]) -> bool:
+        """Whether every applied wrench has a potential, so that a symmetric tangent stiffness
+        judges stability: dead forces (world axes, no moment, on one carrier). Follower loads, a
+        moment of fixed direction (in 3-D its work depends on the path of the rotation) and
+        interactions between two carriers are not judged."""
+        return all(ld["world"] and not ld.get("interaction") and not np.any(ld["w"][:3])
+                   for ld in [*self._loads, *extra])
+
     def static(self, loads: Sequence = (), steps: int = 10, time: float = 0.0,
-               tol: float = 1e-10, start: Optional[StaticResult] = None) -> StaticResult:
+               tol: float = 1e-10, start: Optional[StaticResult] = None,
+               check_stability: bool = True) -> StaticResult:
         """Static equilibrium under gravity, the mechanism's wrenches at ``time`` and extra
         constant ``loads`` = [(target, wrench (tau, f), frame "world"|"body"), ...], reached in
-        ``steps`` load steps (halved on failure); Newton tolerance ``tol`` on the tangent step."""
+        ``steps`` load steps (halved on failure); Newton tolerance ``tol`` on the tangent step.
+
+        With ``check_stability`` (the default) the equilibrium's lowest linearized mode is
+        computed (``StaticResult.lowest_omega``, ``stable``). An unstable equilibrium usually
+        means the load steps jumped off the loading path (past buckling, say): the solve is
+        repeated once with ten times as many steps (from the same start), and the stable
+        equilibrium it finds is returned (``StaticResult.steps`` says how many were used). If it
+        is still unstable (an inverted pendulum is an equilibrium, and an unstable one), a
+        StabilityWarning says so. The check needs loads with a potential (gravity, springs,
+        actuators on pairs, dead forces); under follower loads (body-frame wrenches), moments
+        (a moment of fixed direction does path-dependent work in 3-D) or interactions the load
+        stiffness is not symmetric, the check would not be valid and is skipped: ``stable`` is
+        None."""
         extra = []
         if not isinstance(loads, (list, tuple)):
             raise ModelError(f"static loads: expected a list of (target, wrench, frame) tuples "
@@ -842,6 +874,35 @@ class Mechanism:
         time, tol = real("time", time), positive("tol", tol)
         poses = None if start is None else self._start_poses(start, "start")
         model = self._build(extra)
-        P, lam, it = _core.model_static(model, poses, time, steps, tol)
-        return StaticResult(P, lam, it, self._links, tuple(extra))
+
+        def solve(n_steps: int) -> StaticResult:
+            P, lam, it = _core.model_static(model, poses, time, n_steps, tol)
+            st = StaticResult(P, lam, it, self._links, tuple(extra), steps=n_steps)
+            if check_stability and self._potential_loads_only(extra):
+                st.lowest_omega = self._lowest_omega(model, P, lam, time)
+                st.stable = bool(st.lowest_omega >= 0)
+            return st
+
+        st = solve(steps)
+        if st.stable is False:
+            more = min(10 * steps, 2 ** 31 - 1)
+            again = solve(more) if more > steps else st
+            if again.stable:
+                return again
+            warnings.warn(f"static(): the equilibrium found is unstable: its lowest linearized "
+                          f"mode has omega = {st.lowest_omega:.4g} rad/s (negative: the tangent "
+                          f"stiffness has a negative eigenvalue), also with {more} load steps. "
+                          f"Under these loads the mechanism buckles or falls away from here; a "
+                          f"stable equilibrium may be found from a perturbed start (start=) or "
+                          f"by simulating with damping", StabilityWarning, stacklevel=2)
+        return st
+
+    def _lowest_omega(self, model, P, lam, time: float) -> float:
+        """The lowest linearized frequency [rad/s] at poses P and multipliers lam, negative for a
+        negative eigenvalue of the tangent stiffness; a value below round-off of the next mode's
+        (|omega_1|^2 < 1e-8 omega_2^2) counts as zero (a neutral mode)."""
+        om = _core.model_modes(model, min(2, 6 * len(self._car)), P, lam, time)[0]
+        if len(om) > 1 and om[0] < 0 and om[0] ** 2 < 1e-8 * om[1] ** 2:
+            return 0.0
+        return float(om[0])
 

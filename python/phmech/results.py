@@ -16,7 +16,7 @@ from ._core import ModelError
 from .frames import Body, FlexibleLink, carrier_name, link_of
 
 __all__ = ["SimulationResult", "ModesResult", "StaticResult", "Momentum", "InitialAdjustment",
-           "InitialConfiguration"]
+           "InitialConfiguration", "StabilityWarning"]
 
 #: the energies of SimulationResult.energy, in the order the core writes them
 ENERGY_NAMES = ("kinetic", "elastic", "gravity", "dissipated", "supplied", "total", "ledger")
@@ -303,16 +303,26 @@ class ModesResult:
     shapes: np.ndarray
 
 
+class StabilityWarning(UserWarning):
+    """A static equilibrium is unstable (its tangent stiffness has a negative eigenvalue), or a
+    linearization cannot judge stability (follower loads)."""
+
+
 @dataclasses.dataclass
 class StaticResult:
     """Static equilibrium: ``poses`` (ncarriers, 4, 4), ``constraint_wrenches``, Newton
     ``iterations``; ``loads``: the extra loads it was found under (``static(loads=...)``), which
-    ``modes(at=...)`` linearizes with."""
+    ``modes(at=...)`` linearizes with; ``steps``: the load steps used; ``stable``: whether the
+    lowest linearized mode there is stable (None when not checked: ``check_stability=False``, or
+    loads without a potential: see Mechanism.static), and ``lowest_omega`` [rad/s] that mode's frequency (negative: unstable)."""
     poses: np.ndarray
     constraint_wrenches: np.ndarray
     iterations: int
     _links: dict
     loads: tuple = ()
+    steps: int = 0
+    stable: Optional[bool] = None
+    lowest_omega: float = float("nan")
 
     def positions(self, link: Union[str, FlexibleLink]) -> np.ndarray:
         """Node positions of a link [m], shape (nodes, 3)."""

@@ -323,14 +323,16 @@ def elastica(long: bool = False) -> Outcome:
                    dict(tips={str(k): v for k, v in got.items()}))
 
 
-def elastica_default_steps() -> dict:
+def elastica_default_steps(check_stability: bool = True) -> dict:
     """The same imperfect column at P = 1.152 Pcr (tip rotation 60 deg) with static()'s default
-    load steps: where does it end?"""
+    load steps: where does it end? (Without the stability check, ten steps jump to the unstable,
+    nearly straight branch.)"""
     ratio = elastica_exact(60)[0]
     m, b, loads = _column(40, ratio, 1e-3)
-    st = m.static(loads=loads)
+    st = m.static(loads=loads, check_stability=check_stability)
     om = m.modes(1, at=st).omega[0]
-    return dict(rotation_deg=float(np.degrees(angle_z(st.poses[b.nodes[-1]]))), omega1=float(om))
+    return dict(rotation_deg=float(np.degrees(angle_z(st.poses[b.nodes[-1]]))), omega1=float(om),
+                steps=st.steps, stable=st.stable, lowest_omega=st.lowest_omega)
 
 
 # ---------------------------------------------------------------------------------------------
