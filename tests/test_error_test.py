@@ -28,6 +28,8 @@ def released():
     return run, ref_tip
 
 
+# at rtol 1e-3 the run loses 1.3e-2 of its energy (measured): an AccuracyWarning, rightly
+@pytest.mark.filterwarnings("ignore::phmech.AccuracyWarning")
 def test_configuration_error_test_converges_and_takes_fewer_steps(released):
     run, ref_tip = released
     err, steps, loss = {}, {}, {}

@@ -33,6 +33,7 @@ from .pairs import (Cylindrical, Fixed, Free, Helical, Planar, Prismatic, Revolu
                     Universal, _Pair)
 from .results import (ENERGY_NAMES, InitialAdjustment, InitialConfiguration, ModesResult, Momentum,
                       SimulationResult, StabilityWarning, StaticResult)
+from ._run import AccuracyWarning
 from .topology import InitialValueWarning, RedundantConstraintWarning
 
 #: the adaptive generalized-alpha's default local error tolerance and spectral radius at
@@ -48,7 +49,7 @@ __all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "Fixed", "Revolute", "P
            "Spring", "Motion", "Constant", "Step", "Pulse", "Sine", "Table", "Cycloidal",
            "SimulationResult", "ModesResult", "StaticResult", "Graphs", "RedundantConstraintWarning",
            "InitialValueWarning", "InitialAdjustment", "InitialConfiguration", "Momentum",
-           "StabilityWarning"]
+           "StabilityWarning", "AccuracyWarning"]
 
 
 def _frame_of(x, mech: "Mechanism", what: str) -> Frame:
@@ -716,6 +717,8 @@ class Mechanism:
                                   _mass=np.array([c["mass"] for c in self._car], dtype=float),
                                   _com=np.array([c["com"] for c in self._car], dtype=float),
                                   _bodies=dict(self._bodies))
+        if not r["error"]:
+            _run.warn_if_inaccurate(stats)
         if r["error"]:
             t_last = f"{result.t[-1]:.6g} s" if k else "the start"
             err = SolverError(f"{r['error']} (the trajectory up to {t_last} is in this error's "

@@ -6,6 +6,8 @@ import functools
 
 import pytest
 
+import phmech as ph
+
 import _scenes as S
 
 
@@ -82,3 +84,12 @@ def test_swinging_strip_does_not_stretch():
     s = S.swinging_strip(0.05)
     print(s)
     assert s["stretch"] <= 10 * s["physical"]
+
+
+def test_swinging_strip_is_not_silent():
+    # until the stretch itself is right (above), the run must not pass silently: its ledger
+    # (1.66e-2, measured) exceeds the AccuracyWarning threshold; at dt_out = 0.01 s (ledger
+    # 2.9e-5) no warning
+    with pytest.warns(ph.AccuracyWarning, match="ledger drifted by 0.017 .* band \\(10 Hz\\)"):
+        s = S.swinging_strip(0.05)
+    assert s["ledger"] > ph._run.LEDGER_WARN
