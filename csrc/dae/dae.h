@@ -25,6 +25,10 @@
 #define PHM_NSTATE 13 /* per carrier: q (4), p (3), t (6) */
 
 /* Scratch of the consistent initial values (dae_consistent_ic), sized from the model. */
+/* The dense fallback systems of the consistent initial values are kept up to this many doubles
+ * per array (8 MB): a chain of 160 rigid bodies or a model of similar constraint count. */
+#define PHM_IC_DENSE_MAX (1 << 20)
+
 typedef struct {
   int ncc;          /* constrained carriers (those of the pairs; 0 without constraint rows)  */
   int *cmap;        /* nc: carrier -> its place among the constrained ones, -1 if free        */
@@ -41,6 +45,8 @@ typedef struct {
   double *Hp;       /* nc x 16: poses moved along the motion (dc/dt)                          */
   double *res;      /* n: a residual (the rates of joint coordinates and ledger)              */
   phm_lstsq_work ls; /* dgelss's memory for every system above                                */
+  int dense;        /* the dense systems above are allocated (small models; csrc/dae/residual.c) */
+  struct ic_schur *schur; /* the sparse Schur complement of the constraint rows (ic_schur.c)  */
 } dae_ic_work;
 
 /* The mutable data of a DAE: one residual evaluation's results and every scratch buffer. */
@@ -103,6 +109,23 @@ phm_status dae_consistent_ic(dae_t *d, double time, double *H, double *tw, const
  * from the current state, ledger integrals carried over; *nbp = next breakpoint. */
 phm_status dae_restart_at_breakpoint(dae_t *d, double t, double tpiece, double *nbp, double *y,
                                      double *yp, phm_error *err);
+
+/* ---------------------------------------------------------------- ic_schur.c */
+/* The constraint systems of dae_consistent_ic in O(N): S = G D^-1 G^T (D = I or, with mass, the
+ * carriers' inertias), sparse, through KLU. Set-up: the pattern and KLU's analysis (none without
+ * constraint rows). */
+phm_status ic_schur_alloc(dae_t *d, phm_error *err);
+void ic_schur_free(dae_ic_work *w);
+/* G's row blocks, g and the prescribed rates vt (either may be NULL) at poses H. */
+void ic_schur_rows(dae_t *d, const double *H, const double *xs, double time, double *g,
+                   double *vt);
+/* out[r] = G_r t for twists tw (nc x 6), with the blocks of the last ic_schur_rows. */
+void ic_schur_apply(const dae_t *d, const double *tw, double *out);
+/* Assemble and factor S for the blocks of the last ic_schur_rows; 0, or 1 if S is singular or
+ * too ill-conditioned (KLU's rcond <= 1e-12: dependent rows, a singular configuration). */
+int ic_schur_factor(dae_t *d, int mass);
+/* rhs <- S^-1 rhs (nk), then delta (6 nc) += D^-1 G^T rhs; 0 on success. */
+int ic_schur_solve(dae_t *d, int mass, double *rhs, double *delta);
 
 /* ---------------------------------------------------------------- jacobian.c */
 /* The CSC pattern of dF/dy + cj dF/dy' (row indices ascending in each column) and its column

@@ -10,15 +10,233 @@
 #include "linalg.h"
 #include "pose.h"
 
+/* ---------------------------------------------------------------- the sparse path (O(N)) */
+/* Positions onto g = 0 (Newton on the minimum-norm correction, at most 50 steps), then twists
+ * onto G t = vt: each a solve with S = G G^T (csrc/dae/ic_schur.c). PHM_ESINGULAR when S is
+ * singular (dependent rows at this configuration): the caller takes the dense path. */
+static phm_status sparse_positions_velocities(dae_t *d, double time, double *H, double *tw,
+                                              const double *xs, phm_error *err) {
+  const phm_model *m = d->m;
+  dae_ic_work *w = &d->data.ic;
+  int nk = m->ncons, nc = m->nc;
+  double *rhs = w->b, *dl = w->b + nk, *g = w->g, *vt = w->vt, gn = 0, gprev = INFINITY;
+  for (int it = 0; it < 50; it++) {
+    ic_schur_rows(d, H, xs, time, g, NULL);
+    gn = 0;
+    for (int i = 0; i < nk; i++) gn = fmax(gn, fabs(g[i]));
+    /* converged; below 1e-13, steps continue while they still gain a digit: S = G G^T squares
+     * G's condition, and a closed loop's last step left |g| ~ 6e-15 where the dense
+     * least-squares step reached 4e-16 (its energy ledger noticed) */
+    if (gn < 1e-13 && (gn < 1e-15 || gn > 0.1 * gprev)) break;
+    gprev = gn;
+    if (ic_schur_factor(d, 0)) return PHM_ESINGULAR;
+    for (int i = 0; i < nk; i++) rhs[i] = -g[i];
+    memset(dl, 0, sizeof(double) * 6 * (size_t)nc);
+    if (ic_schur_solve(d, 0, rhs, dl)) return PHM_ESINGULAR;
+    for (int k = 0; k < w->ncc; k++) phm_retract(H + 16 * w->clist[k], dl + 6 * w->clist[k]);
+  }
+  if (gn > 1e-9)
+    return PHM_FAIL(err, PHM_EINVAL, "initial configuration: position constraints cannot be met (|g| = %.3e after projection); check the pairs' frames", gn);
+  ic_schur_rows(d, H, xs, time, NULL, vt);
+  if (ic_schur_factor(d, 0)) return PHM_ESINGULAR;
+  for (int pass = 0; pass < 2; pass++) { /* the second pass refines the first's round-off */
+    ic_schur_apply(d, tw, rhs);
+    for (int r = 0; r < nk; r++) rhs[r] = vt[r] - rhs[r];
+    if (ic_schur_solve(d, 0, rhs, tw)) return PHM_ESINGULAR;
+  }
+  return PHM_OK;
+}
+
+/* b2 = -dc/dt at fixed t': the constraint rates G t - vt differentiated along the motion by
+ * central differences (poses moved by +-tau t). Into w->c1 + nk. Uses ic_schur_rows's blocks. */
+static void sparse_rate_of_constraint_rates(dae_t *d, double time, const double *H,
+                                            const double *tw, const double *xs) {
+  const phm_model *m = d->m;
+  dae_ic_work *w = &d->data.ic;
+  int nk = m->ncons, nc = m->nc;
+  double tau = 1e-6, *c1 = w->c1;
+  for (int side = 0; side < 2; side++) {
+    double s = side ? -tau : tau;
+    memcpy(w->Hp, H, sizeof(double) * 16 * (size_t)nc);
+    for (int k = 0; k < w->ncc; k++) {
+      int c = w->clist[k];
+      double dl[6];
+      for (int i = 0; i < 6; i++) dl[i] = s * tw[6 * c + i];
+      phm_retract(w->Hp + 16 * c, dl);
+    }
+    ic_schur_rows(d, w->Hp, xs, time + s, NULL, w->vt);
+    ic_schur_apply(d, tw, c1 + side * nk);
+    for (int r = 0; r < nk; r++) c1[side * nk + r] -= w->vt[r];
+  }
+  for (int r = 0; r < nk; r++) c1[nk + r] = -(c1[r] - c1[nk + r]) / (2 * tau);
+}
+
+/* The acceleration level with S = G M^-1 G^T: lambda = S^-1 (b2 - G M^-1 b1), t' = M^-1 (b1 +
+ * G^T lambda). acc holds b1 on entry (the constrained carriers' still unsolved). */
+static phm_status sparse_acceleration(dae_t *d, double time, const double *H, const double *tw,
+                                      const double *xs) {
+  const phm_model *m = d->m;
+  dae_ic_work *w = &d->data.ic;
+  int nk = m->ncons;
+  double *acc = w->acc, *rhs = w->b;
+  sparse_rate_of_constraint_rates(d, time, H, tw, xs);
+  ic_schur_rows(d, H, xs, time, NULL, NULL);
+  if (ic_schur_factor(d, 1)) return PHM_ESINGULAR;
+  for (int k = 0; k < w->ncc; k++) phm_chol6_solve(w->Lc + 36 * w->clist[k], acc + 6 * w->clist[k]);
+  ic_schur_apply(d, acc, rhs);
+  for (int r = 0; r < nk; r++) rhs[r] = w->c1[nk + r] - rhs[r];
+  if (ic_schur_solve(d, 1, rhs, acc)) return PHM_ESINGULAR;
+  memcpy(w->lam, rhs, sizeof(double) * (size_t)nk);
+  return PHM_OK;
+}
+
+/* ---------------------------------------------------------------- the dense path (fallback) */
+/* The same levels as dense least-squares problems in the constrained carriers' columns:
+ * minimum-norm corrections even where rows are dependent (a singular configuration). Only small
+ * models have the memory for them (w->dense; csrc/dae/residual.c). */
+static phm_status dense_positions_velocities(dae_t *d, double time, double *H, double *tw,
+                                             const double *xs, phm_error *err) {
+  const phm_model *m = d->m;
+  dae_ic_work *w = &d->data.ic;
+  int nk = m->ncons, ncc = w->ncc, n6c = 6 * ncc;
+  const int *cmap = w->cmap, *clist = w->clist;
+  double *G = w->G, *A = w->A, *b = w->b, *g = w->g, *vt = w->vt, gn = 0;
+  phm_status st;
+  for (int it = 0; it < 50; it++) {
+    phm_constraints_columns(m, H, xs, time, d->tref, cmap, n6c, g, G, NULL);
+    gn = 0;
+    for (int i = 0; i < nk; i++) gn = fmax(gn, fabs(g[i]));
+    if (gn < 1e-13) break;
+    memcpy(A, G, sizeof(double) * (size_t)nk * n6c);
+    for (int i = 0; i < nk; i++) b[i] = -g[i];
+    if ((st = phm_lstsq_in(nk, n6c, A, b, NULL, &w->ls, err))) return st;
+    for (int k = 0; k < ncc; k++) phm_retract(H + 16 * clist[k], b + 6 * k);
+  }
+  if (gn > 1e-9)
+    return PHM_FAIL(err, PHM_EINVAL, "initial configuration: position constraints cannot be met (|g| = %.3e after projection); check the pairs' frames", gn);
+  phm_constraints_columns(m, H, xs, time, d->tref, cmap, n6c, NULL, G, vt);
+  for (int r = 0; r < nk; r++) {
+    double s = -vt[r];
+    for (int k = 0; k < ncc; k++)
+      for (int j = 0; j < 6; j++) s += G[(size_t)r * n6c + 6 * k + j] * tw[6 * clist[k] + j];
+    b[r] = -s;
+  }
+  memcpy(A, G, sizeof(double) * (size_t)nk * n6c);
+  if ((st = phm_lstsq_in(nk, n6c, A, b, NULL, &w->ls, err))) return st;
+  for (int k = 0; k < ncc; k++)
+    for (int j = 0; j < 6; j++) tw[6 * clist[k] + j] += b[6 * k + j];
+  return PHM_OK;
+}
+
+/* spd: the Schur complement densely (minimum-norm lambda for redundant rows); otherwise (a
+ * constrained carrier's inertia is singular) the KKT system of the constrained carriers. */
+static phm_status dense_acceleration(dae_t *d, double time, const double *H, const double *tw,
+                                     const double *xs, int spd, phm_error *err) {
+  const phm_model *m = d->m;
+  dae_ic_work *w = &d->data.ic;
+  int nk = m->ncons, ncc = w->ncc, n6c = 6 * ncc, Nk = n6c + nk, nc = m->nc;
+  const int *cmap = w->cmap, *clist = w->clist;
+  double *Lc = w->Lc, *acc = w->acc, *lam = w->lam, *G = w->G, *A = w->A, *b = w->b;
+  double *vt = w->vt, *Hp = w->Hp, *c1 = w->c1, *X = w->X;
+  phm_status st;
+  phm_constraints_columns(m, H, xs, time, d->tref, cmap, n6c, NULL, G, NULL);
+  /* dc/dt at fixed t' by central differences along the motion */
+  double tau = 1e-6;
+  for (int side = 0; side < 2; side++) {
+    double s = side ? -tau : tau;
+    memcpy(Hp, H, sizeof(double) * 16 * (size_t)nc);
+    for (int k = 0; k < ncc; k++) {
+      int c = clist[k];
+      double dl[6];
+      for (int i = 0; i < 6; i++) dl[i] = s * tw[6 * c + i];
+      phm_retract(Hp + 16 * c, dl);
+    }
+    phm_constraints_columns(m, Hp, xs, time + s, d->tref, cmap, n6c, NULL, X, vt);
+    for (int r = 0; r < nk; r++) {
+      double a = -vt[r];
+      for (int k = 0; k < ncc; k++)
+        for (int j = 0; j < 6; j++) a += X[(size_t)r * n6c + 6 * k + j] * tw[6 * clist[k] + j];
+      c1[side * nk + r] = a;
+    }
+  }
+  double *b2 = c1 + nk; /* reuse: b2 = -dc/dt */
+  for (int r = 0; r < nk; r++) b2[r] = -(c1[r] - c1[nk + r]) / (2 * tau);
+  if (spd) {
+    /* X = M^-1 G^T (n6c x nk, row-major); S = G X; rhs = b2 - G M^-1 b1 */
+    for (int k = 0; k < ncc; k++) {
+      const double *L = Lc + 36 * clist[k];
+      double *a = acc + 6 * clist[k];
+      phm_chol6_solve(L, a); /* a = M^-1 b1 */
+      for (int r = 0; r < nk; r++) {
+        double x[6];
+        for (int j = 0; j < 6; j++) x[j] = G[(size_t)r * n6c + 6 * k + j];
+        phm_chol6_solve(L, x);
+        for (int j = 0; j < 6; j++) X[(size_t)(6 * k + j) * nk + r] = x[j];
+      }
+    }
+    for (int r = 0; r < nk; r++) {
+      const double *Gr = G + (size_t)r * n6c;
+      for (int s = 0; s < nk; s++) {
+        double v = 0;
+        for (int j = 0; j < n6c; j++) v += Gr[j] * X[(size_t)j * nk + s];
+        A[(size_t)r * nk + s] = v;
+      }
+      double v = b2[r];
+      for (int k = 0; k < ncc; k++)
+        for (int j = 0; j < 6; j++) v -= Gr[6 * k + j] * acc[6 * clist[k] + j];
+      b[r] = v;
+    }
+    for (int r = 0; r < nk; r++) /* symmetrize */
+      for (int s = 0; s < r; s++) A[(size_t)r * nk + s] = A[(size_t)s * nk + r] = 0.5 * (A[(size_t)r * nk + s] + A[(size_t)s * nk + r]);
+    if ((st = phm_lstsq_in(nk, nk, A, b, NULL, &w->ls, err))) return st;
+    memcpy(lam, b, sizeof(double) * (size_t)nk);
+    for (int k = 0; k < ncc; k++)
+      for (int j = 0; j < 6; j++) {
+        double v = 0;
+        for (int r = 0; r < nk; r++) v += X[(size_t)(6 * k + j) * nk + r] * lam[r];
+        acc[6 * clist[k] + j] += v;
+      }
+    return PHM_OK;
+  }
+  /* KKT system of the constrained carriers, minimum-norm least squares (ic_alloc in
+   * csrc/dae/residual.c sized A for it: w->kkt) */
+  if (!w->kkt)
+    return PHM_FAIL(err, PHM_ESINGULAR, "consistent initial values: a constrained carrier's inertia failed the Cholesky test that set-up passed");
+  memset(A, 0, sizeof(double) * (size_t)Nk * Nk);
+  for (int k = 0; k < ncc; k++) {
+    const double *M = m->car[clist[k]].M;
+    for (int i = 0; i < 6; i++) {
+      for (int j = 0; j < 6; j++) A[(size_t)(6 * k + i) * Nk + 6 * k + j] = M[6 * i + j];
+      b[6 * k + i] = acc[6 * clist[k] + i];
+    }
+  }
+  for (int r = 0; r < nk; r++) {
+    for (int j = 0; j < n6c; j++) {
+      A[(size_t)(n6c + r) * Nk + j] = G[(size_t)r * n6c + j];
+      A[(size_t)j * Nk + n6c + r] = -G[(size_t)r * n6c + j];
+    }
+    b[n6c + r] = b2[r];
+  }
+  if ((st = phm_lstsq_in(Nk, Nk, A, b, NULL, &w->ls, err))) return st;
+  for (int k = 0; k < ncc; k++) memcpy(acc + 6 * clist[k], b + 6 * k, 6 * sizeof(double));
+  memcpy(lam, b + n6c, sizeof(double) * (size_t)nk);
+  return PHM_OK;
+}
+
+/* No dense fallback for a large model whose constraint rows are dependent here. */
+static phm_status singular_here(double time, phm_error *err) {
+  return PHM_FAIL(err, PHM_ESINGULAR, "consistent initial values at t = %.6g s: the constraint rows are dependent at this configuration (a singular position of the mechanism: a dead point, aligned axes)", time);
+}
+
 /* Project poses H (nc x 16) onto g = 0 and twists tw onto G t = vt (minimum-norm corrections);
  * then solve the acceleration-level system for t' and lambda. Writes y (carrier blocks and lambda,
  * mu = 0) and yp (all but the ledger values in y, which the caller sets). qprev: previous
  * quaternions for sign continuity.
- * Structure: G only touches the carriers of the pairs (cmap), so the projections are least-squares
- * problems in those columns only (the minimum-norm correction is zero elsewhere); the acceleration
- * level eliminates the block-diagonal mass: S lambda = b2 - G M^-1 b1 with S = G M^-1 G^T (nk x nk,
- * minimum-norm lambda for redundant rows), t' = M^-1 (b1 + G^T lambda). If a constrained carrier's
- * inertia is singular, the KKT system of the constrained carriers is solved instead. */
+ * Structure: G only touches the carriers of the pairs (cmap), so the corrections vanish
+ * elsewhere; the acceleration level eliminates the block-diagonal mass: S lambda = b2 - G M^-1
+ * b1 with S = G M^-1 G^T, t' = M^-1 (b1 + G^T lambda). Every level is solved sparsely first
+ * (ic_schur.c); where S is singular (dependent rows at this configuration), or a constrained
+ * carrier's inertia is singular (the KKT system), densely. */
 phm_status dae_consistent_ic(dae_t *d, double time, double *H, double *tw, const double *qprev,
                              const double *xs, int check_x0, double *y, double *yp,
                              phm_error *err) {
@@ -26,40 +244,13 @@ phm_status dae_consistent_ic(dae_t *d, double time, double *H, double *tw, const
   dae_ic_work *w = &d->data.ic;
   int nc = m->nc, nk = m->ncons;
   phm_status st = PHM_OK;
-  const int *cmap = w->cmap, *clist = w->clist;
-  double *Lc = w->Lc, *acc = w->acc, *lam = w->lam, *G = w->G, *A = w->A, *b = w->b, *g = w->g;
-  double *vt = w->vt, *Hp = w->Hp, *c1 = w->c1, *X = w->X;
-  int ncc = w->ncc, n6c = 6 * ncc, Nk = n6c + nk;
+  const int *cmap = w->cmap;
+  double *Lc = w->Lc, *acc = w->acc, *lam = w->lam;
   if (nk > 0) {
-    /* positions */
-    double gn = 0;
-    int it;
-    for (it = 0; it < 50; it++) {
-      phm_constraints_columns(m, H, xs, time, d->tref, cmap, n6c, g, G, NULL);
-      gn = 0;
-      for (int i = 0; i < nk; i++) gn = fmax(gn, fabs(g[i]));
-      if (gn < 1e-13) break;
-      memcpy(A, G, sizeof(double) * (size_t)nk * n6c);
-      for (int i = 0; i < nk; i++) b[i] = -g[i];
-      if ((st = phm_lstsq_in(nk, n6c, A, b, NULL, &w->ls, err))) goto done;
-      for (int k = 0; k < ncc; k++) phm_retract(H + 16 * clist[k], b + 6 * k);
-    }
-    if (gn > 1e-9) {
-      st = PHM_FAIL(err, PHM_EINVAL, "initial configuration: position constraints cannot be met (|g| = %.3e after projection); check the pairs' frames", gn);
-      goto done;
-    }
-    /* velocities */
-    phm_constraints_columns(m, H, xs, time, d->tref, cmap, n6c, NULL, G, vt);
-    for (int r = 0; r < nk; r++) {
-      double s = -vt[r];
-      for (int k = 0; k < ncc; k++)
-        for (int j = 0; j < 6; j++) s += G[(size_t)r * n6c + 6 * k + j] * tw[6 * clist[k] + j];
-      b[r] = -s;
-    }
-    memcpy(A, G, sizeof(double) * (size_t)nk * n6c);
-    if ((st = phm_lstsq_in(nk, n6c, A, b, NULL, &w->ls, err))) goto done;
-    for (int k = 0; k < ncc; k++)
-      for (int j = 0; j < 6; j++) tw[6 * clist[k] + j] += b[6 * k + j];
+    st = sparse_positions_velocities(d, time, H, tw, xs, err);
+    if (st == PHM_ESINGULAR) st = w->dense ? dense_positions_velocities(d, time, H, tw, xs, err)
+                                           : singular_here(time, err);
+    if (st) goto done;
   }
   /* acceleration level: [M -G^T; G 0] [t'; lambda] = [b1; b2], b1 = ad^T M t + w, b2 = -dc/dt */
   phm_applied(m, H, tw, xs, time, d->tref, 1.0, d->data.wr, NULL, NULL, NULL, NULL, NULL);
@@ -82,89 +273,19 @@ phm_status dae_consistent_ic(dae_t *d, double time, double *H, double *tw, const
     } else if (cmap[c] < 0 || nk == 0) phm_chol6_solve(Lc + 36 * c, acc + 6 * c);
   }
   if (nk > 0) {
-    phm_constraints_columns(m, H, xs, time, d->tref, cmap, n6c, NULL, G, NULL);
-    /* dc/dt at fixed t' by central differences along the motion */
-    double tau = 1e-6;
-    for (int side = 0; side < 2; side++) {
-      double s = side ? -tau : tau;
-      memcpy(Hp, H, sizeof(double) * 16 * (size_t)nc);
-      for (int k = 0; k < ncc; k++) {
-        int c = clist[k];
-        double dl[6];
-        for (int i = 0; i < 6; i++) dl[i] = s * tw[6 * c + i];
-        phm_retract(Hp + 16 * c, dl);
-      }
-      phm_constraints_columns(m, Hp, xs, time + s, d->tref, cmap, n6c, NULL, X, vt);
-      for (int r = 0; r < nk; r++) {
-        double a = -vt[r];
-        for (int k = 0; k < ncc; k++)
-          for (int j = 0; j < 6; j++) a += X[(size_t)r * n6c + 6 * k + j] * tw[6 * clist[k] + j];
-        c1[side * nk + r] = a;
-      }
+    st = spd ? sparse_acceleration(d, time, H, tw, xs) : PHM_ESINGULAR;
+    if (st == PHM_ESINGULAR) {
+      if (spd) /* a failed solve may have left M^-1 b1 in acc: b1 again for the dense path */
+        for (int k = 0; k < w->ncc; k++) {
+          int c = w->clist[k];
+          double Mt[6], adm[6];
+          phm_mv6(m->car[c].M, tw + 6 * c, Mt);
+          phm_ad_dual_apply(tw + 6 * c, Mt, adm);
+          for (int i = 0; i < 6; i++) acc[6 * c + i] = adm[i] + d->data.wr[6 * c + i];
+        }
+      st = w->dense ? dense_acceleration(d, time, H, tw, xs, spd, err) : singular_here(time, err);
     }
-    double *b2 = c1 + nk; /* reuse: b2 = -dc/dt */
-    for (int r = 0; r < nk; r++) b2[r] = -(c1[r] - c1[nk + r]) / (2 * tau);
-    if (spd) {
-      /* X = M^-1 G^T (n6c x nk, row-major); S = G X; rhs = b2 - G M^-1 b1 */
-      for (int k = 0; k < ncc; k++) {
-        const double *L = Lc + 36 * clist[k];
-        double *a = acc + 6 * clist[k];
-        phm_chol6_solve(L, a); /* a = M^-1 b1 */
-        for (int r = 0; r < nk; r++) {
-          double x[6];
-          for (int j = 0; j < 6; j++) x[j] = G[(size_t)r * n6c + 6 * k + j];
-          phm_chol6_solve(L, x);
-          for (int j = 0; j < 6; j++) X[(size_t)(6 * k + j) * nk + r] = x[j];
-        }
-      }
-      for (int r = 0; r < nk; r++) {
-        const double *Gr = G + (size_t)r * n6c;
-        for (int s = 0; s < nk; s++) {
-          double v = 0;
-          for (int j = 0; j < n6c; j++) v += Gr[j] * X[(size_t)j * nk + s];
-          A[(size_t)r * nk + s] = v;
-        }
-        double v = b2[r];
-        for (int k = 0; k < ncc; k++)
-          for (int j = 0; j < 6; j++) v -= Gr[6 * k + j] * acc[6 * clist[k] + j];
-        b[r] = v;
-      }
-      for (int r = 0; r < nk; r++) /* symmetrize */
-        for (int s = 0; s < r; s++) A[(size_t)r * nk + s] = A[(size_t)s * nk + r] = 0.5 * (A[(size_t)r * nk + s] + A[(size_t)s * nk + r]);
-      if ((st = phm_lstsq_in(nk, nk, A, b, NULL, &w->ls, err))) goto done;
-      memcpy(lam, b, sizeof(double) * (size_t)nk);
-      for (int k = 0; k < ncc; k++)
-        for (int j = 0; j < 6; j++) {
-          double v = 0;
-          for (int r = 0; r < nk; r++) v += X[(size_t)(6 * k + j) * nk + r] * lam[r];
-          acc[6 * clist[k] + j] += v;
-        }
-    } else {
-      /* KKT system of the constrained carriers, minimum-norm least squares (ic_alloc in
-       * csrc/dae/residual.c sized A for it: w->kkt) */
-      if (!w->kkt) {
-        st = PHM_FAIL(err, PHM_ESINGULAR, "consistent initial values: a constrained carrier's inertia failed the Cholesky test that set-up passed");
-        goto done;
-      }
-      memset(A, 0, sizeof(double) * (size_t)Nk * Nk);
-      for (int k = 0; k < ncc; k++) {
-        const double *M = m->car[clist[k]].M;
-        for (int i = 0; i < 6; i++) {
-          for (int j = 0; j < 6; j++) A[(size_t)(6 * k + i) * Nk + 6 * k + j] = M[6 * i + j];
-          b[6 * k + i] = acc[6 * clist[k] + i];
-        }
-      }
-      for (int r = 0; r < nk; r++) {
-        for (int j = 0; j < n6c; j++) {
-          A[(size_t)(n6c + r) * Nk + j] = G[(size_t)r * n6c + j];
-          A[(size_t)j * Nk + n6c + r] = -G[(size_t)r * n6c + j];
-        }
-        b[n6c + r] = b2[r];
-      }
-      if ((st = phm_lstsq_in(Nk, Nk, A, b, NULL, &w->ls, err))) goto done;
-      for (int k = 0; k < ncc; k++) memcpy(acc + 6 * clist[k], b + 6 * k, 6 * sizeof(double));
-      memcpy(lam, b + n6c, sizeof(double) * (size_t)nk);
-    }
+    if (st) goto done;
   }
   /* write y and yp */
   for (int c = 0; c < nc; c++) {

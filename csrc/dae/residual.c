@@ -115,6 +115,7 @@ void dae_free(dae_t *d) {
                   d->rowind, d->color};
   for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) free(bufs[i]);
   phm_lstsq_work_free(&w->ls);
+  ic_schur_free(w);
   memset(D, 0, sizeof *D);
   d->colptr = d->rowind = NULL;
   d->color = NULL;
@@ -150,15 +151,22 @@ static phm_status ic_alloc(dae_t *d, phm_error *err) {
   size_t n6c = 6 * (size_t)ncc, Nk = n6c + nk, na = nk * n6c;
   if (nk * nk > na) na = nk * nk;
   if (w->kkt && Nk * Nk > na) na = Nk * Nk;
+  /* The dense least-squares systems (minimum-norm even with dependent rows) serve when the
+   * sparse Schur complement is singular: a singular configuration. They are O(N^2) in memory
+   * and O(N^3) in time, so only small models keep them (and those with a singular inertia on
+   * a constrained carrier, which need the dense KKT system); a large model at a singular
+   * configuration gets an error instead. */
+  w->dense = w->kkt || na <= PHM_IC_DENSE_MAX;
+  size_t nd = w->dense ? na : 0, ng = w->dense ? nk * n6c : 0;
   w->H = malloc(sizeof(double) * 16 * nc);
   w->tw = malloc(sizeof(double) * 6 * nc);
   w->qprev = malloc(sizeof(double) * n);
   w->Lc = malloc(sizeof(double) * 36 * nc);
   w->acc = malloc(sizeof(double) * 6 * nc);
-  w->G = malloc(sizeof(double) * (nk * n6c + 1));
-  w->X = malloc(sizeof(double) * (nk * n6c + 1));
-  w->A = malloc(sizeof(double) * (na + 1));
-  w->b = malloc(sizeof(double) * (Nk + 1));
+  w->G = malloc(sizeof(double) * (ng + 1));
+  w->X = malloc(sizeof(double) * (ng + 1));
+  w->A = malloc(sizeof(double) * (nd + 1));
+  w->b = malloc(sizeof(double) * (Nk + 6 * nc + 1));
   w->g = malloc(sizeof(double) * (nk + 1));
   w->vt = malloc(sizeof(double) * (nk + 1));
   w->c1 = malloc(sizeof(double) * (2 * nk + 1));
@@ -168,10 +176,13 @@ static phm_status ic_alloc(dae_t *d, phm_error *err) {
   if (!w->H || !w->tw || !w->qprev || !w->Lc || !w->acc || !w->G || !w->X || !w->A || !w->b ||
       !w->g || !w->vt || !w->c1 || !w->lam || !w->Hp || !w->res)
     return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+  phm_status st = ic_schur_alloc(d, err);
+  if (st) return st;
   /* the systems: positions and velocities (nk x n6c), Schur complement (nk x nk), a free
    * carrier's own inertia (6 x 6), the KKT system (Nk x Nk) */
   int shapes[] = {(int)nk, (int)n6c, (int)nk, (int)nk, 6, 6, (int)Nk, (int)Nk};
-  return phm_lstsq_work_alloc(&w->ls, w->kkt ? 4 : 3, shapes, err);
+  return w->dense ? phm_lstsq_work_alloc(&w->ls, w->kkt ? 4 : 3, shapes, err)
+                  : phm_lstsq_work_alloc(&w->ls, 1, shapes + 4, err);
 }
 
 phm_status dae_init(dae_t *d, const phm_model *m, phm_error *err) {
