@@ -237,6 +237,13 @@ def test_checkpoint_is_the_prefix_of_the_final_result(tmp_path):
     with pytest.raises(ph.SolverError) as e:
         pendulum(torque_at=0.02).simulate(0.1, 0.01, checkpoint=path)
     assert_results_equal(e.value.result, ph.load_result(path))
+    # one that fails at its first output leaves an empty result, which loads
+    m = pendulum()
+    m.add_spring_damper("s", "ground", "b", 100.0, rest_length=1e154)   # an infinite energy
+    with pytest.raises(ph.SolverError, match="non-finite energies at t = 0 s"):
+        m.simulate(2e-3, 1e-3, checkpoint=path)
+    empty = ph.load_result(path)
+    assert len(empty.t) == 0 and empty.poses.shape == (0, 1, 4, 4)
     with pytest.raises(ph.ModelError, match="checkpoint_every must be >= 0"):
         pendulum().simulate(0.03, 0.01, checkpoint=path, checkpoint_every=-1)
     with pytest.raises(ph.ModelError, match="checkpoint_every applies with checkpoint"):

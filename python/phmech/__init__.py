@@ -21,7 +21,7 @@ from .io import load, load_result
 __version__ = "0.1.0"
 
 __all__ = ["ModelError", "SolverError", "CostWarning", "info", "blas_threads", "__version__",
-           "se3", "graphs", "mesh", "mixed", "timoshenko", "analysis", "io", "load", "load_result",
+           "se3", "graphs", "mesh", "mixed", "timoshenko", "analysis", "load", "load_result",
            "Material", "Section", "BeamProperties", "table1_properties", *mechanism.__all__]
 
 

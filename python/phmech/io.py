@@ -367,7 +367,10 @@ def model_from_dict(doc: dict):
         if not isinstance(args, dict):
             raise ModelError(f"phmech model: call {i}: expected {{\"method\": ..., \"args\": {{...}}}}")
         if meth == "set":
-            s = Mechanism(**args)      # validates the settings
+            try:
+                s = Mechanism(**{k: decode_value(v) for k, v in args.items()})   # validates them
+            except TypeError as e:
+                raise ModelError(f"phmech model: call {i} (set): {e}") from None
             m.gravity, m.strict, m.band = s.gravity, s.strict, s.band
             m.frequency_tolerance = s.frequency_tolerance
             continue
@@ -375,7 +378,10 @@ def model_from_dict(doc: dict):
             raise ModelError(f"phmech model: call {i}: unknown method {meth!r} (known: "
                              f"{', '.join(sorted(RECORDED))})")
         kwargs = {k: decode_value(v, m) for k, v in args.items()}
-        getattr(m, meth)(**kwargs)
+        try:
+            getattr(m, meth)(**kwargs)
+        except TypeError as e:   # an argument the method does not take
+            raise ModelError(f"phmech model: call {i} ({meth}): {e}") from None
     return m
 
 
@@ -540,7 +546,7 @@ def simulation_dataset(res):
                         dict(units="rad/s or m/s (joint_unit per s)", long_name="joint rates")),
         "efforts": (("time", "joint"), res.efforts,
                     dict(units="N m or N", long_name="actuator efforts on the joint coordinates")),
-        "pair_wrenches": (("time", "pair", "component"), res.pair_wrenches.reshape(nt, -1, 6),
+        "pair_wrenches": (("time", "pair", "component"), res.pair_wrenches,
                           dict(units="N m (ang), N (lin)",
                                long_name="constraint wrench on frame b of each pair, in F_b")),
         "port_energy": (("time", "port"), np.column_stack([res.port_energy[p] for p in ports])
@@ -653,7 +659,6 @@ def load_result(path):
                             _links_from(meta["links"]), tuple(decode_value(meta["loads"])))
     if kind != "simulation":
         raise ModelError(f"{p}: unknown result kind {kind!r}")
-    nt = ds.sizes["time"]
     bodies = {n: Body(n, c) for n, c in meta["bodies"].items()}
     ports = [str(x) for x in ds["port"].values]
     return SimulationResult(
@@ -664,7 +669,7 @@ def load_result(path):
         interrupted=bool(meta["interrupted"]), _links=_links_from(meta["links"]),
         port_energy={p_: a("port_energy")[:, i].copy() for i, p_ in enumerate(ports)},
         joints=a("joints"), joint_rates=a("joint_rates"), efforts=a("efforts"),
-        pair_wrenches=a("pair_wrenches").reshape(nt, -1, 6), _pairs=decode_value(meta["pairs"]),
+        pair_wrenches=a("pair_wrenches"), _pairs=decode_value(meta["pairs"]),
         redundant_constraints=decode_value(meta["redundant"]),
         carriers=a("carrier") if meta["recorded"] else None,
         _inertia=a("inertia"), _mass=a("mass"), _com=a("com"), _bodies=bodies)

@@ -587,7 +587,11 @@ class Mechanism:
         whose ``result`` attribute holds the trajectory computed up to the failure. ``record``:
         bodies, links (all their nodes) or frames whose poses and twists are stored (default:
         every carrier); energies, joints and ports are always stored. ``progress``: a progress
-        line on stderr (simulated time, elapsed, ETA, steps and steps per second). A
+        line on stderr (simulated time, elapsed, ETA, steps and steps per second).
+        ``checkpoint``: a file path; the result so far is written there (netCDF, atomically;
+        ``phmech.load_result`` reads it) at the first output after every ``checkpoint_every``
+        seconds of wall-clock time (default 60; 0: every output), and the final (or partial,
+        on failure) result at the end (phmech._run.Checkpoint, docs/user_guide.md). A
         ``phmech.CostWarning`` is issued when the steps are far smaller than the band needs and
         the run is on course to take long (it says why and what to do).
 
@@ -726,12 +730,18 @@ class Mechanism:
                                      arrays=None if saver is None else saver.arrays_ready)
         monitor.finish(r["stats"]["steps"])
         result = assemble(r, r["nout"], r["stats"], bool(r["interrupted"]) or monitor.terminated)
-        if saver is not None:
-            saver.write(result)   # the file ends as the run did (a failed run: its partial result)
+        unsaved = ""
+        if saver is not None:   # the file ends as the run did (a failed run: its partial result)
+            try:
+                saver.write(result)
+            except Exception as e:   # not to hide the solver's error and its partial result
+                if not r["error"]:
+                    raise
+                unsaved = f"; the checkpoint could not be written: {e}"
         if r["error"]:
             t_last = f"{result.t[-1]:.6g} s" if len(result.t) else "the start"
             err = SolverError(f"{r['error']} (the trajectory up to {t_last} is in this error's "
-                              f"'result' attribute)")
+                              f"'result' attribute{unsaved})")
             err.result = result
             raise err
         return result
