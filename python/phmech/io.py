@@ -67,6 +67,7 @@ import inspect
 import json
 import math
 import os
+import warnings
 from typing import Any, Callable, Optional
 
 import numpy as np
@@ -326,8 +327,7 @@ def model_to_dict(mech) -> dict:
     doc = {"format": FORMAT, "schema_version": SCHEMA_VERSION, "phmech_version": _version(),
            "calls": calls}
     doc = json.loads(json.dumps(doc))   # what a file holds, exactly
-    import warnings
-    with warnings.catch_warnings():
+    with warnings.catch_warnings():   # the replay warns as the original did
         warnings.simplefilter("ignore")
         again = model_from_dict(doc)
     where = _difference(mech._desc, again._desc, "description") or \
