@@ -391,17 +391,18 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
   (void)self;
   static char *kwl[] = {"model", "tout", "rtol", "atol", "linear_solver", "poses", "twists",
                         "callback", "max_step", "max_order", "record", "error_test",
-                        "integrator", "step", "rho_inf", "adaptive", "band", "monitor", NULL};
+                        "integrator", "step", "rho_inf", "adaptive", "band", "monitor", "arrays", NULL};
   PyObject *cap, *to, *po = Py_None, *twi = Py_None, *cb = Py_None, *rec = Py_None, *mon = Py_None;
+  PyObject *arr = Py_None; /* callable(dict of the output arrays), called once before the run */
   PyObject *res = NULL; /* before the first `goto fail0`: that path returns it */
   PyArrayObject *R = NULL; /* carriers to record (int array) or NULL: all */
   double rtol, atol, max_step = 0;
   int solver = 0, max_order = 0, error_test = 0, integrator = 0;
   double step = 0, rho_inf = 1, band = 0;
   int adaptive = 0;
-  if (!PyArg_ParseTupleAndKeywords(args, kw, "OOddi|OOOdiOiiddidO", kwl, &cap, &to, &rtol, &atol, &solver,
+  if (!PyArg_ParseTupleAndKeywords(args, kw, "OOddi|OOOdiOiiddidOO", kwl, &cap, &to, &rtol, &atol, &solver,
                                    &po, &twi, &cb, &max_step, &max_order, &rec, &error_test,
-                                   &integrator, &step, &rho_inf, &adaptive, &band, &mon))
+                                   &integrator, &step, &rho_inf, &adaptive, &band, &mon, &arr))
     return NULL;
   phm_model *m = get_model(cap);
   if (!m) return NULL;
@@ -428,8 +429,9 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
     npy_intp tail[2] = {nc, 6};
     if (!(T = phm_py_double_array(twi, "initial twists", tail, 2, 0))) goto fail0;
   }
-  if ((cb != Py_None && !PyCallable_Check(cb)) || (mon != Py_None && !PyCallable_Check(mon))) {
-    PyErr_SetString(PyExc_TypeError, "callback and monitor must be callable");
+  if ((cb != Py_None && !PyCallable_Check(cb)) || (mon != Py_None && !PyCallable_Check(mon)) ||
+      (arr != Py_None && !PyCallable_Check(arr))) {
+    PyErr_SetString(PyExc_TypeError, "callback, monitor and arrays must be callable");
     goto fail0;
   }
   npy_intp nrec = nc;
@@ -457,6 +459,15 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
   PyArrayObject *lam = (PyArrayObject *)PyArray_ZEROS(2, dl, NPY_DOUBLE, 0);
   PyArrayObject *en = (PyArrayObject *)PyArray_ZEROS(2, de, NPY_DOUBLE, 0);
   if (!poses || !tw || !lam || !en || !jx || !jv || !ju || !pw || !po_) goto fail;
+  if (arr != Py_None) { /* the arrays the run fills, output by output (a checkpoint reads the
+                         * first i + 1 of them at output i: dae_emit_output stores before it calls) */
+    PyObject *r = PyObject_CallFunction(arr, "({s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O})", "t", tout,
+                                        "poses", poses, "twists", tw, "lambda", lam, "energy", en,
+                                        "joints", jx, "jrates", jv, "efforts", ju, "pair_wrenches",
+                                        pw, "ports", po_);
+    if (!r) goto fail;
+    Py_DECREF(r);
+  }
   cb_ctx c = {cb == Py_None ? NULL : cb, 0, 0, NULL, NULL, NULL, mon == Py_None ? NULL : mon};
   phm_sim_options opt = {rtol, atol, solver, 0, max_step, max_order, error_test, interrupt_cb, progress_cb, &c,
                          integrator, step, rho_inf, adaptive, band, monitor_cb};
@@ -762,7 +773,8 @@ PyMethodDef phm_py_model_methods[] = {
     {"model_simulate", (PyCFunction)(void (*)(void))py_model_simulate, METH_VARARGS | METH_KEYWORDS,
      "model_simulate(model, tout, rtol, atol, linear_solver, poses=None, twists=None, "
      "callback=None, max_step=0, max_order=0, record=None, error_test=0, integrator=0, step=0, "
-     "rho_inf=1) -> dict of arrays and solver statistics."},
+     "rho_inf=1, adaptive=0, band=0, monitor=None, arrays=None) -> dict of arrays and solver "
+     "statistics; arrays(dict) is called once before the run with the output arrays it fills."},
     {"model_modes", py_model_modes, METH_VARARGS,
      "model_modes(model, n, poses=None, lambda=None, time=0, method=0) -> (omega, zeta, shapes, "
      "nfound); method 0 auto, 1 dense, 2 sparse (phm_modes)."},

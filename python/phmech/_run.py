@@ -3,6 +3,7 @@ figures a result reports about itself (docs/integrators.md explains the default 
 from __future__ import annotations
 
 import contextlib
+import os
 import signal
 import sys
 import threading
@@ -11,6 +12,9 @@ import warnings
 from typing import Callable, Optional
 
 import numpy as np
+
+from ._checks import real
+from ._core import ModelError
 
 #: steps per period of the band's highest frequency at the adaptive integrator's smallest and
 #: largest step (csrc/include/phmech_types.h, PHM_BAND_STEPS and PHM_BAND_MAX_STEPS)
@@ -65,7 +69,7 @@ class RunMonitor:
 
     def __init__(self, t_start: float, t_end: float, band: float, integrator: str,
                  progress: bool = False, user: Optional[Callable[[float, int], bool]] = None,
-                 out=None):
+                 out=None, checkpoint: Optional["Checkpoint"] = None):
         self.t_start, self.t_end, self.band, self.integrator = t_start, t_end, band, integrator
         self.progress, self.user, self.out = progress, user, out if out is not None else sys.stderr
         self.wall0 = self.last_print = time.perf_counter()
@@ -74,6 +78,7 @@ class RunMonitor:
         self.warned = False
         self.printed = False
         self.terminated = False  # set by SIGTERM (sigterm_as_interrupt)
+        self.checkpoint = checkpoint
 
     # core -> Python: between outputs
     def __call__(self, t: float, steps: int, h: float) -> bool:
@@ -86,6 +91,8 @@ class RunMonitor:
     def on_output(self, t: float, i: int) -> bool:
         self.t = t
         self._maybe_print()
+        if self.checkpoint is not None:   # before the user's callback: it sees the file up to i
+            self.checkpoint.output(i, self.steps, time.perf_counter() - self.wall0)
         if self.terminated:
             return True
         return bool(self.user(t, i)) if self.user is not None else False
@@ -140,6 +147,45 @@ class RunMonitor:
         if self.progress:
             self.steps = steps
             self._line("\n")
+
+
+class Checkpoint:
+    """``simulate(checkpoint=path, checkpoint_every=seconds)``: the result so far written to
+    ``path`` (netCDF, ``phmech.load_result`` reads it) at the first output after every
+    ``checkpoint_every`` seconds of WALL-CLOCK time (default 60 s; 0: at every output), and the
+    final result when the run ends, also when it was interrupted (Ctrl-C, SIGTERM, the callback)
+    or failed (the partial result of the SolverError). Wall time, not simulated time, because a
+    checkpoint is there to bound the work a crash or a batch system's kill loses. Each write
+    goes to a temporary file beside ``path``, renamed over it once complete, so ``path`` always
+    holds a whole result. A checkpoint's arrays are the final result's first outputs; its
+    ``stats`` hold what is known mid-run (steps, wall_time, ``checkpoint`` True, the options and
+    quality figures so far)."""
+
+    def __init__(self, path, every: Optional[float], make: Callable):
+        if not isinstance(path, (str, os.PathLike)):
+            raise ModelError(f"checkpoint must be a file path (got {type(path).__name__})")
+        every = 60.0 if every is None else real("checkpoint_every", every)
+        if not every >= 0:
+            raise ModelError(f"checkpoint_every must be >= 0 seconds of wall time (got {every})")
+        self.path, self.every, self.make = path, every, make
+        self.arrays = None
+        self.last = time.perf_counter()
+
+    def arrays_ready(self, arrays: dict) -> None:
+        """The core's output arrays, before the run (filled output by output)."""
+        self.arrays = arrays
+
+    def output(self, i: int, steps: int, wall: float) -> None:
+        """Output ``i`` is stored: write outputs 0..i if the interval has passed."""
+        if time.perf_counter() - self.last < self.every or self.arrays is None:
+            return
+        self.write(self.make(self.arrays, i + 1, dict(steps=steps, wall_time=wall, checkpoint=True)))
+
+    def write(self, result) -> None:
+        """Write ``result`` to the path, atomically."""
+        from . import io
+        io.write_result(result, self.path)
+        self.last = time.perf_counter()
 
 
 def _duration(s: float) -> str:

@@ -72,7 +72,8 @@ class FlexibleLink:
 
 def frame_of(x, desc: "ModelDescription", what: str) -> Frame:
     """``x`` (a Frame, Body, 'ground' or a body's name) as a Frame of the mechanism described by
-    ``desc``; ``what`` names the argument in error messages."""
+    ``desc`` (of which only ``carriers``' length, ``bodies`` and ``links`` are read: a result
+    passes just these); ``what`` names the argument in error messages."""
     ncar = len(desc.carriers)
     if isinstance(x, Frame):
         c = x.carrier

@@ -21,7 +21,7 @@ from typing import Callable, Optional, Sequence, Union
 
 import numpy as np
 
-from . import _core, _marshal, _run, postprocess, se3, topology
+from . import _core, _marshal, _run, io, postprocess, se3, topology
 from ._checks import array, choice, integer, per_coordinate, positive, positive_definite, real, rigid_pose
 from ._core import ModelError, SolverError
 from .actuators import PD, Effort, Spring, actuator_row
@@ -35,6 +35,8 @@ from .results import (ENERGY_NAMES, InitialAdjustment, InitialConfiguration, Mod
                       SimulationResult, StabilityWarning, StaticResult)
 from ._run import AccuracyWarning
 from .topology import InitialValueWarning, RedundantConstraintWarning
+
+_recorded = io.recorded   # a builder call a model file replays (phmech/io.py)
 
 #: the adaptive generalized-alpha's default local error tolerance and spectral radius at
 #: infinity (docs/integrators.md: measured on benchmarks/scenes.py)
@@ -101,6 +103,10 @@ class Mechanism:
         #: InitialAdjustment rows: how far the loop closure moved each given x0 coordinate and
         #: each given pose (set when the core model is built, like redundant_constraints)
         self.initial_adjustments: list = []
+        #: the builder calls made so far, as a model file holds them (phmech.io: save, load)
+        self._calls: list = []
+        self._last_settings = None
+        self._recording = False
 
     @property
     def gravity(self) -> np.ndarray:
@@ -137,6 +143,7 @@ class Mechanism:
         self._names.add(name)
         self._state = None
 
+    @_recorded
     def add_flexible_link(self, name: str, length: float, properties, elements: Optional[int] = None,
                           pose=None, curvature=None, discretization: str = "se3",
                           band: Optional[float] = None,
@@ -221,6 +228,7 @@ class Mechanism:
         self._links[name] = link
         return link
 
+    @_recorded
     def add_rigid_body(self, name: str, mass: float, inertia, com=(0.0, 0.0, 0.0), pose=None,
                        twist=None) -> Body:
         """A rigid body: ``mass`` [kg], ``inertia`` 3x3 about the centre of mass in body axes
@@ -259,6 +267,7 @@ class Mechanism:
         self._bodies[name] = b
         return b
 
+    @_recorded
     def add_pair(self, name: str, pair, a, b, driven: Optional[Motion] = None, actuator=None,
                  x0=None, xdot0=None) -> None:
         """A kinematic pair ``pair`` (Fixed, Revolute, Prismatic, Helical, Cylindrical, Universal,
@@ -360,6 +369,7 @@ class Mechanism:
                 return e
         raise ModelError(f"unknown pair {pair!r}")
 
+    @_recorded
     def add_actuator(self, name: str, pair: str, actuator) -> None:
         """An actuator (Effort, PD or Spring) named ``name`` on the pair named ``pair``."""
         if not isinstance(pair, str):
@@ -370,6 +380,7 @@ class Mechanism:
         self._new_name(name)
         self._acts.append(act)
 
+    @_recorded
     def add_spring_damper(self, name: str, a, b, k: float, c: float = 0.0,
                           rest_length: Optional[float] = None, point_a=(0.0, 0.0, 0.0),
                           point_b=(0.0, 0.0, 0.0)) -> None:
@@ -394,6 +405,7 @@ class Mechanism:
         self._new_name(name)
         self._springs.append(dict(name=name, a=fa.carrier, b=fb.carrier, pa=pa, pb=pb, kcd=(kk, cc, d0)))
 
+    @_recorded
     def add_interaction(self, name: str, target, wrench, law: _Law = Constant(1.0),
                         frame: str = "world", point=(0.0, 0.0, 0.0), reaction=None) -> None:
         """An external wrench law(t) * (tau [N m], f [N]) on ``target`` at ``point`` (target frame
@@ -410,6 +422,7 @@ class Mechanism:
         self._new_name(name)
         self._loads.append(load)
 
+    @_recorded
     def add_wrench(self, name: str, target, wrench, law: _Law = Constant(1.0),
                    frame: str = "world", point=(0.0, 0.0, 0.0)) -> None:
         """An applied wrench law(t) * (tau [N m], f [N]) on ``target`` (a Frame or Body), in
@@ -437,6 +450,7 @@ class Mechanism:
         return dict(name=name, carrier=f.carrier, world=frame == "world", point=pt, w=w, law=law,
                     reaction=-1)
 
+    @_recorded
     def add_distributed_load(self, name: str, link: FlexibleLink, force_per_length,
                              law: _Law = Constant(1.0), frame: str = "world") -> None:
         """Distributed force [N/m] on a link, lumped on its nodes (h/2 at the ends, h inside)."""
@@ -457,6 +471,15 @@ class Mechanism:
         for ld in loads:   # all validated: add them all
             self._new_name(ld["name"])
             self._loads.append(ld)
+
+    def save(self, path) -> None:
+        """Write this mechanism to the JSON model file ``path``; ``phmech.load(path)`` rebuilds
+        it, and the rebuilt mechanism's simulate, modes and static results are bit-identical.
+        The file holds the ``add_*`` calls made, with their arguments, and the settings
+        (gravity, strict, band, frequency_tolerance); ModelError, and no file, when something
+        cannot be saved (a Python function as an argument, say) or the file would not rebuild
+        this mechanism. Format and how to extend it: phmech/io.py, docs/user_guide.md."""
+        io.save(self, path)
 
     # -------------------------------------------------------------- graphs, initial configuration
     def graphs(self) -> Graphs:
@@ -542,7 +565,8 @@ class Mechanism:
                  max_order: Optional[int] = None, record=None, progress: bool = False,
                  error_test: str = "all", integrator: str = "generalized-alpha",
                  step: Optional[float] = None, rho_inf: Optional[float] = None,
-                 band: Optional[float] = None) -> SimulationResult:
+                 band: Optional[float] = None, checkpoint=None,
+                 checkpoint_every: Optional[float] = None) -> SimulationResult:
         """Integrate from ``t_start`` to ``t_end`` [s], sampling every ``dt_out`` [s].
 
         The defaults are meant to be right and fast; ``simulate(t_end, dt_out)`` is the intended
@@ -565,7 +589,11 @@ class Mechanism:
         whose ``result`` attribute holds the trajectory computed up to the failure. ``record``:
         bodies, links (all their nodes) or frames whose poses and twists are stored (default:
         every carrier); energies, joints and ports are always stored. ``progress``: a progress
-        line on stderr (simulated time, elapsed, ETA, steps and steps per second). A
+        line on stderr (simulated time, elapsed, ETA, steps and steps per second).
+        ``checkpoint``: a file path; the result so far is written there (netCDF, atomically;
+        ``phmech.load_result`` reads it) at the first output after every ``checkpoint_every``
+        seconds of wall-clock time (default 60; 0: every output), and the final (or partial,
+        on failure) result at the end (phmech._run.Checkpoint, docs/user_guide.md). A
         ``phmech.CostWarning`` is issued when the steps are far smaller than the band needs and
         the run is on course to take long (it says why and what to do).
 
@@ -681,15 +709,52 @@ class Mechanism:
                              "minimum-norm multipliers need every carrier's pose")
         poses = None if initial is None else self._start_poses(initial, "initial")
         twists = None if initial is None else np.zeros((len(self._car), 6))
-        monitor = _run.RunMonitor(t0, t1, band, integrator, progress, callback)
+        run = dict(linear_solver=linear_solver, integrator=integrator, adaptive=adaptive,
+                   rtol=rtol, atol=atol)
+
+        def assemble(r, k, stats, interrupted) -> SimulationResult:
+            return self._simulation_result(r, k, tout, model, drop_masks, rec, band,
+                                           {**stats, **run}, interrupted)
+
+        saver = None
+        if checkpoint is not None:
+            saver = _run.Checkpoint(checkpoint, checkpoint_every,
+                                    lambda arrays, k, stats: assemble(arrays, k, stats, False))
+        elif checkpoint_every is not None:
+            raise ModelError("checkpoint_every applies with checkpoint=path only")
+        monitor = _run.RunMonitor(t0, t1, band, integrator, progress, callback, checkpoint=saver)
         with _run.sigterm_as_interrupt(monitor):
             r = _core.model_simulate(model, tout, rtol, atol, solvers[linear_solver], poses, twists,
                                      monitor.on_output, float(max_step), int(max_order), rec,
                                      tests[error_test], integrators[integrator], float(step or 0.0),
                                      float(1.0 if rho_inf is None else rho_inf), adaptive=int(adaptive),
-                                     band=float(band if adaptive else 0.0), monitor=monitor)
+                                     band=float(band if adaptive else 0.0), monitor=monitor,
+                                     arrays=None if saver is None else saver.arrays_ready)
         monitor.finish(r["stats"]["steps"])
-        k = r["nout"]
+        result = assemble(r, r["nout"], r["stats"], bool(r["interrupted"]) or monitor.terminated)
+        unsaved = ""
+        if saver is not None:   # the file ends as the run did (a failed run: its partial result)
+            try:
+                saver.write(result)
+            except Exception as e:   # not to hide the solver's error and its partial result
+                if not r["error"]:
+                    raise
+                unsaved = f"; the checkpoint could not be written: {e}"
+        if not r["error"]:
+            _run.warn_if_inaccurate(result.stats)
+        if r["error"]:
+            t_last = f"{result.t[-1]:.6g} s" if len(result.t) else "the start"
+            err = SolverError(f"{r['error']} (the trajectory up to {t_last} is in this error's "
+                              f"'result' attribute{unsaved})")
+            err.result = result
+            raise err
+        return result
+
+    def _simulation_result(self, r: dict, k: int, tout, model, drop_masks, rec, band: float,
+                           stats: dict, interrupted: bool) -> SimulationResult:
+        """The SimulationResult of the first ``k`` outputs in the arrays ``r`` of
+        ``_core.model_simulate`` (the whole run, or a checkpoint's part of it while it runs),
+        ``stats`` the core's statistics and the run's options."""
         e = r["energy"][:k]
         energy = {nm: e[:, i].copy() for i, nm in enumerate(ENERGY_NAMES)}
         ports = {nm: r["ports"][:k, i].copy() for i, nm in enumerate(self._desc.port_names())}
@@ -698,34 +763,24 @@ class Mechanism:
         if self.redundant_constraints and k > 0:
             lam, pw, layout = postprocess.min_norm_multipliers(
                 self._desc, model, drop_masks, r["poses"][:k], r["joints"][:k], lam, tout[:k])
-        pairs = {p["name"]: dict(index=i, layout=layout[i]) for i, p in enumerate(self._pairs)}
-        stats = {**r["stats"], "linear_solver": linear_solver, "integrator": integrator,
-                 "adaptive": adaptive, "rtol": rtol, "atol": atol,
-                 **_run.quality(energy, band)}
-        if not adaptive:
-            del stats["error_estimate"], stats["floor_steps"]
-        result = SimulationResult(t=tout[:k], poses=r["poses"][:k], twists=r["twists"][:k],
-                                  constraint_wrenches=lam, energy=energy, stats=stats,
-                                  interrupted=bool(r["interrupted"]) or monitor.terminated,
-                                  _links=self._links, port_energy=ports, joints=r["joints"][:k],
-                                  joint_rates=r["jrates"][:k], efforts=r["efforts"][:k],
-                                  pair_wrenches=pw, _pairs=pairs,
-                                  redundant_constraints=list(self.redundant_constraints),
-                                  carriers=None if rec is None else np.array(rec),
-                                  _frame=lambda x: frame_of(x, self._desc, "result"),
-                                  _inertia=np.array([c["M"] for c in self._car], dtype=float),
-                                  _mass=np.array([c["mass"] for c in self._car], dtype=float),
-                                  _com=np.array([c["com"] for c in self._car], dtype=float),
-                                  _bodies=dict(self._bodies))
-        if not r["error"]:
-            _run.warn_if_inaccurate(stats)
-        if r["error"]:
-            t_last = f"{result.t[-1]:.6g} s" if k else "the start"
-            err = SolverError(f"{r['error']} (the trajectory up to {t_last} is in this error's "
-                              f"'result' attribute)")
-            err.result = result
-            raise err
-        return result
+        pairs = {p["name"]: dict(index=i, layout=layout[i], units=p["pair"]._type.units)
+                 for i, p in enumerate(self._pairs)}
+        stats = {**stats, **_run.quality(energy, band)}
+        if not stats["adaptive"]:
+            stats.pop("error_estimate", None)
+            stats.pop("floor_steps", None)
+        return SimulationResult(t=tout[:k], poses=r["poses"][:k], twists=r["twists"][:k],
+                                constraint_wrenches=lam, energy=energy, stats=stats,
+                                interrupted=interrupted, _links=dict(self._links),
+                                port_energy=ports, joints=r["joints"][:k],
+                                joint_rates=r["jrates"][:k], efforts=r["efforts"][:k],
+                                pair_wrenches=pw, _pairs=pairs,
+                                redundant_constraints=list(self.redundant_constraints),
+                                carriers=None if rec is None else np.array(rec),
+                                _inertia=np.array([c["M"] for c in self._car], dtype=float),
+                                _mass=np.array([c["mass"] for c in self._car], dtype=float),
+                                _com=np.array([c["com"] for c in self._car], dtype=float),
+                                _bodies=dict(self._bodies))
 
     def _check_outputs(self, span: float, record) -> None:
         """ModelError when (t_end - t_start) / dt_out output times would take more than half the

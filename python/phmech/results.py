@@ -7,13 +7,14 @@ added; csrc/include/phmech_types.h, phm_carrier_desc)."""
 from __future__ import annotations
 
 import dataclasses
-from typing import Callable, NamedTuple, Optional, Union
+import types
+from typing import NamedTuple, Optional, Union
 
 import numpy as np
 
-from . import se3
+from . import io, se3
 from ._core import ModelError
-from .frames import Body, FlexibleLink, carrier_name, link_of
+from .frames import Body, FlexibleLink, Frame, carrier_name, frame_of, link_of
 
 __all__ = ["SimulationResult", "ModesResult", "StaticResult", "Momentum", "InitialAdjustment",
            "InitialConfiguration", "StabilityWarning"]
@@ -115,13 +116,18 @@ class SimulationResult:
     redundant_constraints: list = dataclasses.field(default_factory=list)
     #: carrier index of each column of ``poses``/``twists`` (all carriers unless ``record=`` chose)
     carriers: np.ndarray = None
-    _frame: Callable = None  # resolves a body, frame or name to a Frame (set by simulate)
     #: every carrier's 6x6 spatial inertia (body frame), mass and centre of mass (body
     #: coordinates) as the model had them (set by simulate; momentum, mass, centre_of_mass)
     _inertia: np.ndarray = None
     _mass: np.ndarray = None
     _com: np.ndarray = None
     _bodies: dict = dataclasses.field(default_factory=dict)
+
+    def _frame(self, x) -> Frame:
+        """A body, frame, link end or body's name as a Frame of the simulated mechanism."""
+        n = len(self._mass) if self._mass is not None else self.poses.shape[1]
+        scope = types.SimpleNamespace(carriers=range(n), bodies=self._bodies, links=self._links)
+        return frame_of(x, scope, "result")
 
     def pose(self, x) -> np.ndarray:
         """World pose of a body or frame (a Frame, Body, link end, or a body's name), (nt, 4, 4)."""
@@ -292,6 +298,26 @@ class SimulationResult:
         m = self._mass[cars]
         return np.einsum("k,nki->ni", m, r) / m.sum()
 
+    # ---------------------------------------------------------- export (phmech/io.py)
+
+    def to_xarray(self):
+        """The result as an ``xarray.Dataset``: dimensions time x carrier x component (and
+        joint, constraint, pair, port), coordinates with the carriers', joints' and ports'
+        names, a ``units`` attribute per variable and the solver statistics as attributes
+        (``stats_*``); see docs/user_guide.md, "Saving, loading and exporting"."""
+        return io.simulation_dataset(self)
+
+    def to_netcdf(self, path) -> None:
+        """Write the result to the netCDF-4 file ``path`` (atomically); ``phmech.load_result``
+        reads it back equal."""
+        io.write_result(self, path)
+
+    def to_dataframe(self):
+        """The scalar series as a ``pandas.DataFrame`` indexed by time [s]: ``energy.<name>``
+        [J], ``port.<name>`` [J], and ``<joint>.x``, ``.xdot``, ``.effort`` per joint coordinate
+        (``<pair>`` or ``<pair>[i]``; rad or m, per s, N m or N)."""
+        return io.simulation_dataframe(self)
+
 
 @dataclasses.dataclass
 class ModesResult:
@@ -301,6 +327,14 @@ class ModesResult:
     frequency: np.ndarray
     damping_ratio: np.ndarray
     shapes: np.ndarray
+
+    def to_xarray(self):
+        """The modes as an ``xarray.Dataset`` (dimensions mode x carrier x component)."""
+        return io.modes_dataset(self)
+
+    def to_netcdf(self, path) -> None:
+        """Write the modes to the netCDF-4 file ``path``; ``phmech.load_result`` reads them."""
+        io.write_result(self, path)
 
 
 class StabilityWarning(UserWarning):
@@ -328,4 +362,12 @@ class StaticResult:
         """Node positions of a link [m], shape (nodes, 3)."""
         lk = link_of(self._links, link, "")
         return self.poses[lk.nodes, :3, 3]
+
+    def to_xarray(self):
+        """The equilibrium as an ``xarray.Dataset`` (poses: carrier x row x col)."""
+        return io.static_dataset(self)
+
+    def to_netcdf(self, path) -> None:
+        """Write the equilibrium to the netCDF-4 file ``path``; ``phmech.load_result`` reads it."""
+        io.write_result(self, path)
 
