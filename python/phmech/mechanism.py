@@ -21,7 +21,7 @@ from typing import Callable, Optional, Sequence, Union
 
 import numpy as np
 
-from . import _core, _marshal, _run, postprocess, se3, topology
+from . import _core, _marshal, _run, analysis, postprocess, se3, topology
 from ._checks import array, choice, integer, per_coordinate, positive, positive_definite, real, rigid_pose
 from ._core import ModelError, SolverError
 from .actuators import PD, Effort, Spring, actuator_row
@@ -47,7 +47,13 @@ __all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "Fixed", "Revolute", "P
            "Helical", "Cylindrical", "Universal", "Spherical", "Planar", "Free", "Effort", "PD",
            "Spring", "Motion", "Constant", "Step", "Pulse", "Sine", "Table", "Cycloidal",
            "SimulationResult", "ModesResult", "StaticResult", "Graphs", "RedundantConstraintWarning",
-           "InitialValueWarning", "InitialAdjustment", "InitialConfiguration", "Momentum"]
+           "InitialValueWarning", "InitialAdjustment", "InitialConfiguration", "Momentum",
+           "EquilibriumWarning"]
+
+
+class EquilibriumWarning(UserWarning):
+    """Mechanism.modes was asked for modes at a configuration that is not a static equilibrium:
+    the values are then eigenvalues of the tangent there, not vibration frequencies."""
 
 
 def _frame_of(x, mech: "Mechanism", what: str) -> Frame:
@@ -812,7 +818,48 @@ class Mechanism:
                                             np.shape(at.constraint_wrenches))
         # at most 6 per carrier exist: asking for more allocates no more than that
         om, ze, sh, nf = _core.model_modes(model, min(n, 6 * len(self._car)), poses, lam, time)
-        return ModesResult(om[:nf], om[:nf] / (2 * np.pi), ze[:nf], sh[:nf])
+        where = self._state.poses if poses is None else poses
+        eq = self._equilibrium_check(model, where, time, at is not None)
+        if not eq and np.any(om[:nf] < 0):
+            neg = "; its negative eigenvalues lambda show as negative frequencies -sqrt(-lambda)"
+        else:
+            neg = ("; a negative eigenvalue lambda of the tangent would show as a negative "
+                   "frequency -sqrt(-lambda)")
+        if not eq:
+            warnings.warn(f"modes: the configuration is not a static equilibrium ({eq.reason}): "
+                          f"the values are the eigenvalues of the tangent stiffness there, not the "
+                          f"frequencies of small vibrations about a rest state" + neg +
+                          ". For vibrations about the equilibrium use modes(at=m.static(...)).",
+                          EquilibriumWarning, stacklevel=2)
+        lab = analysis.label_modes(self._desc, where, om[:nf], sh[:nf])
+        return ModesResult(om[:nf], om[:nf] / (2 * np.pi), ze[:nf], sh[:nf], poses=np.array(where),
+                           equilibrium=bool(eq), _links=dict(self._links),
+                           _bodies=dict(self._bodies), **lab)
+
+    def _equilibrium_check(self, model, poses, time, at_given: bool):
+        """Whether ``poses`` is a static equilibrium: a static solve (one load step) started there
+        must not move any carrier by more than 1e-6 of the mechanism's size [m] or 1e-6 rad.
+        Returns a truthy/falsy object with a ``reason``. A solve that fails (a free mechanism is
+        singular) tells nothing: then the check passes."""
+        class _Eq:
+            def __init__(self, ok, reason=""):
+                self.ok, self.reason = ok, reason
+
+            def __bool__(self):
+                return self.ok
+        try:
+            P, _, _ = _core.model_static(model, poses, time, 1, 1e-10)
+        except (SolverError, ModelError):
+            return _Eq(True)
+        size = max([1.0] + [lk.length for lk in self._links.values()])
+        dp = np.linalg.norm(P[:, :3, 3] - poses[:, :3, 3], axis=1)
+        rel = np.einsum("cji,cjk->cik", poses[:, :3, :3], P[:, :3, :3])
+        dth = np.arccos(np.clip((np.trace(rel, axis1=1, axis2=2) - 1) / 2, -1, 1))
+        c = int(np.argmax(dp / size + dth))
+        if dp[c] <= 1e-6 * size and dth[c] <= 1e-6:
+            return _Eq(True)
+        return _Eq(False, f"a static solve from it moves {self._desc.carrier_name(c)} by "
+                          f"{dp[c]:.3g} m and {dth[c]:.3g} rad")
 
     def static(self, loads: Sequence = (), steps: int = 10, time: float = 0.0,
                tol: float = 1e-10, start: Optional[StaticResult] = None) -> StaticResult:
