@@ -184,8 +184,8 @@ def spectrum(t, x, ax=None, fmin: float = 0.0, fmax: Optional[float] = None,
         for i, val in enumerate(refs.values()):
             ins.axvline(val, color=f"C{i + 1}", ls=styles[i % len(styles)], lw=1.5)
         ins.set_xlim(c - w, c + w)
-        ins.set_title(f"zoom (linear): the marked frequencies lie within {span:.3g} Hz,\n"
-                      f"{'below' if span < 1 / T else 'near'} the resolution 1/T = {1 / T:.3g} Hz",
+        ins.set_title(f"zoom, linear: the marks lie within {span:.3g} Hz\n"
+                      f"({'<' if span < 1 / T else '~'} the resolution 1/T = {1 / T:.3g} Hz)",
                       fontsize=8)
         ins.set_xlabel("frequency [Hz]", fontsize=8)
         ins.tick_params(labelsize=7)
@@ -277,9 +277,12 @@ def _limits(ax, plane, pts):
     c, r = 0.5 * (lo + hi), 0.5 * (hi - lo)
     R = max(r.max() * 1.1, 1e-9)
     if _is3d(ax):
+        from matplotlib.ticker import MaxNLocator
         ax.set(xlim=(c[0] - R, c[0] + R), ylim=(c[1] - R, c[1] + R), zlim=(c[2] - R, c[2] + R),
                xlabel="x [m]", ylabel="y [m]", zlabel="z [m]")
         ax.set_box_aspect((1, 1, 1))
+        for a in (ax.xaxis, ax.yaxis, ax.zaxis):     # few ticks: 3-D tick labels crowd
+            a.set_major_locator(MaxNLocator(4))
     else:
         i, j = _PLANES[plane or "xy"]
         pad = 0.08 * max(r[i], r[j]) + 1e-9
