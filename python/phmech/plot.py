@@ -146,7 +146,7 @@ def spectrum(t, x, ax=None, fmin: float = 0.0, fmax: Optional[float] = None,
     vals = [fp] + list(refs.values())
     span = max(vals) - min(vals)
     zoom = bool(refs) and span < 0.03 * (hi - lo)     # the lines would overlap at full scale
-    ins = None
+    ins, own = None, ax is None
     if ax is None and zoom:
         fig, (ax, ins) = plt.subplots(1, 2, figsize=(10, 4.2), gridspec_kw=dict(width_ratios=(2, 1)))
     elif ax is None:
@@ -191,7 +191,13 @@ def spectrum(t, x, ax=None, fmin: float = 0.0, fmax: Optional[float] = None,
         ins.tick_params(labelsize=7)
         ins.grid(alpha=0.3)
         ins.figure.tight_layout()
-    ax.legend(fontsize=8, loc="upper right")
+    if len(refs) >= 3 and ins is None:      # many lines across the axis: legend beside it
+        ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+        if own:
+            ax.figure.set_figwidth(9.5)
+            ax.figure.tight_layout()
+    else:
+        ax.legend(fontsize=8, loc="upper right")
     ax.grid(alpha=0.3, which="both")
     return ax
 
@@ -207,7 +213,8 @@ def _geometry(links: dict, bodies: dict, pairs: list, poses: np.ndarray) -> dict
         H = np.eye(4) if c < 0 else poses[c]
         return (H @ np.asarray(T))[:3, 3]
     g = dict(links=[(lk.name, poses[lk.nodes][:, :3, 3]) for lk in links.values()],
-             bodies=[], pairs=[])
+             bodies=[], pairs=[],
+             sections=[poses[lk.nodes][:, :3, 1] for lk in links.values()])  # local y axes
     attach = {b.carrier: [] for b in bodies.values()}
     for p in pairs:
         pa = point(p["a"], p["Ta"])
@@ -249,12 +256,17 @@ def _proj(ax, plane, pts):
     return pts[:, i], pts[:, j]
 
 
-def _draw_geometry(ax, g, plane, ghost=False, labels=False):
-    """Artists of one configuration; ``ghost``: light grey, behind."""
+def _draw_geometry(ax, g, plane, ghost=False, labels=False, sections: float = 0.0):
+    """Artists of one configuration; ``ghost``: light grey, behind; ``sections`` > 0: a bar of
+    that length [m] along each link node's local y axis (shows torsion)."""
     kw = dict(zorder=1) if ghost else {}
     cl = (lambda c: "0.8") if ghost else (lambda c: c)
-    for name, P in g["links"]:
+    for (name, P), Y in zip(g["links"], g["sections"]):
         ax.plot(*_proj(ax, plane, P), color=cl("C0"), lw=2, **kw)
+        if sections > 0:
+            h = 0.5 * sections * Y
+            bars = np.stack([P - h, P + h, np.full_like(P, np.nan)], axis=1).reshape(-1, 3)
+            ax.plot(*_proj(ax, plane, bars), color=cl("C2"), lw=1, **kw)
         if not ghost:
             ax.plot(*_proj(ax, plane, P[[0, -1]]), "o", ms=3, color="C1")
             if labels:
@@ -349,15 +361,18 @@ def _mode_amplitude(modes: ModesResult, k: int, size: float, scale: Optional[flo
         return float(scale)
     d = np.linalg.norm(modes.shapes[k, :, 3:], axis=1).max()           # largest translation
     r = np.linalg.norm(modes.shapes[k, :, :3], axis=1).max() * size    # rotations (as lengths)
-    return 0.15 * size / max(d if d > 0.05 * r else r, 1e-300)
+    if d > 0.05 * r:
+        return 0.15 * size / max(d, 1e-300)
+    return 0.6 / max(r / size, 1e-300)       # rotations alone (torsion): 0.6 rad at most
 
 
 def mode_shape(modes: ModesResult, k: int = 0, mechanism=None, ax=None,
                plane: Optional[str] = None, scale: Optional[float] = None):
     """Mode ``k`` (0-based) drawn on the configuration it was computed at (grey), with its
-    frequency and label in the title; returns the Axes. ``scale``: the modal amplitude (default:
+    frequency and label in the title; returns the Axes. Green bars across the links lie along
+    their sections' local y axes, so that torsion shows. ``scale``: the modal amplitude (default:
     the largest carrier displacement is 15 % of the mechanism's size; for modes of rotations
-    alone, the largest rotation is 0.15 rad). ``mechanism``: draws its pairs
+    alone, the largest rotation is 0.6 rad). ``mechanism``: draws its pairs
     too."""
     if not isinstance(modes, ModesResult) or modes.poses is None:
         raise ModelError("mode_shape: expected a ModesResult from Mechanism.modes")
@@ -371,8 +386,8 @@ def mode_shape(modes: ModesResult, k: int = 0, mechanism=None, ax=None,
     size = float(np.ptp(P, axis=0).max()) or 1.0
     amp = _mode_amplitude(modes, k, size, scale)
     g = _geometry(modes._links, modes._bodies, pairs, _mode_poses(modes, k, amp))
-    _draw_geometry(ax, g0, plane, ghost=True)
-    _draw_geometry(ax, g, plane, labels=False)
+    _draw_geometry(ax, g0, plane, ghost=True, sections=0.12 * size)
+    _draw_geometry(ax, g, plane, labels=False, sections=0.12 * size)
     _limits(ax, plane, _all_points(g0) + _all_points(g))
     lab = modes.labels[k] if modes.kind else ""
     ax.set_title(f"mode {k + 1}: {modes.frequency[k]:.4g} Hz\n{lab}", fontsize=9)
