@@ -126,6 +126,28 @@ class RunMonitor:
             self.bar.close()
 
 
+class StaticMonitor:
+    """Progress of Mechanism.static's load stepping: a tqdm bar (tqdm.auto) over the load factor
+    0..1, with the Newton iterations so far and the current load step; called by the core after
+    each accepted load step."""
+
+    def __init__(self, out=None):
+        from tqdm.auto import tqdm
+        self.bar = tqdm(total=1.0, desc="phmech static", file=out if out is not None else sys.stderr,
+                        dynamic_ncols=True,
+                        bar_format="{desc}: {percentage:3.0f}%|{bar}| load factor {n:.3g}/1 "
+                                   "[{elapsed}<{remaining}{postfix}]")
+
+    def __call__(self, s: float, iterations: int, ds: float) -> bool:
+        self.bar.n = min(s, 1.0)
+        self.bar.set_postfix_str(f"{iterations} Newton iterations, load step {ds:.3g}", refresh=False)
+        self.bar.refresh()
+        return False
+
+    def close(self) -> None:
+        self.bar.close()
+
+
 def _duration(s: float) -> str:
     if not np.isfinite(s):
         return "?"

@@ -862,10 +862,13 @@ class Mechanism:
                           f"{dp[c]:.3g} m and {dth[c]:.3g} rad")
 
     def static(self, loads: Sequence = (), steps: int = 10, time: float = 0.0,
-               tol: float = 1e-10, start: Optional[StaticResult] = None) -> StaticResult:
+               tol: float = 1e-10, start: Optional[StaticResult] = None,
+               progress: bool = False) -> StaticResult:
         """Static equilibrium under gravity, the mechanism's wrenches at ``time`` and extra
         constant ``loads`` = [(target, wrench (tau, f), frame "world"|"body"), ...], reached in
-        ``steps`` load steps (halved on failure); Newton tolerance ``tol`` on the tangent step."""
+        ``steps`` load steps (halved on failure); Newton tolerance ``tol`` on the tangent step.
+        ``progress``: a progress bar (tqdm, on stderr or in Jupyter) over the load factor, with
+        the Newton iterations so far. Ctrl-C stops the solve (KeyboardInterrupt)."""
         extra = []
         if not isinstance(loads, (list, tuple)):
             raise ModelError(f"static loads: expected a list of (target, wrench, frame) tuples "
@@ -889,6 +892,11 @@ class Mechanism:
         time, tol = real("time", time), positive("tol", tol)
         poses = None if start is None else self._start_poses(start, "start")
         model = self._build(extra)
-        P, lam, it = _core.model_static(model, poses, time, steps, tol)
+        monitor = _run.StaticMonitor() if progress else None
+        try:
+            P, lam, it = _core.model_static(model, poses, time, steps, tol, monitor)
+        finally:
+            if monitor is not None:
+                monitor.close()
         return StaticResult(P, lam, it, self._links, tuple(extra))
 
