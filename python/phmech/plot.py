@@ -54,6 +54,7 @@ def trajectory(result: SimulationResult, items, ax=None, components: str = "xyz"
     if not set(components) <= set(_AXNAME) or not components:
         raise ModelError(f"trajectory: components must be letters of 'xyz' (got {components!r})")
     ax = _axes2d(ax)
+    n0 = len(ax.get_lines())
     kinds = set()
     for it in items:
         if isinstance(it, str) and it in result._pairs:
@@ -72,12 +73,16 @@ def trajectory(result: SimulationResult, items, ax=None, components: str = "xyz"
             ax.plot(result.t, scale * p[:, _AXNAME.index(c)], label=f"{lab} {c}")
         kinds.add("position")
     u = unit or ("m" if kinds == {"position"} else "rad or m")
-    ax.set(xlabel="t [s]", ylabel=("position" if kinds == {"position"} else
-                                   "joint coordinate" if kinds == {"joint"} else
-                                   "position, joint coordinate") + f" [{u}]")
+    what = ("position" if kinds == {"position"} else "joint coordinate" if kinds == {"joint"}
+            else "position, joint coordinate")
+    mine = ax.get_lines()[n0:]
+    if len(mine) == 1:                    # one curve: its name in the label, no legend
+        ax.set(xlabel="t [s]", ylabel=f"{mine[0].get_label()} [{u}]")
+    else:
+        ax.set(xlabel="t [s]", ylabel=f"{what} [{u}]")
+        ax.legend(fontsize=8, loc="best")
     if not ax.get_title():
         ax.set_title("trajectories")
-    ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     return ax
 
@@ -145,14 +150,14 @@ def spectrum(t, x, ax=None, fmin: float = 0.0, fmax: Optional[float] = None,
     lo = max(fmin, 0.0)
     vals = [fp] + list(refs.values())
     span = max(vals) - min(vals)
-    zoom = bool(refs) and span < 0.03 * (hi - lo)     # the lines would overlap at full scale
+    zoom = len(refs) >= 2 and span < 0.03 * (hi - lo)   # the lines would overlap at full scale
     ins, own = None, ax is None
     if ax is None and zoom:
         fig, (ax, ins) = plt.subplots(1, 2, figsize=(10, 4.2), gridspec_kw=dict(width_ratios=(2, 1)))
     elif ax is None:
         ax = _axes2d(None)
     elif zoom:
-        ins = ax.inset_axes([0.62, 0.1, 0.36, 0.36])
+        ins = ax.inset_axes([0.6, 0.08, 0.37, 0.33])
     sel = (f >= fmin) & (f <= hi)
     Xs = scale * X
     (ax.semilogy if log else ax.plot)(f[sel], Xs[sel] + (1e-300 if log else 0), lw=1, color="C0",
@@ -184,20 +189,25 @@ def spectrum(t, x, ax=None, fmin: float = 0.0, fmax: Optional[float] = None,
         for i, val in enumerate(refs.values()):
             ins.axvline(val, color=f"C{i + 1}", ls=styles[i % len(styles)], lw=1.5)
         ins.set_xlim(c - w, c + w)
-        ins.set_title(f"zoom, linear: the marks lie within {span:.3g} Hz\n"
-                      f"({'<' if span < 1 / T else '~'} the resolution 1/T = {1 / T:.3g} Hz)",
-                      fontsize=8)
-        ins.set_xlabel("frequency [Hz]", fontsize=8)
+        ins.ticklabel_format(useOffset=False)
         ins.tick_params(labelsize=7)
         ins.grid(alpha=0.3)
-        ins.figure.tight_layout()
+        if own:
+            ins.set_title(f"zoom, linear: the marks lie within {span:.3g} Hz\n"
+                          f"({'<' if span < 1 / T else '~'} the resolution 1/T = {1 / T:.3g} Hz)",
+                          fontsize=8)
+            ins.set_xlabel("frequency [Hz]", fontsize=8)
+            ins.figure.tight_layout()
+        else:                          # an inset: keep it bare
+            ins.set_yticks([])
+            ins.set_title(f"zoom: within {span:.3g} Hz", fontsize=7)
     if len(refs) >= 3 and ins is None:      # many lines across the axis: legend beside it
         ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
         if own:
             ax.figure.set_figwidth(9.5)
             ax.figure.tight_layout()
     else:
-        ax.legend(fontsize=8, loc="upper right")
+        ax.legend(fontsize=8, loc="upper right" if ins is not None else "best")
     ax.grid(alpha=0.3, which="both")
     return ax
 
