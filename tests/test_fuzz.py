@@ -36,7 +36,8 @@ import phmech as ph
 from phmech import se3
 
 DOCUMENTED = (ph.ModelError, ph.SolverError)
-DOCUMENTED_WARNINGS = (ph.CostWarning, ph.RedundantConstraintWarning, ph.InitialValueWarning)
+DOCUMENTED_WARNINGS = (ph.CostWarning, ph.RedundantConstraintWarning, ph.InitialValueWarning,
+                       ph.EquilibriumWarning)
 
 SCALE = float(os.environ.get("PHMECH_FUZZ_SCALE", "1"))
 #: seconds one example may take (a sanitizer build is several times slower: PHMECH_FUZZ_LIMIT)

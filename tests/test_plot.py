@@ -43,6 +43,9 @@ def test_trajectory_and_energy_draw_the_results_numbers(run):
     labels = [ln.get_label() for ln in a0.get_lines()]
     assert labels[:3] == ["kinetic", "potential (elastic + gravity)", "total E"]
     np.testing.assert_array_equal(a1.get_lines()[0].get_ydata(), res.energy["ledger"])
+    fig, one = plt.subplots()
+    assert ph.plot.energy(res, ax=one) is fig and len(fig.axes) == 2     # the ledger on a twin axis
+    np.testing.assert_array_equal(fig.axes[1].get_lines()[0].get_ydata(), res.energy["ledger"])
     plt.close("all")
 
 

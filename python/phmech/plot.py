@@ -98,6 +98,7 @@ def energy(result: SimulationResult, ax=None):
     if not isinstance(result, SimulationResult):
         raise ModelError(f"energy: expected a SimulationResult (got {type(result).__name__})")
     E, t = result.energy, result.t
+    twin = False
     if ax is None:
         fig, (a0, a1) = plt.subplots(2, 1, figsize=(9.5, 5.6), sharex=True,
                                      gridspec_kw=dict(height_ratios=(2.2, 1)))
@@ -105,8 +106,7 @@ def energy(result: SimulationResult, ax=None):
         a0, a1 = ax
         fig = a0.figure
     else:
-        a0 = ax
-        a1 = ax.twinx()
+        a0, a1, twin = ax, ax.twinx(), True
         fig = ax.figure
     a0.plot(t, E["kinetic"], label="kinetic")
     a0.plot(t, E["elastic"] + E["gravity"], label="potential (elastic + gravity)")
@@ -119,7 +119,7 @@ def energy(result: SimulationResult, ax=None):
     scale = result.stats.get("energy_scale", 0.0) if result.stats else 0.0
     a1.plot(t, E["ledger"], color="C3", lw=1, label="balance error (ledger residual)")
     a1.set(ylabel="residual [J]")
-    if a1 is not a0 and a1.get_subplotspec() is not None:
+    if not twin:
         a1.set(xlabel="t [s]")
         rel = f", max {np.max(np.abs(E['ledger'])) / scale:.2g} of the energy scale {scale:.3g} J" \
             if scale > 0 else ""
