@@ -806,7 +806,13 @@ class Mechanism:
     def modes(self, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0) -> ModesResult:
         """The ``n`` lowest linearized modes at the initial configuration, or at a static
         equilibrium ``at``: its constraint wrenches give the geometric stiffness, and the extra
-        loads it was found under (``static(loads=...)``) act as they did there."""
+        loads it was found under (``static(loads=...)``) act as they did there.
+
+        Each mode is labelled (``kind``: bending-y, bending-z, torsion, axial or rigid-body, with
+        energy shares and participations; phmech.analysis.label_modes, ModesResult). When the
+        configuration is not a static equilibrium (a static solve from it moves it), an
+        EquilibriumWarning says so: the values are then eigenvalues of the tangent stiffness,
+        negative ones shown as negative frequencies."""
         n = integer("n", n, 1)
         time = real("time", time)
         if at is not None and not isinstance(at, StaticResult):

@@ -18,16 +18,15 @@ a compiled widget extension; pyvista and k3d need VTK or a Jupyter widget extens
 server. docs/user_guide.md, "Plotting", says more."""
 from __future__ import annotations
 
-from typing import Optional, Sequence
+from typing import Optional
 
 import numpy as np
 
-import matplotlib
 import matplotlib.pyplot as plt
 
 from . import analysis, se3
 from ._core import ModelError
-from .frames import Body, FlexibleLink, Frame
+from .frames import FlexibleLink
 from .results import ModesResult, SimulationResult, StaticResult
 
 __all__ = ["trajectory", "energy", "spectrum", "mode_shape", "modes", "draw", "animate",
