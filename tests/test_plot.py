@@ -88,6 +88,13 @@ def test_draw_mode_shapes_and_animation(run, tmp_path):
     assert Image.open(path).n_frames == 3
     with pytest.raises(ph.ModelError, match=r"\.gif"):
         ph.plot.animate(m, res, str(tmp_path / "a.avi"))
+    from matplotlib import animation
+    if animation.writers.is_available("ffmpeg"):
+        ph.plot.animate(m, res, str(tmp_path / "a.mp4"), fps=10, t_max=0.2)
+        assert (tmp_path / "a.mp4").stat().st_size > 0
+    else:
+        with pytest.raises(ph.ModelError, match="needs the ffmpeg program.*save as .gif"):
+            ph.plot.animate(m, res, str(tmp_path / "a.mp4"))
     plt.close("all")
     del anim
 
