@@ -57,7 +57,6 @@ def main(argv=None) -> dict:
     cpu = time.process_time() - t0
     z = res.tip(leaf)[:, 2]
     f_fft = ph.analysis.dominant_frequency(res.t, z)
-    freqs, spec = ph.analysis.spectrum(res.t, z)
     E = res.energy["total"]
     drift = np.max(np.abs(res.energy["ledger"])) / E[0]
     print(f"FFT of the tip motion: {f_fft:.3f} Hz (linearized f1 = {f1:.3f} Hz; the release from a "
@@ -72,6 +71,7 @@ def main(argv=None) -> dict:
 
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
+        import phmech.plot as pp
 
         os.makedirs(os.path.dirname(args.plot) or ".", exist_ok=True)
         fig, ax = plt.subplots(1, 3, figsize=(13, 3.6))
@@ -79,13 +79,11 @@ def main(argv=None) -> dict:
             P = res.positions(leaf)[i]
             ax[0].plot(P[:, 0], P[:, 2], "-o", ms=2, label=f"t = {res.t[i]:.3f} s")
         ax[0].set(xlabel="x [m]", ylabel="z [m]", title="deformed shapes", aspect="equal")
-        ax[0].legend(fontsize=7)
-        ax[1].plot(res.t, z)
-        ax[1].set(xlabel="t [s]", ylabel="tip z [m]", title="tip motion")
-        ax[2].semilogy(freqs, spec)
-        ax[2].axvline(f1, color="r", ls="--", label="linearized f1")
-        ax[2].set(xlabel="f [Hz]", title="spectrum of tip z", xlim=(0, 4 * f1))
-        ax[2].legend()
+        ax[0].legend(fontsize=7, ncol=3, loc="upper center", bbox_to_anchor=(0.5, -0.3))
+        pp.trajectory(res, leaf, components="z", ax=ax[1])
+        ax[1].set_title("tip motion")
+        pp.spectrum(res.t, z, ax=ax[2], fmax=4 * f1, references={"linearized f1": f1},
+                    title="spectrum of tip z")
         fig.tight_layout()
         fig.savefig(args.plot, dpi=110)
         print(f"plot saved to {args.plot}")

@@ -271,7 +271,8 @@ def run(p: LeafSpringParams, t_end: float = 10.0, elements: int = 10, beta: floa
                 damping_ratio=float(modes.damping_ratio[0]), cpu_sim=cpu_sim, cpu_modes=cpu_modes,
                 stats=dict(res.stats), amplitude=float(np.abs(x[sel]).max()),
                 ledger=float(np.max(np.abs(E["ledger"])) / max(E["supplied"].max(), 1e-300)),
-                t=res.t, x=x, force=force, t_fft=t_fft, res=res, handles=h)
+                t=res.t, x=x, force=force, t_fft=t_fft, res=res, handles=h, mechanism=m,
+                modes_result=m.modes(6))
 
 
 # ------------------------------------------------------------------------------- misalignment
@@ -470,39 +471,41 @@ def plot_misalignment(study: dict, path: str) -> None:
     plt.close(fig)
 
 
-def plot(out: dict, p: LeafSpringParams, path_resp: str, path_spec: str) -> None:
+def plot(out: dict, p: LeafSpringParams, path_resp: str, path_spec: str, path_modes: str) -> list:
+    """The pulse response (force, x of R1), its spectrum against the linearized mode, the
+    paper's formula and SPACAR, and the first six labelled mode shapes; returns the paths."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    import phmech.plot as pp
 
     os.makedirs(os.path.dirname(path_resp) or ".", exist_ok=True)
-    t, x, F = out["t"], out["x"], out["force"]
-    fig, ax = plt.subplots(2, 1, figsize=(7, 5.2), sharex=True)
+    t, x, F, res, h = out["t"], out["x"], out["force"], out["res"], out["handles"]
+    fig, ax = plt.subplots(2, 1, figsize=(7.5, 5.2), sharex=True)
     ax[0].plot(t, F)
-    ax[0].set(ylabel="w_x [N]", title="(a) external force on R1")
-    ax[1].plot(t, 1e3 * x, lw=0.8)
+    ax[0].set(ylabel="w_x [N]", title="(a) external force on R1 (a pulse along x)")
+    pp.trajectory(res, h["R1"], components="x", scale=1e3, unit="mm", ax=ax[1])
     ax[1].axvline(out["t_fft"], color="gray", ls=":", label="FFT window starts")
-    ax[1].set(xlabel="t [s]", ylabel="x of R1's COM [mm]", title="(b) response")
+    ax[1].set(title="(b) response: x of R1's centre of mass", ylabel="x [mm]")
     ax[1].legend(loc="upper right", fontsize=8)
     fig.tight_layout()
     fig.savefig(path_resp, dpi=110)
     plt.close(fig)
 
     sel = t >= out["t_fft"]
-    f, X = ph.analysis.spectrum(t[sel], x[sel])
-    fig, ax = plt.subplots(figsize=(7, 3.6))
-    ax.semilogy(f, 1e3 * X + 1e-12)
-    for val, lab, st in ((out["f_modal"], "linearized", "r--"), (f_analytic(p), "analytic", "g:"),
-                         (F_PAPER_SPACAR, "SPACAR 3.4 Hz", "k-.")):
-        ax.axvline(val, color=st[0], ls=st[1:], lw=1, label=f"{lab}: {val:.4g} Hz")
-    ax.set(xlim=(0, 4 * out["f_modal"]), ylim=(1e-6 * 1e3 * X.max(), 2e3 * X.max()),
-           xlabel="f [Hz]", ylabel="|X| [mm]",
-           title=f"spectrum of x(R1), t >= {out['t_fft']:g} s: peak {out['f_fft']:.4f} Hz")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path_spec, dpi=110)
+    ax = pp.spectrum(t[sel], x[sel], scale=1e3, unit="mm", fmax=4 * out["f_modal"],
+                     references={"linearized mode": out["f_modal"], "paper's formula": f_analytic(p),
+                                 "SPACAR (paper)": F_PAPER_SPACAR},
+                     title=f"spectrum of x(R1) for t >= {out['t_fft']:g} s: peak "
+                           f"{out['f_fft']:.4f} Hz")
+    ax.figure.savefig(path_spec, dpi=110)
+    plt.close(ax.figure)
+
+    fig = pp.modes(out["modes_result"], 6, mechanism=out["mechanism"])
+    fig.savefig(path_modes, dpi=90)
     plt.close(fig)
+    return [path_resp, path_spec, path_modes]
 
 
 def main(argv=None) -> dict:
@@ -533,6 +536,7 @@ def main(argv=None) -> dict:
                   energy_ledger_rel=out["ledger"], breakdown=brk,
                   settings=dict(elements=N, t_end=t_end, beta=a.beta, rtol=a.rtol, atol=a.atol),
                   params=p.as_dict())
+    figures = []
     if a.misalignment:
         mis = misalignment_study(p, elements=N, beta=a.beta)
         result["misalignment"] = dict(
@@ -540,9 +544,11 @@ def main(argv=None) -> dict:
             sims=[{k: v for k, v in s_.items() if k not in ("t", "x", "rot", "z")} for s_ in mis["sims"]])
         if not a.no_plot:
             plot_misalignment(mis, os.path.join(a.outdir, "leaf_spring_misalignment.png"))
+            figures.append(os.path.join(a.outdir, "leaf_spring_misalignment.png"))
     if not a.no_plot:
-        plot(out, p, os.path.join(a.outdir, "leaf_spring_response.png"),
-             os.path.join(a.outdir, "leaf_spring_spectrum.png"))
+        figures += plot(out, p, os.path.join(a.outdir, "leaf_spring_response.png"),
+                       os.path.join(a.outdir, "leaf_spring_spectrum.png"),
+                       os.path.join(a.outdir, "leaf_spring_modes.png"))
     if a.json:
         print(json.dumps(result))
     else:
@@ -575,6 +581,9 @@ def main(argv=None) -> dict:
                       f"(modal {s_['f_modal']:.5f}), rot_x {s_['parasitic_sim']['rot_x_per_dx']:.5f} "
                       f"mrad/mm, CPU {s_['cpu_sim']:.2f} s")
             print(f"  CPU misalignment study {mis['cpu_s']:.2f} s")
+        print("modes (labelled):\n" + out["modes_result"].table())
+        for f_ in figures:
+            print(f"figure: {os.path.relpath(f_)}")
     return result
 
 

@@ -327,64 +327,46 @@ def deflection_static(st, link) -> float:
 
 
 # ------------------------------------------------------------------------------- drawing
-def _outline(p: ManipulatorParams, h: dict, poses: np.ndarray) -> list:
-    """Polylines (x, y) [m] of the arm at one instant: links through their nodes (deformed),
-    rigid bodies through their joint points."""
-    def pts(carrier, local):
-        H = poses[carrier]
-        return np.array([H[:2, :2] @ q + H[:2, 3] for q in np.asarray(local, dtype=float)])
-    s = p.spacing / 2
-    lines = [("link", poses[h[k].nodes][:, :2, 3]) for k in ("F1", "F2", "F3")]
-    lines.append(("body", pts(h["R1"].carrier, [[0, s], [0, -s], [0, 0]])))
-    lines.append(("body", pts(h["R2"].carrier, [[0, s], [0, -s], [0, 0], [p.hand_offset, 0]])))
-    lines.append(("hand", pts(h["R3"].carrier, [[-p.L_R3 / 2, 0], [p.L_R3 / 2, 0]])))
-    return lines
-
-
-def draw(ax, p, h, poses, ghost=None, title=""):
-    """One snapshot on a matplotlib axis; ``ghost``: poses drawn in light grey (the target)."""
-    style = dict(link=dict(color="C0", lw=2), body=dict(color="k", lw=3), hand=dict(color="C3", lw=3))
-    if ghost is not None:
-        for kind, xy in _outline(p, h, ghost):
-            ax.plot(xy[:, 0], xy[:, 1], color="0.8", lw=style[kind]["lw"], zorder=1)
-    for kind, xy in _outline(p, h, poses):
-        ax.plot(xy[:, 0], xy[:, 1], zorder=2, **style[kind])
-        if kind == "link":
-            ax.plot(xy[[0, -1], 0], xy[[0, -1], 1], "o", ms=3, color="C1", zorder=3)
-    ax.plot([0], [0], "ks", ms=6)
-    ax.set_aspect("equal")
-    ax.set(xlim=(-0.35, 0.95), ylim=(-0.35, 0.75), title=title)
-    ax.tick_params(labelsize=7)
-
-
 def plot_snapshots(out: dict, p: ManipulatorParams, path: str, n: int = 12) -> None:
+    """Snapshots of the arm (phmech.plot.draw, x-y plane) over the target equilibrium (grey)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    import phmech.plot as pp
 
     os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
-    res, h, st = out["res"], out["handles"], out["static"]
+    res, m, st = out["res"], out["m"], out["static"]
     # denser early (the transient), then sparser
     tt = np.unique(np.concatenate([np.linspace(0, min(1.0, res.t[-1]), n - 4), np.linspace(1.0, res.t[-1], 5)[1:]]))[:n]
     idx = [int(np.argmin(np.abs(res.t - t))) for t in tt]
     cols = 4
     rows = int(math.ceil(len(idx) / cols))
-    fig, axs = plt.subplots(rows, cols, figsize=(3.2 * cols, 2.9 * rows))
+    fig, axs = plt.subplots(rows, cols, figsize=(3.4 * cols, 3.1 * rows))
     for ax, i in zip(axs.ravel(), idx):
         d = max(abs(out["deflection"][k][i]) / L for k, L in (("F1", p.L1), ("F2", p.L2), ("F3", p.L2)))
-        draw(ax, p, h, res.poses[i], ghost=st.poses, title=f"t = {res.t[i]:.2f} s, max defl. {100 * d:.0f} %")
+        pp.draw(m, res, time=res.t[i], ax=ax, plane="xy", ghost=st, labels=False,
+                title=f"t = {res.t[i]:.2f} s, max defl. {100 * d:.0f} %")
+        ax.tick_params(labelsize=7)
+        ax.xaxis.label.set_fontsize(8)
+        ax.yaxis.label.set_fontsize(8)
+    used = axs.ravel()[:len(idx)]
+    for get, put in ((lambda a: a.get_xlim(), lambda a, v: a.set_xlim(v)),
+                     (lambda a: a.get_ylim(), lambda a, v: a.set_ylim(v))):
+        lims = np.array([get(ax) for ax in used])         # one scale for all snapshots
+        for ax in used:
+            put(ax, (lims[:, 0].min(), lims[:, 1].max()))
     for ax in axs.ravel()[len(idx):]:
         ax.axis("off")
-    fig.suptitle("Fig. 3 manipulator: deformed links (blue), bodies (black), hand (red); grey: target equilibrium",
-                 fontsize=10)
+    fig.suptitle("Fig. 3 manipulator: deformed links (blue), bodies (black), pairs (red circles); "
+                 "grey: target equilibrium", fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=100)
     plt.close(fig)
 
 
 def save_gif(out: dict, p: ManipulatorParams, path: str, fps: int = 25, t_max: float = 3.0) -> bool:
-    """Animation (matplotlib PillowWriter); returns False when pillow is not installed."""
+    """Animation (phmech.plot.animate, Pillow); returns False when pillow is not installed."""
     try:
         import PIL  # noqa: F401
     except ImportError:
@@ -393,46 +375,40 @@ def save_gif(out: dict, p: ManipulatorParams, path: str, fps: int = 25, t_max: f
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from matplotlib.animation import PillowWriter
+    import phmech.plot as pp
 
-    res, h, st = out["res"], out["handles"], out["static"]
-    frames = [int(np.argmin(np.abs(res.t - t))) for t in np.arange(0, min(t_max, res.t[-1]), 1.0 / fps)]
-    fig, ax = plt.subplots(figsize=(5, 4.2))
-    w = PillowWriter(fps=fps)
-    with w.saving(fig, path, dpi=70):
-        for i in frames:
-            ax.clear()
-            draw(ax, p, h, res.poses[i], ghost=st.poses, title=f"t = {res.t[i]:.2f} s")
-            w.grab_frame()
-    plt.close(fig)
+    anim = pp.animate(out["m"], out["res"], path, fps=fps, t_max=t_max, plane="xy",
+                      ghost=out["static"], dpi=70, figsize=(5.5, 4.6),
+                      title="Fig. 3 manipulator (grey: target)")
+    plt.close(anim._fig)
     return True
 
 
-def plot_response(out: dict, p: ManipulatorParams, path: str) -> None:
+def plot_response(out: dict, p: ManipulatorParams, path: str, path_energy: str) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    import phmech.plot as pp
 
     res = out["res"]
-    fig, ax = plt.subplots(3, 1, figsize=(7, 7.5), sharex=True)
-    for n, tgt in zip(ACTUATED, p.target):
-        l, = ax[0].plot(res.t, out["joints"][n], label=n)
-        ax[0].axhline(tgt, color=l.get_color(), ls=":", lw=0.8)
-    ax[0].set(ylabel="joint angle [rad]", title="(a) actuated joints (dotted: targets)")
+    fig, ax = plt.subplots(2, 1, figsize=(7.5, 6), sharex=True)
+    pp.trajectory(res, list(ACTUATED), ax=ax[0], unit="rad")
+    for ln, tgt in zip(ax[0].get_lines(), p.target):
+        ax[0].axhline(tgt, color=ln.get_color(), ls=":", lw=0.8)
+    ax[0].set(title="(a) actuated joints (dotted: targets)", xlabel="")
     ax[0].legend(fontsize=8, ncol=4)
     for k, L in (("F1", p.L1), ("F2", p.L2), ("F3", p.L2)):
         ax[1].plot(res.t, 100 * out["deflection"][k] / L, label=k)
-    ax[1].set(ylabel="tip deflection [% of L]", title="(b) link-tip deflection vs start tangent")
+    ax[1].set(xlabel="t [s]", ylabel="tip deflection [% of L]",
+              title="(b) link-tip deflection vs start tangent")
     ax[1].legend(fontsize=8)
-    E = res.energy
-    ax[2].plot(res.t, E["total"] - E["total"][0], label="E - E0")
-    ax[2].plot(res.t, E["supplied"] - E["dissipated"], "--", label="supplied - dissipated")
-    ax[2].plot(res.t, 1e3 * E["ledger"], label="ledger residual x 1000")
-    ax[2].set(xlabel="t [s]", ylabel="energy [J]", title="(c) energy ledger")
-    ax[2].legend(fontsize=8)
+    ax[1].grid(alpha=0.3)
     fig.tight_layout()
     fig.savefig(path, dpi=100)
+    plt.close(fig)
+    fig = pp.energy(res)
+    fig.savefig(path_energy, dpi=100)
     plt.close(fig)
 
 
@@ -447,12 +423,17 @@ def main(argv=None) -> dict:
     out = run(p, t_end=t_end, elements=N, rtol=a.rtol, atol=a.atol)
     s = out["summary"]
     s["cpu_s"]["total_run"] = time.process_time() - c0
+    figures = []
     if not a.no_plot:
         c0 = time.process_time()
         plot_snapshots(out, p, os.path.join(a.outdir, "manipulator_snapshots.png"))
-        plot_response(out, p, os.path.join(a.outdir, "manipulator_response.png"))
+        plot_response(out, p, os.path.join(a.outdir, "manipulator_response.png"),
+                      os.path.join(a.outdir, "manipulator_energy.png"))
+        figures = [os.path.join(a.outdir, f"manipulator_{k}.png") for k in ("snapshots", "response", "energy")]
         if a.gif:
             s["gif"] = save_gif(out, p, os.path.join(a.outdir, "manipulator.gif"))
+            if s["gif"]:
+                figures.append(os.path.join(a.outdir, "manipulator.gif"))
         s["cpu_s"]["plots"] = time.process_time() - c0
     if a.json:
         print(json.dumps(s))
@@ -477,6 +458,8 @@ def main(argv=None) -> dict:
         ida = s["ida"]
         print(f"simulate: {ida['steps']} steps, {ida['residual_evals']} residuals, {ida['jacobian_evals']} Jacobians; CPU "
               + ", ".join(f"{k} {v:.2f} s" for k, v in s["cpu_s"].items()))
+        for f_ in figures:
+            print(f"figure: {os.path.relpath(f_)}")
     return s
 
 

@@ -48,7 +48,7 @@ def test_progress_is_printed_to_stderr(capsys):
     calls = []
     r = m.simulate(0.05, 0.01, progress=True, callback=lambda t, i: calls.append(t) and False, integrator="ida")
     err = capsys.readouterr().err
-    assert "phmech: t = 0.05 / 0.05 s (100.0 %)" in err
+    assert "phmech simulate: 100%" in err and "t = 0.05/0.05 s" in err
     assert len(calls) == len(r.t)  # the user's callback still runs at every output
 
 

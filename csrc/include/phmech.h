@@ -127,5 +127,11 @@ phm_status phm_modes(const phm_model *model, const double *poses, const double *
 phm_status phm_static(const phm_model *model, const double *poses, double time, int steps,
                       double tol, double *poses_out, double *lambda_out, int *iters,
                       phm_error *err);
+/* The same, calling monitor(ctx, load factor reached, Newton iterations so far, load step) after
+ * each accepted load step (monitor may be NULL); a non-zero return stops with PHM_EINTERRUPT. */
+phm_status phm_static_monitored(const phm_model *model, const double *poses, double time,
+                                int steps, double tol, phm_monitor monitor, void *ctx,
+                                double *poses_out, double *lambda_out, int *iters,
+                                phm_error *err);
 
 #endif /* PHMECH_H */

@@ -580,10 +580,14 @@ static PyObject *py_model_modes(PyObject *self, PyObject *args) {
 
 static PyObject *py_model_static(PyObject *self, PyObject *args) {
   (void)self;
-  PyObject *cap, *po = Py_None;
+  PyObject *cap, *po = Py_None, *mon = Py_None;
   double time = 0, tol = 1e-10;
   int steps = 1;
-  if (!PyArg_ParseTuple(args, "O|Odid", &cap, &po, &time, &steps, &tol)) return NULL;
+  if (!PyArg_ParseTuple(args, "O|OdidO", &cap, &po, &time, &steps, &tol, &mon)) return NULL;
+  if (mon != Py_None && !PyCallable_Check(mon)) {
+    PyErr_SetString(PyExc_TypeError, "monitor must be callable or None");
+    return NULL;
+  }
   phm_model *m = get_model(cap);
   if (!m) return NULL;
   int nc = phm_model_ncarriers(m), nk = phm_model_nconstraints(m);
@@ -596,15 +600,21 @@ static PyObject *py_model_static(PyObject *self, PyObject *args) {
   PyArrayObject *poses = (PyArrayObject *)PyArray_ZEROS(3, dp, NPY_DOUBLE, 0);
   PyArrayObject *lam = (PyArrayObject *)PyArray_ZEROS(1, dl, NPY_DOUBLE, 0);
   PyObject *res = NULL;
+  /* with a monitor: called after each load step (progress), and Ctrl-C stops the solve */
+  cb_ctx c = {0};
+  c.mon = mon == Py_None ? NULL : mon;
   if (poses && lam) {
     int it = 0;
     phm_error err;
     phm_status st;
     Py_BEGIN_ALLOW_THREADS
-    st = phm_static(m, P ? PyArray_DATA(P) : NULL, time, steps, tol, PyArray_DATA(poses),
-                    PyArray_DATA(lam), &it, &err);
+    st = phm_static_monitored(m, P ? PyArray_DATA(P) : NULL, time, steps, tol,
+                              c.mon ? monitor_cb : NULL, &c, PyArray_DATA(poses),
+                              PyArray_DATA(lam), &it, &err);
     Py_END_ALLOW_THREADS
-    if (st) phm_py_raise(&err);
+    if (c.failed) PyErr_Restore(c.et, c.ev, c.etb);
+    else if (c.interrupted) PyErr_SetNone(PyExc_KeyboardInterrupt);
+    else if (st) phm_py_raise(&err);
     else res = Py_BuildValue("OOi", poses, lam, it);
   }
   Py_XDECREF(poses);
@@ -779,6 +789,7 @@ PyMethodDef phm_py_model_methods[] = {
      "model_modes(model, n, poses=None, lambda=None, time=0, method=0) -> (omega, zeta, shapes, "
      "nfound); method 0 auto, 1 dense, 2 sparse (phm_modes)."},
     {"model_static", py_model_static, METH_VARARGS,
-     "model_static(model, poses=None, time=0, steps=1, tol=1e-10) -> (poses, lambda, iterations)."},
+     "model_static(model, poses=None, time=0, steps=1, tol=1e-10, monitor=None) -> (poses, lambda, "
+     "iterations); monitor(load factor, iterations, load step) after each load step, truthy to stop."},
     {"model_sizes", py_model_sizes, METH_O, "model_sizes(model) -> (ncarriers, nconstraints, njoints, nports, [(row, m, joint, k) per pair])."},
     {NULL, NULL, 0, NULL}};

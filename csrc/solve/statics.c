@@ -70,6 +70,13 @@ static int newton(lin_t *L, lin_kkt_t *S, double *H, double *lam, double tol, in
 
 phm_status phm_static(const phm_model *m, const double *poses, double time, int steps, double tol,
                       double *poses_out, double *lambda_out, int *iters, phm_error *err) {
+  return phm_static_monitored(m, poses, time, steps, tol, NULL, NULL, poses_out, lambda_out, iters,
+                              err);
+}
+
+phm_status phm_static_monitored(const phm_model *m, const double *poses, double time, int steps,
+                                double tol, phm_monitor monitor, void *ctx, double *poses_out,
+                                double *lambda_out, int *iters, phm_error *err) {
   phm_error_clear(err);
   if (!m || !poses_out) return PHM_FAIL(err, PHM_EINVAL, "phm_static: NULL argument");
   if (steps < 1) return PHM_FAIL(err, PHM_EINVAL, "load steps must be >= 1 (got %d)", steps);
@@ -112,6 +119,10 @@ phm_status phm_static(const phm_model *m, const double *poses, double time, int 
       continue;
     }
     s = snew;
+    if (monitor && monitor(ctx, s, it, ds)) {
+      st = PHM_FAIL(err, PHM_EINTERRUPT, "static equilibrium: stopped by the caller at load factor %.6g", s);
+      goto done;
+    }
   }
   if (!phm_all_finite(poses_out, 16 * (size_t)nc) || !phm_all_finite(lam, (size_t)nk)) {
     st = PHM_FAIL(err, PHM_ESOLVER, "static equilibrium: non-finite poses or constraint "

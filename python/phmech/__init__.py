@@ -25,6 +25,15 @@ __all__ = ["ModelError", "SolverError", "CostWarning", "info", "blas_threads", "
            "Material", "Section", "BeamProperties", "table1_properties", *mechanism.__all__]
 
 
+def __getattr__(name: str):
+    """``phmech.plot`` is imported on first use, so that ``import phmech`` does not import
+    matplotlib."""
+    if name == "plot":
+        import importlib
+        return importlib.import_module(".plot", __name__)
+    raise AttributeError(f"module 'phmech' has no attribute {name!r}")
+
+
 def blas_threads(n: int = 0):
     """Set (``n`` >= 1) and return the number of threads of the OpenBLAS library phmech's C core
     uses for its dense LAPACK work (statics, modes, initial values); ``None`` if that library is

@@ -1,4 +1,4 @@
-"""Watching a running simulation: the progress line, the cost warning, SIGTERM, and the quality
+"""Watching a running simulation: the progress bar (tqdm), the cost warning, SIGTERM, and the quality
 figures a result reports about itself (docs/integrators.md explains the default integrator)."""
 from __future__ import annotations
 
@@ -60,8 +60,8 @@ def band_floor(band: float) -> float:
 
 
 class RunMonitor:
-    """Called by the core every ~100 steps and at each output: prints the progress line (when
-    ``progress``), warns once when the run is on course to cost far more than the band needs, and
+    """Called by the core every ~100 steps and at each output: updates the progress bar (when
+    ``progress``; tqdm.auto, on ``out``, default stderr), warns once when the run is on course to cost far more than the band needs, and
     chains the user's per-output ``callback``.
 
     The cost warning fires when, after at least 1 s of CPU, the mean step is below 1/30 of the
@@ -77,6 +77,7 @@ class RunMonitor:
         self.t, self.steps, self.h = t_start, 0, 0.0
         self.warned = False
         self.printed = False
+        self.bar = None          # the tqdm progress bar, made at the first update
         self.terminated = False  # set by SIGTERM (sigterm_as_interrupt)
         self.checkpoint = checkpoint
 
@@ -129,24 +130,55 @@ class RunMonitor:
         if not self.progress:
             return
         now = time.perf_counter()
-        if now - self.last_print >= 0.5:
+        if now - self.last_print >= 0.2:
             self.last_print = now
-            self._line("")
+            self._update()
 
-    def _line(self, end: str) -> None:
+    def _update(self) -> None:
+        """The tqdm bar (tqdm.auto: a text bar on a terminal, a widget in Jupyter) over the
+        simulated time, with elapsed time, ETA, steps, steps per second and the last step."""
+        if self.bar is None:
+            from tqdm.auto import tqdm
+            span = self.t_end - self.t_start
+            self.bar = tqdm(total=span, unit="s", unit_scale=False, desc="phmech simulate",
+                            file=self.out, dynamic_ncols=True, leave=True,
+                            bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s "
+                                       "[{elapsed}<{remaining}{postfix}]")
         wall = time.perf_counter() - self.wall0
-        frac = self._fraction()
-        eta = wall * (1 - frac) / frac if frac > 0 else float("inf")
         rate = self.steps / wall if wall > 0 else 0.0
-        print(f"\rphmech: t = {self.t:.4g} / {self.t_end:.4g} s ({100 * frac:5.1f} %), "
-              f"{_duration(wall)} elapsed, ETA {_duration(eta)}, {self.steps} steps "
-              f"({rate:.3g}/s), step {self.h:.2g} s   ", end=end, file=self.out, flush=True)
+        self.bar.n = min(self.t - self.t_start, self.bar.total)
+        last = f", step {self.h:.2g} s" if self.h > 0 else ""
+        self.bar.set_postfix_str(f"{self.steps} steps, {rate:.3g}/s{last}", refresh=False)
+        self.bar.refresh()
         self.printed = True
 
     def finish(self, steps: int) -> None:
         if self.progress:
             self.steps = steps
-            self._line("\n")
+            self._update()
+            self.bar.close()
+
+
+class StaticMonitor:
+    """Progress of Mechanism.static's load stepping: a tqdm bar (tqdm.auto) over the load factor
+    0..1, with the Newton iterations so far and the current load step; called by the core after
+    each accepted load step."""
+
+    def __init__(self, out=None):
+        from tqdm.auto import tqdm
+        self.bar = tqdm(total=1.0, desc="phmech static", file=out if out is not None else sys.stderr,
+                        dynamic_ncols=True,
+                        bar_format="{desc}: {percentage:3.0f}%|{bar}| load factor {n:.3g}/1 "
+                                   "[{elapsed}<{remaining}{postfix}]")
+
+    def __call__(self, s: float, iterations: int, ds: float) -> bool:
+        self.bar.n = min(s, 1.0)
+        self.bar.set_postfix_str(f"{iterations} Newton iterations, load step {ds:.3g}", refresh=False)
+        self.bar.refresh()
+        return False
+
+    def close(self) -> None:
+        self.bar.close()
 
 
 class Checkpoint:

@@ -6,7 +6,8 @@ import numpy as np
 
 from ._core import ModelError
 
-__all__ = ["spectrum", "dominant_frequency", "modal_energy"]
+__all__ = ["spectrum", "dominant_frequency", "modal_energy", "mac", "label_modes", "mode_energies",
+           "MODE_KINDS"]
 
 
 def _uniform(t, x) -> tuple[np.ndarray, np.ndarray, float]:
@@ -79,3 +80,120 @@ def modal_energy(mechanism, result, modes) -> np.ndarray:
     q = np.einsum("kcj,cji,nci->nk", phi, M, d)
     qdot = np.einsum("kcj,cji,nci->nk", phi, M, twists)
     return 0.5 * (qdot ** 2 + np.asarray(modes.omega) ** 2 * q ** 2)
+
+
+# ------------------------------------------------------------------ mode shapes: MAC, labels
+
+#: the kinds a mode is labelled with (``ModesResult.kind``). Bending "about y" is a rotation of
+#: the sections about the link's local y axis: curvature kappa_y and shear gamma_z, the link
+#: deflecting along its local z axis (bending in the local x-z plane); bending "about z" is
+#: kappa_z with gamma_y, deflection along local y (the x-y plane). The local x axis runs along
+#: the link from its start to its end (Mechanism.add_flexible_link).
+MODE_KINDS = ("torsion", "bending-y", "bending-z", "axial", "rigid-body")
+
+#: human-readable form of each kind
+MODE_KIND_TEXT = {"torsion": "torsion", "bending-y": "bending about y (local x-z plane)",
+                  "bending-z": "bending about z (local x-y plane)", "axial": "axial",
+                  "rigid-body": "rigid-body"}
+
+#: strain components (kappa_x, kappa_y, kappa_z, eps_x, gamma_y, gamma_z) -> kind
+_STRAIN_KIND = (0, 1, 2, 3, 2, 1)
+
+
+def mac(a, b=None) -> np.ndarray:
+    """Modal assurance criterion between two sets of mode shapes: (na, nb) with
+    MAC_ij = |a_i . b_j|^2 / ((a_i . a_i)(b_j . b_j)), 1 for parallel shapes and 0 for orthogonal
+    ones (plain Euclidean products of the flattened shapes; for ModesResult shapes these mix
+    rotations [rad] and translations [m], so compare shapes of the same mechanism). ``a``, ``b``:
+    ModesResult objects or arrays (n, ...) of shapes; ``b`` None: ``a`` against itself."""
+    def flat(s, what):
+        s = getattr(s, "shapes", s)
+        s = np.asarray(s, dtype=float)
+        if s.ndim < 1 or s.size == 0 or not np.all(np.isfinite(s)):
+            raise ModelError(f"mac: {what} must be a ModesResult or a non-empty finite array of "
+                             f"shapes (n, ...)")
+        return s.reshape(len(s), -1) if s.ndim > 1 else s[None, :]
+    A = flat(a, "a")
+    B = A if b is None else flat(b, "b")
+    if A.shape[1] != B.shape[1]:
+        raise ModelError(f"mac: the shapes have {A.shape[1]} and {B.shape[1]} entries: not the "
+                         f"same mechanism")
+    num = (A @ B.T) ** 2
+    den = np.outer(np.sum(A * A, axis=1), np.sum(B * B, axis=1))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(den > 0, num / np.where(den > 0, den, 1.0), 0.0)
+
+
+def mode_energies(desc, poses, shapes) -> dict:
+    """Where each mode's energy sits (used by Mechanism.modes to label the modes).
+
+    ``desc``: the ModelDescription, ``poses`` (ncarriers, 4, 4) the configuration the modes were
+    computed at, ``shapes`` (n, ncarriers, 6) tangent displacements (body frame, H exp(phi)).
+    Returns a dict of arrays:
+
+    - ``kinetic`` (n, ncarriers): phi_c^T M_c phi_c per carrier (twice the kinetic energy of a unit
+      modal velocity; sums to 1 for mass-normalized shapes);
+    - ``strain`` (n, nelements, 4): twice the strain energy of the shape in each element, split by
+      (torsion, bending-y, bending-z, axial) (see MODE_KINDS): 1/h dX_g . (K dX)_g, dX the change
+      of the element's relative twist log(H_a^-1 H_b) = dexp_inv(-X) (phi_b - Ad_{exp(-X)} phi_a),
+      h its length, K the section stiffness. Linear in the shape, so exact for the tangent."""
+    from . import se3
+    phi = np.asarray(shapes, dtype=float)
+    M = np.array([c["M"] for c in desc.carriers], dtype=float)
+    kin = np.einsum("nci,cij,ncj->nc", phi, M, phi)
+    els = desc.elements
+    strain = np.zeros((len(phi), len(els), 4))
+    if els:
+        a = np.array([e["a"] for e in els])
+        b = np.array([e["b"] for e in els])
+        h = np.array([e["h"] for e in els], dtype=float)
+        K = np.array([e["K"] for e in els], dtype=float)
+        X = se3.log(np.einsum("eij,ejk->eik", se3.inverse(poses[a]), poses[b]))
+        T = se3.dexp_inv(-X)
+        AdX = se3.Ad(se3.exp(-X))
+        xi = phi[:, b] - np.einsum("eij,nej->nei", AdX, phi[:, a])         # (n, e, 6)
+        dX = np.einsum("eij,nej->nei", T, xi)
+        KdX = np.einsum("eij,nej->nei", K, dX)
+        prod = dX * KdX / h[None, :, None]
+        for comp, kind in enumerate(_STRAIN_KIND):
+            strain[:, :, kind] += prod[:, :, comp]
+    return dict(kinetic=kin, strain=strain)
+
+
+def label_modes(desc, poses, omega, shapes) -> dict:
+    """Label each mode by the dominant kind of its links' strain energy (MODE_KINDS).
+
+    A mode whose links store less than half of its energy in strain (twice the strain energy
+    below omega^2 / 2 for a unit modal amplitude) is ``"rigid-body"``: the bodies move and the
+    links follow without deforming much (free motion, joints, springs, actuators, gravity). The
+    others take the kind with the largest share of the strain energy summed over all links.
+    Returns ``kind`` (list), ``strain_fractions`` (n, 4: torsion, bending-y, bending-z, axial
+    shares of the links' strain energy), ``elastic_fraction`` (n,: the links' strain energy
+    over the modal energy omega^2/2 phi^T M phi; 1 for a mode of free-standing links) and
+    ``participation`` (list of dicts: each body's and link's share of the mode's kinetic
+    energy) and ``strain_participation`` (each link's share of the strain energy)."""
+    e = mode_energies(desc, poses, shapes)
+    kin, strain = e["kinetic"], e["strain"]
+    om2 = np.asarray(omega, dtype=float) ** 2
+    per_kind = strain.sum(axis=1)                           # (n, 4)
+    U = per_kind.sum(axis=1)
+    ktot = kin.sum(axis=1)
+    ref = om2 * ktot
+    with np.errstate(invalid="ignore", divide="ignore"):
+        elastic = np.where(ref > 0, U / np.where(ref > 0, ref, 1.0), np.where(U > 0, np.inf, 0.0))
+        frac = np.where(U[:, None] > 0, per_kind / np.where(U > 0, U, 1.0)[:, None], 0.0)
+    kinds = [MODE_KINDS[int(np.argmax(frac[k]))] if elastic[k] >= 0.5 else "rigid-body"
+             for k in range(len(om2))]
+    groups = {b.name: [b.carrier] for b in desc.bodies.values()}
+    groups.update({lk.name: list(lk.nodes) for lk in desc.links.values()})
+    part = [{nm: float(kin[k, cs].sum() / ktot[k]) if ktot[k] > 0 else 0.0
+             for nm, cs in groups.items()} for k in range(len(om2))]
+    spart = []
+    for k in range(len(om2)):
+        d = {}
+        for lk in desc.links.values():
+            i0 = desc.first_element[lk.name]
+            d[lk.name] = float(strain[k, i0:i0 + lk.elements].sum() / U[k]) if U[k] > 0 else 0.0
+        spart.append(d)
+    return dict(kind=kinds, strain_fractions=frac, elastic_fraction=elastic, participation=part,
+                strain_participation=spart)

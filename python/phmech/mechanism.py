@@ -21,7 +21,7 @@ from typing import Callable, Optional, Sequence, Union
 
 import numpy as np
 
-from . import _core, _marshal, _run, io, postprocess, se3, topology
+from . import _core, _marshal, _run, analysis, io, postprocess, se3, topology
 from ._checks import array, choice, integer, per_coordinate, positive, positive_definite, real, rigid_pose
 from ._core import ModelError, SolverError
 from .actuators import PD, Effort, Spring, actuator_row
@@ -51,7 +51,12 @@ __all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "Fixed", "Revolute", "P
            "Spring", "Motion", "Constant", "Step", "Pulse", "Sine", "Table", "Cycloidal",
            "SimulationResult", "ModesResult", "StaticResult", "Graphs", "RedundantConstraintWarning",
            "InitialValueWarning", "InitialAdjustment", "InitialConfiguration", "Momentum",
-           "StabilityWarning", "AccuracyWarning"]
+           "StabilityWarning", "AccuracyWarning", "EquilibriumWarning"]
+
+
+class EquilibriumWarning(UserWarning):
+    """Mechanism.modes was asked for modes at a configuration that is not a static equilibrium:
+    the values are then eigenvalues of the tangent there, not vibration frequencies."""
 
 
 def _frame_of(x, mech: "Mechanism", what: str) -> Frame:
@@ -859,7 +864,13 @@ class Mechanism:
     def modes(self, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0) -> ModesResult:
         """The ``n`` lowest linearized modes at the initial configuration, or at a static
         equilibrium ``at``: its constraint wrenches give the geometric stiffness, and the extra
-        loads it was found under (``static(loads=...)``) act as they did there."""
+        loads it was found under (``static(loads=...)``) act as they did there.
+
+        Each mode is labelled (``kind``: bending-y, bending-z, torsion, axial or rigid-body, with
+        energy shares and participations; phmech.analysis.label_modes, ModesResult). When the
+        configuration is not a static equilibrium (a static solve from it moves it), an
+        EquilibriumWarning says so: the values are then eigenvalues of the tangent stiffness,
+        negative ones shown as negative frequencies."""
         n = integer("n", n, 1)
         time = real("time", time)
         if at is not None and not isinstance(at, StaticResult):
@@ -877,7 +888,48 @@ class Mechanism:
                                             np.shape(at.constraint_wrenches))
         # at most 6 per carrier exist: asking for more allocates no more than that
         om, ze, sh, nf = _core.model_modes(model, min(n, 6 * len(self._car)), poses, lam, time)
-        return ModesResult(om[:nf], om[:nf] / (2 * np.pi), ze[:nf], sh[:nf])
+        where = self._state.poses if poses is None else poses
+        eq = self._equilibrium_check(model, where, time, at is not None)
+        if not eq and np.any(om[:nf] < 0):
+            neg = "; its negative eigenvalues lambda show as negative frequencies -sqrt(-lambda)"
+        else:
+            neg = ("; a negative eigenvalue lambda of the tangent would show as a negative "
+                   "frequency -sqrt(-lambda)")
+        if not eq:
+            warnings.warn(f"modes: the configuration is not a static equilibrium ({eq.reason}): "
+                          f"the values are the eigenvalues of the tangent stiffness there, not the "
+                          f"frequencies of small vibrations about a rest state" + neg +
+                          ". For vibrations about the equilibrium use modes(at=m.static(...)).",
+                          EquilibriumWarning, stacklevel=2)
+        lab = analysis.label_modes(self._desc, where, om[:nf], sh[:nf])
+        return ModesResult(om[:nf], om[:nf] / (2 * np.pi), ze[:nf], sh[:nf], poses=np.array(where),
+                           equilibrium=bool(eq), _links=dict(self._links),
+                           _bodies=dict(self._bodies), **lab)
+
+    def _equilibrium_check(self, model, poses, time, at_given: bool):
+        """Whether ``poses`` is a static equilibrium: a static solve (one load step) started there
+        must not move any carrier by more than 1e-6 of the mechanism's size [m] or 1e-6 rad.
+        Returns a truthy/falsy object with a ``reason``. A solve that fails (a free mechanism is
+        singular) tells nothing: then the check passes."""
+        class _Eq:
+            def __init__(self, ok, reason=""):
+                self.ok, self.reason = ok, reason
+
+            def __bool__(self):
+                return self.ok
+        try:
+            P, _, _ = _core.model_static(model, poses, time, 1, 1e-10)
+        except (SolverError, ModelError):
+            return _Eq(True)
+        size = max([1.0] + [lk.length for lk in self._links.values()])
+        dp = np.linalg.norm(P[:, :3, 3] - poses[:, :3, 3], axis=1)
+        rel = np.einsum("cji,cjk->cik", poses[:, :3, :3], P[:, :3, :3])
+        dth = np.arccos(np.clip((np.trace(rel, axis1=1, axis2=2) - 1) / 2, -1, 1))
+        c = int(np.argmax(dp / size + dth))
+        if dp[c] <= 1e-6 * size and dth[c] <= 1e-6:
+            return _Eq(True)
+        return _Eq(False, f"a static solve from it moves {self._desc.carrier_name(c)} by "
+                          f"{dp[c]:.3g} m and {dth[c]:.3g} rad")
 
     def _follower_loads(self) -> list:
         """Names of the wrenches given in body axes (they turn with their carrier)."""
@@ -893,7 +945,7 @@ class Mechanism:
 
     def static(self, loads: Sequence = (), steps: int = 10, time: float = 0.0,
                tol: float = 1e-10, start: Optional[StaticResult] = None,
-               check_stability: bool = True) -> StaticResult:
+               check_stability: bool = True, progress: bool = False) -> StaticResult:
         """Static equilibrium under gravity, the mechanism's wrenches at ``time`` and extra
         constant ``loads`` = [(target, wrench (tau, f), frame "world"|"body"), ...], reached in
         ``steps`` load steps (halved on failure); Newton tolerance ``tol`` on the tangent step.
@@ -908,7 +960,10 @@ class Mechanism:
         actuators on pairs, dead forces); under follower loads (body-frame wrenches), moments
         (a moment of fixed direction does path-dependent work in 3-D) or interactions the load
         stiffness is not symmetric, the check would not be valid and is skipped: ``stable`` is
-        None."""
+        None.
+
+        ``progress``: a progress bar (tqdm, on stderr or in Jupyter) over the load factor, with
+        the Newton iterations so far. Ctrl-C stops the solve (KeyboardInterrupt)."""
         extra = []
         if not isinstance(loads, (list, tuple)):
             raise ModelError(f"static loads: expected a list of (target, wrench, frame) tuples "
@@ -934,7 +989,12 @@ class Mechanism:
         model = self._build(extra)
 
         def solve(n_steps: int) -> StaticResult:
-            P, lam, it = _core.model_static(model, poses, time, n_steps, tol)
+            monitor = _run.StaticMonitor() if progress else None
+            try:
+                P, lam, it = _core.model_static(model, poses, time, n_steps, tol, monitor)
+            finally:
+                if monitor is not None:
+                    monitor.close()
             st = StaticResult(P, lam, it, self._links, tuple(extra), steps=n_steps)
             if check_stability and self._potential_loads_only(extra):
                 st.lowest_omega = self._lowest_omega(model, P, lam, time)

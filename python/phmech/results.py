@@ -322,11 +322,62 @@ class SimulationResult:
 @dataclasses.dataclass
 class ModesResult:
     """Linearized modes: ``omega`` [rad/s], ``frequency`` [Hz], ``damping_ratio``, ``shapes``
-    (n, ncarriers, 6) tangent displacements (rotation, translation) per carrier, mass-normalized."""
+    (n, ncarriers, 6) tangent displacements (rotation, translation) per carrier in its body
+    axes (H exp(phi)), mass-normalized. A negative ``omega``/``frequency`` is -sqrt(-lambda) for
+    a negative eigenvalue lambda of the tangent: an unstable direction (or, away from an
+    equilibrium, a direction in which the tangent stiffness is negative).
+
+    Labels (phmech.analysis.label_modes, set by Mechanism.modes): ``kind`` one of
+    ``"bending-y"`` (sections rotating about the link's local y axis, deflection along local z:
+    bending in the local x-z plane), ``"bending-z"`` (about local z, deflection along local y:
+    the x-y plane), ``"torsion"``, ``"axial"`` (by the largest share of the links' strain
+    energy, ``strain_fractions`` (n, 4) in that order) or ``"rigid-body"`` (the links store less
+    than half the mode's energy: ``elastic_fraction`` < 0.5); ``participation``: per mode, each
+    body's and link's share of the kinetic energy; ``strain_participation``: each link's share of
+    the strain energy. ``labels`` are readable forms, ``mac(other)`` the modal assurance
+    criterion, ``table()`` a text summary."""
     omega: np.ndarray
     frequency: np.ndarray
     damping_ratio: np.ndarray
     shapes: np.ndarray
+    kind: list = dataclasses.field(default_factory=list)
+    strain_fractions: np.ndarray = None
+    elastic_fraction: np.ndarray = None
+    participation: list = dataclasses.field(default_factory=list)
+    strain_participation: list = dataclasses.field(default_factory=list)
+    #: poses (ncarriers, 4, 4) the modes were computed at (phmech.plot draws shapes on them)
+    poses: np.ndarray = None
+    #: False when modes() found the configuration away from a static equilibrium (it warned)
+    equilibrium: bool = True
+    _links: dict = dataclasses.field(default_factory=dict, repr=False)
+    _bodies: dict = dataclasses.field(default_factory=dict, repr=False)
+
+    @property
+    def labels(self) -> list:
+        """Readable kind of each mode, with the link or body that dominates it, e.g.
+        ``"bending about y (local x-z plane), leaf"``."""
+        from .analysis import MODE_KIND_TEXT
+        out = []
+        for k, kd in enumerate(self.kind):
+            src = self.strain_participation[k] if kd != "rigid-body" else self.participation[k]
+            who = max(src, key=src.get) if src else ""
+            if src and kd != "rigid-body" and sum(v > 0.25 for v in src.values()) > 1:
+                who = ", ".join(nm for nm, v in src.items() if v > 0.25)
+            out.append(MODE_KIND_TEXT[kd] + (f", {who}" if who else ""))
+        return out
+
+    def mac(self, other=None) -> np.ndarray:
+        """Modal assurance criterion (n, n_other) against another ModesResult of the same
+        mechanism (or an array of shapes); None: against itself (phmech.analysis.mac)."""
+        from .analysis import mac
+        return mac(self, other)
+
+    def table(self) -> str:
+        """One line per mode: number, frequency [Hz], kind and where it sits."""
+        lines = [f"{'mode':>4} {'f [Hz]':>12}  kind"]
+        for k, lab in enumerate(self.labels or [""] * len(self.omega)):
+            lines.append(f"{k + 1:4d} {self.frequency[k]:12.5g}  {lab}")
+        return "\n".join(lines)
 
     def to_xarray(self):
         """The modes as an ``xarray.Dataset`` (dimensions mode x carrier x component)."""
