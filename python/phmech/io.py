@@ -595,8 +595,22 @@ def modes_dataset(res):
             "shapes": (("mode", "carrier", "component"), res.shapes,
                        dict(units="mass-normalized", long_name="tangent displacement (rotation, "
                             "translation) per carrier"))}
+    if res.strain_fractions is not None:
+        data["strain_fractions"] = (("mode", "strain_kind"), res.strain_fractions,
+                                    dict(units="1", long_name="share of the links' strain energy"))
+        data["elastic_fraction"] = (("mode",), res.elastic_fraction,
+                                    dict(units="1", long_name="share of the mode's energy in strain"))
+    if res.poses is not None:
+        data["poses"] = (("carrier", "row", "col"), res.poses,
+                         dict(units="1 (rotation), m (translation)", long_name="configuration"))
     coords = {"mode": np.arange(n), "carrier": np.arange(nc), "component": list(COMPONENTS)}
-    return xr.Dataset(data, coords, _header("modes", {}))
+    if res.strain_fractions is not None:
+        coords["strain_kind"] = ["torsion", "bending-y", "bending-z", "axial"]
+    meta = dict(kind=list(res.kind), participation=res.participation,
+                strain_participation=res.strain_participation, equilibrium=bool(res.equilibrium),
+                links=_links_meta(res._links),
+                bodies={b.name: b.carrier for b in res._bodies.values()})
+    return xr.Dataset(data, coords, _header("modes", meta))
 
 
 def static_dataset(res):
@@ -654,7 +668,15 @@ def load_result(path):
     from .results import ModesResult, SimulationResult, StaticResult
     a = lambda name: np.ascontiguousarray(ds[name].values)   # noqa: E731
     if kind == "modes":
-        return ModesResult(a("omega"), a("frequency"), a("damping_ratio"), a("shapes"))
+        opt = lambda name: a(name) if name in ds else None   # noqa: E731
+        return ModesResult(a("omega"), a("frequency"), a("damping_ratio"), a("shapes"),
+                           kind=meta.get("kind", []), strain_fractions=opt("strain_fractions"),
+                           elastic_fraction=opt("elastic_fraction"),
+                           participation=meta.get("participation", []),
+                           strain_participation=meta.get("strain_participation", []),
+                           poses=opt("poses"), equilibrium=meta.get("equilibrium", True),
+                           _links=_links_from(meta.get("links", {})),
+                           _bodies={n: Body(n, c) for n, c in meta.get("bodies", {}).items()})
     if kind == "static":
         return StaticResult(a("poses"), a("constraint_wrenches"), int(ds.attrs["iterations"]),
                             _links_from(meta["links"]), tuple(decode_value(meta["loads"])),
