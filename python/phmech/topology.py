@@ -53,7 +53,7 @@ from . import _core, _marshal, se3
 from ._core import ModelError
 from .description import ModelDescription
 from .graphs import mechanism_graphs
-from .pairs import DIRECTIONS
+from .pairs import row_names
 from .results import InitialAdjustment
 
 CLOSURE_TOL = 1e-9   # max |g| accepted after the loop-closure projection
@@ -414,7 +414,7 @@ def _close(desc: ModelDescription, model, H, tree_pairs, xref, hard_x0):
         bad = []
         row = 0
         for e in desc.pairs:
-            m = len(DIRECTIONS[e["type"]])
+            m = len(row_names(e))
             if m and np.max(np.abs(g[row:row + m])) > CLOSURE_TOL:
                 bad.append(e["name"])
             row += m
@@ -440,9 +440,11 @@ def close_rates(desc: ModelDescription, model, H, T, tree_pairs, xref):
     row -> the initial rate of every given xdot0 (for initial_adjustments)."""
     eps = 1e-6
     g, G, _ = _core.model_constraints_full(model, H, xref, 0.0)
-    gp = _core.model_constraints_full(model, H, xref, eps)[0]
-    gm = _core.model_constraints_full(model, H, xref, -eps)[0]
-    rate_g = -(gp - gm) / (2 * eps)
+    # dg/dt at t = 0 from the right (second-order one-sided): the laws' piece that starts at
+    # 0 (a Table or Step starting there) is the one the run starts with
+    g1 = _core.model_constraints_full(model, H, xref, eps)[0]
+    g2 = _core.model_constraints_full(model, H, xref, 2 * eps)[0]
+    rate_g = -(-3 * g + 4 * g1 - g2) / (2 * eps)
     t = T.reshape(-1)
     scale = max(1.0, float(np.max(np.abs(t)))) if t.size else 1.0
     sizes = _core.model_sizes(model)[4]
@@ -499,7 +501,7 @@ def redundant_rows(desc: ModelDescription, G, tree_pairs):
     rowf = 0
     spans = []
     for ip, e in enumerate(desc.pairs):
-        m = len(DIRECTIONS[e["type"]])
+        m = len(row_names(e))
         spans.append((rowf, m))
         rowf += m
     for pref in (True, False):
@@ -534,7 +536,7 @@ def redundant_rows(desc: ModelDescription, G, tree_pairs):
     for row, ip, r in sorted(order):
         if row not in keep:
             masks[ip] |= 1 << r
-            dropped.append((desc.pairs[ip]["name"], DIRECTIONS[desc.pairs[ip]["type"]][r]))
+            dropped.append((desc.pairs[ip]["name"], row_names(desc.pairs[ip])[r]))
     return masks, dropped
 
 
