@@ -440,11 +440,9 @@ def close_rates(desc: ModelDescription, model, H, T, tree_pairs, xref):
     row -> the initial rate of every given xdot0 (for initial_adjustments)."""
     eps = 1e-6
     g, G, _ = _core.model_constraints_full(model, H, xref, 0.0)
-    # dg/dt at t = 0 from the right (second-order one-sided): the laws' piece that starts at
-    # 0 (a Table or Step starting there) is the one the run starts with
-    g1 = _core.model_constraints_full(model, H, xref, eps)[0]
-    g2 = _core.model_constraints_full(model, H, xref, 2 * eps)[0]
-    rate_g = -(-3 * g + 4 * g1 - g2) / (2 * eps)
+    gp = _core.model_constraints_full(model, H, xref, eps)[0]
+    gm = _core.model_constraints_full(model, H, xref, -eps)[0]
+    rate_g = -(gp - gm) / (2 * eps)
     t = T.reshape(-1)
     scale = max(1.0, float(np.max(np.abs(t)))) if t.size else 1.0
     sizes = _core.model_sizes(model)[4]
