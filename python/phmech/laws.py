@@ -662,9 +662,10 @@ class _FunctionCall:
 
 @dataclasses.dataclass(frozen=True)
 class Motion:
-    """Prescribed relative motion of a driven pair: r(t) = exp(law(t) * axis), axis a twist
-    (omega, v) in the pair's frame on b, e.g. (0,0,1,0,0,0) with an angle law [rad], or
-    (0,0,0,0,1,0) with a displacement law [m]."""
+    """Prescribed relative motion of a driven Fixed pair: r(t) = exp(law(t) * axis), axis a
+    twist (omega, v) in the pair's frame on b, e.g. (0,0,1,0,0,0) with an angle law [rad], or
+    (0,0,0,0,1,0) with a displacement law [m]. Pairs with joint coordinates are driven by laws
+    of their coordinates instead (Mechanism.add_pair(driven=law))."""
     axis: Sequence[float]
     law: _Law
 
