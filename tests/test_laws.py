@@ -159,3 +159,10 @@ def test_bad_laws_are_refused_clearly():
     data = ph.Function(np.cos, breakpoints=(1.0,)).to_data()
     assert data["fn"] == "numpy:cos"
     np.testing.assert_allclose(ph.law_from_data(data).evaluate([0.3]), np.cos(0.3), rtol=1e-15)
+
+
+def test_function_defined_from_zero_on_gets_forward_differences_there():
+    law = ph.Function(np.sqrt)      # sqrt(t - 1e-4) is nan at t = 5e-5: one-sided there
+    d = law.derivatives(np.array([5e-5, 1.0]))
+    np.testing.assert_allclose(d[1], [1.0, 0.5, -0.25], rtol=1e-6)
+    assert np.isfinite(d[0]).all()

@@ -559,7 +559,8 @@ class Function(_Law):
     a PD target also need s' and s'': ``derivative`` and ``second_derivative`` (functions of t)
     when given, else central differences of fn with step ``step`` [s] (two more calls; s' to
     ~1e-8 and s'' to ~1e-6 relative for a law that varies on a time scale of 1 s: give the
-    derivatives when it varies faster). ``breakpoints``: times [s] where s, s' or s'' jump (the
+    derivatives when it varies faster; one-sided forward differences where fn raises or is not
+    finite at t - step, e.g. sqrt(t) at t = 0). ``breakpoints``: times [s] where s, s' or s'' jump (the
     integrators stop and restart there). fn must return a finite real number: anything else, or
     an exception, stops the run and is raised as a ModelError naming the function and the time
     (its cause: the original exception). Plain data (to_data) when the callables are importable
@@ -585,8 +586,9 @@ class Function(_Law):
         out = Function(self.fn, self.derivative, self.second_derivative, tuple(bp.tolist()),
                        real("Function shift", self.shift), step)
         call = _FunctionCall(out)
-        if call(0.0, 2) is None:   # one evaluation at t = 0 now: a bad function fails at add_*
-            raise call.error
+        given = out.derivative is not None or out.second_derivative is not None
+        if call(0.0, 2 if given else 0) is None:   # one evaluation at t = 0 now: a bad
+            raise call.error                      # function fails at add_*
         return out
 
     def shifted(self, dt: float) -> "Function":
@@ -642,11 +644,22 @@ class _FunctionCall:
                 if law.derivative is not None:
                     d1 = self._real(law.derivative, t, " (derivative)")
                 if law.derivative is None or (nder >= 2 and law.second_derivative is None):
-                    sp, sm = self._real(law.fn, t + h, ""), self._real(law.fn, t - h, "")
+                    sp = self._real(law.fn, t + h, "")
+                    try:   # central differences; one-sided forward ones where fn is not
+                        with np.errstate(all="ignore"):   # defined before t (e.g. t < 0)
+                            sm = law.fn(t - h - law.shift)
+                        central = math.isfinite(float(sm))
+                    except Exception:   # noqa: BLE001 -- then the forward differences
+                        central = False
+                    if central:
+                        fd1, fd2 = (sp - float(sm)) / (2 * h), (sp - 2 * s + float(sm)) / (h * h)
+                    else:
+                        s2 = self._real(law.fn, t + 2 * h, "")
+                        fd1, fd2 = (-3 * s + 4 * sp - s2) / (2 * h), (s - 2 * sp + s2) / (h * h)
                     if law.derivative is None:
-                        d1 = (sp - sm) / (2 * h)
+                        d1 = fd1
                     if nder >= 2 and law.second_derivative is None:
-                        d2 = (sp - 2 * s + sm) / (h * h)
+                        d2 = fd2
                 if nder >= 2 and law.second_derivative is not None:
                     d2 = self._real(law.second_derivative, t, " (second derivative)")
             return (s, d1, d2)
