@@ -113,6 +113,9 @@ def test_short_splines_and_antiderivative_match_scipy():
 def test_function_law_values_derivatives_and_a_failure_inside_a_run():
     f = ph.Function(lambda t: np.sin(2 * t), derivative=lambda t: 2 * np.cos(2 * t))
     t = np.array([0.1, 0.8])
+    mixed = ph.Linear(2.0) * (lambda t: t * t)           # a plain function in an expression
+    np.testing.assert_allclose(mixed.derivatives(t)[:, 0], 2 * t ** 3, rtol=1e-15)
+    np.testing.assert_allclose(mixed.derivatives(t)[:, 1], 6 * t ** 2, rtol=1e-7)
     d = f.derivatives(t)
     np.testing.assert_allclose(d[:, 0], np.sin(2 * t), rtol=1e-15)
     np.testing.assert_allclose(d[:, 1], 2 * np.cos(2 * t), rtol=1e-15)

@@ -144,11 +144,14 @@ def _import(name: str):
 
 
 def _operand(v):
-    """A law, a real number as Constant, or None (not an operand)."""
+    """A law, a real number as Constant, a Python function of t as Function, or None (not an
+    operand)."""
     if isinstance(v, _Law):
         return v
     if isinstance(v, (numbers.Real, np.integer, np.floating)) and not isinstance(v, (bool, np.bool_)):
         return Constant(float(v))
+    if callable(v) and not isinstance(v, type):
+        return Function(v)
     return None
 
 
