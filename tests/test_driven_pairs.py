@@ -157,3 +157,17 @@ def test_driven_coordinates_refused_clearly():
     with pytest.raises(ph.ModelError, match=r"pair 'r': driven: Spline times must be strictly increasing"):
         m.add_pair("r", ph.Revolute(), m.ground, body, driven=ph.Spline([0.0, 0.0], [1.0, 2.0]))
     m.add_pair("r", ph.Revolute(), m.ground, body, driven=ph.Linear(1.0), x0=0.0, xdot0=1.0)
+
+
+@pytest.mark.parametrize("opts", INTEGRATORS, ids=["galpha", "ida"])
+def test_driven_start_is_consistent_to_the_acceleration_level(opts):
+    """A cosine angle law: x(0) = s(0), xdot(0) = s'(0) = 0 and the first torque J s''(0) !=
+    0, at the first output (from the consistent initial values, csrc/dae/initial.c)."""
+    law = ph.Sine(0.4, 1.5, np.pi / 2, 0.1)
+    m, body = arm(law)
+    r = m.simulate(0.02, 0.01, **opts)
+    s, ds, dds = law.derivatives(0.0)
+    j = r.joint("hinge")
+    assert abs(j["x"][0, 0] - s) < 1e-12 and abs(j["xdot"][0, 0] - ds) < 1e-12
+    np.testing.assert_allclose(r.twists[0, body.carrier, 2], ds, atol=1e-12)
+    np.testing.assert_allclose(j["lambda"][0, -1], J * dds, rtol=1e-6)
