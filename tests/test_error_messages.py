@@ -1,5 +1,5 @@
 """Bad input gets a ModelError that says what was wrong
-(python/phmech/mechanism.py: FlexibleLink.node, _law_tuple, _frame_of)."""
+(python/phmech/mechanism.py: FlexibleLink.node, _frame_of; python/phmech/laws.py: checked_law)."""
 import numpy as np
 import pytest
 
@@ -38,28 +38,35 @@ def test_negative_node_index_counts_from_the_end():
     np.testing.assert_allclose(H[link.node(-2).carrier][:3, 3], [0.75, 0, 0], atol=1e-15)
 
 
-def test_python_function_as_time_law_is_refused_clearly():
+def test_python_function_as_time_law_is_accepted_and_a_bad_one_refused_clearly():
+    """A Python function of t is a law (phmech.Function, called back from the core); one that
+    raises or returns something else than a finite real number is refused at add_* time with
+    its name, the time and what it did (the original exception as the cause)."""
     m, link = model()
     body = m.add_rigid_body("b", 1.0, np.eye(3))
 
     def ramp(t):
         return 2.0 * t
 
-    with pytest.raises(ph.ModelError, match=r"pair 'drive': Motion law: got the Python function 'ramp', "
-                                            r"expected a time law \(Constant, Step, Pulse, Sine, Table or "
-                                            r"Cycloidal\).*Table\(times, values\)"):
-        m.add_pair("drive", ph.Fixed(), link.end, body, driven=ph.Motion((0, 0, 1, 0, 0, 0), ramp))
-    with pytest.raises(ph.ModelError, match=r"wrench 'w': law: got the Python function 'ramp'"):
-        m.add_wrench("w", link.end, (0, 0, 0, 0, 0, 1.0), law=ramp)
-    with pytest.raises(ph.ModelError, match=r"Effort law: got the Python function '<lambda>', expected "
-                                            r"a time law \(.*, or a number\)"):
-        m.add_pair("hinge", ph.Revolute("z"), m.ground, body, actuator=ph.Effort(lambda t: 1.0))
-    with pytest.raises(ph.ModelError, match=r"PD target: got the Python function 'ramp'"):
-        m.add_pair("hinge2", ph.Revolute("z"), m.ground, body, actuator=ph.PD(1.0, 0.1, target=ramp))
+    def broken(t):
+        return 1.0 / 0.0
+
+    m.add_pair("drive", ph.Fixed(), link.end, body, driven=ph.Motion((0, 0, 1, 0, 0, 0), ramp))
+    m.add_wrench("w", link.end, (0, 0, 0, 0, 0, 1.0), law=ramp)
+    with pytest.raises(ph.ModelError, match=r"wrench 'w1': law: time law: the function 'broken' raised "
+                                            r"ZeroDivisionError at t = 0 s") as e:
+        m.add_wrench("w1", link.end, (0, 0, 0, 0, 0, 1.0), law=broken)
+    assert isinstance(e.value.__cause__, ZeroDivisionError)
+    with pytest.raises(ph.ModelError, match=r"Effort law: time law: the function '<lambda>' returned "
+                                            r"str 'x' at t = 0 s, not a real number"):
+        m.add_pair("hinge", ph.Revolute("z"), m.ground, body, actuator=ph.Effort(lambda t: "x"))
+    with pytest.raises(ph.ModelError, match=r"PD target: time law: the function '<lambda>' returned nan"):
+        m.add_pair("hinge2", ph.Revolute("z"), m.ground, body,
+                   actuator=ph.PD(1.0, 0.1, target=lambda t: float("nan")))
     with pytest.raises(ph.ModelError, match=r"wrench 'w2': law: expected a time law .* \(got str\)"):
         m.add_wrench("w2", link.end, (0, 0, 0, 0, 0, 1.0), law="step")
     # none of the refused names was taken
-    m.add_wrench("w", link.end, (0, 0, 0, 0, 0, 1.0), law=ph.Table([0.0, 1.0], [0.0, 2.0]))
+    m.add_wrench("w1", link.end, (0, 0, 0, 0, 0, 1.0), law=ph.Table([0.0, 1.0], [0.0, 2.0]))
 
 
 def test_frame_on_unknown_carrier_says_which_argument_and_what_was_given():

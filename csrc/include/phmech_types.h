@@ -75,22 +75,51 @@ typedef struct {
  *   M t' - ad_t^T (M t) = w(H, t, time) + (G^T lambda)  with ad*_t = ad_t^T (docs/method.md section 3)
  *   G(H) t = prescribed rate,  g(H, time) = 0.                                                  */
 
-/* Scalar time laws s(t); an applied wrench or a prescribed motion is s(t) times a fixed vector. */
+/* Scalar time laws s(t); an applied wrench or a prescribed motion is s(t) times a fixed vector.
+ * A law is a leaf (CONSTANT ... CALLBACK) or an expression (EXPR): its `nodes` are leaves and the
+ * operators SUM and PRODUCT in postfix order (a b SUM = a + b), evaluated with a stack of at most
+ * PHM_LAW_STACK entries, so an expression needs no allocation when evaluated. Every kind gives s
+ * and its first two time derivatives (zero where a law is piecewise constant). */
 typedef enum {
   PHM_LAW_CONSTANT = 0,  /* s = amplitude                                                  */
   PHM_LAW_STEP = 1,      /* s = amplitude for t >= t0, else 0                              */
   PHM_LAW_PULSE = 2,     /* s = amplitude for t0 <= t < t0 + duration, else 0 ("impulse")  */
   PHM_LAW_SINE = 3,      /* s = offset + amplitude sin(2 pi frequency t + phase)           */
   PHM_LAW_TABLE = 4,     /* piecewise linear through (t_i, s_i), constant outside          */
-  PHM_LAW_CYCLOIDAL = 5  /* smooth ramp 0 -> amplitude on [t0, t0 + duration] (C2)          */
+  PHM_LAW_CYCLOIDAL = 5, /* smooth ramp 0 -> amplitude on [t0, t0 + duration] (C2)          */
+  PHM_LAW_LINEAR = 6,    /* s = offset + amplitude t (a ramp; constant speed: angle law)   */
+  PHM_LAW_PPOLY = 7,     /* piecewise polynomial (see phm_law.table); outside its breaks the
+                          * first or last piece continues (C2 splines: python/phmech/laws.py) */
+  PHM_LAW_CALLBACK = 8,  /* s, s', s'' from the caller's function fn(ctx, t, nder, out)       */
+  PHM_LAW_EXPR = 9,      /* an expression: nodes[0..nnodes) in postfix order                */
+  PHM_LAW_SUM = 10,      /* expression operator: the two entries on top of the stack, added */
+  PHM_LAW_PRODUCT = 11   /* expression operator: their product (Leibniz rule for s', s'')   */
 } phm_law_kind;
 
-typedef struct {
+#define PHM_LAW_STACK 16    /* an expression's stack depth, at most                          */
+#define PHM_LAW_MAXORDER 8  /* a PPOLY piece's coefficients (degree + 1), at most             */
+
+/* CALLBACK: write s (out[0]) and, for nder >= 1 and 2, s' and s'' (out[1], out[2]) at time t;
+ * non-zero return: the law failed (its value is then NaN, which the integrators reject). */
+typedef int (*phm_law_fn)(void *ctx, double t, int nder, double out[3]);
+
+typedef struct phm_law {
   int kind;                           /* phm_law_kind                                       */
   double amplitude, t0, duration;     /* see phm_law_kind                                   */
-  double frequency, phase, offset;    /* sine: Hz, rad, offset                              */
-  int ntable;                         /* table: number of points (>= 1), times increasing   */
-  const double *table;                /* table: ntable (t, s) pairs, row-major [ntable][2]   */
+  double frequency, phase, offset;    /* sine: Hz, rad, offset; linear: offset              */
+  int ntable;                         /* TABLE: points (>= 1); PPOLY: pieces (>= 1);
+                                       * CALLBACK: breakpoints (>= 0)                       */
+  const double *table;                /* TABLE: ntable (t, s) pairs, row-major [ntable][2],
+                                       * times increasing; PPOLY: ntable + 1 increasing breaks
+                                       * x_i, then ntable x order coefficients, c[i][j]
+                                       * multiplying (t - x_i)^(order - 1 - j) on [x_i, x_i+1);
+                                       * CALLBACK: its breakpoints (times where s, s' or s''
+                                       * jumps), increasing                                  */
+  int order;                          /* PPOLY: coefficients per piece, 1..PHM_LAW_MAXORDER  */
+  phm_law_fn fn;                      /* CALLBACK                                           */
+  void *ctx;                          /* CALLBACK: handed to fn                             */
+  int nnodes;                         /* EXPR: number of nodes                              */
+  const struct phm_law *nodes;        /* EXPR: leaves and SUM/PRODUCT, postfix; no EXPR     */
 } phm_law;
 
 
@@ -121,6 +150,8 @@ typedef struct {
   const char *units[6];      /* unit of each joint coordinate: "rad" or "m"                   */
   const char *directions[6]; /* name of each constraint-wrench direction (W^C column), in F_b  */
   int drivable;              /* 1: its relative pose can be prescribed (phm_pair_desc.driven)  */
+  int xdrivable;             /* bit c: joint coordinate c can follow a law (phm_pair_desc.xdriven):
+                              * those whose rate xdot_c = Phi_c^T t_rel is dx_c/dt           */
   const char *doc;           /* one sentence for the docstring (x, xdot and their meaning)     */
 } phm_pair_type_info;
 
@@ -130,8 +161,9 @@ typedef struct {
  * dual effort basis Phi (psi^T Phi = I), the constraint-wrench basis W^C (6 x m, m = 6 - k),
  * position constraints g(h) (m) with dg = W^C^T t_rel at g = 0, joint coordinates x (k) and
  * rates xdot = Phi^T t_rel. Velocity constraint W^C^T t_rel = prescribed rate; constraint wrench
- * W^C lambda acts on b (in F_b) and equal and opposite on a. Only drivable types (fixed) can be driven:
- * reference r(t) = exp(law(t) axis), g = log(r^-1 h). */
+ * W^C lambda acts on b (in F_b) and equal and opposite on a. Only drivable types (fixed) can be driven
+ * by a motion: reference r(t) = exp(law(t) axis), g = log(r^-1 h); a type with joint coordinates
+ * can have some of them follow laws instead (xdriven). */
 typedef struct {
   int type;          /* row of the pair table (phm_pair_type)                             */
   int a, b;          /* carriers, -1 = ground                                             */
@@ -139,10 +171,16 @@ typedef struct {
   int driven;        /* 0: r = identity; 1: r(t) = exp(law(t) * axis) (drivable types)      */
   double axis[6];    /* twist direction of the prescribed motion (omega, v)               */
   phm_law law;
+  int xdriven;       /* bit c set: joint coordinate c follows xlaw[c] (types whose row has
+                      * bit c in xdrivable): one more constraint row x_c - xlaw[c](t) = 0 per
+                      * bit, after the type's rows, with W^C column Phi_c (its multiplier is
+                      * the driving effort, torque or force, and its power a supplied one)  */
+  phm_law xlaw[6];
   double pitch;      /* HELICAL: translation per rotation, m/rad                          */
   int has_x0;        /* 1: x0 gives the initial joint coordinates (checked at start)       */
   double x0[6];      /* initial joint coordinates; also the branch of multi-turn angles   */
-  int drop;          /* bit r set: constraint row r of this type (W^C column r) is redundant
+  int drop;          /* bit r set: constraint row r of this pair (W^C column r; the type's
+                      * rows, then the driven coordinates') is redundant
                       * and left out of the DAE (hyperconstrained mechanisms; see
                       * phm_constraints_full for the whole set). 0: all rows kept.          */
 } phm_pair_desc;

@@ -61,6 +61,7 @@ void phm_model_free(phm_model *m) {
   free(m->load);
   free(m->bp);
   free(m->tables);
+  free(m->lawnodes);
   free(m);
 }
 
@@ -69,7 +70,7 @@ void phm_model_free(phm_model *m) {
 static void pair_layout(phm_model *m) {
   int row = 0, jt = 0, rowf = 0;
   for (int i = 0; i < m->np; i++) {
-    int mt = phm_pair_type(m->pair[i].type)->m, kept = 0;
+    int mt = phm_pair_rows_full(&m->pair[i]), kept = 0;
     for (int r = 0; r < mt; r++)
       if (!(m->pair[i].drop & (1 << r))) m->pair_sel[6 * i + kept++] = r;
     m->pair_row[i] = row;
@@ -78,7 +79,7 @@ static void pair_layout(phm_model *m) {
     row += kept;
     rowf += mt;
     m->pair_j[i] = jt;
-    m->pair_k[i] = 6 - mt;
+    m->pair_k[i] = 6 - phm_pair_type(m->pair[i].type)->m;
     if (m->pair[i].has_x0) memcpy(m->xref0 + jt, m->pair[i].x0, sizeof(double) * (size_t)m->pair_k[i]);
     jt += m->pair_k[i];
   }
@@ -136,9 +137,19 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
       if (!phm_all_finite(p->axis, 6)) return PHM_FAIL(err, PHM_EINVAL, "pair %d: non-finite motion axis", i);
       if ((st = phm_law_check(&p->law, "pair", i, err))) return st;
     }
+    if (p->xdriven) {
+      const phm_pair_type_info *ti = phm_pair_type(p->type);
+      if (p->xdriven < 0 || p->xdriven >= (1 << (6 - ti->m)))
+        return PHM_FAIL(err, PHM_EINVAL, "pair %d: driven coordinates %#x beyond the %d joint coordinates of a %s pair", i, (unsigned)p->xdriven, 6 - ti->m, ti->name);
+      if (p->xdriven & ~ti->xdrivable)
+        return PHM_FAIL(err, PHM_EINVAL, "pair %d: a %s pair's joint coordinates %#x cannot follow a law (their rates are not their time derivatives; drivable: %#x)", i, ti->name, (unsigned)(p->xdriven & ~ti->xdrivable), (unsigned)ti->xdrivable);
+      if (p->driven) return PHM_FAIL(err, PHM_EINVAL, "pair %d: driven both by a motion and by joint laws", i);
+      for (int c = 0; c < 6 - ti->m; c++)
+        if ((p->xdriven >> c & 1) && (st = phm_law_check(&p->xlaw[c], "pair", i, err))) return st;
+    }
     if (!isfinite(p->pitch)) return PHM_FAIL(err, PHM_EINVAL, "pair %d: non-finite pitch", i);
-    if (p->drop < 0 || p->drop >= (1 << phm_pair_type(p->type)->m))
-      return PHM_FAIL(err, PHM_EINVAL, "pair %d: drop mask %d names rows beyond the %d constraint rows of a %s pair", i, p->drop, phm_pair_type(p->type)->m, phm_pair_type(p->type)->name);
+    if (p->drop < 0 || p->drop >= (1 << phm_pair_rows_full(p)))
+      return PHM_FAIL(err, PHM_EINVAL, "pair %d: drop mask %d names rows beyond the %d constraint rows of a %s pair", i, p->drop, phm_pair_rows_full(p), phm_pair_type(p->type)->name);
     if (p->has_x0 && !phm_all_finite(p->x0, 6 - phm_pair_type(p->type)->m))
       return PHM_FAIL(err, PHM_EINVAL, "pair %d: non-finite initial joint coordinates", i);
   }
@@ -197,25 +208,20 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   m->pair_AdTbi = malloc(sizeof(double) * (size_t)(36 * m->np + 1));
   m->act = malloc(sizeof *m->act * (size_t)(m->na + 1));
   m->spr = malloc(sizeof *m->spr * (size_t)(m->ns + 1));
-  int ntab = 0, nbp = 0;
-  for (int i = 0; i < m->na; i++)
-    if (d->actuators[i].kind != PHM_ACT_SPRING) {
-      nbp += phm_law_breakpoints(&d->actuators[i].law, NULL);
-      if (d->actuators[i].law.kind == PHM_LAW_TABLE) ntab += d->actuators[i].law.ntable;
-    }
-  for (int i = 0; i < m->np; i++)
-    if (d->pairs[i].driven) {
-      nbp += phm_law_breakpoints(&d->pairs[i].law, NULL);
-      if (d->pairs[i].law.kind == PHM_LAW_TABLE) ntab += d->pairs[i].law.ntable;
-    }
-  for (int i = 0; i < m->nl; i++) {
-    nbp += phm_law_breakpoints(&d->loads[i].law, NULL);
-    if (d->loads[i].law.kind == PHM_LAW_TABLE) ntab += d->loads[i].law.ntable;
+  /* every law the model keeps, to count and copy them in one loop */
+  int nlaws = 0;
+  for (int i = 0; i < m->na; i++) nlaws += d->actuators[i].kind != PHM_ACT_SPRING;
+  for (int i = 0; i < m->np; i++) {
+    nlaws += d->pairs[i].driven != 0;
+    for (int c = 0; c < 6; c++) nlaws += d->pairs[i].xdriven >> c & 1;
   }
-  m->bp = malloc(sizeof(double) * (size_t)(nbp + 1));
-  m->tables = malloc(sizeof(double) * (size_t)(2 * ntab + 1));
-  if (!m->car || !m->el || !m->pair || !m->pair_row || !m->pair_m || !m->load || !m->bp || !m->tables ||
+  nlaws += m->nl;
+  size_t nnodes = 0, ndoubles = 0;
+  int nbp = 0;
+  phm_law **laws = malloc(sizeof(phm_law *) * (size_t)(nlaws + 1));
+  if (!m->car || !m->el || !m->pair || !m->pair_row || !m->pair_m || !m->load || !laws ||
       !m->pair_j || !m->pair_k || !m->xref0 || !m->act || !m->spr || !m->pair_sel || !m->pair_rowf || !m->pair_AdTbi) {
+    free(laws);
     phm_model_free(m);
     return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
   }
@@ -230,43 +236,42 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   if (m->nl) memcpy(m->load, d->loads, sizeof *m->load * (size_t)m->nl);
   if (m->na) memcpy(m->act, d->actuators, sizeof *m->act * (size_t)m->na);
   if (m->ns) memcpy(m->spr, d->springs, sizeof *m->spr * (size_t)m->ns);
-  double *tp = m->tables;
+  /* the laws: each copied with its nodes and tables into two arrays the model owns */
+  nlaws = 0;
   for (int i = 0; i < m->na; i++) {
-    phm_law *l = &m->act[i].law;
-    if (m->act[i].kind != PHM_ACT_SPRING && l->kind == PHM_LAW_TABLE) {
-      memcpy(tp, l->table, sizeof(double) * 2 * (size_t)l->ntable);
-      l->table = tp;
-      tp += 2 * l->ntable;
-    } else if (m->act[i].kind == PHM_ACT_SPRING) {
-      memset(l, 0, sizeof *l);
-    }
+    if (m->act[i].kind == PHM_ACT_SPRING) memset(&m->act[i].law, 0, sizeof(phm_law));
+    else laws[nlaws++] = &m->act[i].law;
   }
   for (int i = 0; i < m->np; i++) {
-    phm_law *l = &m->pair[i].law;
-    if (m->pair[i].driven && l->kind == PHM_LAW_TABLE) {
-      memcpy(tp, l->table, sizeof(double) * 2 * (size_t)l->ntable);
-      l->table = tp;
-      tp += 2 * l->ntable;
-    } else if (!m->pair[i].driven) {
-      memset(l, 0, sizeof *l);
+    phm_pair_desc *pr = &m->pair[i];
+    if (pr->driven) laws[nlaws++] = &pr->law;
+    else memset(&pr->law, 0, sizeof(phm_law));
+    for (int c = 0; c < 6; c++) {
+      if (pr->xdriven >> c & 1) laws[nlaws++] = &pr->xlaw[c];
+      else memset(&pr->xlaw[c], 0, sizeof(phm_law));
     }
   }
-  for (int i = 0; i < m->nl; i++) {
-    phm_law *l = &m->load[i].law;
-    if (l->kind == PHM_LAW_TABLE) {
-      memcpy(tp, l->table, sizeof(double) * 2 * (size_t)l->ntable);
-      l->table = tp;
-      tp += 2 * l->ntable;
-    }
+  for (int i = 0; i < m->nl; i++) laws[nlaws++] = &m->load[i].law;
+  for (int i = 0; i < nlaws; i++) {
+    phm_law_extent(laws[i], &nnodes, &ndoubles);
+    nbp += phm_law_breakpoints(laws[i], NULL);
   }
+  m->lawnodes = malloc(sizeof(phm_law) * (nnodes + 1));
+  m->tables = malloc(sizeof(double) * (ndoubles + 1));
+  m->bp = malloc(sizeof(double) * (size_t)(nbp + 1));
+  if (!m->lawnodes || !m->tables || !m->bp) {
+    free(laws);
+    phm_model_free(m);
+    return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+  }
+  phm_law *np_ = m->lawnodes;
+  double *tp = m->tables;
+  for (int i = 0; i < nlaws; i++) phm_law_copy(laws[i], &np_, &tp);
   pair_layout(m);
   m->nport = m->na + m->nl + m->ns;
   nbp = 0;
-  for (int i = 0; i < m->na; i++)
-    if (m->act[i].kind != PHM_ACT_SPRING) nbp += phm_law_breakpoints(&m->act[i].law, m->bp + nbp);
-  for (int i = 0; i < m->np; i++)
-    if (m->pair[i].driven) nbp += phm_law_breakpoints(&m->pair[i].law, m->bp + nbp);
-  for (int i = 0; i < m->nl; i++) nbp += phm_law_breakpoints(&m->load[i].law, m->bp + nbp);
+  for (int i = 0; i < nlaws; i++) nbp += phm_law_breakpoints(laws[i], m->bp + nbp);
+  free(laws);
   qsort(m->bp, (size_t)nbp, sizeof(double), cmp_double);
   int k = 0;
   for (int i = 0; i < nbp; i++)
@@ -312,8 +317,8 @@ phm_status phm_model_set_initial(phm_model *m, const double *H0, const double *t
     PHM_CHECK(!t0 || phm_all_finite(t0 + 6 * c, 6), err, PHM_EINVAL, "carrier %d: non-finite twist", c);
   }
   for (int i = 0; i < m->np; i++) {
-    int mt = phm_pair_type(m->pair[i].type)->m;
-    PHM_CHECK(!x0 || phm_all_finite(x0 + 6 * i, 6 - mt), err, PHM_EINVAL,
+    int mt = phm_pair_rows_full(&m->pair[i]), k = 6 - phm_pair_type(m->pair[i].type)->m;
+    PHM_CHECK(!x0 || phm_all_finite(x0 + 6 * i, k), err, PHM_EINVAL,
               "pair %d: non-finite initial joint coordinates", i);
     PHM_CHECK(!drop || (drop[i] >= 0 && drop[i] < (1 << mt)), err, PHM_EINVAL,
               "pair %d: drop mask %d names rows beyond the %d constraint rows of a %s pair", i,

@@ -29,7 +29,8 @@ struct phm_model {
   double gravity[3];
   double *bp;       /* sorted distinct breakpoints of all laws */
   int nbp;
-  double *tables;   /* owned copies of the law tables */
+  double *tables;   /* owned copies of the laws' tables (points, pieces, breakpoints) */
+  phm_law *lawnodes; /* owned copies of the expression laws' nodes */
   double lref;      /* length scale for finite differences, m */
 };
 
@@ -43,6 +44,10 @@ double phm_model_tref(const phm_model *m, double t, double *next_bp);
  * values). Any output may be NULL. Fixed pairs: g = log(h). */
 void phm_pair_kin(int type, double pitch, const double h[16], const double *xref, double *g,
                   double *W, double *Phi, double *x);
+
+/* Constraint rows of a pair before any is dropped: its type's m, plus one per joint coordinate
+ * that follows a law (xdriven; those rows come after the type's, in coordinate order). */
+int phm_pair_rows_full(const phm_pair_desc *pr);
 
 /* Frames of pair ip at carrier poses Ha, Hb (NULL = ground): relative pose h = F_a^-1 F_b,
  * AdTbi = Ad_{Tb^-1}, AdBa = Ad_{F_b^-1 H_a} (either may be NULL), so that the relative twist is
@@ -66,8 +71,9 @@ typedef struct {
   double Ga[6 * PHM_MAXCON], Gb[6 * PHM_MAXCON]; /* velocity blocks (m x 6, row-major)            */
   double vt[PHM_MAXCON];         /* prescribed rates of the velocity constraints                  */
   double W[36];                  /* constraint-wrench basis (6 x 6 row-major, first m columns);
-                                  * a driven pair's at its prescribed pose: driven pairs are fixed
-                                  * ones, whose basis is the identity at any pose                */
+                                  * a pair driven by a motion: at its prescribed pose (driven pairs
+                                  * are fixed ones, whose basis is the identity at any pose); a
+                                  * driven joint coordinate c: Phi's column c                      */
   double Phi[36];                /* dual effort basis (6 x 6 row-major, first k columns)          */
   double x[6], xdot[6];          /* joint coordinates and rates (first k)                         */
 } phm_pair_data;
@@ -76,7 +82,7 @@ typedef struct {
  * *pd: frames, joint coordinates x (nearest the branch references xref, k values; NULL: the
  * model's x0) and rates, and with rows != 0 its constraint rows at (time, tref) too (g, Ga, Gb,
  * vt, W; the same numbers as phm_pair_eval). The kinematics of the pair type is evaluated once
- * for both (twice for a driven pair with joint coordinates: g at the prescribed pose, x at h). */
+ * for both (twice for a pair driven by a motion: g at the prescribed pose, x at h). */
 void phm_pair_evaluate(const phm_model *m, int ip, const double *Ha, const double *Hb,
                        const double *ta, const double *tb, const double *xref, double time,
                        double tref, int rows, phm_pair_data *pd);

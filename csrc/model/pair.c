@@ -17,27 +17,27 @@ enum {
 };
 
 static const phm_pair_type_info pair_table[PAIR_NTYPES] = {
-    {"fixed", 6, "", {0}, {"tau_x", "tau_y", "tau_z", "f_x", "f_y", "f_z"}, 1,
+    {"fixed", 6, "", {0}, {"tau_x", "tau_y", "tau_z", "f_x", "f_y", "f_z"}, 1, 0,
      "Fixed (welded) pair: 6 constraints, relative pose = identity (or the driven motion)."},
-    {"revolute", 5, "axis=z", {"rad"}, {"tau_x", "tau_y", "f_x", "f_y", "f_z"}, 0,
+    {"revolute", 5, "axis=z", {"rad"}, {"tau_x", "tau_y", "f_x", "f_y", "f_z"}, 0, 1,
      "Revolute pair about ``axis`` (of both pair frames); x = angle [rad], multi-turn."},
-    {"prismatic", 5, "axis=z", {"m"}, {"tau_x", "tau_y", "tau_z", "f_x", "f_y"}, 0,
+    {"prismatic", 5, "axis=z", {"m"}, {"tau_x", "tau_y", "tau_z", "f_x", "f_y"}, 0, 1,
      "Prismatic pair along ``axis``; x = displacement [m]."},
-    {"helical", 5, "axis=z,pitch=0", {"rad"}, {"tau_x", "tau_y", "f_x", "f_y", "f_z-pitch*tau_z"}, 0,
+    {"helical", 5, "axis=z,pitch=0", {"rad"}, {"tau_x", "tau_y", "f_x", "f_y", "f_z-pitch*tau_z"}, 0, 1,
      "Helical (screw) pair about ``axis``: translation = ``pitch`` [m/rad] x angle; x = angle."},
-    {"cylindrical", 4, "axis=z", {"rad", "m"}, {"tau_x", "tau_y", "f_x", "f_y"}, 0,
+    {"cylindrical", 4, "axis=z", {"rad", "m"}, {"tau_x", "tau_y", "f_x", "f_y"}, 0, 3,
      "Cylindrical pair along ``axis``; x = (angle [rad], displacement [m])."},
-    {"universal", 4, "axis1=x,axis2=y", {"rad", "rad"}, {"tau_n", "f_x", "f_y", "f_z"}, 0,
+    {"universal", 4, "axis1=x,axis2=y", {"rad", "rad"}, {"tau_n", "f_x", "f_y", "f_z"}, 0, 3,
      "Universal (Cardan) pair: first axis ``axis1`` fixed in F_a, second ``axis2`` fixed in F_b "
      "(perpendicular when both frames coincide); x = (angle about axis1, angle about axis2) [rad], "
      "h = Rx(x0) Ry(x1) in the pair frames (x = axis1, y = axis2; tau_n = axis1 x axis2)."},
-    {"spherical", 3, "", {"rad", "rad", "rad"}, {"f_x", "f_y", "f_z"}, 0,
+    {"spherical", 3, "", {"rad", "rad", "rad"}, {"f_x", "f_y", "f_z"}, 0, 0,
      "Spherical (ball) pair; x = rotation vector of F_b in F_a [rad], xdot = angular velocity "
      "(in F_b) -- a quasi-velocity, not dx/dt."},
-    {"planar", 3, "normal=z", {"rad", "m", "m"}, {"tau_x", "tau_y", "f_z"}, 0,
+    {"planar", 3, "normal=z", {"rad", "m", "m"}, {"tau_x", "tau_y", "f_z"}, 0, 7,
      "Planar pair with plane ``normal``; x = (angle [rad], p_x, p_y [m]) with p the position of "
      "F_b's origin in F_a (x, y of the frame whose z is the normal)."},
-    {"free", 0, "", {"rad", "rad", "rad", "m", "m", "m"}, {0}, 0,
+    {"free", 0, "", {"rad", "rad", "rad", "m", "m", "m"}, {0}, 0, 0x38,
      "Free pair (no constraint): x = (rotation vector, position of F_b in F_a); xdot = (angular "
      "velocity in F_b, dp/dt in F_a). Useful to measure or actuate a relative motion."},
 };
@@ -174,30 +174,28 @@ void phm_pair_rel_twist(const double AdTbi[36], const double AdBa[36], const dou
   for (int i = 0; i < 6; i++) tr[i] = u[i] - v[i];
 }
 
-/* Keep the rows of pair ip that its drop mask leaves in the DAE: g[r] = g[sel r], W column r =
- * W column sel r (sel increasing, so the forward in-place copy is safe). */
-static void select_rows(const phm_model *m, int ip, double *g, double W[36]) {
-  if (!m->pair[ip].drop) return;
-  const int *sel = m->pair_sel + 6 * ip;
-  for (int r = 0; r < m->pair_m[ip]; r++) {
-    if (g) g[r] = g[sel[r]];
-    for (int i = 0; i < 6; i++) W[6 * i + r] = W[6 * i + sel[r]];
-  }
+int phm_pair_rows_full(const phm_pair_desc *pr) {
+  int n = pair_table[pr->type].m;
+  for (int c = 0; c < 6; c++) n += pr->xdriven >> c & 1;
+  return n;
 }
 
 /* The constraint rows of pair ip from its frames (h; AdTbi and AdBa when Ga or Gb are asked for):
  * g, Ga, Gb, vt (any may be NULL) of the kept rows (all rows with `all`), W their wrench basis
  * (room for 36); Phi, x (may be NULL): the joint's effort basis and coordinates, from the same
- * evaluation of the type's kinematics unless the pair is driven. */
+ * evaluation of the type's kinematics unless the pair is driven by a motion. A driven joint
+ * coordinate c adds the row g = x_c - s_c(t) after the type's rows, with dg = Phi_c^T t_rel - s_c'
+ * (xdot_c = Phi_c^T t_rel is dx_c/dt for the coordinates the table lets follow a law), so its
+ * wrench column is Phi_c and its prescribed rate s_c'. */
 static void pair_rows(const phm_model *m, int ip, const double h[16], const double AdTbi[36],
                       const double AdBa[36], const double *xref, double time, double tref, int all,
                       double *g, double *Ga, double *Gb, double *vt, double W[36], double *Phi,
                       double *x) {
   const phm_pair_desc *pr = &m->pair[ip];
-  int mc = all ? pair_table[pr->type].m : m->pair_m[ip];
+  int mt = pair_table[pr->type].m, mc = all ? phm_pair_rows_full(pr) : m->pair_m[ip];
   double s = 0, ds = 0;
   if (pr->driven) s = phm_law_eval(&pr->law, time, tref, &ds, NULL);
-  double gf[6];
+  double gf[6], vf[6] = {0, 0, 0, 0, 0, 0};
   if (pr->driven && g) {
     double xv[6], r[16], ri[16], E[16];
     for (int i = 0; i < 6; i++) xv[i] = s * pr->axis[i];
@@ -206,10 +204,32 @@ static void pair_rows(const phm_model *m, int ip, const double h[16], const doub
     phm_se3_compose(ri, h, E);
     phm_pair_kin(pr->type, pr->pitch, E, xref, gf, W, NULL, NULL);
     if (Phi || x) phm_pair_kin(pr->type, pr->pitch, h, xref, NULL, NULL, Phi, x);
+  } else if (pr->xdriven) {
+    double Pl[36], xl[6];
+    phm_pair_kin(pr->type, pr->pitch, h, xref, gf, W, Pl, xl);
+    int r = mt;
+    for (int c = 0; c < 6 - mt; c++) {
+      if (!(pr->xdriven >> c & 1)) continue;
+      double sc, dsc;
+      sc = phm_law_eval(&pr->xlaw[c], time, tref, &dsc, NULL);
+      gf[r] = xl[c] - sc;
+      vf[r] = dsc;
+      for (int i = 0; i < 6; i++) W[6 * i + r] = Pl[6 * i + c];
+      r++;
+    }
+    if (Phi) memcpy(Phi, Pl, sizeof Pl);
+    if (x) memcpy(x, xl, sizeof(double) * (size_t)(6 - mt));
   } else {
     phm_pair_kin(pr->type, pr->pitch, h, xref, gf, W, Phi, x);
   }
-  if (!all) select_rows(m, ip, gf, W);
+  if (!all && pr->drop) { /* the kept rows: sel increasing, so the forward copy is safe */
+    const int *sel = m->pair_sel + 6 * ip;
+    for (int r = 0; r < mc; r++) {
+      gf[r] = gf[sel[r]];
+      vf[r] = vf[sel[r]];
+      for (int i = 0; i < 6; i++) W[6 * i + r] = W[6 * i + sel[r]];
+    }
+  }
   if (g) memcpy(g, gf, sizeof(double) * (size_t)mc);
   /* G_b = W^T Ad_{Tb^-1},  G_a = -W^T Ad_{(H_b Tb)^-1 H_a} */
   for (int r = 0; r < mc; r++)
@@ -224,7 +244,7 @@ static void pair_rows(const phm_model *m, int ip, const double h[16], const doub
     }
   if (vt) {
     for (int r = 0; r < mc; r++) {
-      double acc = 0;
+      double acc = vf[r];
       if (pr->driven)
         for (int k = 0; k < 6; k++) acc += W[6 * k + r] * ds * pr->axis[k];
       vt[r] = acc;
@@ -234,17 +254,18 @@ static void pair_rows(const phm_model *m, int ip, const double h[16], const doub
 
 static void pair_eval_rows(const phm_model *m, int ip, const double *Ha, const double *Hb,
                            const double *xref, double time, double tref, double *g, double *Ga,
-                           double *Gb, double *vt, int all) {
+                           double *Gb, double *vt, int all, double *Wout) {
   double h[16], W[36], AdTbi[36], AdBa[36];
   if (!xref) xref = m->xref0 + m->pair_j[ip];
   phm_pair_frames(m, ip, Ha, Hb, h, (Ga || Gb) ? AdTbi : NULL, Ga ? AdBa : NULL);
   pair_rows(m, ip, h, AdTbi, AdBa, xref, time, tref, all, g, Ga, Gb, vt, W, NULL, NULL);
+  if (Wout) memcpy(Wout, W, sizeof W);
 }
 
 void phm_pair_eval(const phm_model *m, int ip, const double *Ha, const double *Hb,
                    const double *xref, double time, double tref, double *g, double *Ga,
                    double *Gb, double *vt) {
-  pair_eval_rows(m, ip, Ha, Hb, xref, time, tref, g, Ga, Gb, vt, 0);
+  pair_eval_rows(m, ip, Ha, Hb, xref, time, tref, g, Ga, Gb, vt, 0, NULL);
 }
 
 void phm_pair_evaluate(const phm_model *m, int ip, const double *Ha, const double *Hb,
@@ -321,11 +342,11 @@ void phm_constraints_full(const phm_model *m, const double *H, const double *xs,
   if (G) memset(G, 0, sizeof(double) * (size_t)m->ncons_full * (size_t)n);
   for (int ip = 0; ip < m->np; ip++) {
     const phm_pair_desc *pr = &m->pair[ip];
-    int r0 = m->pair_rowf[ip], mc = pair_table[pr->type].m;
+    int r0 = m->pair_rowf[ip], mc = phm_pair_rows_full(pr);
     const double *Ha = pr->a >= 0 ? H + 16 * pr->a : NULL, *Hb = pr->b >= 0 ? H + 16 * pr->b : NULL;
     const double *xr = xs ? xs + m->pair_j[ip] : NULL;
     double Ga[36], Gb[36], gl[6];
-    pair_eval_rows(m, ip, Ha, Hb, xr, time, tref, gl, Ga, Gb, NULL, 1);
+    pair_eval_rows(m, ip, Ha, Hb, xr, time, tref, gl, Ga, Gb, NULL, 1, W ? W + 36 * ip : NULL);
     if (g) memcpy(g + r0, gl, sizeof(double) * (size_t)mc);
     if (G)
       for (int r = 0; r < mc; r++)
@@ -333,11 +354,6 @@ void phm_constraints_full(const phm_model *m, const double *H, const double *xs,
           if (pr->a >= 0) G[(size_t)(r0 + r) * n + 6 * pr->a + j] += Ga[6 * r + j];
           if (pr->b >= 0) G[(size_t)(r0 + r) * n + 6 * pr->b + j] += Gb[6 * r + j];
         }
-    if (W) {
-      double h[16];
-      phm_pair_frames(m, ip, Ha, Hb, h, NULL, NULL);
-      phm_pair_kin(pr->type, pr->pitch, h, xr ? xr : m->xref0 + m->pair_j[ip], NULL, W + 36 * ip, NULL, NULL);
-    }
   }
 }
 

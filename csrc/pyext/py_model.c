@@ -9,8 +9,11 @@
 
 #define CAPSULE_NAME "phmech.model"
 
+/* A model's capsule keeps, as its context, the list of what its laws refer to (the callables of
+ * CALLBACK laws): alive as long as the model. */
 static void capsule_free(PyObject *cap) {
   phm_model *m = (phm_model *)PyCapsule_GetPointer(cap, CAPSULE_NAME);
+  Py_XDECREF((PyObject *)PyCapsule_GetContext(cap));
   phm_model_free(m);
 }
 
@@ -43,7 +46,9 @@ typedef enum {
   COL_INDEX, /* whole numbers to int fields (indices, codes); a tail (2) fills two fields */
   COL_FLAG,  /* nonzero -> 1                                                          */
   COL_DROP,  /* redundant-row mask, an integer in [0, 64)                             */
-  COL_LAW    /* a list with one law tuple (or None, see law_rule) per component          */
+  COL_LAW,   /* a list with one law tuple (or None, see law_rule) per component          */
+  COL_XLAWS  /* pairs: a list with, per pair, None or k entries (a law tuple or None per
+              * joint coordinate): the coordinates that follow a law (xdriven, xlaw)     */
 } column_kind;
 
 typedef enum {
@@ -105,6 +110,7 @@ static const column pair_columns[] = {
     FLAG("driven", "pair driven flags", phm_pair_desc, driven),
     VECTOR("axis", "pair motion axes", phm_pair_desc, axis, 6),
     LAW("law", "pair laws", phm_pair_desc, law, "pair motion law", LAW_IF_DRIVEN),
+    {"xlaws", "pair joint laws", COL_XLAWS, 0, {0}, {offsetof(phm_pair_desc, xlaw), 0}, "pair joint law", 0},
     SCALAR("pitch", "pair pitches", phm_pair_desc, pitch),
     VECTOR("x0", "pair initial coordinates", phm_pair_desc, x0, 6),
     FLAG("has_x0", "pair x0 flags", phm_pair_desc, has_x0),
@@ -147,30 +153,109 @@ static const component COMPONENTS[NKINDS] = {
     KIND("springs", "spring", phm_spring_desc, spring_columns),
 };
 
-/* law tuple: (kind, amplitude, t0, duration, frequency, phase, offset, table (n, 2) or None);
- * the table array is kept alive in `keep` until the model has copied it. */
-static int parse_law(PyObject *obj, phm_law *law, PyObject *keep, const char *what) {
+/* ---------------------------------------------------------------- laws
+ * A law tuple (python/phmech/_marshal.py, _law): (kind, amplitude, t0, duration, frequency,
+ * phase, offset, data, order, nodes, fn): data None or a float array (TABLE: its (t, s) points;
+ * PPOLY: the breaks then the coefficients, `order` per piece; CALLBACK: its breakpoints), nodes
+ * None or the list of an expression's node tuples (postfix), fn None or the callable of a
+ * CALLBACK law: fn(t, nder) -> (s, s', s'') or None when it failed (the Python side keeps the
+ * exception in the callable's `error`; law_error re-raises it). What the law points to is kept
+ * alive in `keep` (arrays until the model has copied them, callables as long as the model). */
+
+/* A block of n bytes that lives as long as `keep` (a capsule in it frees the block). */
+static void block_free(PyObject *cap) { PyMem_Free(PyCapsule_GetPointer(cap, "phmech.block")); }
+static void *keep_block(PyObject *keep, size_t n) {
+  void *p = PyMem_Calloc(n ? n : 1, 1);
+  if (!p) {
+    PyErr_NoMemory();
+    return NULL;
+  }
+  PyObject *cap = PyCapsule_New(p, "phmech.block", block_free);
+  if (!cap) {
+    PyMem_Free(p);
+    return NULL;
+  }
+  int r = PyList_Append(keep, cap);
+  Py_DECREF(cap);
+  return r < 0 ? NULL : p;
+}
+
+/* CALLBACK trampoline: the callable's (s, s', s'') with the GIL (the integrators run without
+ * it); any failure (an exception the callable did not keep, a malformed result) is -1. */
+static int law_callback(void *ctx, double t, int nder, double out[3]) {
+  PyGILState_STATE g = PyGILState_Ensure();
+  int rc = -1;
+  PyObject *r = PyObject_CallFunction((PyObject *)ctx, "di", t, nder);
+  if (r && PyTuple_Check(r) && PyTuple_GET_SIZE(r) == 3) {
+    rc = 0;
+    for (int k = 0; k < 3; k++) {
+      out[k] = PyFloat_AsDouble(PyTuple_GET_ITEM(r, k));
+      if (out[k] == -1.0 && PyErr_Occurred()) rc = -1;
+    }
+  }
+  Py_XDECREF(r);
+  if (PyErr_Occurred()) PyErr_Clear();
+  PyGILState_Release(g);
+  return rc;
+}
+
+static int parse_law(PyObject *obj, phm_law *law, PyObject *keep, const char *what, int depth) {
   memset(law, 0, sizeof *law);
-  PyObject *tab = Py_None;
-  if (!PyArg_ParseTuple(obj, "iddddddO", &law->kind, &law->amplitude, &law->t0, &law->duration,
-                        &law->frequency, &law->phase, &law->offset, &tab)) {
-    PyErr_Format(phm_py_ModelError, "%s: a time law must be a tuple (kind, amplitude, t0, duration, frequency, phase, offset, table)", what);
+  PyObject *data = Py_None, *nodes = Py_None, *fn = Py_None;
+  if (!PyTuple_Check(obj) ||
+      !PyArg_ParseTuple(obj, "iddddddOiOO", &law->kind, &law->amplitude, &law->t0, &law->duration,
+                        &law->frequency, &law->phase, &law->offset, &data, &law->order, &nodes, &fn)) {
+    PyErr_Clear();
+    PyErr_Format(phm_py_ModelError, "%s: a time law must be a tuple (kind, amplitude, t0, duration, frequency, phase, offset, data, order, nodes, fn)", what);
     return -1;
   }
-  if (tab != Py_None) {
-    npy_intp tail[1] = {2};
-    PyArrayObject *a = phm_py_double_array(tab, what, tail, 1, 1);
+  if (data != Py_None) {
+    PyArrayObject *a = phm_py_double_array(data, what, NULL, 0, 1);
     if (!a) return -1;
-    if (PyArray_NDIM(a) != 2) {
-      Py_DECREF(a);
-      PyErr_Format(phm_py_ModelError, "%s: table must have shape (n, 2)", what);
-      return -1;
-    }
-    law->ntable = (int)PyArray_DIM(a, 0);
+    npy_intp n = PyArray_SIZE(a);
     law->table = (const double *)PyArray_DATA(a);
     int r = PyList_Append(keep, (PyObject *)a);
     Py_DECREF(a);
     if (r < 0) return -1;
+    switch (law->kind) {
+    case PHM_LAW_TABLE:
+      if (n % 2) {
+        PyErr_Format(phm_py_ModelError, "%s: table must have shape (n, 2)", what);
+        return -1;
+      }
+      law->ntable = (int)(n / 2);
+      break;
+    case PHM_LAW_PPOLY:
+      if (law->order < 1 || (n - 1) % (law->order + 1)) {
+        PyErr_Format(phm_py_ModelError, "%s: piecewise polynomial data must hold n + 1 breaks and n x order coefficients", what);
+        return -1;
+      }
+      law->ntable = (int)((n - 1) / (law->order + 1));
+      break;
+    default: law->ntable = (int)n; break;
+    }
+  }
+  if (fn != Py_None) {
+    if (!PyCallable_Check(fn)) {
+      PyErr_Format(phm_py_ModelError, "%s: a callback law's fn must be callable", what);
+      return -1;
+    }
+    if (PyList_Append(keep, fn) < 0) return -1;
+    law->fn = law_callback;
+    law->ctx = fn;
+  }
+  if (nodes != Py_None) {
+    if (depth > 0 || !PyList_Check(nodes) || PyList_GET_SIZE(nodes) > INT_MAX / 2) {
+      PyErr_Format(phm_py_ModelError, "%s: an expression's nodes must be a flat list of law tuples", what);
+      return -1;
+    }
+    Py_ssize_t n = PyList_GET_SIZE(nodes);
+    phm_law *nd = keep_block(keep, sizeof(phm_law) * (size_t)n);
+    if (!nd) return -1;
+    for (Py_ssize_t i = 0; i < n; i++)
+      if (parse_law(PyList_GET_ITEM(nodes, i), nd + i, keep, what, depth + 1) < 0) return -1;
+    law->nnodes = (int)n;
+    law->nodes = nd;
   }
   return 0;
 }
@@ -185,12 +270,52 @@ static int fill_laws(const component *cp, const column *col, PyObject *list, npy
   for (npy_intp i = 0; i < n; i++) {
     char *item = items + (size_t)i * cp->size;
     PyObject *lw = PyList_GET_ITEM(list, i);
+    if (col->kind == COL_XLAWS) {
+      phm_pair_desc *pr = (phm_pair_desc *)item;
+      if (lw == Py_None) continue;
+      if (!PyList_Check(lw) || PyList_GET_SIZE(lw) > 6) {
+        PyErr_Format(phm_py_ModelError, "%s %ld: expected None or a list of at most 6 laws (None: not driven)", col->label, (long)i);
+        return -1;
+      }
+      for (Py_ssize_t c = 0; c < PyList_GET_SIZE(lw); c++) {
+        PyObject *lc = PyList_GET_ITEM(lw, c);
+        if (lc == Py_None) continue;
+        if (parse_law(lc, &pr->xlaw[c], keep, col->label, 0) < 0) return -1;
+        pr->xdriven |= 1 << c;
+      }
+      continue;
+    }
     int wanted = col->rule == LAW_ALWAYS || (col->rule == LAW_OR_NONE && lw != Py_None) ||
                  (col->rule == LAW_IF_DRIVEN && ((const phm_pair_desc *)item)->driven);
-    if (wanted && parse_law(lw, (phm_law *)(item + col->offset[0]), keep, col->label) < 0) return -1;
+    if (wanted && parse_law(lw, (phm_law *)(item + col->offset[0]), keep, col->label, 0) < 0) return -1;
   }
   return 0;
 }
+
+/* After a call into the core: the first exception a CALLBACK law's callable kept (its `error`
+ * attribute, which is then cleared) is raised; -1 then, else 0. `keep`: the model's list. */
+static int law_error(PyObject *keep) {
+  if (!keep || !PyList_Check(keep)) return 0;
+  for (Py_ssize_t i = 0; i < PyList_GET_SIZE(keep); i++) {
+    PyObject *o = PyList_GET_ITEM(keep, i);
+    if (!PyCallable_Check(o) || PyCapsule_CheckExact(o) || !PyObject_HasAttrString(o, "error")) continue;
+    PyObject *e = PyObject_GetAttrString(o, "error");
+    if (!e) return -1;
+    if (e != Py_None && PyExceptionInstance_Check(e)) {
+      if (PyObject_SetAttrString(o, "error", Py_None) < 0) {
+        Py_DECREF(e);
+        return -1;
+      }
+      PyErr_SetObject((PyObject *)Py_TYPE(e), e);
+      Py_DECREF(e);
+      return -1;
+    }
+    Py_DECREF(e);
+  }
+  return 0;
+}
+
+static int model_law_error(PyObject *cap) { return law_error((PyObject *)PyCapsule_GetContext(cap)); }
 
 /* The numeric column `col` (an array of shape (n, tail)) into the n structs at `items`. */
 static int fill_numbers(const component *cp, const column *col, PyArrayObject *a, npy_intp n, char *items) {
@@ -214,7 +339,7 @@ static int fill_numbers(const component *cp, const column *col, PyArrayObject *a
       }
       *(int *)(item + col->offset[0]) = (int)row[0];
       break;
-    case COL_LAW: break;
+    case COL_LAW: case COL_XLAWS: break;
     }
   }
   return 0;
@@ -253,7 +378,7 @@ static int parse_component(const component *cp, PyObject *d, PyObject *keep, npy
       PyErr_Format(phm_py_ModelError, "%s: missing the column '%s' (%s)", cp->name, col->key, col->what);
       return -1;
     }
-    if (col->kind == COL_LAW) {
+    if (col->kind == COL_LAW || col->kind == COL_XLAWS) {
       if (fill_laws(cp, col, o, *n, (char *)*out, keep) < 0) return -1;
       continue;
     }
@@ -319,6 +444,8 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
     }
     result = PyCapsule_New(m, CAPSULE_NAME, capsule_free);
     if (!result) phm_model_free(m);
+    else if (PyCapsule_SetContext(result, keep) == 0) Py_INCREF(keep);
+    else Py_CLEAR(result);
   }
 fail:
   for (int k = 0; k < NKINDS; k++) free(items[k]);
@@ -494,6 +621,7 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
     PyErr_Restore(c.et, c.ev, c.etb);
     goto fail;
   }
+  if (model_law_error(cap)) goto fail; /* a callable law raised: that, not the solver's failure */
   /* a solver failure still returns what was computed (nout filled outputs), with the error's
    * kind and message: Python raises it with the partial result attached */
   int failed = st != PHM_OK && st != PHM_EINTERRUPT;
@@ -567,7 +695,8 @@ static PyObject *py_model_modes(PyObject *self, PyObject *args) {
     st = phm_modes(m, P ? PyArray_DATA(P) : NULL, L ? PyArray_DATA(L) : NULL, time, n, method,
                    PyArray_DATA(om), PyArray_DATA(ze), PyArray_DATA(sh), &nf, &err);
     Py_END_ALLOW_THREADS
-    if (st) phm_py_raise(&err);
+    if (model_law_error(cap)) res = NULL;
+    else if (st) phm_py_raise(&err);
     else res = Py_BuildValue("OOOi", om, ze, sh, nf);
   }
   Py_XDECREF(om);
@@ -613,6 +742,7 @@ static PyObject *py_model_static(PyObject *self, PyObject *args) {
                               PyArray_DATA(lam), &it, &err);
     Py_END_ALLOW_THREADS
     if (c.failed) PyErr_Restore(c.et, c.ev, c.etb);
+    else if (model_law_error(cap)) res = NULL; /* a callable law raised: that exception */
     else if (c.interrupted) PyErr_SetNone(PyExc_KeyboardInterrupt);
     else if (st) phm_py_raise(&err);
     else res = Py_BuildValue("OOi", poses, lam, it);
@@ -695,7 +825,7 @@ static PyObject *py_model_constraints_full(PyObject *self, PyObject *args) {
   if (g && G && W) {
     phm_constraints_full(m, PyArray_DATA(P), X ? PyArray_DATA(X) : NULL, time, PyArray_DATA(g),
                          PyArray_DATA(G), PyArray_DATA(W));
-    res = Py_BuildValue("OOO", g, G, W);
+    if (!model_law_error(cap)) res = Py_BuildValue("OOO", g, G, W);
   }
   Py_XDECREF(g);
   Py_XDECREF(G);
@@ -759,7 +889,43 @@ static PyObject *py_model_stress_resultants(PyObject *self, PyObject *args) {
   return (PyObject *)S;
 }
 
+/* law_eval(law tuple, times) -> (n, 3): s, s', s'' of one law at each time (its piece: that of
+ * the time itself, as tref = t), after the core's validation (ModelError). */
+static PyObject *py_law_eval(PyObject *self, PyObject *args) {
+  (void)self;
+  PyObject *lo, *to;
+  if (!PyArg_ParseTuple(args, "OO", &lo, &to)) return NULL;
+  PyObject *keep = PyList_New(0);
+  if (!keep) return NULL;
+  PyObject *res = NULL;
+  PyArrayObject *T = NULL, *out = NULL;
+  phm_law law;
+  phm_error err;
+  if (parse_law(lo, &law, keep, "law", 0) < 0) goto done;
+  if (phm_law_check(&law, "law", 0, &err)) {
+    phm_py_raise(&err);
+    goto done;
+  }
+  if (!(T = phm_py_double_array(to, "times", NULL, 0, 1))) goto done;
+  npy_intp n = PyArray_SIZE(T), dims[2] = {n, 3};
+  if (!(out = (PyArrayObject *)PyArray_ZEROS(2, dims, NPY_DOUBLE, 0))) goto done;
+  const double *t = PyArray_DATA(T);
+  double *o = PyArray_DATA(out);
+  for (npy_intp i = 0; i < n; i++) o[3 * i] = phm_law_eval(&law, t[i], t[i], o + 3 * i + 1, o + 3 * i + 2);
+  if (law_error(keep)) goto done;
+  res = (PyObject *)out;
+  out = NULL;
+done:
+  Py_XDECREF(out);
+  Py_XDECREF(T);
+  Py_DECREF(keep);
+  return res;
+}
+
 PyMethodDef phm_py_model_methods[] = {
+    {"law_eval", py_law_eval, METH_VARARGS,
+     "law_eval(law, times) -> (n, 3) array of s, s', s'' (csrc/util/law.c) of a law tuple "
+     "(python/phmech/_marshal.py) at each time; ModelError for an invalid law."},
     {"model_stress_resultants", py_model_stress_resultants, METH_VARARGS,
      "model_stress_resultants(model, poses (..., nc, 4, 4), twists (..., nc, 6)) -> (nt, nelements, "
      "6): every element's stress resultants K (eps - eps_hat) + D eps' (csrc/model/element.c)."},
@@ -774,8 +940,9 @@ PyMethodDef phm_py_model_methods[] = {
      "component (keys: carriers mass, M, com, H0, t0; elements h, nodes, K, D, eps_hat; pairs "
      "type, carriers, Ta, Tb, driven, axis, law, pitch, x0, has_x0, drop; loads carrier, world, "
      "point, w, law, reaction; actuators pair, kind, vec, kp, kd, x_set, law; springs k, "
-     "carriers, pa, pb, c, rest_length); laws are lists of tuples (kind, amplitude, t0, "
-     "duration, frequency, phase, offset, table or None); gravity (3,)."},
+     "carriers, pa, pb, c, rest_length; pairs also xlaws: per pair None or one law or None "
+     "per joint coordinate); laws are tuples (kind, amplitude, t0, duration, frequency, "
+     "phase, offset, data, order, nodes, fn) (python/phmech/_marshal.py); gravity (3,)."},
     {"model_set_initial", py_model_set_initial, METH_VARARGS,
      "model_set_initial(model, H0 (nc, 4, 4), t0 (nc, 6), x0 (npairs, 6), drop (npairs,)) -> None: "
      "a new initial state (poses, twists, joint coordinates, redundant-row masks) without "

@@ -29,11 +29,11 @@ static PyObject *py_pair_types(PyObject *self, PyObject *noargs) {
     const phm_pair_type_info *t = phm_pair_type(i);
     int k = 6 - t->m;
     PyObject *units = str_tuple(t->units, k), *dirs = str_tuple(t->directions, t->m);
-    PyObject *d = units && dirs ? Py_BuildValue("{s:i,s:s,s:i,s:i,s:s,s:O,s:O,s:O,s:s}", "code", i,
+    PyObject *d = units && dirs ? Py_BuildValue("{s:i,s:s,s:i,s:i,s:s,s:O,s:O,s:O,s:i,s:s}", "code", i,
                                                 "name", t->name, "k", k, "m", t->m, "params",
                                                 t->params, "units", units, "directions", dirs,
                                                 "drivable", t->drivable ? Py_True : Py_False,
-                                                "doc", t->doc)
+                                                "xdrivable", t->xdrivable, "doc", t->doc)
                                   : NULL;
     Py_XDECREF(units);
     Py_XDECREF(dirs);
@@ -98,7 +98,8 @@ static PyObject *py_pair_coordinates(PyObject *self, PyObject *args) {
 PyMethodDef phm_py_pair_methods[] = {
     {"pair_types", py_pair_types, METH_NOARGS,
      "pair_types() -> list of dict: the core's pair table (code, name, k, m, params, units, "
-     "directions, drivable, doc), in type-code order."},
+     "directions, drivable, xdrivable (bit c: joint coordinate c can follow a law), doc), in "
+     "type-code order."},
     {"pair_pose", py_pair_pose, METH_VARARGS,
      "pair_pose(type, pitch, x (k,)) -> (4,4): relative pose h(x) of a pair type's frames."},
     {"pair_coordinates", py_pair_coordinates, METH_VARARGS,

@@ -18,30 +18,69 @@ import numpy as np
 from . import _core
 from ._core import ModelError
 from .description import ModelDescription
-from .laws import Constant, Cycloidal, Pulse, Sine, Step, Table, _Law
+from .laws import (Constant, Cycloidal, Function, Linear, PiecewisePolynomial, Product, Pulse,
+                   Sine, Spline, Step, Sum, Table, _FunctionCall, _Law)
 
-#: phm_law_kind of each law class, and its (amplitude, t0, duration, frequency, phase, offset,
-#: table) fields of phm_law
+_NO = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+#: phm_law_kind of each leaf class, and its (amplitude, t0, duration, frequency, phase, offset)
+#: fields of phm_law, then its data array (or None) and order (PPOLY)
 _LAWS = {
-    Constant: (0, lambda s: (s.value, 0.0, 0.0, 0.0, 0.0, 0.0, None)),
-    Step: (1, lambda s: (s.value, s.t0, 0.0, 0.0, 0.0, 0.0, None)),
-    Pulse: (2, lambda s: (s.value, s.t0, s.duration, 0.0, 0.0, 0.0, None)),
-    Sine: (3, lambda s: (s.amplitude, 0.0, 0.0, s.frequency, s.phase, s.offset, None)),
-    Table: (4, lambda s: (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, np.column_stack([s.times, s.values]))),
-    Cycloidal: (5, lambda s: (s.value, s.t0, s.duration, 0.0, 0.0, 0.0, None)),
+    Constant: (0, lambda s: ((s.value, 0.0, 0.0, 0.0, 0.0, 0.0), None, 0)),
+    Step: (1, lambda s: ((s.value, s.t0, 0.0, 0.0, 0.0, 0.0), None, 0)),
+    Pulse: (2, lambda s: ((s.value, s.t0, s.duration, 0.0, 0.0, 0.0), None, 0)),
+    Sine: (3, lambda s: ((s.amplitude, 0.0, 0.0, s.frequency, s.phase, s.offset), None, 0)),
+    Table: (4, lambda s: (_NO, np.column_stack([s.times, s.values]).ravel(), 0)),
+    Cycloidal: (5, lambda s: ((s.value, s.t0, s.duration, 0.0, 0.0, 0.0), None, 0)),
+    Linear: (6, lambda s: ((s.rate, 0.0, 0.0, 0.0, 0.0, s.offset), None, 0)),
+    PiecewisePolynomial: (7, lambda s: (_NO, np.concatenate([np.asarray(s.breaks, dtype=float),
+                                                             np.asarray(s.coefficients, dtype=float).ravel()]),
+                                        len(s.coefficients[0]))),
 }
+_EXPR, _SUM, _PRODUCT, _CALLBACK = 9, 10, 11, 8
 
 #: phm_actuator_kind of each actuator kind of the description
 _ACTUATOR_KINDS = {"effort": 0, "pd": 1, "spring": 2}
 
 
+def _leaf(law: _Law) -> tuple:
+    """The core's tuple of a leaf law (not a Sum or Product)."""
+    if isinstance(law, Spline):
+        law = law.piecewise()
+    if isinstance(law, Function):   # the core calls back (csrc/pyext/py_model.c, law_callback)
+        bp = np.asarray(law.breakpoints, dtype=float) if law.breakpoints else None
+        return (_CALLBACK, *_NO, bp, 0, None, _FunctionCall(law))
+    kind, fields = _LAWS[type(law)]
+    params, data, order = fields(law)
+    return (kind, *params, data, order, None, None)
+
+
+def _postfix(law: _Law, out: list) -> None:
+    """Append the nodes of ``law`` in postfix order: a Sum or Product of n operands is its
+    operands joined by n - 1 operators."""
+    if isinstance(law, (Sum, Product)):
+        items = law.terms if isinstance(law, Sum) else law.factors
+        op = (_SUM if isinstance(law, Sum) else _PRODUCT, *_NO, None, 0, None, None)
+        for i, x in enumerate(items):
+            _postfix(x, out)
+            if i:
+                out.append(op)
+    else:
+        out.append(_leaf(law))
+
+
 def _law(law: Optional[_Law]) -> Optional[tuple]:
-    """The core's law tuple (kind, amplitude, t0, duration, frequency, phase, offset, table) of
-    a checked law (laws.checked_law), or None."""
+    """The core's law tuple (kind, amplitude, t0, duration, frequency, phase, offset, data,
+    order, nodes, fn) (csrc/pyext/py_model.c, parse_law) of a checked law (laws.checked_law),
+    or None: a leaf's own, or for a Sum or Product an expression (kind EXPR) whose nodes are
+    the leaves and operators in postfix order."""
     if law is None:
         return None
-    kind, fields = _LAWS[type(law)]
-    return (kind, *fields(law))
+    if not isinstance(law, (Sum, Product)):
+        return _leaf(law)
+    nodes: list = []
+    _postfix(law, nodes)
+    return (_EXPR, *_NO, None, 0, nodes, None)
 
 
 def _column(rows: list, key: str, shape: tuple = ()) -> np.ndarray:
@@ -94,6 +133,7 @@ def components(desc: ModelDescription, poses: np.ndarray, twists: np.ndarray, x0
                    Ta=np.array(frames_a, dtype=float).reshape(-1, 4, 4), Tb=_column(pr, "Tb", (4, 4)),
                    driven=_column(pr, "driven"), axis=_column(pr, "axis", (6,)),
                    law=[_law(p["law"]) if p["driven"] else None for p in pr],
+                   xlaws=[None if p.get("xlaws") is None else [_law(x) for x in p["xlaws"]] for p in pr],
                    pitch=_column(pr, "pitch"), x0=np.asarray(x0, dtype=float).reshape(-1, 6),
                    has_x0=_column(pr, "has_x0"),
                    drop=np.zeros(len(pr)) if drop_masks is None else np.array(drop_masks, dtype=float)),

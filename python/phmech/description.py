@@ -10,7 +10,8 @@ Neither changes them. Rows are dicts (units: SI, poses 4x4, twists (omega, v), w
   eps (unstressed strain (kappa [1/m], 1, 0, 0))
 - pairs: name, type (pairs.PairType code), pair (the Fixed, Revolute, ... object), k, a, b
   (carriers, -1 = ground), Ta, Tb (frame offsets, already turned to the joint axis), fa_name,
-  fb_name (for messages), driven, axis (twist), law (laws._Law or None), pitch [m/rad], x0,
+  fb_name (for messages), driven (a Motion), axis (twist), law (laws._Law or None), xlaws (None
+  or k entries, a law or None: the joint coordinates that follow laws), pitch [m/rad], x0,
   has_x0, xdot0, has_xdot0 (joint coordinates and rates, 6 entries of which k are used)
 - loads: name, carrier, world (axes of w), point [m, carrier coordinates], w, law, reaction
   (carrier, -1 = ground), interaction (True for add_interaction)

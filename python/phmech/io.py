@@ -172,6 +172,10 @@ def encode_value(x, mech=None):
     codec = _BY_TYPE.get(type(x))
     if codec is not None:
         return {"$type": codec.tag, **codec.encode(x, mech)}
+    if isinstance(x, laws.Function):
+        raise Unsaveable("a Python function as a law (phmech.Function), which a model file cannot "
+                         "hold (a file holds data, not code): a Spline through samples of it can be "
+                         "saved")
     if callable(x):
         nm = getattr(x, "__qualname__", getattr(x, "__name__", type(x).__name__))
         raise Unsaveable(f"the Python callable {nm!r}, which a model file cannot hold (a file "
@@ -248,7 +252,9 @@ def _named(kind: str, table: str):
 
 register(Body, "Body", *_named("body", "_bodies"))
 register(FlexibleLink, "FlexibleLink", *_named("flexible link", "_links"))
+# laws.Function is left out on purpose: a Python callable is code, not data (save refuses it)
 for _cls in (laws.Constant, laws.Step, laws.Pulse, laws.Sine, laws.Table, laws.Cycloidal,
+             laws.Linear, laws.PiecewisePolynomial, laws.Spline, laws.Sum, laws.Product,
              laws.Motion, actuators.Effort, actuators.PD, actuators.Spring, section.Material,
              section.Section, section.BeamProperties,
              *(getattr(pairs, t.name) for t in pairs.PAIR_TYPES)):

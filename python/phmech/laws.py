@@ -1,12 +1,26 @@
-"""Time laws s(t): the scalar factors of applied wrenches, prescribed motions and actuators.
+"""Time laws s(t): the scalar factors of applied wrenches, prescribed motions, driven joint
+coordinates and actuators.
 
-Laws are evaluated in the C core (csrc/util/law.c; phm_law in csrc/include/phmech_types.h), so a
-law is one of the classes here, never a Python function; ``phmech._marshal`` hands them to the
-core. Times in s; a law's value
-carries the unit of whatever it scales (rad or m for a Motion, N or N m for a load)."""
+Laws are evaluated in the C core (csrc/util/law.c; phm_law in csrc/include/phmech_types.h):
+value and first two time derivatives, which drivers need. A law is one of the classes here:
+the built-in shapes (Constant, Step, Pulse, Sine, Table, Cycloidal, Linear), smooth piecewise
+polynomials (Spline, a C2 cubic spline through samples; PiecewisePolynomial), compositions
+(``a + b``, ``a - b``, ``a * b``, ``2.0 * a``, ``-a``, ``a.shifted(dt)``: Sum, Product, flattened
+into one postfix expression that the core evaluates without allocating), or a Python function of
+t (Function; a plain function given as a law is wrapped in one): the core then calls back into
+Python, with the GIL, at every evaluation -- see Function for the cost. ``phmech._marshal`` hands
+laws to the core. Times in s; a law's value carries the unit of whatever it scales (rad or m
+for a motion or a driven joint coordinate, N or N m for a load).
+
+Every class is a frozen dataclass whose fields are its constructor arguments, so a law is plain
+data: ``law.to_data()`` gives a dict of them (nested laws as dicts, a Function's callables by
+their importable names) and ``law_from_data`` rebuilds the law."""
 from __future__ import annotations
 
 import dataclasses
+import importlib
+import math
+import numbers
 from typing import Sequence
 
 import numpy as np
@@ -14,37 +28,150 @@ import numpy as np
 from ._checks import real, real_numbers
 from ._core import ModelError
 
-__all__ = ["Constant", "Step", "Pulse", "Sine", "Table", "Cycloidal", "Motion"]
+__all__ = ["Constant", "Step", "Pulse", "Sine", "Table", "Cycloidal", "Linear", "Spline",
+           "PiecewisePolynomial", "Sum", "Product", "Function", "Motion", "law_from_data"]
 
-_LAW_NAMES = "Constant, Step, Pulse, Sine, Table or Cycloidal"
+_LAW_NAMES = ("Constant, Step, Pulse, Sine, Table, Cycloidal, Linear, Spline, "
+              "PiecewisePolynomial, Function, or a sum or product of them")
 
 
 class _Law:
     """A time law. ``_checked`` returns the law with every parameter validated and converted to
-    float (ModelError otherwise); ``start_value`` is s(0)."""
+    float (ModelError otherwise); ``start_value`` is s(0). Laws compose: ``a + b``, ``a - b``,
+    ``a * b``, ``c * a`` (c a number), ``-a``, ``a.shifted(dt)`` (s(t - dt))."""
 
     def _checked(self) -> "_Law":
         raise NotImplementedError
 
     def start_value(self) -> float:
         """s(0), in the unit of what the law scales."""
+        return float(self.derivatives(0.0)[0])
+
+    def shifted(self, dt: float) -> "_Law":
+        """The law delayed by ``dt`` [s]: t -> s(t - dt) (same class; parameters moved)."""
         raise NotImplementedError
+
+    # ---- evaluation by the core (csrc/util/law.c)
+    def derivatives(self, t) -> np.ndarray:
+        """s, ds/dt, d2s/dt2 at times ``t`` [s], evaluated by the C core: shape t.shape + (3,).
+        At a time where a piecewise law jumps, the piece that starts there."""
+        from . import _core, _marshal
+        tt = np.asarray(t, dtype=float)
+        out = _core.law_eval(_marshal._law(self._checked()), tt.reshape(-1))
+        return out.reshape(tt.shape + (3,))
+
+    def evaluate(self, t):
+        """s(t) at times ``t`` [s] (the core's evaluation), shape t.shape."""
+        return self.derivatives(t)[..., 0]
+
+    # ---- composition
+    def __add__(self, other):
+        o = _operand(other)
+        return NotImplemented if o is None else Sum((self, o))
+
+    def __radd__(self, other):
+        o = _operand(other)
+        return NotImplemented if o is None else Sum((o, self))
+
+    def __sub__(self, other):
+        o = _operand(other)
+        return NotImplemented if o is None else Sum((self, Product((Constant(-1.0), o))))
+
+    def __rsub__(self, other):
+        o = _operand(other)
+        return NotImplemented if o is None else Sum((o, Product((Constant(-1.0), self))))
+
+    def __mul__(self, other):
+        o = _operand(other)
+        return NotImplemented if o is None else Product((self, o))
+
+    def __rmul__(self, other):
+        o = _operand(other)
+        return NotImplemented if o is None else Product((o, self))
+
+    def __neg__(self):
+        return Product((Constant(-1.0), self))
+
+    # ---- plain data
+    def to_data(self) -> dict:
+        """The law as plain data: {"law": class name, field: value, ...}; nested laws as dicts,
+        arrays as lists. ``law_from_data`` inverts it."""
+        out = {"law": type(self).__name__}
+        for f in dataclasses.fields(self):
+            out[f.name] = _plain(getattr(self, f.name))
+        return out
+
+
+def _plain(v):
+    """A field value as plain data (see _Law.to_data)."""
+    if isinstance(v, _Law):
+        return v.to_data()
+    if isinstance(v, (tuple, list)):
+        return [_plain(x) for x in v]
+    if isinstance(v, np.ndarray):
+        return v.tolist()
+    if isinstance(v, (np.floating, np.integer)):
+        return v.item()
+    return v
+
+
+def law_from_data(data: dict) -> _Law:
+    """The law of ``data`` (from ``_Law.to_data``); ModelError for anything else."""
+    if not isinstance(data, dict) or data.get("law") not in _CLASSES:
+        raise ModelError(f"law_from_data: expected a dict with 'law' one of {sorted(_CLASSES)} (got {data!r})")
+    cls = _CLASSES[data["law"]]
+    kw = {k: v for k, v in data.items() if k != "law"}
+    if cls in (Sum, Product):
+        kw = {k: tuple(law_from_data(x) for x in v) for k, v in kw.items()}
+    if cls is Function:
+        kw = {k: (_import(v) if k in ("fn", "derivative", "second_derivative") and v is not None else v)
+              for k, v in kw.items()}
+    try:
+        return cls(**kw)
+    except TypeError as e:
+        raise ModelError(f"law_from_data: {data['law']}: {e}") from None
+
+
+def _import(name: str):
+    """The object named "module:qualified.name"."""
+    if not isinstance(name, str) or ":" not in name:
+        raise ModelError(f"law_from_data: a Function's callable must be named 'module:name' (got {name!r})")
+    mod, qual = name.split(":", 1)
+    obj = importlib.import_module(mod)
+    for part in qual.split("."):
+        obj = getattr(obj, part)
+    return obj
+
+
+def _operand(v):
+    """A law, a real number as Constant, a Python function of t as Function, or None (not an
+    operand)."""
+    if isinstance(v, _Law):
+        return v
+    if isinstance(v, (numbers.Real, np.integer, np.floating)) and not isinstance(v, (bool, np.bool_)):
+        return Constant(float(v))
+    if callable(v) and not isinstance(v, type):
+        return Function(v)
+    return None
 
 
 def checked_law(law, what: str, numbers_too: bool = False) -> _Law:
     """``law`` validated (a copy with float parameters, see _Law); a clear ModelError for
-    anything else (a plain Python function cannot be a law: laws are evaluated in C, see
-    csrc/util/law.c). ``numbers_too``: a number c also stands for Constant(c)."""
+    anything else. A Python function of t becomes a Function law (evaluated by calls into
+    Python: see Function). ``numbers_too``: a number c also stands for Constant(c)."""
     if isinstance(law, _Law):
-        return law._checked()
+        try:
+            return law._checked()
+        except ModelError as e:
+            raise ModelError(f"{what}: {e}") from e.__cause__
     if numbers_too and isinstance(law, (int, float, np.integer, np.floating)) and not isinstance(law, bool):
         return Constant(real(what, law))._checked()
+    if callable(law) and not isinstance(law, type):
+        try:
+            return Function(law)._checked()
+        except ModelError as e:
+            raise ModelError(f"{what}: {e}") from e.__cause__
     accepted = f"a time law ({_LAW_NAMES}{', or a number' if numbers_too else ''})"
-    if callable(law):
-        fname = getattr(law, "__name__", type(law).__name__)
-        raise ModelError(f"{what}: got the Python function {fname!r}, expected {accepted}; laws are "
-                         "evaluated in the C core, so a Python function cannot be one: tabulate it "
-                         "with Table(times, values)")
     raise ModelError(f"{what}: expected {accepted} (got {type(law).__name__})")
 
 
@@ -66,6 +193,9 @@ class Constant(_Law):
     def start_value(self) -> float:
         return self.value
 
+    def shifted(self, dt: float) -> "Constant":
+        return self
+
 
 @dataclasses.dataclass(frozen=True)
 class Step(_Law):
@@ -79,6 +209,9 @@ class Step(_Law):
 
     def start_value(self) -> float:
         return self.value if 0.0 >= self.t0 else 0.0
+
+    def shifted(self, dt: float) -> "Step":
+        return Step(self.t0 + real("shift", dt), self.value)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -97,6 +230,9 @@ class Pulse(_Law):
     def start_value(self) -> float:
         return self.value if self.t0 <= 0.0 < self.t0 + self.duration else 0.0
 
+    def shifted(self, dt: float) -> "Pulse":
+        return Pulse(self.t0 + real("shift", dt), self.duration, self.value)
+
 
 @dataclasses.dataclass(frozen=True)
 class Sine(_Law):
@@ -112,6 +248,10 @@ class Sine(_Law):
 
     def start_value(self) -> float:
         return self.offset + self.amplitude * np.sin(self.phase)
+
+    def shifted(self, dt: float) -> "Sine":
+        return Sine(self.amplitude, self.frequency,
+                    self.phase - 2 * np.pi * self.frequency * real("shift", dt), self.offset)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -135,6 +275,9 @@ class Table(_Law):
     def start_value(self) -> float:
         return float(np.interp(0.0, self.times, self.values))
 
+    def shifted(self, dt: float) -> "Table":
+        return Table(tuple((np.asarray(self.times, dtype=float) + real("shift", dt)).tolist()), self.values)
+
 
 @dataclasses.dataclass(frozen=True)
 class Cycloidal(_Law):
@@ -154,11 +297,394 @@ class Cycloidal(_Law):
         u = min(1.0, (0.0 - self.t0) / self.duration)
         return self.value * (u - np.sin(2 * np.pi * u) / (2 * np.pi))
 
+    def shifted(self, dt: float) -> "Cycloidal":
+        return Cycloidal(self.value, self.t0 + real("shift", dt), self.duration)
+
+
+@dataclasses.dataclass(frozen=True)
+class Linear(_Law):
+    """s(t) = offset + rate * t: a ramp without end (constant speed: the angle law
+    Linear(omega) of a revolute turning at omega [rad/s])."""
+    rate: float = 1.0
+    offset: float = 0.0
+
+    def _checked(self) -> "Linear":
+        return Linear(real("Linear rate", self.rate), real("Linear offset", self.offset))
+
+    def start_value(self) -> float:
+        return self.offset
+
+    def shifted(self, dt: float) -> "Linear":
+        return Linear(self.rate, self.offset - self.rate * real("shift", dt))
+
+
+def _increasing(name: str, t: np.ndarray, v: np.ndarray, least: int) -> None:
+    """ModelError unless times t (finite, strictly increasing, at least ``least``) and values v
+    (finite, as many) fit."""
+    if t.ndim != 1 or t.size < least or v.shape[:1] != t.shape:
+        raise ModelError(f"{name} needs as many values as times, at least {least} (got {t.size} "
+                         f"times and {v.shape[0] if v.ndim else 0} values)")
+    bad = np.flatnonzero(~np.isfinite(t))
+    if bad.size:
+        raise ModelError(f"{name} time {bad[0]} is not finite ({t[bad[0]]})")
+    bad = np.flatnonzero(~np.all(np.isfinite(v.reshape(v.shape[0], -1)), axis=1))
+    if bad.size:
+        raise ModelError(f"{name} value {bad[0]} (at t = {t[bad[0]]:g} s) is not finite "
+                         f"({v[bad[0]]})")
+    bad = np.flatnonzero(np.diff(t) <= 0)
+    if bad.size:
+        i = bad[0]
+        raise ModelError(f"{name} times must be strictly increasing: t[{i}] = {t[i]:g} s, "
+                         f"t[{i + 1}] = {t[i + 1]:g} s")
+
+
+@dataclasses.dataclass(frozen=True)
+class PiecewisePolynomial(_Law):
+    """Piecewise polynomial: on [breaks[i], breaks[i+1]) s(t) = sum_j coefficients[i][j]
+    (t - breaks[i])^(order - 1 - j) (highest power first, as scipy.interpolate.PPoly's c.T);
+    before the first break the first piece continues, after the last the last one. ``order``
+    (coefficients per piece) at most 8. Breaks where s, s' or s'' jump are breakpoints of the
+    integrators (consistent restart); where the law is C2 they are stepped across."""
+    breaks: Sequence[float]
+    coefficients: Sequence[Sequence[float]]
+
+    def _checked(self) -> "PiecewisePolynomial":
+        x = real_numbers("PiecewisePolynomial breaks", self.breaks)
+        c = real_numbers("PiecewisePolynomial coefficients", self.coefficients)
+        try:
+            c = c.reshape(np.shape(self.coefficients))
+        except ValueError:
+            raise ModelError("PiecewisePolynomial coefficients must be an (n, order) array") from None
+        if c.ndim != 2 or x.ndim != 1 or c.shape[0] + 1 != x.size or c.shape[0] < 1 or \
+                not 1 <= c.shape[1] <= 8:
+            raise ModelError(f"PiecewisePolynomial needs n + 1 breaks and coefficients of shape "
+                             f"(n, order) with n >= 1 and order <= 8 (got {x.shape} breaks and "
+                             f"{c.shape} coefficients)")
+        _increasing("PiecewisePolynomial", x, np.zeros(x.size), 2)
+        if not np.all(np.isfinite(c)):
+            raise ModelError("PiecewisePolynomial coefficients must be finite")
+        return PiecewisePolynomial(tuple(x.tolist()), tuple(map(tuple, c.tolist())))
+
+    def shifted(self, dt: float) -> "PiecewisePolynomial":
+        return PiecewisePolynomial(tuple((np.asarray(self.breaks, dtype=float) + real("shift", dt)).tolist()),
+                                   self.coefficients)
+
+    def antiderivative(self, at: float = None) -> "PiecewisePolynomial":
+        """The integral of s, zero at time ``at`` [s] (default: the first break): e.g. a
+        driven angle from a speed profile."""
+        p = self._checked()
+        x, c = np.asarray(p.breaks), np.asarray(p.coefficients)
+        n, k = c.shape
+        if k + 1 > 8:
+            raise ModelError("PiecewisePolynomial.antiderivative: the order would exceed 8")
+        ci = np.zeros((n, k + 1))
+        ci[:, :k] = c / np.arange(k, 0, -1)
+        h = np.diff(x)
+        ends = np.array([np.polyval(ci[i], h[i]) for i in range(n)])
+        ci[1:, k] = np.cumsum(ends[:-1])
+        out = PiecewisePolynomial(tuple(x.tolist()), tuple(map(tuple, ci.tolist())))
+        t0 = x[0] if at is None else real("antiderivative at", at)
+        ci[:, k] -= float(out.derivatives(t0)[0])
+        return PiecewisePolynomial(tuple(x.tolist()), tuple(map(tuple, ci.tolist())))
+
+
+_SPLINE_BCS = ("not-a-knot", "natural", "clamped")
+
+
+@dataclasses.dataclass(frozen=True)
+class Spline(_Law):
+    """C2 cubic spline through (times [s], values), as scipy.interpolate.CubicSpline with
+    ``bc_type`` = ``bc``: "not-a-knot" (default), "natural" (s'' = 0 at both ends), "clamped"
+    (s' = 0 at both ends), or a pair (s'(t_0), s'(t_n)) of end slopes. Outside the samples
+    ``extrapolate``: "linear" (the end value and slope continue: C2 for a natural spline, a jump
+    of s'' at the ends otherwise, which the integrators treat as a breakpoint) or "cubic" (the
+    end pieces continue, as CubicSpline). Evaluated in the core as a PiecewisePolynomial: no
+    breakpoint inside the samples, so the integrators step across them (unlike a dense Table,
+    whose every point is a restart)."""
+    times: Sequence[float]
+    values: Sequence[float]
+    bc: object = "not-a-knot"
+    extrapolate: str = "linear"
+
+    def _checked(self) -> "Spline":
+        t = real_numbers("Spline times", self.times)
+        v = real_numbers("Spline values", self.values)
+        _increasing("Spline", t, v, 2)
+        if v.ndim != 1:
+            raise ModelError(f"Spline values must be one number per time (got shape {v.shape})")
+        bc = self.bc
+        if isinstance(bc, str):
+            if bc not in _SPLINE_BCS:
+                raise ModelError(f"Spline bc must be one of {_SPLINE_BCS} or a pair of end slopes (got {bc!r})")
+        else:
+            try:
+                d = [real("Spline end slope", x) for x in bc]
+            except TypeError:
+                raise ModelError(f"Spline bc must be one of {_SPLINE_BCS} or a pair of end slopes "
+                                 f"(got {bc!r})") from None
+            if len(d) != 2:
+                raise ModelError(f"Spline bc: a pair of end slopes (got {len(d)} numbers)")
+            bc = tuple(d)
+        if self.extrapolate not in ("linear", "cubic"):
+            raise ModelError(f"Spline extrapolate must be 'linear' or 'cubic' (got {self.extrapolate!r})")
+        return Spline(tuple(t.tolist()), tuple(v.tolist()), bc, self.extrapolate)
+
+    def shifted(self, dt: float) -> "Spline":
+        return Spline(tuple((np.asarray(self.times, dtype=float) + real("shift", dt)).tolist()),
+                      self.values, self.bc, self.extrapolate)
+
+    def _coefficients(self) -> np.ndarray:
+        """(n, 4) cubic coefficients of the n pieces between the samples (highest power first),
+        from the second derivatives m_i: h_{i-1} m_{i-1} + 2 (h_{i-1} + h_i) m_i + h_i m_{i+1} =
+        6 (slope_i - slope_{i-1}) inside, the end conditions at the ends (a banded solve)."""
+        from scipy.linalg import solve_banded
+        x, y = np.asarray(self.times, dtype=float), np.asarray(self.values, dtype=float)
+        n = x.size - 1
+        h = np.diff(x)
+        sl = np.diff(y) / h
+        bc = self.bc
+        if n == 1 and bc == "not-a-knot":
+            bc = "natural"   # two points: the straight line (as CubicSpline)
+        if n == 2 and bc == "not-a-knot":   # three points: the parabola through them
+            m = np.full(3, 2 * (sl[1] - sl[0]) / (x[2] - x[0]))
+        else:
+            ab = np.zeros((5, n + 1))   # solve_banded's layout for (l, u) = (2, 2)
+            r = np.zeros(n + 1)
+
+            def put(i, j, v):
+                ab[2 + i - j, j] = v
+            for i in range(1, n):
+                put(i, i - 1, h[i - 1])
+                put(i, i, 2 * (h[i - 1] + h[i]))
+                put(i, i + 1, h[i])
+                r[i] = 6 * (sl[i] - sl[i - 1])
+            if bc == "natural":
+                put(0, 0, 1.0)
+                put(n, n, 1.0)
+            elif bc == "not-a-knot":   # third derivative continuous at t_1 and t_{n-1}
+                put(0, 0, h[1])
+                put(0, 1, -(h[0] + h[1]))
+                put(0, 2, h[0])
+                put(n, n - 2, h[n - 1])
+                put(n, n - 1, -(h[n - 2] + h[n - 1]))
+                put(n, n, h[n - 2])
+            else:
+                d0, dn = (0.0, 0.0) if bc == "clamped" else bc
+                put(0, 0, 2 * h[0])
+                put(0, 1, h[0])
+                r[0] = 6 * (sl[0] - d0)
+                put(n, n - 1, h[n - 1])
+                put(n, n, 2 * h[n - 1])
+                r[n] = 6 * (dn - sl[n - 1])
+            m = solve_banded((2, 2), ab, r)
+        c = np.empty((n, 4))
+        c[:, 0] = (m[1:] - m[:-1]) / (6 * h)
+        c[:, 1] = m[:-1] / 2
+        c[:, 2] = sl - h * (2 * m[:-1] + m[1:]) / 6
+        c[:, 3] = y[:-1]
+        return c
+
+    def piecewise(self) -> PiecewisePolynomial:
+        """The spline as the PiecewisePolynomial the core evaluates (with the pieces outside the
+        samples that ``extrapolate`` asks for)."""
+        p = self._checked()
+        x, y = np.asarray(p.times, dtype=float), np.asarray(p.values, dtype=float)
+        c = p._coefficients()
+        if p.extrapolate == "cubic":
+            return PiecewisePolynomial(tuple(x.tolist()), tuple(map(tuple, c.tolist())))
+        L = x[-1] - x[0]
+        h = x[-1] - x[-2]
+        d0 = c[0, 2]
+        dn = (3 * c[-1, 0] * h + 2 * c[-1, 1]) * h + c[-1, 2]
+        left = [0.0, 0.0, d0, y[0] - d0 * L]     # s = y_0 + d0 (t - t_0), about t_0 - L
+        right = [0.0, 0.0, dn, y[-1]]
+        xs = np.concatenate([[x[0] - L], x, [x[-1] + L]])
+        cs = np.vstack([left, c, right])
+        return PiecewisePolynomial(tuple(xs.tolist()), tuple(map(tuple, cs.tolist())))
+
+    def antiderivative(self, at: float = None) -> PiecewisePolynomial:
+        """The integral of the spline, zero at ``at`` [s] (default: the first sample time): the
+        angle law of a speed profile given as a spline."""
+        t0 = self._checked().times[0] if at is None else at
+        return self.piecewise().antiderivative(t0)
+
+
+@dataclasses.dataclass(frozen=True)
+class Sum(_Law):
+    """s(t) = sum of the ``terms`` (laws or numbers); ``a + b`` makes one."""
+    terms: Sequence[object]
+
+    def _checked(self) -> "Sum":
+        return Sum(_checked_operands("Sum", self.terms))
+
+    def shifted(self, dt: float) -> "Sum":
+        return Sum(tuple(t.shifted(dt) for t in _checked_operands("Sum", self.terms)))
+
+
+@dataclasses.dataclass(frozen=True)
+class Product(_Law):
+    """s(t) = product of the ``factors`` (laws or numbers); ``a * b`` and ``2.0 * a`` make one.
+    Derivatives by the Leibniz rule."""
+    factors: Sequence[object]
+
+    def _checked(self) -> "Product":
+        return Product(_checked_operands("Product", self.factors))
+
+    def shifted(self, dt: float) -> "Product":
+        return Product(tuple(t.shifted(dt) for t in _checked_operands("Product", self.factors)))
+
+
+def _checked_operands(kind: str, items) -> tuple:
+    """The checked laws of a Sum or Product (numbers as Constant); at least one."""
+    if isinstance(items, (_Law, str)) or not hasattr(items, "__iter__"):
+        raise ModelError(f"{kind} takes a sequence of laws (got {type(items).__name__})")
+    out = []
+    for i, x in enumerate(items):
+        o = _operand(x)
+        if o is None:
+            raise ModelError(f"{kind} operand {i}: expected a time law or a number (got {type(x).__name__})")
+        out.append(o._checked())
+    if not out:
+        raise ModelError(f"{kind} needs at least one operand")
+    return tuple(out)
+
+
+def _callable_name(f) -> str:
+    return getattr(f, "__name__", type(f).__name__)
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class Function(_Law):
+    """A Python function of time, s = fn(t - shift) [t in s], as a law. The core calls back into
+    Python (taking the GIL) at every evaluation of the law: once per residual evaluation of the
+    integrator (and per column group of its finite-difference Jacobian), about a microsecond
+    each -- where a Spline or Table through samples of it costs nothing. A driven coordinate and
+    a PD target also need s' and s'': ``derivative`` and ``second_derivative`` (functions of t)
+    when given, else central differences of fn with step ``step`` [s] (two more calls; s' to
+    ~1e-8 and s'' to ~1e-6 relative for a law that varies on a time scale of 1 s: give the
+    derivatives when it varies faster; one-sided forward differences where fn raises or is not
+    finite at t - step, e.g. sqrt(t) at t = 0). ``breakpoints``: times [s] where s, s' or s'' jump (the
+    integrators stop and restart there). fn must return a finite real number: anything else, or
+    an exception, stops the run and is raised as a ModelError naming the function and the time
+    (its cause: the original exception). Plain data (to_data) when the callables are importable
+    module-level functions."""
+    fn: object
+    derivative: object = None
+    second_derivative: object = None
+    breakpoints: Sequence[float] = ()
+    shift: float = 0.0
+    step: float = 1e-4
+
+    def _checked(self) -> "Function":
+        for name in ("fn", "derivative", "second_derivative"):
+            f = getattr(self, name)
+            if (f is not None or name == "fn") and (not callable(f) or isinstance(f, (type, _Law))):
+                raise ModelError(f"Function {name}: expected a Python function of t (got {type(f).__name__})")
+        bp = real_numbers("Function breakpoints", self.breakpoints).reshape(-1)
+        if bp.size and (not np.all(np.isfinite(bp)) or np.any(np.diff(bp) <= 0)):
+            raise ModelError("Function breakpoints must be finite and strictly increasing")
+        step = real("Function step", self.step)
+        if step <= 0:
+            raise ModelError(f"Function step must be > 0 (got {step} s)")
+        out = Function(self.fn, self.derivative, self.second_derivative, tuple(bp.tolist()),
+                       real("Function shift", self.shift), step)
+        call = _FunctionCall(out)
+        given = out.derivative is not None or out.second_derivative is not None
+        if call(0.0, 2 if given else 0) is None:   # one evaluation at t = 0 now: a bad
+            raise call.error                      # function fails at add_*
+        return out
+
+    def shifted(self, dt: float) -> "Function":
+        d = real("shift", dt)
+        return dataclasses.replace(self, shift=self.shift + d,
+                                   breakpoints=tuple(b + d for b in self.breakpoints))
+
+    def to_data(self) -> dict:
+        out = super().to_data()
+        for name in ("fn", "derivative", "second_derivative"):
+            f = getattr(self, name)
+            if f is None:
+                continue
+            mod, qual = getattr(f, "__module__", None), getattr(f, "__qualname__", "")
+            if not mod or "<" in qual:
+                raise ModelError(f"Function {name} {_callable_name(f)!r} is not an importable "
+                                 "module-level function: it cannot be saved as data")
+            out[name] = f"{mod}:{qual}"
+        return out
+
+
+class _FunctionCall:
+    """What the core calls for a Function law (csrc/pyext/py_model.c, law_callback):
+    ``(t, nder) -> (s, s', s'')``, or None when the function failed, the ModelError then kept in
+    ``error`` (the binding raises it when the core returns; later calls fail at once)."""
+
+    def __init__(self, law: Function):
+        self.law = law
+        self.error = None
+
+    def _real(self, f, t, what):
+        v = f(t - self.law.shift)
+        if isinstance(v, np.ndarray) and v.ndim == 0:
+            v = v[()]
+        if not isinstance(v, (numbers.Real, np.integer, np.floating)) or isinstance(v, (bool, np.bool_)):
+            raise ModelError(f"time law: the function {_callable_name(f)!r}{what} returned "
+                             f"{type(v).__name__} {v!r} at t = {t:.9g} s, not a real number")
+        v = float(v)
+        if not math.isfinite(v):
+            raise ModelError(f"time law: the function {_callable_name(f)!r}{what} returned {v} at "
+                             f"t = {t:.9g} s")
+        return v
+
+    def __call__(self, t: float, nder: int):
+        if self.error is not None:
+            return None
+        law = self.law
+        try:
+            s = self._real(law.fn, t, "")
+            d1 = d2 = 0.0
+            if nder >= 1:
+                h = law.step
+                if law.derivative is not None:
+                    d1 = self._real(law.derivative, t, " (derivative)")
+                if law.derivative is None or (nder >= 2 and law.second_derivative is None):
+                    sp = self._real(law.fn, t + h, "")
+                    try:   # central differences; one-sided forward ones where fn is not
+                        with np.errstate(all="ignore"):   # defined before t (e.g. t < 0)
+                            sm = law.fn(t - h - law.shift)
+                        central = math.isfinite(float(sm))
+                    except Exception:   # noqa: BLE001 -- then the forward differences
+                        central = False
+                    if central:
+                        fd1, fd2 = (sp - float(sm)) / (2 * h), (sp - 2 * s + float(sm)) / (h * h)
+                    else:
+                        s2 = self._real(law.fn, t + 2 * h, "")
+                        fd1, fd2 = (-3 * s + 4 * sp - s2) / (2 * h), (s - 2 * sp + s2) / (h * h)
+                    if law.derivative is None:
+                        d1 = fd1
+                    if nder >= 2 and law.second_derivative is None:
+                        d2 = fd2
+                if nder >= 2 and law.second_derivative is not None:
+                    d2 = self._real(law.second_derivative, t, " (second derivative)")
+            return (s, d1, d2)
+        except ModelError as e:
+            self.error = e
+        except Exception as e:   # noqa: BLE001 -- any error of the user's function is reported
+            err = ModelError(f"time law: the function {_callable_name(law.fn)!r} raised "
+                             f"{type(e).__name__} at t = {t:.9g} s: {e}")
+            err.__cause__ = e
+            self.error = err
+        return None
+
 
 @dataclasses.dataclass(frozen=True)
 class Motion:
-    """Prescribed relative motion of a driven pair: r(t) = exp(law(t) * axis), axis a twist
-    (omega, v) in the pair's frame on b, e.g. (0,0,1,0,0,0) with an angle law [rad], or
-    (0,0,0,0,1,0) with a displacement law [m]."""
+    """Prescribed relative motion of a driven Fixed pair: r(t) = exp(law(t) * axis), axis a
+    twist (omega, v) in the pair's frame on b, e.g. (0,0,1,0,0,0) with an angle law [rad], or
+    (0,0,0,0,1,0) with a displacement law [m]. Pairs with joint coordinates are driven by laws
+    of their coordinates instead (Mechanism.add_pair(driven=law))."""
     axis: Sequence[float]
     law: _Law
+
+
+_CLASSES = {c.__name__: c for c in (Constant, Step, Pulse, Sine, Table, Cycloidal, Linear, Spline,
+                                    PiecewisePolynomial, Sum, Product, Function)}

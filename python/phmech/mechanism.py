@@ -16,6 +16,7 @@ Spring), frames (Frame, Body, FlexibleLink), results (SimulationResult, ...), gr
 from __future__ import annotations
 
 import os
+import numbers
 import warnings
 from typing import Callable, Optional, Sequence, Union
 
@@ -28,7 +29,8 @@ from .actuators import PD, Effort, Spring, actuator_row
 from .description import ModelDescription
 from .frames import Body, FlexibleLink, Frame, frame_of, link_of
 from .graphs import Graphs, mechanism_graphs
-from .laws import Constant, Cycloidal, Motion, Pulse, Sine, Step, Table, _Law, checked_law
+from .laws import (Constant, Cycloidal, Function, Linear, Motion, PiecewisePolynomial, Product,
+                   Pulse, Sine, Spline, Step, Sum, Table, _Law, checked_law, law_from_data)
 from .pairs import (Cylindrical, Fixed, Free, Helical, Planar, Prismatic, Revolute, Spherical,
                     Universal, _Pair)
 from .results import (ENERGY_NAMES, InitialAdjustment, InitialConfiguration, ModesResult, Momentum,
@@ -48,7 +50,8 @@ MAX_STEPS = 1_000_000
 
 __all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "Fixed", "Revolute", "Prismatic",
            "Helical", "Cylindrical", "Universal", "Spherical", "Planar", "Free", "Effort", "PD",
-           "Spring", "Motion", "Constant", "Step", "Pulse", "Sine", "Table", "Cycloidal",
+           "Spring", "Motion", "Constant", "Step", "Pulse", "Sine", "Table", "Cycloidal", "Linear",
+           "Spline", "PiecewisePolynomial", "Sum", "Product", "Function", "law_from_data",
            "SimulationResult", "ModesResult", "StaticResult", "Graphs", "RedundantConstraintWarning",
            "InitialValueWarning", "InitialAdjustment", "InitialConfiguration", "Momentum",
            "StabilityWarning", "AccuracyWarning", "EquilibriumWarning"]
@@ -273,12 +276,20 @@ class Mechanism:
         return b
 
     @_recorded
-    def add_pair(self, name: str, pair, a, b, driven: Optional[Motion] = None, actuator=None,
+    def add_pair(self, name: str, pair, a, b, driven=None, actuator=None,
                  x0=None, xdot0=None) -> None:
         """A kinematic pair ``pair`` (Fixed, Revolute, Prismatic, Helical, Cylindrical, Universal,
         Spherical, Planar, Free) from frame ``a`` to frame ``b`` (edge (a, b)).
 
-        ``driven``: a prescribed relative motion (Motion; Fixed pairs only). ``actuator``: an
+        ``driven``: a Fixed pair takes a prescribed relative motion (Motion); a pair with joint
+        coordinates takes time laws of them: one law (a pair with one coordinate: the angle of a
+        Revolute or Helical [rad], the displacement of a Prismatic [m]) or a sequence of k
+        entries, a law or None (not driven) per coordinate (Cylindrical, Universal, Planar; the
+        translations of a Free pair). A driven coordinate is constrained to its law, x_c = s(t)
+        (its multiplier is the driving torque or force, its power supplied work in the energy
+        ledger); its initial value and rate are s(0) and s'(0) (given x0, xdot0 must agree).
+        A speed profile w(t) drives through its integral (Spline.antiderivative, Linear for a
+        constant speed). ``actuator``: an
         Effort, PD or Spring on the pair's joint coordinates (its port is named after the pair; add
         more with add_actuator). ``x0``/``xdot0``: initial joint coordinates [rad or m] and rates;
         when ``b`` is a rigid body it is placed there relative to ``a``'s current initial pose and
@@ -309,16 +320,17 @@ class Mechanism:
         except ModelError as e:
             raise ModelError(f"pair {name!r}: {e}") from None
         Ta, Tb = fa.T @ Q, fb.T @ Q
-        law, axis = None, np.zeros(6)
-        if driven is not None:
-            if not isinstance(driven, Motion):
-                raise ModelError(f"pair {name!r}: driven must be a Motion")
+        law, axis, xlaws = None, np.zeros(6), None
+        k = pair.k
+        if isinstance(driven, Motion):
             if not pair._type.drivable:
-                raise ModelError(f"pair {name!r}: only Fixed pairs take a prescribed Motion; drive a "
-                                 f"{type(pair).__name__} pair with a PD actuator")
+                raise ModelError(f"pair {name!r}: a Motion drives Fixed pairs only; drive a "
+                                 f"{type(pair).__name__} pair's joint coordinates with time laws "
+                                 f"(driven=law, or one law or None per coordinate)")
             axis = array(f"pair {name!r}: motion axis", driven.axis, (6,), "6 finite numbers (omega, v)")
             law = checked_law(driven.law, f"pair {name!r}: Motion law")
-        k = pair.k
+        elif driven is not None:
+            xlaws = self._joint_laws(name, pair, driven)
         xv = np.zeros(6)
         if x0 is not None:
             if k == 0:
@@ -331,22 +343,76 @@ class Mechanism:
         xdv = np.zeros(6)
         if xd is not None:
             xdv[:k] = xd
+        has_x0, has_xd = x0 is not None, xdot0 is not None
+        if xlaws is not None:   # driven coordinates start at s(0) with rate s'(0)
+            for c, lw in enumerate(xlaws):
+                if lw is None:
+                    continue
+                s0, ds0, _ = (float(v) for v in lw.derivatives(0.0))
+                unit = pair._units[c]
+                for given, key, v, what in ((has_x0, x0, s0, "x0"), (has_xd, xdot0, ds0, "xdot0")):
+                    g = (xv if what == "x0" else xdv)[c]
+                    if given and abs(g - v) > 1e-9 * max(1.0, abs(v)):
+                        raise ModelError(f"pair {name!r}: {what}[{c}] = {g:.9g} {unit}"
+                                         f"{'/s' if what == 'xdot0' else ''} disagrees with its "
+                                         f"driving law, which gives {v:.9g} at t = 0; leave it out")
+                xv[c], xdv[c] = s0, ds0
+            if all(lw is not None for lw in xlaws):
+                has_x0 = has_xd = True
         entry = dict(name=name, type=pair._code, a=fa.carrier, b=fb.carrier, Ta=Ta, Tb=Tb,
                      fa_name=self._describe(fa), fb_name=self._describe(fb),
-                     driven=driven is not None, axis=axis, law=law, pitch=pitch, k=k,
-                     x0=xv, has_x0=x0 is not None, pair=pair, xdot0=xdv,
-                     has_xdot0=xdot0 is not None)
+                     driven=law is not None, axis=axis, law=law, pitch=pitch, k=k,
+                     x0=xv, has_x0=has_x0, pair=pair, xdot0=xdv,
+                     has_xdot0=has_xd, xlaws=xlaws)
         # everything that can fail before anything is changed: a failed call adds nothing
         act = None if actuator is None else actuator_row(name, entry, len(self._pairs), actuator)
         place = None
-        if (x0 is not None or xdot0 is not None) and fb.carrier in self._desc.body_carriers():
-            place = self._placed(entry, xv[:k], np.zeros(k) if xd is None else xd)
+        if (x0 is not None or xdot0 is not None or xlaws is not None) and \
+                fb.carrier in self._desc.body_carriers():
+            place = self._placed(entry, xv[:k], xdv[:k])
         self._new_name(name)
         self._pairs.append(entry)
         if place is not None:
             self._car[entry["b"]]["H0"], self._car[entry["b"]]["t0"] = place
         if act is not None:
             self._acts.append(act)
+
+    @staticmethod
+    def _joint_laws(name: str, pair, driven) -> list:
+        """The checked laws (or None) of a pair's k joint coordinates from ``driven`` (one law
+        for a pair with one coordinate, or k entries), refusing coordinates the core's pair
+        table does not let follow a law."""
+        k, what = pair.k, f"pair {name!r}: driven"
+        if k == 0:
+            raise ModelError(f"{what}: a Fixed pair is driven by a Motion (it has no joint coordinates)")
+        one = isinstance(driven, (_Law, numbers.Real)) or (callable(driven) and not isinstance(driven, type))
+        if one:
+            if k != 1:
+                raise ModelError(f"{what}: a {type(pair).__name__} pair has {k} joint coordinates; "
+                                 f"give one law or None per coordinate")
+            items = [driven]
+        else:
+            try:
+                items = list(driven)
+            except TypeError:
+                raise ModelError(f"{what}: expected a time law (or one law or None per joint "
+                                 f"coordinate), got {type(driven).__name__}") from None
+            if len(items) != k:
+                raise ModelError(f"{what}: a {type(pair).__name__} pair has {k} joint coordinates; "
+                                 f"got {len(items)} entries")
+        out = []
+        for c, lw in enumerate(items):
+            if lw is None:
+                out.append(None)
+                continue
+            if not pair._type.xdrivable[c]:
+                raise ModelError(f"{what}: joint coordinate {c} of a {type(pair).__name__} pair "
+                                 f"cannot follow a law (its rate is an angular velocity, not the "
+                                 f"time derivative of the coordinate); drive it with a PD actuator")
+            out.append(checked_law(lw, f"{what} (coordinate {c})" if k > 1 else what, numbers_too=True))
+        if all(x is None for x in out):
+            return None
+        return out
 
     def _describe(self, f: Frame) -> str:
         """A frame's name in quotes, or where an unnamed frame sits."""

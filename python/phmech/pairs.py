@@ -70,14 +70,16 @@ class PairType:
     ``code``: its type code. ``name``: its class's name. ``parameters``: (field, type, default)
     of its class. ``units``: "rad" or "m" for each joint coordinate (k of them). ``directions``:
     the names of the constraint-wrench directions W^C in F_b (6 - k), the order of the constraint
-    rows. ``drivable``: its relative motion can be prescribed (Motion). ``doc``: the class's
-    docstring."""
+    rows. ``drivable``: its relative motion can be prescribed (Motion). ``xdrivable``: for each
+    joint coordinate, whether it can follow a time law (add_pair(driven=...)). ``doc``: the
+    class's docstring."""
     code: int
     name: str
     parameters: tuple
     units: tuple
     directions: tuple
     drivable: bool
+    xdrivable: tuple
     doc: str
 
     @property
@@ -110,12 +112,23 @@ def _parameters(spec: str) -> tuple:
 
 PAIR_TYPES = tuple(
     PairType(row["code"], row["name"].capitalize(), _parameters(row["params"]), tuple(row["units"]),
-             tuple(row["directions"]), bool(row["drivable"]), row["doc"])
+             tuple(row["directions"]), bool(row["drivable"]),
+             tuple(bool(row["xdrivable"] >> c & 1) for c in range(row["k"])), row["doc"])
     for row in _core.pair_types())
 
 #: Names of the constraint-wrench directions W^C of each pair type, by type code, in the pair
 #: frame F_b whose z axis is the joint axis (Universal: x = axis1, y = axis2).
 DIRECTIONS = {t.code: t.directions for t in PAIR_TYPES}
+
+
+def row_names(e: dict) -> tuple:
+    """The names of the constraint rows of a pair's description row ``e`` (type, xlaws), in
+    the core's order: its type's W^C directions, then one "drive x[c]" ("drive x" for a pair
+    with one coordinate) per joint coordinate that follows a law."""
+    xl = e.get("xlaws") or ()
+    k = len(xl)
+    return tuple(DIRECTIONS[e["type"]]) + tuple(
+        "drive x" if k == 1 else f"drive x[{c}]" for c, lw in enumerate(xl) if lw is not None)
 
 # ------------------------------------------------------------------ the classes
 class _Pair:

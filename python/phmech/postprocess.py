@@ -13,7 +13,7 @@ from . import _core, se3
 from ._core import ModelError
 from .description import ModelDescription
 from .frames import FlexibleLink
-from .pairs import DIRECTIONS
+from .pairs import row_names
 from .results import SimulationResult
 
 
@@ -54,7 +54,7 @@ def constraint_residuals(desc: ModelDescription, model, result: SimulationResult
     ``model``: the core model of ``desc`` (any initial state)."""
     nt = len(result.t)
     pos, vel = np.zeros(nt), np.zeros(nt)
-    driven = any(e["driven"] for e in desc.pairs)
+    driven = any(e["driven"] or e.get("xlaws") for e in desc.pairs)
     for i in range(nt):
         H, x, t = result.poses[i], result.joints[i], float(result.t[i])
         g, G, _ = _core.model_constraints_full(model, H, x, t)
@@ -72,10 +72,10 @@ def full_layout(desc: ModelDescription) -> list:
     kept (redundant ones included), as the core's layout would be without drop masks."""
     lay, row, j = [], 0, 0
     for e in desc.pairs:
-        m = len(DIRECTIONS[e["type"]])
-        lay.append((row, m, j, 6 - m))
+        m, k = len(row_names(e)), e["k"]
+        lay.append((row, m, j, k))
         row += m
-        j += 6 - m
+        j += k
     return lay
 
 

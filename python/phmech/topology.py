@@ -53,7 +53,7 @@ from . import _core, _marshal, se3
 from ._core import ModelError
 from .description import ModelDescription
 from .graphs import mechanism_graphs
-from .pairs import DIRECTIONS
+from .pairs import row_names
 from .results import InitialAdjustment
 
 CLOSURE_TOL = 1e-9   # max |g| accepted after the loop-closure projection
@@ -414,7 +414,7 @@ def _close(desc: ModelDescription, model, H, tree_pairs, xref, hard_x0):
         bad = []
         row = 0
         for e in desc.pairs:
-            m = len(DIRECTIONS[e["type"]])
+            m = len(row_names(e))
             if m and np.max(np.abs(g[row:row + m])) > CLOSURE_TOL:
                 bad.append(e["name"])
             row += m
@@ -511,7 +511,7 @@ def redundant_rows(desc: ModelDescription, G, tree_pairs):
         return masks, []
     spans, rowf = [], 0
     for e in desc.pairs:
-        m = len(DIRECTIONS[e["type"]])
+        m = len(row_names(e))
         spans.append((rowf, m))
         rowf += m
     order = [(r0 + r, ip, r) for pref in (True, False) for ip, (r0, m) in enumerate(spans)
@@ -552,7 +552,7 @@ def redundant_rows(desc: ModelDescription, G, tree_pairs):
     for i, (row, ip, r) in sorted(enumerate(cand), key=lambda t: t[1][0]):
         if i not in keep:
             masks[ip] |= 1 << r
-            dropped.append((desc.pairs[ip]["name"], DIRECTIONS[desc.pairs[ip]["type"]][r]))
+            dropped.append((desc.pairs[ip]["name"], row_names(desc.pairs[ip])[r]))
     return masks, dropped
 
 

@@ -194,9 +194,126 @@ static void invalid_laws_are_refused_with_a_message(void) {
   }
 }
 
+/* Linear, a piecewise polynomial (a C1 joint and a C2 one), a postfix expression and a callback:
+ * values against their closed forms, derivatives against central differences, the piece chosen
+ * by t (by tref within round-off of a break), breakpoints only where s, s' or s'' jumps. */
+static int cb_calls;
+static int square_cb(void *ctx, double t, int nder, double out[3]) {
+  (void)nder;
+  cb_calls++;
+  double a = *(const double *)ctx;
+  if (t > 10) return 1; /* fails beyond 10 s */
+  out[0] = a * t * t;
+  out[1] = 2 * a * t;
+  out[2] = 2 * a;
+  return 0;
+}
+
+static void linear_ppoly_expression_and_callback_laws(void) {
+  phm_law lin = law_of(PHM_LAW_LINEAR, 2.5, 0, 0);
+  lin.offset = -1.0;
+  double ds, dds, s = phm_law_eval(&lin, 0.8, 0.8, &ds, &dds);
+  check("linear: s = offset + rate t, ds = rate, dds = 0", fabs(s - 1.0) + fabs(ds - 2.5) + fabs(dds), 1e-15);
+  /* pieces on [0, 1), [1, 2), [2, 3): s = t^2 (C1 at 1 with 2t - 1 + (t-1)^2... ) */
+  const double P[] = {0.0, 1.0, 2.0, 3.0,
+                      /* t^3 on [0, 1) */ 1, 0, 0, 0,
+                      /* 1 + 3u + 3u^2 + u^3 = t^3 on [1, 2): C-infinity at 1 */ 1, 3, 3, 1,
+                      /* 8 + 12u + 0 u^2: C1 at 2 (s'' jumps from 12 to 0) */ 0, 0, 12, 8};
+  phm_law pp = law_of(PHM_LAW_PPOLY, 0, 0, 0);
+  pp.table = P;
+  pp.ntable = 3;
+  pp.order = 4;
+  for (int i = 0; i < 40; i++) {
+    double t = -0.5 + 4 * rand01(), ref, r1, r2;
+    if (t < 2) { ref = t * t * t; r1 = 3 * t * t; r2 = 6 * t; }
+    else { ref = 8 + 12 * (t - 2); r1 = 12; r2 = 0; }
+    s = phm_law_eval(&pp, t, t + 0.3, &ds, &dds); /* tref beyond t: the piece is t's */
+    check("ppoly: s, ds, dds of the piece of t (first and last continued)",
+          fabs(s - ref) + fabs(ds - r1) + fabs(dds - r2), 1e-12 * (1 + fabs(ref) + fabs(r1) + fabs(r2)));
+  }
+  check_derivatives("ppoly", &pp, 0.6, 1e-5, 3.0, 6.0, 1e-8);
+  check("ppoly: at a break, tref before it selects the piece that ends there",
+        fabs(phm_law_eval(&pp, 2.0, 1.9, NULL, &dds) - 8.0) + fabs(dds - 12.0), 1e-12);
+  double bp[4];
+  int nb = phm_law_breakpoints(&pp, bp);
+  CHECK(nb == 1 && bp[0] == 2.0, "ppoly: one breakpoint, at the C1 break 2 (got %d)", nb);
+  /* expression: (sine * linear) + 3 * cycloidal, postfix: sine linear * 3 cyc * + */
+  phm_law nodes[7] = {law_of(PHM_LAW_SINE, 0.7, 0, 0), lin, law_of(PHM_LAW_PRODUCT, 0, 0, 0),
+                      law_of(PHM_LAW_CONSTANT, 3.0, 0, 0), law_of(PHM_LAW_CYCLOIDAL, 1.5, 0.2, 1.0),
+                      law_of(PHM_LAW_PRODUCT, 0, 0, 0), law_of(PHM_LAW_SUM, 0, 0, 0)};
+  nodes[0].frequency = 1.3;
+  nodes[0].phase = 0.2;
+  phm_law ex = law_of(PHM_LAW_EXPR, 0, 0, 0);
+  ex.nodes = nodes;
+  ex.nnodes = 7;
+  phm_error err;
+  CHECK(phm_law_check(&ex, "load", 0, &err) == PHM_OK, "expression accepted");
+  for (int i = 0; i < 20; i++) {
+    double t = 0.25 + 0.9 * rand01(), a[3], b[3], c[3];
+    a[0] = phm_law_eval(&nodes[0], t, t, &a[1], &a[2]);
+    b[0] = phm_law_eval(&lin, t, t, &b[1], &b[2]);
+    c[0] = phm_law_eval(&nodes[4], t, t, &c[1], &c[2]);
+    s = phm_law_eval(&ex, t, t, &ds, &dds);
+    check("expression: s = a b + 3 c", fabs(s - (a[0] * b[0] + 3 * c[0])), 1e-14);
+    check("expression: ds by the product rule", fabs(ds - (a[1] * b[0] + a[0] * b[1] + 3 * c[1])), 1e-13);
+    check("expression: dds by the Leibniz rule",
+          fabs(dds - (a[2] * b[0] + 2 * a[1] * b[1] + a[0] * b[2] + 3 * c[2])), 1e-12);
+    check_derivatives("expression", &ex, t, 1e-5, 10.0, 50.0, 1e-8);
+  }
+  nb = phm_law_breakpoints(&ex, bp);
+  CHECK(nb == 2 && bp[0] == 0.2 && bp[1] == 1.2, "expression: its cycloid's breakpoints (got %d)", nb);
+  ex.nnodes = 6; /* leaves two values */
+  check_refused("expression leaving two values", phm_law_check(&ex, "load", 1, &err), PHM_EINVAL, &err,
+                "load 1: expression law leaves 2 values, not one");
+  ex.nodes = nodes + 2;
+  ex.nnodes = 1;
+  check_refused("operator without operands", phm_law_check(&ex, "load", 1, &err), PHM_EINVAL, &err,
+                "operator at node 0 has fewer than two operands");
+  phm_law deep[PHM_LAW_STACK + 1];
+  for (int i = 0; i <= PHM_LAW_STACK; i++) deep[i] = law_of(PHM_LAW_CONSTANT, 1, 0, 0);
+  ex.nodes = deep;
+  ex.nnodes = PHM_LAW_STACK + 1;
+  check_refused("expression deeper than the stack", phm_law_check(&ex, "load", 1, &err), PHM_EINVAL,
+                &err, "needs a stack deeper than");
+  /* callback: its values; a failure is NaN; its breakpoints */
+  double a = 1.5, cbp[2] = {0.5, 2.0};
+  phm_law cb = law_of(PHM_LAW_CALLBACK, 0, 0, 0);
+  cb.fn = square_cb;
+  cb.ctx = &a;
+  cb.table = cbp;
+  cb.ntable = 2;
+  CHECK(phm_law_check(&cb, "pair", 0, &err) == PHM_OK, "callback law accepted");
+  cb_calls = 0;
+  s = phm_law_eval(&cb, 2.0, 2.0, &ds, &dds);
+  check("callback: s, ds, dds of the function", fabs(s - 6.0) + fabs(ds - 6.0) + fabs(dds - 3.0), 0.0);
+  CHECK(cb_calls == 1, "callback: one call per evaluation (%d)", cb_calls);
+  s = phm_law_eval(&cb, 11.0, 11.0, &ds, NULL);
+  CHECK(isnan(s) && isnan(ds), "callback: a failed call gives NaN");
+  nb = phm_law_breakpoints(&cb, bp);
+  CHECK(nb == 2 && bp[0] == 0.5 && bp[1] == 2.0, "callback: its listed breakpoints");
+  cb.fn = NULL;
+  check_refused("callback without a function", phm_law_check(&cb, "pair", 2, &err), PHM_EINVAL, &err,
+                "pair 2: callback law without a function");
+  /* a deep copy: the expression's nodes and the polynomial's data move to the arenas */
+  size_t nn = 0, nd = 0;
+  phm_law e2 = law_of(PHM_LAW_EXPR, 0, 0, 0), leaves[3] = {pp, lin, law_of(PHM_LAW_SUM, 0, 0, 0)};
+  e2.nodes = leaves;
+  e2.nnodes = 3;
+  phm_law_extent(&e2, &nn, &nd);
+  CHECK(nn == 3 && nd == 4 + 12, "extent: 3 nodes and 16 doubles (got %zu, %zu)", nn, nd);
+  phm_law arena[3], *ap = arena, copy = e2;
+  double data[16], *dp = data;
+  phm_law_copy(&copy, &ap, &dp);
+  CHECK(copy.nodes == arena && arena[0].table == data && ap == arena + 3 && dp == data + 16,
+        "copy: nodes and tables in the arenas");
+  check("copy evaluates as the original", fabs(phm_law_eval(&copy, 1.3, 1.3, NULL, NULL) -
+                                                 phm_law_eval(&e2, 1.3, 1.3, NULL, NULL)), 0.0);
+}
+
 CHECK_MAIN(CHECK_CASE(constant_step_and_pulse_are_piecewise_constant),
            CHECK_CASE(sine_matches_its_closed_form_and_derivatives),
            CHECK_CASE(table_interpolates_linearly_within_the_piece_of_tref),
            CHECK_CASE(cycloidal_ramp_is_c2_with_closed_form_values),
            CHECK_CASE(breakpoints_are_where_pieces_start_or_end),
-           CHECK_CASE(invalid_laws_are_refused_with_a_message))
+           CHECK_CASE(invalid_laws_are_refused_with_a_message),
+           CHECK_CASE(linear_ppoly_expression_and_callback_laws))

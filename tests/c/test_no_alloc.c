@@ -47,7 +47,7 @@ void *__wrap_realloc(void *p, size_t size) {
 /* A flexible strip of NE elements along x whose root is turned about z by a driven fixed pair
  * (a Table law), a rigid body on its tip on a revolute pair about z held by a PD actuator with a
  * Table set point, a spring from the body to the ground, a load on a node with its reaction on
- * the body, gravity. */
+ * the body (an expression law), gravity. */
 enum { NE = 4, NC = NE + 2 };
 static const double drive_table[] = {0.0, 0.0, 0.01, 0.02, 0.02, 0.03, 0.03, 0.03, 0.04, 0.0};
 static const double setpoint_table[] = {0.0, 0.0, 0.015, 0.1, 0.035, 0.1};
@@ -131,8 +131,25 @@ static phm_model *build(void) {
   ld[0].carrier = 2;
   ld[0].reaction = NC - 1;
   ld[0].w[4] = 0.5;
-  ld[0].law.kind = PHM_LAW_CONSTANT;
-  ld[0].law.amplitude = 1.0;
+  /* its law an expression (1 + p(t) sin(2 pi 30 t), p a two-piece cubic): evaluated on the
+   * stack, without allocating */
+  static const double poly[] = {0.0, 0.02, 0.05, 0, 0, 1.0, 0.0, 0, 3.0, 0.0, 0.02};
+  static phm_law nodes[5];
+  memset(nodes, 0, sizeof nodes);
+  nodes[0].kind = PHM_LAW_PPOLY;
+  nodes[0].ntable = 2;
+  nodes[0].order = 4;
+  nodes[0].table = poly;
+  nodes[1].kind = PHM_LAW_SINE;
+  nodes[1].amplitude = 1.0;
+  nodes[1].frequency = 30.0;
+  nodes[2].kind = PHM_LAW_PRODUCT;
+  nodes[3].kind = PHM_LAW_CONSTANT;
+  nodes[3].amplitude = 1.0;
+  nodes[4].kind = PHM_LAW_SUM;
+  ld[0].law.kind = PHM_LAW_EXPR;
+  ld[0].law.nnodes = 5;
+  ld[0].law.nodes = nodes;
   phm_model_desc d;
   memset(&d, 0, sizeof d);
   d.ncarriers = NC;

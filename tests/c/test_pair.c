@@ -2,7 +2,7 @@
  * and their order, a driven fixed pair against its prescribed motion, every pair type's
  * constraints, Jacobian blocks and joint coordinates against finite differences and an
  * independent forward kinematics (pair_fk below), phm_pair_type_pose and
- * phm_pair_type_coordinates, and the rows a drop mask keeps. */
+ * phm_pair_type_coordinates, the rows a drop mask keeps, and joint coordinates driven by laws. */
 #include "check.h"
 #include "model.h"
 
@@ -366,8 +366,140 @@ static void drop_mask_keeps_the_other_rows_of_the_full_set(void) {
   }
 }
 
+/* Joint coordinates that follow laws (xdriven, every coordinate the table lets follow one): one
+ * more row per coordinate after the type's, g = x_c - s_c(t) = 0 on the joint manifold at
+ * x_c = s_c(t); along any motion of the two carriers and time, Ga ta + Gb tb - vt = dg/dt
+ * (central differences); the driven rows' wrench columns are the effort basis Phi_c; a spherical
+ * pair's coordinates (rates are angular velocities) and a motion with joint laws are refused. */
+static void driven_joint_coordinates_follow_their_laws(void) {
+  for (int type = 1; type <= PHM_PAIR_FREE; type++) {
+    int mask = phm_pair_type(type)->xdrivable;
+    if (!mask) continue;
+    for (int trial = 0; trial < 4; trial++) {
+      char name[128];
+      const char *tn = phm_pair_type(type)->name;
+      phm_pair_desc pr;
+      rand_pair(type, trial, &pr);
+      int mt = phm_pair_type(type)->m, k = 6 - mt, mc = mt;
+      pr.xdriven = mask;
+      double x[6], time = 0.37;
+      rand_joint_coordinates(type, 0, x);
+      for (int c = 0; c < k; c++)
+        if (mask >> c & 1) {
+          pr.xlaw[c].kind = PHM_LAW_SINE;
+          pr.xlaw[c].amplitude = 0.5 + rand01();
+          pr.xlaw[c].frequency = 0.2 + rand01();
+          pr.xlaw[c].phase = rand11();
+          x[c] = phm_law_eval(&pr.xlaw[c], time, time, NULL, NULL);
+          mc++;
+        }
+      pr.has_x0 = 1;
+      memcpy(pr.x0, x, sizeof x);
+      phm_model *m = two_carrier_model(&pr, NULL, 0);
+      CHECK(m != NULL, "%s with driven coordinates %#x: model built", tn, mask);
+      if (!m) continue;
+      CHECK(phm_model_nconstraints(m) == mc, "%s: %d type rows + driven rows = %d", tn, mt, mc);
+      double H[32];
+      rand_pose(H, 1.0);
+      const double *Ha = pr.a < 0 ? NULL : H;
+      place_b_fk(Ha, pr.Ta, pr.Tb, type, pr.pitch, x, H + 16);
+      double g[6], Ga[36], Gb[36], vt[6];
+      phm_pair_eval(m, 0, Ha, H + 16, x, time, time, g, Ga, Gb, vt);
+      snprintf(name, sizeof name, "%s: every row (driven ones too) = 0 at x_c = s_c(t)", tn);
+      check(name, maxabs(mc, g), 1e-12);
+      double ta[6], tb[6], tau = 1e-6, gp[6], gm[6], Hp[32], Hm[32], e = 0;
+      for (int i = 0; i < 6; i++) {
+        ta[i] = pr.a < 0 ? 0 : rand11();
+        tb[i] = rand11();
+      }
+      perturbed(H, ta, tau, Hp);
+      perturbed(H + 16, tb, tau, Hp + 16);
+      perturbed(H, ta, -tau, Hm);
+      perturbed(H + 16, tb, -tau, Hm + 16);
+      phm_pair_eval(m, 0, pr.a < 0 ? NULL : Hp, Hp + 16, x, time + tau, time, gp, NULL, NULL, NULL);
+      phm_pair_eval(m, 0, pr.a < 0 ? NULL : Hm, Hm + 16, x, time - tau, time, gm, NULL, NULL, NULL);
+      /* any motion: the driven rows (the type's own: every_type_...; helical ones, whose
+       * driven row equals dg/dt up to a multiple of its screw row's, below) */
+      for (int r = mt; r < mc && type != PHM_PAIR_HELICAL; r++) {
+        double gv = -vt[r];
+        for (int j = 0; j < 6; j++) gv += Ga[6 * r + j] * ta[j] + Gb[6 * r + j] * tb[j];
+        e = fmax(e, fabs(gv - (gp[r] - gm[r]) / (2 * tau)));
+      }
+      snprintf(name, sizeof name, "%s: driven velocity rows = dg/dt with the laws' rates (central FD)", tn);
+      check(name, e, 1e-7);
+      /* an allowed motion of the type, x(s) = x + s xi, a moving with ta: every row's velocity
+       * residual is dg/dt (the type's vanish; a driven one is xi_c - s_c') */
+      double xi[6], xp[6], xm[6];
+      for (int i = 0; i < 6; i++) {
+        xi[i] = rand11();
+        xp[i] = x[i] + tau * xi[i];
+        xm[i] = x[i] - tau * xi[i];
+      }
+      perturbed(H, ta, tau, Hp);
+      perturbed(H, ta, -tau, Hm);
+      place_b_fk(pr.a < 0 ? NULL : Hp, pr.Ta, pr.Tb, type, pr.pitch, xp, Hp + 16);
+      place_b_fk(pr.a < 0 ? NULL : Hm, pr.Ta, pr.Tb, type, pr.pitch, xm, Hm + 16);
+      {
+        double Hi[16], D[16], lp[6], lm[6];
+        phm_se3_inverse(H + 16, Hi);
+        phm_se3_compose(Hi, Hp + 16, D);
+        phm_se3_log(D, lp);
+        phm_se3_compose(Hi, Hm + 16, D);
+        phm_se3_log(D, lm);
+        for (int i = 0; i < 6; i++) tb[i] = (lp[i] - lm[i]) / (2 * tau);
+      }
+      phm_pair_eval(m, 0, pr.a < 0 ? NULL : Hp, Hp + 16, x, time + tau, time, gp, NULL, NULL, NULL);
+      phm_pair_eval(m, 0, pr.a < 0 ? NULL : Hm, Hm + 16, x, time - tau, time, gm, NULL, NULL, NULL);
+      e = 0;
+      for (int r = 0; r < mc; r++) {
+        double gv = -vt[r];
+        for (int j = 0; j < 6; j++) gv += Ga[6 * r + j] * ta[j] + Gb[6 * r + j] * tb[j];
+        e = fmax(e, fabs(gv - (gp[r] - gm[r]) / (2 * tau)));
+      }
+      snprintf(name, sizeof name, "%s: every velocity row = dg/dt along an allowed motion", tn);
+      check(name, e, 1e-7);
+      double W[6 * 36], Phi[36], h[16], Gf[6 * 12];
+      phm_constraints_full(m, H, x, time, NULL, Gf, W);
+      phm_pair_frames(m, 0, Ha, H + 16, h, NULL, NULL);
+      phm_pair_kin(type, pr.pitch, h, x, NULL, NULL, Phi, NULL);
+      double ew = 0;
+      for (int c = 0, r = mt; c < k; c++)
+        if (mask >> c & 1) {
+          for (int i = 0; i < 6; i++) ew = fmax(ew, fabs(W[6 * i + r] - Phi[6 * i + c]));
+          r++;
+        }
+      snprintf(name, sizeof name, "%s: a driven row's wrench column is Phi_c", tn);
+      check(name, ew, 1e-15);
+      phm_model_free(m);
+    }
+  }
+  /* refusals */
+  phm_pair_desc pr;
+  rand_pair(PHM_PAIR_SPHERICAL, 1, &pr);
+  pr.xdriven = 1;
+  pr.xlaw[0].kind = PHM_LAW_CONSTANT;
+  phm_model_desc d;
+  phm_carrier_desc car[2];
+  carrier_unit(&car[0]);
+  carrier_unit(&car[1]);
+  memset(&d, 0, sizeof d);
+  d.ncarriers = 2;
+  d.carriers = car;
+  d.npairs = 1;
+  d.pairs = &pr;
+  phm_model *m = NULL;
+  phm_error err;
+  check_refused("spherical coordinate driven", phm_model_create(&d, &m, &err), PHM_EINVAL, &err,
+                "a spherical pair's joint coordinates 0x1 cannot follow a law");
+  rand_pair(PHM_PAIR_REVOLUTE, 1, &pr);
+  pr.xdriven = 2;
+  check_refused("coordinate beyond k", phm_model_create(&d, &m, &err), PHM_EINVAL, &err,
+                "driven coordinates 0x2 beyond the 1 joint coordinates of a revolute pair");
+}
+
 CHECK_MAIN(CHECK_CASE(pair_table_lists_the_types_in_order),
            CHECK_CASE(driven_fixed_pair_follows_its_prescribed_motion),
            CHECK_CASE(every_type_vanishes_on_its_manifold_with_consistent_jacobians),
            CHECK_CASE(type_pose_and_coordinates_are_inverse),
-           CHECK_CASE(drop_mask_keeps_the_other_rows_of_the_full_set))
+           CHECK_CASE(drop_mask_keeps_the_other_rows_of_the_full_set),
+           CHECK_CASE(driven_joint_coordinates_follow_their_laws))
