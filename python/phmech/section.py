@@ -78,8 +78,8 @@ def _rect_torsion(w: float, h: float) -> float:
 
 @dataclass(frozen=True)
 class Section:
-    """Cross-section geometry (shape and dimensions [m]); build it with :meth:`rectangle`,
-    :meth:`circle` or :meth:`tube`.
+    """Cross-section geometry (shape and dimensions [m]); build it with :meth:`strip`,
+    :meth:`rectangle`, :meth:`circle` or :meth:`tube`.
 
     Attributes (all derived from the shape): ``A`` area [m^2], ``I_y``, ``I_z`` second moments
     about the local y and z axes [m^4], ``I_p = I_y + I_z`` polar moment [m^4], ``J``
@@ -93,8 +93,31 @@ class Section:
     # -- constructors ------------------------------------------------------------------------
     @classmethod
     def rectangle(cls, width_y: float, height_z: float) -> "Section":
-        """Solid rectangle, side ``width_y`` along local y and ``height_z`` along local z [m]."""
+        """Solid rectangle, side ``width_y`` along local y and ``height_z`` along local z [m].
+
+        The thinner side is the direction of the soft bending: ``height_z < width_y`` makes
+        ``I_y = width_y height_z^3 / 12`` the smaller second moment, so the link bends most
+        easily in its x-z plane (deflection along local z, strain ``kappa_y``). :meth:`strip`
+        says it by name."""
         return cls("rectangle", (positive("width_y", width_y), positive("height_z", height_z)))
+
+    @classmethod
+    def strip(cls, width: float, thickness: float, thin_along: str = "z") -> "Section":
+        """A solid rectangular strip (a leaf, a blade) of ``width`` and ``thickness`` [m], its
+        thickness along the local axis ``thin_along`` (``"z"``, the default, or ``"y"``).
+
+        The soft bending is the one that deflects the strip along its thickness: with
+        ``thin_along="z"`` the link bends softly in its x-z plane (deflection along local z,
+        strain ``kappa_y``, stiffness ``EI_y = E width thickness^3 / 12``) and stiffly in its
+        x-y plane (``EI_z = E thickness width^3 / 12``); ``thin_along="y"`` swaps them. The
+        thickness need not be smaller than the width (the name says which side is which, not
+        which is thinner). ``Section.strip(0.02, 0.001)`` is ``Section.rectangle(0.02, 0.001)``;
+        ``Section.strip(0.02, 0.001, thin_along="y")`` is ``Section.rectangle(0.001, 0.02)``."""
+        w, t = positive("width", width), positive("thickness", thickness)
+        if not isinstance(thin_along, str) or thin_along not in ("y", "z"):
+            raise ModelError(f"thin_along must be 'y' or 'z' (the local axis along the strip's "
+                             f"thickness), got {thin_along!r}")
+        return cls("rectangle", (w, t) if thin_along == "z" else (t, w))
 
     @classmethod
     def circle(cls, diameter: float) -> "Section":
