@@ -62,7 +62,7 @@ class Mechanism:
 
     ``strict``: when the loop closure of the initial configuration moves a given joint
     coordinate (``x0``) or a given pose beyond its tolerance, raise ModelError instead of warning
-    (InitialValueWarning). Tolerances: 1e-6 rad for angles (1e-6 |x0| for |x0| > 1 rad), 1e-6 L
+    (InitialValueWarning). Tolerances: 1e-6 rad for angles (1e-6 ``|x0|`` for ``|x0|`` > 1 rad), 1e-6 L
     for lengths, L the mechanism's size (topology.length_scale: the largest of the link lengths,
     the pair frames' offsets and the extent of the carriers' initial origins). Either way the
     moves are listed in ``initial_adjustments`` once a model has been built.
@@ -609,8 +609,8 @@ class Mechanism:
         time, ``band`` [Hz], ``error_estimate`` (adaptive generalized-alpha: the sum of the local
         error estimates of the configuration, a bound without error propagation), ``floor_steps``
         (steps accepted at the band's smallest step with their estimate above the tolerance:
-        motion above the band), ``energy_scale`` [J], ``ledger_relative`` (largest |energy
-        ledger residual| / energy_scale) and ``numerical_dissipation`` [J] (energy the
+        motion above the band), ``energy_scale`` [J], ``ledger_relative`` (the largest absolute
+        energy ledger residual / energy_scale) and ``numerical_dissipation`` [J] (energy the
         integrator removed, from the ledger).
 
         Other integrators (docs/integrators.md):
@@ -821,7 +821,7 @@ class Mechanism:
 
     def constraint_residuals(self, result: SimulationResult) -> dict:
         """Position and velocity constraint residuals of EVERY pair row (redundant rows included)
-        along a simulation: ``position`` (nt,) max |g(H)| [rad or m], ``velocity`` (nt,) max |G t|
+        along a simulation: ``position`` (nt,) max ``|g(H)|`` [rad or m], ``velocity`` (nt,) max ``|G t|``
         [rad/s or m/s] (prescribed rates of driven pairs subtracted); see
         phmech.postprocess.constraint_residuals."""
         result = postprocess.simulation_result(result, "constraint_residuals")

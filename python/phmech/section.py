@@ -32,10 +32,14 @@ class Material:
 
     Parameters
     ----------
-    E : Young's modulus [Pa], positive.
-    nu : Poisson's ratio [-], ``-1 < nu < 0.5``.
-    density : mass density [kg/m^3], positive.
-    G : shear modulus [Pa]; defaults to ``E / (2 (1 + nu))``.
+    E : float
+        Young's modulus [Pa], positive.
+    nu : float
+        Poisson's ratio [-], ``-1 < nu < 0.5``.
+    density : float
+        Mass density [kg/m^3], positive.
+    G : float, optional
+        Shear modulus [Pa]; defaults to ``E / (2 (1 + nu))``.
     """
 
     E: float
@@ -279,21 +283,25 @@ def _diagonal(matrix: str, k: int, doc: str) -> property:
 @dataclass(frozen=True)
 class BeamProperties:
     """Section properties of a flexible link per unit length, in the strain order
-    ``(kappa_x, kappa_y, kappa_z, eps_x, gamma_y, gamma_z)`` (angular first).
+    ``(kappa_x, kappa_y, kappa_z, eps_x, gamma_y, gamma_z)`` (angular first). The three
+    matrices are read-only 6x6 float64 arrays in C order.
 
-    Attributes (read-only 6x6 float64 arrays, C order)
+    Build with :meth:`from_material`, :meth:`from_values` or directly from three matrices.
+
+    Attributes
     ----------
-    stiffness : section stiffness ``K``, stress = K (strain - reference strain); diagonal
+    stiffness : numpy.ndarray
+        Section stiffness ``K``, stress = K (strain - reference strain); diagonal
         ``(GJ, EI_y, EI_z, EA, kGA_y, kGA_z)``; rows/columns 0-2 in N m^2, 3-5 in N (the
         off-diagonal blocks, if any, in N m). Symmetric positive definite.
-    inertia : mass per unit length ``M`` with momentum density = M twist; diagonal
+    inertia : numpy.ndarray
+        Mass per unit length ``M`` with momentum density = M twist; diagonal
         ``(rhoJ, rhoI_y, rhoI_z, rhoA, rhoA, rhoA)``: 0-2 in kg m, 3-5 in kg/m.
         Symmetric positive definite. (``rhoJ = density * I_p``, the polar moment, not the
         torsion constant.)
-    damping : viscoelastic section damping ``D``, viscous stress = D d(strain)/dt; 0-2 in
+    damping : numpy.ndarray
+        Viscoelastic section damping ``D``, viscous stress = D d(strain)/dt; 0-2 in
         N m^2 s, 3-5 in N s. Symmetric positive semi-definite; zero by default.
-
-    Build with :meth:`from_material`, :meth:`from_values` or directly from three matrices.
     """
 
     stiffness: np.ndarray
