@@ -113,7 +113,7 @@ def test_frame_at_composes_offsets():
 @pytest.mark.parametrize("kwargs, match", [
     (dict(point=(0, 0)), "point"),
     (dict(point="abc"), "point"),
-    (dict(rotation=np.eye(4)), "4x4"),
+    (dict(rotation=np.eye(4)), r"3x3 rotation matrix .* got shape \(4, 4\)"),
     (dict(rotation=np.diag([1.0, 1.0, -1.0])), "not a rotation"),
     (dict(rotation=2 * np.eye(3)), "not a rotation"),
     (dict(name=3), "name"),

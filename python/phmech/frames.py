@@ -42,9 +42,6 @@ def _offset(point, rotation, what: str) -> np.ndarray:
     if rotation is None:
         return T
     expected = "a 3x3 rotation matrix (e.g. ph.rotation('z', angle)) or None"
-    if np.shape(rotation) == (4, 4):
-        raise ModelError(f"{what}: rotation: expected {expected}, got a 4x4 array (a pose's "
-                         f"rotation is its [:3, :3] block, its translation the point)")
     R = array(f"{what}: rotation", rotation, (3, 3), expected)
     why = not_rotation(R)
     if why:
