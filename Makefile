@@ -8,7 +8,7 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.phmech-deps
 SOURCES := $(shell find csrc python -type f -name '*.[ch]' -o -type f -name '*.py') meson.build meson.options pyproject.toml
 
-.PHONY: all demo test ctest pytest sanitize sundials7-check build sysdeps validate bench clean info
+.PHONY: all demo test ctest pytest sanitize sundials7-check build sysdeps validate bench docs clean info
 
 all: build
 
@@ -101,6 +101,20 @@ sundials7-check: sysdeps $(STAMP)
 	PYTHONPATH=$(SUN7_DIR)/pkg $(PY) -c "import io, phmech; v = phmech.info(file=io.StringIO())['sundials']; \
 	  assert '$(SUN7_DIR)' in phmech.__file__ and v.startswith('7.'), (phmech.__file__, v); print('phmech', phmech.__file__, 'SUNDIALS', v)"
 	PHMECH_EXPECT_SUNDIALS_MAJOR=7 PYTHONPATH=$(SUN7_DIR)/pkg $(PY) -m pytest -q -p no:cacheprovider $(SUN7_TESTS)
+
+# The HTML documentation in build/docs/html: the pages of docs/ and the API reference generated
+# from the docstrings of phmech.__all__ (Sphinx, autodoc, napoleon, myst-parser; docs/conf.py).
+# Its packages (docs/requirements.txt) go into .venv here only, not for `make test`. -W: a
+# warning fails the build; -E: every page re-read, so a warning is never hidden by the cache.
+DOCS_STAMP := $(VENV)/.phmech-docs-deps
+
+$(DOCS_STAMP): docs/requirements.txt $(STAMP)
+	$(PY) -m pip install -q -r docs/requirements.txt
+	@touch $@
+
+docs: build $(DOCS_STAMP)
+	$(PY) -m sphinx -W --keep-going -E -b html docs build/docs/html
+	@echo "documentation: build/docs/html/index.html"
 
 # Long validation studies (not part of `make test`); figures land in benchmarks/results/.
 # hard_cases.py: the long versions of tests/hard (docs/validation.md), ~5 min CPU.

@@ -827,6 +827,13 @@ CALLS = [
     ("static start", None, lambda m, b, b2, lk, v: m.static(start=v)),
     ("stress_resultants link", "l", lambda m, b, b2, lk, v: m.stress_resultants(m.simulate(2e-3, 1e-3), v)),
     ("result pose", "b", lambda m, b, b2, lk, v: m.simulate(2e-3, 1e-3).pose(v)),
+    ("frame_at point", (0.1, 0, 0), lambda m, b, b2, lk, v: m.add_pair("p", ph.Spherical(), lk.end, b2.frame_at(v))),
+    ("frame_at rotation", np.eye(3), lambda m, b, b2, lk, v: m.add_pair(
+        "p", ph.Fixed(), lk.end.frame_at((0, 0, 0.1), v), b2)),
+    ("frame_at name", "f", lambda m, b, b2, lk, v: m.add_wrench("w2", b.frame_at((0.1, 0, 0), name=v), np.ones(6))),
+    ("body at", "b", lambda m, b, b2, lk, v: m.add_rigid_body("b3", 1.0, np.eye(3), at=v)),
+    ("link start", "b", lambda m, b, b2, lk, v: m.add_flexible_link("l2", 0.3, PROPS, elements=2, start=v)),
+    ("result pose of an offset frame", (0.1, 0, 0), lambda m, b, b2, lk, v: m.simulate(2e-3, 1e-3).pose(b.frame_at(v))),
 ]
 
 

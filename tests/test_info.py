@@ -49,3 +49,20 @@ def test_environment_variable_sets_the_count():
     env["PHMECH_BLAS_THREADS"] = "many"
     bad = subprocess.run([sys.executable, "-c", "import phmech"], env=env, capture_output=True, text=True)
     assert bad.returncode != 0 and "PHMECH_BLAS_THREADS must be an integer" in bad.stderr
+
+
+def test_one_version_number():
+    """meson.build's project() version is the only place it is written: the core reports it,
+    phmech.__version__ and info() read it, and meson-python puts it in the package metadata
+    (pyproject.toml: dynamic = ["version"])."""
+    import importlib.metadata
+    import pathlib
+    import re
+
+    meson = pathlib.Path(__file__).resolve().parents[1] / "meson.build"
+    written = re.search(r"project\([^)]*?version\s*:\s*'([^']+)'", meson.read_text()).group(1)
+    assert ph.__version__ == written
+    assert ph.info(file=io.StringIO())["phmech"] == ph.info(file=io.StringIO())["phmech_core"] == written
+    assert importlib.metadata.version("phmech") == written
+    text = (meson.parent / "pyproject.toml").read_text()
+    assert 'dynamic = ["version"]' in text and not re.search(r"^version\s*=", text, re.M)

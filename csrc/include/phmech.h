@@ -10,7 +10,11 @@
 
 #include "phmech_types.h"
 
-#define PHM_VERSION "0.1.0"
+/* PHM_VERSION, the version string, is defined by meson.build from its project() version (the one
+ * place it is written). */
+#ifndef PHM_VERSION
+#error "PHM_VERSION is defined by meson.build (-DPHM_VERSION=...)"
+#endif
 
 /* ---------------------------------------------------------------- errors (csrc/util/error.c) */
 phm_status phm_error_set(phm_error *err, phm_status code, const char *fmt, ...); /* record code and message; returns code */

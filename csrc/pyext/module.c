@@ -3,9 +3,12 @@
 #include "pyext.h"
 
 #include <dlfcn.h>
+#include <limits.h>
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
+#include "linalg.h"          /* dsyev_: which LAPACK the core calls (build_info) */
 #include "sundials_compat.h" /* SUNDIALS_VERSION: the headers built against, 6.x or 7.x */
 
 PyObject *phm_py_ModelError = NULL;
@@ -90,12 +93,29 @@ PyArrayObject *phm_py_double_array(PyObject *obj, const char *what, const npy_in
   return a;
 }
 
+/* The LAPACK the core runs with: the file its dsyev_ was resolved to at load time (Debian's
+ * alternatives may point liblapack.so.3 at the reference LAPACK, OpenBLAS or another, and may
+ * change after the build), with symbolic links resolved. */
+static void lapack_library(char *out, size_t n) {
+  void (*fn)(void) = (void (*)(void))dsyev_;
+  void *addr;
+  memcpy(&addr, &fn, sizeof addr);
+  Dl_info dl;
+  char real[PATH_MAX];
+  const char *name = "unknown";
+  if (dladdr(addr, &dl) && dl.dli_fname && dl.dli_fname[0])
+    name = realpath(dl.dli_fname, real) ? real : dl.dli_fname;
+  snprintf(out, n, "%s", name);
+}
+
 static PyObject *py_build_info(PyObject *self, PyObject *args) {
   (void)self;
   (void)args;
+  char lapack[PATH_MAX];
+  lapack_library(lapack, sizeof lapack);
   return Py_BuildValue("{s:s,s:s,s:s,s:s,s:s}", "phmech_core", PHM_VERSION, "sundials",
                        SUNDIALS_VERSION, "linear_solvers", "dense, KLU (SuiteSparse)", "lapack",
-                       PHM_LAPACK_NAME, "compiler", PHM_COMPILER_NAME);
+                       lapack, "compiler", PHM_COMPILER_NAME);
 }
 
 /* The LAPACK the core links may be OpenBLAS (Debian's alternatives), with a thread pool whose
@@ -169,6 +189,8 @@ PyMODINIT_FUNC PyInit__core(void) {
   Py_INCREF(phm_py_SolverError);
   if (PyModule_AddObject(m, "ModelError", phm_py_ModelError) < 0) goto fail;
   if (PyModule_AddObject(m, "SolverError", phm_py_SolverError) < 0) goto fail;
+  /* meson.build's project version (phmech.__version__) */
+  if (PyModule_AddStringConstant(m, "__version__", PHM_VERSION) < 0) goto fail;
   return m;
 fail:
   Py_DECREF(m);

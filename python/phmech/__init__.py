@@ -10,15 +10,13 @@ import os
 import sys
 
 from . import _core
-from ._core import ModelError, SolverError
+from ._core import ModelError, SolverError, __version__   # meson.build's project() version
 from . import analysis, graphs, io, mesh, mixed, se3, timoshenko
 from .section import BeamProperties, Material, Section, table1_properties
 from . import mechanism
 from .mechanism import *  # noqa: F401,F403  (names listed in mechanism.__all__)
 from ._run import CostWarning
 from .io import load, load_result
-
-__version__ = "0.1.0"
 
 __all__ = ["ModelError", "SolverError", "CostWarning", "info", "blas_threads", "__version__",
            "se3", "graphs", "mesh", "mixed", "timoshenko", "analysis", "load", "load_result",

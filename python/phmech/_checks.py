@@ -129,16 +129,23 @@ def positive_definite(A: np.ndarray, cholesky: bool = False) -> bool:
     return bool(np.all(np.linalg.eigvalsh(B) > 0))
 
 
+def not_rotation(R: np.ndarray) -> str:
+    """Why the finite 3x3 ``R`` is not a rotation (orthonormal within 1e-6 with det +1, the
+    core's test), or "" when it is one."""
+    big = np.max(np.abs(R)) > 2   # not a rotation (and R^T R could overflow)
+    if big:
+        return f"entries up to {np.max(np.abs(R)):.3g}"
+    err = float(np.max(np.abs(R.T @ R - np.eye(3))))
+    det = float(np.linalg.det(R))
+    return "" if err <= 1e-6 and det > 0 else f"|R^T R - I| = {err:.2g}, det R = {det:.3g}"
+
+
 def rigid_pose(x, what: str) -> np.ndarray:
     """A rigid pose [[R, p], [0, 0, 0, 1]] (R orthonormal with det +1 within 1e-6, the core's
     test; p in m), or ModelError naming ``what``."""
     H = array(what, x, (4, 4), "a finite 4x4 pose")
-    R = H[:3, :3]
-    big = np.max(np.abs(R)) > 2   # not a rotation (and R^T R could overflow)
-    err = np.inf if big else float(np.max(np.abs(R.T @ R - np.eye(3))))
-    det = np.inf if big else float(np.linalg.det(R))
-    if not (err <= 1e-6 and det > 0):
-        why = f"entries up to {np.max(np.abs(R)):.3g}" if big else f"|R^T R - I| = {err:.2g}, det R = {det:.3g}"
+    why = not_rotation(H[:3, :3])
+    if why:
         raise ModelError(f"{what}: expected a rigid 4x4 pose [[R, p], [0, 0, 0, 1]], but its R is "
                          f"not a rotation ({why})")
     if np.max(np.abs(H[3] - [0, 0, 0, 1])) > 1e-12:

@@ -2,7 +2,9 @@
 passes for a frame (a Frame, a Body, 'ground' or a body's name) against a model description.
 
 A carrier is a rigid body or a beam node (csrc/include/phmech_types.h, phm_carrier_desc); carrier -1 is the
-ground. A frame is a fixed offset T (4x4, translation in m) on a carrier."""
+ground. A frame is a fixed offset T (4x4, translation in m) on a carrier. Frames with an offset
+are made without a hand-made matrix by ``frame_at`` (on a Frame, a Body, ``Mechanism.ground``,
+``link.start``, ``link.end`` and ``link.node(k)``) from a point and a rotation (:func:`rotation`)."""
 from __future__ import annotations
 
 import dataclasses
@@ -10,32 +12,94 @@ from typing import TYPE_CHECKING, Optional
 
 import numpy as np
 
-from ._checks import rigid_pose
+from . import se3
+from ._checks import array, not_rotation, rigid_pose
 from ._core import ModelError
 
 if TYPE_CHECKING:
     from .description import ModelDescription
     from .mesh import MeshChoice
 
-__all__ = ["Frame", "Body", "FlexibleLink"]
+__all__ = ["Frame", "Body", "FlexibleLink", "rotation"]
+
+
+def rotation(axis, angle: float) -> np.ndarray:
+    """The 3x3 rotation matrix of a rotation by ``angle`` [rad] (right hand) about ``axis``
+    (``'x'``, ``'y'``, ``'z'`` or a non-zero 3-vector), e.g. for ``frame_at(point, rotation=...)``.
+    Rotations compose by matrix product: ``rotation('z', a) @ rotation('x', b)`` turns about x
+    first, then about the turned z. (:func:`phmech.se3.rotation` gives the 4x4 pose.)"""
+    try:
+        return np.ascontiguousarray(se3.rotation(axis, angle)[:3, :3])
+    except ValueError as e:   # ModelError is a ValueError: keep its text
+        raise ModelError(str(e)) from None
+
+
+def _offset(point, rotation, what: str) -> np.ndarray:
+    """The 4x4 offset [[R, p], [0, 1]] of ``frame_at`` from a point [m] and a 3x3 rotation
+    matrix (or None); ModelError naming ``what``."""
+    T = np.eye(4)
+    T[:3, 3] = array(f"{what}: point", point, (3,), "3 finite numbers [m]")
+    if rotation is None:
+        return T
+    expected = "a 3x3 rotation matrix (e.g. ph.rotation('z', angle)) or None"
+    R = array(f"{what}: rotation", rotation, (3, 3), expected)
+    why = not_rotation(R)
+    if why:
+        raise ModelError(f"{what}: rotation: expected {expected}, got a matrix that is not a "
+                         f"rotation ({why})")
+    T[:3, :3] = R
+    return T
+
+
+def _fmt(v) -> str:
+    return "(" + ", ".join(f"{x:g}" for x in v) + ")"
 
 
 @dataclasses.dataclass(frozen=True)
 class Frame:
-    """A frame with fixed offset ``T`` (4x4) on a carrier (``carrier`` = -1 for the ground)."""
+    """A frame with fixed offset ``T`` (4x4; rotation, translation [m]) on a carrier (``carrier``
+    = -1 for the ground); ``name`` appears in error messages. Make offset frames with
+    :meth:`frame_at` rather than by hand."""
     carrier: int
     T: np.ndarray
     name: str = ""
 
+    def frame_at(self, point=(0.0, 0.0, 0.0), rotation=None, name: Optional[str] = None) -> "Frame":
+        """A frame fixed to this one: its origin at ``point`` (this frame's coordinates [m]), its
+        axes turned by ``rotation`` (3x3 rotation matrix, e.g. ``ph.rotation('z', angle)``,
+        relative to this frame's axes; None: parallel to them). It moves with this frame's
+        carrier and is accepted wherever a frame is (pairs, loads, springs, ``record=``,
+        ``result.pose()``, ``start=``/``at=`` placement). ``name`` defaults to this frame's name
+        with the point (and "rotated" when turned).
+
+        ``m.ground.frame_at((0, 0, 1))`` is a world frame 1 m above the origin;
+        ``link.end.frame_at((0, 0, 0.01))`` a frame 1 cm off the end node of a flexible link,
+        along its section axis z."""
+        base = self.name or "frame"
+        off = _offset(point, rotation, f"{base}.frame_at")
+        if name is None:
+            name = f"{base} at {_fmt(off[:3, 3])}" + ("" if rotation is None else " rotated")
+        elif not isinstance(name, str):
+            raise ModelError(f"{base}.frame_at: name must be a string or None (got {name!r})")
+        return Frame(self.carrier, self.T @ off, name)
+
 
 @dataclasses.dataclass
 class Body:
+    """A rigid body of a mechanism (Mechanism.add_rigid_body): its ``name`` and carrier index."""
     name: str
     carrier: int
 
     @property
     def frame(self) -> Frame:
+        """The body frame (the frame its pose, ``com`` and inertia refer to)."""
         return Frame(self.carrier, np.eye(4), self.name)
+
+    def frame_at(self, point=(0.0, 0.0, 0.0), rotation=None, name: Optional[str] = None) -> Frame:
+        """A frame fixed to the body at ``point`` (body coordinates [m]), turned by ``rotation``
+        (3x3, relative to the body axes; None: body axes): ``body.frame.frame_at(...)``, see
+        :meth:`Frame.frame_at`."""
+        return self.frame.frame_at(point, rotation, name)
 
 
 @dataclasses.dataclass

@@ -11,7 +11,7 @@ A beam's local x axis is its centre line; its section axes are y and z.
 
 The classes a model is built from live in their own modules and are re-exported here and from
 ``phmech``: laws (Constant, ..., Motion), pairs (Fixed, ..., Free), actuators (Effort, PD,
-Spring), frames (Frame, Body, FlexibleLink), results (SimulationResult, ...), graphs (Graphs).
+Spring), frames (Frame, Body, FlexibleLink, rotation), results (SimulationResult, ...), graphs (Graphs).
 """
 from __future__ import annotations
 
@@ -27,7 +27,7 @@ from ._checks import array, choice, integer, per_coordinate, positive, positive_
 from ._core import ModelError, SolverError
 from .actuators import PD, Effort, Spring, actuator_row
 from .description import ModelDescription
-from .frames import Body, FlexibleLink, Frame, frame_of, link_of
+from .frames import Body, FlexibleLink, Frame, frame_of, link_of, rotation
 from .graphs import Graphs, mechanism_graphs
 from .laws import (Constant, Cycloidal, Function, Linear, Motion, PiecewisePolynomial, Product,
                    Pulse, Sine, Spline, Step, Sum, Table, _Law, checked_law, law_from_data)
@@ -48,7 +48,7 @@ DEFAULT_RHO_INF = 0.9
 #: phm_sim_options max_steps: its default)
 MAX_STEPS = 1_000_000
 
-__all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "Fixed", "Revolute", "Prismatic",
+__all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "rotation", "Fixed", "Revolute", "Prismatic",
            "Helical", "Cylindrical", "Universal", "Spherical", "Planar", "Free", "Effort", "PD",
            "Spring", "Motion", "Constant", "Step", "Pulse", "Sine", "Table", "Cycloidal", "Linear",
            "Spline", "PiecewisePolynomial", "Sum", "Product", "Function", "law_from_data",
@@ -73,7 +73,7 @@ class Mechanism:
 
     ``strict``: when the loop closure of the initial configuration moves a given joint
     coordinate (``x0``) or a given pose beyond its tolerance, raise ModelError instead of warning
-    (InitialValueWarning). Tolerances: 1e-6 rad for angles (1e-6 |x0| for |x0| > 1 rad), 1e-6 L
+    (InitialValueWarning). Tolerances: 1e-6 rad for angles (1e-6 ``|x0|`` for ``|x0|`` > 1 rad), 1e-6 L
     for lengths, L the mechanism's size (topology.length_scale: the largest of the link lengths,
     the pair frames' offsets and the extent of the carriers' initial origins). Either way the
     moves are listed in ``initial_adjustments`` once a model has been built.
@@ -155,14 +155,19 @@ class Mechanism:
     def add_flexible_link(self, name: str, length: float, properties, elements: Optional[int] = None,
                           pose=None, curvature=None, discretization: str = "se3",
                           band: Optional[float] = None,
-                          frequency_tolerance: Optional[float] = None) -> FlexibleLink:
-        """A flexible link of ``length`` [m] along the local x axis of ``pose`` (4x4, the frame of
-        its start). ``properties``: object with 6x6 ``stiffness`` (section stiffness, order
+                          frequency_tolerance: Optional[float] = None, *,
+                          start=None) -> FlexibleLink:
+        """A flexible link of ``length`` [m] along the local x axis of its start frame, placed by
+        ``start`` (a frame: the link's start coincides with it, its axis along the frame's x,
+        e.g. ``start=body.frame_at((0.3, 0, 0))``) or ``pose`` (4x4, the pose of its start; give
+        one or neither). ``start=frame`` is ``pose=`` the pose that frame has in the initial
+        configuration of the mechanism as built so far (its carrier placed by the pairs added
+        before, see :meth:`world_pose`). ``properties``: object with 6x6 ``stiffness`` (section stiffness, order
         (torsion, bending y, bending z, axial, shear y, shear z) strains), ``inertia`` (per unit
         length) and ``damping`` (viscous section damping, may be absent). ``curvature``: the
         unstressed curvature (kappa_x, kappa_y, kappa_z) [1/m], or None (straight).
 
-        ``pose`` given: the link's initial pose is honoured -- the pairs on its nodes take their
+        ``pose`` or ``start`` given: the link's initial pose is honoured -- the pairs on its nodes take their
         reference from it (a Fixed clamp or weld holds the relative orientation its frames have
         at the given poses, e.g. a root rotated about x selects the other bending axis), and
         given poses that violate a pair (frame origins apart, a revolute's axes not parallel)
@@ -191,7 +196,8 @@ class Mechanism:
             raise ModelError("properties.stiffness must be symmetric positive definite")
         if not positive_definite(I):
             raise ModelError("properties.inertia (per unit length) must be symmetric positive definite")
-        H = np.eye(4) if pose is None else rigid_pose(pose, "pose")
+        given = self._given_pose(pose, start, "start", f"link {name!r}")
+        H = np.eye(4) if given is None else given
         kap = np.zeros(3) if curvature is None else \
             array("curvature", curvature, (3,), "3 finite numbers [1/m] or None")
         self._check_name(name)
@@ -229,7 +235,7 @@ class Mechanism:
                                   t0=np.zeros(6)))
         for k in range(N):
             self._el.append(dict(a=first + k, b=first + k + 1, h=h, K=K, D=Dm, eps=eps))
-        if pose is not None:
+        if given is not None:
             for k in range(N + 1):
                 self._given[first + k] = np.array(self._car[first + k]["H0"])
         link = FlexibleLink(name, L, N, list(range(first, first + N + 1)), choice)
@@ -238,12 +244,15 @@ class Mechanism:
 
     @_recorded
     def add_rigid_body(self, name: str, mass: float, inertia, com=(0.0, 0.0, 0.0), pose=None,
-                       twist=None) -> Body:
+                       twist=None, *, at=None) -> Body:
         """A rigid body: ``mass`` [kg], ``inertia`` 3x3 about the centre of mass in body axes
-        [kg m^2], ``com`` in body coordinates [m], initial ``pose`` (4x4) and body ``twist``
-        (omega [rad/s], v [m/s]; None: moving with its pairs and their ``xdot0``, at rest if free).
-        A given ``pose`` is honoured by the pairs on the body like a flexible link's (see
-        add_flexible_link, add_pair); ``pose=None``: placed from its pairs."""
+        [kg m^2], ``com`` in body coordinates [m], initial ``pose`` (4x4) or ``at`` (a frame the
+        body frame coincides with, e.g. ``at=link.end`` or ``at=m.ground.frame_at((0, 0, 1))``:
+        the pose that frame has in the initial configuration as built so far, see
+        :meth:`world_pose`; give one or neither) and body ``twist`` (omega [rad/s], v [m/s];
+        None: moving with its pairs and their ``xdot0``, at rest if free). A given ``pose`` or
+        ``at`` is honoured by the pairs on the body like a flexible link's (see
+        add_flexible_link, add_pair); neither: placed from its pairs."""
         m = real("mass", mass)
         if m <= 0:
             raise ModelError(f"mass must be > 0 (got {m} kg)")
@@ -253,7 +262,8 @@ class Mechanism:
             raise ModelError(f"inertia: expected {spd}")
         c = array("com", com, (3,), "3 finite numbers [m]")
         tw = np.zeros(6) if twist is None else array("twist", twist, (6,), "6 finite numbers (omega [rad/s], v [m/s]) or None")
-        H0 = np.eye(4) if pose is None else rigid_pose(pose, "pose")
+        given = self._given_pose(pose, at, "at", f"body {name!r}")
+        H0 = np.eye(4) if given is None else given
         C = np.array([[0, -c[2], c[1]], [c[2], 0, -c[0]], [-c[1], c[0], 0]])
         M = np.zeros((6, 6))
         with np.errstate(over="ignore", invalid="ignore"):
@@ -268,12 +278,33 @@ class Mechanism:
         self._new_name(name)
         self._car.append(dict(M=M, mass=m, com=c, H0=H0, t0=tw))
         b = Body(name, len(self._car) - 1)
-        if pose is not None:
+        if given is not None:
             self._given[b.carrier] = np.array(self._car[b.carrier]["H0"])
         if twist is not None:
             self._desc.twist_given.add(b.carrier)
         self._bodies[name] = b
         return b
+
+    def _given_pose(self, pose, frame, keyword: str, what: str) -> Optional[np.ndarray]:
+        """The initial pose a carrier is given by ``pose`` (4x4) or by ``frame`` (the keyword
+        ``keyword``: the frame's world pose, :meth:`world_pose`), None for neither."""
+        if frame is None:
+            return None if pose is None else rigid_pose(pose, "pose")
+        if pose is not None:
+            raise ModelError(f"{what}: give pose= or {keyword}=, not both")
+        return self.world_pose(frame, f"{what}: {keyword}")
+
+    def world_pose(self, frame, what: str = "world_pose") -> np.ndarray:
+        """The world pose (4x4) of ``frame`` (a Frame, Body, 'ground' or a body's name) in the
+        initial configuration of the mechanism as built so far: its carrier placed by the tree
+        walk from the ground across the pairs added so far (their ``x0``; given poses kept; see
+        docs/user_guide.md, "Initial configuration"), before any loop is closed. This is where
+        ``add_flexible_link(start=frame)`` and ``add_rigid_body(at=frame)`` put what they add."""
+        f = frame_of(frame, self._desc, what)
+        if f.carrier < 0:
+            return f.T.copy()
+        H = topology.place_tree(self._desc)[0]
+        return H[f.carrier] @ f.T
 
     @_recorded
     def add_pair(self, name: str, pair, a, b, driven=None, actuator=None,
@@ -678,8 +709,8 @@ class Mechanism:
         time, ``band`` [Hz], ``error_estimate`` (adaptive generalized-alpha: the sum of the local
         error estimates of the configuration, a bound without error propagation), ``floor_steps``
         (steps accepted at the band's smallest step with their estimate above the tolerance:
-        motion above the band), ``energy_scale`` [J], ``ledger_relative`` (largest |energy
-        ledger residual| / energy_scale) and ``numerical_dissipation`` [J] (energy the
+        motion above the band), ``energy_scale`` [J], ``ledger_relative`` (the largest absolute
+        energy ledger residual / energy_scale) and ``numerical_dissipation`` [J] (energy the
         integrator removed, from the ledger).
 
         Other integrators (docs/integrators.md):
@@ -919,7 +950,7 @@ class Mechanism:
 
     def constraint_residuals(self, result: SimulationResult) -> dict:
         """Position and velocity constraint residuals of EVERY pair row (redundant rows included)
-        along a simulation: ``position`` (nt,) max |g(H)| [rad or m], ``velocity`` (nt,) max |G t|
+        along a simulation: ``position`` (nt,) max ``|g(H)|`` [rad or m], ``velocity`` (nt,) max ``|G t|``
         [rad/s or m/s] (prescribed rates of driven pairs subtracted); see
         phmech.postprocess.constraint_residuals."""
         result = postprocess.simulation_result(result, "constraint_residuals")

@@ -49,7 +49,7 @@ def stress_resultants(desc: ModelDescription, model, result: SimulationResult, l
 
 def constraint_residuals(desc: ModelDescription, model, result: SimulationResult) -> dict:
     """Position and velocity constraint residuals of EVERY pair row (redundant rows included)
-    along a simulation: ``position`` (nt,) max |g(H)| [rad or m], ``velocity`` (nt,) max |G t|
+    along a simulation: ``position`` (nt,) max ``|g(H)|`` [rad or m], ``velocity`` (nt,) max ``|G t|``
     [rad/s or m/s] (prescribed rates of driven pairs subtracted, by differencing g over 1e-7 s).
     ``model``: the core model of ``desc`` (any initial state)."""
     nt = len(result.t)

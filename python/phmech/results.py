@@ -30,7 +30,7 @@ class InitialAdjustment:
     ``"x"`` (``"x[i]"`` for pairs with several coordinates), ``"xdot"`` (``"xdot[i]"``) for a
     given rate, or ``"position"`` / ``"orientation"`` of a body or link (for a link the largest
     over its nodes). ``given``/``reached``: the given ``x0`` (``xdot0``) and the initial value
-    [rad or m, per s for rates] (None for poses). ``moved``: |reached - given| [same units]; for
+    [rad or m, per s for rates] (None for poses). ``moved``: ``|reached - given|`` [same units]; for
     poses the distance an origin moved [m] or the angle a frame turned [rad].
     ``tolerance``: ``moved`` beyond it is reported (see Mechanism)."""
     name: str

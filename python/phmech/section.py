@@ -32,10 +32,14 @@ class Material:
 
     Parameters
     ----------
-    E : Young's modulus [Pa], positive.
-    nu : Poisson's ratio [-], ``-1 < nu < 0.5``.
-    density : mass density [kg/m^3], positive.
-    G : shear modulus [Pa]; defaults to ``E / (2 (1 + nu))``.
+    E : float
+        Young's modulus [Pa], positive.
+    nu : float
+        Poisson's ratio [-], ``-1 < nu < 0.5``.
+    density : float
+        Mass density [kg/m^3], positive.
+    G : float, optional
+        Shear modulus [Pa]; defaults to ``E / (2 (1 + nu))``.
     """
 
     E: float
@@ -78,8 +82,8 @@ def _rect_torsion(w: float, h: float) -> float:
 
 @dataclass(frozen=True)
 class Section:
-    """Cross-section geometry (shape and dimensions [m]); build it with :meth:`rectangle`,
-    :meth:`circle` or :meth:`tube`.
+    """Cross-section geometry (shape and dimensions [m]); build it with :meth:`strip`,
+    :meth:`rectangle`, :meth:`circle` or :meth:`tube`.
 
     Attributes (all derived from the shape): ``A`` area [m^2], ``I_y``, ``I_z`` second moments
     about the local y and z axes [m^4], ``I_p = I_y + I_z`` polar moment [m^4], ``J``
@@ -93,8 +97,31 @@ class Section:
     # -- constructors ------------------------------------------------------------------------
     @classmethod
     def rectangle(cls, width_y: float, height_z: float) -> "Section":
-        """Solid rectangle, side ``width_y`` along local y and ``height_z`` along local z [m]."""
+        """Solid rectangle, side ``width_y`` along local y and ``height_z`` along local z [m].
+
+        The thinner side is the direction of the soft bending: ``height_z < width_y`` makes
+        ``I_y = width_y height_z^3 / 12`` the smaller second moment, so the link bends most
+        easily in its x-z plane (deflection along local z, strain ``kappa_y``). :meth:`strip`
+        says it by name."""
         return cls("rectangle", (positive("width_y", width_y), positive("height_z", height_z)))
+
+    @classmethod
+    def strip(cls, width: float, thickness: float, thin_along: str = "z") -> "Section":
+        """A solid rectangular strip (a leaf, a blade) of ``width`` and ``thickness`` [m], its
+        thickness along the local axis ``thin_along`` (``"z"``, the default, or ``"y"``).
+
+        The soft bending is the one that deflects the strip along its thickness: with
+        ``thin_along="z"`` the link bends softly in its x-z plane (deflection along local z,
+        strain ``kappa_y``, stiffness ``EI_y = E width thickness^3 / 12``) and stiffly in its
+        x-y plane (``EI_z = E thickness width^3 / 12``); ``thin_along="y"`` swaps them. The
+        thickness need not be smaller than the width (the name says which side is which, not
+        which is thinner). ``Section.strip(0.02, 0.001)`` is ``Section.rectangle(0.02, 0.001)``;
+        ``Section.strip(0.02, 0.001, thin_along="y")`` is ``Section.rectangle(0.001, 0.02)``."""
+        w, t = positive("width", width), positive("thickness", thickness)
+        if not isinstance(thin_along, str) or thin_along not in ("y", "z"):
+            raise ModelError(f"thin_along must be 'y' or 'z' (the local axis along the strip's "
+                             f"thickness), got {thin_along!r}")
+        return cls("rectangle", (w, t) if thin_along == "z" else (t, w))
 
     @classmethod
     def circle(cls, diameter: float) -> "Section":
@@ -256,21 +283,25 @@ def _diagonal(matrix: str, k: int, doc: str) -> property:
 @dataclass(frozen=True)
 class BeamProperties:
     """Section properties of a flexible link per unit length, in the strain order
-    ``(kappa_x, kappa_y, kappa_z, eps_x, gamma_y, gamma_z)`` (angular first).
+    ``(kappa_x, kappa_y, kappa_z, eps_x, gamma_y, gamma_z)`` (angular first). The three
+    matrices are read-only 6x6 float64 arrays in C order.
 
-    Attributes (read-only 6x6 float64 arrays, C order)
+    Build with :meth:`from_material`, :meth:`from_values` or directly from three matrices.
+
+    Attributes
     ----------
-    stiffness : section stiffness ``K``, stress = K (strain - reference strain); diagonal
+    stiffness : numpy.ndarray
+        Section stiffness ``K``, stress = K (strain - reference strain); diagonal
         ``(GJ, EI_y, EI_z, EA, kGA_y, kGA_z)``; rows/columns 0-2 in N m^2, 3-5 in N (the
         off-diagonal blocks, if any, in N m). Symmetric positive definite.
-    inertia : mass per unit length ``M`` with momentum density = M twist; diagonal
+    inertia : numpy.ndarray
+        Mass per unit length ``M`` with momentum density = M twist; diagonal
         ``(rhoJ, rhoI_y, rhoI_z, rhoA, rhoA, rhoA)``: 0-2 in kg m, 3-5 in kg/m.
         Symmetric positive definite. (``rhoJ = density * I_p``, the polar moment, not the
         torsion constant.)
-    damping : viscoelastic section damping ``D``, viscous stress = D d(strain)/dt; 0-2 in
+    damping : numpy.ndarray
+        Viscoelastic section damping ``D``, viscous stress = D d(strain)/dt; 0-2 in
         N m^2 s, 3-5 in N s. Symmetric positive semi-definite; zero by default.
-
-    Build with :meth:`from_material`, :meth:`from_values` or directly from three matrices.
     """
 
     stiffness: np.ndarray

@@ -254,23 +254,33 @@ def frequencies(n: int, L: float, EI: float, kGA: float, rhoA: float, rhoI: floa
 
     Parameters
     ----------
-    n : number of frequencies (positive integer); both spectra are included, in ascending order.
-    L : length [m].
-    EI : bending stiffness [N m^2].
-    kGA : shear stiffness (shear coefficient times G A) [N].
-    rhoA : mass per unit length [kg/m].
-    rhoI : rotary inertia per unit length (density times second moment of area) [kg m].
-    bc : ``"clamped-free"`` (alias ``"free-clamped"``), ``"clamped-clamped"`` or ``"pinned-pinned"``.
+    n : int
+        Number of frequencies (positive); both spectra are included, in ascending order.
+    L : float
+        Length [m].
+    EI : float
+        Bending stiffness [N m^2].
+    kGA : float
+        Shear stiffness (shear coefficient times G A) [N].
+    rhoA : float
+        Mass per unit length [kg/m].
+    rhoI : float
+        Rotary inertia per unit length (density times second moment of area) [kg m].
+    bc : str
+        ``"clamped-free"`` (alias ``"free-clamped"``), ``"clamped-clamped"`` or
+        ``"pinned-pinned"``.
 
     Returns
     -------
-    ndarray of shape (n,), ascending. Exact roots of the frequency equation (relative accuracy
-    about 1e-14); pinned-pinned from its closed form. Valid below and above the cut-off
-    ``sqrt(kGA/rhoI)`` (see the module docstring).
+    numpy.ndarray
+        Shape (n,), ascending [rad/s]. Exact roots of the frequency equation (relative
+        accuracy about 1e-14); pinned-pinned from its closed form. Valid below and above the
+        cut-off ``sqrt(kGA/rhoI)`` (see the module docstring).
 
     Raises
     ------
-    ModelError (a ValueError) on a non-positive/non-finite parameter, bad ``n`` or unknown ``bc``.
+    ModelError
+        (a ValueError) on a non-positive/non-finite parameter, bad ``n`` or unknown ``bc``.
     """
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
         raise ModelError(f"n must be a positive integer, got {n!r}")
