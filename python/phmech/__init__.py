@@ -16,10 +16,11 @@ from .section import BeamProperties, Material, Section, table1_properties
 from . import mechanism
 from .mechanism import *  # noqa: F401,F403  (names listed in mechanism.__all__)
 from ._run import CostWarning
+from .sweep import sweep
 
 __version__ = "0.1.0"
 
-__all__ = ["ModelError", "SolverError", "CostWarning", "info", "blas_threads", "__version__",
+__all__ = ["ModelError", "SolverError", "CostWarning", "info", "blas_threads", "__version__", "sweep",
            "se3", "graphs", "mesh", "mixed", "timoshenko", "analysis",
            "Material", "Section", "BeamProperties", "table1_properties", *mechanism.__all__]
 
