@@ -17,10 +17,13 @@ from . import mechanism
 from .mechanism import *  # noqa: F401,F403  (names listed in mechanism.__all__)
 from ._run import CostWarning
 from .sweep import sweep
+from . import linear
+from .linear import LinearPortHamiltonian, Passivity
 
 __version__ = "0.1.0"
 
 __all__ = ["ModelError", "SolverError", "CostWarning", "info", "blas_threads", "__version__", "sweep",
+           "linear", "LinearPortHamiltonian", "Passivity",
            "se3", "graphs", "mesh", "mixed", "timoshenko", "analysis",
            "Material", "Section", "BeamProperties", "table1_properties", *mechanism.__all__]
 

@@ -814,6 +814,37 @@ class Mechanism:
         om, ze, sh, nf = _core.model_modes(model, min(n, 6 * len(self._car)), poses, lam, time)
         return ModesResult(om[:nf], om[:nf] / (2 * np.pi), ze[:nf], sh[:nf])
 
+    def linearize(self, at: Optional[StaticResult] = None, inputs: Sequence = (),
+                  outputs: Optional[Sequence] = None, time: float = 0.0):
+        """The linear port-Hamiltonian model (phmech.linear.LinearPortHamiltonian: J, R, Q, B,
+        C, D, passivity(), to_statespace(), to_control()) about the initial configuration, or
+        about a static equilibrium ``at`` (its constraint wrenches give the geometric stiffness
+        and its extra loads act, as in ``modes``), on the constraint manifold: the reduced
+        coordinates are the null space of the constraint Jacobian that ``modes`` uses, so the
+        model's undamped frequencies are the modes' (docs/method.md section 7.4).
+
+        ``inputs``: port names -- a pair with joint coordinates or an actuator (the k joint
+        efforts [N m or N]), a wrench, interaction or distributed load (the value of its law:
+        u = 1 applies the wrench as given), a body's name or a Frame/Body object (a wrench
+        (tau [N m], f [N]) in the frame's axes at its origin). ``outputs``: None for the
+        collocated outputs (the inputs' power conjugates: joint rates, the load's velocity along
+        its wrench, the frame's body twist (omega, v); y^T u is the power supplied), or port
+        names as for inputs (their power-conjugate velocities). The inputs perturb the loads
+        acting at ``time`` (whose stiffness, e.g. of a world-fixed force on a rotating body, is
+        in K)."""
+        from . import linear
+
+        time = real("time", time)
+        if at is not None and not isinstance(at, StaticResult):
+            raise ModelError(f"at must be a StaticResult (Mechanism.static) or None (got "
+                             f"{type(at).__name__})")
+        model = self._build(() if at is None else at.loads)
+        poses = None if at is None else self._start_poses(at, "at")
+        lam = None if at is None else array("at.constraint_wrenches", at.constraint_wrenches,
+                                            np.shape(at.constraint_wrenches))
+        return linear.build(_core, model, self._desc, list(inputs) if not isinstance(inputs, str)
+                            else [inputs], outputs, poses, lam, time)
+
     def static(self, loads: Sequence = (), steps: int = 10, time: float = 0.0,
                tol: float = 1e-10, start: Optional[StaticResult] = None) -> StaticResult:
         """Static equilibrium under gravity, the mechanism's wrenches at ``time`` and extra
