@@ -183,7 +183,7 @@ def main(argv=None) -> dict:
         times = {}
         for nw in (1, 2):
             with LocalCluster(n_workers=nw, threads_per_worker=1, processes=True,
-                              dashboard_address=None) as cl, Client(cl) as c:
+                              dashboard_address=":0") as cl, Client(cl) as c:
                 ph.sweep(build, {k: v[:2] for k, v in smp.items()}, analysis, samples=True,
                          client=c, progress=False)                   # warm-up: imports on the workers
                 times[nw] = [ph.sweep(build, smp, analysis, samples=True, client=c,

@@ -131,3 +131,35 @@ def test_bad_port_names(leaf):
         m.linearize(inputs=["w_x"], outputs=["nothing"])
     with pytest.raises(ph.ModelError, match="at must be a StaticResult"):
         m.linearize(at=3.0, inputs=["w_x"])
+
+
+def _cantilever(elements=6):
+    steel = ph.Material(E=210e9, nu=0.3, density=7850.0)
+    props = ph.BeamProperties.from_material(ph.Section.rectangle(0.02, 0.001), steel)
+    m = ph.Mechanism()
+    leaf = m.add_flexible_link("leaf", 0.2, props, elements=elements)
+    m.add_pair("clamp", ph.Fixed(), m.ground, leaf.start)
+    return m, leaf
+
+
+def test_at_static_equilibrium_and_distributed_load():
+    """About a static equilibrium under an axial compressive tip load (geometric stiffness:
+    lower frequencies) the export's frequencies are modes(at=)'s; a distributed load is one
+    input (all its nodes together), and the static response K^-1 B u of the linear model is the
+    nonlinear static deflection under a small load (1 N/m: tip deflection ~1e-3 of the length,
+    nonlinear terms ~1e-6 relative)."""
+    m, leaf = _cantilever()
+    m.add_distributed_load("q", leaf, (0.0, 0.0, 1.0), law=ph.Step(t0=1.0))   # off at time 0
+    st = m.static(loads=[(leaf.end, (0, 0, 0, -2.0, 0, 0), "world")])
+    lin = m.linearize(at=st, inputs=["q"])
+    f0 = m.modes(3).frequency
+    fa = m.modes(3, at=st).frequency
+    np.testing.assert_allclose(lin.frequencies()[:3], fa, rtol=1e-8)
+    assert np.all(fa < f0)
+    assert lin.inputs == ["q"] and lin.Bq.shape == (lin.nr, 1)
+    lin0 = m.linearize(inputs=["q"])
+    q = np.linalg.solve(lin0.stiffness, lin0.Bq[:, 0])
+    w_lin = lin0.displacement(np.concatenate([q, 0 * q]))[leaf.nodes[-1], 5]
+    w_nl = m.static(time=2.0).positions(leaf)[-1, 2]
+    assert 1e-4 < w_nl < 1e-3
+    np.testing.assert_allclose(w_lin, w_nl, rtol=1e-5)

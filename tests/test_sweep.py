@@ -25,7 +25,7 @@ def client():
     """Two single-threaded worker processes, shared by the module's tests (they inherit
     sys.path, so examples/sweeps.py imports on them)."""
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cl, distributed.Client(cl) as c:
+                                  dashboard_address=":0") as cl, distributed.Client(cl) as c:
         yield c
 
 
@@ -119,3 +119,13 @@ def test_inconsistent_result_shape_is_an_error():
                   analysis, client="serial", progress=False)
     assert ds["error"].values[0] == "" and "shape" in ds["error"].values[1]
     assert np.all(np.isfinite(ds["f"].values[0])) and np.all(np.isnan(ds["f"].values[1]))
+
+
+def test_scheduler_address(client):
+    """scheduler= connects a client of its own to a running cluster: the same numbers."""
+    params = {"tip_mass": [0.01, 0.03]}
+    build = functools.partial(sweeps.cantilever, elements=6)
+    a = ph.sweep(build, params, f1_only, scheduler=client.scheduler.address, progress=False)
+    b = ph.sweep(build, params, f1_only, client="serial", progress=False)
+    np.testing.assert_array_equal(a["result"].values, b["result"].values)
+    assert a.attrs["workers"] == 2 and b.attrs["workers"] == 0

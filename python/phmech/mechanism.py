@@ -797,12 +797,10 @@ class Mechanism:
             raise ModelError("constraint_residuals needs every carrier's pose: simulate without record=")
         return postprocess.constraint_residuals(self._desc, self._build(), result)
 
-    def modes(self, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0) -> ModesResult:
-        """The ``n`` lowest linearized modes at the initial configuration, or at a static
-        equilibrium ``at``: its constraint wrenches give the geometric stiffness, and the extra
-        loads it was found under (``static(loads=...)``) act as they did there."""
-        n = integer("n", n, 1)
-        time = real("time", time)
+    def _linearization_point(self, at: Optional[StaticResult]) -> tuple:
+        """(core model, poses, constraint wrenches) of a linearization at the initial state (poses
+        and wrenches None) or at the static equilibrium ``at``, with the extra loads it was
+        found under."""
         if at is not None and not isinstance(at, StaticResult):
             raise ModelError(f"at must be a StaticResult (Mechanism.static) or None (got "
                              f"{type(at).__name__})")
@@ -810,6 +808,15 @@ class Mechanism:
         poses = None if at is None else self._start_poses(at, "at")
         lam = None if at is None else array("at.constraint_wrenches", at.constraint_wrenches,
                                             np.shape(at.constraint_wrenches))
+        return model, poses, lam
+
+    def modes(self, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0) -> ModesResult:
+        """The ``n`` lowest linearized modes at the initial configuration, or at a static
+        equilibrium ``at``: its constraint wrenches give the geometric stiffness, and the extra
+        loads it was found under (``static(loads=...)``) act as they did there."""
+        n = integer("n", n, 1)
+        time = real("time", time)
+        model, poses, lam = self._linearization_point(at)
         # at most 6 per carrier exist: asking for more allocates no more than that
         om, ze, sh, nf = _core.model_modes(model, min(n, 6 * len(self._car)), poses, lam, time)
         return ModesResult(om[:nf], om[:nf] / (2 * np.pi), ze[:nf], sh[:nf])
@@ -835,13 +842,7 @@ class Mechanism:
         from . import linear
 
         time = real("time", time)
-        if at is not None and not isinstance(at, StaticResult):
-            raise ModelError(f"at must be a StaticResult (Mechanism.static) or None (got "
-                             f"{type(at).__name__})")
-        model = self._build(() if at is None else at.loads)
-        poses = None if at is None else self._start_poses(at, "at")
-        lam = None if at is None else array("at.constraint_wrenches", at.constraint_wrenches,
-                                            np.shape(at.constraint_wrenches))
+        model, poses, lam = self._linearization_point(at)
         return linear.build(_core, model, self._desc, list(inputs) if not isinstance(inputs, str)
                             else [inputs], outputs, poses, lam, time)
 

@@ -93,7 +93,7 @@ def _client_for(client, scheduler, workers):
         return c, [c]
     n = workers or os.cpu_count() or 1
     cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                           dashboard_address=None)
+                           dashboard_address=":0")
     c = Client(cluster)
     return c, [c, cluster]
 
