@@ -137,7 +137,7 @@ def main(argv=None) -> dict:
     ap.add_argument("--workers", type=int, default=None, help="local workers (default: one per core)")
     ap.add_argument("--scheduler", default=None, help="address of a running Dask scheduler")
     ap.add_argument("--serial", action="store_true", help="run in this process (debugging)")
-    ap.add_argument("--speedup", action="store_true", help="time the Monte-Carlo on 1 and 2 workers")
+    ap.add_argument("--speedup", action="store_true", help="time the Monte-Carlo on 1 and 2 workers (interleaved)")
     ap.add_argument("--repeat", type=int, default=3, help="timings per worker count (--speedup)")
     args = ap.parse_args(argv)
     nsamp = args.samples or (16 if args.quick else 64)
@@ -180,14 +180,23 @@ def main(argv=None) -> dict:
     if args.speedup:
         from distributed import Client, LocalCluster
 
-        times = {}
-        for nw in (1, 2):
-            with LocalCluster(n_workers=nw, threads_per_worker=1, processes=True,
-                              dashboard_address=":0") as cl, Client(cl) as c:
+        # both clusters up at once and their runs interleaved, so that the load of a shared
+        # machine weighs on both alike
+        times = {1: [], 2: []}
+        clusters = {nw: LocalCluster(n_workers=nw, threads_per_worker=1, processes=True,
+                                     dashboard_address=":0") for nw in (1, 2)}
+        clients = {nw: Client(cl) for nw, cl in clusters.items()}
+        try:
+            for c in clients.values():                # warm-up: imports on the workers
                 ph.sweep(build, {k: v[:2] for k, v in smp.items()}, analysis, samples=True,
-                         client=c, progress=False)                   # warm-up: imports on the workers
-                times[nw] = [ph.sweep(build, smp, analysis, samples=True, client=c,
-                                      progress=False).attrs["wall_time"] for _ in range(args.repeat)]
+                         client=c, progress=False)
+            for _ in range(args.repeat):
+                for nw, c in clients.items():
+                    times[nw].append(ph.sweep(build, smp, analysis, samples=True, client=c,
+                                              progress=False).attrs["wall_time"])
+        finally:
+            for x in (*clients.values(), *clusters.values()):
+                x.close()
         med = {k: statistics.median(v) for k, v in times.items()}
         print(f"  speed-up 1 -> 2 workers ({nsamp} samples, {args.repeat} runs each, medians): "
               f"{med[1]:.2f} s -> {med[2]:.2f} s, x{med[1] / med[2]:.2f}  (all: {times})")
