@@ -253,6 +253,9 @@ typedef struct {
  * benchmarks/modes_scaling.py). */
 enum { PHM_MODES_AUTO = 0, PHM_MODES_DENSE = 1, PHM_MODES_SPARSE = 2 };
 #define PHM_SPARSE_MODES_MIN 300
+/* The dense path's shift-inverted pencil (csrc/solve/modes.c) gives the modes whose
+ * theta = 1/(lambda - sigma) is above this fraction of the first's: relative accuracy ~ eps/this. */
+#define PHM_MODES_RESOLVED 1e-6
 
 /* A port of the linear port-Hamiltonian model (phm_linear_model, docs/method.md section 7.4):
  * the generalized forces per unit input of the joint efforts of pair `index` (k inputs, the

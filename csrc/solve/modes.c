@@ -432,7 +432,7 @@ phm_status phm_modes(const phm_model *m, const double *poses, const double *lamb
   lin_red_t R;
   memset(&R, 0, sizeof R);
   int *iwork = NULL, *ifail = NULL;
-  double *work = NULL, *ev = NULL, *Y = NULL, *A = NULL, *Bm = NULL;
+  double *work = NULL, *ev = NULL, *Y = NULL, *A = NULL, *Bm = NULL, *evi = NULL, *Yi = NULL;
   if ((st = lin_red_blocks(&R, m, poses, lambda, time, err))) goto done;
   int sparse = method == PHM_MODES_SPARSE || (method == PHM_MODES_AUTO && n6 >= PHM_SPARSE_MODES_MIN);
   if (sparse && 4 * nmodes <= n6 - nk) {
@@ -452,74 +452,81 @@ phm_status phm_modes(const phm_model *m, const double *poses, const double *lamb
   /* dense: the reduced problem Kr y = lambda Mr y (lambda = omega^2), the lowest modes only
    * (dsygvx). Shift-invert first: Mr y = theta (Kr - sigma Mr) y with theta = 1/(lambda - sigma)
    * and sigma < 0 as in the sparse path; its largest theta are the lowest lambda, to relative
-   * accuracy eps, where the direct form loses eps ||Mr^-1 Kr|| / lambda (a flexible link's
-   * axial modes make that 1e-6 on the lowest bending mode). When Kr - sigma Mr is not positive
-   * definite (a buckled or unstable equilibrium: lambda < sigma), the direct form. */
+   * accuracy eps theta_1 / theta_k, where the direct pencil loses eps ||Mr^-1 Kr|| / lambda_k (a
+   * flexible link's axial modes make that 4e-6 on the leaf spring's first bending mode). Modes
+   * with theta_k < PHM_MODES_RESOLVED theta_1 (more than 1e6 times the first eigenvalue, or below
+   * round-off: a massless direction) and every mode when Kr - sigma Mr is not positive definite
+   * (an unstable configuration) come from the direct pencil. */
   if ((st = lin_red_reduce(&R, m, err))) goto done;
-  int nr = R.nr, nf = nmodes < nr ? nmodes : nr, mfound = 0;
+  int nr = R.nr, nf = nmodes < nr ? nmodes : nr, mfound = 0, nres = 0;
   ev = malloc(sizeof(double) * (size_t)nr);
   Y = malloc(sizeof(double) * (size_t)nr * nf);
+  evi = malloc(sizeof(double) * (size_t)nr);
+  Yi = malloc(sizeof(double) * (size_t)nr * nf);
   iwork = malloc(sizeof(int) * 5 * (size_t)nr);
   ifail = malloc(sizeof(int) * (size_t)nr);
   A = malloc(sizeof(double) * (size_t)nr * nr);
   Bm = malloc(sizeof(double) * (size_t)nr * nr);
-  if (!ev || !Y || !iwork || !ifail || !A || !Bm) goto oom;
+  if (!ev || !Y || !evi || !Yi || !iwork || !ifail || !A || !Bm) goto oom;
   {
     double trK = 0, trM = 0;
     for (int a = 0; a < nr; a++) { trK += R.Kr[(size_t)a * nr + a]; trM += R.Mr[(size_t)a * nr + a]; }
     double sigma = trK > 0 && trM > 0 ? -1e-9 * trK / trM : -1.0;
-    int one = 1, lw = -1, info = 0, il = nr - nf + 1, iu = nr;
+    int one = 1, lw = -1, info = 0;
     double wq, vl = 0, vu = 0, abstol = 2 * dlamch_("S");
     for (int inv = 1; inv >= 0; inv--) {
-      /* inv: (A, B) = (Mr, Kr - sigma Mr), wanted theta il..nr; else (Kr, Mr), lambda 1..nf */
-      for (size_t i = 0; i < (size_t)nr * nr; i++) {
-        A[i] = inv ? R.Mr[i] : R.Kr[i];
-        Bm[i] = inv ? R.Kr[i] - sigma * R.Mr[i] : R.Mr[i];
+      /* inv: (A, B) = (Mr, Kr - sigma Mr), theta nr-nf+1..nr into evi, Yi; else (Kr, Mr),
+       * lambda 1..nf into ev, Y */
+      int lo = inv ? nr - nf + 1 : 1, hi = inv ? nr : nf;
+      double *e = inv ? evi : ev, *V = inv ? Yi : Y;
+      for (int pass = 0; pass < 2; pass++) { /* workspace query, then the solve */
+        for (size_t i = 0; i < (size_t)nr * nr; i++) {
+          A[i] = inv ? R.Mr[i] : R.Kr[i];
+          Bm[i] = inv ? R.Kr[i] - sigma * R.Mr[i] : R.Mr[i];
+        }
+        if (pass == 0) {
+          lw = -1;
+          dsygvx_(&one, "V", "I", "U", &nr, A, &nr, Bm, &nr, &vl, &vu, &lo, &hi, &abstol, &mfound,
+                  e, V, &nr, &wq, &lw, iwork, ifail, &info);
+          lw = (int)wq + 1;
+          if (lw < 8 * nr) lw = 8 * nr;
+          free(work);
+          work = malloc(sizeof(double) * (size_t)lw);
+          if (!work) goto oom;
+        } else
+          dsygvx_(&one, "V", "I", "U", &nr, A, &nr, Bm, &nr, &vl, &vu, &lo, &hi, &abstol, &mfound,
+                  e, V, &nr, work, &lw, iwork, ifail, &info);
       }
-      int lo = inv ? il : 1, hi = inv ? iu : nf;
-      lw = -1;
-      dsygvx_(&one, "V", "I", "U", &nr, A, &nr, Bm, &nr, &vl, &vu, &lo, &hi, &abstol, &mfound, ev,
-              Y, &nr, &wq, &lw, iwork, ifail, &info);
-      lw = (int)wq + 1;
-      if (lw < 8 * nr) lw = 8 * nr;
-      free(work);
-      work = malloc(sizeof(double) * (size_t)lw);
-      if (!work) goto oom;
-      for (size_t i = 0; i < (size_t)nr * nr; i++) {
-        A[i] = inv ? R.Mr[i] : R.Kr[i];
-        Bm[i] = inv ? R.Kr[i] - sigma * R.Mr[i] : R.Mr[i];
-      }
-      dsygvx_(&one, "V", "I", "U", &nr, A, &nr, Bm, &nr, &vl, &vu, &lo, &hi, &abstol, &mfound, ev,
-              Y, &nr, work, &lw, iwork, ifail, &info);
-      if (inv && info == 0 && mfound == nf) {
-        /* mode k (ascending lambda) is column nf-1-k: lambda = sigma + 1/theta, y normalized
-         * y^T (Kr - sigma Mr) y = 1, so y^T Mr y = theta: rescale to unit modal mass */
+      if (inv) {
+        if (info != 0 || mfound != nf || !(evi[nf - 1] > 0)) continue; /* nres = 0 */
+        /* mode k (ascending lambda) is column nf-1-k: lambda = sigma + 1/theta; y^T (Kr - sigma
+         * Mr) y = 1, so y^T Mr y = theta: rescaled to unit modal mass */
         for (int k = 0; k < nf / 2; k++) {
-          double t = ev[k];
-          ev[k] = ev[nf - 1 - k];
-          ev[nf - 1 - k] = t;
+          double t = evi[k];
+          evi[k] = evi[nf - 1 - k];
+          evi[nf - 1 - k] = t;
           for (int a = 0; a < nr; a++) {
-            t = Y[(size_t)k * nr + a];
-            Y[(size_t)k * nr + a] = Y[(size_t)(nf - 1 - k) * nr + a];
-            Y[(size_t)(nf - 1 - k) * nr + a] = t;
+            t = Yi[(size_t)k * nr + a];
+            Yi[(size_t)k * nr + a] = Yi[(size_t)(nf - 1 - k) * nr + a];
+            Yi[(size_t)(nf - 1 - k) * nr + a] = t;
           }
         }
-        int ok = 1;
-        for (int k = 0; k < nf && ok; k++) {
-          ok = ev[k] > 0;
-          double sc = ok ? 1.0 / sqrt(ev[k]) : 0;
-          for (int a = 0; a < nr; a++) Y[(size_t)k * nr + a] *= sc;
-          ev[k] = ok ? sigma + 1.0 / ev[k] : 0;
+        while (nres < nf && evi[nres] > PHM_MODES_RESOLVED * evi[0]) {
+          double sc = 1.0 / sqrt(evi[nres]);
+          for (int a = 0; a < nr; a++) Yi[(size_t)nres * nr + a] *= sc;
+          evi[nres] = sigma + 1.0 / evi[nres];
+          nres++;
         }
-        if (ok) break;
-      }
-      if (!inv && (info != 0 || mfound < nf)) {
+        if (nres == nf) break;
+      } else if (info != 0 || mfound < nf) {
         st = PHM_FAIL(err, PHM_ESINGULAR, "generalized eigenproblem failed (dsygvx info %d, %d of "
                            "%d eigenvalues found%s)", info, mfound, nf,
                            info > nr ? ": mass matrix not positive definite" : "");
         goto done;
       }
     }
+    memcpy(ev, evi, sizeof(double) * (size_t)nres);   /* the resolved modes from the inverse */
+    memcpy(Y, Yi, sizeof(double) * (size_t)nres * nr);
   }
   for (int k = 0; k < nf; k++) {
     double lamk = ev[k];
@@ -548,7 +555,7 @@ oom:
   st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
 done:
   lin_red_free(&R);
-  free(iwork); free(ifail); free(work); free(ev); free(Y); free(A); free(Bm);
+  free(iwork); free(ifail); free(work); free(ev); free(Y); free(A); free(Bm); free(evi); free(Yi);
   return st;
 }
 

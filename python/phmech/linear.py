@@ -16,6 +16,8 @@ __all__ = ["LinearPortHamiltonian", "Passivity"]
 
 #: the smallest relative eigenvalue of Q's blocks that counts as positive (Passivity.Q_min)
 Q_RESOLVED = 1e3 * np.finfo(float).eps
+#: csrc/include/phmech_types.h, PHM_MODES_RESOLVED: the modes the shift-inverted pencil resolves
+MODES_RESOLVED = 1e-6
 
 
 @dataclasses.dataclass(frozen=True)
@@ -113,17 +115,19 @@ class LinearPortHamiltonian:
         from scipy.linalg import LinAlgError, eigh
 
         K, M = self.stiffness, self.mass
-        # shift-invert as modes() (csrc/solve/modes.c): M y = theta (K - sigma M) y, accurate to
-        # eps relative for the lowest frequencies; the direct form when K - sigma M is indefinite
+        # as modes() (csrc/solve/modes.c): the shift-inverted pencil M y = theta (K - sigma M) y
+        # for the modes it resolves (theta above MODES_RESOLVED of the largest: the lowest modes,
+        # to ~eps relative), the direct pencil for the others and when K - sigma M is indefinite
+        lam = eigh(K, M, eigvals_only=True)
         trK, trM = np.trace(K), np.trace(M)
         sigma = -1e-9 * trK / trM if trK > 0 and trM > 0 else -1.0
         try:
-            theta = eigh(M, K - sigma * M, eigvals_only=True)
-            lam = np.sort(sigma + 1.0 / theta) if np.all(theta > 0) else None
+            theta = eigh(M, K - sigma * M, eigvals_only=True)[::-1]
         except LinAlgError:
-            lam = None
-        if lam is None:
-            lam = eigh(K, M, eigvals_only=True)
+            theta = np.zeros(1)
+        if theta[-1] > 0:
+            ok = theta > MODES_RESOLVED * theta[0]
+            lam[ok] = sigma + 1.0 / theta[ok]
         return np.sign(lam) * np.sqrt(np.abs(lam)) / (2 * np.pi)
 
     def passivity(self, tol: float = 1e-9) -> Passivity:
