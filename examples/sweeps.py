@@ -182,7 +182,7 @@ def main(argv=None) -> dict:
 
         # both clusters up at once and their runs interleaved, so that the load of a shared
         # machine weighs on both alike
-        times = {1: [], 2: []}
+        times, cpu = {1: [], 2: []}, {1: [], 2: []}
         clusters = {nw: LocalCluster(n_workers=nw, threads_per_worker=1, processes=True,
                                      dashboard_address=":0") for nw in (1, 2)}
         clients = {nw: Client(cl) for nw, cl in clusters.items()}
@@ -192,15 +192,20 @@ def main(argv=None) -> dict:
                          client=c, progress=False)
             for _ in range(args.repeat):
                 for nw, c in clients.items():
-                    times[nw].append(ph.sweep(build, smp, analysis, samples=True, client=c,
-                                              progress=False).attrs["wall_time"])
+                    r = ph.sweep(build, smp, analysis, samples=True, client=c, progress=False)
+                    times[nw].append(r.attrs["wall_time"])
+                    cpu[nw].append(r.attrs["cpu_time"])
         finally:
             for x in (*clients.values(), *clusters.values()):
                 x.close()
         med = {k: statistics.median(v) for k, v in times.items()}
         print(f"  speed-up 1 -> 2 workers ({nsamp} samples, {args.repeat} runs each, medians): "
               f"{med[1]:.2f} s -> {med[2]:.2f} s, x{med[1] / med[2]:.2f}  (all: {times})")
-        out["speedup"] = dict(times=times, median=med, speedup=med[1] / med[2])
+        share = {nw: statistics.median(c / (t * nw) for c, t in zip(cpu[nw], times[nw])) for nw in times}
+        print(f"  share of the workers' cores the points had (CPU / (wall x workers), medians): "
+              f"1 worker {share[1]:.2f}, 2 workers {share[2]:.2f}; the points' CPU time "
+              f"{statistics.median(cpu[1]):.2f} s / {statistics.median(cpu[2]):.2f} s")
+        out["speedup"] = dict(times=times, cpu=cpu, median=med, speedup=med[1] / med[2], share=share)
 
     if not args.no_plot:
         import matplotlib

@@ -47,6 +47,7 @@ def test_grid_cantilever_tip_mass(client):
     np.testing.assert_array_equal(ds["elements"].values, [8, 16])
     assert ds["error"].dims == ("tip_mass", "elements") and (ds["error"].values == "").all()
     assert ds.attrs["failed"] == 0 and ds.attrs["workers"] == 2
+    assert 0 < ds.attrs["cpu_time"] < 2 * ds.attrs["wall_time"] + 1.0    # two workers at most
     ref = np.array([sweeps.euler_bernoulli_tip_mass(M, 1)[0] for M in masses])
     err8 = np.abs(ds["frequency"].sel(elements=8)[:, 0] / ref - 1)
     err16 = np.abs(ds["frequency"].sel(elements=16)[:, 0] / ref - 1)

@@ -21,8 +21,15 @@ SERIAL = "serial"
 
 
 def _run_point(build: Callable, analysis: Callable, point: dict) -> tuple:
-    """One point: ``analysis(build(**point))`` -> (True, {name: float/complex array}) or
-    (False, "ErrorType: message"). Runs on a worker; never raises for the point's own errors."""
+    """One point: ``analysis(build(**point))`` -> (True, {name: float/complex array}, CPU s) or
+    (False, "ErrorType: message", CPU s). Runs on a worker; never raises for the point's own
+    errors."""
+    c0 = time.process_time()
+    ok, val = _evaluate(build, analysis, point)
+    return ok, val, time.process_time() - c0
+
+
+def _evaluate(build: Callable, analysis: Callable, point: dict) -> tuple:
     try:
         out = analysis(build(**point))
         if not isinstance(out, Mapping):
@@ -163,7 +170,7 @@ def sweep(build: Callable[..., Any], params: Union[Mapping[str, Sequence], Seque
                     try:
                         results[i] = fut.result()
                     except Exception as e:  # noqa: BLE001 -- a killed worker, an unpicklable result
-                        results[i] = (False, f"{type(e).__name__}: {e}")
+                        results[i] = (False, f"{type(e).__name__}: {e}", 0.0)
                     bar.update(1)
                     fut.release()
             finally:
@@ -177,6 +184,8 @@ def sweep(build: Callable[..., Any], params: Union[Mapping[str, Sequence], Seque
 
 def _dataset(xr, results, dims, coords, shape, wall, nworkers):
     """The Dataset of the points' results (C order over ``shape``)."""
+    cpu = float(sum(r[2] for r in results))
+    results = [r[:2] for r in results]
     n = len(results)
     shapes: dict = {}                               # variable -> {shape: count, dtype}
     for ok, v in results:
@@ -214,5 +223,6 @@ def _dataset(xr, results, dims, coords, shape, wall, nworkers):
          for k, out in data.items()},
         coords=coords)
     ds["error"] = (list(dims), np.array(errors, dtype=str).reshape(shape))
-    ds.attrs.update(failed=int(sum(bool(e) for e in errors)), wall_time=wall, workers=nworkers)
+    ds.attrs.update(failed=int(sum(bool(e) for e in errors)), wall_time=wall, cpu_time=cpu,
+                    workers=nworkers)
     return ds
