@@ -124,6 +124,17 @@ phm_status phm_modes(const phm_model *model, const double *poses, const double *
                      double time, int nmodes, int method, double *omega, double *zeta,
                      double *shapes, int *nfound, phm_error *err);
 
+/* The linear port-Hamiltonian model at poses (NULL: H0) with constraint wrenches lambda (NULL:
+ * zero), loads at `time`, on the null space Z of the constraint Jacobian (the dense reduction of
+ * phm_modes): *nr reduced coordinates, stiffness K, damping D and mass M (nr x nr, symmetrized,
+ * row-major), Z (6 nc x nr, row-major, may be NULL) and the input matrix B = Z^T F (nr x
+ * phm_linear_port_columns) of the ports' generalized forces F. Caller-allocated: K, D, M, Z with
+ * room for (6 nc)^2 values, B for 6 nc x columns. */
+phm_status phm_linear_model(const phm_model *model, const double *poses, const double *lambda,
+                            double time, int nports, const phm_linear_port *ports, int *nr,
+                            double *K, double *D, double *M, double *Z, double *B, phm_error *err);
+int phm_linear_port_columns(const phm_model *model, int nports, const phm_linear_port *ports); /* inputs of the ports */
+
 /* ---------------------------------------------------------------- statics (csrc/solve/statics.c) */
 /* Static equilibrium under the loads and gravity at `time`, scaled from 0 to 1 in `steps` load
  * steps (halved on failure); damped Newton, sparse LU (KLU). poses: start (NULL: H0); results in

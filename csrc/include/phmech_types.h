@@ -291,6 +291,22 @@ typedef struct {
  * benchmarks/modes_scaling.py). */
 enum { PHM_MODES_AUTO = 0, PHM_MODES_DENSE = 1, PHM_MODES_SPARSE = 2 };
 #define PHM_SPARSE_MODES_MIN 300
+/* The dense path's shift-inverted pencil (csrc/solve/modes.c) gives the modes whose
+ * theta = 1/(lambda - sigma) is above this fraction of the first's: relative accuracy ~ eps/this. */
+#define PHM_MODES_RESOLVED 1e-6
+
+/* A port of the linear port-Hamiltonian model (phm_linear_model, docs/method.md section 7.4):
+ * the generalized forces per unit input of the joint efforts of pair `index` (k inputs, the
+ * pair's joint-coordinate units: N m or N), of load `index`'s wrench per unit of its law (1
+ * input), or of a wrench (tau [N m], f [N]) in the axes of the frame T (4x4 offset on carrier
+ * `index`) at its origin (6 inputs). Their collocated outputs are the joint rates, the load's
+ * power-conjugate velocity and the frame's body twist (omega, v). */
+enum { PHM_PORT_PAIR = 0, PHM_PORT_LOAD = 1, PHM_PORT_FRAME = 2 };
+typedef struct {
+  int kind;    /* PHM_PORT_PAIR, PHM_PORT_LOAD or PHM_PORT_FRAME */
+  int index;   /* pair, load or carrier index */
+  double T[16]; /* PHM_PORT_FRAME: the frame's offset on its carrier (row-major 4x4) */
+} phm_linear_port;
 
 #define PHM_NENERGY 7 /* kinetic, elastic, gravity, dissipated, supplied, total, ledger residual */
 

@@ -73,6 +73,62 @@ void phm_spring_eval(const phm_spring_desc *sp, const double *H, const double *t
   add_world_wrench(H, sp->a, xa, F, T, wr);
 }
 
+void phm_pair_effort_wrench(const phm_model *m, int ip, const phm_pair_data *p, const double *u,
+                            double *wr) {
+  const phm_pair_desc *pr = &m->pair[ip];
+  int k = m->pair_k[ip];
+  double wB[6], wv[6];
+  for (int i = 0; i < 6; i++) {
+    double acc = 0;
+    for (int c = 0; c < k; c++) acc += p->Phi[6 * i + c] * u[c];
+    wB[i] = acc;
+  }
+  if (pr->b >= 0) {
+    phm_mtv6(m->pair_AdTbi + 36 * ip, wB, wv);
+    for (int i = 0; i < 6; i++) wr[6 * pr->b + i] += wv[i];
+  }
+  if (pr->a >= 0) {
+    phm_mtv6(p->AdBa, wB, wv);
+    for (int i = 0; i < 6; i++) wr[6 * pr->a + i] -= wv[i];
+  }
+}
+
+void phm_load_wrench(const phm_model *m, int il, const double *H, double s, double *wr,
+                     double w[6], double wre[6]) {
+  const phm_load_desc *l = &m->load[il];
+  const double *Hc = H + 16 * l->carrier;
+  double tau[3], f[3];
+  for (int i = 0; i < 3; i++) {
+    if (l->world) {
+      tau[i] = s * (Hc[i] * l->w[0] + Hc[4 + i] * l->w[1] + Hc[8 + i] * l->w[2]);
+      f[i] = s * (Hc[i] * l->w[3] + Hc[4 + i] * l->w[4] + Hc[8 + i] * l->w[5]);
+    } else {
+      tau[i] = s * l->w[i];
+      f[i] = s * l->w[3 + i];
+    }
+  }
+  const double *r = l->point;
+  w[0] = tau[0] + r[1] * f[2] - r[2] * f[1];
+  w[1] = tau[1] + r[2] * f[0] - r[0] * f[2];
+  w[2] = tau[2] + r[0] * f[1] - r[1] * f[0];
+  w[3] = f[0];
+  w[4] = f[1];
+  w[5] = f[2];
+  for (int i = 0; i < 6; i++) wr[6 * l->carrier + i] += w[i];
+  memset(wre, 0, 6 * sizeof(double));
+  if (l->reaction >= 0) {
+    double x[3], v[3], F[3], T[3], before[6];
+    point_state(H, NULL, l->carrier, r, x, v);
+    for (int i = 0; i < 3; i++) { /* world force and torque (about x), reversed */
+      F[i] = -(Hc[4 * i] * f[0] + Hc[4 * i + 1] * f[1] + Hc[4 * i + 2] * f[2]);
+      T[i] = -(Hc[4 * i] * tau[0] + Hc[4 * i + 1] * tau[1] + Hc[4 * i + 2] * tau[2]);
+    }
+    memcpy(before, wr + 6 * l->reaction, sizeof before);
+    add_world_wrench(H, l->reaction, x, F, T, wr);
+    for (int i = 0; i < 6; i++) wre[i] = wr[6 * l->reaction + i] - before[i];
+  }
+}
+
 void phm_applied(const phm_model *m, const double *H, const double *tw, const double *xs,
                  double time, double tref, double scale, double *wr, double *Vel, double *Pdiss,
                  double *Psupp, double *Pport, double *effort) {
@@ -128,7 +184,7 @@ void phm_applied_pairs(const phm_model *m, const phm_pair_data *pd, const double
                         xs ? xs + j0 : NULL, time, tref, 0, &own);
     }
     const phm_pair_data *p = pd ? pd + ip : &own;
-    const double *Phi = p->Phi, *x = p->x, *xd = p->xdot, *AdTbi = m->pair_AdTbi + 36 * ip;
+    const double *x = p->x, *xd = p->xdot;
     double u[6] = {0}, s = 0, ds = 0;
     if (ac->kind != PHM_ACT_SPRING) s = phm_law_eval(&ac->law, time, tref, &ds, NULL);
     for (int c = 0; c < k; c++) {
@@ -138,20 +194,7 @@ void phm_applied_pairs(const phm_model *m, const phm_pair_data *pd, const double
       else u[c] = -ac->kp[c] * (x[c] - ac->x_set[c]) - ac->kd[c] * xd[c];
       if (effort) effort[j0 + c] += u[c];
     }
-    double wB[6], wv[6];
-    for (int i = 0; i < 6; i++) {
-      double acc = 0;
-      for (int c = 0; c < k; c++) acc += Phi[6 * i + c] * u[c];
-      wB[i] = acc;
-    }
-    if (pr->b >= 0) {
-      phm_mtv6(AdTbi, wB, wv);
-      for (int i = 0; i < 6; i++) wr[6 * pr->b + i] += wv[i];
-    }
-    if (pr->a >= 0) {
-      phm_mtv6(p->AdBa, wB, wv);
-      for (int i = 0; i < 6; i++) wr[6 * pr->a + i] -= wv[i];
-    }
+    phm_pair_effort_wrench(m, ip, p, u, wr);
     double P = phm_dot(u, xd, k);
     Ps += P;
     if (Pport) Pport[ia] = P;
@@ -162,38 +205,10 @@ void phm_applied_pairs(const phm_model *m, const phm_pair_data *pd, const double
     double s = scale * phm_law_eval(&l->law, time, tref, NULL, NULL);
     if (Pport) Pport[m->na + il] = 0;
     if (s == 0) continue;
-    const double *Hc = H + 16 * l->carrier;
-    double tau[3], f[3], w[6];
-    for (int i = 0; i < 3; i++) {
-      if (l->world) {
-        tau[i] = s * (Hc[i] * l->w[0] + Hc[4 + i] * l->w[1] + Hc[8 + i] * l->w[2]);
-        f[i] = s * (Hc[i] * l->w[3] + Hc[4 + i] * l->w[4] + Hc[8 + i] * l->w[5]);
-      } else {
-        tau[i] = s * l->w[i];
-        f[i] = s * l->w[3 + i];
-      }
-    }
-    const double *r = l->point;
-    w[0] = tau[0] + r[1] * f[2] - r[2] * f[1];
-    w[1] = tau[1] + r[2] * f[0] - r[0] * f[2];
-    w[2] = tau[2] + r[0] * f[1] - r[1] * f[0];
-    w[3] = f[0];
-    w[4] = f[1];
-    w[5] = f[2];
-    for (int i = 0; i < 6; i++) wr[6 * l->carrier + i] += w[i];
+    double w[6], wre[6];
+    phm_load_wrench(m, il, H, s, wr, w, wre);
     double P = tw ? phm_dot(w, tw + 6 * l->carrier, 6) : 0;
-    if (l->reaction >= 0) {
-      double x[3], v[3], F[3], T[3], before[6];
-      point_state(H, NULL, l->carrier, r, x, v);
-      for (int i = 0; i < 3; i++) { /* world force and torque (about x), reversed */
-        F[i] = -(Hc[4 * i] * f[0] + Hc[4 * i + 1] * f[1] + Hc[4 * i + 2] * f[2]);
-        T[i] = -(Hc[4 * i] * tau[0] + Hc[4 * i + 1] * tau[1] + Hc[4 * i + 2] * tau[2]);
-      }
-      memcpy(before, wr + 6 * l->reaction, sizeof before);
-      add_world_wrench(H, l->reaction, x, F, T, wr);
-      if (tw)
-        for (int i = 0; i < 6; i++) P += (wr[6 * l->reaction + i] - before[i]) * tw[6 * l->reaction + i];
-    }
+    if (tw && l->reaction >= 0) P += phm_dot(wre, tw + 6 * l->reaction, 6);
     Ps += P;
     if (Pport) Pport[m->na + il] = P;
   }

@@ -137,6 +137,15 @@ void phm_applied_pairs(const phm_model *m, const phm_pair_data *pd, const double
                        const double *tw, const double *xs, double time, double tref, double scale,
                        double *wr, double *Vel, double *Pdiss, double *Psupp, double *Pport,
                        double *effort);
+/* Adds to wr (nc x 6) the wrenches of joint efforts u (k) on pair ip evaluated in p: Phi u on
+ * carrier b (through Ad_{Tb^-1}^T), its reaction on carrier a (through AdBa^T). */
+void phm_pair_effort_wrench(const phm_model *m, int ip, const phm_pair_data *p, const double *u,
+                            double *wr);
+/* Adds to wr (nc x 6) load il's wrench at poses H, s times its vector (the law's value s): w on
+ * its carrier (body frame, also returned in w) and, for an interaction, the opposite wrench on
+ * its reaction carrier (returned in wre, its body frame; zero without reaction). */
+void phm_load_wrench(const phm_model *m, int il, const double *H, double s, double *wr,
+                     double w[6], double wre[6]);
 /* Point-to-point spring-damper: adds its wrenches to wr (may be NULL), elastic energy *V and
  * damping power *Pd (>= 0; either may be NULL). tw NULL: at rest. */
 void phm_spring_eval(const phm_spring_desc *sp, const double *H, const double *tw, double *wr,

@@ -707,6 +707,74 @@ static PyObject *py_model_modes(PyObject *self, PyObject *args) {
   return res;
 }
 
+/* model_linear(model, ports, poses=None, lambda=None, time=0): ports a list of (kind, index, T
+ * (4, 4)) -> (K, D, M, Z, B, (nr, ncol)) of phm_linear_model, flat (Python reshapes). */
+static PyObject *py_model_linear(PyObject *self, PyObject *args) {
+  (void)self;
+  PyObject *cap, *plist, *po = Py_None, *lo = Py_None;
+  double time = 0;
+  if (!PyArg_ParseTuple(args, "OO|OOd", &cap, &plist, &po, &lo, &time)) return NULL;
+  phm_model *m = get_model(cap);
+  if (!m) return NULL;
+  if (!PyList_Check(plist)) {
+    PyErr_SetString(phm_py_ModelError, "model_linear: ports must be a list of (kind, index, T)");
+    return NULL;
+  }
+  int nc = phm_model_ncarriers(m), nk = phm_model_nconstraints(m), n6 = 6 * nc;
+  Py_ssize_t np_ = PyList_GET_SIZE(plist);
+  phm_linear_port *ports = PyMem_Calloc((size_t)np_ + 1, sizeof(phm_linear_port));
+  PyArrayObject *P = NULL, *L = NULL, *K = NULL, *D = NULL, *M = NULL, *Z = NULL, *B = NULL;
+  PyObject *res = NULL;
+  if (!ports) return PyErr_NoMemory();
+  for (Py_ssize_t i = 0; i < np_; i++) {
+    PyObject *it = PyList_GET_ITEM(plist, i), *To;
+    if (!PyArg_ParseTuple(it, "iiO", &ports[i].kind, &ports[i].index, &To)) goto fail;
+    npy_intp t2[2] = {4, 4};
+    PyArrayObject *T = phm_py_double_array(To, "port frame offset", t2, 2, 0);
+    if (!T) goto fail;
+    memcpy(ports[i].T, PyArray_DATA(T), 16 * sizeof(double));
+    Py_DECREF(T);
+  }
+  if (po != Py_None) {
+    npy_intp tail[3] = {nc, 4, 4};
+    if (!(P = phm_py_double_array(po, "poses", tail, 3, 0))) goto fail;
+  }
+  if (lo != Py_None) {
+    npy_intp tail[1] = {nk};
+    if (!(L = phm_py_double_array(lo, "constraint wrenches", tail, 1, 0))) goto fail;
+  }
+  int ncol = phm_linear_port_columns(m, (int)np_, ports);
+  npy_intp dnn[1] = {(npy_intp)n6 * n6}, db[1] = {(npy_intp)n6 * ncol};
+  K = (PyArrayObject *)PyArray_ZEROS(1, dnn, NPY_DOUBLE, 0);
+  D = (PyArrayObject *)PyArray_ZEROS(1, dnn, NPY_DOUBLE, 0);
+  M = (PyArrayObject *)PyArray_ZEROS(1, dnn, NPY_DOUBLE, 0);
+  Z = (PyArrayObject *)PyArray_ZEROS(1, dnn, NPY_DOUBLE, 0);
+  B = (PyArrayObject *)PyArray_ZEROS(1, db, NPY_DOUBLE, 0);
+  if (!K || !D || !M || !Z || !B) goto fail;
+  {
+    int nr = 0;
+    phm_error err;
+    phm_status st;
+    Py_BEGIN_ALLOW_THREADS
+    st = phm_linear_model(m, P ? PyArray_DATA(P) : NULL, L ? PyArray_DATA(L) : NULL, time, (int)np_,
+                          ports, &nr, PyArray_DATA(K), PyArray_DATA(D), PyArray_DATA(M),
+                          PyArray_DATA(Z), PyArray_DATA(B), &err);
+    Py_END_ALLOW_THREADS
+    if (st) {
+      phm_py_raise(&err);
+      goto fail;
+    }
+    /* flat buffers: the leading nr x nr (Z: 6 nc x nr, B: nr x ncol) values are the matrices */
+    PyObject *sizes = Py_BuildValue("(ii)", nr, ncol);
+    if (sizes) res = Py_BuildValue("(OOOOON)", K, D, M, Z, B, sizes);
+  }
+fail:
+  PyMem_Free(ports);
+  Py_XDECREF(P); Py_XDECREF(L);
+  Py_XDECREF(K); Py_XDECREF(D); Py_XDECREF(M); Py_XDECREF(Z); Py_XDECREF(B);
+  return res;
+}
+
 static PyObject *py_model_static(PyObject *self, PyObject *args) {
   (void)self;
   PyObject *cap, *po = Py_None, *mon = Py_None;
@@ -955,6 +1023,10 @@ PyMethodDef phm_py_model_methods[] = {
     {"model_modes", py_model_modes, METH_VARARGS,
      "model_modes(model, n, poses=None, lambda=None, time=0, method=0) -> (omega, zeta, shapes, "
      "nfound); method 0 auto, 1 dense, 2 sparse (phm_modes)."},
+    {"model_linear", py_model_linear, METH_VARARGS,
+     "model_linear(model, ports, poses=None, lambda=None, time=0) -> (K, D, M, Z, B, (nr, ncol)): "
+     "flat buffers whose leading nr*nr (Z: 6nc*nr, B: nr*ncol) values are the row-major matrices "
+     "of phm_linear_model; ports: a list of (kind 0 pair | 1 load | 2 frame, index, T (4, 4))."},
     {"model_static", py_model_static, METH_VARARGS,
      "model_static(model, poses=None, time=0, steps=1, tol=1e-10, monitor=None) -> (poses, lambda, "
      "iterations); monitor(load factor, iterations, load step) after each load step, truthy to stop."},

@@ -17,9 +17,13 @@ from . import mechanism
 from .mechanism import *  # noqa: F401,F403  (names listed in mechanism.__all__)
 from ._run import CostWarning
 from .io import load, load_result
+from .sweep import sweep
+from . import linear
+from .linear import LinearPortHamiltonian, Passivity
 
 __all__ = ["ModelError", "SolverError", "CostWarning", "info", "blas_threads", "__version__",
            "se3", "graphs", "mesh", "mixed", "timoshenko", "analysis", "load", "load_result",
+           "sweep", "linear", "LinearPortHamiltonian", "Passivity",
            "Material", "Section", "BeamProperties", "table1_properties", *mechanism.__all__]
 
 

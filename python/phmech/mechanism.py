@@ -958,6 +958,26 @@ class Mechanism:
             raise ModelError("constraint_residuals needs every carrier's pose: simulate without record=")
         return postprocess.constraint_residuals(self._desc, self._build(), result)
 
+    def _linearization_point(self, at: Optional[StaticResult]) -> tuple:
+        """(core model, poses, constraint wrenches) of a linearization at the initial state (poses
+        and wrenches None) or at the static equilibrium ``at``, with the extra loads it was
+        found under."""
+        if at is not None and not isinstance(at, StaticResult):
+            raise ModelError(f"at must be a StaticResult (Mechanism.static) or None (got "
+                             f"{type(at).__name__})")
+        model = self._build(() if at is None else at.loads)
+        followers = self._follower_loads()
+        if followers:
+            warnings.warn(f"the follower loads {followers} (body-frame wrenches) have a "
+                          "non-symmetric load stiffness, which the linearization (modes(), "
+                          "linearize()) symmetrizes: it treats them as dead loads and cannot show "
+                          "flutter; simulate to see how the mechanism moves under them",
+                          StabilityWarning, stacklevel=3)
+        poses = None if at is None else self._start_poses(at, "at")
+        lam = None if at is None else array("at.constraint_wrenches", at.constraint_wrenches,
+                                            np.shape(at.constraint_wrenches))
+        return model, poses, lam
+
     def modes(self, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0) -> ModesResult:
         """The ``n`` lowest linearized modes at the initial configuration, or at a static
         equilibrium ``at``: its constraint wrenches give the geometric stiffness, and the extra
@@ -970,19 +990,7 @@ class Mechanism:
         negative ones shown as negative frequencies."""
         n = integer("n", n, 1)
         time = real("time", time)
-        if at is not None and not isinstance(at, StaticResult):
-            raise ModelError(f"at must be a StaticResult (Mechanism.static) or None (got "
-                             f"{type(at).__name__})")
-        model = self._build(() if at is None else at.loads)
-        followers = self._follower_loads()
-        if followers:
-            warnings.warn(f"modes(): the follower loads {followers} (body-frame wrenches) have a "
-                          "non-symmetric load stiffness, which modes() symmetrizes: its frequencies "
-                          "treat them as dead loads and cannot show flutter; simulate to see how "
-                          "the mechanism moves under them", StabilityWarning, stacklevel=2)
-        poses = None if at is None else self._start_poses(at, "at")
-        lam = None if at is None else array("at.constraint_wrenches", at.constraint_wrenches,
-                                            np.shape(at.constraint_wrenches))
+        model, poses, lam = self._linearization_point(at)
         # at most 6 per carrier exist: asking for more allocates no more than that
         om, ze, sh, nf = _core.model_modes(model, min(n, 6 * len(self._car)), poses, lam, time)
         where = self._state.poses if poses is None else poses
@@ -1039,6 +1047,31 @@ class Mechanism:
         interactions between two carriers are not judged."""
         return all(ld["world"] and not ld.get("interaction") and not np.any(ld["w"][:3])
                    for ld in [*self._loads, *extra])
+
+    def linearize(self, at: Optional[StaticResult] = None, inputs: Sequence = (),
+                  outputs: Optional[Sequence] = None, time: float = 0.0):
+        """The linear port-Hamiltonian model (phmech.linear.LinearPortHamiltonian: J, R, Q, B,
+        C, D, passivity(), to_statespace(), to_control()) about the initial configuration, or
+        about a static equilibrium ``at`` (its constraint wrenches give the geometric stiffness
+        and its extra loads act, as in ``modes``), on the constraint manifold: the reduced
+        coordinates are the null space of the constraint Jacobian that ``modes`` uses, so the
+        model's undamped frequencies are the modes' (docs/method.md section 7.4).
+
+        ``inputs``: port names -- a pair with joint coordinates or an actuator (the k joint
+        efforts [N m or N]), a wrench, interaction or distributed load (the value of its law:
+        u = 1 applies the wrench as given), a body's name or a Frame/Body object (a wrench
+        (tau [N m], f [N]) in the frame's axes at its origin). ``outputs``: None for the
+        collocated outputs (the inputs' power conjugates: joint rates, the load's velocity along
+        its wrench, the frame's body twist (omega, v); y^T u is the power supplied), or port
+        names as for inputs (their power-conjugate velocities). The inputs perturb the loads
+        acting at ``time`` (whose stiffness, e.g. of a world-fixed force on a rotating body, is
+        in K)."""
+        from . import linear
+
+        time = real("time", time)
+        model, poses, lam = self._linearization_point(at)
+        return linear.build(_core, model, self._desc, list(inputs) if not isinstance(inputs, str)
+                            else [inputs], outputs, poses, lam, time)
 
     def static(self, loads: Sequence = (), steps: int = 10, time: float = 0.0,
                tol: float = 1e-10, start: Optional[StaticResult] = None,

@@ -1,0 +1,279 @@
+"""The linear port-Hamiltonian model of a mechanism about an equilibrium (Mechanism.linearize):
+the C core's reduced stiffness, damping and mass on the constraint manifold and the ports' input
+matrix (csrc/solve/modes.c, phm_linear_model), assembled here into (J, R, Q, B, C, D), with a
+passivity check and conversions to scipy.signal and python-control (docs/method.md section 7.4,
+docs/user_guide.md "Linear port-Hamiltonian model")."""
+from __future__ import annotations
+
+import dataclasses
+from typing import List
+
+import numpy as np
+
+from ._core import ModelError
+
+__all__ = ["LinearPortHamiltonian", "Passivity"]
+
+#: the smallest relative eigenvalue of Q's blocks that counts as positive (Passivity.Q_min)
+Q_RESOLVED = 1e3 * np.finfo(float).eps
+#: csrc/include/phmech_types.h, PHM_MODES_RESOLVED: the modes the shift-inverted pencil resolves
+MODES_RESOLVED = 1e-6
+
+
+@dataclasses.dataclass(frozen=True)
+class Passivity:
+    """The numbers of a passivity check (LinearPortHamiltonian.passivity): ``J_skew`` =
+    max|J + J^T| / max|J| (0 for a skew-symmetric J), ``R_min`` = the smallest eigenvalue of R
+    over its largest magnitude (>= -tol: R positive semidefinite), ``Q_min`` = the smallest
+    eigenvalue over the largest of the stiffness block K and of the inverse-mass block M^-1 of Q,
+    the smaller of the two (the blocks carry different units, so each is measured against
+    itself; Q is positive definite when Q_min > Q_RESOLVED = 1000 eps: LAPACK's eigenvalues are
+    exact to about eps times the largest, and a flexible link's blocks are legitimately
+    ill-conditioned, Q_min ~ 1e-10 for the leaf spring), ``collocation`` = max|C - B^T Q| / max|B^T Q| (0 when the
+    outputs are the inputs' power conjugates; nan otherwise), ``D_min`` the smallest eigenvalue of
+    D + D^T (0 here), ``tol`` and the verdict ``passive``."""
+    J_skew: float
+    R_min: float
+    Q_min: float
+    collocation: float
+    D_min: float
+    tol: float
+    passive: bool
+
+
+@dataclasses.dataclass(frozen=True)
+class LinearPortHamiltonian:
+    """dx/dt = (J - R) Q x + B u, y = C x + D u, with the state x = (q, p): q the nr reduced
+    displacements (coordinates in the null space Z of the constraint Jacobian, units mixed: rad
+    and m along the tangent directions), p = M dq/dt their momenta. The energy is
+    H = x^T Q x / 2 = q^T K q / 2 + p^T M^-1 p / 2.
+
+    J = [[0, I], [-I, 0]], R = diag(0, Dr), Q = diag(K, M^-1), B = [0; Bq] with Bq = Z^T F the
+    reduced generalized forces per unit input, C = [0, Cq M^-1] with Cq = Fo^T Z the outputs'
+    velocity maps (Cq = Bq^T for the default, collocated outputs), D = 0.
+
+    ``stiffness`` K, ``damping`` Dr, ``mass`` M (nr x nr), ``basis`` Z (6 nc x nr: the reduced
+    coordinates as the carriers' tangent coordinates (omega, v), body frames), ``inputs``,
+    ``outputs``: one label per column of B and row of C."""
+    stiffness: np.ndarray
+    damping: np.ndarray
+    mass: np.ndarray
+    basis: np.ndarray
+    Bq: np.ndarray
+    Cq: np.ndarray
+    inputs: List[str]
+    outputs: List[str]
+    collocated: bool
+
+    @property
+    def nr(self) -> int:
+        """Reduced coordinates (degrees of freedom)."""
+        return self.stiffness.shape[0]
+
+    @property
+    def J(self) -> np.ndarray:
+        n = self.nr
+        return np.block([[np.zeros((n, n)), np.eye(n)], [-np.eye(n), np.zeros((n, n))]])
+
+    @property
+    def R(self) -> np.ndarray:
+        n = self.nr
+        Z = np.zeros((n, n))
+        return np.block([[Z, Z], [Z, self.damping]])
+
+    @property
+    def Q(self) -> np.ndarray:
+        n = self.nr
+        Z = np.zeros((n, n))
+        return np.block([[self.stiffness, Z], [Z, self._minv]])
+
+    @property
+    def _minv(self) -> np.ndarray:
+        Mi = np.linalg.inv(self.mass)
+        return 0.5 * (Mi + Mi.T)
+
+    @property
+    def B(self) -> np.ndarray:
+        return np.vstack([np.zeros_like(self.Bq), self.Bq])
+
+    @property
+    def C(self) -> np.ndarray:
+        return np.hstack([np.zeros_like(self.Cq), self.Cq @ self._minv])
+
+    @property
+    def D(self) -> np.ndarray:
+        return np.zeros((self.Cq.shape[0], self.Bq.shape[1]))
+
+    @property
+    def A(self) -> np.ndarray:
+        """(J - R) Q."""
+        return (self.J - self.R) @ self.Q
+
+    def frequencies(self) -> np.ndarray:
+        """Undamped natural frequencies [Hz], ascending: sqrt of the eigenvalues of (K, M) / 2 pi
+        (negative for a negative eigenvalue: unstable, as ModesResult.frequency)."""
+        from scipy.linalg import LinAlgError, eigh
+
+        K, M = self.stiffness, self.mass
+        # as modes() (csrc/solve/modes.c): the shift-inverted pencil M y = theta (K - sigma M) y
+        # for the modes it resolves (theta above MODES_RESOLVED of the largest: the lowest modes,
+        # to ~eps relative), the direct pencil for the others and when K - sigma M is indefinite
+        lam = eigh(K, M, eigvals_only=True)
+        trK, trM = np.trace(K), np.trace(M)
+        sigma = -1e-9 * trK / trM if trK > 0 and trM > 0 else -1.0
+        try:
+            theta = eigh(M, K - sigma * M, eigvals_only=True)[::-1]
+        except LinAlgError:
+            theta = np.zeros(1)
+        if theta[-1] > 0:
+            ok = theta > MODES_RESOLVED * theta[0]
+            lam[ok] = sigma + 1.0 / theta[ok]
+        return np.sign(lam) * np.sqrt(np.abs(lam)) / (2 * np.pi)
+
+    def passivity(self, tol: float = 1e-9) -> Passivity:
+        """Check J = -J^T, R >= 0, Q > 0 (and, for collocated outputs, C = B^T Q, D + D^T >= 0)
+        within the relative tolerance ``tol``; returns the numbers (Passivity)."""
+        J, R = self.J, self.R
+        js = float(np.abs(J + J.T).max() / np.abs(J).max())
+        er = np.linalg.eigvalsh(R)
+        rmin = float(er.min() / max(np.abs(er).max(), 1e-300))
+        qmin = np.inf
+        for blk in (self.stiffness, self._minv):
+            e = np.linalg.eigvalsh(blk)
+            qmin = min(qmin, float(e.min() / max(np.abs(e).max(), 1e-300)))
+        if self.collocated:
+            BQ = self.B.T @ self.Q
+            col = float(np.abs(self.C - BQ).max() / max(np.abs(BQ).max(), 1e-300))
+        else:
+            col = float("nan")
+        dmin = float(np.linalg.eigvalsh(self.D + self.D.T).min()) if self.D.size else 0.0
+        ok = js <= tol and rmin >= -tol and qmin > Q_RESOLVED and dmin >= -tol and \
+            (not self.collocated or col <= tol)
+        return Passivity(js, rmin, qmin, col, dmin, tol, bool(ok))
+
+    def displacement(self, x) -> np.ndarray:
+        """The carriers' tangent displacements (nc, 6) (omega, v in body axes: H = H0 exp(xi))
+        of states ``x`` (2 nr,) or (nt, 2 nr) -> (nc, 6) or (nt, nc, 6)."""
+        x = np.asarray(x, dtype=float)
+        q = x[..., :self.nr]
+        xi = q @ self.basis.T
+        return xi.reshape(xi.shape[:-1] + (-1, 6))
+
+    def to_statespace(self):
+        """scipy.signal.StateSpace(A, B, C, D)."""
+        from scipy.signal import StateSpace
+
+        return StateSpace(self.A, self.B, self.C, self.D)
+
+    def to_control(self):
+        """python-control ``StateSpace`` with the ports' names as input and output names ('.'
+        written '_': python-control refuses dots) (needs the optional package ``control``: pip install control)."""
+        try:
+            import control
+        except ImportError:
+            raise ModelError("to_control needs python-control (pip install control; or "
+                             "pip install phmech[control]); to_statespace() needs only SciPy") from None
+        n = self.nr
+        states = [f"q{i}" for i in range(n)] + [f"p{i}" for i in range(n)]
+        name = lambda s: s.replace(".", "_")                       # noqa: E731 ('.' is refused)
+        return control.ss(self.A, self.B, self.C, self.D, inputs=[name(s) for s in self.inputs],
+                          outputs=[name(s) for s in self.outputs], states=states)
+
+
+# ------------------------------------------------------------------------------- ports by name
+PORT_PAIR, PORT_LOAD, PORT_FRAME = 0, 1, 2   # csrc/include/phmech_types.h, PHM_PORT_*
+
+
+def resolve_ports(desc, items, what: str) -> tuple:
+    """Ports given by name (or Frame/Body) -> (core ports [(kind, index, T)], groups, labels):
+    ``groups[i]`` the core columns summed into input/output column i. Names: a pair (its k joint
+    efforts [N m or N] / joint rates), an actuator (its pair's), a wrench or interaction (its
+    wrench per unit law value / the power-conjugate velocity), a distributed load (all its
+    nodes' loads together), a body's name (a wrench (tau, f) in its axes / its body twist)."""
+    from .frames import Body, Frame, frame_of
+
+    if isinstance(items, (str, Frame, Body)):
+        items = [items]
+    if not isinstance(items, (list, tuple)):
+        raise ModelError(f"{what}: expected a list of port names (got {type(items).__name__})")
+    pairs = {e["name"]: i for i, e in enumerate(desc.pairs)}
+    acts = {a["name"]: a["pair"] for a in desc.actuators}
+    loads = {ld["name"]: i for i, ld in enumerate(desc.loads)}
+    ports, groups, labels = [], [], []
+    col = 0
+
+    def add(kind, index, T, ncols, names):
+        nonlocal col
+        ports.append((kind, index, np.asarray(T, dtype=float)))
+        for j, nm in enumerate(names):
+            groups.append([col + j])
+            labels.append(nm)
+        col += ncols
+
+    for x in items:
+        if isinstance(x, str) and (x in pairs or x in acts):
+            ip = pairs[x] if x in pairs else acts[x]
+            k = desc.pairs[ip]["k"]
+            if k == 0:
+                raise ModelError(f"{what}: pair {x!r} is a Fixed pair: it has no joint coordinates "
+                                 f"to act on or measure")
+            add(PORT_PAIR, ip, np.eye(4), k, [x] if k == 1 else [f"{x}[{j}]" for j in range(k)])
+        elif isinstance(x, str) and x in loads:
+            add(PORT_LOAD, loads[x], np.eye(4), 1, [x])
+        elif isinstance(x, str) and f"{x}[0]" in loads:            # a distributed load
+            idx = [i for n, i in loads.items() if n.startswith(x + "[") and n.endswith("]")]
+            first = col
+            for i in idx:
+                ports.append((PORT_LOAD, i, np.eye(4)))
+            col += len(idx)
+            groups.append(list(range(first, col)))
+            labels.append(x)
+        elif isinstance(x, (Frame, Body)) or (isinstance(x, str) and x in desc.bodies):
+            f = frame_of(x, desc, what)
+            if f.carrier < 0:
+                raise ModelError(f"{what}: the ground does not move: no port")
+            nm = f.name or f"carrier{f.carrier}"
+            add(PORT_FRAME, f.carrier, f.T, 6, [f"{nm}.{c}" for c in ("tau_x", "tau_y", "tau_z", "f_x", "f_y", "f_z")])
+        else:
+            avail = sorted([n for n, i in pairs.items() if desc.pairs[i]["k"] > 0]) + sorted(acts) + \
+                sorted(loads) + sorted(desc.bodies)
+            raise ModelError(f"{what}: unknown port {x!r}; ports are pairs with joint coordinates, "
+                             f"actuators, wrenches, interactions and bodies (or Frame objects) of "
+                             f"this mechanism: {', '.join(map(repr, avail)) or 'none'}")
+    return ports, groups, labels
+
+
+def output_labels(labels: List[str]) -> List[str]:
+    """The power conjugates' names of input labels: efforts -> rates, wrenches -> twists."""
+    out = []
+    for s in labels:
+        for a, b in ((".tau_", ".omega_"), (".f_", ".v_")):
+            if a in s:
+                s = s.replace(a, b)
+                break
+        else:
+            s = s + ".rate"
+        out.append(s)
+    return out
+
+
+def build(core, model, desc, inputs, outputs, poses, lam, time) -> LinearPortHamiltonian:
+    """The LinearPortHamiltonian of a core model at poses/lam (None: its initial state)."""
+    pin, gin, lin = resolve_ports(desc, inputs, "linearize inputs")
+    if outputs is None:
+        pout, gout, lout, coll = [], [], output_labels(lin), True
+    else:
+        pout, gout, lout = resolve_ports(desc, outputs, "linearize outputs")
+        lout, coll = output_labels(lout), False
+    K, D, M, Z, B, (nr, ncol) = core.model_linear(model, pin + pout, poses, lam, time)
+    nc6 = 6 * len(desc.carriers)
+    F = B[:nr * ncol].reshape(nr, ncol)
+    nin = sum(len(g) for g in gin)
+    Bq = np.stack([F[:, g].sum(axis=1) for g in gin], axis=1) if gin else np.zeros((nr, 0))
+    Fo = F[:, nin:]
+    Cq = (np.stack([Fo[:, g].sum(axis=1) for g in gout], axis=0) if gout else np.zeros((0, nr))) \
+        if not coll else Bq.T.copy()
+    return LinearPortHamiltonian(
+        stiffness=K[:nr * nr].reshape(nr, nr), damping=D[:nr * nr].reshape(nr, nr),
+        mass=M[:nr * nr].reshape(nr, nr), basis=Z[:nc6 * nr].reshape(nc6, nr), Bq=Bq, Cq=Cq,
+        inputs=lin, outputs=lout, collocated=coll)
