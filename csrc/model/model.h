@@ -114,6 +114,14 @@ void phm_element_eval(const phm_element_desc *e, const double Ha[16], const doub
                       const double ta[6], const double tb[6], double wa[6], double wb[6],
                       double *V, double *P, double *sigma);
 
+/* The element's wrenches (as phm_element_eval) and their tangent: Kx (12 x 12, row-major) =
+ * d[wa; wb]/d[da; db] for the perturbations Ha exp(da), Hb exp(db) (elastic, geometric and, with
+ * twists, damping parts), Ct (12 x 12) = d[wa; wb]/d[ta; tb] (zero without twists; may be NULL).
+ * Closed form, no allocation (docs/method.md section 4.2). */
+void phm_element_tangent(const phm_element_desc *e, const double Ha[16], const double Hb[16],
+                         const double ta[6], const double tb[6], double wa[6], double wb[6],
+                         double Kx[144], double Ct[144]);
+
 /* ---------------------------------------------------------------- applied wrenches (applied.c) */
 /* Applied wrenches (elastic + damping + gravity + springs + actuators + external x scale) on every
  * carrier, body frame: wr (nc x 6). tw may be NULL (static: rates zero). xs: joint-coordinate
