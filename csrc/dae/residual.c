@@ -78,7 +78,7 @@ int dae_residual(dae_t *d, double time, const double *y, const double *yp, doubl
   dae_unpack(m, y, D->H, D->tw);
   double Pd = 0, Ps = 0;
   dae_pair_rows(d, time, y, yp, F);
-  phm_applied_pairs(m, D->pair, D->H, D->tw, y + d->ix, time, d->tref, 1.0, D->wr, NULL, &Pd, &Ps,
+  phm_applied_pairs(m, D->pair, D->H, D->tw, y + d->ix, time, d->tref, 1.0, 1, D->wr, NULL, &Pd, &Ps,
                     D->pport, NULL);
   for (int c = 0; c < nc; c++) {
     const double *yc = y + PHM_NSTATE * c, *ypc = yp + PHM_NSTATE * c;

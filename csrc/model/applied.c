@@ -76,17 +76,17 @@ void phm_spring_eval(const phm_spring_desc *sp, const double *H, const double *t
 void phm_applied(const phm_model *m, const double *H, const double *tw, const double *xs,
                  double time, double tref, double scale, double *wr, double *Vel, double *Pdiss,
                  double *Psupp, double *Pport, double *effort) {
-  phm_applied_pairs(m, NULL, H, tw, xs, time, tref, scale, wr, Vel, Pdiss, Psupp, Pport, effort);
+  phm_applied_pairs(m, NULL, H, tw, xs, time, tref, scale, 1, wr, Vel, Pdiss, Psupp, Pport, effort);
 }
 
 void phm_applied_pairs(const phm_model *m, const phm_pair_data *pd, const double *H,
                        const double *tw, const double *xs, double time, double tref, double scale,
-                       double *wr, double *Vel, double *Pdiss, double *Psupp, double *Pport,
-                       double *effort) {
+                       int elements, double *wr, double *Vel, double *Pdiss, double *Psupp,
+                       double *Pport, double *effort) {
   memset(wr, 0, sizeof(double) * 6 * (size_t)m->nc);
   if (effort && m->nj) memset(effort, 0, sizeof(double) * (size_t)m->nj);
   double V = 0, Pd = 0, Ps = 0;
-  for (int ie = 0; ie < m->ne; ie++) {
+  for (int ie = 0; elements && ie < m->ne; ie++) {
     const phm_element_desc *e = &m->el[ie];
     double wa[6], wb[6], v, p;
     phm_element_eval(e, H + 16 * e->a, H + 16 * e->b, tw ? tw + 6 * e->a : NULL,

@@ -134,11 +134,13 @@ void phm_applied(const phm_model *m, const double *H, const double *tw, const do
                  double *Psupp, double *Pport, double *effort);
 /* The same with every pair already evaluated at H, tw, xs (pd: np results of phm_pair_evaluate):
  * the actuators read their pair's frames, joint coordinates and rates from pd. pd NULL:
- * phm_applied, which evaluates the actuated pairs itself. */
+ * phm_applied, which evaluates the actuated pairs itself. elements = 0 leaves the se3 elements'
+ * wrenches (and their energy and dissipation) out: the part of the forces whose tangent is taken
+ * by differences while the elements' comes from phm_element_tangent. */
 void phm_applied_pairs(const phm_model *m, const phm_pair_data *pd, const double *H,
                        const double *tw, const double *xs, double time, double tref, double scale,
-                       double *wr, double *Vel, double *Pdiss, double *Psupp, double *Pport,
-                       double *effort);
+                       int elements, double *wr, double *Vel, double *Pdiss, double *Psupp,
+                       double *Pport, double *effort);
 /* Point-to-point spring-damper: adds its wrenches to wr (may be NULL), elastic energy *V and
  * damping power *Pd (>= 0; either may be NULL). tw NULL: at rest. */
 void phm_spring_eval(const phm_spring_desc *sp, const double *H, const double *tw, double *wr,

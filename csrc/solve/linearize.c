@@ -1,7 +1,9 @@
 /* linearize.c -- linearization on the tangent space (docs/method.md section 7): the generalized
- * forces f(H) = applied + G^T lambda at poses H and their Jacobian blocks df/ddelta by coloured
- * central differences over the carrier coupling graph (csrc/model/graph.c); read by modes
- * (modes.c) and statics (statics.c). Set-up time code: allocates. */
+ * forces f(H) = applied + G^T lambda at poses H and their Jacobian blocks df/ddelta over the
+ * carrier coupling graph (csrc/model/graph.c): the se3 elements' blocks in closed form
+ * (phm_element_tangent), the rest (pairs' G^T lambda, gravity, loads, springs, actuators) by
+ * coloured central differences; read by modes (modes.c) and statics (statics.c). Set-up time
+ * code: allocates. */
 #include "solve.h"
 
 #include <math.h>
@@ -9,13 +11,56 @@
 #include <string.h>
 
 #include "phm_check.h"
+#include "linalg.h"
 #include "pose.h"
 
 /* Generalized forces at poses H: applied wrenches + G^T lambda (nc x 6, body frame). */
-void lin_total_force(lin_t *L, const double *H, double *f) {
+static void lin_forces(lin_t *L, const double *H, int elements, double *f) {
   const phm_model *m = L->m;
-  phm_applied(m, H, NULL, NULL, L->time, L->tref, L->scale, f, NULL, NULL, NULL, NULL, NULL);
+  phm_applied_pairs(m, NULL, H, NULL, NULL, L->time, L->tref, L->scale, elements, f, NULL, NULL,
+                    NULL, NULL, NULL);
   if (L->lam && m->ncons) phm_constraint_forces(m, H, L->time, L->tref, L->lam, f);
+}
+void lin_total_force(lin_t *L, const double *H, double *f) { lin_forces(L, H, 1, f); }
+
+/* The slot of block (row carrier r, column carrier c) in the coupling graph's lists. */
+static int lin_slot(const lin_t *L, int r, int c) {
+  for (int q = L->ptr[r]; q < L->ptr[r + 1]; q++)
+    if (L->nbr[q] == c) return q;
+  return -1; /* not reached: an element's carriers are neighbours */
+}
+
+/* Add the se3 elements' blocks at poses H (at rest) to Kb (if not NULL) (d f/d delta, with f_c's chart factor
+ * dexp_{-delta}^T: its derivative -1/2 ad*_(.) w_c on the diagonal blocks) and, if Db is not
+ * NULL, to Db (d f/d t: the damping, the same at any twist since the wrenches are affine in
+ * them). */
+void lin_element_blocks(const lin_t *L, const double *H, double *Kb, double *Db) {
+  const phm_model *m = L->m;
+  static const double zero[6] = {0};
+  for (int ie = 0; ie < m->ne; ie++) {
+    const phm_element_desc *e = &m->el[ie];
+    double w[12], Kx[144], Ct[144];
+    phm_element_tangent(e, H + 16 * e->a, H + 16 * e->b, zero, zero, w, w + 6, Kx, Db ? Ct : NULL);
+    int cr[2] = {e->a, e->b};
+    for (int bi = 0; bi < 2; bi++)
+      for (int bj = 0; bj < 2; bj++) {
+        int q = lin_slot(L, cr[bi], cr[bj]);
+        if (q < 0) continue;
+        double *K = Kb ? Kb + 36 * (size_t)q : NULL, *Dq = Db ? Db + 36 * (size_t)q : NULL;
+        for (int i = 0; i < 6; i++)
+          for (int j = 0; j < 6; j++) {
+            if (K) K[6 * i + j] += Kx[12 * (6 * bi + i) + 6 * bj + j];
+            if (Dq) Dq[6 * i + j] += Ct[12 * (6 * bi + i) + 6 * bj + j];
+          }
+        if (bi != bj || !K) continue;
+        for (int j = 0; j < 6; j++) { /* -1/2 ad*_{e_j} w */
+          double ej[6] = {0}, z[6];
+          ej[j] = 1.0;
+          phm_ad_dual_apply(ej, w + 6 * bi, z);
+          for (int i = 0; i < 6; i++) K[6 * i + j] -= 0.5 * z[i];
+        }
+      }
+  }
 }
 
 phm_status lin_alloc(lin_t *L, const phm_model *m, phm_error *err) {
@@ -59,8 +104,9 @@ phm_status lin_colour(lin_t *L, phm_error *err) {
 
 /* Kb[q] = d f_r / d delta_c for block q = (row carrier r, column carrier nbr[q]) of the coupling
  * graph (6 x 6, row-major), f = lin_total_force on the perturbed carriers' charts, f_c(delta) =
- * dexp_{-delta}^T w_c(H_c exp(delta)); central differences, one pass per colour and direction
- * (carriers of one colour share no neighbour, so their columns do not mix). Into L->Kb. */
+ * dexp_{-delta}^T w_c(H_c exp(delta)): the elements' part in closed form (lin_element_blocks),
+ * the rest by central differences, one pass per colour and direction (carriers of one colour
+ * share no neighbour, so their columns do not mix). Into L->Kb. */
 void lin_force_jacobian_blocks(lin_t *L, const double *H, double *f1, double *f2) {
   const phm_model *m = L->m;
   int nc = m->nc, ncol = L->ncol;
@@ -77,7 +123,7 @@ void lin_force_jacobian_blocks(lin_t *L, const double *H, double *f1, double *f2
         memcpy(L->Hp, H, sizeof(double) * 16 * (size_t)nc);
         for (int c = 0; c < nc; c++)
           if (col[c] == k) phm_retract(L->Hp + 16 * c, dl);
-        lin_total_force(L, L->Hp, f);
+        lin_forces(L, L->Hp, 0, f);
         for (int c = 0; c < nc; c++)
           if (col[c] == k) {
             double w[6];
@@ -95,6 +141,8 @@ void lin_force_jacobian_blocks(lin_t *L, const double *H, double *f1, double *f2
             for (int i = 0; i < 6; i++)
               Kb[36 * (size_t)q + 6 * i + j] = (f1[6 * r + i] - f2[6 * r + i]) / (2 * eps);
     }
+  if (ncol == 0) memset(Kb, 0, sizeof(double) * 36 * (size_t)ptr[nc]);
+  lin_element_blocks(L, H, Kb, NULL);
 }
 
 
