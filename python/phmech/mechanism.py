@@ -818,7 +818,9 @@ class Mechanism:
                tol: float = 1e-10, start: Optional[StaticResult] = None) -> StaticResult:
         """Static equilibrium under gravity, the mechanism's wrenches at ``time`` and extra
         constant ``loads`` = [(target, wrench (tau, f), frame "world"|"body"), ...], reached in
-        ``steps`` load steps (halved on failure); Newton tolerance ``tol`` on the tangent step."""
+        load increments of 1/``steps`` (halved when Newton fails, doubled after fast convergence);
+        Newton tolerance ``tol`` (rad, and element lengths) on the tangent step. The result's
+        ``iterations`` counts Newton iterations (tangents and factorizations)."""
         extra = []
         if not isinstance(loads, (list, tuple)):
             raise ModelError(f"static loads: expected a list of (target, wrench, frame) tuples "
