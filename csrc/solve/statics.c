@@ -1,5 +1,5 @@
 /* statics.c -- static equilibrium: Newton on [df/ddelta G^T; G 0] with sparse LU (KLU) and
- * adaptive load stepping (halved on failure, doubled after fast convergence). */
+ * load stepping (halved on failure, grown back after fast convergence). */
 #include "solve.h"
 
 #include <math.h>
@@ -58,8 +58,9 @@ static void take_step(const phm_model *m, double *H, double *lam, const double *
  * Measured (benchmarks/statics_newton.py, iterations = tangents): with the finite-difference
  * tangent the steps were also capped at one element length lref, and the count grew with N (a
  * cantilever under P L^2/EI = 3 in 10 load steps: 54 iterations at N = 20, 858 at N = 1000; the
- * stiff roll-up 2344). With the exact tangent and without the length cap: 22 and 24, stiff
- * roll-up 1158. A line search by the natural monotonicity test (Deuflhard 2004, section 3.3) on
+ * stiff roll-up 2344). With the exact tangent and without the length cap: 41 and 42, stiff
+ * roll-up 1158 (doubling the load step beyond 1/steps after fast convergence gave 22 and 24, but
+ * jumped past the bifurcation of the imperfect elastica of tests/hard/test_hard_statics.py). A line search by the natural monotonicity test (Deuflhard 2004, section 3.3) on
  * top halved the soft cases' counts no further and quadrupled the stiff ones' (the simplified
  * correction of a stiff beam's stretched trial state is huge); a secant predictor on every
  * carrier's pose cost the roll-up 40 % more. */
@@ -133,8 +134,9 @@ phm_status phm_static(const phm_model *m, const double *poses, double time, int 
   int pre_failed = newton(&L, &S, poses_out, lam, tol, 50, &w, &it);
   /* load stepping from the unloaded equilibrium: a step is halved when Newton fails to converge
    * in 12 iterations (with the exact tangent, one that has not converged by then rarely does; 30
-   * cost the stiff roll-up of benchmarks/statics_newton.py 1568 iterations instead of 1158) and
-   * doubled after one that took at most 4 */
+   * cost the stiff roll-up of benchmarks/statics_newton.py 1501 iterations instead of 1158) and
+   * doubled after one that took at most 4, up to 1/steps: `steps` bounds the increment (a larger
+   * one can pass a bifurcation unseen) */
   double s = 0, ds = 1.0 / steps;
   while (s < 1.0) {
     double snew = fmin(1.0, s + ds);
@@ -150,7 +152,7 @@ phm_status phm_static(const phm_model *m, const double *poses, double time, int 
       continue;
     }
     s = snew;
-    if (it - it0 <= 4) ds *= 2.0;
+    if (it - it0 <= 4) ds = fmin(2.0 * ds, 1.0 / steps);
   }
   if (!phm_all_finite(poses_out, 16 * (size_t)nc) || !phm_all_finite(lam, (size_t)nk)) {
     st = PHM_FAIL(err, PHM_ESOLVER, "static equilibrium: non-finite poses or constraint "

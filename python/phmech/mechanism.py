@@ -818,7 +818,8 @@ class Mechanism:
                tol: float = 1e-10, start: Optional[StaticResult] = None) -> StaticResult:
         """Static equilibrium under gravity, the mechanism's wrenches at ``time`` and extra
         constant ``loads`` = [(target, wrench (tau, f), frame "world"|"body"), ...], reached in
-        load increments of 1/``steps`` (halved when Newton fails, doubled after fast convergence);
+        load increments of 1/``steps`` (halved when Newton fails, grown back after fast
+        convergence);
         Newton tolerance ``tol`` (rad, and element lengths) on the tangent step. The result's
         ``iterations`` counts Newton iterations (tangents and factorizations)."""
         extra = []
