@@ -19,6 +19,7 @@ typedef struct {
   phm_pair_desc pair[2];
   phm_load_desc load[1];
   phm_spring_desc spr[1];
+  phm_actuator_desc act[1];
   phm_model_desc d;
 } builder;
 
@@ -176,7 +177,11 @@ static void pairs_springs_loads_gravity_keep_forward_differences(void) {
   b.d.nloads = 1;
   b.d.loads = b.load;
   b.d.gravity[2] = -9.81;
-  compare("J = central FD: elements, fixed, revolute, spring, load, gravity (hybrid)", &b, 1e-5);
+  b.act[0] = (phm_actuator_desc){.pair = 1, .kind = PHM_ACT_PD, .kp = {50}, .kd = {2}, .x_set = {0.1},
+                                 .vec = {1}, .law = {.kind = PHM_LAW_CONSTANT, .amplitude = 0.2}};
+  b.d.nactuators = 1;
+  b.d.actuators = b.act;
+  compare("J = central FD: elements, fixed, revolute with PD, spring, load, gravity (hybrid)", &b, 1e-5);
 }
 
 CHECK_MAIN(CHECK_CASE(carriers_alone_are_closed_form), CHECK_CASE(elements_are_closed_form),
