@@ -72,8 +72,8 @@ typedef struct {
   sunindextype *colptr, *rowind;
   int *color;
   /* 1 while dae_jacobian differentiates the remainder: dae_residual then leaves out what the
-   * Jacobian has in closed form (the se3 elements' wrenches, the carriers' own kinematic and
-   * momentum terms, every y' term of the carrier rows) */
+   * Jacobian has in closed form (the se3 elements' wrenches, gravity, the carriers' own kinematic
+   * and momentum terms, every y' term of the carrier rows) */
   int remainder;
 } dae_t;
 
@@ -116,9 +116,10 @@ phm_status dae_restart_at_breakpoint(dae_t *d, double t, double tpiece, double *
  * memory linear in the number of nonzeros. */
 phm_status dae_jacobian_pattern(dae_t *d, phm_error *err);
 /* J = dF/dy + cj dF/dy' at (t, y, y') into the sparse matrix J (pattern from
- * dae_jacobian_pattern): the se3 elements' wrenches (phm_element_tangent) and the carriers' own
- * kinematic and momentum rows in closed form, the remainder (pairs' rows and G^T lambda, G^T mu,
- * gravity, loads, springs, actuators, the ledger) by coloured forward differences. r0 (the
+ * dae_jacobian_pattern): the se3 elements' wrenches (phm_element_tangent), gravity
+ * (phm_gravity_tangent) and the carriers' own kinematic and momentum rows in closed form, the
+ * remainder (pairs' rows and G^T lambda, G^T mu, loads, springs, actuators, the ledger) by
+ * coloured forward differences. r0 (the
  * residual F(t, y, y')) is not read. 0 on success. */
 int dae_jacobian(dae_t *d, double t, double cj, const double *y, const double *yp,
                  const double *r0, SUNMatrix J);

@@ -1,8 +1,8 @@
 /* jacobian.c -- the Jacobian dF/dy + cj dF/dy' of the DAE: its sparsity pattern from the block
  * structure (carriers couple through elements, pairs, springs and loads; a pair's multipliers
  * and joint coordinates through its two carriers: the coupling graph of csrc/model/graph.c), a
- * colouring of its columns, and its values: the se3 elements' and the carriers' own terms in
- * closed form, the remainder (pairs, gravity, loads, springs, actuators) by coloured forward
+ * colouring of its columns, and its values: the se3 elements', gravity's and the carriers' own
+ * terms in closed form, the remainder (pairs, loads, springs, actuators) by coloured forward
  * differences. */
 #include "dae.h"
 
@@ -171,11 +171,12 @@ static void quat_chart(const double q[4], double E[12]) {
 
 /* The closed-form part of the Jacobian at (y, y') (the poses and twists in d->data): each
  * carrier's kinematic rows q' = 1/2 q (x) (0, w), p' = R v and momentum rows M t' - ad*_t M t
- * in its own states, and each se3 element's wrenches (phm_element_tangent) in the states of its
+ * - gravity in its own states, and each se3 element's wrenches (phm_element_tangent) in the states of its
  * two carriers, through the chart (q, p) -> body perturbation [dxi/dq, 0; 0, R^T]. */
 static void jacobian_closed_form(dae_t *d, double cj, const double *y, double *val) {
   const phm_model *m = d->m;
   const phm_data *D = &d->data;
+  double gn = fabs(m->gravity[0]) + fabs(m->gravity[1]) + fabs(m->gravity[2]);
   for (int c = 0; c < m->nc; c++) {
     const double *q = y + PHM_NSTATE * c, *t = q + 7, *Hc = D->H + 16 * c, *M = m->car[c].M;
     int o = PHM_NSTATE * c;
@@ -213,6 +214,13 @@ static void jacobian_closed_form(dae_t *d, double cj, const double *y, double *v
       phm_ad_dual_apply(ej, Mt, a1);
       phm_ad_dual_apply(t, Me, a2);
       for (int i = 0; i < 6; i++) JB(7 + i, 7 + j) = cj * M[6 * i + j] - a1[i] - a2[i];
+    }
+    if (gn > 0) { /* gravity: -dw/ddelta [E 0; 0 R^T] on the momentum rows (rotation only) */
+      double wg[6], Kg[36];
+      phm_gravity_tangent(m, c, Hc, 1.0, wg, Kg);
+      for (int i = 0; i < 6; i++)
+        for (int j = 0; j < 4; j++)
+          JB(7 + i, j) -= Kg[6 * i] * E[j] + Kg[6 * i + 1] * E[4 + j] + Kg[6 * i + 2] * E[8 + j];
     }
 #undef JB
     add_block(d, val, o, PHM_NSTATE, o, PHM_NSTATE, B, PHM_NSTATE);

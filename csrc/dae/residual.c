@@ -79,7 +79,7 @@ int dae_residual(dae_t *d, double time, const double *y, const double *yp, doubl
   double Pd = 0, Ps = 0;
   dae_pair_rows(d, time, y, yp, F);
   int full = !d->remainder; /* 0: the remainder only (dae_jacobian; see dae_t) */
-  phm_applied_pairs(m, D->pair, D->H, D->tw, y + d->ix, time, d->tref, 1.0, full, D->wr, NULL, &Pd,
+  phm_applied_pairs(m, D->pair, D->H, D->tw, y + d->ix, time, d->tref, 1.0, !full, D->wr, NULL, &Pd,
                     &Ps, D->pport, NULL);
   for (int c = 0; c < nc; c++) {
     const double *yc = y + PHM_NSTATE * c, *ypc = yp + PHM_NSTATE * c;

@@ -134,13 +134,18 @@ void phm_applied(const phm_model *m, const double *H, const double *tw, const do
                  double *Psupp, double *Pport, double *effort);
 /* The same with every pair already evaluated at H, tw, xs (pd: np results of phm_pair_evaluate):
  * the actuators read their pair's frames, joint coordinates and rates from pd. pd NULL:
- * phm_applied, which evaluates the actuated pairs itself. elements = 0 leaves the se3 elements'
- * wrenches (and their energy and dissipation) out: the part of the forces whose tangent is taken
- * by differences while the elements' comes from phm_element_tangent. */
+ * phm_applied, which evaluates the actuated pairs itself. remainder != 0 leaves out what has a
+ * closed-form tangent -- the se3 elements' wrenches (and their energy and dissipation;
+ * phm_element_tangent) and gravity (phm_gravity_tangent) --: the part of the forces whose tangent
+ * is taken by differences. */
 void phm_applied_pairs(const phm_model *m, const phm_pair_data *pd, const double *H,
                        const double *tw, const double *xs, double time, double tref, double scale,
-                       int elements, double *wr, double *Vel, double *Pdiss, double *Psupp,
+                       int remainder, double *wr, double *Vel, double *Pdiss, double *Psupp,
                        double *Pport, double *effort);
+/* Gravity (x scale) on carrier c at pose Hc: its body wrench w and w's derivative Kg (6 x 6,
+ * row-major, may be NULL) for Hc exp(delta) (docs/method.md section 4.6). */
+void phm_gravity_tangent(const phm_model *m, int c, const double Hc[16], double scale, double w[6],
+                         double Kg[36]);
 /* Point-to-point spring-damper: adds its wrenches to wr (may be NULL), elastic energy *V and
  * damping power *Pd (>= 0; either may be NULL). tw NULL: at rest. */
 void phm_spring_eval(const phm_spring_desc *sp, const double *H, const double *tw, double *wr,

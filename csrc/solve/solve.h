@@ -40,9 +40,9 @@ void lin_total_force(lin_t *L, const double *H, double *f);
  * coupling graph: the se3 elements' part in closed form, the rest by coloured central
  * differences; f1, f2: scratch (6 nc). */
 void lin_force_jacobian_blocks(lin_t *L, const double *H, double *f1, double *f2);
-/* Add the se3 elements' closed-form blocks at poses H to Kb (df/ddelta; if not NULL) and, if Db is not NULL,
- * to Db (df/dt). */
-void lin_element_blocks(const lin_t *L, const double *H, double *Kb, double *Db);
+/* Add the closed-form blocks at poses H (the se3 elements' and gravity's) to Kb (df/ddelta; if
+ * not NULL) and the elements' to Db (df/dt; if not NULL). */
+void lin_closed_form_blocks(const lin_t *L, const double *H, double *Kb, double *Db);
 
 /* The KKT matrix [K G^T; G 0] of the linearization (K: 6x6 blocks on the slots of the carrier
  * graph, G: the pairs' constraint rows) in compressed columns, with the source of every entry,

@@ -141,10 +141,15 @@ static void compare(const char *name, builder *b, double tol) {
   phm_model_free(m);
 }
 
-static void carriers_alone_are_closed_form(void) {
+static void carriers_and_gravity_are_closed_form(void) {
   static builder b;
   chain(&b, 3, 0);
   compare("J = central FD: 3 free carriers (kinematics, gyroscopic terms)", &b, 1e-7);
+  for (int c = 0; c < 3; c++)
+    for (int i = 0; i < 3; i++) b.car[c].com[i] = 0.2 * rand11();
+  b.d.gravity[0] = 1.0;
+  b.d.gravity[2] = -9.81;
+  compare("J = central FD: 3 free carriers under gravity, centres of mass off the origin", &b, 1e-7);
 }
 
 static void elements_are_closed_form(void) {
@@ -184,5 +189,5 @@ static void pairs_springs_loads_gravity_keep_forward_differences(void) {
   compare("J = central FD: elements, fixed, revolute with PD, spring, load, gravity (hybrid)", &b, 1e-5);
 }
 
-CHECK_MAIN(CHECK_CASE(carriers_alone_are_closed_form), CHECK_CASE(elements_are_closed_form),
+CHECK_MAIN(CHECK_CASE(carriers_and_gravity_are_closed_form), CHECK_CASE(elements_are_closed_form),
            CHECK_CASE(pairs_springs_loads_gravity_keep_forward_differences))
