@@ -95,16 +95,11 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
   double *idd = N_VGetArrayPointer(id);
   /* id: 1 differential, 0 algebraic. IDA uses it only to leave the 0 components out of the local
    * error test (IDASetSuppressAlg; no IDACalcIC here), so the configuration error test marks the
-   * twists 0 as well: they keep their weights in the Newton convergence test. The joint
-   * coordinates are marked 0 too: they are only the branch references of the pairs' angles (the
-   * outputs and the actuators read the coordinates of the poses, nearest them: csrc/model/pair.c),
-   * so their error does not reach the solution, yet with the closed-form Jacobian their estimates
-   * failed the error test at almost every step of the PD arm of tests/test_arm.py at rtol 1e-9
-   * (150099 failures in 152025 steps over 1 s; left out: 125 in 2663; the finite-difference
-   * Jacobian's run: 29 in 2807). The energy ledger's integrals are marked 0 and get no weight in
-   * the Newton test either (ida_atol). */
+   * twists 0 as well: they keep their weights in the Newton convergence test. The energy ledger's
+   * integrals are marked 0 too and get no weight in the Newton test either (ida_atol; the
+   * generalized-alpha's error estimate leaves them out as well). */
   for (int i = 0; i < d->n; i++)
-    idd[i] = i < d->ix && !(dae_is_twist(d, i) && opt->error_test == PHM_ERRTEST_CONFIGURATION) ? 1.0 : 0.0;
+    idd[i] = i < d->ie && !(dae_is_twist(d, i) && opt->error_test == PHM_ERRTEST_CONFIGURATION) ? 1.0 : 0.0;
   mem = IDACreate(ctx);
   if (!mem) {
     st = PHM_FAIL(err, PHM_ENOMEM, "IDACreate failed");
