@@ -1,14 +1,18 @@
 /* jacobian.c -- the Jacobian dF/dy + cj dF/dy' of the DAE: its sparsity pattern from the block
  * structure (carriers couple through elements, pairs, springs and loads; a pair's multipliers
  * and joint coordinates through its two carriers: the coupling graph of csrc/model/graph.c), a
- * colouring of its columns, and the coloured forward differences that fill it. */
+ * colouring of its columns, and its values: the se3 elements', gravity's and the carriers' own
+ * terms in closed form, the remainder (pairs, loads, springs, actuators) by coloured forward
+ * differences. */
 #include "dae.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "linalg.h"
 #include "phm_check.h"
+#include "pose.h"
 
 /* The rows of a column of block b, ascending, into rows (NULL: only count them): the states of
  * the blocks coupled to b (nb: b's coupling-graph neighbours sorted ascending, nnb of them). A
@@ -133,7 +137,123 @@ done:
   return st;
 }
 
-/* J = dF/dy + cj dF/dyp by coloured forward differences (no allocation). */
+/* The position of entry (row, col) in the pattern, -1 if it is not there (binary search: each
+ * column's rows ascend). */
+static sunindextype entry(const dae_t *d, int row, int col) {
+  sunindextype lo = d->colptr[col], hi = d->colptr[col + 1] - 1;
+  while (lo <= hi) {
+    sunindextype mid = lo + (hi - lo) / 2;
+    if (d->rowind[mid] == row) return mid;
+    if (d->rowind[mid] < row) lo = mid + 1;
+    else hi = mid - 1;
+  }
+  return -1;
+}
+
+/* val[(r0 + i, c0 + j)] += B[ldb i + j] for i < nr, j < ncl: a block inside one carrier's rows,
+ * which are consecutive in every column that holds them. */
+static void add_block(const dae_t *d, double *val, int r0, int nr, int c0, int ncl,
+                      const double *B, int ldb) {
+  for (int j = 0; j < ncl; j++) {
+    sunindextype k = entry(d, r0, c0 + j);
+    if (k < 0) continue; /* not reached: the pattern holds every carrier block it is given */
+    for (int i = 0; i < nr; i++) val[k + i] += B[ldb * i + j];
+  }
+}
+
+/* dxi/dq (3 x 4): the body rotation of a change dq of the (not necessarily unit) quaternion q,
+ * dw = 2 vec(conj(q) (x) dq)/|q|^2 (phm_quat_to_rot normalizes q). */
+static void quat_chart(const double q[4], double E[12]) {
+  double s = 2.0 / (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  double Ev[12] = {-q[1], q[0], q[3], -q[2], -q[2], -q[3], q[0], q[1], -q[3], q[2], -q[1], q[0]};
+  for (int i = 0; i < 12; i++) E[i] = s * Ev[i];
+}
+
+/* The closed-form part of the Jacobian at (y, y') (the poses and twists in d->data): each
+ * carrier's kinematic rows q' = 1/2 q (x) (0, w), p' = R v and momentum rows M t' - ad*_t M t
+ * - gravity in its own states, and each se3 element's wrenches (phm_element_tangent) in the states of its
+ * two carriers, through the chart (q, p) -> body perturbation [dxi/dq, 0; 0, R^T]. */
+static void jacobian_closed_form(dae_t *d, double cj, const double *y, double *val) {
+  const phm_model *m = d->m;
+  const phm_data *D = &d->data;
+  double gn = fabs(m->gravity[0]) + fabs(m->gravity[1]) + fabs(m->gravity[2]);
+  for (int c = 0; c < m->nc; c++) {
+    const double *q = y + PHM_NSTATE * c, *t = q + 7, *Hc = D->H + 16 * c, *M = m->car[c].M;
+    int o = PHM_NSTATE * c;
+    double B[PHM_NSTATE * PHM_NSTATE] = {0}; /* rows and columns: the carrier's 13 states */
+#define JB(i, j) B[PHM_NSTATE * (i) + (j)]
+    const double *w = t, *v = t + 3;
+    double Jq[16] = {0, .5 * w[0], .5 * w[1], .5 * w[2],     -.5 * w[0], 0, -.5 * w[2], .5 * w[1],
+                     -.5 * w[1], .5 * w[2], 0, -.5 * w[0],   -.5 * w[2], -.5 * w[1], .5 * w[0], 0};
+    double Jw[12] = {.5 * q[1], .5 * q[2], .5 * q[3],   -.5 * q[0], .5 * q[3], -.5 * q[2],
+                     -.5 * q[3], -.5 * q[0], .5 * q[1], .5 * q[2], -.5 * q[1], -.5 * q[0]};
+    for (int i = 0; i < 4; i++) {
+      for (int j = 0; j < 4; j++) JB(i, j) = Jq[4 * i + j];
+      for (int j = 0; j < 3; j++) JB(i, 7 + j) = Jw[3 * i + j];
+    }
+    /* p' = R v: d(R v) = -R hat(v) dw, dw = E dq */
+    double E[12], RV[9];
+    quat_chart(q, E);
+    for (int i = 0; i < 3; i++) {
+      double r[3] = {Hc[4 * i], Hc[4 * i + 1], Hc[4 * i + 2]};
+      RV[3 * i] = r[1] * v[2] - r[2] * v[1]; /* row i of R hat(v): r x v, r = row i of R */
+      RV[3 * i + 1] = r[2] * v[0] - r[0] * v[2];
+      RV[3 * i + 2] = r[0] * v[1] - r[1] * v[0];
+      for (int j = 0; j < 4; j++)
+        JB(4 + i, j) = RV[3 * i] * E[j] + RV[3 * i + 1] * E[4 + j] + RV[3 * i + 2] * E[8 + j];
+      for (int j = 0; j < 3; j++) JB(4 + i, 10 + j) = -r[j];
+    }
+    for (int i = 0; i < 7; i++) JB(i, i) += cj;
+    /* M t' - ad*_t (M t): cj M - ad*_(e_j) M t - ad*_t M e_j */
+    double Mt[6];
+    phm_mv6(M, t, Mt);
+    for (int j = 0; j < 6; j++) {
+      double ej[6] = {0}, Me[6], a1[6], a2[6];
+      ej[j] = 1.0;
+      for (int i = 0; i < 6; i++) Me[i] = M[6 * i + j];
+      phm_ad_dual_apply(ej, Mt, a1);
+      phm_ad_dual_apply(t, Me, a2);
+      for (int i = 0; i < 6; i++) JB(7 + i, 7 + j) = cj * M[6 * i + j] - a1[i] - a2[i];
+    }
+    if (gn > 0) { /* gravity: -dw/ddelta [E 0; 0 R^T] on the momentum rows (rotation only) */
+      double wg[6], Kg[36];
+      phm_gravity_tangent(m, c, Hc, 1.0, wg, Kg);
+      for (int i = 0; i < 6; i++)
+        for (int j = 0; j < 4; j++)
+          JB(7 + i, j) -= Kg[6 * i] * E[j] + Kg[6 * i + 1] * E[4 + j] + Kg[6 * i + 2] * E[8 + j];
+    }
+#undef JB
+    add_block(d, val, o, PHM_NSTATE, o, PHM_NSTATE, B, PHM_NSTATE);
+  }
+  for (int ie = 0; ie < m->ne; ie++) {
+    const phm_element_desc *e = &m->el[ie];
+    double wa[6], wb[6], Kx[144], Ct[144];
+    phm_element_tangent(e, D->H + 16 * e->a, D->H + 16 * e->b, D->tw + 6 * e->a, D->tw + 6 * e->b,
+                        wa, wb, Kx, Ct);
+    int cr[2] = {e->a, e->b};
+    for (int bj = 0; bj < 2; bj++) {
+      const double *q = y + PHM_NSTATE * cr[bj], *Hc = D->H + 16 * cr[bj];
+      double E[12];
+      quat_chart(q, E);
+      for (int bi = 0; bi < 2; bi++) {
+        double blk[6 * PHM_NSTATE]; /* -Kx_(bi, bj) [E 0; 0 R^T], then -Ct_(bi, bj) */
+        for (int i = 0; i < 6; i++) {
+          const double *k = Kx + 12 * (6 * bi + i) + 6 * bj;
+          double *b = blk + PHM_NSTATE * i;
+          for (int j = 0; j < 4; j++) b[j] = -(k[0] * E[j] + k[1] * E[4 + j] + k[2] * E[8 + j]);
+          for (int j = 0; j < 3; j++) /* R^T: (R^T)_{l j} = R_{j l} */
+            b[4 + j] = -(k[3] * Hc[4 * j] + k[4] * Hc[4 * j + 1] + k[5] * Hc[4 * j + 2]);
+          for (int j = 0; j < 6; j++) b[7 + j] = -Ct[12 * (6 * bi + i) + 6 * bj + j];
+        }
+        add_block(d, val, PHM_NSTATE * cr[bi] + 7, 6, PHM_NSTATE * cr[bj], PHM_NSTATE, blk, PHM_NSTATE);
+      }
+    }
+  }
+}
+
+/* J = dF/dy + cj dF/dyp (no allocation): the closed-form part (jacobian_closed_form) plus the
+ * remainder's coloured forward differences (dae_residual with d->remainder set). r0, the full
+ * residual at (y, y'), is not needed: the remainder's is evaluated here. */
 int dae_jacobian(dae_t *d, double t, double cj, const double *y, const double *ypv,
                  const double *r0, SUNMatrix J) {
   int n = d->n;
@@ -143,6 +263,12 @@ int dae_jacobian(dae_t *d, double t, double cj, const double *y, const double *y
   for (int k = 0; k < d->nnz; k++) ri[k] = d->rowind[k];
   double sq = sqrt(2.2e-16);
   phm_data *D = &d->data;
+  (void)r0;
+  d->remainder = 1;
+  if (dae_residual(d, t, y, ypv, D->rfd)) {
+    d->remainder = 0;
+    return 1;
+  }
   for (int col = 0; col < d->ncolor; col++) {
     int any = 0;
     memcpy(D->ytmp, y, sizeof(double) * n);
@@ -156,11 +282,17 @@ int dae_jacobian(dae_t *d, double t, double cj, const double *y, const double *y
         any = 1;
       }
     if (!any) continue;
-    if (dae_residual(d, t, D->ytmp, D->yptmp, D->rtmp)) return 1;
+    if (dae_residual(d, t, D->ytmp, D->yptmp, D->rtmp)) {
+      d->remainder = 0;
+      return 1;
+    }
     for (int j = 0; j < n; j++)
       if (d->color[j] == col)
         for (sunindextype k = cp[j]; k < cp[j + 1]; k++)
-          val[k] = (D->rtmp[ri[k]] - r0[ri[k]]) / D->inc[j];
+          val[k] = (D->rtmp[ri[k]] - D->rfd[ri[k]]) / D->inc[j];
   }
+  d->remainder = 0;
+  dae_unpack(d->m, y, D->H, D->tw); /* the unperturbed poses and twists */
+  jacobian_closed_form(d, cj, y, val);
   return 0;
 }

@@ -40,6 +40,7 @@ void phm_se3_ad_dual(const double x[6], double a[36]);   /* ad*_x = ad_x^T      
 void phm_se3_dexp(const double x[6], double D[36]);      /* sum_k ad_x^k/(k+1)!                  */
 void phm_se3_dexp_inv(const double x[6], double Di[36]); /* its inverse, |omega| < 2 pi          */
 void phm_se3_log_dexp_inv(const double H[16], double x[6], double Ai[9], double L[9]); /* x = log H, dexp_x^-1 = [[Ai,0],[L,Ai]], dexp_{-x}^-1 = [[Ai^T,0],[L^T,Ai^T]] */
+void phm_se3_dexp_inv_partials(const double x[6], double dAi[6][9], double dL[6][9]); /* d/dx_k of those blocks Ai, L (closed form) */
 void phm_quat_to_rot(const double q[4], double R[9]);    /* q need not be normalized             */
 void phm_quat_from_rot(const double R[9], double q[4]);  /* Shepperd; returns q with w >= 0      */
 

@@ -129,20 +129,55 @@ void phm_load_wrench(const phm_model *m, int il, const double *H, double s, doub
   }
 }
 
+/* Gravity on carrier c at pose Hc: f = scale m R^T g at its centre of mass r, w = (r x f, f); and
+ * Kg = dw/ddelta for Hc exp(delta) (6 x 6, row-major; may be NULL): d(R^T g) = hat(R^T g) domega,
+ * so df/domega = scale m hat(R^T g) =: F, d(r x f)/domega = hat(r) F, nothing in translation. */
+void phm_gravity_tangent(const phm_model *m, int c, const double Hc[16], double scale, double w[6],
+                         double Kg[36]) {
+  const phm_carrier_desc *cd = &m->car[c];
+  const double *g = m->gravity, *r = cd->com;
+  double f[3], gb[3];
+  for (int i = 0; i < 3; i++) { /* R^T g */
+    gb[i] = Hc[i] * g[0] + Hc[4 + i] * g[1] + Hc[8 + i] * g[2];
+    f[i] = scale * cd->mass * gb[i];
+  }
+  w[0] = r[1] * f[2] - r[2] * f[1];
+  w[1] = r[2] * f[0] - r[0] * f[2];
+  w[2] = r[0] * f[1] - r[1] * f[0];
+  w[3] = f[0];
+  w[4] = f[1];
+  w[5] = f[2];
+  if (!Kg) return;
+  double F[9], RF[9], k = scale * cd->mass;
+  phm_so3_hat(gb, F);
+  for (int i = 0; i < 9; i++) F[i] *= k;
+  for (int i = 0; i < 3; i++) /* hat(r) F */
+    for (int j = 0; j < 3; j++) {
+      int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+      RF[3 * i + j] = r[i1] * F[3 * i2 + j] - r[i2] * F[3 * i1 + j];
+    }
+  memset(Kg, 0, 36 * sizeof(double));
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) {
+      Kg[6 * i + j] = RF[3 * i + j];
+      Kg[6 * (3 + i) + j] = F[3 * i + j];
+    }
+}
+
 void phm_applied(const phm_model *m, const double *H, const double *tw, const double *xs,
                  double time, double tref, double scale, double *wr, double *Vel, double *Pdiss,
                  double *Psupp, double *Pport, double *effort) {
-  phm_applied_pairs(m, NULL, H, tw, xs, time, tref, scale, wr, Vel, Pdiss, Psupp, Pport, effort);
+  phm_applied_pairs(m, NULL, H, tw, xs, time, tref, scale, 0, wr, Vel, Pdiss, Psupp, Pport, effort);
 }
 
 void phm_applied_pairs(const phm_model *m, const phm_pair_data *pd, const double *H,
                        const double *tw, const double *xs, double time, double tref, double scale,
-                       double *wr, double *Vel, double *Pdiss, double *Psupp, double *Pport,
-                       double *effort) {
+                       int remainder, double *wr, double *Vel, double *Pdiss, double *Psupp,
+                       double *Pport, double *effort) {
   memset(wr, 0, sizeof(double) * 6 * (size_t)m->nc);
   if (effort && m->nj) memset(effort, 0, sizeof(double) * (size_t)m->nj);
   double V = 0, Pd = 0, Ps = 0;
-  for (int ie = 0; ie < m->ne; ie++) {
+  for (int ie = 0; !remainder && ie < m->ne; ie++) {
     const phm_element_desc *e = &m->el[ie];
     double wa[6], wb[6], v, p;
     phm_element_eval(e, H + 16 * e->a, H + 16 * e->b, tw ? tw + 6 * e->a : NULL,
@@ -155,22 +190,11 @@ void phm_applied_pairs(const phm_model *m, const phm_pair_data *pd, const double
     }
   }
   double gn = fabs(m->gravity[0]) + fabs(m->gravity[1]) + fabs(m->gravity[2]);
-  if (gn > 0)
+  if (gn > 0 && !remainder)
     for (int c = 0; c < m->nc; c++) {
-      const double *Hc = H + 16 * c;
-      const phm_carrier_desc *cd = &m->car[c];
-      double f[3];
-      for (int i = 0; i < 3; i++) /* R^T m g */
-        f[i] = scale * cd->mass *
-               (Hc[i] * m->gravity[0] + Hc[4 + i] * m->gravity[1] + Hc[8 + i] * m->gravity[2]);
-      const double *r = cd->com;
-      double *w = wr + 6 * c;
-      w[0] += r[1] * f[2] - r[2] * f[1];
-      w[1] += r[2] * f[0] - r[0] * f[2];
-      w[2] += r[0] * f[1] - r[1] * f[0];
-      w[3] += f[0];
-      w[4] += f[1];
-      w[5] += f[2];
+      double w[6];
+      phm_gravity_tangent(m, c, H + 16 * c, scale, w, NULL);
+      for (int i = 0; i < 6; i++) wr[6 * c + i] += w[i];
     }
   /* actuators */
   for (int ia = 0; ia < m->na; ia++) {

@@ -53,6 +53,112 @@ void phm_element_eval(const phm_element_desc *e, const double Ha[16], const doub
   }
 }
 
+/* dexp_X^-1 = [[A, 0], [L, A]] (6x6, row-major) from its blocks; tr: the transpose of each block,
+ * dexp_{-X}^-1 (csrc/util/se3.c, phm_se3_log_dexp_inv). */
+static void blocks6(const double A[9], const double L[9], int tr, double M[36]) {
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) {
+      int ij = tr ? 3 * j + i : 3 * i + j;
+      M[6 * i + j] = M[6 * (3 + i) + 3 + j] = A[ij];
+      M[6 * (3 + i) + j] = L[ij];
+      M[6 * i + 3 + j] = 0.0;
+    }
+}
+
+/* The fused evaluation (docs/method.md section 4.2, "Tangent"): with A = dexp_X^-1, B = dexp_{-X}^-1,
+ * a perturbation Ha -> Ha exp(da), Hb -> Hb exp(db) moves X by dX = B db - A da; the wrenches
+ * wa = A^T sigma, wb = -B^T sigma, with sigma = K (X/h - eps_hat) + D (B tb - A ta)/h, vary by
+ *   d[wa; wb]/dX_k = [dA_k^T sigma + A^T dsigma_k; -(dB_k^T sigma + B^T dsigma_k)],
+ *   dsigma_k = K e_k/h + D (dB_k tb - dA_k ta)/h   (geometric + material + damping parts),
+ * dA_k, dB_k from phm_se3_dexp_inv_partials (dB_k: the transposed blocks). Then
+ * Kx = [dw/dX (-A), dw/dX B] and Ct = [P (-D A/h), P (D B/h)] with P = [A^T; -B^T]. */
+void phm_element_tangent(const phm_element_desc *e, const double Ha[16], const double Hb[16],
+                         const double ta[6], const double tb[6], double wa[6], double wb[6],
+                         double Kx[144], double Ct[144]) {
+  double Hai[16], Hab[16], X[6], Ab[9], Lb[9], A[36], B[36], sig[6], de[6];
+  double dAi[6][9], dL[6][9], JX[72], ed[6] = {0};
+  int damp = ta && tb;
+  phm_se3_inverse(Ha, Hai);
+  phm_se3_compose(Hai, Hb, Hab);
+  phm_se3_log_dexp_inv(Hab, X, Ab, Lb);
+  blocks6(Ab, Lb, 0, A);
+  blocks6(Ab, Lb, 1, B);
+  for (int i = 0; i < 6; i++) de[i] = X[i] / e->h - e->eps_hat[i];
+  phm_mv6(e->K, de, sig);
+  if (damp) {
+    double xb[6], xa[6], s2[6];
+    phm_mv6(B, tb, xb);
+    phm_mv6(A, ta, xa);
+    for (int i = 0; i < 6; i++) ed[i] = (xb[i] - xa[i]) / e->h;
+    phm_mv6(e->D, ed, s2);
+    for (int i = 0; i < 6; i++) sig[i] += s2[i];
+  }
+  phm_mtv6(A, sig, wa);
+  phm_mtv6(B, sig, wb);
+  for (int i = 0; i < 6; i++) wb[i] = -wb[i];
+  phm_se3_dexp_inv_partials(X, dAi, dL);
+  for (int k = 0; k < 6; k++) {
+    double dA[36], dB[36], ds[6], t1[6], t2[6];
+    blocks6(dAi[k], dL[k], 0, dA);
+    blocks6(dAi[k], dL[k], 1, dB);
+    for (int i = 0; i < 6; i++) ds[i] = e->K[6 * i + k] / e->h;
+    if (damp) {
+      double xb[6], xa[6], s2[6], dd[6];
+      phm_mv6(dB, tb, xb);
+      phm_mv6(dA, ta, xa);
+      for (int i = 0; i < 6; i++) dd[i] = (xb[i] - xa[i]) / e->h;
+      phm_mv6(e->D, dd, s2);
+      for (int i = 0; i < 6; i++) ds[i] += s2[i];
+    }
+    phm_mtv6(dA, sig, t1);
+    phm_mtv6(A, ds, t2);
+    for (int i = 0; i < 6; i++) JX[6 * i + k] = t1[i] + t2[i];
+    phm_mtv6(dB, sig, t1);
+    phm_mtv6(B, ds, t2);
+    for (int i = 0; i < 6; i++) JX[6 * (6 + i) + k] = -(t1[i] + t2[i]);
+  }
+  for (int i = 0; i < 12; i++)
+    for (int j = 0; j < 6; j++) {
+      double sa = 0, sb = 0;
+      for (int k = 0; k < 6; k++) {
+        sa += JX[6 * i + k] * A[6 * k + j];
+        sb += JX[6 * i + k] * B[6 * k + j];
+      }
+      Kx[12 * i + j] = -sa;
+      Kx[12 * i + 6 + j] = sb;
+    }
+  if (!Ct) return;
+  if (!damp) {
+    memset(Ct, 0, 144 * sizeof(double));
+    return;
+  }
+  double DA[36], DB[36]; /* D A / h, D B / h */
+  for (int i = 0; i < 6; i++)
+    for (int j = 0; j < 6; j++) {
+      double sa = 0, sb = 0;
+      for (int k = 0; k < 6; k++) {
+        sa += e->D[6 * i + k] * A[6 * k + j];
+        sb += e->D[6 * i + k] * B[6 * k + j];
+      }
+      DA[6 * i + j] = sa / e->h;
+      DB[6 * i + j] = sb / e->h;
+    }
+  for (int i = 0; i < 6; i++)
+    for (int j = 0; j < 6; j++) {
+      double aa = 0, ab = 0, ba = 0, bb = 0; /* rows of P: A^T (node a), -B^T (node b) */
+      for (int k = 0; k < 6; k++) {
+        aa += A[6 * k + i] * DA[6 * k + j];
+        ab += A[6 * k + i] * DB[6 * k + j];
+        ba += B[6 * k + i] * DA[6 * k + j];
+        bb += B[6 * k + i] * DB[6 * k + j];
+      }
+      Ct[12 * i + j] = -aa;
+      Ct[12 * i + 6 + j] = ab;
+      Ct[12 * (6 + i) + j] = ba;
+      Ct[12 * (6 + i) + 6 + j] = -bb;
+    }
+}
+
 void phm_model_stress_resultants(const phm_model *m, const double *H, const double *t, double *sigma) {
   for (int ie = 0; ie < m->ne; ie++) {
     const phm_element_desc *e = &m->el[ie];

@@ -120,6 +120,14 @@ void phm_element_eval(const phm_element_desc *e, const double Ha[16], const doub
                       const double ta[6], const double tb[6], double wa[6], double wb[6],
                       double *V, double *P, double *sigma);
 
+/* The element's wrenches (as phm_element_eval) and their tangent: Kx (12 x 12, row-major) =
+ * d[wa; wb]/d[da; db] for the perturbations Ha exp(da), Hb exp(db) (elastic, geometric and, with
+ * twists, damping parts), Ct (12 x 12) = d[wa; wb]/d[ta; tb] (zero without twists; may be NULL).
+ * Closed form, no allocation (docs/method.md section 4.2). */
+void phm_element_tangent(const phm_element_desc *e, const double Ha[16], const double Hb[16],
+                         const double ta[6], const double tb[6], double wa[6], double wb[6],
+                         double Kx[144], double Ct[144]);
+
 /* ---------------------------------------------------------------- applied wrenches (applied.c) */
 /* Applied wrenches (elastic + damping + gravity + springs + actuators + external x scale) on every
  * carrier, body frame: wr (nc x 6). tw may be NULL (static: rates zero). xs: joint-coordinate
@@ -132,11 +140,18 @@ void phm_applied(const phm_model *m, const double *H, const double *tw, const do
                  double *Psupp, double *Pport, double *effort);
 /* The same with every pair already evaluated at H, tw, xs (pd: np results of phm_pair_evaluate):
  * the actuators read their pair's frames, joint coordinates and rates from pd. pd NULL:
- * phm_applied, which evaluates the actuated pairs itself. */
+ * phm_applied, which evaluates the actuated pairs itself. remainder != 0 leaves out what has a
+ * closed-form tangent -- the se3 elements' wrenches (and their energy and dissipation;
+ * phm_element_tangent) and gravity (phm_gravity_tangent) --: the part of the forces whose tangent
+ * is taken by differences. */
 void phm_applied_pairs(const phm_model *m, const phm_pair_data *pd, const double *H,
                        const double *tw, const double *xs, double time, double tref, double scale,
-                       double *wr, double *Vel, double *Pdiss, double *Psupp, double *Pport,
-                       double *effort);
+                       int remainder, double *wr, double *Vel, double *Pdiss, double *Psupp,
+                       double *Pport, double *effort);
+/* Gravity (x scale) on carrier c at pose Hc: its body wrench w and w's derivative Kg (6 x 6,
+ * row-major, may be NULL) for Hc exp(delta) (docs/method.md section 4.6). */
+void phm_gravity_tangent(const phm_model *m, int c, const double Hc[16], double scale, double w[6],
+                         double Kg[36]);
 /* Adds to wr (nc x 6) the wrenches of joint efforts u (k) on pair ip evaluated in p: Phi u on
  * carrier b (through Ad_{Tb^-1}^T), its reaction on carrier a (through AdBa^T). */
 void phm_pair_effort_wrench(const phm_model *m, int ip, const phm_pair_data *p, const double *u,

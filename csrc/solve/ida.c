@@ -42,6 +42,25 @@ static void ida_err_message(void *ud, const char *function, const char *msg) {
     }                                                                                          \
   } while (0)
 
+/* IDA's absolute tolerance of state i: dae_state_atol, but none for the energy ledger's
+ * integrals (1e300 J: weight 0). Nothing depends on them, and their Jacobian rows keep only the
+ * diagonal (csrc/dae/jacobian.c), so a Newton iteration corrects them one iteration late: in the
+ * error and Newton tests they only measured that lag. With the closed-form Jacobian IDA's Newton
+ * often stops after one iteration, and the lag then failed the error test at almost every step
+ * (the PD arm of tests/test_arm.py at rtol 1e-8: 51733 error-test failures in 53583 steps; left
+ * out, 21 in 2050, ledger residual 3.1e-9 of the energy scale; with the finite-difference
+ * Jacobian they were in, 54 in 2232 and 3.5e-9). Their accuracy follows that of the states they
+ * integrate.
+ * Open: the same arm at rtol 1e-9 still fails the error test at almost every step from
+ * t = 0.46 s (150101 failures in 153084 steps; the finite-difference Jacobian: 29 in 2807), the
+ * largest estimates then on the pairs' joint coordinates. Leaving those out of the error test too
+ * (they are only branch references: outputs and actuators read the coordinates of the poses)
+ * cured it (125 in 2663) but moved the supplied energy of tests/test_flexible_loop.py, round-off
+ * that sits at its bound, from 1.9e-13 to 1.2e-12 J (bound 1.17e-12): not done. */
+static double ida_atol(const dae_t *d, int i, double atol) {
+  return i >= d->ie && i < d->il ? 1e300 : dae_state_atol(d, i, atol);
+}
+
 static void add_stats(void *mem, phm_sim_output *out, int use_klu) {
   long a = 0;
   if (IDAGetNumSteps(mem, &a) == 0) out->nsteps += a;
@@ -82,9 +101,11 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
   double *idd = N_VGetArrayPointer(id);
   /* id: 1 differential, 0 algebraic. IDA uses it only to leave the 0 components out of the local
    * error test (IDASetSuppressAlg; no IDACalcIC here), so the configuration error test marks the
-   * twists 0 as well: they keep their weights in the Newton convergence test. */
+   * twists 0 as well: they keep their weights in the Newton convergence test. The energy ledger's
+   * integrals are marked 0 too and get no weight in the Newton test either (ida_atol; the
+   * generalized-alpha's error estimate leaves them out as well). */
   for (int i = 0; i < d->n; i++)
-    idd[i] = i < d->il && !(dae_is_twist(d, i) && opt->error_test == PHM_ERRTEST_CONFIGURATION) ? 1.0 : 0.0;
+    idd[i] = i < d->ie && !(dae_is_twist(d, i) && opt->error_test == PHM_ERRTEST_CONFIGURATION) ? 1.0 : 0.0;
   mem = IDACreate(ctx);
   if (!mem) {
     st = PHM_FAIL(err, PHM_ENOMEM, "IDACreate failed");
@@ -100,7 +121,7 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
       goto done;
     }
     double *a = N_VGetArrayPointer(av);
-    for (int i = 0; i < d->n; i++) a[i] = dae_state_atol(d, i, opt->atol);
+    for (int i = 0; i < d->n; i++) a[i] = ida_atol(d, i, opt->atol);
     int fl = IDASVtolerances(mem, opt->rtol, av);
     N_VDestroy(av);
     IDACHK(fl);

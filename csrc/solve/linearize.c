@@ -1,7 +1,9 @@
 /* linearize.c -- linearization on the tangent space (docs/method.md section 7): the generalized
- * forces f(H) = applied + G^T lambda at poses H and their Jacobian blocks df/ddelta by coloured
- * central differences over the carrier coupling graph (csrc/model/graph.c); read by modes
- * (modes.c) and statics (statics.c). Set-up time code: allocates. */
+ * forces f(H) = applied + G^T lambda at poses H and their Jacobian blocks df/ddelta over the
+ * carrier coupling graph (csrc/model/graph.c): the se3 elements' and gravity's blocks in closed
+ * form (phm_element_tangent, phm_gravity_tangent), the rest (pairs' G^T lambda, loads, springs,
+ * actuators) by coloured central differences; read by modes (modes.c) and statics (statics.c).
+ * Set-up time code: allocates. */
 #include "solve.h"
 
 #include <math.h>
@@ -9,13 +11,72 @@
 #include <string.h>
 
 #include "phm_check.h"
+#include "linalg.h"
 #include "pose.h"
 
 /* Generalized forces at poses H: applied wrenches + G^T lambda (nc x 6, body frame). */
-void lin_total_force(lin_t *L, const double *H, double *f) {
+static void lin_forces(lin_t *L, const double *H, int remainder, double *f) {
   const phm_model *m = L->m;
-  phm_applied(m, H, NULL, NULL, L->time, L->tref, L->scale, f, NULL, NULL, NULL, NULL, NULL);
+  phm_applied_pairs(m, NULL, H, NULL, NULL, L->time, L->tref, L->scale, remainder, f, NULL, NULL,
+                    NULL, NULL, NULL);
   if (L->lam && m->ncons) phm_constraint_forces(m, H, L->time, L->tref, L->lam, f);
+}
+void lin_total_force(lin_t *L, const double *H, double *f) { lin_forces(L, H, 0, f); }
+
+/* The slot of block (row carrier r, column carrier c) in the coupling graph's lists. */
+static int lin_slot(const lin_t *L, int r, int c) {
+  for (int q = L->ptr[r]; q < L->ptr[r + 1]; q++)
+    if (L->nbr[q] == c) return q;
+  return -1; /* not reached: an element's carriers are neighbours */
+}
+
+/* K += dw/ddelta (6 x 6) - 1/2 ad*_(.) w: a carrier's own block of f_c(delta) =
+ * dexp_{-delta}^T w_c(H_c exp(delta)) for a wrench w (with its derivative Kw, NULL: none). */
+static void add_own_block(double *K, const double *Kw, int ldk, const double w[6]) {
+  for (int j = 0; j < 6; j++) {
+    double ej[6] = {0}, z[6];
+    ej[j] = 1.0;
+    phm_ad_dual_apply(ej, w, z);
+    for (int i = 0; i < 6; i++) K[6 * i + j] += (Kw ? Kw[ldk * i + j] : 0.0) - 0.5 * z[i];
+  }
+}
+
+/* Add the closed-form blocks at poses H (at rest) -- the se3 elements' (phm_element_tangent) and
+ * gravity's (phm_gravity_tangent, x L->scale) -- to Kb (if not NULL; d f/d delta, with f_c's
+ * chart factor dexp_{-delta}^T: its derivative -1/2 ad*_(.) w_c on the diagonal blocks) and, if
+ * Db is not NULL, the elements' to Db (d f/d t: the damping, the same at any twist since the
+ * wrenches are affine in them). */
+void lin_closed_form_blocks(const lin_t *L, const double *H, double *Kb, double *Db) {
+  const phm_model *m = L->m;
+  static const double zero[6] = {0};
+  for (int ie = 0; ie < m->ne; ie++) {
+    const phm_element_desc *e = &m->el[ie];
+    double w[12], Kx[144], Ct[144];
+    phm_element_tangent(e, H + 16 * e->a, H + 16 * e->b, zero, zero, w, w + 6, Kx, Db ? Ct : NULL);
+    int cr[2] = {e->a, e->b};
+    for (int bi = 0; bi < 2; bi++)
+      for (int bj = 0; bj < 2; bj++) {
+        int q = lin_slot(L, cr[bi], cr[bj]);
+        if (q < 0) continue;
+        double *K = Kb ? Kb + 36 * (size_t)q : NULL, *Dq = Db ? Db + 36 * (size_t)q : NULL;
+        const double *kx = Kx + 12 * 6 * bi + 6 * bj, *ct = Ct + 12 * 6 * bi + 6 * bj;
+        if (Dq)
+          for (int i = 0; i < 6; i++)
+            for (int j = 0; j < 6; j++) Dq[6 * i + j] += ct[12 * i + j];
+        if (!K) continue;
+        if (bi == bj) add_own_block(K, kx, 12, w + 6 * bi);
+        else
+          for (int i = 0; i < 6; i++)
+            for (int j = 0; j < 6; j++) K[6 * i + j] += kx[12 * i + j];
+      }
+  }
+  double gn = fabs(m->gravity[0]) + fabs(m->gravity[1]) + fabs(m->gravity[2]);
+  if (!Kb || !(gn > 0)) return;
+  for (int c = 0; c < m->nc; c++) {
+    double w[6], Kg[36];
+    phm_gravity_tangent(m, c, H + 16 * c, L->scale, w, Kg);
+    add_own_block(Kb + 36 * (size_t)lin_slot(L, c, c), Kg, 6, w);
+  }
 }
 
 phm_status lin_alloc(lin_t *L, const phm_model *m, phm_error *err) {
@@ -59,8 +120,9 @@ phm_status lin_colour(lin_t *L, phm_error *err) {
 
 /* Kb[q] = d f_r / d delta_c for block q = (row carrier r, column carrier nbr[q]) of the coupling
  * graph (6 x 6, row-major), f = lin_total_force on the perturbed carriers' charts, f_c(delta) =
- * dexp_{-delta}^T w_c(H_c exp(delta)); central differences, one pass per colour and direction
- * (carriers of one colour share no neighbour, so their columns do not mix). Into L->Kb. */
+ * dexp_{-delta}^T w_c(H_c exp(delta)): the elements' and gravity's part in closed form (lin_closed_form_blocks),
+ * the rest by central differences, one pass per colour and direction (carriers of one colour
+ * share no neighbour, so their columns do not mix). Into L->Kb. */
 void lin_force_jacobian_blocks(lin_t *L, const double *H, double *f1, double *f2) {
   const phm_model *m = L->m;
   int nc = m->nc, ncol = L->ncol;
@@ -77,7 +139,7 @@ void lin_force_jacobian_blocks(lin_t *L, const double *H, double *f1, double *f2
         memcpy(L->Hp, H, sizeof(double) * 16 * (size_t)nc);
         for (int c = 0; c < nc; c++)
           if (col[c] == k) phm_retract(L->Hp + 16 * c, dl);
-        lin_total_force(L, L->Hp, f);
+        lin_forces(L, L->Hp, 1, f);
         for (int c = 0; c < nc; c++)
           if (col[c] == k) {
             double w[6];
@@ -95,6 +157,8 @@ void lin_force_jacobian_blocks(lin_t *L, const double *H, double *f1, double *f2
             for (int i = 0; i < 6; i++)
               Kb[36 * (size_t)q + 6 * i + j] = (f1[6 * r + i] - f2[6 * r + i]) / (2 * eps);
     }
+  if (ncol == 0) memset(Kb, 0, sizeof(double) * 36 * (size_t)ptr[nc]);
+  lin_closed_form_blocks(L, H, Kb, NULL);
 }
 
 

@@ -252,18 +252,21 @@ static phm_status lin_red_blocks(lin_red_t *R, const phm_model *m, const double 
   /* stiffness K = -d f / d delta, block-sparse */
   lin_force_jacobian_blocks(L, H, f1, f2);
   for (size_t i = 0; i < (size_t)nb * 36; i++) Kb[i] = -Kb[i];
-  /* damping D = -dw/dt (linear in t: one-sided differences are exact up to round-off) */
-  phm_applied(m, H, tw, NULL, time, L->tref, 1.0, f0, NULL, NULL, NULL, NULL, NULL);
+  /* damping D = -dw/dt: the elements' in closed form (lin_closed_form_blocks), the rest (linear in
+   * t) by one-sided differences, exact up to round-off */
+  phm_applied_pairs(m, NULL, H, tw, NULL, time, L->tref, 1.0, 1, f0, NULL, NULL, NULL, NULL, NULL);
   for (int k = 0; k < ncol; k++)
     for (int j = 0; j < 6; j++) {
       for (int c = 0; c < nc; c++) tw[6 * c + j] = col[c] == k ? 1.0 : 0.0;
-      phm_applied(m, H, tw, NULL, time, L->tref, 1.0, f2, NULL, NULL, NULL, NULL, NULL);
+      phm_applied_pairs(m, NULL, H, tw, NULL, time, L->tref, 1.0, 1, f2, NULL, NULL, NULL, NULL, NULL);
       for (int c = 0; c < nc; c++) tw[6 * c + j] = 0.0;
       for (int r = 0; r < nc; r++)
         for (int q = ptr[r]; q < ptr[r + 1]; q++)
           if (col[nbr[q]] == k)
-            for (int i = 0; i < 6; i++) Db[36 * (size_t)q + 6 * i + j] = -(f2[6 * r + i] - f0[6 * r + i]);
+            for (int i = 0; i < 6; i++) Db[36 * (size_t)q + 6 * i + j] = f2[6 * r + i] - f0[6 * r + i];
     }
+  lin_closed_form_blocks(L, H, NULL, Db);
+  for (size_t i = 0; i < (size_t)nb * 36; i++) Db[i] = -Db[i];
   free(f0); free(f1); free(f2); free(tw);
   return PHM_OK;
 }

@@ -1,5 +1,5 @@
-/* statics.c -- static equilibrium: Newton on [df/ddelta G^T; G 0] with sparse LU (KLU), damped
- * steps and load stepping (halved on failure). */
+/* statics.c -- static equilibrium: Newton on [df/ddelta G^T; G 0] with sparse LU (KLU) and
+ * load stepping (halved on failure, grown back after fast convergence). */
 #include "solve.h"
 
 #include <math.h>
@@ -20,20 +20,50 @@ static void static_residual(lin_t *L, const double *H, double *R) {
 
 /* Work arrays of one Newton solve (allocated once by phm_static). */
 typedef struct {
-  double *R, *f1, *f2, *Gp, *Hsave, *lsave;
+  double *R, *f1, *f2, *Gp, *Hsave, *lsave, *bar;
 } static_work_t;
 
+/* The size of a step x (6 nc carrier components, then nk multipliers): its largest rotation
+ * (rad) and translation in units of the element length lref; *rot: the largest rotation. */
+static double step_size(const phm_model *m, const double *x, double *rot) {
+  double sn = 0, sr = 0;
+  for (int c = 0; c < m->nc; c++)
+    for (int j = 0; j < 6; j++) {
+      double a = fabs(x[6 * c + j]);
+      sn = fmax(sn, j < 3 ? a : a / m->lref);
+      if (j < 3) sr = fmax(sr, a);
+    }
+  if (rot) *rot = sr;
+  return sn;
+}
+
+/* (H, lam) <- (H exp(a x), lam + a x) for the carriers' and multipliers' parts of x. */
+static void take_step(const phm_model *m, double *H, double *lam, const double *x, double a) {
+  for (int c = 0; c < m->nc; c++) {
+    double d[6];
+    for (int j = 0; j < 6; j++) d[j] = a * x[6 * c + j];
+    phm_retract(H + 16 * c, d);
+  }
+  for (int i = 0; i < m->ncons; i++) lam[i] += a * x[6 * m->nc + i];
+}
+
 /* Newton from (H, lam) at the load scale L->scale; 0 on convergence (H, lam updated), 1 on
- * failure (H, lam restored). Each iteration: the tangent [K G^T; G 0] (force blocks by coloured
- * differences, O(N) force evaluations, csrc/solve/linearize.c) solved by KLU; a step larger than
- * 1 rad or one element length lref is scaled down to that size. Converged when the step is below
- * tol (rad, and lengths in units of lref), or when it stalls at round-off below 1e3 tol.
- * Measured (benchmarks/statics_newton.py): because lref is the element length, the iteration
- * count grows with N (a cantilever under P L^2/EI = 3 in 10 load steps: 54 iterations at N = 20,
- * 858 at N = 1000); capping the rotations only makes it N-independent there (51 and 52) but made
- * the Fig. 3 manipulator's static Newton, which wanders for tens of iterations at any cap
- * (finite-difference tangent), take 1461 iterations instead of 113 in 20 load steps; a line
- * search on the residual norm was worse still. Kept until the analytic tangent lands. */
+ * failure (H, lam restored). Each iteration: the tangent [K G^T; G 0] (the elements' blocks in
+ * closed form, the rest by coloured differences, csrc/solve/linearize.c) solved by KLU, the step
+ * scaled down to at most 1 rad of rotation, then the simplified Newton correction at the new
+ * iterate (the same factorization, one more residual and solve): converged when it is below tol
+ * (rad, and lengths in units of the element length lref; it is then applied), or when it stalls
+ * at round-off below 1e3 tol. Failure (non-finite steps, maxit iterations) lets the caller cut
+ * the load step.
+ * Measured (benchmarks/statics_newton.py, iterations = tangents): with the finite-difference
+ * tangent the steps were also capped at one element length lref, and the count grew with N (a
+ * cantilever under P L^2/EI = 3 in 10 load steps: 54 iterations at N = 20, 858 at N = 1000; the
+ * stiff roll-up 2344). With the exact tangent and without the length cap: 41 and 42, stiff
+ * roll-up 1158 (doubling the load step beyond 1/steps after fast convergence gave 22 and 24, but
+ * jumped past the bifurcation of the imperfect elastica of tests/hard/test_hard_statics.py). A line search by the natural monotonicity test (Deuflhard 2004, section 3.3) on
+ * top halved the soft cases' counts no further and quadrupled the stiff ones' (the simplified
+ * correction of a stiff beam's stretched trial state is huge); a secant predictor on every
+ * carrier's pose cost the roll-up 40 % more. */
 static int newton(lin_t *L, lin_kkt_t *S, double *H, double *lam, double tol, int maxit,
                   static_work_t *w, int *iters) {
   const phm_model *m = L->m;
@@ -42,26 +72,29 @@ static int newton(lin_t *L, lin_kkt_t *S, double *H, double *lam, double tol, in
   memcpy(w->Hsave, H, sizeof(double) * 16 * (size_t)nc);
   if (nk) memcpy(w->lsave, lam, sizeof(double) * (size_t)nk);
   L->lam = lam;
+  static_residual(L, H, R);
   double sprev = INFINITY;
   for (int it = 0; it < maxit; it++) {
     (*iters)++;
-    static_residual(L, H, R);
     lin_force_jacobian_blocks(L, H, w->f1, w->f2);
     if (nk) lin_constraint_blocks(L, H, w->Gp);
     for (int i = 0; i < N; i++) R[i] = -R[i];
     if (lin_kkt_factor(S, L->Kb, w->Gp) || lin_kkt_solve(S, R)) break;
-    double sn = 0;
-    for (int c = 0; c < nc; c++)
-      for (int j = 0; j < 6; j++) sn = fmax(sn, fabs(R[6 * c + j]) / (j < 3 ? 1.0 : m->lref));
+    double rot, sn = step_size(m, R, &rot);
     if (!isfinite(sn)) break; /* diverging: let the caller cut the load step */
-    if (sn > 1.0) /* damped step: at most 1 rad (or 1 length scale) per iteration */
-      for (int i = 0; i < N; i++) R[i] /= sn;
-    for (int c = 0; c < nc; c++) phm_retract(H + 16 * c, R + 6 * c);
-    for (int i = 0; i < nk; i++) lam[i] += R[n6 + i];
+    double a = rot > 1.0 ? 1.0 / rot : 1.0;
+    take_step(m, H, lam, R, a);
     if (sn < tol) return 0;
-    /* round-off floor (stiff sections): the step stopped shrinking at a tiny size */
-    if (sn < 1e3 * tol && sn > 0.25 * sprev) return 0;
-    sprev = sn;
+    static_residual(L, H, R);
+    for (int i = 0; i < N; i++) w->bar[i] = -R[i];
+    if (lin_kkt_solve(S, w->bar)) break;
+    double sbar = step_size(m, w->bar, NULL);
+    if (!isfinite(sbar)) break;
+    if (sbar < tol || (sbar < 1e3 * tol && sbar > 0.25 * sprev)) {
+      take_step(m, H, lam, w->bar, 1.0);
+      return 0;
+    }
+    sprev = a * sn;
   }
   memcpy(H, w->Hsave, sizeof(double) * 16 * (size_t)nc);
   if (nk) memcpy(lam, w->lsave, sizeof(double) * (size_t)nk);
@@ -90,9 +123,10 @@ phm_status phm_static_monitored(const phm_model *m, const double *poses, double 
       .R = malloc(sizeof(double) * (size_t)N),
       .f1 = malloc(sizeof(double) * (size_t)n6), .f2 = malloc(sizeof(double) * (size_t)n6),
       .Gp = malloc(sizeof(double) * 12 * (size_t)(nk + 1)),
-      .Hsave = malloc(sizeof(double) * 16 * (size_t)nc), .lsave = malloc(sizeof(double) * (size_t)(nk + 1))};
+      .Hsave = malloc(sizeof(double) * 16 * (size_t)nc), .lsave = malloc(sizeof(double) * (size_t)(nk + 1)),
+      .bar = malloc(sizeof(double) * (size_t)N)};
   double *lam = calloc((size_t)(nk + 1), sizeof(double));
-  if (!w.R || !w.f1 || !w.f2 || !w.Gp || !w.Hsave || !w.lsave || !lam) {
+  if (!w.R || !w.f1 || !w.f2 || !w.Gp || !w.Hsave || !w.lsave || !w.bar || !lam) {
     st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
     goto done;
   }
@@ -105,11 +139,17 @@ phm_status phm_static_monitored(const phm_model *m, const double *poses, double 
   L.scale = 0.0;
   /* (a mechanism with a free degree of freedom is singular without load: then go on directly) */
   int pre_failed = newton(&L, &S, poses_out, lam, tol, 50, &w, &it);
+  /* load stepping from the unloaded equilibrium: a step is halved when Newton fails to converge
+   * in 12 iterations (with the exact tangent, one that has not converged by then rarely does; 30
+   * cost the stiff roll-up of benchmarks/statics_newton.py 1501 iterations instead of 1158) and
+   * doubled after one that took at most 4, up to 1/steps: `steps` bounds the increment (a larger
+   * one can pass a bifurcation unseen) */
   double s = 0, ds = 1.0 / steps;
   while (s < 1.0) {
     double snew = fmin(1.0, s + ds);
     L.scale = snew;
-    if (newton(&L, &S, poses_out, lam, tol, 30, &w, &it)) {
+    int it0 = it;
+    if (newton(&L, &S, poses_out, lam, tol, 12, &w, &it)) {
       ds *= 0.5;
       if (ds < 1e-4 / steps) {
         st = PHM_FAIL(err, PHM_ESOLVER, "static equilibrium: Newton failed at load factor %.6g after step halving (%d iterations)%s", snew, it,
@@ -119,6 +159,7 @@ phm_status phm_static_monitored(const phm_model *m, const double *poses, double 
       continue;
     }
     s = snew;
+    if (it - it0 <= 4) ds = fmin(2.0 * ds, 1.0 / steps);
     if (monitor && monitor(ctx, s, it, ds)) {
       st = PHM_FAIL(err, PHM_EINTERRUPT, "static equilibrium: stopped by the caller at load factor %.6g", s);
       goto done;
@@ -135,6 +176,6 @@ done:
   lin_free(&L);
   lin_kkt_free(&S);
   free(w.R); free(w.f1); free(w.f2); free(w.Gp);
-  free(w.Hsave); free(w.lsave); free(lam);
+  free(w.Hsave); free(w.lsave); free(w.bar); free(lam);
   return st;
 }

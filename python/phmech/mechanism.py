@@ -1078,7 +1078,9 @@ class Mechanism:
                check_stability: bool = True, progress: bool = False) -> StaticResult:
         """Static equilibrium under gravity, the mechanism's wrenches at ``time`` and extra
         constant ``loads`` = [(target, wrench (tau, f), frame "world"|"body"), ...], reached in
-        ``steps`` load steps (halved on failure); Newton tolerance ``tol`` on the tangent step.
+        load increments of 1/``steps`` (halved when Newton fails, grown back after fast
+        convergence); Newton tolerance ``tol`` (rad, and element lengths) on the tangent step. The
+        result's ``iterations`` counts Newton iterations (tangents and factorizations).
 
         With ``check_stability`` (the default) the equilibrium's lowest linearized mode is
         computed (``StaticResult.lowest_omega``, ``stable``). An unstable equilibrium usually

@@ -133,5 +133,69 @@ static void stress_resultants_are_stiffness_times_strain_plus_damping_times_rate
   }
 }
 
+/* phm_element_tangent against central differences of phm_element_eval: Kx column j by the
+ * perturbations H exp(+-s e_j) of one node (s = 1e-6: truncation ~ 1e-12, round-off ~ 1e-10 of
+ * wrenches of order 1), Ct by perturbing one twist component (the wrenches are affine in the
+ * twists: only round-off). At bent, twisted, stretched and moving states (rotations up to ~ 3
+ * rad in a quarter of the trials); its wrenches are phm_element_eval's, bit for bit. */
+static void element_tangent_is_the_derivative_of_its_wrenches(void) {
+  for (int trial = 0; trial < 40; trial++) {
+    phm_element_desc e;
+    rand_element(&e);
+    double Ha[16], Hb[16], E[16], x[6], ta[6], tb[6];
+    rand_pose(Ha, 1.0);
+    for (int i = 0; i < 6; i++) x[i] = e.h * (e.eps_hat[i] + 0.3 * rand11());
+    if (trial % 4 == 0) for (int i = 0; i < 3; i++) x[i] *= 8.0;
+    phm_se3_exp(x, E);
+    phm_se3_compose(Ha, E, Hb);
+    for (int i = 0; i < 6; i++) {
+      ta[i] = 2.0 * rand11();
+      tb[i] = 2.0 * rand11();
+    }
+    int moving = trial % 2;
+    const double *pa = moving ? ta : NULL, *pb = moving ? tb : NULL;
+    double wa[6], wb[6], wa0[6], wb0[6], Kx[144], Ct[144];
+    phm_element_tangent(&e, Ha, Hb, pa, pb, wa, wb, Kx, Ct);
+    phm_element_eval(&e, Ha, Hb, pa, pb, wa0, wb0, NULL, NULL, NULL);
+    check("tangent's wrenches = phm_element_eval's", fmax(maxdiff(6, wa, wa0), maxdiff(6, wb, wb0)), 0.0);
+    double err = 0, big = 0, errt = 0, bigt = 0, s = 1e-6;
+    for (int node = 0; node < 2; node++)
+      for (int j = 0; j < 6; j++) {
+        double d[6] = {0}, Hp[16], Hm[16], ap[6], bp[6], am[6], bm[6];
+        d[j] = 1;
+        perturbed(node ? Hb : Ha, d, s, Hp);
+        perturbed(node ? Hb : Ha, d, -s, Hm);
+        phm_element_eval(&e, node ? Ha : Hp, node ? Hp : Hb, pa, pb, ap, bp, NULL, NULL, NULL);
+        phm_element_eval(&e, node ? Ha : Hm, node ? Hm : Hb, pa, pb, am, bm, NULL, NULL, NULL);
+        for (int i = 0; i < 6; i++) {
+          double fa = (ap[i] - am[i]) / (2 * s), fb = (bp[i] - bm[i]) / (2 * s);
+          err = fmax(err, fmax(fabs(fa - Kx[12 * i + 6 * node + j]), fabs(fb - Kx[12 * (6 + i) + 6 * node + j])));
+          big = fmax(big, fmax(fabs(Kx[12 * i + 6 * node + j]), fabs(Kx[12 * (6 + i) + 6 * node + j])));
+        }
+        double tp[12], tm[12], st = 1e-3;
+        memcpy(tp, ta, sizeof ta);
+        memcpy(tp + 6, tb, sizeof tb);
+        memcpy(tm, tp, sizeof tp);
+        tp[6 * node + j] += st;
+        tm[6 * node + j] -= st;
+        phm_element_eval(&e, Ha, Hb, tp, tp + 6, ap, bp, NULL, NULL, NULL);
+        phm_element_eval(&e, Ha, Hb, tm, tm + 6, am, bm, NULL, NULL, NULL);
+        for (int i = 0; i < 6; i++) {
+          double fa = (ap[i] - am[i]) / (2 * st), fb = (bp[i] - bm[i]) / (2 * st);
+          double ca = moving ? Ct[12 * i + 6 * node + j] : 0, cb = moving ? Ct[12 * (6 + i) + 6 * node + j] : 0;
+          if (!moving) { /* without twists Ct is zero and the wrenches do not see them */
+            check("Ct = 0 without twists", fabs(Ct[12 * i + 6 * node + j]) + fabs(Ct[12 * (6 + i) + 6 * node + j]), 0.0);
+            continue;
+          }
+          errt = fmax(errt, fmax(fabs(fa - ca), fabs(fb - cb)));
+          bigt = fmax(bigt, fmax(fabs(ca), fabs(cb)));
+        }
+      }
+    check_worst("element stiffness Kx = central FD of the wrenches", err / big, 1e-7);
+    if (moving) check_worst("element damping tangent Ct = central FD", errt / bigt, 1e-7);
+  }
+}
+
 CHECK_MAIN(CHECK_CASE(element_wrenches_are_minus_energy_gradient_and_power_balances),
-           CHECK_CASE(stress_resultants_are_stiffness_times_strain_plus_damping_times_rate))
+           CHECK_CASE(stress_resultants_are_stiffness_times_strain_plus_damping_times_rate),
+           CHECK_CASE(element_tangent_is_the_derivative_of_its_wrenches))

@@ -234,8 +234,43 @@ static void quaternions_round_trip_and_match_axis_angle(void) {
   }
 }
 
+/* phm_se3_dexp_inv_partials against central differences (step 1e-5: truncation ~ 1e-10,
+ * round-off ~ 1e-11 of entries of order 1) of phm_se3_dexp_inv, at rotation angles on both
+ * sides of the series/closed-form switch (t = 1) and near pi. */
+static void dexp_inv_partials_are_its_derivative(void) {
+  static const double angles[] = {0.0, 1e-4, 0.05, 0.3, 0.999, 1.001, 2.0, 3.0};
+  for (size_t ia = 0; ia < sizeof angles / sizeof angles[0]; ia++)
+    for (int trial = 0; trial < 4; trial++) {
+      double x[6], n[3], dAi[6][9], dL[6][9], err = 0, big = 0, hs = 1e-5;
+      rand_unit3(n);
+      for (int i = 0; i < 3; i++) x[i] = angles[ia] * n[i];
+      for (int i = 3; i < 6; i++) x[i] = rand11();
+      phm_se3_dexp_inv_partials(x, dAi, dL);
+      for (int k = 0; k < 6; k++) {
+        double xp[6], xm[6], Dp[36], Dm[36];
+        memcpy(xp, x, sizeof xp);
+        memcpy(xm, x, sizeof xm);
+        xp[k] += hs;
+        xm[k] -= hs;
+        phm_se3_dexp_inv(xp, Dp);
+        phm_se3_dexp_inv(xm, Dm);
+        for (int i = 0; i < 3; i++)
+          for (int j = 0; j < 3; j++) {
+            double fa = (Dp[6 * i + j] - Dm[6 * i + j]) / (2 * hs);
+            double fl = (Dp[6 * (3 + i) + j] - Dm[6 * (3 + i) + j]) / (2 * hs);
+            double fa2 = (Dp[6 * (3 + i) + 3 + j] - Dm[6 * (3 + i) + 3 + j]) / (2 * hs);
+            err = fmax(err, fmax(fabs(fa - dAi[k][3 * i + j]), fabs(fa2 - dAi[k][3 * i + j])));
+            err = fmax(err, fabs(fl - dL[k][3 * i + j]));
+            big = fmax(big, fmax(fabs(dAi[k][3 * i + j]), fabs(dL[k][3 * i + j])));
+          }
+      }
+      check_worst("d(dexp^-1)/dx = central FD", err / fmax(big, 1.0), 1e-8);
+    }
+}
+
 CHECK_MAIN(CHECK_CASE(hat_and_vee_are_inverse_and_hat_is_the_cross_product),
            CHECK_CASE(exp_matches_expm_and_log_inverts_it),
            CHECK_CASE(adjoints_are_group_and_algebra_representations),
            CHECK_CASE(dexp_is_the_derivative_of_exp),
-           CHECK_CASE(quaternions_round_trip_and_match_axis_angle))
+           CHECK_CASE(quaternions_round_trip_and_match_axis_angle),
+           CHECK_CASE(dexp_inv_partials_are_its_derivative))

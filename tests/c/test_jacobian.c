@@ -1,0 +1,193 @@
+/* test_jacobian.c -- the values of the DAE Jacobian dF/dy + cj dF/dy' (csrc/dae/jacobian.c)
+ * against central differences of the residual (csrc/dae/residual.c), column by column, at random
+ * bent, twisted and moving states with quaternions off the unit sphere (the residual normalizes
+ * them). Per component: carriers alone (their kinematic and gyroscopic rows, in closed form),
+ * se3 elements (closed form: the elastic, geometric and damping parts through the quaternion
+ * chart), and a model whose pairs, spring, load and gravity keep the coloured forward
+ * differences (the hybrid assembly). Reference step 1e-6 (x max(1, |y_j|)): truncation ~ 1e-12 and
+ * round-off ~ 1e-10 relative to entries of order 1..1e3, so the closed-form parts are held to
+ * 1e-7 relative; the forward-difference remainder has errors ~ sqrt(eps) of its own entries,
+ * held to 1e-5. */
+#include "check.h"
+#include "dae.h"
+
+enum { MAXC = 6 };
+
+typedef struct {
+  phm_carrier_desc car[MAXC];
+  phm_element_desc el[MAXC];
+  phm_pair_desc pair[2];
+  phm_load_desc load[1];
+  phm_spring_desc spr[1];
+  phm_actuator_desc act[1];
+  phm_model_desc d;
+} builder;
+
+/* nc carriers with random inertia, placed along a bent and twisted chain; ne = nc - 1 elements
+ * between consecutive ones (random K, D, curved unstressed shape) when elements != 0. */
+static void chain(builder *b, int nc, int elements) {
+  memset(b, 0, sizeof *b);
+  double H[16], E[16], x[6];
+  rand_pose(H, 1.0);
+  for (int c = 0; c < nc; c++) {
+    carrier_unit(&b->car[c]);
+    rand_spd6(b->car[c].M, 1.0 + c);
+    b->car[c].mass = b->car[c].M[21];
+    memcpy(b->car[c].H0, H, sizeof H);
+    for (int i = 0; i < 6; i++) x[i] = 0.3 * rand11();
+    x[3] += 0.4;
+    pose_expm(x, E);
+    double Hn[16];
+    phm_se3_compose(H, E, Hn);
+    memcpy(H, Hn, sizeof H);
+  }
+  b->d.ncarriers = nc;
+  b->d.carriers = b->car;
+  if (elements) {
+    for (int e = 0; e + 1 < nc; e++) {
+      phm_element_desc *el = &b->el[e];
+      el->a = e;
+      el->b = e + 1;
+      el->h = 0.4;
+      rand_spd6(el->K, 50.0);
+      rand_spd6(el->D, 0.5);
+      el->eps_hat[0] = 0.5 * rand11();
+      el->eps_hat[2] = rand11();
+      el->eps_hat[3] = 1.0;
+    }
+    b->d.nelements = nc - 1;
+    b->d.elements = b->el;
+  }
+}
+
+/* The state at the model's poses with random twists, rates and quaternion norms near 1. */
+static void rand_state(const dae_t *d, double *y, double *yp) {
+  for (int i = 0; i < d->n; i++) {
+    y[i] = rand11();
+    yp[i] = rand11();
+  }
+  for (int c = 0; c < d->m->nc; c++) {
+    double *yc = y + PHM_NSTATE * c;
+    double R[9], q[4], s = 1.0 + 0.05 * rand11();
+    for (int i = 0; i < 3; i++) {
+      for (int j = 0; j < 3; j++) R[3 * i + j] = d->m->car[c].H0[4 * i + j];
+      yc[4 + i] = d->m->car[c].H0[4 * i + 3];
+    }
+    phm_quat_from_rot(R, q);
+    for (int i = 0; i < 4; i++) yc[i] = s * q[i];
+    for (int i = 7; i < 13; i++) yc[i] = 2.0 * rand11();
+  }
+}
+
+/* Worst relative errors of dae_jacobian against central differences: rows of the carriers and
+ * pairs (the ledger rows keep only their diagonal in the pattern, csrc/dae/jacobian.c), entries
+ * outside the pattern included (their reference must vanish). */
+static void compare(const char *name, builder *b, double tol) {
+  phm_model *m = create_model(&b->d);
+  if (!m) return;
+  dae_t d;
+  phm_error err;
+  SUNContext ctx;
+  if (phm_sun_context_create(&ctx) || dae_init(&d, m, &err) || dae_jacobian_pattern(&d, &err)) {
+    check_fail("%s: set-up", name);
+    phm_model_free(m);
+    return;
+  }
+  int n = d.n;
+  SUNMatrix J = SUNSparseMatrix(n, n, d.nnz, CSC_MAT, ctx);
+  double *y = malloc(sizeof(double) * (size_t)n * 6), *yp = y + n, *r0 = yp + n, *yy = r0 + n,
+         *ypp = yy + n, *rp = ypp + n, *rm = malloc(sizeof(double) * (size_t)n);
+  double *dense = calloc((size_t)n * n, sizeof(double));
+  for (int trial = 0; trial < 3; trial++) {
+    rand_state(&d, y, yp);
+    double t = 0.1, cj = 37.0 * (1 + trial);
+    d.tref = 0.5;
+    dae_residual(&d, t, y, yp, r0);
+    if (dae_jacobian(&d, t, cj, y, yp, r0, J)) {
+      check_fail("%s: dae_jacobian failed", name);
+      break;
+    }
+    sunindextype *cp = SUNSparseMatrix_IndexPointers(J), *ri = SUNSparseMatrix_IndexValues(J);
+    double *val = SUNSparseMatrix_Data(J);
+    memset(dense, 0, sizeof(double) * (size_t)n * n);
+    for (int j = 0; j < n; j++)
+      for (sunindextype k = cp[j]; k < cp[j + 1]; k++) dense[(size_t)ri[k] * n + j] = val[k];
+    double err = 0, big = 0;
+    for (int j = 0; j < n; j++) {
+      double h = 1e-6 * fmax(1.0, fabs(y[j]));
+      memcpy(yy, y, sizeof(double) * (size_t)n);
+      memcpy(ypp, yp, sizeof(double) * (size_t)n);
+      yy[j] += h;
+      ypp[j] += cj * h;
+      dae_residual(&d, t, yy, ypp, rp);
+      yy[j] -= 2 * h;
+      ypp[j] -= 2 * cj * h;
+      dae_residual(&d, t, yy, ypp, rm);
+      for (int i = 0; i < n; i++) {
+        if (i >= d.ie && i < d.il && i != j) continue; /* ledger rows: diagonal only */
+        double ref = (rp[i] - rm[i]) / (2 * h);
+        err = fmax(err, fabs(ref - dense[(size_t)i * n + j]));
+        big = fmax(big, fabs(ref));
+      }
+    }
+    check_worst(name, err / big, tol);
+  }
+  free(y);
+  free(rm);
+  free(dense);
+  SUNMatDestroy(J);
+  dae_free(&d);
+  SUNContext_Free(&ctx);
+  phm_model_free(m);
+}
+
+static void carriers_and_gravity_are_closed_form(void) {
+  static builder b;
+  chain(&b, 3, 0);
+  compare("J = central FD: 3 free carriers (kinematics, gyroscopic terms)", &b, 1e-7);
+  for (int c = 0; c < 3; c++)
+    for (int i = 0; i < 3; i++) b.car[c].com[i] = 0.2 * rand11();
+  b.d.gravity[0] = 1.0;
+  b.d.gravity[2] = -9.81;
+  compare("J = central FD: 3 free carriers under gravity, centres of mass off the origin", &b, 1e-7);
+}
+
+static void elements_are_closed_form(void) {
+  static builder b;
+  for (int k = 0; k < 3; k++) {
+    chain(&b, 5, 1);
+    compare("J = central FD: 4 elements, bent, twisted, moving", &b, 1e-7);
+  }
+}
+
+static void pairs_springs_loads_gravity_keep_forward_differences(void) {
+  static builder b;
+  chain(&b, 5, 1);
+  b.pair[0].type = pair_code("fixed");
+  b.pair[0].a = -1;
+  b.pair[0].b = 0;
+  b.pair[1].type = pair_code("revolute");
+  b.pair[1].a = 3;
+  b.pair[1].b = 4;
+  for (int p = 0; p < 2; p++)
+    for (int i = 0; i < 4; i++) b.pair[p].Ta[5 * i] = b.pair[p].Tb[5 * i] = 1.0;
+  /* identity frames: the constraints need not hold, only their derivatives are compared */
+  b.d.npairs = 2;
+  b.d.pairs = b.pair;
+  b.spr[0] = (phm_spring_desc){.a = 1, .b = -1, .pa = {0.1, 0, 0}, .pb = {1, 1, 1}, .k = 30, .c = 0.5, .d0 = 0.5};
+  b.d.nsprings = 1;
+  b.d.springs = b.spr;
+  b.load[0] = (phm_load_desc){.carrier = 2, .reaction = 4, .w = {0.1, 0.2, 0.3, 1, -2, 3}, .world = 1,
+                              .point = {0.05, 0, 0}, .law = {.kind = PHM_LAW_CONSTANT, .amplitude = 1.0}};
+  b.d.nloads = 1;
+  b.d.loads = b.load;
+  b.d.gravity[2] = -9.81;
+  b.act[0] = (phm_actuator_desc){.pair = 1, .kind = PHM_ACT_PD, .kp = {50}, .kd = {2}, .x_set = {0.1},
+                                 .vec = {1}, .law = {.kind = PHM_LAW_CONSTANT, .amplitude = 0.2}};
+  b.d.nactuators = 1;
+  b.d.actuators = b.act;
+  compare("J = central FD: elements, fixed, revolute with PD, spring, load, gravity (hybrid)", &b, 1e-5);
+}
+
+CHECK_MAIN(CHECK_CASE(carriers_and_gravity_are_closed_form), CHECK_CASE(elements_are_closed_form),
+           CHECK_CASE(pairs_springs_loads_gravity_keep_forward_differences))
