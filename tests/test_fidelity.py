@@ -248,3 +248,10 @@ def test_fidelity_bad_input():
         lk.node(4)
     with pytest.raises(ph.ModelError, match="give a frame of link"):
         m.add_wrench("w", lk, (0, 0, 0, 1, 0, 0))
+    # the frames of a rigid link do not move relative to each other
+    with pytest.raises(ph.ModelError, match="same carrier, rigid link 'a'"):
+        m.add_pair("p", ph.Revolute(), lk.start, lk.end)
+    with pytest.raises(ph.ModelError, match="same carrier, rigid link 'a'"):
+        m.add_spring_damper("s", lk.start, lk.node(2), 10.0)
+    with pytest.raises(ph.ModelError, match="rigid .*no stress resultants"):
+        m.stress_resultants(m.simulate(0.01, 0.01), "a")

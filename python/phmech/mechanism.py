@@ -377,7 +377,9 @@ class Mechanism:
         fa = frame_of(a, self._desc, f"pair {name!r}, argument a")
         fb = frame_of(b, self._desc, f"pair {name!r}, argument b")
         if fa.carrier == fb.carrier:
-            raise ModelError(f"pair {name!r}: both frames are on the same carrier (a body cannot be paired with itself)")
+            raise ModelError(f"pair {name!r}: both frames are on the same carrier, "
+                             f"{self._desc.carrier_name(fa.carrier)} (a body or rigid link cannot "
+                             f"be paired with itself)")
         try:
             Q = np.eye(4)
             Q[:3, :3] = pair._rotation()
@@ -527,7 +529,8 @@ class Mechanism:
         fa = frame_of(a, self._desc, f"spring {name!r}, argument a")
         fb = frame_of(b, self._desc, f"spring {name!r}, argument b")
         if fa.carrier == fb.carrier:
-            raise ModelError(f"spring {name!r}: both ends are on the same carrier")
+            raise ModelError(f"spring {name!r}: both ends are on the same carrier, "
+                             f"{self._desc.carrier_name(fa.carrier)}")
         kk, cc = real(f"spring {name!r}: k", k), real(f"spring {name!r}: c", c)
         if kk < 0 or cc < 0:
             raise ModelError(f"spring {name!r}: k and c must be >= 0")
