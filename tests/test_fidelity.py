@@ -4,59 +4,28 @@ integral), against a very stiff nonlinear link, its mass properties against clos
 fidelities in the Fig. 3 manipulator, its API (frames, loads, results, save/load, drawing) and
 bad input. docs/user_guide.md, "Model only what a scene needs"; docs/method.md, "Rigid links"."""
 import sys
-import types
-import warnings
 from pathlib import Path
 
 import numpy as np
 import pytest
-from scipy.special import ellipk
 
 import phmech as ph
-from phmech import se3
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
 import manipulator as M  # noqa: E402
 
-STEEL = ph.Material(E=210e9, nu=0.3, density=7850.0)
-PROPS = ph.BeamProperties.from_material(ph.Section.rectangle(0.01, 0.02), STEEL)
-L, G = 0.5, 9.81
-
-
-def pendulum(fidelity, theta0, props=PROPS, elements=8):
-    """A link hanging from a hinge about world y at the origin, released at theta0 [rad]."""
-    m = ph.Mechanism(gravity=(0, 0, -G))
-    down = m.ground.frame_at((0, 0, 0), ph.rotation("y", np.pi / 2))   # local x = world -z
-    lk = m.add_flexible_link("rod", L, props, elements=elements, start=down, fidelity=fidelity)
-    m.add_pair("hinge", ph.Revolute(axis="y"), down, lk.start, x0=theta0)
-    return m, lk
-
-
-def compound_period(theta0, props=PROPS):
-    """Exact period [s] of the rod as a compound pendulum: I_O = rhoA L^3/3 + rhoI_y L (the
-    section's own rotary inertia about the hinge axis included), m g d = rhoA L g L/2;
-    T = 4 sqrt(I_O/(m g d)) K(sin^2(theta0/2)), 2 pi sqrt(I_O/(m g d)) for theta0 -> 0."""
-    rhoA, rhoIy = props.inertia[3, 3], props.inertia[1, 1]
-    w2 = (rhoA * L ** 2 * G / 2) / (rhoA * L ** 3 / 3 + rhoIy * L)
-    return 4 / np.sqrt(w2) * ellipk(np.sin(theta0 / 2) ** 2), 2 * np.pi / np.sqrt(w2)
-
-
-def measured_period(res):
-    """Mean period from the upward zero crossings of the hinge angle (linear interpolation)."""
-    x, t = res.joint("hinge")["x"][:, 0], res.t
-    i = np.nonzero((x[:-1] < 0) & (x[1:] >= 0))[0]
-    tc = t[i] - x[i] * (t[i + 1] - t[i]) / (x[i + 1] - x[i])
-    assert len(tc) >= 3
-    return float(np.mean(np.diff(tc)))
+# the scene and its exact period: examples/fidelity.py (which prints the CPU comparison)
+from fidelity import L, PROPS, compound_period, measured_period, pendulum, stiffened  # noqa: E402
 
 
 # ---------------------------------------------------------------- (a) compound pendulum
 @pytest.mark.parametrize("theta0", [1e-3, 1.0])
 def test_rigid_link_pendulum_period(theta0):
-    """The default integrator's period agrees with the exact one to 2e-5 (measured: 2e-6 at
-    both amplitudes with the default rtol 1e-4); at 1e-3 rad the small-amplitude formula
-    is exact to theta0^2/16 = 6e-8. The section's rotary inertia changes T by 5e-5: the
-    tolerance sees it. The ledger of an ordinary rigid body closes to round-off."""
+    """The default integrator's period agrees with the exact one to 2e-5 (measured with the
+    default rtol 1e-4: 2.4e-6 at 1e-3 rad against the small-amplitude formula, exact there to
+    theta0^2/16 = 6e-8; 1.7e-6 at 1 rad against the elliptic-integral period, 6.6 % longer).
+    The section's own rotary inertia (rhoI_y L, 4e-4 of I_O) changes T by 2e-4: the tolerance
+    sees it. The ledger of an ordinary rigid body closes to 1e-5 (measured 1.6e-8, 8.5e-7)."""
     T_exact, T_small = compound_period(theta0)
     m, lk = pendulum("rigid", theta0)
     res = m.simulate(3.5 * T_exact, T_exact / 200)
@@ -71,16 +40,13 @@ def test_rigid_link_pendulum_period(theta0):
 # ---------------------------------------------------------------- (b) very stiff nonlinear link
 def test_stiff_nonlinear_link_tends_to_the_rigid_link():
     """The same pendulum (1 rad, half a period) with a nonlinear link whose bending stiffness
-    EI is 1e4 times steel's (first flexible mode 1.2 kHz, against 0.63 Hz swinging) against
+    EI is 1e4 times steel's (first flexible mode 1.2 kHz, against 0.8 Hz swinging) against
     fidelity="rigid". What remains is the se3 chain's lumped node inertia (h/2 at the ends,
     h inside: the trapezoid rule on rhoA s^2, I_O too large by 1/(2 N^2), the period by
     1/(4 N^2)): measured max tip distance 0.028 L (N = 4) and 0.0072 L (N = 8), ratio 3.95.
     Asserted: < 0.01 L at N = 8, and the second-order convergence (ratio 3..5) that says the
     difference is the discretization's, not the rigid model's."""
-    K = PROPS.stiffness.copy()
-    K[1, 1] *= 1e4
-    K[2, 2] *= 1e4
-    stiff = types.SimpleNamespace(stiffness=K, inertia=PROPS.inertia, damping=None)
+    stiff = stiffened("bending")
     T = compound_period(1.0)[0]
     diff = {}
     for N in (4, 8):
@@ -93,6 +59,25 @@ def test_stiff_nonlinear_link_tends_to_the_rigid_link():
         diff[N] = np.max(np.linalg.norm(tips["rigid"] - tips["nonlinear"], axis=1)) / L
     assert diff[8] < 0.01, diff
     assert 3.0 < diff[4] / diff[8] < 5.0, diff
+
+
+def test_nonlinear_period_is_the_lumped_inertia_period():
+    """Steel as it is (first flexible mode ~120 Hz): examples/fidelity.py's run. The rigid
+    link's period is exact (to 2e-5, measured 1.7e-6); the nonlinear link's is the compound
+    pendulum's with the chain's lumped inertia, I_O + rhoA L h^2/6 (the trapezoid rule on
+    rhoA s^2): sqrt(1 + rhoA L h^2 / (6 I_O)) - 1 = 1.550e-2 (N = 4), 3.897e-3 (N = 8), met to
+    2e-5 (measured 1.1e-6, 2.3e-6): what separates the two fidelities here is that inertia, not
+    the flexibility."""
+    from fidelity import run
+    rows = run("none", 1.0, (4, 8))
+    rhoA, rhoIy = PROPS.inertia[3, 3], PROPS.inertia[1, 1]
+    I_O = rhoA * L ** 3 / 3 + rhoIy * L
+    assert rows[0]["fidelity"] == "rigid" and abs(rows[0]["period_error"]) < 2e-5
+    for r in rows[1:]:
+        h = L / r["elements"]
+        lumped = np.sqrt(1 + rhoA * L * h * h / (6 * I_O)) - 1
+        assert abs(r["period_error"] - lumped) < 2e-5, (r, lumped)
+        assert r["ledger_relative"] < 1e-3
 
 
 # ---------------------------------------------------------------- (c) mass properties
