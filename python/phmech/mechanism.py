@@ -188,7 +188,8 @@ class Mechanism:
         ``record=`` and results take them alike; a distributed load becomes its resultant
         wrench. Right for a link whose first flexible frequency is far above the band of
         interest (docs/user_guide.md, "Model only what a scene needs"); it has no strain, so no
-        stress resultants."""
+        stress resultants, and its ``properties``' stiffness and damping do not act (they are
+        still checked, so that one properties object serves both fidelities)."""
         if not isinstance(fidelity, str) or fidelity not in FIDELITIES:
             raise ModelError(f"link {name!r}: unknown fidelity {fidelity!r} (available: "
                              f"{', '.join(map(repr, FIDELITIES))})")
