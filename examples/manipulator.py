@@ -33,6 +33,7 @@ chosen so that the set-point step makes the link tips deflect by more than 10 % 
 during the transient. Material damping D = beta K.
 
     python examples/manipulator.py [--quick] [--json] [--elements 8] [--t-end 6] [--no-plot] [--gif]
+                                   [--rigid F1 ...]  (links modelled rigid, fidelity="rigid")
 
 A planar loop built with 3-D revolute pairs is hyperconstrained when all its members are rigid;
 here the loop contains flexible links (which can twist and bend out of plane), so the constraint
@@ -128,10 +129,11 @@ def target_pairs(target) -> dict:
 
 
 def build(p: ManipulatorParams, elements: int = 8, ff=None, kp=None, kd=None, target=None,
-          knock: bool = True, x0: dict | None = None):
+          knock: bool = True, x0: dict | None = None, fidelity: dict | None = None):
     """The mechanism and a dict of handles. ``ff``: constant gravity-compensation torques
     [N m] per actuated joint (None: none); ``kp``, ``kd``, ``target`` override the params.
-    ``x0``: initial joint coordinates per pair name (default: all 0, the rest pose)."""
+    ``x0``: initial joint coordinates per pair name (default: all 0, the rest pose).
+    ``fidelity``: link name -> "rigid" or "nonlinear" (default: every link nonlinear)."""
     x0 = x0 or {}
     kp = p.kp if kp is None else kp
     kd = p.kd if kd is None else kd
@@ -146,9 +148,10 @@ def build(p: ManipulatorParams, elements: int = 8, ff=None, kp=None, kd=None, ta
     H_R2 = T([p.L2, p.L1, 0.0])
     H_k7 = T([p.L2 + p.hand_offset, p.L1, 0.0])
     H_R3 = T([p.L2 + p.hand_offset + p.L_R3 / 2, p.L1, 0.0])   # R3's frame at its centre
-    F1 = m.add_flexible_link("F1", p.L1, p.section(1), elements=elements, pose=H_F1)
-    F2 = m.add_flexible_link("F2", p.L2, p.section(2), elements=elements, pose=H_F2)
-    F3 = m.add_flexible_link("F3", p.L2, p.section(2), elements=elements, pose=H_F3)
+    fid = {"F1": "nonlinear", "F2": "nonlinear", "F3": "nonlinear", **(fidelity or {})}
+    F1 = m.add_flexible_link("F1", p.L1, p.section(1), elements=elements, pose=H_F1, fidelity=fid["F1"])
+    F2 = m.add_flexible_link("F2", p.L2, p.section(2), elements=elements, pose=H_F2, fidelity=fid["F2"])
+    F3 = m.add_flexible_link("F3", p.L2, p.section(2), elements=elements, pose=H_F3, fidelity=fid["F3"])
     R1 = m.add_rigid_body("R1", p.m_R1, _plate_inertia(p.m_R1, 0.06, p.a_R1), pose=H_R1)
     R2 = m.add_rigid_body("R2", p.m_R2, _plate_inertia(p.m_R2, 0.04, p.a_R2), pose=H_R2)
     R3 = m.add_rigid_body("R3", p.m_R3, _plate_inertia(p.m_R3, p.L_R3, 0.03), pose=H_R3)
@@ -160,7 +163,10 @@ def build(p: ManipulatorParams, elements: int = 8, ff=None, kp=None, kd=None, ta
 
     ground = lambda H_joint, label: ph.Frame(-1, H_joint, label)
     start = lambda lk, H: frame(lk.nodes[0], H, H, lk.name + ".start")
-    end = lambda lk, H, Hj: frame(lk.nodes[-1], H @ T([lk.length, 0, 0]), Hj, lk.name + ".end")
+    # the end frame's carrier is the end node (nonlinear) or the whole link (rigid: link.end's
+    # offset on it); H @ T(L) is where the end frame sits in the rest pose
+    end = lambda lk, H, Hj: ph.Frame(lk.end.carrier, lk.end.T @ se3.inverse(H @ T([lk.length, 0, 0]))
+                                     @ Hj, lk.name + ".end")
     gains = dict(zip(ACTUATED, zip(kp, kd, target)))
 
     def act(name):
@@ -207,7 +213,7 @@ def planar_joint_angles(m: ph.Mechanism, poses: np.ndarray) -> dict:
 
 
 def gravity_compensation(p: ManipulatorParams, elements: int = 8, k_lock: float = 1e5,
-                         iterations: int = 2) -> tuple:
+                         iterations: int = 2, fidelity: dict | None = None) -> tuple:
     """Constant actuator torques [N m] that hold the target configuration statically under
     gravity: the joints are locked at the target by stiff springs (k_lock [N m/rad]), the static
     equilibrium gives the springs' torques; one or two corrections remove the lock's own
@@ -216,7 +222,7 @@ def gravity_compensation(p: ManipulatorParams, elements: int = 8, k_lock: float 
     st = None
     for _ in range(iterations):
         m, _ = build(p, elements=elements, ff=ff, kp=[k_lock] * 4, kd=[0.0] * 4, knock=False,
-                     x0=target_pairs(p.target))
+                     x0=target_pairs(p.target), fidelity=fidelity)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ph.RedundantConstraintWarning)
             st = m.static(steps=10, start=st)
@@ -229,8 +235,8 @@ def gravity_compensation(p: ManipulatorParams, elements: int = 8, k_lock: float 
 def deflection(res, link: ph.FlexibleLink) -> np.ndarray:
     """Transverse tip deflection of a link relative to the tangent of its start [m], (nt,):
     the in-plane (local y) coordinate of the end node in the start node's frame."""
-    Hs = res.poses[:, link.nodes[0]]
-    pe = res.poses[:, link.nodes[-1], :3, 3]
+    Hs = res.pose(link.start)
+    pe = res.position(link.end)
     d = pe - Hs[:, :3, 3]
     return np.einsum("tij,ti->tj", Hs[:, :3, :3], d)[:, 1]
 
@@ -247,15 +253,16 @@ def settling_time(t, err, tol) -> float:
 
 def run(p: ManipulatorParams, t_end: float = 6.0, elements: int = 8, dt_out: float = 2e-3,
         rtol: float | None = None, atol: float | None = None, linear_solver: str = "auto",
-        settle_tol: float = 0.02, nmodes: int = 8, integrator: str = "generalized-alpha") -> dict:
+        settle_tol: float = 0.02, nmodes: int = 8, integrator: str = "generalized-alpha",
+        fidelity: dict | None = None) -> dict:
     """Gravity compensation, simulation, modes at the target; returns a dict of results.
     The simulation runs with phmech's defaults unless rtol/atol/linear_solver/integrator say
     otherwise."""
     cpu = {}
     c0 = time.process_time()
-    ff, st_lock = gravity_compensation(p, elements=elements)
+    ff, st_lock = gravity_compensation(p, elements=elements, fidelity=fidelity)
     cpu["gravity_compensation"] = time.process_time() - c0
-    m, h = build(p, elements=elements, ff=ff)
+    m, h = build(p, elements=elements, ff=ff, fidelity=fidelity)
     with warnings.catch_warnings(record=True) as wlist:
         warnings.simplefilter("always", ph.RedundantConstraintWarning)
         c0 = time.process_time()
@@ -321,8 +328,9 @@ def run(p: ManipulatorParams, t_end: float = 6.0, elements: int = 8, dt_out: flo
 
 
 def deflection_static(st, link) -> float:
-    Hs = st.poses[link.nodes[0]]
-    d = st.poses[link.nodes[-1], :3, 3] - Hs[:3, 3]
+    P = link.node_poses(st.poses[link.nodes])
+    Hs = P[0]
+    d = P[-1, :3, 3] - Hs[:3, 3]
     return float((Hs[:3, :3].T @ d)[1])
 
 
@@ -415,12 +423,15 @@ def plot_response(out: dict, p: ManipulatorParams, path: str, path_energy: str) 
 def main(argv=None) -> dict:
     ap = example_parser(__doc__, "short run (N = 4 elements, 3 s)")
     ap.add_argument("--gif", action="store_true", help="also save an animated GIF (needs pillow)")
+    ap.add_argument("--rigid", nargs="*", default=[], choices=("F1", "F2", "F3"),
+                    help="links modelled rigid (fidelity='rigid'), e.g. --rigid F1")
     a = ap.parse_args(argv)
     N = a.elements or (4 if a.quick else 8)
     t_end = a.t_end or (3.0 if a.quick else 6.0)
     p = ManipulatorParams()
     c0 = time.process_time()
-    out = run(p, t_end=t_end, elements=N, rtol=a.rtol, atol=a.atol)
+    out = run(p, t_end=t_end, elements=N, rtol=a.rtol, atol=a.atol,
+              fidelity={k: "rigid" for k in a.rigid})
     s = out["summary"]
     s["cpu_s"]["total_run"] = time.process_time() - c0
     figures = []
@@ -439,7 +450,8 @@ def main(argv=None) -> dict:
         print(json.dumps(s))
     else:
         e = s["energy"]
-        print(f"Fig. 3 manipulator: N = {N} elements per link, t_end = {t_end:g} s, rtol = {a.rtol or 'default'}")
+        print(f"Fig. 3 manipulator: N = {N} elements per link, t_end = {t_end:g} s, rtol = {a.rtol or 'default'}"
+              + (f"; rigid links: {', '.join(a.rigid)}" if a.rigid else ""))
         print(f"redundant constraint rows: {s['redundant_constraints'] or 'none (the loop contains flexible links)'}")
         print("settling time (|x - target| < {:.4f} rad for good): ".format(s["settle_tol_rad"]) +
               ", ".join(f"{k} {v:.3f} s" for k, v in s["settling_time_s"].items()) +

@@ -184,8 +184,7 @@ def label_modes(desc, poses, omega, shapes) -> dict:
         frac = np.where(U[:, None] > 0, per_kind / np.where(U > 0, U, 1.0)[:, None], 0.0)
     kinds = [MODE_KINDS[int(np.argmax(frac[k]))] if elastic[k] >= 0.5 else "rigid-body"
              for k in range(len(om2))]
-    groups = {b.name: [b.carrier] for b in desc.bodies.values()}
-    groups.update({lk.name: list(lk.nodes) for lk in desc.links.values()})
+    groups = dict(desc.groups())
     part = [{nm: float(kin[k, cs].sum() / ktot[k]) if ktot[k] > 0 else 0.0
              for nm, cs in groups.items()} for k in range(len(om2))]
     spart = []
@@ -193,7 +192,8 @@ def label_modes(desc, poses, omega, shapes) -> dict:
         d = {}
         for lk in desc.links.values():
             i0 = desc.first_element[lk.name]
-            d[lk.name] = float(strain[k, i0:i0 + lk.elements].sum() / U[k]) if U[k] > 0 else 0.0
+            ne = len(desc.link_elements(lk))
+            d[lk.name] = float(strain[k, i0:i0 + ne].sum() / U[k]) if U[k] > 0 else 0.0
         spart.append(d)
     return dict(kind=kinds, strain_fractions=frac, elastic_fraction=elastic, participation=part,
                 strain_participation=spart)

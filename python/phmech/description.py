@@ -44,6 +44,8 @@ class ModelDescription:
     links: dict = dataclasses.field(default_factory=dict)      # name -> FlexibleLink
     #: link name -> index of its first element (its elements are consecutive)
     first_element: dict = dataclasses.field(default_factory=dict)
+    #: link name -> its unstressed strain eps_hat (6,): (kappa [1/m], 1, 0, 0)
+    link_strain: dict = dataclasses.field(default_factory=dict)
     #: carrier -> the pose (4x4) the user gave it (add_rigid_body or add_flexible_link pose=)
     given: dict = dataclasses.field(default_factory=dict)
     #: carriers whose twist the user gave (add_rigid_body(twist=))
@@ -54,8 +56,14 @@ class ModelDescription:
         return carrier_name(c, self.bodies, self.links)
 
     def link_unstressed_strain(self, link: FlexibleLink) -> np.ndarray:
-        """The unstressed strain eps_hat (6,) of a link's elements."""
-        return np.asarray(self.elements[self.first_element[link.name]]["eps"])
+        """The unstressed strain eps_hat (6,) of a link (its elements', for a nonlinear one)."""
+        return np.asarray(self.link_strain[link.name])
+
+    def rigid_carriers(self) -> dict:
+        """Carrier index -> name of every rigid carrier: the bodies and the rigid links."""
+        out = {b.carrier: b.name for b in self.bodies.values()}
+        out.update({lk.nodes[0]: lk.name for lk in self.links.values() if lk.rigid})
+        return dict(sorted(out.items()))
 
     def body_carriers(self) -> set:
         """Carrier indices of the rigid bodies."""
@@ -64,10 +72,12 @@ class ModelDescription:
     def groups(self) -> list:
         """(name, carriers) of every body and every link, bodies first, in the order added."""
         return [(b.name, [b.carrier]) for b in self.bodies.values()] + \
-            [(lk.name, list(lk.nodes)) for lk in self.links.values()]
+            [(lk.name, lk.carriers) for lk in self.links.values()]
 
     def link_elements(self, link: FlexibleLink) -> list:
-        """The element rows of a link, from its start."""
+        """The element rows of a link, from its start (none for a rigid link)."""
+        if link.rigid:
+            return []
         first = self.first_element[link.name]
         return self.elements[first:first + link.elements]
 

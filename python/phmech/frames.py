@@ -104,22 +104,50 @@ class Body:
 
 @dataclasses.dataclass
 class FlexibleLink:
-    """A beam discretized into ``elements`` se3 elements; ``nodes`` are carrier indices;
-    ``mesh``: what phmech.mesh.choose_elements chose when the count came from a band (else
-    None)."""
+    """A flexible link: ``elements`` se3 elements between ``elements + 1`` nodes; ``nodes`` are
+    the carrier indices of the nodes; ``mesh``: what phmech.mesh.choose_elements chose when the
+    count came from a band (else None).
+
+    ``fidelity`` (phmech.fidelity): ``"nonlinear"``, every node its own carrier (``offsets``
+    None: each node frame is its carrier's frame), or ``"rigid"``, the whole link ONE carrier
+    (every entry of ``nodes`` the same index) and the node frames fixed ``offsets``
+    (elements + 1, 4, 4) on it, where the nonlinear link's nodes sit on the undeformed link.
+    Results read a node's pose as its carrier's pose times its offset (:meth:`node_poses`),
+    so they need not tell the two apart."""
     name: str
     length: float
     elements: int
     nodes: list
     mesh: Optional["MeshChoice"] = None
+    fidelity: str = "nonlinear"
+    offsets: Optional[np.ndarray] = dataclasses.field(default=None, compare=False)
+
+    @property
+    def rigid(self) -> bool:
+        """Whether the link is one rigid carrier (fidelity "rigid")."""
+        return self.fidelity == "rigid"
+
+    @property
+    def carriers(self) -> list:
+        """The link's distinct carrier indices, from its start (one for a rigid link)."""
+        return list(dict.fromkeys(self.nodes))
+
+    def offset(self, k: int) -> np.ndarray:
+        """The 4x4 offset of node ``k``'s frame on its carrier (identity for a nonlinear link)."""
+        return np.eye(4) if self.offsets is None else np.array(self.offsets[k])
+
+    def node_poses(self, P: np.ndarray) -> np.ndarray:
+        """World poses of the node frames, (..., nodes, 4, 4), from ``P`` (..., nodes, 4, 4), the
+        poses of the nodes' carriers (``poses[..., link.nodes]``)."""
+        return P if self.offsets is None else P @ np.asarray(self.offsets)
 
     @property
     def start(self) -> Frame:
-        return Frame(self.nodes[0], np.eye(4), self.name + ".start")
+        return Frame(self.nodes[0], self.offset(0), self.name + ".start")
 
     @property
     def end(self) -> Frame:
-        return Frame(self.nodes[-1], np.eye(4), self.name + ".end")
+        return Frame(self.nodes[-1], self.offset(len(self.nodes) - 1), self.name + ".end")
 
     def node(self, k: int) -> Frame:
         """The frame of node ``k``, 0 (start) .. ``elements`` (end), at distance k L / elements
@@ -131,7 +159,7 @@ class FlexibleLink:
             raise ModelError(f"link {self.name!r} has nodes 0..{n - 1} ({self.elements} elements; "
                              f"negative indices -{n}..-1 count from the end); got node({k})")
         k = int(k) % n
-        return Frame(self.nodes[k], np.eye(4), f"{self.name}.node{k}")
+        return Frame(self.nodes[k], self.offset(k), f"{self.name}.node{k}")
 
 
 def frame_of(x, desc: "ModelDescription", what: str) -> Frame:
@@ -169,7 +197,8 @@ def frame_of(x, desc: "ModelDescription", what: str) -> Frame:
 
 
 def carrier_name(c: int, bodies: dict, links: dict) -> str:
-    """'the ground', "body 'b'" or "node k of link 'L'" for carrier index c."""
+    """'the ground', "body 'b'" or "node k of link 'L'" or "rigid link 'L'" for carrier index
+    c."""
     if c < 0:
         return "the ground"
     for b in bodies.values():
@@ -177,7 +206,7 @@ def carrier_name(c: int, bodies: dict, links: dict) -> str:
             return f"body {b.name!r}"
     for lk in links.values():
         if c in lk.nodes:
-            return f"node {lk.nodes.index(c)} of link {lk.name!r}"
+            return f"rigid link {lk.name!r}" if lk.rigid else f"node {lk.nodes.index(c)} of link {lk.name!r}"
     return f"carrier {c}"
 
 

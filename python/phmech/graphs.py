@@ -198,7 +198,7 @@ class MechanismGraph:
 @dataclass(frozen=True)
 class Graphs:
     """The mechanism's graphs (paper Sec. IV). Vertices ``G_B``: "0" (ground), the
-    rigid bodies by name in the order added, then "<link>L", "<link>R" per flexible link (and
+    rigid bodies and rigid-fidelity links by name in the order added, then "<link>L", "<link>R" per flexible link (and
     "<link>[k]" for interior nodes used by a pair). Edges (name, l, r): ``G_K`` pairs, ``G_F``
     links, ``G_I`` interactions (add_interaction, whose reaction defaults to the ground, and
     spring-dampers). ``B_K``/``B_I``: incidence matrices with labels (-1 at l(e), +1 at r(e));
@@ -226,9 +226,9 @@ def _vertex(desc: "ModelDescription", carrier: int, inner: dict) -> str:
     for an interior node k (recorded in ``inner``)."""
     if carrier < 0:
         return GROUND
-    for b in desc.bodies.values():
-        if b.carrier == carrier:
-            return b.name
+    rigid = desc.rigid_carriers()
+    if carrier in rigid:
+        return rigid[carrier]
     for lk in desc.links.values():
         if carrier in lk.nodes:
             k = lk.nodes.index(carrier)
@@ -247,7 +247,8 @@ def mechanism_graphs(desc: "ModelDescription") -> Graphs:
     """The graphs of the mechanism ``desc`` describes: a pair or interaction added between a
     and b, in that order, is the edge (a, b): -1 at row a, +1 at row b."""
     inner: dict = {}
-    g = MechanismGraph(rigid=list(desc.bodies), flexible=list(desc.links), inner=inner)
+    g = MechanismGraph(rigid=list(desc.rigid_carriers().values()),
+                       flexible=[nm for nm, lk in desc.links.items() if not lk.rigid], inner=inner)
     for e in desc.pairs:
         g.pairs.append((e["name"], _vertex(desc, e["a"], inner), _vertex(desc, e["b"], inner)))
     for ld in desc.loads:

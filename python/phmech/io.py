@@ -484,7 +484,7 @@ def _carrier_names(n: int, bodies: dict, links: dict) -> list:
     for lk in links.values():
         for k, c in enumerate(lk.nodes):
             if 0 <= c < n:
-                names[c] = f"{lk.name}.node{k}"
+                names[c] = lk.name if lk.rigid else f"{lk.name}.node{k}"
     return names
 
 
@@ -507,7 +507,9 @@ def _pair_labels(pairs: dict, nj: int, nrows: int) -> tuple:
 
 def _links_meta(links: dict) -> dict:
     return {lk.name: dict(length=lk.length, elements=lk.elements, nodes=list(lk.nodes),
-                          mesh=None if lk.mesh is None else dataclasses.asdict(lk.mesh))
+                          mesh=None if lk.mesh is None else dataclasses.asdict(lk.mesh),
+                          fidelity=lk.fidelity,
+                          offsets=None if lk.offsets is None else np.asarray(lk.offsets).tolist())
             for lk in links.values()}
 
 
@@ -518,7 +520,10 @@ def _links_from(meta: dict) -> dict:
         mesh = d["mesh"]
         if mesh is not None:
             mesh = MeshChoice(**{**mesh, "frequencies": tuple(mesh["frequencies"])})
-        out[name] = FlexibleLink(name, d["length"], d["elements"], list(d["nodes"]), mesh)
+        offsets = d.get("offsets")
+        out[name] = FlexibleLink(name, d["length"], d["elements"], list(d["nodes"]), mesh,
+                                 d.get("fidelity", "nonlinear"),
+                                 None if offsets is None else np.array(offsets, dtype=float))
     return out
 
 

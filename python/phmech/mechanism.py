@@ -27,6 +27,7 @@ from ._checks import array, choice, integer, per_coordinate, positive, positive_
 from ._core import ModelError, SolverError
 from .actuators import PD, Effort, Spring, actuator_row
 from .description import ModelDescription
+from .fidelity import FIDELITIES, distributed_resultant, node_offsets, rigid_link_inertia
 from .frames import Body, FlexibleLink, Frame, frame_of, link_of, rotation
 from .graphs import Graphs, mechanism_graphs
 from .laws import (Constant, Cycloidal, Function, Linear, Motion, PiecewisePolynomial, Product,
@@ -156,7 +157,7 @@ class Mechanism:
                           pose=None, curvature=None, discretization: str = "se3",
                           band: Optional[float] = None,
                           frequency_tolerance: Optional[float] = None, *,
-                          start=None) -> FlexibleLink:
+                          start=None, fidelity: str = "nonlinear") -> FlexibleLink:
         """A flexible link of ``length`` [m] along the local x axis of its start frame, placed by
         ``start`` (a frame: the link's start coincides with it, its axis along the frame's x,
         e.g. ``start=body.frame_at((0.3, 0, 0))``) or ``pose`` (4x4, the pose of its start; give
@@ -176,7 +177,22 @@ class Mechanism:
 
         ``elements``: the number of se3 elements; None: chosen from ``band`` [Hz] and
         ``frequency_tolerance`` (default: the Mechanism's; see Mechanism and phmech.mesh), or 10
-        without a band."""
+        without a band.
+
+        ``fidelity``: ``"nonlinear"`` (the se3 chain above) or ``"rigid"``: the link is ONE rigid
+        body with the link's mass properties (the section inertia integrated along the
+        unstressed shape, curvature included; phmech.fidelity), its frame the start frame, and
+        the same face: ``start``, ``end`` and ``node(k)`` are frames on it where the nonlinear
+        link's nodes sit on the undeformed link (``elements`` or the band set how many, as for a
+        nonlinear link, so that switching fidelity keeps every frame), pairs, loads, springs,
+        ``record=`` and results take them alike; a distributed load becomes its resultant
+        wrench. Right for a link whose first flexible frequency is far above the band of
+        interest (docs/user_guide.md, "Model only what a scene needs"); it has no strain, so no
+        stress resultants, and its ``properties``' stiffness and damping do not act (they are
+        still checked, so that one properties object serves both fidelities)."""
+        if not isinstance(fidelity, str) or fidelity not in FIDELITIES:
+            raise ModelError(f"link {name!r}: unknown fidelity {fidelity!r} (available: "
+                             f"{', '.join(map(repr, FIDELITIES))})")
         if not isinstance(discretization, str) or discretization != "se3":
             raise ModelError(f"unknown discretization {discretization!r} (available: 'se3')")
         L = real("length", length)
@@ -225,9 +241,28 @@ class Mechanism:
         if H0 is None or not np.all(np.isfinite(H0)):
             raise ModelError(f"link {name!r}: curvature {kap.tolist()} 1/m over length {L:g} m gives "
                              f"node poses that are not finite in double precision")
+        if fidelity == "rigid":
+            with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+                M, mass, com = rigid_link_inertia(L, I, eps)
+            if not (np.all(np.isfinite(M)) and positive_definite(M, cholesky=True)):
+                raise ModelError(f"link {name!r}: the rigid link's spatial inertia (length {L:g} m, "
+                                 f"these properties) is not finite and positive definite in "
+                                 f"double precision")
+            self._new_name(name)
+            c = len(self._car)
+            self._desc.first_element[name] = len(self._el)
+            self._desc.link_strain[name] = eps
+            self._car.append(dict(M=M, mass=mass, com=com, H0=H0[0], t0=np.zeros(6)))
+            if given is not None:
+                self._given[c] = np.array(H0[0])
+            link = FlexibleLink(name, L, N, [c] * (N + 1), choice, fidelity="rigid",
+                                offsets=node_offsets(L, N, eps))
+            self._links[name] = link
+            return link
         self._new_name(name)
         first = len(self._car)
         self._desc.first_element[name] = len(self._el)
+        self._desc.link_strain[name] = eps
         for k in range(N + 1):
             share = h if 0 < k < N else h / 2
             Mk = I * share
@@ -343,7 +378,9 @@ class Mechanism:
         fa = frame_of(a, self._desc, f"pair {name!r}, argument a")
         fb = frame_of(b, self._desc, f"pair {name!r}, argument b")
         if fa.carrier == fb.carrier:
-            raise ModelError(f"pair {name!r}: both frames are on the same carrier (a body cannot be paired with itself)")
+            raise ModelError(f"pair {name!r}: both frames are on the same carrier, "
+                             f"{self._desc.carrier_name(fa.carrier)} (a body or rigid link cannot "
+                             f"be paired with itself)")
         try:
             Q = np.eye(4)
             Q[:3, :3] = pair._rotation()
@@ -493,7 +530,8 @@ class Mechanism:
         fa = frame_of(a, self._desc, f"spring {name!r}, argument a")
         fb = frame_of(b, self._desc, f"spring {name!r}, argument b")
         if fa.carrier == fb.carrier:
-            raise ModelError(f"spring {name!r}: both ends are on the same carrier")
+            raise ModelError(f"spring {name!r}: both ends are on the same carrier, "
+                             f"{self._desc.carrier_name(fa.carrier)}")
         kk, cc = real(f"spring {name!r}: k", k), real(f"spring {name!r}: c", c)
         if kk < 0 or cc < 0:
             raise ModelError(f"spring {name!r}: k and c must be >= 0")
@@ -555,7 +593,9 @@ class Mechanism:
     @_recorded
     def add_distributed_load(self, name: str, link: FlexibleLink, force_per_length,
                              law: _Law = Constant(1.0), frame: str = "world") -> None:
-        """Distributed force [N/m] on a link, lumped on its nodes (h/2 at the ends, h inside)."""
+        """Distributed force [N/m] on a link (``frame`` "world" axes, or "body": each section's
+        axes), lumped on its nodes (h/2 at the ends, h inside; one port per node, ``name[k]``);
+        on a rigid link, its resultant wrench (one port, ``name``)."""
         self._check_name(name)
         if not isinstance(link, FlexibleLink) or self._links.get(link.name) != link:
             raise ModelError(f"distributed load {name!r}: link must be a flexible link of this "
@@ -563,6 +603,14 @@ class Mechanism:
                              f"got {link!r}")
         q = array(f"distributed load {name!r}: force_per_length", force_per_length, (3,),
                   "3 finite numbers [N/m]")
+        if link.rigid:   # its resultant wrench, exact for a rigid body (phmech.fidelity)
+            w, pt = distributed_resultant(link.length, self._desc.link_unstressed_strain(link), q,
+                                          frame == "world")
+            ld = self._wrench_entry(name, link.start, w, law, frame, pt,
+                                    f"distributed load {name!r}")
+            self._new_name(name)
+            self._loads.append(ld)
+            return
         h = link.length / link.elements
         loads = []
         for k, c in enumerate(link.nodes):

@@ -221,9 +221,10 @@ def _geometry(links: dict, bodies: dict, pairs: list, poses: np.ndarray) -> dict
     def point(c, T):
         H = np.eye(4) if c < 0 else poses[c]
         return (H @ np.asarray(T))[:3, 3]
-    g = dict(links=[(lk.name, poses[lk.nodes][:, :3, 3]) for lk in links.values()],
+    frames = {lk.name: lk.node_poses(poses[lk.nodes]) for lk in links.values()}
+    g = dict(links=[(nm, F[:, :3, 3]) for nm, F in frames.items()],
              bodies=[], pairs=[],
-             sections=[poses[lk.nodes][:, :3, 1] for lk in links.values()])  # local y axes
+             sections=[F[:, :3, 1] for F in frames.values()])  # local y axes
     attach = {b.carrier: [] for b in bodies.values()}
     for p in pairs:
         pa = point(p["a"], p["Ta"])

@@ -31,6 +31,10 @@ def stress_resultants(desc: ModelDescription, model, result: SimulationResult, l
     the core's element (csrc/model/element.c; docs/method.md section 4.2), the one the simulation
     integrated. ``model``: the core model of ``desc``."""
     result = simulation_result(result, "stress_resultants")
+    if link.rigid:
+        raise ModelError(f"stress_resultants: link {link.name!r} is rigid (fidelity='rigid'): it "
+                         f"has no strain, so no stress resultants; the pairs' constraint wrenches "
+                         f"(result.joint(name)['wrench']) give the forces at its ends")
     cols = result._columns(link.nodes)
     nt, nc = len(result.t), len(desc.carriers)
     first = desc.first_element[link.name]

@@ -180,7 +180,7 @@ class SimulationResult:
     def positions(self, link: Union[str, FlexibleLink]) -> np.ndarray:
         """Node positions of a link [m], shape (nt, nnodes, 3)."""
         lk = link_of(self._links, link, "")
-        return self.poses[:, self._columns(lk.nodes)][..., :3, 3]
+        return lk.node_poses(self.poses[:, self._columns(lk.nodes)])[..., :3, 3]
 
     def tip(self, link: Union[str, FlexibleLink]) -> np.ndarray:
         """Position of the link's end node [m], shape (nt, 3)."""
@@ -204,7 +204,7 @@ class SimulationResult:
                 if isinstance(it, Body) and self._bodies.get(it.name) == it:
                     cs = [it.carrier]
                 elif isinstance(it, FlexibleLink) and self._links.get(it.name) is it:
-                    cs = list(it.nodes)
+                    cs = it.carriers
                 elif isinstance(it, (str, Body, FlexibleLink)):
                     nm = it if isinstance(it, str) else it.name
                     raise ModelError(f"{what}: {nm!r} is not a body or link of this mechanism "
@@ -412,7 +412,7 @@ class StaticResult:
     def positions(self, link: Union[str, FlexibleLink]) -> np.ndarray:
         """Node positions of a link [m], shape (nodes, 3)."""
         lk = link_of(self._links, link, "")
-        return self.poses[lk.nodes, :3, 3]
+        return lk.node_poses(self.poses[lk.nodes])[:, :3, 3]
 
     def to_xarray(self):
         """The equilibrium as an ``xarray.Dataset`` (poses: carrier x row x col)."""

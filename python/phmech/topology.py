@@ -208,6 +208,8 @@ def place_tree(desc: ModelDescription):
     frames_a = [e["Ta"] for e in desc.pairs]
     link_of = {}
     for lk in desc.links.values():
+        if lk.rigid:   # one carrier: placed like a body
+            continue
         for k, c in enumerate(lk.nodes):
             link_of[c] = (lk, k)
     adj = {c: [] for c in range(-1, nc)}
