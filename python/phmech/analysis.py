@@ -102,7 +102,7 @@ _STRAIN_KIND = (0, 1, 2, 3, 2, 1)
 
 def mac(a, b=None) -> np.ndarray:
     """Modal assurance criterion between two sets of mode shapes: (na, nb) with
-    MAC_ij = |a_i . b_j|^2 / ((a_i . a_i)(b_j . b_j)), 1 for parallel shapes and 0 for orthogonal
+    ``MAC_ij = |a_i . b_j|^2 / ((a_i . a_i)(b_j . b_j))``, 1 for parallel shapes and 0 for orthogonal
     ones (plain Euclidean products of the flattened shapes; for ModesResult shapes these mix
     rotations [rad] and translations [m], so compare shapes of the same mechanism). ``a``, ``b``:
     ModesResult objects or arrays (n, ...) of shapes; ``b`` None: ``a`` against itself."""
