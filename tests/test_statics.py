@@ -152,3 +152,33 @@ def test_follower_loads_are_not_judged_and_modes_warns():
     assert st.stable is None
     with pytest.warns(ph.StabilityWarning, match="follower loads \\['push'\\]"):
         m.modes(2, at=st)
+
+
+def test_static_from_a_horizontal_pendulum_finds_it_hanging():
+    # started horizontal, gravity has no stiffness (the tangent is singular) and Newton's load
+    # steps all fail; pseudo-transient continuation (csrc/solve/statics.c, ptc) lets it fall to
+    # the stable equilibrium: centre straight below the pivot, omega^2 = m g l / (I_c + m l^2)
+    m = ph.Mechanism(gravity=(0, 0, -9.81))
+    arm = m.add_rigid_body("arm", 1.0, np.diag([1e-4, 0.0075, 0.0075]), com=(0.15, 0, 0))
+    m.add_pair("shoulder", ph.Revolute(axis="y"), m.ground, arm, x0=0.0)
+    st = m.static()
+    np.testing.assert_allclose(st.poses[arm.carrier][:3, :3] @ [1, 0, 0], [0, 0, -1], atol=1e-9)
+    assert st.stable and st.lowest_omega == pytest.approx(np.sqrt(9.81 * 0.15 / 0.03), rel=1e-9)
+
+
+def test_a_failed_static_solve_carries_its_last_equilibrium():
+    # the deep arch of tests/hard (20 elements) has its limit point at P R^2/EI = 9.137
+    # (docs/validation.md); loaded with 2000 (P R^2/EI = 20) load control fails there, and the
+    # error's result is the last converged state: an equilibrium under the load factor it reports
+    import sys, os
+    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "hard"))
+    import _scenes as S
+    m, _ = S._arch(20, 2000.0)
+    with pytest.raises(ph.SolverError, match="last converged state, at load factor 0.45") as e:
+        m.static()
+    part = e.value.result
+    assert isinstance(part, ph.StaticResult) and 0.45 < part.load_factor < 0.46
+    m2, _ = S._arch(20, 2000.0 * part.load_factor)
+    st = m2.static()
+    # measured 6.4e-10 m (of a 100 m arch)
+    np.testing.assert_allclose(st.poses[:, :3, 3], part.poses[:, :3, 3], atol=1e-7)

@@ -144,10 +144,12 @@ phm_status phm_static(const phm_model *model, const double *poses, double time, 
                       double tol, double *poses_out, double *lambda_out, int *iters,
                       phm_error *err);
 /* The same, calling monitor(ctx, load factor reached, Newton iterations so far, load step) after
- * each accepted load step (monitor may be NULL); a non-zero return stops with PHM_EINTERRUPT. */
+ * each accepted load step (monitor may be NULL); a non-zero return stops with PHM_EINTERRUPT.
+ * On any failure poses_out and lambda_out hold the last converged state and *reached (may be
+ * NULL) its load factor. */
 phm_status phm_static_monitored(const phm_model *model, const double *poses, double time,
                                 int steps, double tol, phm_monitor monitor, void *ctx,
                                 double *poses_out, double *lambda_out, int *iters,
-                                phm_error *err);
+                                double *reached, phm_error *err);
 
 #endif /* PHMECH_H */

@@ -802,18 +802,31 @@ static PyObject *py_model_static(PyObject *self, PyObject *args) {
   c.mon = mon == Py_None ? NULL : mon;
   if (poses && lam) {
     int it = 0;
+    double reached = 0;
     phm_error err;
     phm_status st;
     Py_BEGIN_ALLOW_THREADS
     st = phm_static_monitored(m, P ? PyArray_DATA(P) : NULL, time, steps, tol,
                               c.mon ? monitor_cb : NULL, &c, PyArray_DATA(poses),
-                              PyArray_DATA(lam), &it, &err);
+                              PyArray_DATA(lam), &it, &reached, &err);
     Py_END_ALLOW_THREADS
     if (c.failed) PyErr_Restore(c.et, c.ev, c.etb);
     else if (model_law_error(cap)) res = NULL; /* a callable law raised: that exception */
     else if (c.interrupted) PyErr_SetNone(PyExc_KeyboardInterrupt);
-    else if (st) phm_py_raise(&err);
-    else res = Py_BuildValue("OOi", poses, lam, it);
+    else if (st) {
+      /* the error carries the last converged state: partial = (poses, lambda, iterations,
+       * load factor reached), from which Mechanism.static builds err.result */
+      phm_py_raise(&err);
+      PyObject *et, *ev, *etb;
+      PyErr_Fetch(&et, &ev, &etb);
+      PyErr_NormalizeException(&et, &ev, &etb);
+      PyObject *partial = ev ? Py_BuildValue("OOid", poses, lam, it, reached) : NULL;
+      if (partial) {
+        if (PyObject_SetAttrString(ev, "partial", partial) < 0) PyErr_Clear(); /* keep the error */
+        Py_DECREF(partial);
+      }
+      PyErr_Restore(et, ev, etb);
+    } else res = Py_BuildValue("OOi", poses, lam, it);
   }
   Py_XDECREF(poses);
   Py_XDECREF(lam);

@@ -101,20 +101,88 @@ static int newton(lin_t *L, lin_kkt_t *S, double *H, double *lam, double tol, in
   return 1;
 }
 
+/* Pseudo-transient continuation at the load scale L->scale from (H, lam), for where Newton's
+ * tangent is singular or misleading (a pendulum started horizontal: gravity has no stiffness
+ * there, and Newton's step is infinite): Newton on an implicit Euler step of the overdamped
+ * motion M d(delta)/dtau = f, i.e. [df/ddelta - M/dtau, G^T; G, 0] x = -R, with the pseudo time
+ * step dtau grown as the residual falls (switched evolution relaxation: dtau *= |R_prev| / |R|,
+ * at most x10 per step). Far from equilibrium it moves downhill, near it it is Newton, so it
+ * ends at a stable equilibrium as a rule: after each step that moved less than 1e-2 (rad, element
+ * lengths) newton() is tried from there. 0 on convergence, 1 on failure (H, lam restored). */
+static int ptc(lin_t *L, lin_kkt_t *S, double *H, double *lam, double tol, int maxit,
+               static_work_t *w, int *iters) {
+  const phm_model *m = L->m;
+  int nc = m->nc, n6 = 6 * nc, nk = m->ncons, N = n6 + nk;
+  const int *ptr = L->ptr, *nbr = L->nbr;
+  double *R = w->R;
+  memcpy(w->Hsave, H, sizeof(double) * 16 * (size_t)nc);
+  if (nk) memcpy(w->lsave, lam, sizeof(double) * (size_t)nk);
+  L->lam = lam;
+  double trM = 0;
+  for (int c = 0; c < nc; c++)
+    for (int i = 0; i < 6; i++) trM += m->car[c].M[7 * i];
+  double dtau = 0, rn = 0;
+  static_residual(L, H, R);
+  for (int i = 0; i < N; i++) rn += R[i] * R[i];
+  rn = sqrt(rn);
+  for (int it = 0; it < maxit && isfinite(rn); it++) {
+    (*iters)++;
+    lin_force_jacobian_blocks(L, H, w->f1, w->f2);
+    if (nk) lin_constraint_blocks(L, H, w->Gp);
+    if (it == 0) { /* the first step: the inertia term 100 times the stiffness */
+      double trK = 0;
+      for (int r = 0; r < nc; r++)
+        for (int q = ptr[r]; q < ptr[r + 1]; q++)
+          if (nbr[q] == r)
+            for (int i = 0; i < 6; i++) trK += fabs(L->Kb[36 * (size_t)q + 7 * i]);
+      dtau = trK > 0 && trM > 0 ? 1e-2 * trM / trK : 1e-2;
+    }
+    for (int r = 0; r < nc; r++)
+      for (int q = ptr[r]; q < ptr[r + 1]; q++)
+        if (nbr[q] == r)
+          for (int i = 0; i < 36; i++) L->Kb[36 * (size_t)q + i] -= m->car[r].M[i] / dtau;
+    for (int i = 0; i < N; i++) R[i] = -R[i];
+    if (lin_kkt_factor(S, L->Kb, w->Gp) || lin_kkt_solve(S, R)) {
+      dtau *= 0.1;
+      static_residual(L, H, R);
+      continue;
+    }
+    double rot, sn = step_size(m, R, &rot);
+    if (!isfinite(sn)) break;
+    take_step(m, H, lam, R, rot > 1.0 ? 1.0 / rot : 1.0);
+    static_residual(L, H, R);
+    double rnew = 0;
+    for (int i = 0; i < N; i++) rnew += R[i] * R[i];
+    rnew = sqrt(rnew);
+    if (!isfinite(rnew)) break;
+    /* switched evolution relaxation, growing at least x2 (x10 while the steps are tiny) while
+     * the residual does not grow: a pendulum's torque hardly changes over its first small
+     * steps, and SER alone stalls there */
+    dtau *= rnew > rn ? 0.5 : fmin(10.0, fmax(sn < 1e-4 ? 10.0 : 2.0, rnew > 0 ? rn / rnew : 10.0));
+    rn = rnew;
+    /* near an equilibrium: Newton (which restores the state when it fails) */
+    if (sn < 1e-2 && !newton(L, S, H, lam, tol, 8, w, iters)) return 0;
+  }
+  memcpy(H, w->Hsave, sizeof(double) * 16 * (size_t)nc);
+  if (nk) memcpy(lam, w->lsave, sizeof(double) * (size_t)nk);
+  return 1;
+}
+
 phm_status phm_static(const phm_model *m, const double *poses, double time, int steps, double tol,
                       double *poses_out, double *lambda_out, int *iters, phm_error *err) {
   return phm_static_monitored(m, poses, time, steps, tol, NULL, NULL, poses_out, lambda_out, iters,
-                              err);
+                              NULL, err);
 }
 
 phm_status phm_static_monitored(const phm_model *m, const double *poses, double time, int steps,
                                 double tol, phm_monitor monitor, void *ctx, double *poses_out,
-                                double *lambda_out, int *iters, phm_error *err) {
+                                double *lambda_out, int *iters, double *reached, phm_error *err) {
   phm_error_clear(err);
   if (!m || !poses_out) return PHM_FAIL(err, PHM_EINVAL, "phm_static: NULL argument");
   if (steps < 1) return PHM_FAIL(err, PHM_EINVAL, "load steps must be >= 1 (got %d)", steps);
   if (!(tol > 0)) return PHM_FAIL(err, PHM_EINVAL, "tolerance must be > 0 (got %g)", tol);
   int nc = m->nc, n6 = 6 * nc, nk = m->ncons, N = n6 + nk, it = 0;
+  double s = 0; /* the load factor reached */
   phm_status st = PHM_OK;
   lin_t L = {0};
   lin_kkt_t S;
@@ -144,7 +212,7 @@ phm_status phm_static_monitored(const phm_model *m, const double *poses, double 
    * cost the stiff roll-up of benchmarks/statics_newton.py 1501 iterations instead of 1158) and
    * doubled after one that took at most 4, up to 1/steps: `steps` bounds the increment (a larger
    * one can pass a bifurcation unseen) */
-  double s = 0, ds = 1.0 / steps;
+  double ds = 1.0 / steps;
   while (s < 1.0) {
     double snew = fmin(1.0, s + ds);
     L.scale = snew;
@@ -152,7 +220,14 @@ phm_status phm_static_monitored(const phm_model *m, const double *poses, double 
     if (newton(&L, &S, poses_out, lam, tol, 12, &w, &it)) {
       ds *= 0.5;
       if (ds < 1e-4 / steps) {
-        st = PHM_FAIL(err, PHM_ESOLVER, "static equilibrium: Newton failed at load factor %.6g after step halving (%d iterations)%s", snew, it,
+        /* Newton cannot take even a tiny load step: its tangent is singular or misleading here
+         * (a mechanism away from any equilibrium); pseudo-transient continuation instead */
+        if (!ptc(&L, &S, poses_out, lam, tol, 500, &w, &it)) {
+          s = snew;
+          ds = 1.0 / steps;
+          continue;
+        }
+        st = PHM_FAIL(err, PHM_ESOLVER, "static equilibrium: Newton failed at load factor %.6g after step halving, and pseudo-transient continuation too (%d iterations)%s", snew, it,
                            pre_failed ? "; it also failed without load (unconstrained rigid-body motion or incompatible constraints?)" : "");
         goto done;
       }
@@ -170,8 +245,10 @@ phm_status phm_static_monitored(const phm_model *m, const double *poses, double 
                        "wrenches: the model's numbers overflow double precision");
     goto done;
   }
-  if (lambda_out && nk) memcpy(lambda_out, lam, sizeof(double) * (size_t)nk);
 done:
+  /* also after a failure: the last converged state, at load factor *reached */
+  if (lam && lambda_out && nk) memcpy(lambda_out, lam, sizeof(double) * (size_t)nk);
+  if (reached) *reached = s;
   if (iters) *iters = it;
   lin_free(&L);
   lin_kkt_free(&S);

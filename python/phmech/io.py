@@ -634,7 +634,8 @@ def static_dataset(res):
                                     dict(units="N m or N"))}
     coords = {"carrier": np.arange(nc)}
     meta = dict(links=_links_meta(res._links), loads=encode_value(list(res.loads)),
-                steps=int(res.steps), stable=res.stable, lowest_omega=float(res.lowest_omega))
+                steps=int(res.steps), stable=res.stable, lowest_omega=float(res.lowest_omega),
+                load_factor=float(res.load_factor))
     attrs = _header("static", meta)
     attrs["iterations"] = int(res.iterations)
     return xr.Dataset(data, coords, attrs)
@@ -692,7 +693,8 @@ def load_result(path):
         return StaticResult(a("poses"), a("constraint_wrenches"), int(ds.attrs["iterations"]),
                             _links_from(meta["links"]), tuple(decode_value(meta["loads"])),
                             steps=meta["steps"], stable=meta["stable"],
-                            lowest_omega=meta["lowest_omega"])
+                            lowest_omega=meta["lowest_omega"],
+                            load_factor=meta.get("load_factor", 1.0))
     if kind != "simulation":
         raise ModelError(f"{p}: unknown result kind {kind!r}")
     bodies = {n: Body(n, c) for n, c in meta["bodies"].items()}

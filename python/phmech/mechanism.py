@@ -1172,6 +1172,15 @@ class Mechanism:
             monitor = _run.StaticMonitor() if progress else None
             try:
                 P, lam, it = _core.model_static(model, poses, time, n_steps, tol, monitor)
+            except SolverError as e:
+                if not hasattr(e, "partial"):
+                    raise
+                P, lam, it, reached = e.partial
+                e.result = StaticResult(P, lam, it, self._links, tuple(extra), steps=n_steps,
+                                        load_factor=reached)
+                e.args = (f"{e.args[0]} (the last converged state, at load factor {reached:.6g}, "
+                          f"is in this error's 'result' attribute)",)
+                raise
             finally:
                 if monitor is not None:
                     monitor.close()

@@ -408,6 +408,9 @@ class StaticResult:
     steps: int = 0
     stable: Optional[bool] = None
     lowest_omega: float = float("nan")
+    #: the load factor this state is in equilibrium under: 1, or less for the partial result of
+    #: a failed solve (SolverError.result)
+    load_factor: float = 1.0
 
     def positions(self, link: Union[str, FlexibleLink]) -> np.ndarray:
         """Node positions of a link [m], shape (nodes, 3)."""
