@@ -211,19 +211,20 @@ def main(argv=None) -> dict:
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
+        import phmech.plot as pp
 
         os.makedirs(args.outdir, exist_ok=True)
         fig, ax = plt.subplots(1, 3, figsize=(13, 3.8))
-        ax[0].plot(masses, f[:, 0], "o-", label="phmech")
-        ax[0].plot(masses, ref[:, 0], "k--", label="Euler-Bernoulli")
+        first = ds.isel({d: 0 for d in ds["frequency"].dims if d != "tip_mass"})
+        pp.sweep(first, "frequency", ax=ax[0], reference=ref[:, 0])
         ax[0].set(xlabel="tip mass [kg]", ylabel="first frequency [Hz]", title="(i) cantilever")
-        ax[0].legend()
-        ax[1].hist(f1[np.isfinite(f1)], bins=max(5, nsamp // 6))
+        pp.sweep(mc, "f1", ax=ax[1])
         ax[1].axvline(fref.mean(), color="k", ls="--", label="formula, mean")
-        ax[1].set(xlabel="first frequency [Hz]", ylabel="samples", title="(ii) leaf spring")
+        ax[1].set(xlabel="first frequency [Hz]", title="(ii) leaf spring")
         ax[1].legend()
-        sc = ax[2].scatter(1e3 * smp["thickness"], smp["plate_mass"], c=f1)
-        fig.colorbar(sc, ax=ax[2], label="f1 [Hz]")
+        mm = mc.assign(thickness_mm=1e3 * mc["thickness"])
+        mm["f1"].attrs["units"] = "Hz"
+        pp.sweep(mm, "f1", ax=ax[2], x="thickness_mm", y="plate_mass")
         ax[2].set(xlabel="leaf thickness [mm]", ylabel="platform mass [kg]")
         fig.tight_layout()
         path = os.path.join(args.outdir, "sweeps_montecarlo.png")

@@ -82,24 +82,19 @@ def plot(study: dict, path: str) -> None:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    import matplotlib.ticker
+    import phmech.plot as pp
 
     os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
     styles = {"mixed": "--", "se3": "-"}
     for d, s in study.items():
-        E = np.abs(np.array(s["errors"]))
-        for k in range(E.shape[1]):
-            axes[0].loglog(s["N"], E[:, k], styles[d], marker="o", ms=3, color=f"C{k}",
-                           label=f"{d} mode {k + 1}")
-            axes[1].loglog(s["states"], E[:, k], styles[d], marker="o", ms=3, color=f"C{k}")
-    axes[0].set_xlabel("elements N")
-    axes[1].set_xlabel("first-order states (mixed: planar 4N; se3: 3-D 12N)")
-    for ax in axes:
-        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
-        ax.set_ylabel("|relative frequency error|")
-        ax.grid(True, which="both", alpha=0.3)
-    axes[0].legend(fontsize=7, ncol=2)
+        E = np.array(s["errors"])
+        labels = [f"{d} mode {k + 1}" for k in range(E.shape[1])]
+        pp.convergence(s["N"], E, ax=axes[0], labels=labels, style=styles[d],
+                       ylabel="|relative frequency error|")
+        pp.convergence(s["states"], E, ax=axes[1], style=styles[d],
+                       xlabel="first-order states (mixed: planar 4N; se3: 3-D 12N)",
+                       ylabel="|relative frequency error|")
     fig.suptitle("Table I cantilever: convergence of the first five frequencies")
     fig.tight_layout()
     fig.savefig(path, dpi=120)

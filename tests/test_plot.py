@@ -123,3 +123,26 @@ def test_interactive_view_with_plotly(run):
     assert "mode 2" in fig.layout.title.text and len(fig.frames) == 16
     fig = ph.plot.interactive(m)
     assert len(fig.data) == 2       # the link and the clamp
+
+
+def test_convergence_and_sweep_plots_draw_their_numbers():
+    import phmech.plot as pp
+    import xarray as xr
+    N = np.array([4, 8, 16, 32])
+    E = np.stack([1.0 / N ** 2, -3.0 / N ** 2], axis=1)      # the sign is dropped (log axes)
+    ax = pp.convergence(N, E, labels=["a", "b"], order=2)
+    lines = ax.get_lines()
+    np.testing.assert_array_equal(lines[1].get_xdata(), N)
+    np.testing.assert_allclose(lines[1].get_ydata(), 3.0 / N ** 2)
+    np.testing.assert_allclose(lines[2].get_ydata(), 1.0 / N ** 2)   # the slope -2 reference
+    with pytest.raises(ph.ModelError, match="2 columns of errors but 1 labels"):
+        pp.convergence(N, E, labels=["a"])
+    grid = xr.Dataset({"f": (("m",), [3.0, 2.0, 1.0])}, coords={"m": [1.0, 2.0, 3.0]})
+    ax = pp.sweep(grid, "f", reference=[3.0, 2.0, 1.5])
+    np.testing.assert_array_equal(ax.get_lines()[0].get_ydata(), [3.0, 2.0, 1.0])
+    smp = xr.Dataset({"f": (("sample",), [1.0, np.nan, 2.0, 2.5])},
+                     coords={"p": (("sample",), [0.1, 0.2, 0.3, 0.4])})
+    ax = pp.sweep(smp, "f", bins=3)
+    assert sum(p.get_height() for p in ax.patches) == 3 and "3 of 4 samples" in ax.get_title()
+    with pytest.raises(ph.ModelError, match="'g' is not a variable"):
+        pp.sweep(smp, "g")

@@ -23,14 +23,15 @@ from typing import Optional
 import numpy as np
 
 import matplotlib.pyplot as plt
+import matplotlib.ticker
 
 from . import analysis, se3
 from ._core import ModelError
 from .frames import FlexibleLink
 from .results import ModesResult, SimulationResult, StaticResult
 
-__all__ = ["trajectory", "energy", "spectrum", "mode_shape", "modes", "draw", "animate",
-           "interactive"]
+__all__ = ["trajectory", "energy", "spectrum", "convergence", "sweep", "mode_shape", "modes",
+           "draw", "animate", "interactive"]
 
 _PLANES = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}
 _AXNAME = "xyz"
@@ -212,6 +213,79 @@ def spectrum(t, x, ax=None, fmin: float = 0.0, fmax: Optional[float] = None,
 
 
 # ------------------------------------------------------------------------------ geometry
+def convergence(sizes, errors, ax=None, labels=None, style: str = "-", order: Optional[float] = None,
+                xlabel: str = "elements N", ylabel: str = "|relative error|"):
+    """Errors against model size on log-log axes: ``errors`` (len(sizes),) or (len(sizes), k),
+    one line per column (``labels``: k names), ``style`` their line style (colours C0, C1, ...
+    by column, so two discretizations drawn with two styles keep one colour per mode);
+    ``order``: a reference slope size^-order through the first column's last point. Returns the
+    Axes."""
+    N = np.asarray(sizes, dtype=float)
+    E = np.abs(np.asarray(errors, dtype=float))
+    if E.ndim == 1:
+        E = E[:, None]
+    if N.ndim != 1 or E.shape[0] != N.size or N.size < 2 or not np.all(N > 0):
+        raise ModelError(f"convergence: sizes must be > 0 with one row of errors each (got {N.shape} "
+                         f"sizes, errors {E.shape})")
+    if labels is not None and len(labels) != E.shape[1]:
+        raise ModelError(f"convergence: {E.shape[1]} columns of errors but {len(labels)} labels")
+    ax = ax if ax is not None else plt.subplots(figsize=(6.5, 4.2))[1]
+    for k in range(E.shape[1]):
+        ok = E[:, k] > 0      # an exact value has no place on a log axis
+        ax.loglog(N[ok], E[ok, k], style, marker="o", ms=3, color=f"C{k % 10}",
+                  label=None if labels is None else labels[k])
+    if order is not None and E[-1, 0] > 0:
+        ax.loglog(N, E[-1, 0] * (N / N[-1]) ** (-order), "k:", lw=1, label=f"slope -{order:g}")
+    ax.set(xlabel=xlabel, ylabel=ylabel)
+    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())   # 2 x 10^0 ... overlap
+    ax.grid(True, which="both", alpha=0.3)
+    if labels is not None or order is not None:
+        ax.legend(fontsize=7, ncol=2)
+    return ax
+
+
+def sweep(ds, var: str, ax=None, reference=None, bins: Optional[int] = None,
+          x: Optional[str] = None, y: Optional[str] = None):
+    """One variable of a ``phmech.sweep`` result (an xarray.Dataset): against the parameter of a
+    one-parameter grid (a line; ``reference``: values on the same grid drawn dashed), or, over
+    samples (dimension ``sample``), a histogram of its finite values (failed points are NaN and
+    left out; the title says how many), or with ``x`` and ``y`` (two sampled parameters) a
+    scatter of the samples coloured by ``var``. Returns the Axes."""
+    if var not in getattr(ds, "data_vars", {}):
+        raise ModelError(f"sweep: {var!r} is not a variable of this result "
+                         f"(has {sorted(getattr(ds, 'data_vars', {}))})")
+    v = ds[var]
+    ax = ax if ax is not None else plt.subplots(figsize=(6.5, 4.2))[1]
+    unit = v.attrs.get("units")
+    name = f"{var} [{unit}]" if unit else var
+    if "sample" in v.dims and x is not None and y is not None:
+        for p in (x, y):
+            if p not in ds.variables:
+                raise ModelError(f"sweep: {p!r} is not a parameter of this result")
+        sc = ax.scatter(ds[x].values, ds[y].values, c=np.asarray(v.values, dtype=float))
+        ax.figure.colorbar(sc, ax=ax, label=name)
+        ax.set(xlabel=x, ylabel=y)
+    elif "sample" in v.dims:
+        x = np.asarray(v.values, dtype=float).reshape(-1)
+        ok = np.isfinite(x)
+        ax.hist(x[ok], bins=bins or max(5, int(ok.sum()) // 6))
+        ax.set(xlabel=name, ylabel="samples",
+               title=f"{var}: {int(ok.sum())} of {x.size} samples, mean {np.mean(x[ok]):.5g}, "
+                     f"std {np.std(x[ok]):.3g}" if ok.any() else f"{var}: no finite samples")
+    else:
+        if len(v.dims) != 1:
+            raise ModelError(f"sweep: {var!r} has dimensions {v.dims}; draw one parameter at a time "
+                             f"(select the others, e.g. ds.sel(...) or ds.isel(...))")
+        d = v.dims[0]
+        ax.plot(ds[d].values, v.values, "o-", label="phmech")
+        if reference is not None:
+            ax.plot(ds[d].values, np.asarray(reference, dtype=float), "k--", label="reference")
+            ax.legend()
+        ax.set(xlabel=d, ylabel=name)
+    ax.grid(alpha=0.3)
+    return ax
+
+
 def _pair_rows(mechanism):
     return [] if mechanism is None else list(mechanism._desc.pairs)
 
