@@ -72,6 +72,20 @@ static double det_small(double *A, int n) { /* Gaussian elimination with partial
   return det;
 }
 
+/* g of pair 0 at the two-carrier poses H (a's NULL-able: a_ground) moved along twists (ta, tb)
+ * by +tau and -tau, at times time + dt and time - dt (reference time `time`): into gp, gm. */
+static void g_moved(const phm_model *m, int a_ground, const double H[32], const double ta[6],
+                    const double tb[6], double tau, const double *x, double time, double dt,
+                    double *gp, double *gm) {
+  double Hp[32], Hm[32];
+  perturbed(H, ta, tau, Hp);
+  perturbed(H + 16, tb, tau, Hp + 16);
+  perturbed(H, ta, -tau, Hm);
+  perturbed(H + 16, tb, -tau, Hm + 16);
+  phm_pair_eval(m, 0, a_ground ? NULL : Hp, Hp + 16, x, time + dt, time, gp, NULL, NULL, NULL);
+  phm_pair_eval(m, 0, a_ground ? NULL : Hm, Hm + 16, x, time - dt, time, gm, NULL, NULL, NULL);
+}
+
 static void pair_table_lists_the_types_in_order(void) {
   check("pair table: number of types", fabs((double)(phm_pair_type_count() - PAIR_TYPES)), 0);
   for (int t = 0; t < PAIR_TYPES; t++) {
@@ -121,17 +135,12 @@ static void driven_fixed_pair_follows_its_prescribed_motion(void) {
     phm_pair_eval(m, 0, pr.a < 0 ? NULL : H, H + 16, NULL, time, time, g, Ga, Gb, vt);
     check("pair g = 0 at the constructed configuration", maxabs(6, g), 1e-12);
     /* d/dt g along twists (ta, tb) and time = Ga ta + Gb tb - vt */
-    double ta[6], tb[6], tau = 1e-6, gp[6], gm[6], Hp[32], Hm[32];
+    double ta[6], tb[6], tau = 1e-6, gp[6], gm[6];
     for (int i = 0; i < 6; i++) {
       ta[i] = pr.a < 0 ? 0 : rand11();
       tb[i] = rand11();
     }
-    perturbed(H, ta, tau, Hp);
-    perturbed(H + 16, tb, tau, Hp + 16);
-    perturbed(H, ta, -tau, Hm);
-    perturbed(H + 16, tb, -tau, Hm + 16);
-    phm_pair_eval(m, 0, pr.a < 0 ? NULL : Hp, Hp + 16, NULL, time + tau, time, gp, NULL, NULL, NULL);
-    phm_pair_eval(m, 0, pr.a < 0 ? NULL : Hm, Hm + 16, NULL, time - tau, time, gm, NULL, NULL, NULL);
+    g_moved(m, pr.a < 0, H, ta, tb, tau, NULL, time, tau, gp, gm);
     double e = 0;
     for (int rr = 0; rr < 6; rr++) {
       double gv = -vt[rr];
@@ -244,12 +253,7 @@ static void every_type_vanishes_on_its_manifold_with_consistent_jacobians(void) 
         for (int r = 0; r < mc; r++) {
           double da[6], db[6];
           for (int j = 0; j < 6; j++) { da[j] = pr.a < 0 ? 0 : Ga[6 * r + j]; db[j] = Gb[6 * r + j]; }
-          perturbed(H, da, 1e-6, Hp);
-          perturbed(H + 16, db, 1e-6, Hp + 16);
-          perturbed(H, da, -1e-6, Hm);
-          perturbed(H + 16, db, -1e-6, Hm + 16);
-          phm_pair_eval(m, 0, pr.a < 0 ? NULL : Hp, Hp + 16, xref, 0, 0, gp, NULL, NULL, NULL);
-          phm_pair_eval(m, 0, pr.a < 0 ? NULL : Hm, Hm + 16, xref, 0, 0, gm, NULL, NULL, NULL);
+          g_moved(m, pr.a < 0, H, da, db, 1e-6, xref, 0, 0, gp, gm);
           for (int i = 0; i < mc; i++) A[i * mc + r] = (gp[i] - gm[i]) / 2e-6;
           for (int i = 0; i < mc; i++) {
             double s = 0;
@@ -412,12 +416,7 @@ static void driven_joint_coordinates_follow_their_laws(void) {
         ta[i] = pr.a < 0 ? 0 : rand11();
         tb[i] = rand11();
       }
-      perturbed(H, ta, tau, Hp);
-      perturbed(H + 16, tb, tau, Hp + 16);
-      perturbed(H, ta, -tau, Hm);
-      perturbed(H + 16, tb, -tau, Hm + 16);
-      phm_pair_eval(m, 0, pr.a < 0 ? NULL : Hp, Hp + 16, x, time + tau, time, gp, NULL, NULL, NULL);
-      phm_pair_eval(m, 0, pr.a < 0 ? NULL : Hm, Hm + 16, x, time - tau, time, gm, NULL, NULL, NULL);
+      g_moved(m, pr.a < 0, H, ta, tb, tau, x, time, tau, gp, gm);
       /* any motion: the driven rows (the type's own: every_type_...; helical ones, whose
        * driven row equals dg/dt up to a multiple of its screw row's, below) */
       for (int r = mt; r < mc && type != PHM_PAIR_HELICAL; r++) {
