@@ -207,8 +207,10 @@ def attempt(m, fn, *args, **kw):
             assert str(e).strip(), f"{type(e).__name__} without a message"
             assert snapshot(m) == before, f"a failed call changed the mechanism ({e})"
             if isinstance(e, ph.SolverError) and hasattr(e, "result"):
-                r = e.result
-                for name in ("t", "poses", "twists", "joints"):
+                r = e.result   # a SimulationResult up to the failure, or a static solve's
+                names = (("poses", "constraint_wrenches", "load_factor")   # last equilibrium
+                         if isinstance(r, ph.StaticResult) else ("t", "poses", "twists", "joints"))
+                for name in names:
                     _fin(getattr(r, name), f"SolverError.result.{name}")
             out = FAILED
             last_outcome[0] = type(e).__name__
