@@ -292,8 +292,7 @@ def run(p: ManipulatorParams, t_end: float = 6.0, elements: int = 8, dt_out: flo
     rel_t = {k: float(res.t[np.argmax(np.abs(v))]) for k, v in defl.items()}
     rel_static = {k: float(abs(deflection_static(st, h[k])) / L[k]) for k in defl}
     E = res.energy
-    scale = float(max(np.max(np.abs(E["total"] - E["total"][0])), np.max(np.abs(E["supplied"])),
-                      np.max(np.abs(E["dissipated"])), 1e-300))
+    scale = res.stats["energy_scale"]     # the run's own figures (phmech._run.quality), as plot.energy
     ports = {k: float(v[-1]) for k, v in res.port_energy.items()}
     tip = res.poses[:, h["R3"].carrier, :3, 3]
     tip_err = np.linalg.norm(tip - st.poses[h["R3"].carrier, :3, 3], axis=1)
@@ -314,7 +313,7 @@ def run(p: ManipulatorParams, t_end: float = 6.0, elements: int = 8, dt_out: flo
                         gravity_delta=float(E["gravity"][-1] - E["gravity"][0]),
                         supplied=float(E["supplied"][-1]), dissipated=float(E["dissipated"][-1]),
                         ports=ports, ledger_max_abs=float(np.max(np.abs(E["ledger"]))),
-                        scale=scale, ledger_rel=float(np.max(np.abs(E["ledger"])) / scale)),
+                        scale=scale, ledger_rel=res.stats["ledger_relative"]),
             constraint_residuals=dict(position_max=float(cres["position"].max()),
                                       velocity_max=float(cres["velocity"].max())),
             redundant_constraints=[list(r) for r in m.redundant_constraints],

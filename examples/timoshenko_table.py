@@ -87,14 +87,18 @@ def plot(study: dict, path: str) -> None:
     os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
     styles = {"mixed": "--", "se3": "-"}
-    for d, s in study.items():
+    for i, (d, s) in enumerate(study.items()):
         E = np.array(s["errors"])
-        labels = [f"{d} mode {k + 1}" for k in range(E.shape[1])]
+        # colour = mode, line style = element: one legend entry per mode, one per element
+        labels = [f"mode {k + 1}" for k in range(E.shape[1])] if i == 0 else None
         pp.convergence(s["N"], E, ax=axes[0], labels=labels, style=styles[d],
                        ylabel="|relative frequency error|")
         pp.convergence(s["states"], E, ax=axes[1], style=styles[d],
                        xlabel="first-order states (mixed: planar 4N; se3: 3-D 12N)",
                        ylabel="|relative frequency error|")
+    for d, what in (("mixed", "mixed (planar, linear)"), ("se3", "se3 (3-D, nonlinear)")):
+        axes[0].plot([], [], "k" + styles[d], label=what)
+    axes[0].legend(fontsize=7, ncol=2, handlelength=3)
     fig.suptitle("Table I cantilever: convergence of the first five frequencies")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
