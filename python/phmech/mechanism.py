@@ -1021,10 +1021,32 @@ class Mechanism:
                           "linearize()) symmetrizes: it treats them as dead loads and cannot show "
                           "flutter; simulate to see how the mechanism moves under them",
                           StabilityWarning, stacklevel=3)
+        self._warn_unresolvable_masses()
         poses = None if at is None else self._start_poses(at, "at")
         lam = None if at is None else array("at.constraint_wrenches", at.constraint_wrenches,
                                             np.shape(at.constraint_wrenches))
         return model, poses, lam
+
+    #: largest ratio of carrier masses whose modes a linearization resolves to 1e-3: the
+    #: eigensolvers' backward error eps |M| perturbs a carrier of mass m by eps m_max / m relative
+    MASS_RATIO_RESOLVED = 1e-3 / np.finfo(float).eps
+
+    def _warn_unresolvable_masses(self) -> None:
+        """AccuracyWarning when the carriers' masses span more than MASS_RATIO_RESOLVED (4.5e12):
+        the modes of the lightest carriers are then below what double precision resolves (a link
+        of density 1e-300 hinged to a 1 kg body gave 1.4e9 rad/s for bending modes of ~1e153
+        rad/s, without a word: tests/test_fuzz_findings.py)."""
+        masses = np.array([c["mass"] for c in self._car], dtype=float)
+        masses = masses[masses > 0]
+        if masses.size < 2 or masses.max() <= self.MASS_RATIO_RESOLVED * masses.min():
+            return
+        light = int(np.argmin([c["mass"] if c["mass"] > 0 else np.inf for c in self._car]))
+        warnings.warn(f"the carriers' masses span {masses.max():.3g} kg to {masses.min():.3g} kg "
+                      f"(lightest: {self._desc.carrier_name(light)}), a ratio above "
+                      f"{self.MASS_RATIO_RESOLVED:.2g}: double precision cannot resolve the lightest "
+                      "carriers' modes next to the heaviest (their frequencies and shapes may be "
+                      "wrong by orders of magnitude); give the light parts physical masses, or leave "
+                      "them out", AccuracyWarning, stacklevel=3)
 
     def modes(self, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0) -> ModesResult:
         """The ``n`` lowest linearized modes at the initial configuration, or at a static
