@@ -21,6 +21,7 @@ static void static_residual(lin_t *L, const double *H, double *R) {
 /* Work arrays of one Newton solve (allocated once by phm_static). */
 typedef struct {
   double *R, *f1, *f2, *Gp, *Hsave, *lsave, *bar;
+  double *Hptc, *lptc; /* ptc's start (newton, which ptc calls, keeps its own in Hsave, lsave) */
 } static_work_t;
 
 /* The size of a step x (6 nc carrier components, then nk multipliers): its largest rotation
@@ -115,8 +116,8 @@ static int ptc(lin_t *L, lin_kkt_t *S, double *H, double *lam, double tol, int m
   int nc = m->nc, n6 = 6 * nc, nk = m->ncons, N = n6 + nk;
   const int *ptr = L->ptr, *nbr = L->nbr;
   double *R = w->R;
-  memcpy(w->Hsave, H, sizeof(double) * 16 * (size_t)nc);
-  if (nk) memcpy(w->lsave, lam, sizeof(double) * (size_t)nk);
+  memcpy(w->Hptc, H, sizeof(double) * 16 * (size_t)nc);
+  if (nk) memcpy(w->lptc, lam, sizeof(double) * (size_t)nk);
   L->lam = lam;
   double trM = 0;
   for (int c = 0; c < nc; c++)
@@ -163,8 +164,8 @@ static int ptc(lin_t *L, lin_kkt_t *S, double *H, double *lam, double tol, int m
     /* near an equilibrium: Newton (which restores the state when it fails) */
     if (sn < 1e-2 && !newton(L, S, H, lam, tol, 8, w, iters)) return 0;
   }
-  memcpy(H, w->Hsave, sizeof(double) * 16 * (size_t)nc);
-  if (nk) memcpy(lam, w->lsave, sizeof(double) * (size_t)nk);
+  memcpy(H, w->Hptc, sizeof(double) * 16 * (size_t)nc);
+  if (nk) memcpy(lam, w->lptc, sizeof(double) * (size_t)nk);
   return 1;
 }
 
@@ -192,9 +193,10 @@ phm_status phm_static_monitored(const phm_model *m, const double *poses, double 
       .f1 = malloc(sizeof(double) * (size_t)n6), .f2 = malloc(sizeof(double) * (size_t)n6),
       .Gp = malloc(sizeof(double) * 12 * (size_t)(nk + 1)),
       .Hsave = malloc(sizeof(double) * 16 * (size_t)nc), .lsave = malloc(sizeof(double) * (size_t)(nk + 1)),
-      .bar = malloc(sizeof(double) * (size_t)N)};
+      .bar = malloc(sizeof(double) * (size_t)N),
+      .Hptc = malloc(sizeof(double) * 16 * (size_t)nc), .lptc = malloc(sizeof(double) * (size_t)(nk + 1))};
   double *lam = calloc((size_t)(nk + 1), sizeof(double));
-  if (!w.R || !w.f1 || !w.f2 || !w.Gp || !w.Hsave || !w.lsave || !w.bar || !lam) {
+  if (!w.R || !w.f1 || !w.f2 || !w.Gp || !w.Hsave || !w.lsave || !w.bar || !w.Hptc || !w.lptc || !lam) {
     st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
     goto done;
   }
@@ -253,6 +255,7 @@ done:
   lin_free(&L);
   lin_kkt_free(&S);
   free(w.R); free(w.f1); free(w.f2); free(w.Gp);
-  free(w.Hsave); free(w.lsave); free(w.bar); free(lam);
+  free(w.Hsave); free(w.lsave); free(w.bar);
+  free(w.Hptc); free(w.lptc); free(lam);
   return st;
 }
