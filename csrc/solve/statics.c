@@ -1,6 +1,6 @@
 /* statics.c -- static equilibrium: Newton on [df/ddelta G^T; G 0] with sparse LU (KLU), steps
- * retracted along the element chains, and load stepping (halved on failure, grown back after
- * fast convergence). */
+ * retracted along the element chains, the factorization reused while it contracts, and load
+ * stepping (halved on failure, grown back after fast convergence). */
 #include "solve.h"
 
 #include <math.h>
@@ -121,14 +121,23 @@ static void take_step(const phm_model *m, const static_work_t *w, double *H, dou
   for (int i = 0; i < m->ncons; i++) lam[i] += a * x[6 * nc + i];
 }
 
-/* Newton from (H, lam) at the load scale L->scale; 0 on convergence (H, lam updated), 1 on
- * failure (H, lam restored). Each iteration: the tangent [K G^T; G 0] (the elements' blocks in
- * closed form, the rest by coloured differences, csrc/solve/linearize.c) solved by KLU, the step
- * scaled down to at most 1 rad of rotation and taken by the chain retraction (take_step), then
- * the simplified Newton correction at the new iterate (the same factorization, one more residual
- * and solve): converged when it is below tol (rad, and lengths in units of the element length
- * lref; it is then applied), or when it stalls at round-off below 1e3 tol. Failure (non-finite
- * steps, maxit iterations) lets the caller cut the load step.
+/* A simplified (chord) correction, with a factorization made at an earlier iterate, is taken
+ * while it contracts: |x_k| <= NEWTON_THETA |x_(k-1)|; otherwise a new tangent is made there. */
+#define NEWTON_THETA 0.1
+
+/* Newton from (H, lam) at the load scale L->scale; 0 on convergence (H, lam updated, and *have
+ * set: S holds a factorization made in this solve), 1 on failure (H, lam restored, *have 0). With
+ * *have on entry, the tangent predictor first: S's factorization (of the last load's solve) on
+ * this load's residual, one step (for a load increment dF that is K^-1 dF). Then corrections at
+ * each iterate: a new tangent [K G^T; G 0] (the elements' blocks in closed form, the rest by
+ * coloured differences, csrc/solve/linearize.c) factored by KLU, or, while they contract by
+ * NEWTON_THETA, simplified ones with the last factorization (one residual and solve each); each
+ * step scaled down to at most 1 rad of rotation and taken by the chain retraction (take_step).
+ * Converged when a correction is below tol (rad, and lengths in units of the element length
+ * lref; it is then applied) -- one made with the tangent of the previous iterate, or a
+ * contracting simplified one -- or when one with the previous iterate's tangent stalls at
+ * round-off below 1e3 tol. Failure (non-finite steps, maxit tangents) lets the caller cut the
+ * load step.
  * Measured (benchmarks/statics_newton.py, iterations = tangents; a cantilever under P L^2/EI = 3
  * in 10 load steps at N = 20 and 1000, the same 1e4 times stiffer at N = 200, the roll-up by
  * 2 pi EI in 8 load steps at N = 21 and 200, and stiff at N = 21). With the finite-difference
@@ -141,40 +150,74 @@ static void take_step(const phm_model *m, const static_work_t *w, double *H, dou
  * beam's stretched trial state is huge); a secant predictor on every carrier's pose cost the
  * roll-up 40 % more. The stiff roll-up's trace showed why: after each tangent step of a load
  * step of 1/64 (0.1 rad at the tip) the force residual rose from 5e2 to 5e7 (the stretched
- * elements), and Newton needed 6 tangents per load step and load steps of 1/128. With the chain
- * retraction: 31, 38, 36, 10, 17, 17 (the roll-ups' strains are constant, so one tangent step
- * solves a load step: two tangents, the second to confirm at round-off). */
+ * elements), and Newton needed 6 tangents per load step and load steps of 1/128. Then, each
+ * measured alone and together: the chain retraction 31, 38, 36, 10, 17, 17 (the roll-ups' strains
+ * are constant, so one tangent step solves a load step: two tangents, the second to confirm at
+ * round-off); simplified corrections with NEWTON_THETA = 0.1 on H exp(delta): 21, 21, 65, 50, 49,
+ * 951; with the predictor too: 15, 15, 76, 78, 44, 893; the chain retraction with the predictor
+ * (no simplified corrections): 29, 31, 31, 9, 9, 12; all three: 12, 12, 21, 9, 9, 12, CPU -45 %
+ * at N = 1000 (a simplified correction costs a residual and a solve, a tangent the coloured
+ * differences of the pairs and loads and a factorization). NEWTON_THETA = 0.03: 16, 16, 21, 9, 9,
+ * 12; 0.3: 11, 11, 21, 9, 9, 15. Simplified corrections right after the predictor (a
+ * factorization from the last load, before the whole load increment) went astray on stiff beams
+ * (the stiff roll-up 20, the stiff tip load 33): after the predictor a new tangent is made. */
 static int newton(lin_t *L, lin_kkt_t *S, double *H, double *lam, double tol, int maxit,
-                  static_work_t *w, int *iters) {
+                  static_work_t *w, int *iters, int *have) {
   const phm_model *m = L->m;
   int nc = m->nc, n6 = 6 * nc, nk = m->ncons, N = n6 + nk;
-  double *R = w->R;
+  double *R = w->R, *x = w->x, rot = 0.0, sn = INFINITY;
   memcpy(w->Hsave, H, sizeof(double) * 16 * (size_t)nc);
   if (nk) memcpy(w->lsave, lam, sizeof(double) * (size_t)nk);
   L->lam = lam;
   static_residual(L, H, R);
-  double sprev = INFINITY;
-  for (int it = 0; it < maxit; it++) {
-    (*iters)++;
-    lin_force_jacobian_blocks(L, H, w->f1, w->f2);
-    if (nk) lin_constraint_blocks(L, H, w->Gp);
-    for (int i = 0; i < N; i++) R[i] = -R[i];
-    if (lin_kkt_factor(S, L->Kb, w->Gp) || lin_kkt_solve(S, R)) break;
-    double rot, sn = step_size(m, R, &rot);
-    if (!isfinite(sn)) break; /* diverging: let the caller cut the load step */
-    double a = rot > 1.0 ? 1.0 / rot : 1.0;
-    take_step(m, w, H, lam, R, a);
-    if (sn < tol) return 0;
-    static_residual(L, H, R);
-    for (int i = 0; i < N; i++) w->x[i] = -R[i];
-    if (lin_kkt_solve(S, w->x)) break;
-    double sbar = step_size(m, w->x, NULL);
-    if (!isfinite(sbar)) break;
-    if (sbar < tol || (sbar < 1e3 * tol && sbar > 0.25 * sprev)) {
-      take_step(m, w, H, lam, w->x, 1.0);
+  if (*have) { /* the tangent predictor: the last factorization on this load's residual */
+    for (int i = 0; i < N; i++) x[i] = -R[i];
+    sn = lin_kkt_solve(S, x) ? INFINITY : step_size(m, x, &rot);
+    if (sn < tol) {
+      take_step(m, w, H, lam, x, 1.0);
       return 0;
     }
+    if (isfinite(sn)) {
+      take_step(m, w, H, lam, x, rot > 1.0 ? 1.0 / rot : 1.0);
+      static_residual(L, H, R);
+    }
+  }
+  *have = 0;
+  /* age: steps since the factorization in S (0: none made here yet); sprev: the last step */
+  int age = 0, tangents = 0;
+  double sprev = INFINITY;
+  for (int k = 0; k < 4 * maxit; k++) {
+    if (age > 0) { /* the simplified (chord) correction: S's factorization, this residual */
+      for (int i = 0; i < N; i++) x[i] = -R[i];
+      sn = lin_kkt_solve(S, x) ? INFINITY : step_size(m, x, &rot);
+      if (isfinite(sn) && ((sn < tol && (age == 1 || sn <= NEWTON_THETA * sprev)) ||
+                           (age == 1 && sn < 1e3 * tol && sn > 0.25 * sprev))) {
+        take_step(m, w, H, lam, x, 1.0);
+        *have = 1;
+        return 0;
+      }
+    }
+    if (age == 0 || !(sn <= NEWTON_THETA * sprev)) { /* a new tangent */
+      if (tangents++ == maxit) break;
+      (*iters)++;
+      lin_force_jacobian_blocks(L, H, w->f1, w->f2);
+      if (nk) lin_constraint_blocks(L, H, w->Gp);
+      for (int i = 0; i < N; i++) x[i] = -R[i];
+      if (lin_kkt_factor(S, L->Kb, w->Gp) || lin_kkt_solve(S, x)) break;
+      sn = step_size(m, x, &rot);
+      if (!isfinite(sn)) break; /* diverging: let the caller cut the load step */
+      age = 0;
+      if (sn < tol) {
+        take_step(m, w, H, lam, x, 1.0);
+        *have = 1;
+        return 0;
+      }
+    }
+    double a = rot > 1.0 ? 1.0 / rot : 1.0;
+    take_step(m, w, H, lam, x, a);
     sprev = a * sn;
+    age++;
+    static_residual(L, H, R);
   }
   memcpy(H, w->Hsave, sizeof(double) * 16 * (size_t)nc);
   if (nk) memcpy(lam, w->lsave, sizeof(double) * (size_t)nk);
@@ -241,7 +284,10 @@ static int ptc(lin_t *L, lin_kkt_t *S, double *H, double *lam, double tol, int m
     dtau *= rnew > rn ? 0.5 : fmin(10.0, fmax(sn < 1e-4 ? 10.0 : 2.0, rnew > 0 ? rn / rnew : 10.0));
     rn = rnew;
     /* near an equilibrium: Newton (which restores the state when it fails) */
-    if (sn < 1e-2 && !newton(L, S, H, lam, tol, 8, w, iters)) return 0;
+    if (sn < 1e-2) {
+      int v = 0;
+      if (!newton(L, S, H, lam, tol, 8, w, iters, &v)) return 0;
+    }
   }
   memcpy(H, w->Hptc, sizeof(double) * 16 * (size_t)nc);
   if (nk) memcpy(lam, w->lptc, sizeof(double) * (size_t)nk);
@@ -288,6 +334,7 @@ phm_status phm_static_monitored(const phm_model *m, const double *poses, double 
   L.time = time;
   L.tref = phm_model_tref(m, time, NULL);
   for (int c = 0; c < nc; c++) memcpy(poses_out + 16 * c, poses ? poses + 16 * c : m->car[c].H0, 16 * sizeof(double));
+  int have = 0; /* S holds the factorization of the last Newton solve that converged */
   int pre_failed = 0;
   if (steps == 0) {
     /* no load stepping: Newton at the full load from the start, pseudo-transient continuation
@@ -295,7 +342,7 @@ phm_status phm_static_monitored(const phm_model *m, const double *poses, double 
      * stepping, an unloaded state would be found first, and one full load step from there can
      * land on another branch than the start's, as from the post-buckled elastica's) */
     L.scale = 1.0;
-    if (newton(&L, &S, poses_out, lam, tol, 50, &w, &it) &&
+    if (newton(&L, &S, poses_out, lam, tol, 50, &w, &it, &have) &&
         ptc(&L, &S, poses_out, lam, tol, 500, &w, &it)) {
       st = PHM_FAIL(err, PHM_ESOLVER, "static equilibrium: Newton at the full load from the "
                     "start failed, and pseudo-transient continuation too (%d iterations)", it);
@@ -306,7 +353,7 @@ phm_status phm_static_monitored(const phm_model *m, const double *poses, double 
     /* meet the constraints without load first (a mechanism with a free degree of freedom is
      * singular without load: then go on directly) */
     L.scale = 0.0;
-    pre_failed = newton(&L, &S, poses_out, lam, tol, 50, &w, &it);
+    pre_failed = newton(&L, &S, poses_out, lam, tol, 50, &w, &it, &have);
   }
   /* load stepping from the unloaded equilibrium: a step is halved when Newton fails to converge
    * in 12 tangents (with the exact tangent, one that has not converged by then rarely does; 30
@@ -318,11 +365,12 @@ phm_status phm_static_monitored(const phm_model *m, const double *poses, double 
     double snew = s + ds > 1.0 - 1e-12 ? 1.0 : s + ds; /* ten steps of 0.1 add up to 1 - 1e-16 */
     L.scale = snew;
     int it0 = it;
-    if (newton(&L, &S, poses_out, lam, tol, 12, &w, &it)) {
+    if (newton(&L, &S, poses_out, lam, tol, 12, &w, &it, &have)) {
       ds *= 0.5;
       if (ds < 1e-4 / steps) {
         /* Newton cannot take even a tiny load step: its tangent is singular or misleading here
          * (a mechanism away from any equilibrium); pseudo-transient continuation instead */
+        have = 0;
         if (!ptc(&L, &S, poses_out, lam, tol, 500, &w, &it)) {
           s = snew;
           ds = 1.0 / steps;
