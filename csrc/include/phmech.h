@@ -138,8 +138,10 @@ int phm_linear_port_columns(const phm_model *model, int nports, const phm_linear
 
 /* ---------------------------------------------------------------- statics (csrc/solve/statics.c) */
 /* Static equilibrium under the loads and gravity at `time`, scaled from 0 to 1 in `steps` load
- * steps (halved on failure); damped Newton, sparse LU (KLU). poses: start (NULL: H0); results in
- * poses_out (nc x 16) and lambda_out (nconstraints); *iters = total Newton iterations. */
+ * steps (halved on failure) from the unloaded equilibrium nearest the start, or with steps = 0
+ * at the full load directly from the start; Newton, sparse LU (KLU). poses: start (NULL: H0);
+ * results in poses_out (nc x 16) and lambda_out (nconstraints); *iters = total Newton
+ * iterations (tangents). */
 phm_status phm_static(const phm_model *model, const double *poses, double time, int steps,
                       double tol, double *poses_out, double *lambda_out, int *iters,
                       phm_error *err);

@@ -1042,6 +1042,7 @@ PyMethodDef phm_py_model_methods[] = {
      "of phm_linear_model; ports: a list of (kind 0 pair | 1 load | 2 frame, index, T (4, 4))."},
     {"model_static", py_model_static, METH_VARARGS,
      "model_static(model, poses=None, time=0, steps=1, tol=1e-10, monitor=None) -> (poses, lambda, "
-     "iterations); monitor(load factor, iterations, load step) after each load step, truthy to stop."},
+     "iterations); monitor(load factor, iterations, load step) after each load step, truthy to stop; "
+     "steps=0: the full load at once from poses (no unloaded start)."},
     {"model_sizes", py_model_sizes, METH_O, "model_sizes(model) -> (ncarriers, nconstraints, njoints, nports, [(row, m, joint, k) per pair])."},
     {NULL, NULL, 0, NULL}};

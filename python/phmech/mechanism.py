@@ -1082,8 +1082,9 @@ class Mechanism:
                            _bodies=dict(self._bodies), **lab)
 
     def _equilibrium_check(self, model, poses, time, at_given: bool):
-        """Whether ``poses`` is a static equilibrium: a static solve (one load step) started there
-        must not move any carrier by more than 1e-6 of the mechanism's size [m] or 1e-6 rad.
+        """Whether ``poses`` is a static equilibrium: a static solve at the full load started there
+        (no load steps: Newton, else pseudo-transient continuation) must not move any carrier by
+        more than 1e-6 of the mechanism's size [m] or 1e-6 rad.
         Returns a truthy/falsy object with a ``reason``. A solve that fails (a free mechanism is
         singular) tells nothing: then the check passes."""
         class _Eq:
@@ -1093,7 +1094,7 @@ class Mechanism:
             def __bool__(self):
                 return self.ok
         try:
-            P, _, _ = _core.model_static(model, poses, time, 1, 1e-10)
+            P, _, _ = _core.model_static(model, poses, time, 0, 1e-10)
         except (SolverError, ModelError):
             return _Eq(True)
         size = max([1.0] + [lk.length for lk in self._links.values()])
