@@ -44,6 +44,12 @@ double phm_model_tref(const phm_model *m, double t, double *next_bp);
  * values). Any output may be NULL. Fixed pairs: g = log(h). */
 void phm_pair_kin(int type, double pitch, const double h[16], const double *xref, double *g,
                   double *W, double *Phi, double *x);
+/* The same with derivatives along the body perturbations of h, h exp(eta) (eta = (omega, v)):
+ * Dg (6 per constraint row), DW and DPhi (6 per entry of the 6x6 bases: d B[e]/d eta_j at
+ * 6 e + j), Dx (6 per joint coordinate); any may be NULL (all NULL: phm_pair_kin). */
+void phm_pair_kin_tangent(int type, double pitch, const double h[16], const double *xref,
+                          double *g, double *W, double *Phi, double *x, double *Dg, double *DW,
+                          double *DPhi, double *Dx);
 
 /* Constraint rows of a pair before any is dropped: its type's m, plus one per joint coordinate
  * that follows a law (xdriven; those rows come after the type's, in coordinate order). */
@@ -86,6 +92,19 @@ typedef struct {
 void phm_pair_evaluate(const phm_model *m, int ip, const double *Ha, const double *Hb,
                        const double *ta, const double *tb, const double *xref, double time,
                        double tref, int rows, phm_pair_data *pd);
+
+/* The closed-form tangent of pair ip's kept rows (docs/method.md section 4.3) at poses Ha, Hb
+ * (NULL = ground) and twists ta, tb (NULL = at rest), for the perturbations Ha exp(da),
+ * Hb exp(db), columns [da; db] (12, row-major): dg (mc x 12) of the position constraints, dc
+ * (mc x 12) of the velocity constraints Ga ta + Gb tb - vt at fixed twists, dxd (k x 12) of the
+ * joint rates Phi^T t_rel at fixed twists, Kl (12 x 12) of the constraint wrenches
+ * [Ga^T lam; Gb^T lam] on (a, b) for multipliers lam (mc), Km the same for mu (their geometric
+ * stiffness). Outputs may be NULL (Kl, Km also when lam, mu are). pd (may be NULL) gets the
+ * evaluation phm_pair_evaluate would give with rows. No allocation. */
+void phm_pair_tangent(const phm_model *m, int ip, const double *Ha, const double *Hb,
+                      const double *ta, const double *tb, const double *xref, double time,
+                      double tref, const double *lam, const double *mu, phm_pair_data *pd,
+                      double *dg, double *dc, double *dxd, double *Kl, double *Km);
 
 /* Pair ip: position constraint g (m), velocity blocks Ga, Gb (m x 6, row-major) such that the
  * velocity constraint is Ga ta + Gb tb = vt (m). Ha or Hb NULL = ground (identity). xref: branch
