@@ -77,9 +77,12 @@ typedef struct {
   int nnz, ncolor;
   sunindextype *colptr, *rowind;
   int *color;
+  unsigned char *fdcol; /* ncolor: 1 if a column of that colour is a state of a carrier that a
+                         * spring, load or actuator acts on (the remainder's differences) */
   /* 1 while dae_jacobian differentiates the remainder: dae_residual then leaves out what the
    * Jacobian has in closed form (the se3 elements' wrenches, gravity, the carriers' own kinematic
-   * and momentum terms, every y' term of the carrier rows) */
+   * and momentum terms, every y' term of the carrier rows, the pairs' rows and G^T lambda,
+   * G^T mu, the ledger rows) */
   int remainder;
 } dae_t;
 

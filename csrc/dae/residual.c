@@ -79,6 +79,10 @@ int dae_residual(dae_t *d, double time, const double *y, const double *yp, doubl
   double Pd = 0, Ps = 0;
   dae_pair_rows(d, time, y, yp, F);
   int full = !d->remainder; /* 0: the remainder only (dae_jacobian; see dae_t) */
+  if (!full) { /* the pairs' terms have their closed-form tangent (phm_pair_tangent) */
+    memset(D->gl, 0, sizeof(double) * 6 * (size_t)nc);
+    memset(D->gm, 0, sizeof(double) * 6 * (size_t)nc);
+  }
   phm_applied_pairs(m, D->pair, D->H, D->tw, y + d->ix, time, d->tref, 1.0, !full, D->wr, NULL, &Pd,
                     &Ps, D->pport, NULL);
   for (int c = 0; c < nc; c++) {
@@ -111,6 +115,8 @@ int dae_residual(dae_t *d, double time, const double *y, const double *yp, doubl
   F[d->ie] = yp[d->ie] - Pd;
   F[d->ie + 1] = yp[d->ie + 1] - Ps;
   for (int k = 0; k < m->nport; k++) F[d->ie + 2 + k] = yp[d->ie + 2 + k] - D->pport[k];
+  /* the remainder leaves out the pairs' rows and the ledger's (whose pattern is its diagonal, cj) */
+  if (!full) memset(F + d->ix, 0, sizeof(double) * (size_t)(d->n - d->ix));
   return 0;
 }
 
@@ -118,7 +124,7 @@ void dae_free(dae_t *d) {
   phm_data *D = &d->data;
   dae_ic_work *w = &D->ic;
   void *bufs[] = {D->H, D->tw, D->pair, D->wr, D->gl, D->gm, D->pport, D->eff, D->ytmp, D->yptmp,
-                  D->rtmp, D->inc, D->rfd, w->cmap, w->clist, w->H, w->tw, w->qprev, w->Lc, w->acc, w->G,
+                  D->rtmp, D->inc, D->rfd, d->fdcol, w->cmap, w->clist, w->H, w->tw, w->qprev, w->Lc, w->acc, w->G,
                   w->X, w->A, w->b, w->g, w->vt, w->c1, w->lam, w->Hp, w->res, d->colptr,
                   d->rowind, d->color};
   for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) free(bufs[i]);
@@ -127,6 +133,7 @@ void dae_free(dae_t *d) {
   memset(D, 0, sizeof *D);
   d->colptr = d->rowind = NULL;
   d->color = NULL;
+  d->fdcol = NULL;
 }
 
 /* The consistent initial values' scratch (dae_consistent_ic): its systems are least-squares
