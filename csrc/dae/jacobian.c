@@ -121,23 +121,10 @@ phm_status dae_jacobian_pattern(dae_t *d, phm_error *err) {
   }
   d->ncolor = nbcol * width + (d->il - d->ie);
   /* the colours the remainder's differences need: those of the carriers a spring, load or
-   * actuator acts on (fill marks them); the others' remainder does not move */
+   * actuator acts on (phm_remainder_carriers); the others' remainder does not move */
   d->fdcol = calloc((size_t)d->ncolor + 1, 1);
   if (!d->fdcol) goto oom;
-  for (int c = 0; c < nc; c++) fill[c] = 0;
-  for (int is = 0; is < m->ns; is++) {
-    if (m->spr[is].a >= 0) fill[m->spr[is].a] = 1;
-    if (m->spr[is].b >= 0) fill[m->spr[is].b] = 1;
-  }
-  for (int il = 0; il < m->nl; il++) {
-    fill[m->load[il].carrier] = 1;
-    if (m->load[il].reaction >= 0) fill[m->load[il].reaction] = 1;
-  }
-  for (int ia = 0; ia < m->na; ia++) {
-    const phm_pair_desc *pr = &m->pair[m->act[ia].pair];
-    if (pr->a >= 0) fill[pr->a] = 1;
-    if (pr->b >= 0) fill[pr->b] = 1;
-  }
+  phm_remainder_carriers(m, fill);
   for (int i = 0; i < d->ix; i++)
     if (fill[i / PHM_NSTATE]) d->fdcol[d->color[i]] = 1;
   goto done;

@@ -247,3 +247,20 @@ void phm_applied_pairs(const phm_model *m, const phm_pair_data *pd, const double
   if (Pdiss) *Pdiss = Pd;
   if (Psupp) *Psupp = Ps;
 }
+
+void phm_remainder_carriers(const phm_model *m, int *mark) {
+  for (int c = 0; c < m->nc; c++) mark[c] = 0;
+  for (int is = 0; is < m->ns; is++) {
+    if (m->spr[is].a >= 0) mark[m->spr[is].a] = 1;
+    if (m->spr[is].b >= 0) mark[m->spr[is].b] = 1;
+  }
+  for (int il = 0; il < m->nl; il++) {
+    mark[m->load[il].carrier] = 1;
+    if (m->load[il].reaction >= 0) mark[m->load[il].reaction] = 1;
+  }
+  for (int ia = 0; ia < m->na; ia++) {
+    const phm_pair_desc *pr = &m->pair[m->act[ia].pair];
+    if (pr->a >= 0) mark[pr->a] = 1;
+    if (pr->b >= 0) mark[pr->b] = 1;
+  }
+}

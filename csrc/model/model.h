@@ -167,6 +167,10 @@ void phm_applied_pairs(const phm_model *m, const phm_pair_data *pd, const double
                        const double *tw, const double *xs, double time, double tref, double scale,
                        int remainder, double *wr, double *Vel, double *Pdiss, double *Psupp,
                        double *Pport, double *effort);
+/* mark[c] = 1 (nc entries) for the carriers a spring, load (or its reaction) or actuator acts
+ * on: the only ones whose perturbation moves the forces without a closed-form tangent (the
+ * remainder of phm_applied_pairs without the pairs' G^T lambda), 0 for the others. */
+void phm_remainder_carriers(const phm_model *m, int *mark);
 /* Gravity (x scale) on carrier c at pose Hc: its body wrench w and w's derivative Kg (6 x 6,
  * row-major, may be NULL) for Hc exp(delta) (docs/method.md section 4.6). */
 void phm_gravity_tangent(const phm_model *m, int c, const double Hc[16], double scale, double w[6],

@@ -1,8 +1,9 @@
 /* linearize.c -- linearization on the tangent space (docs/method.md section 7): the generalized
  * forces f(H) = applied + G^T lambda at poses H and their Jacobian blocks df/ddelta over the
- * carrier coupling graph (csrc/model/graph.c): the se3 elements' and gravity's blocks in closed
- * form (phm_element_tangent, phm_gravity_tangent), the rest (pairs' G^T lambda, loads, springs,
- * actuators) by coloured central differences; read by modes (modes.c) and statics (statics.c).
+ * carrier coupling graph (csrc/model/graph.c): the se3 elements', gravity's and the pairs' G^T
+ * lambda blocks in closed form (phm_element_tangent, phm_gravity_tangent, phm_pair_tangent), the
+ * rest (loads, springs, actuators) by coloured central differences on the colours of the carriers
+ * they act on; read by modes (modes.c) and statics (statics.c).
  * Set-up time code: allocates. */
 #include "solve.h"
 
@@ -14,12 +15,13 @@
 #include "linalg.h"
 #include "pose.h"
 
-/* Generalized forces at poses H: applied wrenches + G^T lambda (nc x 6, body frame). */
+/* Generalized forces at poses H: applied wrenches + G^T lambda (nc x 6, body frame); with
+ * remainder, only what has no closed-form tangent (loads, springs, actuators). */
 static void lin_forces(lin_t *L, const double *H, int remainder, double *f) {
   const phm_model *m = L->m;
   phm_applied_pairs(m, NULL, H, NULL, NULL, L->time, L->tref, L->scale, remainder, f, NULL, NULL,
                     NULL, NULL, NULL);
-  if (L->lam && m->ncons) phm_constraint_forces(m, H, L->time, L->tref, L->lam, f);
+  if (!remainder && L->lam && m->ncons) phm_constraint_forces(m, H, L->time, L->tref, L->lam, f);
 }
 void lin_total_force(lin_t *L, const double *H, double *f) { lin_forces(L, H, 0, f); }
 
@@ -41,8 +43,9 @@ static void add_own_block(double *K, const double *Kw, int ldk, const double w[6
   }
 }
 
-/* Add the closed-form blocks at poses H (at rest) -- the se3 elements' (phm_element_tangent) and
- * gravity's (phm_gravity_tangent, x L->scale) -- to Kb (if not NULL; d f/d delta, with f_c's
+/* Add the closed-form blocks at poses H (at rest) -- the se3 elements' (phm_element_tangent),
+ * gravity's (phm_gravity_tangent, x L->scale) and the pairs' constraint wrenches G^T L->lam
+ * (phm_pair_tangent: their geometric stiffness) -- to Kb (if not NULL; d f/d delta, with f_c's
  * chart factor dexp_{-delta}^T: its derivative -1/2 ad*_(.) w_c on the diagonal blocks) and, if
  * Db is not NULL, the elements' to Db (d f/d t: the damping, the same at any twist since the
  * wrenches are affine in them). */
@@ -70,12 +73,36 @@ void lin_closed_form_blocks(const lin_t *L, const double *H, double *Kb, double 
             for (int j = 0; j < 6; j++) K[6 * i + j] += kx[12 * i + j];
       }
   }
+  if (!Kb) return;
   double gn = fabs(m->gravity[0]) + fabs(m->gravity[1]) + fabs(m->gravity[2]);
-  if (!Kb || !(gn > 0)) return;
-  for (int c = 0; c < m->nc; c++) {
+  for (int c = 0; gn > 0 && c < m->nc; c++) {
     double w[6], Kg[36];
     phm_gravity_tangent(m, c, H + 16 * c, L->scale, w, Kg);
     add_own_block(Kb + 36 * (size_t)lin_slot(L, c, c), Kg, 6, w);
+  }
+  for (int ip = 0; L->lam && ip < m->np; ip++) {
+    const phm_pair_desc *pr = &m->pair[ip];
+    int cr[2] = {pr->a, pr->b}, mc = m->pair_m[ip];
+    const double *lam = L->lam + m->pair_row[ip];
+    phm_pair_data pd;
+    double Kl[144], w[12] = {0};
+    phm_pair_tangent(m, ip, cr[0] >= 0 ? H + 16 * cr[0] : NULL, cr[1] >= 0 ? H + 16 * cr[1] : NULL,
+                     NULL, NULL, NULL, L->time, L->tref, lam, NULL, &pd, NULL, NULL, NULL, Kl, NULL);
+    for (int r = 0; r < mc; r++) /* the wrenches G_a^T lam, G_b^T lam */
+      for (int j = 0; j < 6; j++) {
+        w[j] += pd.Ga[6 * r + j] * lam[r];
+        w[6 + j] += pd.Gb[6 * r + j] * lam[r];
+      }
+    for (int bi = 0; bi < 2; bi++)
+      for (int bj = 0; bj < 2; bj++) {
+        if (cr[bi] < 0 || cr[bj] < 0) continue;
+        double *K = Kb + 36 * (size_t)lin_slot(L, cr[bi], cr[bj]);
+        const double *kl = Kl + 12 * 6 * bi + 6 * bj;
+        if (bi == bj) add_own_block(K, kl, 12, w + 6 * bi);
+        else
+          for (int i = 0; i < 6; i++)
+            for (int j = 0; j < 6; j++) K[6 * i + j] += kl[12 * i + j];
+      }
   }
 }
 
@@ -97,6 +124,7 @@ void lin_free(lin_t *L) {
   free(L->ptr);
   free(L->nbr);
   free(L->col);
+  free(L->fdcol);
   free(L->Kb);
 }
 
@@ -114,22 +142,33 @@ phm_status lin_colour(lin_t *L, phm_error *err) {
     return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
   }
   L->ncol = phm_graph_colours(nc, L->ptr, L->nbr, L->col, mark);
+  /* the colours the differences need: those of the carriers a spring, load or actuator acts on */
+  L->fdcol = calloc((size_t)L->ncol + 1, 1);
+  if (!L->fdcol) {
+    free(mark);
+    return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+  }
+  phm_remainder_carriers(m, mark);
+  for (int c = 0; c < nc; c++)
+    if (mark[c]) L->fdcol[L->col[c]] = 1;
   free(mark);
   return PHM_OK;
 }
 
 /* Kb[q] = d f_r / d delta_c for block q = (row carrier r, column carrier nbr[q]) of the coupling
  * graph (6 x 6, row-major), f = lin_total_force on the perturbed carriers' charts, f_c(delta) =
- * dexp_{-delta}^T w_c(H_c exp(delta)): the elements' and gravity's part in closed form (lin_closed_form_blocks),
- * the rest by central differences, one pass per colour and direction (carriers of one colour
+ * dexp_{-delta}^T w_c(H_c exp(delta)): the elements', gravity's and pairs' part in closed form
+ * (lin_closed_form_blocks), the rest by central differences, one pass per colour that holds a
+ * carrier a load, spring or actuator acts on (L->fdcol) and direction (carriers of one colour
  * share no neighbour, so their columns do not mix). Into L->Kb. */
 void lin_force_jacobian_blocks(lin_t *L, const double *H, double *f1, double *f2) {
   const phm_model *m = L->m;
   int nc = m->nc, ncol = L->ncol;
   const int *col = L->col, *ptr = L->ptr, *nbr = L->nbr;
   double *Kb = L->Kb;
+  memset(Kb, 0, sizeof(double) * 36 * (size_t)ptr[nc]);
   for (int k = 0; k < ncol; k++)
-    for (int j = 0; j < 6; j++) {
+    for (int j = 0; j < 6 && L->fdcol[k]; j++) {
       double eps = 1e-6 * (j < 3 ? 1.0 : m->lref);
       for (int side = 0; side < 2; side++) {
         double dl[6] = {0}, md[6] = {0}, D[36], *f = side ? f2 : f1;
@@ -157,7 +196,6 @@ void lin_force_jacobian_blocks(lin_t *L, const double *H, double *f1, double *f2
             for (int i = 0; i < 6; i++)
               Kb[36 * (size_t)q + 6 * i + j] = (f1[6 * r + i] - f2[6 * r + i]) / (2 * eps);
     }
-  if (ncol == 0) memset(Kb, 0, sizeof(double) * 36 * (size_t)ptr[nc]);
   lin_closed_form_blocks(L, H, Kb, NULL);
 }
 

@@ -253,10 +253,11 @@ static phm_status lin_red_blocks(lin_red_t *R, const phm_model *m, const double 
   lin_force_jacobian_blocks(L, H, f1, f2);
   for (size_t i = 0; i < (size_t)nb * 36; i++) Kb[i] = -Kb[i];
   /* damping D = -dw/dt: the elements' in closed form (lin_closed_form_blocks), the rest (linear in
-   * t) by one-sided differences, exact up to round-off */
+   * t) by one-sided differences, exact up to round-off, on the colours of the carriers a spring
+   * or actuator acts on (L->fdcol; the pairs' wrenches do not depend on the twists) */
   phm_applied_pairs(m, NULL, H, tw, NULL, time, L->tref, 1.0, 1, f0, NULL, NULL, NULL, NULL, NULL);
   for (int k = 0; k < ncol; k++)
-    for (int j = 0; j < 6; j++) {
+    for (int j = 0; j < 6 && L->fdcol[k]; j++) {
       for (int c = 0; c < nc; c++) tw[6 * c + j] = col[c] == k ? 1.0 : 0.0;
       phm_applied_pairs(m, NULL, H, tw, NULL, time, L->tref, 1.0, 1, f2, NULL, NULL, NULL, NULL, NULL);
       for (int c = 0; c < nc; c++) tw[6 * c + j] = 0.0;

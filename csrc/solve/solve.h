@@ -27,6 +27,7 @@ typedef struct {
   /* carrier coupling graph (CSR), its distance-2 colouring and the force Jacobian blocks
    * (lin_colour; modes and statics) */
   int *ptr, *nbr, *col, ncol;
+  unsigned char *fdcol; /* ncol: 1 if the colour holds a carrier a load, spring or actuator acts on */
   double *Kb;
 } lin_t;
 
@@ -37,11 +38,11 @@ phm_status lin_colour(lin_t *L, phm_error *err);
 /* Generalized forces at poses H: applied wrenches (x L->scale) + G^T L->lam (nc x 6, body frame). */
 void lin_total_force(lin_t *L, const double *H, double *f);
 /* L->Kb[q] = d f_r / d delta_c for block q = (row carrier r, column carrier nbr[q]) of the
- * coupling graph: the se3 elements' part in closed form, the rest by coloured central
- * differences; f1, f2: scratch (6 nc). */
+ * coupling graph: the se3 elements', gravity's and the pairs' G^T lambda part in closed form, the
+ * rest (loads, springs, actuators) by coloured central differences; f1, f2: scratch (6 nc). */
 void lin_force_jacobian_blocks(lin_t *L, const double *H, double *f1, double *f2);
-/* Add the closed-form blocks at poses H (the se3 elements' and gravity's) to Kb (df/ddelta; if
- * not NULL) and the elements' to Db (df/dt; if not NULL). */
+/* Add the closed-form blocks at poses H (the se3 elements', gravity's and the pairs' G^T lambda)
+ * to Kb (df/ddelta; if not NULL) and the elements' to Db (df/dt; if not NULL). */
 void lin_closed_form_blocks(const lin_t *L, const double *H, double *Kb, double *Db);
 
 /* The KKT matrix [K G^T; G 0] of the linearization (K: 6x6 blocks on the slots of the carrier
