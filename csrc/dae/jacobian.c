@@ -1,9 +1,8 @@
 /* jacobian.c -- the Jacobian dF/dy + cj dF/dy' of the DAE: its sparsity pattern from the block
  * structure (carriers couple through elements, pairs, springs and loads; a pair's multipliers
  * and joint coordinates through its two carriers: the coupling graph of csrc/model/graph.c), a
- * colouring of its columns, and its values: the carriers' own terms, the se3 elements', gravity's
- * and the pairs' (rows, G^T lambda, G^T mu) in closed form, the remainder (loads, springs,
- * actuators) by coloured forward differences on the columns of the carriers they act on. */
+ * values, all in closed form: the carriers' own terms, the se3 elements', gravity's, the pairs'
+ * (rows, G^T lambda, G^T mu) and the other applied wrenches' (actuators, loads, springs). */
 #include "dae.h"
 
 #include <math.h>
@@ -51,22 +50,17 @@ static int block_rows(const dae_t *d, int b, const int *nb, int nnb, sunindextyp
 phm_status dae_jacobian_pattern(dae_t *d, phm_error *err) {
   const phm_model *m = d->m;
   int n = d->n, nc = m->nc, nb = nc + m->np;
-  int *ptr = NULL, *nbr = NULL, *srt = NULL, *fill = NULL, *blk = NULL, *bcol = NULL;
+  int *ptr = NULL, *nbr = NULL, *srt = NULL, *fill = NULL, *blk = NULL;
   phm_status st = phm_carrier_graph(m, 1, &ptr, &nbr, err);
   if (st) return st;
   free(d->colptr);
   free(d->rowind);
-  free(d->color);
-  free(d->fdcol);
-  d->fdcol = NULL;
   d->rowind = NULL;
   srt = malloc(sizeof(int) * (size_t)(ptr[nb] + 1));
   fill = malloc(sizeof(int) * (size_t)(nb + 1));
   blk = malloc(sizeof(int) * (size_t)(n + 1));
-  bcol = malloc(sizeof(int) * (size_t)(nb + 1));
   d->colptr = malloc(sizeof(sunindextype) * (size_t)(n + 1));
-  d->color = malloc(sizeof(int) * (size_t)(n + 1));
-  if (!srt || !fill || !blk || !bcol || !d->colptr || !d->color) goto oom;
+  if (!srt || !fill || !blk || !d->colptr) goto oom;
   /* every neighbour list in ascending order: the graph is symmetric, so listing v in the lists
    * of its neighbours for v = 0, 1, ... sorts them (one pass, no comparison sort) */
   for (int v = 0; v < nb; v++) fill[v] = ptr[v];
@@ -99,52 +93,19 @@ phm_status dae_jacobian_pattern(dae_t *d, phm_error *err) {
     else k += block_rows(d, bj, srt + ptr[bj], ptr[bj + 1] - ptr[bj], d->rowind + k);
   }
   d->colptr[n] = k;
-  /* greedy distance-2 colouring of the blocks (two blocks of one colour share no neighbour);
-   * every column of a block gets a different colour offset: colour = blockcolour * 13 + (index
-   * within block). A block's columns: a carrier's 13 states, or a pair's lambda (m), mu (m) and
-   * joint coordinates (k), k + 2m <= 12 since k + m = 6: 13 colours per block colour (was 18:
-   * the leaf spring of benchmarks/scenes.py needs 81 residuals per Jacobian instead of 111) */
-  int nbcol = phm_graph_colours(nb, ptr, nbr, bcol, fill);
-  int width = PHM_NSTATE;
-  for (int i = 0; i < n; i++) {
-    int b = blk[i];
-    if (b < 0) { d->color[i] = nbcol * width + (i - d->ie); continue; }
-    int off;
-    if (b < nc) off = i - PHM_NSTATE * b;
-    else {
-      int ip = b - nc, mc = m->pair_m[ip];
-      if (i < d->ie) off = i - d->ix - m->pair_j[ip] + 2 * mc;
-      else if (i < d->im) off = i - d->il - m->pair_row[ip];
-      else off = i - d->im - m->pair_row[ip] + mc;
-    }
-    d->color[i] = bcol[b] * width + off;
-  }
-  d->ncolor = nbcol * width + (d->il - d->ie);
-  /* the colours the remainder's differences need: those of the carriers a spring, load or
-   * actuator acts on (phm_remainder_carriers); the others' remainder does not move */
-  d->fdcol = calloc((size_t)d->ncolor + 1, 1);
-  if (!d->fdcol) goto oom;
-  phm_remainder_carriers(m, fill);
-  for (int i = 0; i < d->ix; i++)
-    if (fill[i / PHM_NSTATE]) d->fdcol[d->color[i]] = 1;
   goto done;
 oom:
   st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
 fail:
   free(d->colptr);
   free(d->rowind);
-  free(d->color);
-  free(d->fdcol);
   d->colptr = d->rowind = NULL;
-  d->color = NULL;
-  d->fdcol = NULL;
 done:
   free(ptr);
   free(nbr);
   free(srt);
   free(fill);
   free(blk);
-  free(bcol);
   return st;
 }
 
@@ -214,12 +175,43 @@ static void kin_rate(const double q[4], const double *Hc, double kin[42]) {
     for (int j = 0; j < 3; j++) kin[6 * (4 + i) + 3 + j] = -Hc[4 * i + j];
 }
 
+/* A component's wrenches on carriers ca, cb (phm_tangent_sink): -Kx through the charts of the
+ * columns' carriers and -Kt in their twists, into the momentum rows (F = M t' - ... - w). */
+typedef struct {
+  dae_t *d;
+  const double *y;
+  double *val;
+} dae_sink;
+static void add_wrench_tangent(void *ctx, int ca, int cb, const double w[12], const double Kx[144],
+                               const double Kt[144]) {
+  dae_sink *s = ctx;
+  const phm_data *D = &s->d->data;
+  int cr[2] = {ca, cb};
+  (void)w;
+  for (int bj = 0; bj < 2; bj++) {
+    if (cr[bj] < 0) continue;
+    double E[12];
+    quat_chart(s->y + PHM_NSTATE * cr[bj], E);
+    for (int bi = 0; bi < 2; bi++) {
+      if (cr[bi] < 0) continue;
+      double blk[6 * PHM_NSTATE]; /* -Kx_(bi, bj) [E 0; 0 R^T], then -Kt_(bi, bj) */
+      to_chart(Kx + 12 * 6 * bi + 6 * bj, 12, 6, E, D->H + 16 * cr[bj], -1.0, blk, PHM_NSTATE);
+      for (int i = 0; i < 6; i++)
+        for (int j = 0; j < 6; j++)
+          blk[PHM_NSTATE * i + 7 + j] = Kt ? -Kt[12 * (6 * bi + i) + 6 * bj + j] : 0.0;
+      add_block(s->d, s->val, PHM_NSTATE * cr[bi] + 7, 6, PHM_NSTATE * cr[bj], PHM_NSTATE, blk,
+                PHM_NSTATE);
+    }
+  }
+}
+
 /* The closed-form part of the Jacobian at (y, y') (the poses, twists, pairs and G^T mu in
  * d->data): each carrier's kinematic rows q' = 1/2 q (x) (0, w + dw), p' = R (v + dv) ((dw, dv)
  * = G^T mu) and momentum rows M t' - ad*_t M t - gravity in its own states, and each se3
- * element's wrenches (phm_element_tangent) in the states of its two carriers, through the chart
- * (q, p) -> body perturbation [dxi/dq, 0; 0, R^T]. */
-static void jacobian_closed_form(dae_t *d, double cj, const double *y, double *val) {
+ * element's wrenches (phm_element_tangent) and each actuator's, load's and spring's
+ * (phm_applied_tangent) in the states of its two carriers, through the chart (q, p) -> body
+ * perturbation [dxi/dq, 0; 0, R^T]. */
+static void jacobian_closed_form(dae_t *d, double time, double cj, const double *y, double *val) {
   const phm_model *m = d->m;
   const phm_data *D = &d->data;
   double gn = fabs(m->gravity[0]) + fabs(m->gravity[1]) + fabs(m->gravity[2]);
@@ -273,24 +265,17 @@ static void jacobian_closed_form(dae_t *d, double cj, const double *y, double *v
 #undef JB
     add_block(d, val, o, PHM_NSTATE, o, PHM_NSTATE, B, PHM_NSTATE);
   }
+  dae_sink sink = {d, y, val};
   for (int ie = 0; ie < m->ne; ie++) {
     const phm_element_desc *e = &m->el[ie];
-    double wa[6], wb[6], Kx[144], Ct[144];
+    double w[12], Kx[144], Ct[144];
     phm_element_tangent(e, D->H + 16 * e->a, D->H + 16 * e->b, D->tw + 6 * e->a, D->tw + 6 * e->b,
-                        wa, wb, Kx, Ct);
-    int cr[2] = {e->a, e->b};
-    for (int bj = 0; bj < 2; bj++) {
-      double E[12];
-      quat_chart(y + PHM_NSTATE * cr[bj], E);
-      for (int bi = 0; bi < 2; bi++) {
-        double blk[6 * PHM_NSTATE]; /* -Kx_(bi, bj) [E 0; 0 R^T], then -Ct_(bi, bj) */
-        to_chart(Kx + 12 * 6 * bi + 6 * bj, 12, 6, E, D->H + 16 * cr[bj], -1.0, blk, PHM_NSTATE);
-        for (int i = 0; i < 6; i++)
-          for (int j = 0; j < 6; j++) blk[PHM_NSTATE * i + 7 + j] = -Ct[12 * (6 * bi + i) + 6 * bj + j];
-        add_block(d, val, PHM_NSTATE * cr[bi] + 7, 6, PHM_NSTATE * cr[bj], PHM_NSTATE, blk, PHM_NSTATE);
-      }
-    }
+                        w, w + 6, Kx, Ct);
+    add_wrench_tangent(&sink, e->a, e->b, w, Kx, Ct);
   }
+  /* actuators, loads, springs: at the pairs' evaluation of this state (dae_pair_rows) */
+  phm_applied_tangent(m, D->pair, D->H, D->tw, y + d->ix, time, d->tref, 1.0, add_wrench_tangent,
+                      &sink);
 }
 
 /* The pairs' part of the Jacobian in closed form (phm_pair_tangent; docs/method.md sections 4.3,
@@ -314,7 +299,8 @@ static void jacobian_pairs(dae_t *d, double time, double cj, const double *y, do
     double dg[12 * PHM_MAXCON], dc[12 * PHM_MAXCON], dxd[72], Kl[144], Km[144];
     phm_pair_tangent(m, ip, ab[0] >= 0 ? D->H + 16 * ab[0] : NULL, ab[1] >= 0 ? D->H + 16 * ab[1] : NULL,
                      ab[0] >= 0 ? D->tw + 6 * ab[0] : NULL, ab[1] >= 0 ? D->tw + 6 * ab[1] : NULL,
-                     y + xj, time, d->tref, y + lj, y + mj, p, dg, dc, dxd, Kl, Km);
+                     y + xj, time, d->tref, y + lj, y + mj, NULL, p, dg, dc, NULL, dxd, Kl,
+                     Km, NULL);
     for (int c = 0; c < k; c++) add_block(d, val, xj + c, 1, xj + c, 1, &cj, 1);
     for (int r = 0; r < 2; r++) { /* the multipliers' columns in carrier c_r's rows */
       int cr = ab[r];
@@ -385,10 +371,9 @@ static void jacobian_pairs(dae_t *d, double time, double cj, const double *y, do
   }
 }
 
-/* J = dF/dy + cj dF/dyp (no allocation): the closed-form parts (jacobian_closed_form,
- * jacobian_pairs) plus the remainder's coloured forward differences (dae_residual with
- * d->remainder set) on the colours that hold a carrier a spring, load or actuator acts on
- * (d->fdcol; none in a model without them). r0, the full residual at (y, y'), is not needed. */
+/* J = dF/dy + cj dF/dyp (no allocation), all in closed form: jacobian_closed_form and
+ * jacobian_pairs at the state's poses, twists and pairs (dae_unpack, dae_pair_rows). r0, the
+ * residual F(t, y, y'), is not needed. */
 int dae_jacobian(dae_t *d, double t, double cj, const double *y, const double *ypv,
                  const double *r0, SUNMatrix J) {
   int n = d->n;
@@ -397,41 +382,12 @@ int dae_jacobian(dae_t *d, double t, double cj, const double *y, const double *y
   for (int j = 0; j <= n; j++) cp[j] = d->colptr[j];
   for (int k = 0; k < d->nnz; k++) ri[k] = d->rowind[k];
   memset(val, 0, sizeof(double) * (size_t)d->nnz);
-  double sq = sqrt(2.2e-16);
   phm_data *D = &d->data;
   (void)r0;
-  int any_fd = 0;
-  for (int col = 0; col < d->ncolor; col++) any_fd |= d->fdcol[col];
-  d->remainder = 1;
-  if (any_fd && dae_residual(d, t, y, ypv, D->rfd)) {
-    d->remainder = 0;
-    return 1;
-  }
-  for (int col = 0; col < d->ncolor; col++) {
-    if (!d->fdcol[col]) continue;
-    memcpy(D->ytmp, y, sizeof(double) * n);
-    memcpy(D->yptmp, ypv, sizeof(double) * n);
-    for (int j = 0; j < d->ix; j++) /* carriers' states: the pairs' do not move the remainder */
-      if (d->color[j] == col) {
-        double inc = sq * fmax(fabs(y[j]), fmax(fabs(ypv[j]) / (cj > 0 ? cj : 1), 1e-3));
-        D->ytmp[j] += inc;
-        D->yptmp[j] += cj * inc;
-        D->inc[j] = inc; /* the increment of column j */
-      }
-    if (dae_residual(d, t, D->ytmp, D->yptmp, D->rtmp)) {
-      d->remainder = 0;
-      return 1;
-    }
-    for (int j = 0; j < d->ix; j++)
-      if (d->color[j] == col)
-        for (sunindextype k = cp[j]; k < cp[j + 1]; k++)
-          val[k] = (D->rtmp[ri[k]] - D->rfd[ri[k]]) / D->inc[j];
-  }
-  d->remainder = 0;
-  /* the unperturbed poses, twists, pairs and G^T mu (the pairs' rows go to scratch) */
+  /* the poses, twists, pairs and G^T mu of the state (the pairs' rows go to scratch) */
   dae_unpack(d->m, y, D->H, D->tw);
   dae_pair_rows(d, t, y, ypv, D->rtmp);
-  jacobian_closed_form(d, cj, y, val);
+  jacobian_closed_form(d, t, cj, y, val);
   jacobian_pairs(d, t, cj, y, val);
   return 0;
 }

@@ -423,20 +423,11 @@ void phm_pair_wrench(const phm_model *m, int ip, const phm_pair_data *pd, const 
 }
 
 /* ---------------------------------------------------------------- tangents of a pair's rows */
-/* out (rows x 12) = D (rows x 6, derivatives in eta) Jh, Jh = [-AdBa, AdTbi]: eta, the body
- * perturbation of h, is AdTbi db - AdBa da for H_a exp(da), H_b exp(db) (docs/method.md 4.3). */
+/* out (rows x 12) = D (rows x 6, derivatives in eta) [-AdBa, AdTbi]: eta, the body perturbation
+ * of h, is AdTbi db - AdBa da for H_a exp(da), H_b exp(db) (docs/method.md 4.3). */
 static void eta_to_carriers(const double *D, int rows, const double AdTbi[36],
                             const double AdBa[36], double *out) {
-  for (int r = 0; r < rows; r++)
-    for (int j = 0; j < 6; j++) {
-      double sa = 0, sb = 0;
-      for (int l = 0; l < 6; l++) {
-        sa += D[6 * r + l] * AdBa[6 * l + j];
-        sb += D[6 * r + l] * AdTbi[6 * l + j];
-      }
-      out[12 * r + j] = -sa;
-      out[12 * r + 6 + j] = sb;
-    }
+  phm_mul_ends(D, rows, AdBa, AdTbi, out);
 }
 
 /* out (rows x 6) = sum_i B[i][r] v_i along eta: the derivative of B^T v (B: a 6x6 basis, its
@@ -460,10 +451,12 @@ static void ad_dual_bar(const double z[6], double B[36]) {
   }
 }
 
-/* K (12 x 12) = d [Ga^T l; Gb^T l]/d[da; db], Ga^T l = -AdBa^T w, Gb^T l = AdTbi^T w, w = W l.
- * Beside dw: AdBa = Ad_{F_b^-1 H_a} moves with both carriers, d(AdBa^T w) = bar(AdBa^T w) da -
- * AdBa^T bar(w) AdTbi db (H_a exp(da) on the right; H_b exp(db) through F_b^-1 on the left). */
-static void wrench_tangent(const double W[36], const pair_tan *T, int mc, const double *l,
+/* K (12 x 12) = d [-AdBa^T w; AdTbi^T w]/d[da; db] at fixed l, w = W l (W: a basis with its
+ * derivatives DW in eta, columns r < mc): the constraint wrenches [Ga^T l; Gb^T l] (W = W^C) or
+ * an effort's (W = Phi, l = u). Beside dw: AdBa = Ad_{F_b^-1 H_a} moves with both carriers,
+ * d(AdBa^T w) = bar(AdBa^T w) da - AdBa^T bar(w) AdTbi db (H_a exp(da) on the right; H_b exp(db)
+ * through F_b^-1 on the left). */
+static void wrench_tangent(const double W[36], const double *DW, int mc, const double *l,
                            const double AdTbi[36], const double AdBa[36], double K[144]) {
   double w[6], z[6], Dl[36], Dw[72], Bz[36], Bw[36], BA[36];
   for (int i = 0; i < 6; i++) {
@@ -471,7 +464,7 @@ static void wrench_tangent(const double W[36], const pair_tan *T, int mc, const 
     for (int r = 0; r < mc; r++) w[i] += W[6 * i + r] * l[r];
     for (int j = 0; j < 6; j++) {
       double s = 0;
-      for (int r = 0; r < mc; r++) s += T->DW[6 * (6 * i + r) + j] * l[r];
+      for (int r = 0; r < mc; r++) s += DW[6 * (6 * i + r) + j] * l[r];
       Dl[6 * i + j] = s;
     }
   }
@@ -499,8 +492,9 @@ static void wrench_tangent(const double W[36], const pair_tan *T, int mc, const 
 
 void phm_pair_tangent(const phm_model *m, int ip, const double *Ha, const double *Hb,
                       const double *ta, const double *tb, const double *xref, double time,
-                      double tref, const double *lam, const double *mu, phm_pair_data *pd,
-                      double *dg, double *dc, double *dxd, double *Kl, double *Km) {
+                      double tref, const double *lam, const double *mu, const double *u,
+                      phm_pair_data *pd, double *dg, double *dc, double *dx, double *dxd,
+                      double *Kl, double *Km, double *Ku) {
   const phm_pair_desc *pr = &m->pair[ip];
   const double *AdTbi = m->pair_AdTbi + 36 * ip;
   int mc = m->pair_m[ip], k = m->pair_k[ip];
@@ -511,6 +505,12 @@ void phm_pair_tangent(const phm_model *m, int ip, const double *Ha, const double
   phm_pair_frames(m, ip, Ha, Hb, pd->h, NULL, pd->AdBa);
   pair_rows(m, ip, pd->h, AdTbi, pd->AdBa, xref, time, tref, 0, pd->g, pd->Ga, pd->Gb, pd->vt,
             pd->W, pd->Phi, pd->x, &T);
+  if (dx) { /* the coordinates' derivatives: one more evaluation of the kinematics at h */
+    double Dx[36];
+    phm_pair_kin_tangent(pr->type, pr->pitch, pd->h, xref, NULL, NULL, NULL, NULL, NULL, NULL,
+                         NULL, Dx);
+    eta_to_carriers(Dx, k, AdTbi, pd->AdBa, dx);
+  }
   double tr[6], Dt[72] = {0}, D6[36];
   phm_pair_rel_twist(AdTbi, pd->AdBa, ta, tb, tr);
   for (int c = 0; c < k; c++) pd->xdot[c] = col_dot(pd->Phi, c, tr);
@@ -552,8 +552,9 @@ void phm_pair_tangent(const phm_model *m, int ip, const double *Ha, const double
       for (int j = 0; j < 12; j++)
         for (int i = 0; i < 6; i++) dxd[12 * c + j] += pd->Phi[6 * i + c] * Dt[12 * i + j];
   }
-  if (Kl && lam) wrench_tangent(pd->W, &T, mc, lam, AdTbi, pd->AdBa, Kl);
-  if (Km && mu) wrench_tangent(pd->W, &T, mc, mu, AdTbi, pd->AdBa, Km);
+  if (Kl && lam) wrench_tangent(pd->W, T.DW, mc, lam, AdTbi, pd->AdBa, Kl);
+  if (Km && mu) wrench_tangent(pd->W, T.DW, mc, mu, AdTbi, pd->AdBa, Km);
+  if (Ku && u) wrench_tangent(pd->Phi, T.DPhi, k, u, AdTbi, pd->AdBa, Ku);
 }
 
 void phm_pair_joint(const phm_model *m, int ip, const double *Ha, const double *Hb,

@@ -20,7 +20,7 @@ static void static_residual(lin_t *L, const double *H, double *R) {
 
 /* Work arrays of one Newton solve (allocated once by phm_static). */
 typedef struct {
-  double *R, *f1, *f2, *Gp, *Hsave, *lsave, *bar;
+  double *R, *Gp, *Hsave, *lsave, *bar;
 } static_work_t;
 
 /* The size of a step x (6 nc carrier components, then nk multipliers): its largest rotation
@@ -48,8 +48,8 @@ static void take_step(const phm_model *m, double *H, double *lam, const double *
 }
 
 /* Newton from (H, lam) at the load scale L->scale; 0 on convergence (H, lam updated), 1 on
- * failure (H, lam restored). Each iteration: the tangent [K G^T; G 0] (the elements' blocks in
- * closed form, the rest by coloured differences, csrc/solve/linearize.c) solved by KLU, the step
+ * failure (H, lam restored). Each iteration: the tangent [K G^T; G 0] (in closed form,
+ * csrc/solve/linearize.c) solved by KLU, the step
  * scaled down to at most 1 rad of rotation, then the simplified Newton correction at the new
  * iterate (the same factorization, one more residual and solve): converged when it is below tol
  * (rad, and lengths in units of the element length lref; it is then applied), or when it stalls
@@ -76,7 +76,7 @@ static int newton(lin_t *L, lin_kkt_t *S, double *H, double *lam, double tol, in
   double sprev = INFINITY;
   for (int it = 0; it < maxit; it++) {
     (*iters)++;
-    lin_force_jacobian_blocks(L, H, w->f1, w->f2);
+    lin_force_jacobian_blocks(L, H);
     if (nk) lin_constraint_blocks(L, H, w->Gp);
     for (int i = 0; i < N; i++) R[i] = -R[i];
     if (lin_kkt_factor(S, L->Kb, w->Gp) || lin_kkt_solve(S, R)) break;
@@ -127,7 +127,7 @@ static int ptc(lin_t *L, lin_kkt_t *S, double *H, double *lam, double tol, int m
   rn = sqrt(rn);
   for (int it = 0; it < maxit && isfinite(rn); it++) {
     (*iters)++;
-    lin_force_jacobian_blocks(L, H, w->f1, w->f2);
+    lin_force_jacobian_blocks(L, H);
     if (nk) lin_constraint_blocks(L, H, w->Gp);
     if (it == 0) { /* the first step: the inertia term 100 times the stiffness */
       double trK = 0;
@@ -189,16 +189,15 @@ phm_status phm_static_monitored(const phm_model *m, const double *poses, double 
   memset(&S, 0, sizeof S);
   static_work_t w = {
       .R = malloc(sizeof(double) * (size_t)N),
-      .f1 = malloc(sizeof(double) * (size_t)n6), .f2 = malloc(sizeof(double) * (size_t)n6),
       .Gp = malloc(sizeof(double) * 12 * (size_t)(nk + 1)),
       .Hsave = malloc(sizeof(double) * 16 * (size_t)nc), .lsave = malloc(sizeof(double) * (size_t)(nk + 1)),
       .bar = malloc(sizeof(double) * (size_t)N)};
   double *lam = calloc((size_t)(nk + 1), sizeof(double));
-  if (!w.R || !w.f1 || !w.f2 || !w.Gp || !w.Hsave || !w.lsave || !w.bar || !lam) {
+  if (!w.R || !w.Gp || !w.Hsave || !w.lsave || !w.bar || !lam) {
     st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
     goto done;
   }
-  if ((st = lin_alloc(&L, m, err)) || (st = lin_colour(&L, err))) goto done;
+  if ((st = lin_alloc(&L, m, err)) || (st = lin_graph(&L, err))) goto done;
   if ((st = lin_kkt_build(&S, &L, err))) goto done;
   L.time = time;
   L.tref = phm_model_tref(m, time, NULL);
@@ -252,7 +251,7 @@ done:
   if (iters) *iters = it;
   lin_free(&L);
   lin_kkt_free(&S);
-  free(w.R); free(w.f1); free(w.f2); free(w.Gp);
+  free(w.R); free(w.Gp);
   free(w.Hsave); free(w.lsave); free(w.bar); free(lam);
   return st;
 }

@@ -1,11 +1,10 @@
 /* test_linearize.c -- the stiffness and damping blocks of modes and statics (csrc/solve/linearize.c:
- * the se3 elements', gravity's and the pairs' in closed form, the rest by coloured central
- * differences) against central
+ * all in closed form) against central
  * differences computed here, carrier by carrier and direction by direction, of the generalized
  * forces f_c(delta) = dexp_{-delta}^T w_c(H_c exp(delta)) (docs/method.md section 7.1) and of the
  * wrenches in the twists. A chain of four elements, bent and twisted, clamped to the ground, a
- * revolute pair with constraint wrenches lambda, gravity and a world-fixed load; and every pair
- * type's geometric stiffness alone. Reference steps
+ * revolute pair with constraint wrenches lambda and a PD actuator, a spring-damper to the ground,
+ * gravity and a world-fixed load; and every pair type's geometric stiffness alone. Reference steps
  * 1e-6 (rad, m; truncation ~ 1e-12, round-off ~ 1e-10 relative): 1e-7 relative. */
 #include "check.h"
 #include "solve.h"
@@ -45,6 +44,17 @@ static double stiffness_error(lin_t *L, const double *H) {
       }
     }
   return err_k / big_k;
+}
+
+/* L's blocks at poses H (lin_force_jacobian_blocks) at time and load scale, with random
+ * constraint wrenches lam (ncons). */
+static void blocks_at(lin_t *L, const double *H, double time, double scale, double *lam) {
+  for (int i = 0; i < L->m->ncons; i++) lam[i] = 5.0 * rand11();
+  L->time = time;
+  L->tref = 0.5;
+  L->scale = scale;
+  L->lam = lam;
+  lin_force_jacobian_blocks(L, H);
 }
 
 /* The pairs' constraint wrenches alone, in closed form (phm_pair_tangent): every pair type
@@ -93,16 +103,11 @@ static void pair_stiffness_is_closed_form(void) {
       if (!m) continue;
       lin_t L = {0};
       phm_error err;
-      if (lin_alloc(&L, m, &err) || lin_colour(&L, &err)) {
+      if (lin_alloc(&L, m, &err) || lin_graph(&L, &err)) {
         check_fail("lin set-up: %s", err.msg);
       } else {
-        double lam[24], f1[6 * NC], f2[6 * NC];
-        for (int i = 0; i < m->ncons; i++) lam[i] = 5.0 * rand11();
-        L.time = 0.3;
-        L.tref = 0.5;
-        L.scale = 1.0;
-        L.lam = lam;
-        lin_force_jacobian_blocks(&L, H, f1, f2);
+        double lam[24];
+        blocks_at(&L, H, 0.3, 1.0, lam);
         check_worst(names[type], stiffness_error(&L, H), 1e-7);
       }
       lin_free(&L);
@@ -147,34 +152,32 @@ static void stiffness_and_damping_blocks_are_central_differences(void) {
   pair[1].b = 4;
   load[0] = (phm_load_desc){.carrier = 3, .reaction = -1, .w = {0.1, 0.2, 0.3, 1, -2, 3}, .world = 1,
                             .point = {0.05, 0, 0}, .law = {.kind = PHM_LAW_CONSTANT, .amplitude = 1.0}};
+  phm_spring_desc spr[1] = {{.a = 1, .b = -1, .pa = {0.1, 0, 0}, .pb = {1, 1, 1}, .k = 30, .c = 0.5, .d0 = 0.5}};
+  phm_actuator_desc act[1] = {{.pair = 1, .kind = PHM_ACT_PD, .kp = {50}, .kd = {2}, .x_set = {0.1},
+                               .vec = {1}, .law = {.kind = PHM_LAW_CONSTANT, .amplitude = 0.2}}};
   phm_model_desc d = {.ncarriers = NC, .carriers = car, .nelements = NC - 1, .elements = el,
-                      .npairs = 2, .pairs = pair, .nloads = 1, .loads = load,
-                      .gravity = {0, 0, -9.81}};
+                      .npairs = 2, .pairs = pair, .nloads = 1, .loads = load, .nsprings = 1,
+                      .springs = spr, .nactuators = 1, .actuators = act, .gravity = {0, 0, -9.81}};
   phm_model *m = create_model(&d);
   if (!m) return;
   lin_t L = {0};
   phm_error err;
-  if (lin_alloc(&L, m, &err) || lin_colour(&L, &err)) {
+  if (lin_alloc(&L, m, &err) || lin_graph(&L, &err)) {
     check_fail("lin set-up: %s", err.msg);
     lin_free(&L);
     phm_model_free(m);
     return;
   }
-  double lam[12], f1[6 * NC], f2[6 * NC];
-  for (int i = 0; i < m->ncons; i++) lam[i] = 5.0 * rand11();
-  L.time = 0.0;
-  L.tref = 0.5;
-  L.scale = 0.7;
-  L.lam = lam;
-  lin_force_jacobian_blocks(&L, H, f1, f2);
+  double lam[12];
+  blocks_at(&L, H, 0.0, 0.7, lam);
   double *Db = calloc(36 * (size_t)L.ptr[NC] + 1, sizeof(double));
   lin_closed_form_blocks(&L, H, NULL, Db);
   check_worst("stiffness blocks = central FD of f_c(delta)", stiffness_error(&L, H), 1e-7);
   double err_d = 0, big_d = 0;
   for (int c = 0; c < NC; c++)
     for (int j = 0; j < 6; j++) {
-      /* the elements' damping: d w/d t_c (affine in the twists: one-sided differences are exact
-       * up to round-off; load scale 0 leaves only the elements' wrenches) */
+      /* the damping: d w/d t_c (affine in the twists: one-sided differences are exact up to
+       * round-off; load scale 0 leaves the elements', the spring's and the PD actuator's) */
       double tw[6 * NC] = {0}, wr0[6 * NC], wr1[6 * NC];
       phm_applied(m, H, tw, NULL, 0.0, 0.5, 0.0, wr0, NULL, NULL, NULL, NULL, NULL);
       tw[6 * c + j] = 1.0;
@@ -190,7 +193,7 @@ static void stiffness_and_damping_blocks_are_central_differences(void) {
         }
       }
     }
-  check_worst("elements' damping blocks = dw/dt", err_d / big_d, 1e-10);
+  check_worst("damping blocks (elements, spring, PD actuator) = dw/dt", err_d / big_d, 1e-10);
   free(Db);
   lin_free(&L);
   phm_model_free(m);
