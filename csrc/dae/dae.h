@@ -3,9 +3,8 @@
  * coordinates (nj, integrated from their rates; they select the branch of multi-turn angles);
  * then the energy ledger integrals (dissipated, supplied, one per port); then lambda (ncons);
  * then mu (ncons). Residual F(t, y, y') = 0 (residual.c), consistent initial values
- * (initial.c), the sparsity pattern and the Jacobian (jacobian.c: closed form and coloured finite
- * differences), the
- * outputs (output.c).
+ * (initial.c), the sparsity pattern and the Jacobian (jacobian.c, in closed form), the outputs
+ * (output.c).
  *
  * Model and data, as MuJoCo's mjModel and mjData: the model (phm_model, csrc/model/model.h) is
  * immutable; everything a run writes lives in its phm_data, allocated once by dae_init from the
@@ -59,9 +58,7 @@ typedef struct {
   double *gl, *gm;       /* nc x 6: G^T lambda and G^T mu per carrier                          */
   double *pport;         /* nport: power of every port                                         */
   double *eff;           /* nj: actuator efforts summed per joint coordinate (outputs)          */
-  /* the Jacobian (dae_jacobian): the coloured finite differences of its remainder */
-  double *ytmp, *yptmp, *rtmp, *inc; /* n each: perturbed y, y', their residual, increments */
-  double *rfd;           /* n: the remainder's residual at the unperturbed state              */
+  double *rtmp;          /* n: scratch rows (the pairs' rows dae_jacobian evaluates)           */
   /* consistent initial values (dae_consistent_ic, dae_restart_at_breakpoint) */
   dae_ic_work ic;
 } phm_data;
@@ -73,14 +70,9 @@ typedef struct {
   phm_data data;         /* allocated by dae_init */
   char idamsg[256];         /* IDA's last error message, through idasink (csrc/solve/ida.c) */
   phm_sun_errsink idasink; /* here, not in run_ida: SUNDIALS 7 keeps it on the context */
-  /* KLU: sparsity pattern (CSC) and column colouring for the finite-difference Jacobian */
-  int nnz, ncolor;
+  /* KLU: the Jacobian's sparsity pattern (CSC) */
+  int nnz;
   sunindextype *colptr, *rowind;
-  int *color;
-  /* 1 while dae_jacobian differentiates the remainder: dae_residual then leaves out what the
-   * Jacobian has in closed form (the se3 elements' wrenches, gravity, the carriers' own kinematic
-   * and momentum terms, every y' term of the carrier rows) */
-  int remainder;
 } dae_t;
 
 /* ---------------------------------------------------------------- residual.c */
@@ -134,16 +126,15 @@ int ic_schur_factor(dae_t *d, int mass);
 int ic_schur_solve(dae_t *d, int mass, double *rhs, double *delta);
 
 /* ---------------------------------------------------------------- jacobian.c */
-/* The CSC pattern of dF/dy + cj dF/dy' (row indices ascending in each column) and its column
- * colouring (into d), from the coupling graph of carriers and pairs (phm_carrier_graph): time and
- * memory linear in the number of nonzeros. */
+/* The CSC pattern of dF/dy + cj dF/dy' (row indices ascending in each column; into d), from the
+ * coupling graph of carriers and pairs (phm_carrier_graph): time and memory linear in the number
+ * of nonzeros. */
 phm_status dae_jacobian_pattern(dae_t *d, phm_error *err);
 /* J = dF/dy + cj dF/dy' at (t, y, y') into the sparse matrix J (pattern from
- * dae_jacobian_pattern): the se3 elements' wrenches (phm_element_tangent), gravity
- * (phm_gravity_tangent) and the carriers' own kinematic and momentum rows in closed form, the
- * remainder (pairs' rows and G^T lambda, G^T mu, loads, springs, actuators, the ledger) by
- * coloured forward differences. r0 (the
- * residual F(t, y, y')) is not read. 0 on success. */
+ * dae_jacobian_pattern), in closed form: the carriers' own kinematic and momentum rows, the se3
+ * elements' wrenches (phm_element_tangent), gravity (phm_gravity_tangent), the pairs' rows,
+ * G^T lambda and G^T mu (phm_pair_tangent), actuators, loads and springs (phm_applied_tangent),
+ * the ledger rows' diagonal. r0 (the residual F(t, y, y')) is not read. 0 on success. */
 int dae_jacobian(dae_t *d, double t, double cj, const double *y, const double *yp,
                  const double *r0, SUNMatrix J);
 

@@ -1,9 +1,8 @@
 /* jacobian.c -- the Jacobian dF/dy + cj dF/dy' of the DAE: its sparsity pattern from the block
  * structure (carriers couple through elements, pairs, springs and loads; a pair's multipliers
  * and joint coordinates through its two carriers: the coupling graph of csrc/model/graph.c), a
- * colouring of its columns, and its values: the se3 elements', gravity's and the carriers' own
- * terms in closed form, the remainder (pairs, loads, springs, actuators) by coloured forward
- * differences. */
+ * values, all in closed form: the carriers' own terms, the se3 elements', gravity's, the pairs'
+ * (rows, G^T lambda, G^T mu) and the other applied wrenches' (actuators, loads, springs). */
 #include "dae.h"
 
 #include <math.h>
@@ -51,20 +50,17 @@ static int block_rows(const dae_t *d, int b, const int *nb, int nnb, sunindextyp
 phm_status dae_jacobian_pattern(dae_t *d, phm_error *err) {
   const phm_model *m = d->m;
   int n = d->n, nc = m->nc, nb = nc + m->np;
-  int *ptr = NULL, *nbr = NULL, *srt = NULL, *fill = NULL, *blk = NULL, *bcol = NULL;
+  int *ptr = NULL, *nbr = NULL, *srt = NULL, *fill = NULL, *blk = NULL;
   phm_status st = phm_carrier_graph(m, 1, &ptr, &nbr, err);
   if (st) return st;
   free(d->colptr);
   free(d->rowind);
-  free(d->color);
   d->rowind = NULL;
   srt = malloc(sizeof(int) * (size_t)(ptr[nb] + 1));
   fill = malloc(sizeof(int) * (size_t)(nb + 1));
   blk = malloc(sizeof(int) * (size_t)(n + 1));
-  bcol = malloc(sizeof(int) * (size_t)(nb + 1));
   d->colptr = malloc(sizeof(sunindextype) * (size_t)(n + 1));
-  d->color = malloc(sizeof(int) * (size_t)(n + 1));
-  if (!srt || !fill || !blk || !bcol || !d->colptr || !d->color) goto oom;
+  if (!srt || !fill || !blk || !d->colptr) goto oom;
   /* every neighbour list in ascending order: the graph is symmetric, so listing v in the lists
    * of its neighbours for v = 0, 1, ... sorts them (one pass, no comparison sort) */
   for (int v = 0; v < nb; v++) fill[v] = ptr[v];
@@ -97,43 +93,19 @@ phm_status dae_jacobian_pattern(dae_t *d, phm_error *err) {
     else k += block_rows(d, bj, srt + ptr[bj], ptr[bj + 1] - ptr[bj], d->rowind + k);
   }
   d->colptr[n] = k;
-  /* greedy distance-2 colouring of the blocks (two blocks of one colour share no neighbour);
-   * every column of a block gets a different colour offset: colour = blockcolour * 13 + (index
-   * within block). A block's columns: a carrier's 13 states, or a pair's lambda (m), mu (m) and
-   * joint coordinates (k), k + 2m <= 12 since k + m = 6: 13 colours per block colour (was 18:
-   * the leaf spring of benchmarks/scenes.py needs 81 residuals per Jacobian instead of 111) */
-  int nbcol = phm_graph_colours(nb, ptr, nbr, bcol, fill);
-  int width = PHM_NSTATE;
-  for (int i = 0; i < n; i++) {
-    int b = blk[i];
-    if (b < 0) { d->color[i] = nbcol * width + (i - d->ie); continue; }
-    int off;
-    if (b < nc) off = i - PHM_NSTATE * b;
-    else {
-      int ip = b - nc, mc = m->pair_m[ip];
-      if (i < d->ie) off = i - d->ix - m->pair_j[ip] + 2 * mc;
-      else if (i < d->im) off = i - d->il - m->pair_row[ip];
-      else off = i - d->im - m->pair_row[ip] + mc;
-    }
-    d->color[i] = bcol[b] * width + off;
-  }
-  d->ncolor = nbcol * width + (d->il - d->ie);
   goto done;
 oom:
   st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
 fail:
   free(d->colptr);
   free(d->rowind);
-  free(d->color);
   d->colptr = d->rowind = NULL;
-  d->color = NULL;
 done:
   free(ptr);
   free(nbr);
   free(srt);
   free(fill);
   free(blk);
-  free(bcol);
   return st;
 }
 
@@ -169,24 +141,92 @@ static void quat_chart(const double q[4], double E[12]) {
   for (int i = 0; i < 12; i++) E[i] = s * Ev[i];
 }
 
-/* The closed-form part of the Jacobian at (y, y') (the poses and twists in d->data): each
- * carrier's kinematic rows q' = 1/2 q (x) (0, w), p' = R v and momentum rows M t' - ad*_t M t
- * - gravity in its own states, and each se3 element's wrenches (phm_element_tangent) in the states of its
- * two carriers, through the chart (q, p) -> body perturbation [dxi/dq, 0; 0, R^T]. */
-static void jacobian_closed_form(dae_t *d, double cj, const double *y, double *val) {
+/* out (rows x 7, leading dimension ldo) = sign K [E 0; 0 R^T]: a derivative K (rows x 6, leading
+ * dimension ldk) in the body perturbation of a carrier, carried to its states (q, p) through the
+ * chart (E = quat_chart(q), R its pose's rotation, Hc). */
+static void to_chart(const double *K, int ldk, int rows, const double E[12], const double *Hc,
+                     double sign, double *out, int ldo) {
+  for (int i = 0; i < rows; i++) {
+    const double *k = K + ldk * i;
+    double *b = out + ldo * i;
+    for (int j = 0; j < 4; j++) b[j] = sign * (k[0] * E[j] + k[1] * E[4 + j] + k[2] * E[8 + j]);
+    for (int j = 0; j < 3; j++) /* R^T: (R^T)_{l j} = R_{j l} */
+      b[4 + j] = sign * (k[3] * Hc[4 * j] + k[4] * Hc[4 * j + 1] + k[5] * Hc[4 * j + 2]);
+  }
+}
+
+/* Jw (4 x 3) = d/dw of q' - 1/2 q (x) (0, w): the quaternion rows' derivative in the angular
+ * velocity they integrate (t's or G^T mu's). */
+static void quat_rate(const double q[4], double Jw[12]) {
+  double J[12] = {.5 * q[1], .5 * q[2], .5 * q[3],   -.5 * q[0], .5 * q[3], -.5 * q[2],
+                  -.5 * q[3], -.5 * q[0], .5 * q[1], .5 * q[2], -.5 * q[1], -.5 * q[0]};
+  memcpy(Jw, J, sizeof J);
+}
+
+/* kin (7 x 6) = [Jw 0; 0 -R]: the kinematic rows' (q' and p' = R (v + dv)) derivative in the
+ * twist correction (dw, dv) = (G^T mu)_c of carrier c (quaternion q, pose Hc). */
+static void kin_rate(const double q[4], const double *Hc, double kin[42]) {
+  double Jw[12];
+  quat_rate(q, Jw);
+  memset(kin, 0, sizeof(double) * 42);
+  for (int i = 0; i < 4; i++)
+    for (int j = 0; j < 3; j++) kin[6 * i + j] = Jw[3 * i + j];
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) kin[6 * (4 + i) + 3 + j] = -Hc[4 * i + j];
+}
+
+/* A component's wrenches on carriers ca, cb (phm_tangent_sink): -Kx through the charts of the
+ * columns' carriers and -Kt in their twists, into the momentum rows (F = M t' - ... - w). */
+typedef struct {
+  dae_t *d;
+  const double *y;
+  double *val;
+} dae_sink;
+static void add_wrench_tangent(void *ctx, int ca, int cb, const double w[12], const double Kx[144],
+                               const double Kt[144]) {
+  dae_sink *s = ctx;
+  const phm_data *D = &s->d->data;
+  int cr[2] = {ca, cb};
+  (void)w;
+  for (int bj = 0; bj < 2; bj++) {
+    if (cr[bj] < 0) continue;
+    double E[12];
+    quat_chart(s->y + PHM_NSTATE * cr[bj], E);
+    for (int bi = 0; bi < 2; bi++) {
+      if (cr[bi] < 0) continue;
+      double blk[6 * PHM_NSTATE]; /* -Kx_(bi, bj) [E 0; 0 R^T], then -Kt_(bi, bj) */
+      to_chart(Kx + 12 * 6 * bi + 6 * bj, 12, 6, E, D->H + 16 * cr[bj], -1.0, blk, PHM_NSTATE);
+      for (int i = 0; i < 6; i++)
+        for (int j = 0; j < 6; j++)
+          blk[PHM_NSTATE * i + 7 + j] = Kt ? -Kt[12 * (6 * bi + i) + 6 * bj + j] : 0.0;
+      add_block(s->d, s->val, PHM_NSTATE * cr[bi] + 7, 6, PHM_NSTATE * cr[bj], PHM_NSTATE, blk,
+                PHM_NSTATE);
+    }
+  }
+}
+
+/* The closed-form part of the Jacobian at (y, y') (the poses, twists, pairs and G^T mu in
+ * d->data): each carrier's kinematic rows q' = 1/2 q (x) (0, w + dw), p' = R (v + dv) ((dw, dv)
+ * = G^T mu) and momentum rows M t' - ad*_t M t - gravity in its own states, and each se3
+ * element's wrenches (phm_element_tangent) and each actuator's, load's and spring's
+ * (phm_applied_tangent) in the states of its two carriers, through the chart (q, p) -> body
+ * perturbation [dxi/dq, 0; 0, R^T]. */
+static void jacobian_closed_form(dae_t *d, double time, double cj, const double *y, double *val) {
   const phm_model *m = d->m;
   const phm_data *D = &d->data;
   double gn = fabs(m->gravity[0]) + fabs(m->gravity[1]) + fabs(m->gravity[2]);
   for (int c = 0; c < m->nc; c++) {
     const double *q = y + PHM_NSTATE * c, *t = q + 7, *Hc = D->H + 16 * c, *M = m->car[c].M;
+    const double *gm = D->gm + 6 * c;
     int o = PHM_NSTATE * c;
     double B[PHM_NSTATE * PHM_NSTATE] = {0}; /* rows and columns: the carrier's 13 states */
 #define JB(i, j) B[PHM_NSTATE * (i) + (j)]
-    const double *w = t, *v = t + 3;
+    double w[3] = {t[0] + gm[0], t[1] + gm[1], t[2] + gm[2]};
+    double v[3] = {t[3] + gm[3], t[4] + gm[4], t[5] + gm[5]};
     double Jq[16] = {0, .5 * w[0], .5 * w[1], .5 * w[2],     -.5 * w[0], 0, -.5 * w[2], .5 * w[1],
                      -.5 * w[1], .5 * w[2], 0, -.5 * w[0],   -.5 * w[2], -.5 * w[1], .5 * w[0], 0};
-    double Jw[12] = {.5 * q[1], .5 * q[2], .5 * q[3],   -.5 * q[0], .5 * q[3], -.5 * q[2],
-                     -.5 * q[3], -.5 * q[0], .5 * q[1], .5 * q[2], -.5 * q[1], -.5 * q[0]};
+    double Jw[12];
+    quat_rate(q, Jw);
     for (int i = 0; i < 4; i++) {
       for (int j = 0; j < 4; j++) JB(i, j) = Jq[4 * i + j];
       for (int j = 0; j < 3; j++) JB(i, 7 + j) = Jw[3 * i + j];
@@ -216,44 +256,124 @@ static void jacobian_closed_form(dae_t *d, double cj, const double *y, double *v
       for (int i = 0; i < 6; i++) JB(7 + i, 7 + j) = cj * M[6 * i + j] - a1[i] - a2[i];
     }
     if (gn > 0) { /* gravity: -dw/ddelta [E 0; 0 R^T] on the momentum rows (rotation only) */
-      double wg[6], Kg[36];
+      double wg[6], Kg[36], Bg[6 * 7];
       phm_gravity_tangent(m, c, Hc, 1.0, wg, Kg);
+      to_chart(Kg, 6, 6, E, Hc, -1.0, Bg, 7);
       for (int i = 0; i < 6; i++)
-        for (int j = 0; j < 4; j++)
-          JB(7 + i, j) -= Kg[6 * i] * E[j] + Kg[6 * i + 1] * E[4 + j] + Kg[6 * i + 2] * E[8 + j];
+        for (int j = 0; j < 4; j++) JB(7 + i, j) += Bg[7 * i + j];
     }
 #undef JB
     add_block(d, val, o, PHM_NSTATE, o, PHM_NSTATE, B, PHM_NSTATE);
   }
+  dae_sink sink = {d, y, val};
   for (int ie = 0; ie < m->ne; ie++) {
     const phm_element_desc *e = &m->el[ie];
-    double wa[6], wb[6], Kx[144], Ct[144];
+    double w[12], Kx[144], Ct[144];
     phm_element_tangent(e, D->H + 16 * e->a, D->H + 16 * e->b, D->tw + 6 * e->a, D->tw + 6 * e->b,
-                        wa, wb, Kx, Ct);
-    int cr[2] = {e->a, e->b};
-    for (int bj = 0; bj < 2; bj++) {
-      const double *q = y + PHM_NSTATE * cr[bj], *Hc = D->H + 16 * cr[bj];
-      double E[12];
-      quat_chart(q, E);
-      for (int bi = 0; bi < 2; bi++) {
-        double blk[6 * PHM_NSTATE]; /* -Kx_(bi, bj) [E 0; 0 R^T], then -Ct_(bi, bj) */
-        for (int i = 0; i < 6; i++) {
-          const double *k = Kx + 12 * (6 * bi + i) + 6 * bj;
-          double *b = blk + PHM_NSTATE * i;
-          for (int j = 0; j < 4; j++) b[j] = -(k[0] * E[j] + k[1] * E[4 + j] + k[2] * E[8 + j]);
-          for (int j = 0; j < 3; j++) /* R^T: (R^T)_{l j} = R_{j l} */
-            b[4 + j] = -(k[3] * Hc[4 * j] + k[4] * Hc[4 * j + 1] + k[5] * Hc[4 * j + 2]);
-          for (int j = 0; j < 6; j++) b[7 + j] = -Ct[12 * (6 * bi + i) + 6 * bj + j];
+                        w, w + 6, Kx, Ct);
+    add_wrench_tangent(&sink, e->a, e->b, w, Kx, Ct);
+  }
+  /* actuators, loads, springs: at the pairs' evaluation of this state (dae_pair_rows) */
+  phm_applied_tangent(m, D->pair, D->H, D->tw, y + d->ix, time, d->tref, 1.0, add_wrench_tangent,
+                      &sink);
+}
+
+/* The pairs' part of the Jacobian in closed form (phm_pair_tangent; docs/method.md sections 4.3,
+ * 6.6) at the state y (the poses and twists in d->data), and the ledger rows' diagonal cj. Per
+ * pair with carriers a (side 0) and b (side 1), each carrier c_s's states against:
+ *   its momentum rows:    -d(G^T lambda)/d pose (Kl), -G_s^T in lambda's columns;
+ *   its kinematic rows:   Jw d(G^T mu)_omega, -R d(G^T mu)_v (Km), and Jw G_s^T, -R G_s^T in mu's;
+ *   the velocity rows:    d(G t - vt)/d pose, G_s in the twist;
+ *   the position rows:    dg/d pose;
+ *   the joint rows:       x' - Phi^T t_rel: -d(Phi^T t_rel)/d pose, -Phi^T Ad_s in the twist
+ *                         (Ad_b = AdTbi, Ad_a = -AdBa), cj on x. */
+static void jacobian_pairs(dae_t *d, double time, double cj, const double *y, double *val) {
+  const phm_model *m = d->m;
+  phm_data *D = &d->data;
+  for (int i = d->ie; i < d->il; i++) add_block(d, val, i, 1, i, 1, &cj, 1);
+  for (int ip = 0; ip < m->np; ip++) {
+    const phm_pair_desc *pr = &m->pair[ip];
+    int ab[2] = {pr->a, pr->b}, r0 = m->pair_row[ip], mc = m->pair_m[ip], k = m->pair_k[ip];
+    int xj = d->ix + m->pair_j[ip], lj = d->il + r0, mj = d->im + r0;
+    phm_pair_data *p = D->pair + ip;
+    double dg[12 * PHM_MAXCON], dc[12 * PHM_MAXCON], dxd[72], Kl[144], Km[144];
+    phm_pair_tangent(m, ip, ab[0] >= 0 ? D->H + 16 * ab[0] : NULL, ab[1] >= 0 ? D->H + 16 * ab[1] : NULL,
+                     ab[0] >= 0 ? D->tw + 6 * ab[0] : NULL, ab[1] >= 0 ? D->tw + 6 * ab[1] : NULL,
+                     y + xj, time, d->tref, y + lj, y + mj, NULL, p, dg, dc, NULL, dxd, Kl,
+                     Km, NULL);
+    for (int c = 0; c < k; c++) add_block(d, val, xj + c, 1, xj + c, 1, &cj, 1);
+    for (int r = 0; r < 2; r++) { /* the multipliers' columns in carrier c_r's rows */
+      int cr = ab[r];
+      if (cr < 0) continue;
+      const double *Gr = r ? p->Gb : p->Ga;
+      double kin[7 * 6], GT[7 * PHM_MAXCON], GL[6 * PHM_MAXCON]; /* kin G_r^T, -G_r^T */
+      kin_rate(y + PHM_NSTATE * cr, D->H + 16 * cr, kin);
+      for (int i = 0; i < 7; i++)
+        for (int rr = 0; rr < mc; rr++) {
+          double acc = 0;
+          for (int l = 0; l < 6; l++) acc += kin[6 * i + l] * Gr[6 * rr + l];
+          GT[mc * i + rr] = acc;
         }
-        add_block(d, val, PHM_NSTATE * cr[bi] + 7, 6, PHM_NSTATE * cr[bj], PHM_NSTATE, blk, PHM_NSTATE);
+      for (int i = 0; i < 6; i++)
+        for (int rr = 0; rr < mc; rr++) GL[mc * i + rr] = -Gr[6 * rr + i];
+      add_block(d, val, PHM_NSTATE * cr, 7, mj, mc, GT, mc);
+      add_block(d, val, PHM_NSTATE * cr + 7, 6, lj, mc, GL, mc);
+    }
+    for (int s = 0; s < 2; s++) {
+      int cs = ab[s];
+      if (cs < 0) continue;
+      const double *Hs = D->H + 16 * cs, *Gs = s ? p->Gb : p->Ga;
+      double E[12], blk[PHM_NSTATE * 12], Ad[36];
+      quat_chart(y + PHM_NSTATE * cs, E);
+      /* the rows of carrier c_r (side r) in c_s's states, and in the pair's lambda and mu */
+      for (int r = 0; r < 2; r++) {
+        int cr = ab[r];
+        if (cr < 0) continue;
+        const double *Hr = D->H + 16 * cr;
+        double Km_r[36], Kl_r[36];
+        for (int i = 0; i < 6; i++)
+          for (int j = 0; j < 6; j++) {
+            Km_r[6 * i + j] = Km[12 * (6 * r + i) + 6 * s + j];
+            Kl_r[6 * i + j] = Kl[12 * (6 * r + i) + 6 * s + j];
+          }
+        double kin[7 * 6];
+        kin_rate(y + PHM_NSTATE * cr, Hr, kin);
+        double KK[PHM_NSTATE * 6]; /* rows of c_r against c_s's perturbation */
+        for (int i = 0; i < 7; i++)
+          for (int j = 0; j < 6; j++) {
+            double acc = 0;
+            for (int l = 0; l < 6; l++) acc += kin[6 * i + l] * Km_r[6 * l + j];
+            KK[6 * i + j] = acc;
+          }
+        for (int i = 0; i < 6; i++)
+          for (int j = 0; j < 6; j++) KK[6 * (7 + i) + j] = -Kl_r[6 * i + j];
+        to_chart(KK, 6, PHM_NSTATE, E, Hs, 1.0, blk, 7);
+        add_block(d, val, PHM_NSTATE * cr, PHM_NSTATE, PHM_NSTATE * cs, 7, blk, 7);
       }
+      /* the pair's rows in c_s's states */
+      to_chart(dc + 6 * s, 12, mc, E, Hs, 1.0, blk, 7);
+      add_block(d, val, lj, mc, PHM_NSTATE * cs, 7, blk, 7);
+      add_block(d, val, lj, mc, PHM_NSTATE * cs + 7, 6, Gs, 6);
+      to_chart(dg + 6 * s, 12, mc, E, Hs, 1.0, blk, 7);
+      add_block(d, val, mj, mc, PHM_NSTATE * cs, 7, blk, 7);
+      if (k == 0) continue;
+      to_chart(dxd + 6 * s, 12, k, E, Hs, -1.0, blk, 7);
+      add_block(d, val, xj, k, PHM_NSTATE * cs, 7, blk, 7);
+      const double *A = s ? m->pair_AdTbi + 36 * ip : p->AdBa;
+      for (int c = 0; c < k; c++) /* -Phi^T AdTbi (b), +Phi^T AdBa (a) */
+        for (int j = 0; j < 6; j++) {
+          double acc = 0;
+          for (int i = 0; i < 6; i++) acc += p->Phi[6 * i + c] * A[6 * i + j];
+          Ad[6 * c + j] = s ? -acc : acc;
+        }
+      add_block(d, val, xj, k, PHM_NSTATE * cs + 7, 6, Ad, 6);
     }
   }
 }
 
-/* J = dF/dy + cj dF/dyp (no allocation): the closed-form part (jacobian_closed_form) plus the
- * remainder's coloured forward differences (dae_residual with d->remainder set). r0, the full
- * residual at (y, y'), is not needed: the remainder's is evaluated here. */
+/* J = dF/dy + cj dF/dyp (no allocation), all in closed form: jacobian_closed_form and
+ * jacobian_pairs at the state's poses, twists and pairs (dae_unpack, dae_pair_rows). r0, the
+ * residual F(t, y, y'), is not needed. */
 int dae_jacobian(dae_t *d, double t, double cj, const double *y, const double *ypv,
                  const double *r0, SUNMatrix J) {
   int n = d->n;
@@ -261,38 +381,13 @@ int dae_jacobian(dae_t *d, double t, double cj, const double *y, const double *y
   double *val = SUNSparseMatrix_Data(J);
   for (int j = 0; j <= n; j++) cp[j] = d->colptr[j];
   for (int k = 0; k < d->nnz; k++) ri[k] = d->rowind[k];
-  double sq = sqrt(2.2e-16);
+  memset(val, 0, sizeof(double) * (size_t)d->nnz);
   phm_data *D = &d->data;
   (void)r0;
-  d->remainder = 1;
-  if (dae_residual(d, t, y, ypv, D->rfd)) {
-    d->remainder = 0;
-    return 1;
-  }
-  for (int col = 0; col < d->ncolor; col++) {
-    int any = 0;
-    memcpy(D->ytmp, y, sizeof(double) * n);
-    memcpy(D->yptmp, ypv, sizeof(double) * n);
-    for (int j = 0; j < n; j++)
-      if (d->color[j] == col) {
-        double inc = sq * fmax(fabs(y[j]), fmax(fabs(ypv[j]) / (cj > 0 ? cj : 1), 1e-3));
-        D->ytmp[j] += inc;
-        D->yptmp[j] += cj * inc;
-        D->inc[j] = inc; /* the increment of column j */
-        any = 1;
-      }
-    if (!any) continue;
-    if (dae_residual(d, t, D->ytmp, D->yptmp, D->rtmp)) {
-      d->remainder = 0;
-      return 1;
-    }
-    for (int j = 0; j < n; j++)
-      if (d->color[j] == col)
-        for (sunindextype k = cp[j]; k < cp[j + 1]; k++)
-          val[k] = (D->rtmp[ri[k]] - D->rfd[ri[k]]) / D->inc[j];
-  }
-  d->remainder = 0;
-  dae_unpack(d->m, y, D->H, D->tw); /* the unperturbed poses and twists */
-  jacobian_closed_form(d, cj, y, val);
+  /* the poses, twists, pairs and G^T mu of the state (the pairs' rows go to scratch) */
+  dae_unpack(d->m, y, D->H, D->tw);
+  dae_pair_rows(d, t, y, ypv, D->rtmp);
+  jacobian_closed_form(d, t, cj, y, val);
+  jacobian_pairs(d, t, cj, y, val);
   return 0;
 }

@@ -73,7 +73,7 @@ static void record(dae_t *d, const double *y, phm_sim_output *out, int iout, dou
                       out->pwrench + ((size_t)iout * m->np + ip) * 6);
   }
   if (out->efforts && m->nj) {
-    phm_applied_pairs(m, D->pair, D->H, D->tw, y + d->ix, time, d->tref, 1.0, 0, D->wr, NULL, NULL,
+    phm_applied_pairs(m, D->pair, D->H, D->tw, y + d->ix, time, d->tref, 1.0, D->wr, NULL, NULL,
                       NULL, NULL, D->eff);
     memcpy(out->efforts + (size_t)iout * m->nj, D->eff, sizeof(double) * (size_t)m->nj);
   }

@@ -78,17 +78,15 @@ int dae_residual(dae_t *d, double time, const double *y, const double *yp, doubl
   dae_unpack(m, y, D->H, D->tw);
   double Pd = 0, Ps = 0;
   dae_pair_rows(d, time, y, yp, F);
-  int full = !d->remainder; /* 0: the remainder only (dae_jacobian; see dae_t) */
-  phm_applied_pairs(m, D->pair, D->H, D->tw, y + d->ix, time, d->tref, 1.0, !full, D->wr, NULL, &Pd,
-                    &Ps, D->pport, NULL);
+  phm_applied_pairs(m, D->pair, D->H, D->tw, y + d->ix, time, d->tref, 1.0, D->wr, NULL, &Pd, &Ps,
+                    D->pport, NULL);
   for (int c = 0; c < nc; c++) {
     const double *yc = y + PHM_NSTATE * c, *ypc = yp + PHM_NSTATE * c;
     double *Fc = F + PHM_NSTATE * c;
     const double *q = yc, *t = yc + 7, *Hc = D->H + 16 * c, *gm = D->gm + 6 * c;
-    double f = full ? 1.0 : 0.0, ypq[7];
-    for (int i = 0; i < 7; i++) ypq[i] = f * ypc[i];
-    double w[3] = {f * t[0] + gm[0], f * t[1] + gm[1], f * t[2] + gm[2]};
-    double v[3] = {f * t[3] + gm[3], f * t[4] + gm[4], f * t[5] + gm[5]};
+    const double *ypq = ypc;
+    double w[3] = {t[0] + gm[0], t[1] + gm[1], t[2] + gm[2]};
+    double v[3] = {t[3] + gm[3], t[4] + gm[4], t[5] + gm[5]};
     /* q' = 1/2 q (x) (0, w) */
     Fc[0] = ypq[0] + 0.5 * (q[1] * w[0] + q[2] * w[1] + q[3] * w[2]);
     Fc[1] = ypq[1] - 0.5 * (q[0] * w[0] + q[2] * w[2] - q[3] * w[1]);
@@ -97,14 +95,9 @@ int dae_residual(dae_t *d, double time, const double *y, const double *yp, doubl
     for (int i = 0; i < 3; i++)
       Fc[4 + i] = ypq[4 + i] - (Hc[4 * i] * v[0] + Hc[4 * i + 1] * v[1] + Hc[4 * i + 2] * v[2]);
     double Mt[6], adm[6], Mtd[6];
-    if (full) {
-      phm_mv6(d->m->car[c].M, t, Mt);
-      phm_ad_dual_apply(t, Mt, adm);
-      phm_mv6(d->m->car[c].M, ypc + 7, Mtd);
-    } else {
-      memset(adm, 0, sizeof adm);
-      memset(Mtd, 0, sizeof Mtd);
-    }
+    phm_mv6(d->m->car[c].M, t, Mt);
+    phm_ad_dual_apply(t, Mt, adm);
+    phm_mv6(d->m->car[c].M, ypc + 7, Mtd);
     for (int i = 0; i < 6; i++) Fc[7 + i] = Mtd[i] - adm[i] - D->wr[6 * c + i] - D->gl[6 * c + i];
     for (int i = 0; i < 6; i++) Ps += D->gl[6 * c + i] * t[i]; /* power of constraint wrenches */
   }
@@ -117,16 +110,14 @@ int dae_residual(dae_t *d, double time, const double *y, const double *yp, doubl
 void dae_free(dae_t *d) {
   phm_data *D = &d->data;
   dae_ic_work *w = &D->ic;
-  void *bufs[] = {D->H, D->tw, D->pair, D->wr, D->gl, D->gm, D->pport, D->eff, D->ytmp, D->yptmp,
-                  D->rtmp, D->inc, D->rfd, w->cmap, w->clist, w->H, w->tw, w->qprev, w->Lc, w->acc, w->G,
+  void *bufs[] = {D->H, D->tw, D->pair, D->wr, D->gl, D->gm, D->pport, D->eff, D->rtmp, w->cmap, w->clist, w->H, w->tw, w->qprev, w->Lc, w->acc, w->G,
                   w->X, w->A, w->b, w->g, w->vt, w->c1, w->lam, w->Hp, w->res, d->colptr,
-                  d->rowind, d->color};
+                  d->rowind};
   for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) free(bufs[i]);
   phm_lstsq_work_free(&w->ls);
   ic_schur_free(w);
   memset(D, 0, sizeof *D);
   d->colptr = d->rowind = NULL;
-  d->color = NULL;
 }
 
 /* The consistent initial values' scratch (dae_consistent_ic): its systems are least-squares
@@ -211,14 +202,10 @@ phm_status dae_init(dae_t *d, const phm_model *m, phm_error *err) {
   D->gm = malloc(sizeof(double) * 6 * nc);
   D->pport = malloc(sizeof(double) * (size_t)(m->nport + 1));
   D->eff = malloc(sizeof(double) * (size_t)(m->nj + 1));
-  D->ytmp = malloc(sizeof(double) * n);
-  D->yptmp = malloc(sizeof(double) * n);
   D->rtmp = malloc(sizeof(double) * n);
-  D->inc = malloc(sizeof(double) * n);
-  D->rfd = malloc(sizeof(double) * n);
   phm_status st = PHM_OK;
   if (!D->H || !D->tw || !D->pair || !D->wr || !D->gl || !D->gm || !D->pport || !D->eff ||
-      !D->ytmp || !D->yptmp || !D->rtmp || !D->inc || !D->rfd)
+      !D->rtmp)
     st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
   else
     st = ic_alloc(d, err);

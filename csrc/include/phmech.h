@@ -48,6 +48,9 @@ void phm_quat_from_rot(const double R[9], double q[4]);  /* Shepperd; returns q 
 /* s(t) and its first two derivatives (ds, dds may be NULL); the piece of a piecewise law is
  * chosen by tref (a time inside the current breakpoint interval), its formula evaluated at t. */
 double phm_law_eval(const phm_law *law, double t, double tref, double *ds, double *dds);
+/* PHM_OK, or PHM_EINVAL naming `what idx` (e.g. "pair 3") and the bad parameter: check a law
+ * before evaluating it (phm_model_create checks every law of a description). */
+phm_status phm_law_check(const phm_law *law, const char *what, int idx, phm_error *err);
 
 /* ---------------------------------------------------------------- mixed finite element (csrc/model/mixed.c) */
 phm_status phm_mixed_check(const phm_mixed_beam *beam, phm_error *err);                  /* finite, positive, N in range, alpha in [0, 1) */

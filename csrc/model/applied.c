@@ -93,11 +93,9 @@ void phm_pair_effort_wrench(const phm_model *m, int ip, const phm_pair_data *p, 
   }
 }
 
-void phm_load_wrench(const phm_model *m, int il, const double *H, double s, double *wr,
-                     double w[6], double wre[6]) {
-  const phm_load_desc *l = &m->load[il];
-  const double *Hc = H + 16 * l->carrier;
-  double tau[3], f[3];
+/* A load's torque and force in its carrier's body axes at carrier pose Hc, s times its vector. */
+static void load_body(const phm_load_desc *l, const double *Hc, double s, double tau[3],
+                      double f[3]) {
   for (int i = 0; i < 3; i++) {
     if (l->world) {
       tau[i] = s * (Hc[i] * l->w[0] + Hc[4 + i] * l->w[1] + Hc[8 + i] * l->w[2]);
@@ -107,6 +105,14 @@ void phm_load_wrench(const phm_model *m, int il, const double *H, double s, doub
       f[i] = s * l->w[3 + i];
     }
   }
+}
+
+void phm_load_wrench(const phm_model *m, int il, const double *H, double s, double *wr,
+                     double w[6], double wre[6]) {
+  const phm_load_desc *l = &m->load[il];
+  const double *Hc = H + 16 * l->carrier;
+  double tau[3], f[3];
+  load_body(l, Hc, s, tau, f);
   const double *r = l->point;
   w[0] = tau[0] + r[1] * f[2] - r[2] * f[1];
   w[1] = tau[1] + r[2] * f[0] - r[0] * f[2];
@@ -167,17 +173,33 @@ void phm_gravity_tangent(const phm_model *m, int c, const double Hc[16], double 
 void phm_applied(const phm_model *m, const double *H, const double *tw, const double *xs,
                  double time, double tref, double scale, double *wr, double *Vel, double *Pdiss,
                  double *Psupp, double *Pport, double *effort) {
-  phm_applied_pairs(m, NULL, H, tw, xs, time, tref, scale, 0, wr, Vel, Pdiss, Psupp, Pport, effort);
+  phm_applied_pairs(m, NULL, H, tw, xs, time, tref, scale, wr, Vel, Pdiss, Psupp, Pport, effort);
+}
+
+/* Actuator ac's generalized efforts u (k) at its pair's evaluation p (section 4.4 of
+ * docs/method.md): effort sources x scale, PD and joint springs from x and xdot. */
+static void actuator_effort(const phm_model *m, const phm_actuator_desc *ac, const phm_pair_data *p,
+                            double time, double tref, double scale, double u[6]) {
+  const double *x = p->x, *xd = p->xdot;
+  double s = 0, ds = 0;
+  memset(u, 0, 6 * sizeof(double));
+  if (ac->kind != PHM_ACT_SPRING) s = phm_law_eval(&ac->law, time, tref, &ds, NULL);
+  for (int c = 0; c < m->pair_k[ac->pair]; c++) {
+    if (ac->kind == PHM_ACT_EFFORT) u[c] = scale * s * ac->vec[c];
+    else if (ac->kind == PHM_ACT_PD)
+      u[c] = -ac->kp[c] * (x[c] - ac->x_set[c] - s * ac->vec[c]) - ac->kd[c] * (xd[c] - ds * ac->vec[c]);
+    else u[c] = -ac->kp[c] * (x[c] - ac->x_set[c]) - ac->kd[c] * xd[c];
+  }
 }
 
 void phm_applied_pairs(const phm_model *m, const phm_pair_data *pd, const double *H,
                        const double *tw, const double *xs, double time, double tref, double scale,
-                       int remainder, double *wr, double *Vel, double *Pdiss, double *Psupp,
+                       double *wr, double *Vel, double *Pdiss, double *Psupp,
                        double *Pport, double *effort) {
   memset(wr, 0, sizeof(double) * 6 * (size_t)m->nc);
   if (effort && m->nj) memset(effort, 0, sizeof(double) * (size_t)m->nj);
   double V = 0, Pd = 0, Ps = 0;
-  for (int ie = 0; !remainder && ie < m->ne; ie++) {
+  for (int ie = 0; ie < m->ne; ie++) {
     const phm_element_desc *e = &m->el[ie];
     double wa[6], wb[6], v, p;
     phm_element_eval(e, H + 16 * e->a, H + 16 * e->b, tw ? tw + 6 * e->a : NULL,
@@ -190,7 +212,7 @@ void phm_applied_pairs(const phm_model *m, const phm_pair_data *pd, const double
     }
   }
   double gn = fabs(m->gravity[0]) + fabs(m->gravity[1]) + fabs(m->gravity[2]);
-  if (gn > 0 && !remainder)
+  if (gn > 0)
     for (int c = 0; c < m->nc; c++) {
       double w[6];
       phm_gravity_tangent(m, c, H + 16 * c, scale, w, NULL);
@@ -208,18 +230,11 @@ void phm_applied_pairs(const phm_model *m, const phm_pair_data *pd, const double
                         xs ? xs + j0 : NULL, time, tref, 0, &own);
     }
     const phm_pair_data *p = pd ? pd + ip : &own;
-    const double *x = p->x, *xd = p->xdot;
-    double u[6] = {0}, s = 0, ds = 0;
-    if (ac->kind != PHM_ACT_SPRING) s = phm_law_eval(&ac->law, time, tref, &ds, NULL);
-    for (int c = 0; c < k; c++) {
-      if (ac->kind == PHM_ACT_EFFORT) u[c] = scale * s * ac->vec[c];
-      else if (ac->kind == PHM_ACT_PD)
-        u[c] = -ac->kp[c] * (x[c] - ac->x_set[c] - s * ac->vec[c]) - ac->kd[c] * (xd[c] - ds * ac->vec[c]);
-      else u[c] = -ac->kp[c] * (x[c] - ac->x_set[c]) - ac->kd[c] * xd[c];
-      if (effort) effort[j0 + c] += u[c];
-    }
+    double u[6];
+    actuator_effort(m, ac, p, time, tref, scale, u);
+    for (int c = 0; effort && c < k; c++) effort[j0 + c] += u[c];
     phm_pair_effort_wrench(m, ip, p, u, wr);
-    double P = phm_dot(u, xd, k);
+    double P = phm_dot(u, p->xdot, k);
     Ps += P;
     if (Pport) Pport[ia] = P;
   }
@@ -246,4 +261,274 @@ void phm_applied_pairs(const phm_model *m, const phm_pair_data *pd, const double
   if (Vel) *Vel = V;
   if (Pdiss) *Pdiss = Pd;
   if (Psupp) *Psupp = Ps;
+}
+
+
+/* ---------------------------------------------------------------- closed-form tangents */
+/* The body wrench w = (t + r x f, f) of a torque t and a force f at body point r, and the skew
+ * matrices of t, f, r (their derivatives' building blocks). */
+static void wrench_at(const double t[3], const double f[3], const double r[3], double th[9],
+                      double fh[9], double rh[9], double w[6]) {
+  phm_so3_hat(t, th);
+  phm_so3_hat(f, fh);
+  phm_so3_hat(r, rh);
+  for (int i = 0; i < 3; i++) {
+    w[i] = t[i] + rh[3 * i] * f[0] + rh[3 * i + 1] * f[1] + rh[3 * i + 2] * f[2];
+    w[3 + i] = f[i];
+  }
+}
+
+/* The body wrench on carrier pose Hc of a world force F and torque T (may be NULL) at the world
+ * point x (add_world_wrench) into w, and its derivative Jw (6 x nz) from those of x, F, T (Jx,
+ * JF, JT: 3 x nz each, JT may be NULL) and of the carrier's own perturbation Hc exp(delta), whose
+ * columns start at col: with f = R^T F, t = R^T T, r = R^T (x - p), d(R^T a) = hat(R^T a) dw
+ * and dr = hat(r) dw - dv + R^T dx, so d(r x f) = r x df - f x dr. */
+static void world_wrench_tangent(const double *Hc, int col, const double x[3], const double F[3],
+                                 const double *T, const double *Jx, const double *JF,
+                                 const double *JT, int nz, double w[6], double *Jw) {
+  double f[3], t[3] = {0, 0, 0}, r[3], d[3];
+  for (int i = 0; i < 3; i++) d[i] = x[i] - Hc[4 * i + 3];
+  for (int i = 0; i < 3; i++) {
+    f[i] = Hc[i] * F[0] + Hc[4 + i] * F[1] + Hc[8 + i] * F[2];
+    if (T) t[i] = Hc[i] * T[0] + Hc[4 + i] * T[1] + Hc[8 + i] * T[2];
+    r[i] = Hc[i] * d[0] + Hc[4 + i] * d[1] + Hc[8 + i] * d[2];
+  }
+  double fh[9], th[9], rh[9];
+  wrench_at(t, f, r, th, fh, rh, w);
+  for (int j = 0; j < nz; j++) {
+    double df[3], dt[3], dr[3];
+    for (int i = 0; i < 3; i++) { /* R^T times the columns */
+      df[i] = dt[i] = dr[i] = 0;
+      for (int l = 0; l < 3; l++) {
+        df[i] += Hc[4 * l + i] * JF[nz * l + j];
+        if (JT) dt[i] += Hc[4 * l + i] * JT[nz * l + j];
+        dr[i] += Hc[4 * l + i] * Jx[nz * l + j];
+      }
+    }
+    if (j >= col && j < col + 3)
+      for (int i = 0; i < 3; i++) {
+        df[i] += fh[3 * i + j - col];
+        dt[i] += th[3 * i + j - col];
+        dr[i] += rh[3 * i + j - col];
+      }
+    if (j >= col + 3 && j < col + 6) dr[j - col - 3] -= 1.0;
+    for (int i = 0; i < 3; i++) {
+      double a = 0, b = 0;
+      for (int l = 0; l < 3; l++) {
+        a += rh[3 * i + l] * df[l];
+        b += fh[3 * i + l] * dr[l];
+      }
+      Jw[nz * i + j] = dt[i] + a - b;
+      Jw[nz * (3 + i) + j] = df[i];
+    }
+  }
+}
+
+/* The world position of body point r of carrier pose Hc and its derivative Jx (3 x nz) in the
+ * carrier's perturbation (columns col..col+5): dx = R (dv - r x dw). */
+static void point_tangent(const double *Hc, const double r[3], int col, int nz, double *Jx) {
+  double rh[9];
+  phm_so3_hat(r, rh);
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) {
+      double s = 0;
+      for (int l = 0; l < 3; l++) s += Hc[4 * i + l] * rh[3 * l + j];
+      Jx[nz * i + col + j] = -s;
+      Jx[nz * i + col + 3 + j] = Hc[4 * i + j];
+    }
+}
+
+/* A spring-damper's wrenches w (12: on a, on b) and their derivatives Kx in [da; db], Kt in
+ * [ta; tb] (12 x 12 each): the tension f = k (d - d0) + c dd/dt along n, with dd = n . (dx_b -
+ * dx_a), dn = (I - n n^T) (dx_b - dx_a)/d and d(dd/dt) = dn . (v_b - v_a) + n . (dv_b - dv_a),
+ * v = R (u + w x r): dv = -R hat(u + w x r) dw in the pose, R [-hat(r), I] in the twist. */
+static void spring_tangent(const phm_spring_desc *sp, const double *H, const double *tw,
+                           double w[12], double Kx[144], double Kt[144]) {
+  enum { NZ = 24 }; /* columns: da, db, ta, tb */
+  double x[2][3], v[2][3], Jx[2][3 * NZ], Jv[2][3 * NZ];
+  int cs[2] = {sp->a, sp->b};
+  const double *rs[2] = {sp->pa, sp->pb};
+  memset(Jx, 0, sizeof Jx);
+  memset(Jv, 0, sizeof Jv);
+  memset(w, 0, 12 * sizeof(double));
+  memset(Kx, 0, 144 * sizeof(double));
+  memset(Kt, 0, 144 * sizeof(double));
+  for (int s = 0; s < 2; s++) {
+    point_state(H, tw, cs[s], rs[s], x[s], v[s]);
+    if (cs[s] < 0) continue;
+    const double *Hc = H + 16 * cs[s];
+    point_tangent(Hc, rs[s], 6 * s, NZ, Jx[s]);
+    static const double rest[6] = {0, 0, 0, 0, 0, 0};
+    const double *t = tw ? tw + 6 * cs[s] : rest, *r = rs[s];
+    double vb[3] = {t[3] + t[1] * r[2] - t[2] * r[1], t[4] + t[2] * r[0] - t[0] * r[2],
+                    t[5] + t[0] * r[1] - t[1] * r[0]}, vh[9];
+    phm_so3_hat(vb, vh);
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 6; j++) {
+        double s1 = 0;
+        for (int l = 0; l < 3 && j < 3; l++) s1 += Hc[4 * i + l] * vh[3 * l + j];
+        if (j < 3) Jv[s][NZ * i + 6 * s + j] = -s1;
+        Jv[s][NZ * i + 12 + 6 * s + j] = Jx[s][NZ * i + 6 * s + j]; /* R [-hat(r), I] */
+      }
+  }
+  double e[3], vr[3], n[3], d;
+  for (int i = 0; i < 3; i++) {
+    e[i] = x[1][i] - x[0][i];
+    vr[i] = v[1][i] - v[0][i];
+  }
+  d = sqrt(phm_dot(e, e, 3));
+  if (d == 0) return; /* no direction: phm_spring_eval applies nothing */
+  for (int i = 0; i < 3; i++) n[i] = e[i] / d;
+  double dd = phm_dot(n, vr, 3), f = sp->k * (d - sp->d0) + sp->c * dd;
+  double Jn[3 * NZ], Jf[NZ], JF[2][3 * NZ];
+  for (int j = 0; j < NZ; j++) {
+    double de[3], dv[3], nde = 0;
+    for (int i = 0; i < 3; i++) {
+      de[i] = Jx[1][NZ * i + j] - Jx[0][NZ * i + j];
+      dv[i] = Jv[1][NZ * i + j] - Jv[0][NZ * i + j];
+      nde += n[i] * de[i];
+    }
+    double jdd = 0;
+    for (int i = 0; i < 3; i++) {
+      Jn[NZ * i + j] = (de[i] - n[i] * nde) / d;
+      jdd += vr[i] * Jn[NZ * i + j] + n[i] * dv[i];
+    }
+    Jf[j] = sp->k * nde + sp->c * jdd;
+  }
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < NZ; j++) {
+      JF[0][NZ * i + j] = n[i] * Jf[j] + f * Jn[NZ * i + j]; /* +f n on a, -f n on b */
+      JF[1][NZ * i + j] = -JF[0][NZ * i + j];
+    }
+  for (int s = 0; s < 2; s++) {
+    if (cs[s] < 0) continue;
+    double F[3] = {s ? -f * n[0] : f * n[0], s ? -f * n[1] : f * n[1], s ? -f * n[2] : f * n[2]};
+    double Jw[6 * NZ];
+    world_wrench_tangent(H + 16 * cs[s], 6 * s, x[s], F, NULL, Jx[s], JF[s], NULL, NZ, w + 6 * s, Jw);
+    for (int i = 0; i < 6; i++)
+      for (int j = 0; j < 12; j++) {
+        Kx[12 * (6 * s + i) + j] = Jw[NZ * i + j];
+        Kt[12 * (6 * s + i) + j] = Jw[NZ * i + 12 + j];
+      }
+  }
+}
+
+/* Load il's wrenches w (12: on its carrier, on its reaction carrier) at the law's value s and
+ * their derivative Kx (12 x 12) in [dc; de] (no twist enters): world axes, d(R^T a) =
+ * hat(R^T a) dw on the carrier (body axes: constant); the reaction, the opposite world force and
+ * torque through the carrier's material point (world_wrench_tangent). */
+static void load_tangent(const phm_model *m, int il, const double *H, double s, double w[12],
+                         double Kx[144]) {
+  enum { NZ = 12 };
+  const phm_load_desc *l = &m->load[il];
+  const double *Hc = H + 16 * l->carrier, *r = l->point;
+  double tau[3], f[3], th[9], fh[9], rh[9];
+  load_body(l, Hc, s, tau, f);
+  memset(w, 0, 12 * sizeof(double));
+  memset(Kx, 0, 144 * sizeof(double));
+  wrench_at(tau, f, r, th, fh, rh, w);
+  for (int i = 0; i < 3; i++) {
+    for (int j = 0; l->world && j < 3; j++) {
+      double a = 0;
+      for (int q = 0; q < 3; q++) a += rh[3 * i + q] * fh[3 * q + j];
+      Kx[12 * i + j] = th[3 * i + j] + a;
+      Kx[12 * (3 + i) + j] = fh[3 * i + j];
+    }
+  }
+  if (l->reaction < 0) return;
+  double x[3], vv[3], F[3], T[3], Jx[3 * NZ] = {0}, JF[3 * NZ] = {0}, JT[3 * NZ] = {0}, Jw[6 * NZ];
+  point_state(H, NULL, l->carrier, r, x, vv);
+  point_tangent(Hc, r, 0, NZ, Jx);
+  for (int i = 0; i < 3; i++) {
+    F[i] = -(Hc[4 * i] * f[0] + Hc[4 * i + 1] * f[1] + Hc[4 * i + 2] * f[2]);
+    T[i] = -(Hc[4 * i] * tau[0] + Hc[4 * i + 1] * tau[1] + Hc[4 * i + 2] * tau[2]);
+    for (int j = 0; !l->world && j < 3; j++) /* body axes: d(-R a) = R hat(a) dw */
+      for (int q = 0; q < 3; q++) {
+        JF[NZ * i + j] += Hc[4 * i + q] * fh[3 * q + j];
+        JT[NZ * i + j] += Hc[4 * i + q] * th[3 * q + j];
+      }
+  }
+  world_wrench_tangent(H + 16 * l->reaction, 6, x, F, T, Jx, JF, JT, NZ, w + 6, Jw);
+  for (int i = 0; i < 6; i++) memcpy(Kx + 12 * (6 + i), Jw + NZ * i, 12 * sizeof(double));
+}
+
+/* Actuator ia's wrenches w (12: on its pair's a and b) and their derivatives Kx in [da; db], Kt
+ * in [ta; tb]: w = [-AdBa^T Phi u; AdTbi^T Phi u] with u = actuator_effort of the joint's x and
+ * xdot, so dw = Ku (at fixed u, phm_pair_tangent) + [-AdBa^T Phi; AdTbi^T Phi] du, du = -kp dx -
+ * kd dxdot (PD and spring; none for an effort), dxdot = dxd (pose) + Phi^T [-AdBa, AdTbi] dt. */
+static void actuator_tangent(const phm_model *m, int ia, const phm_pair_data *pd, const double *H,
+                             const double *tw, const double *xs, double time, double tref,
+                             double scale, double w[12], double Kx[144], double Kt[144]) {
+  const phm_actuator_desc *ac = &m->act[ia];
+  int ip = ac->pair, k = m->pair_k[ip], j0 = m->pair_j[ip];
+  const phm_pair_desc *pr = &m->pair[ip];
+  const double *Ha = pr->a >= 0 ? H + 16 * pr->a : NULL, *Hb = pr->b >= 0 ? H + 16 * pr->b : NULL;
+  const double *ta = (tw && pr->a >= 0) ? tw + 6 * pr->a : NULL;
+  const double *tb = (tw && pr->b >= 0) ? tw + 6 * pr->b : NULL;
+  const double *xr = xs ? xs + j0 : NULL;
+  phm_pair_data own;
+  if (!pd) phm_pair_evaluate(m, ip, Ha, Hb, ta, tb, xr, time, tref, 0, &own);
+  const phm_pair_data *p = pd ? pd + ip : &own;
+  double u[6], dx[72], dxd[72], Ku[144], B[72];
+  actuator_effort(m, ac, p, time, tref, scale, u);
+  phm_pair_data pt;
+  phm_pair_tangent(m, ip, Ha, Hb, ta, tb, xr, time, tref, NULL, NULL, u, &pt, NULL, NULL, dx, dxd,
+                   NULL, NULL, Ku);
+  const double *AdTbi = m->pair_AdTbi + 36 * ip;
+  for (int i = 0; i < 6; i++) /* B = [-AdBa^T Phi; AdTbi^T Phi] (12 x k) */
+    for (int c = 0; c < k; c++) {
+      double sa = 0, sb = 0;
+      for (int l = 0; l < 6; l++) {
+        sa += pt.AdBa[6 * l + i] * pt.Phi[6 * l + c];
+        sb += AdTbi[6 * l + i] * pt.Phi[6 * l + c];
+      }
+      B[k * i + c] = -sa;
+      B[k * (6 + i) + c] = sb;
+    }
+  int pd_kind = ac->kind != PHM_ACT_EFFORT;
+  double dup[72] = {0}, dut[72] = {0}; /* du in [da; db] and in [ta; tb] (k x 12) */
+  for (int c = 0; c < k && pd_kind; c++)
+    for (int j = 0; j < 12; j++) {
+      double pt_j = 0; /* (Phi^T [-AdBa, AdTbi])_cj */
+      for (int l = 0; l < 6; l++)
+        pt_j += pt.Phi[6 * l + c] * (j < 6 ? -pt.AdBa[6 * l + j] : AdTbi[6 * l + j - 6]);
+      dup[12 * c + j] = -ac->kp[c] * dx[12 * c + j] - ac->kd[c] * dxd[12 * c + j];
+      dut[12 * c + j] = -ac->kd[c] * pt_j;
+    }
+  for (int i = 0; i < 12; i++) {
+    double acc = 0;
+    for (int c = 0; c < k; c++) acc += B[k * i + c] * u[c];
+    w[i] = acc;
+    for (int j = 0; j < 12; j++) {
+      double sx = 0, st = 0;
+      for (int c = 0; c < k; c++) {
+        sx += B[k * i + c] * dup[12 * c + j];
+        st += B[k * i + c] * dut[12 * c + j];
+      }
+      Kx[12 * i + j] = Ku[12 * i + j] + sx;
+      Kt[12 * i + j] = st;
+    }
+  }
+}
+
+void phm_applied_tangent(const phm_model *m, const phm_pair_data *pd, const double *H,
+                         const double *tw, const double *xs, double time, double tref,
+                         double scale, phm_tangent_sink sink, void *ctx) {
+  double w[12], Kx[144], Kt[144];
+  for (int ia = 0; ia < m->na; ia++) {
+    const phm_pair_desc *pr = &m->pair[m->act[ia].pair];
+    actuator_tangent(m, ia, pd, H, tw, xs, time, tref, scale, w, Kx, Kt);
+    sink(ctx, pr->a, pr->b, w, Kx, Kt);
+  }
+  for (int il = 0; il < m->nl; il++) {
+    const phm_load_desc *l = &m->load[il];
+    double s = scale * phm_law_eval(&l->law, time, tref, NULL, NULL);
+    if (s == 0) continue;
+    load_tangent(m, il, H, s, w, Kx);
+    sink(ctx, l->carrier, l->reaction, w, Kx, NULL);
+  }
+  for (int is = 0; is < m->ns; is++) {
+    spring_tangent(&m->spr[is], H, tw, w, Kx, Kt);
+    sink(ctx, m->spr[is].a, m->spr[is].b, w, Kx, Kt);
+  }
 }

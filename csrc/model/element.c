@@ -117,16 +117,7 @@ void phm_element_tangent(const phm_element_desc *e, const double Ha[16], const d
     phm_mtv6(B, ds, t2);
     for (int i = 0; i < 6; i++) JX[6 * (6 + i) + k] = -(t1[i] + t2[i]);
   }
-  for (int i = 0; i < 12; i++)
-    for (int j = 0; j < 6; j++) {
-      double sa = 0, sb = 0;
-      for (int k = 0; k < 6; k++) {
-        sa += JX[6 * i + k] * A[6 * k + j];
-        sb += JX[6 * i + k] * B[6 * k + j];
-      }
-      Kx[12 * i + j] = -sa;
-      Kx[12 * i + 6 + j] = sb;
-    }
+  phm_mul_ends(JX, 12, A, B, Kx);
   if (!Ct) return;
   if (!damp) {
     memset(Ct, 0, 144 * sizeof(double));

@@ -1,7 +1,7 @@
 /* graph.c -- the coupling graph of the carriers (which share an element, pair, spring or load)
- * and of the pairs (each coupled to its carriers), and its distance-2 colouring: the structure
- * behind every coloured finite-difference Jacobian (the DAE's, csrc/dae/jacobian.c, on carriers
- * and pairs; modes and statics, csrc/solve/linearize.c, on the carriers). */
+ * and of the pairs (each coupled to its carriers): the block structure of every Jacobian (the
+ * DAE's pattern, csrc/dae/jacobian.c, on carriers and pairs; the stiffness blocks of modes and
+ * statics, csrc/solve/linearize.c, on the carriers). */
 #include "model.h"
 
 #include <stdlib.h>
@@ -61,20 +61,4 @@ phm_status phm_carrier_graph(const phm_model *m, int pairs, int **ptr_out, int *
 oom:
   free(ea); free(eb); free(ptr); free(nbr); free(seen);
   return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
-}
-
-int phm_graph_colours(int nc, const int *ptr, const int *nbr, int *col, int *mark) {
-  int ncol = 0;
-  for (int c = 0; c < nc; c++) col[c] = -1;
-  for (int c = 0; c < nc; c++) mark[c] = -1;
-  for (int c = 0; c < nc; c++) {
-    for (int q = ptr[c]; q < ptr[c + 1]; q++)
-      for (int q2 = ptr[nbr[q]]; q2 < ptr[nbr[q] + 1]; q2++)
-        if (col[nbr[q2]] >= 0) mark[col[nbr[q2]]] = c;
-    int k = 0;
-    while (k < nc && mark[k] == c) k++;
-    col[c] = k;
-    if (k + 1 > ncol) ncol = k + 1;
-  }
-  return ncol;
 }

@@ -44,6 +44,12 @@ double phm_model_tref(const phm_model *m, double t, double *next_bp);
  * values). Any output may be NULL. Fixed pairs: g = log(h). */
 void phm_pair_kin(int type, double pitch, const double h[16], const double *xref, double *g,
                   double *W, double *Phi, double *x);
+/* The same with derivatives along the body perturbations of h, h exp(eta) (eta = (omega, v)):
+ * Dg (6 per constraint row), DW and DPhi (6 per entry of the 6x6 bases: d B[e]/d eta_j at
+ * 6 e + j), Dx (6 per joint coordinate); any may be NULL (all NULL: phm_pair_kin). */
+void phm_pair_kin_tangent(int type, double pitch, const double h[16], const double *xref,
+                          double *g, double *W, double *Phi, double *x, double *Dg, double *DW,
+                          double *DPhi, double *Dx);
 
 /* Constraint rows of a pair before any is dropped: its type's m, plus one per joint coordinate
  * that follows a law (xdriven; those rows come after the type's, in coordinate order). */
@@ -86,6 +92,22 @@ typedef struct {
 void phm_pair_evaluate(const phm_model *m, int ip, const double *Ha, const double *Hb,
                        const double *ta, const double *tb, const double *xref, double time,
                        double tref, int rows, phm_pair_data *pd);
+
+/* The closed-form tangent of pair ip's kept rows and joint (docs/method.md section 4.3) at poses
+ * Ha, Hb (NULL = ground) and twists ta, tb (NULL = at rest), for the perturbations Ha exp(da),
+ * Hb exp(db), columns [da; db] (12, row-major): dg (mc x 12) of the position constraints, dc
+ * (mc x 12) of the velocity constraints Ga ta + Gb tb - vt at fixed twists, dx (k x 12) of the
+ * joint coordinates, dxd (k x 12) of the joint rates Phi^T t_rel at fixed twists, Kl (12 x 12)
+ * of the constraint wrenches [Ga^T lam; Gb^T lam] on (a, b) for multipliers lam (mc), Km the
+ * same for mu (their geometric stiffness), Ku (12 x 12) of the effort wrenches
+ * [-AdBa^T Phi u; AdTbi^T Phi u] (phm_pair_effort_wrench) at fixed efforts u (k). Outputs may be
+ * NULL (Kl, Km, Ku also when lam, mu, u are). pd (may be NULL) gets the evaluation
+ * phm_pair_evaluate would give with rows. No allocation. */
+void phm_pair_tangent(const phm_model *m, int ip, const double *Ha, const double *Hb,
+                      const double *ta, const double *tb, const double *xref, double time,
+                      double tref, const double *lam, const double *mu, const double *u,
+                      phm_pair_data *pd, double *dg, double *dc, double *dx, double *dxd,
+                      double *Kl, double *Km, double *Ku);
 
 /* Pair ip: position constraint g (m), velocity blocks Ga, Gb (m x 6, row-major) such that the
  * velocity constraint is Ga ta + Gb tb = vt (m). Ha or Hb NULL = ground (identity). xref: branch
@@ -140,14 +162,25 @@ void phm_applied(const phm_model *m, const double *H, const double *tw, const do
                  double *Psupp, double *Pport, double *effort);
 /* The same with every pair already evaluated at H, tw, xs (pd: np results of phm_pair_evaluate):
  * the actuators read their pair's frames, joint coordinates and rates from pd. pd NULL:
- * phm_applied, which evaluates the actuated pairs itself. remainder != 0 leaves out what has a
- * closed-form tangent -- the se3 elements' wrenches (and their energy and dissipation;
- * phm_element_tangent) and gravity (phm_gravity_tangent) --: the part of the forces whose tangent
- * is taken by differences. */
+ * phm_applied, which evaluates the actuated pairs itself. */
 void phm_applied_pairs(const phm_model *m, const phm_pair_data *pd, const double *H,
                        const double *tw, const double *xs, double time, double tref, double scale,
-                       int remainder, double *wr, double *Vel, double *Pdiss, double *Psupp,
+                       double *wr, double *Vel, double *Pdiss, double *Psupp,
                        double *Pport, double *effort);
+/* One component's wrenches w (12: on carrier ca, then on cb; -1 = none, those entries zero) and
+ * their closed-form derivatives Kx = d w/d[da; db] for Hca exp(da), Hcb exp(db) and Kt =
+ * d w/d[t_ca; t_cb] (12 x 12 row-major each; Kt NULL: none), handed to a sink by
+ * phm_applied_tangent. */
+typedef void (*phm_tangent_sink)(void *ctx, int ca, int cb, const double w[12],
+                                 const double Kx[144], const double Kt[144]);
+/* The closed-form tangent of the applied wrenches without their own tangent kernel -- actuators
+ * (through phm_pair_tangent), loads and interactions, spring-dampers (docs/method.md sections
+ * 4.4-4.6) --, one sink call per component, at the state of phm_applied_pairs (pd may be NULL; tw
+ * NULL: at rest; efforts and loads x scale). Elements and gravity: phm_element_tangent,
+ * phm_gravity_tangent. No allocation. */
+void phm_applied_tangent(const phm_model *m, const phm_pair_data *pd, const double *H,
+                         const double *tw, const double *xs, double time, double tref,
+                         double scale, phm_tangent_sink sink, void *ctx);
 /* Gravity (x scale) on carrier c at pose Hc: its body wrench w and w's derivative Kg (6 x 6,
  * row-major, may be NULL) for Hc exp(delta) (docs/method.md section 4.6). */
 void phm_gravity_tangent(const phm_model *m, int c, const double Hc[16], double scale, double w[6],
@@ -177,8 +210,5 @@ void phm_spring_eval(const phm_spring_desc *sp, const double *H, const double *t
  * + 1) and *nbr_out. */
 phm_status phm_carrier_graph(const phm_model *m, int pairs, int **ptr_out, int **nbr_out,
                              phm_error *err);
-/* Greedy distance-2 colouring of a CSR graph: vertices of one colour share no neighbour. col (n)
- * gets the colours, mark (n) is scratch; returns the number of colours. */
-int phm_graph_colours(int n, const int *ptr, const int *nbr, int *col, int *mark);
 
 #endif

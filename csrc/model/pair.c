@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "linalg.h"
+#include "pose.h"
 
 /* Type codes: the rows of the table below, in this order. */
 enum {
@@ -50,101 +51,220 @@ const phm_pair_type_info *phm_pair_type(int type) {
 static double wrap_pi(double a) { return a - 2 * PHM_PI * floor((a + PHM_PI) / (2 * PHM_PI)); }
 static double near_angle(double a, const double *xref, int i) { return xref ? xref[i] + wrap_pi(a - xref[i]) : a; }
 
-/* Column c of a 6x6 row-major basis: set entries (rows r0..r0+2) to v. */
-static void setcol(double *B, int c, int r0, double v0, double v1, double v2) {
-  B[6 * r0 + c] = v0;
-  B[6 * (r0 + 1) + c] = v1;
-  B[6 * (r0 + 2) + c] = v2;
+/* A quantity of a pair's kinematics with its derivatives along the body perturbations of the
+ * relative pose, h exp(eta): d[j] = d/d eta_j (eta = (omega, v), docs/method.md section 3.7). The
+ * table's g, W^C, Phi and x are built from the entries of R, p, q = R^T p, angles and logarithms,
+ * so one switch gives the values and, when asked, their tangents (forward-mode differentiation). */
+typedef struct {
+  double v, d[6];
+} pq;
+
+static pq cst(double v) { return (pq){v, {0, 0, 0, 0, 0, 0}}; }
+static pq lin2(double a, pq x, double b, pq y) {
+  pq r = {a * x.v + b * y.v, {0}};
+  for (int j = 0; j < 6; j++) r.d[j] = a * x.d[j] + b * y.d[j];
+  return r;
+}
+static pq neg(pq x) { return lin2(-1.0, x, 0.0, x); }
+static pq atan2_pq(pq y, pq x, int tan) {
+  double n = x.v * x.v + y.v * y.v, ni = n > 0 ? 1.0 / n : 0.0;
+  pq r = {atan2(y.v, x.v), {0}};
+  for (int j = 0; tan && j < 6; j++) r.d[j] = (x.v * y.d[j] - y.v * x.d[j]) * ni;
+  return r;
+}
+static pq near_pq(pq a, const double *xref, int i) {
+  a.v = near_angle(a.v, xref, i);
+  return a;
+}
+
+/* Entry i of an output array: its value in v[i], its derivatives in D[6 i ..] (D may be NULL). */
+static void put(double *v, double *D, int i, pq s) {
+  v[i] = s.v;
+  if (D) memcpy(D + 6 * i, s.d, sizeof s.d);
+}
+/* Column c of a 6x6 row-major basis (values B, derivatives D): entries of rows r0..r0+2. */
+static void setcol(double *B, double *D, int c, int r0, pq v0, pq v1, pq v2) {
+  put(B, D, 6 * r0 + c, v0);
+  put(B, D, 6 * (r0 + 1) + c, v1);
+  put(B, D, 6 * (r0 + 2) + c, v2);
+}
+
+/* log(R) of the rotation of h (so3) or log(h) (se3, n = 6), with its derivatives when tan:
+ * d log/d eta = dexp_{-x}^-1 (docs/method.md section 3.6), whose blocks are the transposes of
+ * dexp_x^-1's (phm_se3_log_dexp_inv). */
+static void log_pq(const double h[16], int n, int tan, pq *out) {
+  double x[6], Ai[9], L[9], Rm[9];
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) Rm[3 * i + j] = h[4 * i + j];
+  if (n == 6 && tan) phm_se3_log_dexp_inv(h, x, Ai, L);
+  else if (n == 6) phm_se3_log(h, x);
+  else {
+    phm_so3_log(Rm, x);
+    if (tan) phm_so3_jac_inv(x, Ai);
+  }
+  for (int i = 0; i < n; i++) {
+    out[i] = cst(x[i]);
+    for (int j = 0; tan && j < 3; j++) {
+      if (i < 3) out[i].d[j] = Ai[3 * j + i];
+      else {
+        out[i].d[j] = L[3 * j + i - 3];
+        out[i].d[j + 3] = Ai[3 * j + i - 3];
+      }
+    }
+  }
 }
 
 /* Position constraints are written so that dg = W^T t_rel at g = 0 (up to a unit-triangular
  * factor for helical/cylindrical): rotations through the z axis of F_a seen in F_b, R^T e_z, whose
- * rate is e_z x omega; translations through R^T p (rate v - omega x R^T p) or p (rate R v). */
-void phm_pair_kin(int type, double pitch, const double h[16], const double *xref, double *g,
-                  double *W, double *Phi, double *x) {
-#define R(i, j) h[4 * (i) + (j)]
-  double p[3] = {h[3], h[7], h[11]}, q[3]; /* q = R^T p */
-  for (int i = 0; i < 3; i++) q[i] = R(0, i) * p[0] + R(1, i) * p[1] + R(2, i) * p[2];
+ * rate is e_z x omega; translations through R^T p (rate v - omega x R^T p) or p (rate R v).
+ * Derivatives (any may be NULL; all NULL: none computed) along h exp(eta): Dg (6 per row), DW and
+ * DPhi (6 per entry of the 6x6 row-major bases), Dx (6 per coordinate). With h exp(eta):
+ * dR = R hat(omega), dp = R v, dq = q x omega + v. Inlined into its two callers with tan a
+ * constant, so that the values-only one (every residual's) drops the derivatives' work: called
+ * out of line, the derivatives carried along cost a revolute pair 141 ns instead of 64 ns; inlined
+ * 87 ns (a rigid four-bar's residual 1.43 us instead of 1.34 us before the tangents). */
+#if defined(__GNUC__)
+#define PAIR_KIN_INLINE static inline __attribute__((always_inline))
+#else
+#define PAIR_KIN_INLINE static inline
+#endif
+PAIR_KIN_INLINE void pair_kin(int tan, int type, double pitch, const double h[16], const double *xref,
+                         double *g, double *W, double *Phi, double *x, double *Dg, double *DW,
+                         double *DPhi, double *Dx) {
+  pq R[3][3], p[3], q[3], lg[6];
+  for (int i = 0; i < 3; i++) {
+    for (int j = 0; j < 3; j++) { /* d R_ij/d omega_m = (R hat(e_m))_ij = eps_{mjk} R_ik */
+      R[i][j] = cst(h[4 * i + j]);
+      for (int mm = 0; tan && mm < 3; mm++)
+        if (mm != j) R[i][j].d[mm] = ((j - mm + 3) % 3 == 1 ? 1.0 : -1.0) * h[4 * i + 3 - mm - j];
+    }
+    p[i] = cst(h[4 * i + 3]);
+    for (int k = 0; tan && k < 3; k++) p[i].d[3 + k] = h[4 * i + k];
+  }
+  for (int i = 0; i < 3; i++) q[i] = cst(h[i] * h[3] + h[4 + i] * h[7] + h[8 + i] * h[11]);
+  for (int i = 0; tan && i < 3; i++) { /* dq/d omega_m = q x e_m, dq/dv = I */
+    int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+    q[i].d[i2] = q[i1].v;  /* (q x e_{i2})_i = q_{i1} */
+    q[i].d[i1] = -q[i2].v; /* (q x e_{i1})_i = -q_{i2} */
+    q[i].d[3 + i] = 1.0;
+  }
   double gg[6] = {0}, xx[6] = {0}, Wl[36] = {0}, Pl[36] = {0};
-  double th = atan2(R(1, 0), R(0, 0)), Rm[9]; /* Rm: the rotation of h */
-  for (int i = 0; i < 3; i++)
-    for (int j = 0; j < 3; j++) Rm[3 * i + j] = R(i, j);
+  double Dgl[36], Dxl[36], DWl[216], DPl[216];
+  double *dg = tan ? Dgl : NULL, *dx = tan ? Dxl : NULL, *dW = tan ? DWl : NULL, *dP = tan ? DPl : NULL;
+  if (tan) {
+    memset(Dgl, 0, sizeof Dgl);
+    memset(Dxl, 0, sizeof Dxl);
+    memset(DWl, 0, sizeof DWl);
+    memset(DPl, 0, sizeof DPl);
+  }
+  const pq c0 = cst(0), c1 = cst(1);
+  pq th = atan2_pq(R[1][0], R[0][0], tan);
   switch (type) {
   case PAIR_FIXED:
-    phm_se3_log(h, gg);
-    for (int i = 0; i < 6; i++) Wl[7 * i] = 1;
+    log_pq(h, 6, tan, lg);
+    for (int i = 0; i < 6; i++) {
+      put(gg, dg, i, lg[i]);
+      Wl[7 * i] = 1;
+    }
     break;
   case PAIR_REVOLUTE:
-    gg[0] = R(2, 1); gg[1] = -R(2, 0); gg[2] = q[0]; gg[3] = q[1]; gg[4] = q[2];
-    setcol(Wl, 0, 0, 1, 0, 0); setcol(Wl, 1, 0, 0, 1, 0);
-    setcol(Wl, 2, 3, 1, 0, 0); setcol(Wl, 3, 3, 0, 1, 0); setcol(Wl, 4, 3, 0, 0, 1);
-    setcol(Pl, 0, 0, 0, 0, 1);
-    xx[0] = near_angle(th, xref, 0);
+    put(gg, dg, 0, R[2][1]); put(gg, dg, 1, neg(R[2][0]));
+    put(gg, dg, 2, q[0]); put(gg, dg, 3, q[1]); put(gg, dg, 4, q[2]);
+    setcol(Wl, dW, 0, 0, c1, c0, c0); setcol(Wl, dW, 1, 0, c0, c1, c0);
+    setcol(Wl, dW, 2, 3, c1, c0, c0); setcol(Wl, dW, 3, 3, c0, c1, c0); setcol(Wl, dW, 4, 3, c0, c0, c1);
+    setcol(Pl, dP, 0, 0, c0, c0, c1);
+    put(xx, dx, 0, near_pq(th, xref, 0));
     break;
-  case PAIR_PRISMATIC: {
-    double w[3];
-    phm_so3_log(Rm, w);
-    gg[0] = w[0]; gg[1] = w[1]; gg[2] = w[2]; gg[3] = p[0]; gg[4] = p[1];
-    setcol(Wl, 0, 0, 1, 0, 0); setcol(Wl, 1, 0, 0, 1, 0); setcol(Wl, 2, 0, 0, 0, 1);
-    setcol(Wl, 3, 3, 1, 0, 0); setcol(Wl, 4, 3, 0, 1, 0);
-    setcol(Pl, 0, 3, 0, 0, 1);
-    xx[0] = p[2];
-  } break;
+  case PAIR_PRISMATIC:
+    log_pq(h, 3, tan, lg);
+    put(gg, dg, 0, lg[0]); put(gg, dg, 1, lg[1]); put(gg, dg, 2, lg[2]);
+    put(gg, dg, 3, p[0]); put(gg, dg, 4, p[1]);
+    setcol(Wl, dW, 0, 0, c1, c0, c0); setcol(Wl, dW, 1, 0, c0, c1, c0); setcol(Wl, dW, 2, 0, c0, c0, c1);
+    setcol(Wl, dW, 3, 3, c1, c0, c0); setcol(Wl, dW, 4, 3, c0, c1, c0);
+    setcol(Pl, dP, 0, 3, c0, c0, c1);
+    put(xx, dx, 0, p[2]);
+    break;
   case PAIR_HELICAL: {
-    double a = near_angle(th, xref, 0), s = 1.0 / sqrt(1 + pitch * pitch), s2 = 1.0 / (1 + pitch * pitch);
-    gg[0] = R(2, 1); gg[1] = -R(2, 0); gg[2] = q[0]; gg[3] = q[1]; gg[4] = s * (q[2] - pitch * a);
-    setcol(Wl, 0, 0, 1, 0, 0); setcol(Wl, 1, 0, 0, 1, 0);
-    setcol(Wl, 2, 3, 1, 0, 0); setcol(Wl, 3, 3, 0, 1, 0);
-    setcol(Wl, 4, 0, 0, 0, -pitch * s); setcol(Wl, 4, 3, 0, 0, s);
-    setcol(Pl, 0, 0, 0, 0, s2); setcol(Pl, 0, 3, 0, 0, pitch * s2);
-    xx[0] = a;
+    pq a = near_pq(th, xref, 0);
+    double s = 1.0 / sqrt(1 + pitch * pitch), s2 = 1.0 / (1 + pitch * pitch);
+    put(gg, dg, 0, R[2][1]); put(gg, dg, 1, neg(R[2][0]));
+    put(gg, dg, 2, q[0]); put(gg, dg, 3, q[1]); put(gg, dg, 4, lin2(s, q[2], -s * pitch, a));
+    setcol(Wl, dW, 0, 0, c1, c0, c0); setcol(Wl, dW, 1, 0, c0, c1, c0);
+    setcol(Wl, dW, 2, 3, c1, c0, c0); setcol(Wl, dW, 3, 3, c0, c1, c0);
+    setcol(Wl, dW, 4, 0, c0, c0, cst(-pitch * s)); setcol(Wl, dW, 4, 3, c0, c0, cst(s));
+    setcol(Pl, dP, 0, 0, c0, c0, cst(s2)); setcol(Pl, dP, 0, 3, c0, c0, cst(pitch * s2));
+    put(xx, dx, 0, a);
   } break;
   case PAIR_CYLINDRICAL:
-    gg[0] = R(2, 1); gg[1] = -R(2, 0); gg[2] = q[0]; gg[3] = q[1];
-    setcol(Wl, 0, 0, 1, 0, 0); setcol(Wl, 1, 0, 0, 1, 0);
-    setcol(Wl, 2, 3, 1, 0, 0); setcol(Wl, 3, 3, 0, 1, 0);
-    setcol(Pl, 0, 0, 0, 0, 1); setcol(Pl, 1, 3, 0, 0, 1);
-    xx[0] = near_angle(th, xref, 0);
-    xx[1] = q[2];
+    put(gg, dg, 0, R[2][1]); put(gg, dg, 1, neg(R[2][0])); put(gg, dg, 2, q[0]); put(gg, dg, 3, q[1]);
+    setcol(Wl, dW, 0, 0, c1, c0, c0); setcol(Wl, dW, 1, 0, c0, c1, c0);
+    setcol(Wl, dW, 2, 3, c1, c0, c0); setcol(Wl, dW, 3, 3, c0, c1, c0);
+    setcol(Pl, dP, 0, 0, c0, c0, c1); setcol(Pl, dP, 1, 3, c0, c0, c1);
+    put(xx, dx, 0, near_pq(th, xref, 0));
+    put(xx, dx, 1, q[2]);
     break;
   case PAIR_UNIVERSAL:
     /* a = R^T e_x (first axis seen in F_b), second axis e_y; x of F_a stays normal to y of F_b */
-    gg[0] = -R(0, 1); gg[1] = q[0]; gg[2] = q[1]; gg[3] = q[2];
-    setcol(Wl, 0, 0, -R(0, 2), 0, R(0, 0)); /* a x e_y */
-    setcol(Wl, 1, 3, 1, 0, 0); setcol(Wl, 2, 3, 0, 1, 0); setcol(Wl, 3, 3, 0, 0, 1);
-    setcol(Pl, 0, 0, R(0, 0), R(0, 1), R(0, 2)); setcol(Pl, 1, 0, 0, 1, 0);
-    xx[0] = near_angle(atan2(R(2, 1), R(1, 1)), xref, 0);
-    xx[1] = near_angle(atan2(R(0, 2), R(0, 0)), xref, 1);
+    put(gg, dg, 0, neg(R[0][1])); put(gg, dg, 1, q[0]); put(gg, dg, 2, q[1]); put(gg, dg, 3, q[2]);
+    setcol(Wl, dW, 0, 0, neg(R[0][2]), c0, R[0][0]); /* a x e_y */
+    setcol(Wl, dW, 1, 3, c1, c0, c0); setcol(Wl, dW, 2, 3, c0, c1, c0); setcol(Wl, dW, 3, 3, c0, c0, c1);
+    setcol(Pl, dP, 0, 0, R[0][0], R[0][1], R[0][2]); setcol(Pl, dP, 1, 0, c0, c1, c0);
+    put(xx, dx, 0, near_pq(atan2_pq(R[2][1], R[1][1], tan), xref, 0));
+    put(xx, dx, 1, near_pq(atan2_pq(R[0][2], R[0][0], tan), xref, 1));
     break;
-  case PAIR_SPHERICAL: {
-    phm_so3_log(Rm, xx);
-    gg[0] = q[0]; gg[1] = q[1]; gg[2] = q[2];
-    setcol(Wl, 0, 3, 1, 0, 0); setcol(Wl, 1, 3, 0, 1, 0); setcol(Wl, 2, 3, 0, 0, 1);
-    setcol(Pl, 0, 0, 1, 0, 0); setcol(Pl, 1, 0, 0, 1, 0); setcol(Pl, 2, 0, 0, 0, 1);
-  } break;
+  case PAIR_SPHERICAL:
+    log_pq(h, 3, tan, lg);
+    for (int i = 0; i < 3; i++) put(xx, dx, i, lg[i]);
+    put(gg, dg, 0, q[0]); put(gg, dg, 1, q[1]); put(gg, dg, 2, q[2]);
+    setcol(Wl, dW, 0, 3, c1, c0, c0); setcol(Wl, dW, 1, 3, c0, c1, c0); setcol(Wl, dW, 2, 3, c0, c0, c1);
+    setcol(Pl, dP, 0, 0, c1, c0, c0); setcol(Pl, dP, 1, 0, c0, c1, c0); setcol(Pl, dP, 2, 0, c0, c0, c1);
+    break;
   case PAIR_PLANAR:
-    gg[0] = R(2, 1); gg[1] = -R(2, 0); gg[2] = p[2];
-    setcol(Wl, 0, 0, 1, 0, 0); setcol(Wl, 1, 0, 0, 1, 0); setcol(Wl, 2, 3, 0, 0, 1);
-    setcol(Pl, 0, 0, 0, 0, 1);
-    setcol(Pl, 1, 3, R(0, 0), R(0, 1), R(0, 2)); setcol(Pl, 2, 3, R(1, 0), R(1, 1), R(1, 2));
-    xx[0] = near_angle(th, xref, 0);
-    xx[1] = p[0];
-    xx[2] = p[1];
+    put(gg, dg, 0, R[2][1]); put(gg, dg, 1, neg(R[2][0])); put(gg, dg, 2, p[2]);
+    setcol(Wl, dW, 0, 0, c1, c0, c0); setcol(Wl, dW, 1, 0, c0, c1, c0); setcol(Wl, dW, 2, 3, c0, c0, c1);
+    setcol(Pl, dP, 0, 0, c0, c0, c1);
+    setcol(Pl, dP, 1, 3, R[0][0], R[0][1], R[0][2]); setcol(Pl, dP, 2, 3, R[1][0], R[1][1], R[1][2]);
+    put(xx, dx, 0, near_pq(th, xref, 0));
+    put(xx, dx, 1, p[0]);
+    put(xx, dx, 2, p[1]);
     break;
-  case PAIR_FREE: {
-    phm_so3_log(Rm, xx);
-    xx[3] = p[0]; xx[4] = p[1]; xx[5] = p[2];
-    setcol(Pl, 0, 0, 1, 0, 0); setcol(Pl, 1, 0, 0, 1, 0); setcol(Pl, 2, 0, 0, 0, 1);
-    for (int j = 0; j < 3; j++) setcol(Pl, 3 + j, 3, R(j, 0), R(j, 1), R(j, 2));
-  } break;
+  case PAIR_FREE:
+    log_pq(h, 3, tan, lg);
+    for (int i = 0; i < 3; i++) put(xx, dx, i, lg[i]);
+    put(xx, dx, 3, p[0]); put(xx, dx, 4, p[1]); put(xx, dx, 5, p[2]);
+    setcol(Pl, dP, 0, 0, c1, c0, c0); setcol(Pl, dP, 1, 0, c0, c1, c0); setcol(Pl, dP, 2, 0, c0, c0, c1);
+    for (int j = 0; j < 3; j++) setcol(Pl, dP, 3 + j, 3, R[j][0], R[j][1], R[j][2]);
+    break;
   default: break; /* a type without its case here has no kinematics: phm_model_create refuses it */
   }
-#undef R
   int mm = (type >= 0 && type < PAIR_NTYPES) ? pair_table[type].m : 0;
   if (g) memcpy(g, gg, sizeof(double) * (size_t)mm);
   if (x) memcpy(x, xx, sizeof(double) * (size_t)(6 - mm));
   if (W) memcpy(W, Wl, sizeof Wl);
   if (Phi) memcpy(Phi, Pl, sizeof Pl);
+  if (Dg) memcpy(Dg, Dgl, sizeof(double) * 6 * (size_t)mm);
+  if (Dx) memcpy(Dx, Dxl, sizeof(double) * 6 * (size_t)(6 - mm));
+  if (DW) memcpy(DW, DWl, sizeof DWl);
+  if (DPhi) memcpy(DPhi, DPl, sizeof DPl);
+}
+
+void phm_pair_kin_tangent(int type, double pitch, const double h[16], const double *xref,
+                          double *g, double *W, double *Phi, double *x, double *Dg, double *DW,
+                          double *DPhi, double *Dx) {
+  if (!Dg && !DW && !DPhi && !Dx) phm_pair_kin(type, pitch, h, xref, g, W, Phi, x);
+  else pair_kin(1, type, pitch, h, xref, g, W, Phi, x, Dg, DW, DPhi, Dx);
+}
+
+void phm_pair_kin(int type, double pitch, const double h[16], const double *xref, double *g,
+                  double *W, double *Phi, double *x) {
+  pair_kin(0, type, pitch, h, xref, g, W, Phi, x, NULL, NULL, NULL, NULL);
+}
+
+/* Column c of a 6x6 row-major basis dotted with v: a joint rate Phi_c^T t_rel. */
+static double col_dot(const double B[36], int c, const double v[6]) {
+  double s = 0;
+  for (int i = 0; i < 6; i++) s += B[6 * i + c] * v[i];
+  return s;
 }
 
 /* ---------------------------------------------------------------- pairs */
@@ -187,10 +307,15 @@ int phm_pair_rows_full(const phm_pair_desc *pr) {
  * coordinate c adds the row g = x_c - s_c(t) after the type's rows, with dg = Phi_c^T t_rel - s_c'
  * (xdot_c = Phi_c^T t_rel is dx_c/dt for the coordinates the table lets follow a law), so its
  * wrench column is Phi_c and its prescribed rate s_c'. */
+typedef struct {
+  double Dg[6 * PHM_MAXCON]; /* d g_r/d eta_j at 6 r + j (the rows pair_rows keeps)             */
+  double DW[216], DPhi[216]; /* d B_e/d eta_j at 6 e + j for entry e of the 6x6 bases W, Phi   */
+} pair_tan;
+
 static void pair_rows(const phm_model *m, int ip, const double h[16], const double AdTbi[36],
                       const double AdBa[36], const double *xref, double time, double tref, int all,
                       double *g, double *Ga, double *Gb, double *vt, double W[36], double *Phi,
-                      double *x) {
+                      double *x, pair_tan *T) {
   const phm_pair_desc *pr = &m->pair[ip];
   int mt = pair_table[pr->type].m, mc = all ? phm_pair_rows_full(pr) : m->pair_m[ip];
   double s = 0, ds = 0;
@@ -202,11 +327,16 @@ static void pair_rows(const phm_model *m, int ip, const double h[16], const doub
     phm_se3_exp(xv, r);
     phm_se3_inverse(r, ri);
     phm_se3_compose(ri, h, E);
-    phm_pair_kin(pr->type, pr->pitch, E, xref, gf, W, NULL, NULL);
-    if (Phi || x) phm_pair_kin(pr->type, pr->pitch, h, xref, NULL, NULL, Phi, x);
+    /* E = r^-1 h moves as h does: E exp(eta) = r^-1 h exp(eta) */
+    phm_pair_kin_tangent(pr->type, pr->pitch, E, xref, gf, W, NULL, NULL, T ? T->Dg : NULL,
+                         T ? T->DW : NULL, NULL, NULL);
+    if (Phi || x || T)
+      phm_pair_kin_tangent(pr->type, pr->pitch, h, xref, NULL, NULL, Phi, x, NULL, NULL,
+                           T ? T->DPhi : NULL, NULL);
   } else if (pr->xdriven) {
-    double Pl[36], xl[6];
-    phm_pair_kin(pr->type, pr->pitch, h, xref, gf, W, Pl, xl);
+    double Pl[36], xl[6], Dx[36];
+    phm_pair_kin_tangent(pr->type, pr->pitch, h, xref, gf, W, Pl, xl, T ? T->Dg : NULL,
+                         T ? T->DW : NULL, T ? T->DPhi : NULL, T ? Dx : NULL);
     int r = mt;
     for (int c = 0; c < 6 - mt; c++) {
       if (!(pr->xdriven >> c & 1)) continue;
@@ -215,12 +345,18 @@ static void pair_rows(const phm_model *m, int ip, const double h[16], const doub
       gf[r] = xl[c] - sc;
       vf[r] = dsc;
       for (int i = 0; i < 6; i++) W[6 * i + r] = Pl[6 * i + c];
+      if (T) {
+        memcpy(T->Dg + 6 * r, Dx + 6 * c, 6 * sizeof(double));
+        for (int i = 0; i < 6; i++)
+          memcpy(T->DW + 6 * (6 * i + r), T->DPhi + 6 * (6 * i + c), 6 * sizeof(double));
+      }
       r++;
     }
     if (Phi) memcpy(Phi, Pl, sizeof Pl);
     if (x) memcpy(x, xl, sizeof(double) * (size_t)(6 - mt));
   } else {
-    phm_pair_kin(pr->type, pr->pitch, h, xref, gf, W, Phi, x);
+    phm_pair_kin_tangent(pr->type, pr->pitch, h, xref, gf, W, Phi, x, T ? T->Dg : NULL,
+                         T ? T->DW : NULL, T ? T->DPhi : NULL, NULL);
   }
   if (!all && pr->drop) { /* the kept rows: sel increasing, so the forward copy is safe */
     const int *sel = m->pair_sel + 6 * ip;
@@ -228,6 +364,11 @@ static void pair_rows(const phm_model *m, int ip, const double h[16], const doub
       gf[r] = gf[sel[r]];
       vf[r] = vf[sel[r]];
       for (int i = 0; i < 6; i++) W[6 * i + r] = W[6 * i + sel[r]];
+      if (T) {
+        memmove(T->Dg + 6 * r, T->Dg + 6 * sel[r], 6 * sizeof(double));
+        for (int i = 0; i < 6; i++)
+          memmove(T->DW + 6 * (6 * i + r), T->DW + 6 * (6 * i + sel[r]), 6 * sizeof(double));
+      }
     }
   }
   if (g) memcpy(g, gf, sizeof(double) * (size_t)mc);
@@ -258,7 +399,7 @@ static void pair_eval_rows(const phm_model *m, int ip, const double *Ha, const d
   double h[16], W[36], AdTbi[36], AdBa[36];
   if (!xref) xref = m->xref0 + m->pair_j[ip];
   phm_pair_frames(m, ip, Ha, Hb, h, (Ga || Gb) ? AdTbi : NULL, Ga ? AdBa : NULL);
-  pair_rows(m, ip, h, AdTbi, AdBa, xref, time, tref, all, g, Ga, Gb, vt, W, NULL, NULL);
+  pair_rows(m, ip, h, AdTbi, AdBa, xref, time, tref, all, g, Ga, Gb, vt, W, NULL, NULL, NULL);
   if (Wout) memcpy(Wout, W, sizeof W);
 }
 
@@ -278,16 +419,12 @@ void phm_pair_evaluate(const phm_model *m, int ip, const double *Ha, const doubl
   phm_pair_frames(m, ip, Ha, Hb, pd->h, NULL, pd->AdBa);
   if (rows)
     pair_rows(m, ip, pd->h, AdTbi, pd->AdBa, xref, time, tref, 0, pd->g, pd->Ga, pd->Gb, pd->vt,
-              pd->W, pd->Phi, pd->x);
+              pd->W, pd->Phi, pd->x, NULL);
   else
     phm_pair_kin(pr->type, pr->pitch, pd->h, xref, NULL, NULL, pd->Phi, pd->x);
   /* xdot = Phi^T t_rel */
   phm_pair_rel_twist(AdTbi, pd->AdBa, ta, tb, tr);
-  for (int c = 0; c < m->pair_k[ip]; c++) {
-    double acc = 0;
-    for (int i = 0; i < 6; i++) acc += pd->Phi[6 * i + c] * tr[i];
-    pd->xdot[c] = acc;
-  }
+  for (int c = 0; c < m->pair_k[ip]; c++) pd->xdot[c] = col_dot(pd->Phi, c, tr);
 }
 
 void phm_pair_wrench(const phm_model *m, int ip, const phm_pair_data *pd, const double *lam,
@@ -297,6 +434,141 @@ void phm_pair_wrench(const phm_model *m, int ip, const phm_pair_data *pd, const 
     for (int r = 0; r < m->pair_m[ip]; r++) acc += pd->W[6 * i + r] * lam[r];
     w[i] = acc;
   }
+}
+
+/* ---------------------------------------------------------------- tangents of a pair's rows */
+/* out (rows x 12) = D (rows x 6, derivatives in eta) [-AdBa, AdTbi]: eta, the body perturbation
+ * of h, is AdTbi db - AdBa da for H_a exp(da), H_b exp(db) (docs/method.md 4.3). */
+static void eta_to_carriers(const double *D, int rows, const double AdTbi[36],
+                            const double AdBa[36], double *out) {
+  phm_mul_ends(D, rows, AdBa, AdTbi, out);
+}
+
+/* out (rows x 6) = sum_i B[i][r] v_i along eta: the derivative of B^T v (B: a 6x6 basis, its
+ * derivatives DB at 6 e + j, columns r < rows) at fixed v. */
+static void basis_dot(const double *DB, int rows, const double v[6], double *out) {
+  for (int r = 0; r < rows; r++)
+    for (int j = 0; j < 6; j++) {
+      double s = 0;
+      for (int i = 0; i < 6; i++) s += DB[6 * (6 * i + r) + j] * v[i];
+      out[6 * r + j] = s;
+    }
+}
+
+/* bar(z) (6 x 6): bar(z) t = ad_t^T z, the derivative of ad*_(.) z (docs/method.md 3.4). */
+static void ad_dual_bar(const double z[6], double B[36]) {
+  for (int j = 0; j < 6; j++) {
+    double e[6] = {0}, c[6];
+    e[j] = 1.0;
+    phm_ad_dual_apply(e, z, c);
+    for (int i = 0; i < 6; i++) B[6 * i + j] = c[i];
+  }
+}
+
+/* K (12 x 12) = d [-AdBa^T w; AdTbi^T w]/d[da; db] at fixed l, w = W l (W: a basis with its
+ * derivatives DW in eta, columns r < mc): the constraint wrenches [Ga^T l; Gb^T l] (W = W^C) or
+ * an effort's (W = Phi, l = u). Beside dw: AdBa = Ad_{F_b^-1 H_a} moves with both carriers,
+ * d(AdBa^T w) = bar(AdBa^T w) da - AdBa^T bar(w) AdTbi db (H_a exp(da) on the right; H_b exp(db)
+ * through F_b^-1 on the left). */
+static void wrench_tangent(const double W[36], const double *DW, int mc, const double *l,
+                           const double AdTbi[36], const double AdBa[36], double K[144]) {
+  double w[6], z[6], Dl[36], Dw[72], Bz[36], Bw[36], BA[36];
+  for (int i = 0; i < 6; i++) {
+    w[i] = 0;
+    for (int r = 0; r < mc; r++) w[i] += W[6 * i + r] * l[r];
+    for (int j = 0; j < 6; j++) {
+      double s = 0;
+      for (int r = 0; r < mc; r++) s += DW[6 * (6 * i + r) + j] * l[r];
+      Dl[6 * i + j] = s;
+    }
+  }
+  eta_to_carriers(Dl, 6, AdTbi, AdBa, Dw);
+  phm_mtv6(AdBa, w, z);
+  ad_dual_bar(z, Bz);
+  ad_dual_bar(w, Bw);
+  for (int i = 0; i < 6; i++) /* BA = bar(w) AdTbi */
+    for (int j = 0; j < 6; j++) {
+      double s = 0;
+      for (int l2 = 0; l2 < 6; l2++) s += Bw[6 * i + l2] * AdTbi[6 * l2 + j];
+      BA[6 * i + j] = s;
+    }
+  for (int i = 0; i < 6; i++)
+    for (int j = 0; j < 12; j++) {
+      double sa = 0, sb = 0;
+      for (int l2 = 0; l2 < 6; l2++) {
+        sa += AdBa[6 * l2 + i] * (Dw[12 * l2 + j] - (j >= 6 ? BA[6 * l2 + j - 6] : 0.0));
+        sb += AdTbi[6 * l2 + i] * Dw[12 * l2 + j];
+      }
+      K[12 * i + j] = -sa - (j < 6 ? Bz[6 * i + j] : 0.0);
+      K[12 * (6 + i) + j] = sb;
+    }
+}
+
+void phm_pair_tangent(const phm_model *m, int ip, const double *Ha, const double *Hb,
+                      const double *ta, const double *tb, const double *xref, double time,
+                      double tref, const double *lam, const double *mu, const double *u,
+                      phm_pair_data *pd, double *dg, double *dc, double *dx, double *dxd,
+                      double *Kl, double *Km, double *Ku) {
+  const phm_pair_desc *pr = &m->pair[ip];
+  const double *AdTbi = m->pair_AdTbi + 36 * ip;
+  int mc = m->pair_m[ip], k = m->pair_k[ip];
+  phm_pair_data own;
+  pair_tan T;
+  if (!pd) pd = &own;
+  if (!xref) xref = m->xref0 + m->pair_j[ip];
+  phm_pair_frames(m, ip, Ha, Hb, pd->h, NULL, pd->AdBa);
+  pair_rows(m, ip, pd->h, AdTbi, pd->AdBa, xref, time, tref, 0, pd->g, pd->Ga, pd->Gb, pd->vt,
+            pd->W, pd->Phi, pd->x, &T);
+  if (dx) { /* the coordinates' derivatives: one more evaluation of the kinematics at h */
+    double Dx[36];
+    phm_pair_kin_tangent(pr->type, pr->pitch, pd->h, xref, NULL, NULL, NULL, NULL, NULL, NULL,
+                         NULL, Dx);
+    eta_to_carriers(Dx, k, AdTbi, pd->AdBa, dx);
+  }
+  double tr[6], Dt[72] = {0}, D6[36];
+  phm_pair_rel_twist(AdTbi, pd->AdBa, ta, tb, tr);
+  for (int c = 0; c < k; c++) pd->xdot[c] = col_dot(pd->Phi, c, tr);
+  if (ta) { /* d t_rel at fixed twists: [AdBa ad_ta, -ad_(AdBa ta) AdTbi] [da; db] */
+    double s[6], ad[36], as[36];
+    phm_mv6(pd->AdBa, ta, s);
+    phm_se3_ad(ta, ad);
+    phm_se3_ad(s, as);
+    for (int i = 0; i < 6; i++)
+      for (int j = 0; j < 6; j++) {
+        double sa = 0, sb = 0;
+        for (int l = 0; l < 6; l++) {
+          sa += pd->AdBa[6 * i + l] * ad[6 * l + j];
+          sb += as[6 * i + l] * AdTbi[6 * l + j];
+        }
+        Dt[12 * i + j] = sa;
+        Dt[12 * i + 6 + j] = -sb;
+      }
+  }
+  if (dg) eta_to_carriers(T.Dg, mc, AdTbi, pd->AdBa, dg);
+  if (dc) { /* c = W^T (t_rel - ds a) - vf: a driven pair's prescribed twist ds a is fixed */
+    double u[6];
+    memcpy(u, tr, sizeof u);
+    if (pr->driven) {
+      double ds = 0;
+      phm_law_eval(&pr->law, time, tref, &ds, NULL);
+      for (int i = 0; i < 6; i++) u[i] -= ds * pr->axis[i];
+    }
+    basis_dot(T.DW, mc, u, D6);
+    eta_to_carriers(D6, mc, AdTbi, pd->AdBa, dc);
+    for (int r = 0; r < mc; r++)
+      for (int j = 0; j < 12; j++)
+        for (int i = 0; i < 6; i++) dc[12 * r + j] += pd->W[6 * i + r] * Dt[12 * i + j];
+  }
+  if (dxd) { /* xdot = Phi^T t_rel */
+    basis_dot(T.DPhi, k, tr, D6);
+    eta_to_carriers(D6, k, AdTbi, pd->AdBa, dxd);
+    for (int c = 0; c < k; c++)
+      for (int j = 0; j < 12; j++)
+        for (int i = 0; i < 6; i++) dxd[12 * c + j] += pd->Phi[6 * i + c] * Dt[12 * i + j];
+  }
+  if (Kl && lam) wrench_tangent(pd->W, T.DW, mc, lam, AdTbi, pd->AdBa, Kl);
+  if (Km && mu) wrench_tangent(pd->W, T.DW, mc, mu, AdTbi, pd->AdBa, Km);
+  if (Ku && u) wrench_tangent(pd->Phi, T.DPhi, k, u, AdTbi, pd->AdBa, Ku);
 }
 
 void phm_pair_joint(const phm_model *m, int ip, const double *Ha, const double *Hb,

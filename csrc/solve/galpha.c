@@ -15,8 +15,8 @@
  *   y1 = y0 + h y0' + gamma h (y1' - y0'),
  *   differential rows of F at (t0 + alpha_f h, y0 + alpha_f (y1 - y0), y0' + alpha_m (y1' - y0')),
  *   constraint rows (g = 0, G t = vt) at (t1, y1): the constraints hold at every step;
- * lambda and mu are stage values (not interpolated). Unknown: y1. Modified Newton on the coloured
- * finite-difference Jacobian, refreshed when convergence is slow or the step changed; a step
+ * lambda and mu are stage values (not interpolated). Unknown: y1. Modified Newton on the
+ * closed-form Jacobian (csrc/dae/jacobian.c), refreshed when convergence is slow or the step changed; a step
  * whose Newton fails with a fresh Jacobian is retried with half the step (up to 2^-10).
  * Steps are shortened (evenly) to land on the output times and on the breakpoints of the laws. */
 typedef struct {

@@ -1,5 +1,5 @@
 /* ida.c -- the IDA driver (SUNDIALS' variable-order BDF): tolerances per state, the linear
- * solver (dense with IDA's own difference quotients, or KLU with the coloured Jacobian of
+ * solver (dense with IDA's own difference quotients, or KLU with the closed-form Jacobian of
  * csrc/dae/jacobian.c), output times, breakpoints of the laws (restart from consistent values)
  * and the monitor. */
 #include "solve.h"

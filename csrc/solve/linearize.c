@@ -1,8 +1,9 @@
 /* linearize.c -- linearization on the tangent space (docs/method.md section 7): the generalized
  * forces f(H) = applied + G^T lambda at poses H and their Jacobian blocks df/ddelta over the
- * carrier coupling graph (csrc/model/graph.c): the se3 elements' and gravity's blocks in closed
- * form (phm_element_tangent, phm_gravity_tangent), the rest (pairs' G^T lambda, loads, springs,
- * actuators) by coloured central differences; read by modes (modes.c) and statics (statics.c).
+ * carrier coupling graph (csrc/model/graph.c), all in closed form: the se3 elements', gravity's,
+ * the pairs' G^T lambda and the actuators', loads' and springs' blocks (phm_element_tangent,
+ * phm_gravity_tangent, phm_pair_tangent, phm_applied_tangent); read by modes (modes.c) and
+ * statics (statics.c).
  * Set-up time code: allocates. */
 #include "solve.h"
 
@@ -15,13 +16,12 @@
 #include "pose.h"
 
 /* Generalized forces at poses H: applied wrenches + G^T lambda (nc x 6, body frame). */
-static void lin_forces(lin_t *L, const double *H, int remainder, double *f) {
+void lin_total_force(lin_t *L, const double *H, double *f) {
   const phm_model *m = L->m;
-  phm_applied_pairs(m, NULL, H, NULL, NULL, L->time, L->tref, L->scale, remainder, f, NULL, NULL,
-                    NULL, NULL, NULL);
+  phm_applied_pairs(m, NULL, H, NULL, NULL, L->time, L->tref, L->scale, f, NULL, NULL, NULL, NULL,
+                    NULL);
   if (L->lam && m->ncons) phm_constraint_forces(m, H, L->time, L->tref, L->lam, f);
 }
-void lin_total_force(lin_t *L, const double *H, double *f) { lin_forces(L, H, 0, f); }
 
 /* The slot of block (row carrier r, column carrier c) in the coupling graph's lists. */
 static int lin_slot(const lin_t *L, int r, int c) {
@@ -41,41 +41,74 @@ static void add_own_block(double *K, const double *Kw, int ldk, const double w[6
   }
 }
 
-/* Add the closed-form blocks at poses H (at rest) -- the se3 elements' (phm_element_tangent) and
- * gravity's (phm_gravity_tangent, x L->scale) -- to Kb (if not NULL; d f/d delta, with f_c's
- * chart factor dexp_{-delta}^T: its derivative -1/2 ad*_(.) w_c on the diagonal blocks) and, if
- * Db is not NULL, the elements' to Db (d f/d t: the damping, the same at any twist since the
- * wrenches are affine in them). */
+/* One component's blocks (phm_tangent_sink) into Kb (d f/d delta: Kx, with f_c's chart factor
+ * dexp_{-delta}^T, whose derivative is -1/2 ad*_(.) w_c, on the diagonal blocks; if not NULL)
+ * and Db (d f/d t: Kt; if not NULL). */
+typedef struct {
+  const lin_t *L;
+  double *Kb, *Db;
+} lin_sink;
+static void add_lin_tangent(void *ctx, int ca, int cb, const double w[12], const double Kx[144],
+                            const double Kt[144]) {
+  lin_sink *s = ctx;
+  int cr[2] = {ca, cb};
+  for (int bi = 0; bi < 2; bi++)
+    for (int bj = 0; bj < 2; bj++) {
+      if (cr[bi] < 0 || cr[bj] < 0) continue;
+      int q = lin_slot(s->L, cr[bi], cr[bj]);
+      if (q < 0) continue;
+      const double *kx = Kx + 12 * 6 * bi + 6 * bj;
+      if (s->Db && Kt)
+        for (int i = 0; i < 6; i++)
+          for (int j = 0; j < 6; j++) s->Db[36 * (size_t)q + 6 * i + j] += Kt[12 * (6 * bi + i) + 6 * bj + j];
+      if (!s->Kb) continue;
+      double *K = s->Kb + 36 * (size_t)q;
+      if (bi == bj) add_own_block(K, kx, 12, w + 6 * bi);
+      else
+        for (int i = 0; i < 6; i++)
+          for (int j = 0; j < 6; j++) K[6 * i + j] += kx[12 * i + j];
+    }
+}
+
+/* Add the blocks at poses H (at rest), all in closed form -- the se3 elements'
+ * (phm_element_tangent), gravity's (phm_gravity_tangent, x L->scale), the pairs' constraint
+ * wrenches G^T L->lam (phm_pair_tangent: their geometric stiffness) and the actuators', loads'
+ * and springs' (phm_applied_tangent) -- to Kb (if not NULL; d f/d delta, with f_c's chart factor
+ * dexp_{-delta}^T: its derivative -1/2 ad*_(.) w_c on the diagonal blocks) and, if Db is not
+ * NULL, their derivatives in the twists to Db (d f/d t: the damping, the same at any twist since
+ * the wrenches are affine in them). */
 void lin_closed_form_blocks(const lin_t *L, const double *H, double *Kb, double *Db) {
   const phm_model *m = L->m;
   static const double zero[6] = {0};
+  lin_sink sink = {L, Kb, Db};
   for (int ie = 0; ie < m->ne; ie++) {
     const phm_element_desc *e = &m->el[ie];
     double w[12], Kx[144], Ct[144];
     phm_element_tangent(e, H + 16 * e->a, H + 16 * e->b, zero, zero, w, w + 6, Kx, Db ? Ct : NULL);
-    int cr[2] = {e->a, e->b};
-    for (int bi = 0; bi < 2; bi++)
-      for (int bj = 0; bj < 2; bj++) {
-        int q = lin_slot(L, cr[bi], cr[bj]);
-        if (q < 0) continue;
-        double *K = Kb ? Kb + 36 * (size_t)q : NULL, *Dq = Db ? Db + 36 * (size_t)q : NULL;
-        const double *kx = Kx + 12 * 6 * bi + 6 * bj, *ct = Ct + 12 * 6 * bi + 6 * bj;
-        if (Dq)
-          for (int i = 0; i < 6; i++)
-            for (int j = 0; j < 6; j++) Dq[6 * i + j] += ct[12 * i + j];
-        if (!K) continue;
-        if (bi == bj) add_own_block(K, kx, 12, w + 6 * bi);
-        else
-          for (int i = 0; i < 6; i++)
-            for (int j = 0; j < 6; j++) K[6 * i + j] += kx[12 * i + j];
-      }
+    add_lin_tangent(&sink, e->a, e->b, w, Kx, Db ? Ct : NULL);
   }
+  phm_applied_tangent(m, NULL, H, NULL, NULL, L->time, L->tref, L->scale, add_lin_tangent, &sink);
+  if (!Kb) return;
   double gn = fabs(m->gravity[0]) + fabs(m->gravity[1]) + fabs(m->gravity[2]);
-  if (!Kb || !(gn > 0)) return;
-  for (int c = 0; c < m->nc; c++) {
+  for (int c = 0; gn > 0 && c < m->nc; c++) {
     double w[6], Kg[36];
     phm_gravity_tangent(m, c, H + 16 * c, L->scale, w, Kg);
     add_own_block(Kb + 36 * (size_t)lin_slot(L, c, c), Kg, 6, w);
+  }
+  for (int ip = 0; L->lam && ip < m->np; ip++) {
+    const phm_pair_desc *pr = &m->pair[ip];
+    const double *lam = L->lam + m->pair_row[ip];
+    phm_pair_data pd;
+    double Kl[144], w[12] = {0};
+    phm_pair_tangent(m, ip, pr->a >= 0 ? H + 16 * pr->a : NULL, pr->b >= 0 ? H + 16 * pr->b : NULL,
+                     NULL, NULL, NULL, L->time, L->tref, lam, NULL, NULL, &pd, NULL, NULL, NULL, NULL,
+                     Kl, NULL, NULL);
+    for (int r = 0; r < m->pair_m[ip]; r++) /* the wrenches G_a^T lam, G_b^T lam */
+      for (int j = 0; j < 6; j++) {
+        w[j] += pd.Ga[6 * r + j] * lam[r];
+        w[6 + j] += pd.Gb[6 * r + j] * lam[r];
+      }
+    add_lin_tangent(&sink, pr->a, pr->b, w, Kl, NULL);
   }
 }
 
@@ -96,71 +129,26 @@ void lin_free(lin_t *L) {
   free(L->Hp);
   free(L->ptr);
   free(L->nbr);
-  free(L->col);
   free(L->Kb);
 }
 
-/* The coupling graph of L's model, its colouring and room for the force Jacobian blocks. */
-phm_status lin_colour(lin_t *L, phm_error *err) {
+/* The coupling graph of L's model and room for the force Jacobian blocks. */
+phm_status lin_graph(lin_t *L, phm_error *err) {
   const phm_model *m = L->m;
-  int nc = m->nc;
   phm_status st = phm_carrier_graph(m, 0, &L->ptr, &L->nbr, err);
   if (st) return st;
-  int *mark = malloc(sizeof(int) * (size_t)(nc + 1));
-  L->col = malloc(sizeof(int) * (size_t)nc);
-  L->Kb = calloc(36 * (size_t)L->ptr[nc] + 1, sizeof(double));
-  if (!mark || !L->col || !L->Kb) {
-    free(mark);
-    return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
-  }
-  L->ncol = phm_graph_colours(nc, L->ptr, L->nbr, L->col, mark);
-  free(mark);
+  L->Kb = calloc(36 * (size_t)L->ptr[m->nc] + 1, sizeof(double));
+  if (!L->Kb) return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
   return PHM_OK;
 }
 
 /* Kb[q] = d f_r / d delta_c for block q = (row carrier r, column carrier nbr[q]) of the coupling
  * graph (6 x 6, row-major), f = lin_total_force on the perturbed carriers' charts, f_c(delta) =
- * dexp_{-delta}^T w_c(H_c exp(delta)): the elements' and gravity's part in closed form (lin_closed_form_blocks),
- * the rest by central differences, one pass per colour and direction (carriers of one colour
- * share no neighbour, so their columns do not mix). Into L->Kb. */
-void lin_force_jacobian_blocks(lin_t *L, const double *H, double *f1, double *f2) {
-  const phm_model *m = L->m;
-  int nc = m->nc, ncol = L->ncol;
-  const int *col = L->col, *ptr = L->ptr, *nbr = L->nbr;
-  double *Kb = L->Kb;
-  for (int k = 0; k < ncol; k++)
-    for (int j = 0; j < 6; j++) {
-      double eps = 1e-6 * (j < 3 ? 1.0 : m->lref);
-      for (int side = 0; side < 2; side++) {
-        double dl[6] = {0}, md[6] = {0}, D[36], *f = side ? f2 : f1;
-        dl[j] = side ? -eps : eps;
-        md[j] = -dl[j];
-        phm_se3_dexp(md, D);
-        memcpy(L->Hp, H, sizeof(double) * 16 * (size_t)nc);
-        for (int c = 0; c < nc; c++)
-          if (col[c] == k) phm_retract(L->Hp + 16 * c, dl);
-        lin_forces(L, L->Hp, 1, f);
-        for (int c = 0; c < nc; c++)
-          if (col[c] == k) {
-            double w[6];
-            for (int i = 0; i < 6; i++) {
-              double s = 0;
-              for (int q = 0; q < 6; q++) s += D[6 * q + i] * f[6 * c + q];
-              w[i] = s;
-            }
-            memcpy(f + 6 * c, w, sizeof w);
-          }
-      }
-      for (int r = 0; r < nc; r++)
-        for (int q = ptr[r]; q < ptr[r + 1]; q++)
-          if (col[nbr[q]] == k)
-            for (int i = 0; i < 6; i++)
-              Kb[36 * (size_t)q + 6 * i + j] = (f1[6 * r + i] - f2[6 * r + i]) / (2 * eps);
-    }
-  if (ncol == 0) memset(Kb, 0, sizeof(double) * 36 * (size_t)ptr[nc]);
-  lin_closed_form_blocks(L, H, Kb, NULL);
+ * dexp_{-delta}^T w_c(H_c exp(delta)), in closed form (lin_closed_form_blocks). Into L->Kb. */
+void lin_force_jacobian_blocks(lin_t *L, const double *H) {
+  memset(L->Kb, 0, sizeof(double) * 36 * (size_t)L->ptr[L->m->nc]);
+  lin_closed_form_blocks(L, H, L->Kb, NULL);
 }
-
 
 void lin_kkt_free(lin_kkt_t *S) {
   if (S->num) klu_free_numeric(&S->num, &S->common);

@@ -204,7 +204,7 @@ done:
 /* ---------------------------------------------------------------- the reduced linear model */
 /* The linearization at poses H shared by the modes and the linear port-Hamiltonian model: the
  * stiffness K = -df/ddelta and damping D = -df/dt as blocks on the carrier coupling graph
- * (coloured differences, csrc/solve/linearize.c), and, for the dense path, their reduction to
+ * (closed form, csrc/solve/linearize.c), and, for the dense path, their reduction to
  * the null space of the constraint Jacobian G. G touches only the carriers of the pairs, so the
  * null-space basis is Z = diag(U0, I): U0 from the SVD of G restricted to the constrained
  * carriers, identity on the free ones. Reduced coordinates: first the n0 null-space directions
@@ -229,20 +229,14 @@ static void lin_red_free(lin_red_t *R) {
 /* K and D blocks at poses (NULL: H0) with constraint wrenches lambda (NULL: none), loads at time. */
 static phm_status lin_red_blocks(lin_red_t *R, const phm_model *m, const double *poses,
                                  const double *lambda, double time, phm_error *err) {
-  int nc = m->nc, n6 = 6 * nc;
+  int nc = m->nc;
   lin_t *L = &R->L;
   phm_status st;
-  if ((st = lin_alloc(L, m, err)) || (st = lin_colour(L, err))) return st;
-  const int *ptr = L->ptr, *nbr = L->nbr, *col = L->col, ncol = L->ncol;
-  int nb = ptr[nc];
-  double *f0 = malloc(sizeof(double) * (size_t)n6), *f1 = malloc(sizeof(double) * (size_t)n6);
-  double *f2 = malloc(sizeof(double) * (size_t)n6), *tw = calloc((size_t)n6, sizeof(double));
+  if ((st = lin_alloc(L, m, err)) || (st = lin_graph(L, err))) return st;
+  int nb = L->ptr[nc];
   R->H = malloc(sizeof(double) * 16 * (size_t)nc);
   R->Db = calloc((size_t)nb * 36, sizeof(double));
-  if (!f0 || !f1 || !f2 || !tw || !R->H || !R->Db) {
-    free(f0); free(f1); free(f2); free(tw);
-    return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
-  }
+  if (!R->H || !R->Db) return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
   double *H = R->H, *Kb = L->Kb, *Db = R->Db;
   L->time = time;
   L->tref = phm_model_tref(m, time, NULL);
@@ -250,24 +244,12 @@ static phm_status lin_red_blocks(lin_red_t *R, const phm_model *m, const double 
   L->lam = lambda;
   for (int c = 0; c < nc; c++) memcpy(H + 16 * c, poses ? poses + 16 * c : m->car[c].H0, 16 * sizeof(double));
   /* stiffness K = -d f / d delta, block-sparse */
-  lin_force_jacobian_blocks(L, H, f1, f2);
+  lin_force_jacobian_blocks(L, H);
   for (size_t i = 0; i < (size_t)nb * 36; i++) Kb[i] = -Kb[i];
-  /* damping D = -dw/dt: the elements' in closed form (lin_closed_form_blocks), the rest (linear in
-   * t) by one-sided differences, exact up to round-off */
-  phm_applied_pairs(m, NULL, H, tw, NULL, time, L->tref, 1.0, 1, f0, NULL, NULL, NULL, NULL, NULL);
-  for (int k = 0; k < ncol; k++)
-    for (int j = 0; j < 6; j++) {
-      for (int c = 0; c < nc; c++) tw[6 * c + j] = col[c] == k ? 1.0 : 0.0;
-      phm_applied_pairs(m, NULL, H, tw, NULL, time, L->tref, 1.0, 1, f2, NULL, NULL, NULL, NULL, NULL);
-      for (int c = 0; c < nc; c++) tw[6 * c + j] = 0.0;
-      for (int r = 0; r < nc; r++)
-        for (int q = ptr[r]; q < ptr[r + 1]; q++)
-          if (col[nbr[q]] == k)
-            for (int i = 0; i < 6; i++) Db[36 * (size_t)q + 6 * i + j] = f2[6 * r + i] - f0[6 * r + i];
-    }
+  /* damping D = -dw/dt, in closed form (lin_closed_form_blocks; the pairs' wrenches do not
+   * depend on the twists) */
   lin_closed_form_blocks(L, H, NULL, Db);
   for (size_t i = 0; i < (size_t)nb * 36; i++) Db[i] = -Db[i];
-  free(f0); free(f1); free(f2); free(tw);
   return PHM_OK;
 }
 

@@ -49,7 +49,7 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
   out->nsteps = out->nres = out->njac = out->nniters = out->netf = out->nncf = out->nfloor = 0;
   out->err_est = 0;
   phm_status st = PHM_OK;
-  /* set-up: the DAE's data and Jacobian pattern (the integrators' coloured Jacobian: every
+  /* set-up: the DAE's data and Jacobian pattern (the integrators' sparse Jacobian: every
    * generalized-alpha run, IDA with KLU); nothing of phmech's allocates after it */
   dae_t d;
   if ((st = dae_init(&d, m, err))) return st;

@@ -24,24 +24,23 @@ typedef struct {
   double time, tref, scale;
   const double *lam; /* constraint wrenches added to the forces (may be NULL) */
   double *wr, *gl, *G, *Hp;
-  /* carrier coupling graph (CSR), its distance-2 colouring and the force Jacobian blocks
-   * (lin_colour; modes and statics) */
-  int *ptr, *nbr, *col, ncol;
+  /* carrier coupling graph (CSR) and the force Jacobian blocks (lin_graph; modes and statics) */
+  int *ptr, *nbr;
   double *Kb;
 } lin_t;
 
 phm_status lin_alloc(lin_t *L, const phm_model *m, phm_error *err);
 void lin_free(lin_t *L);
-/* The coupling graph of L's model, its colouring and room for the force Jacobian blocks. */
-phm_status lin_colour(lin_t *L, phm_error *err);
+/* The coupling graph of L's model and room for the force Jacobian blocks. */
+phm_status lin_graph(lin_t *L, phm_error *err);
 /* Generalized forces at poses H: applied wrenches (x L->scale) + G^T L->lam (nc x 6, body frame). */
 void lin_total_force(lin_t *L, const double *H, double *f);
 /* L->Kb[q] = d f_r / d delta_c for block q = (row carrier r, column carrier nbr[q]) of the
- * coupling graph: the se3 elements' part in closed form, the rest by coloured central
- * differences; f1, f2: scratch (6 nc). */
-void lin_force_jacobian_blocks(lin_t *L, const double *H, double *f1, double *f2);
-/* Add the closed-form blocks at poses H (the se3 elements' and gravity's) to Kb (df/ddelta; if
- * not NULL) and the elements' to Db (df/dt; if not NULL). */
+ * coupling graph, in closed form (lin_closed_form_blocks). */
+void lin_force_jacobian_blocks(lin_t *L, const double *H);
+/* Add the closed-form blocks at poses H (the se3 elements', gravity's, the pairs' G^T lambda, the
+ * actuators', loads' and springs') to Kb (df/ddelta; if not NULL) and their twist derivatives to
+ * Db (df/dt: the damping; if not NULL). */
 void lin_closed_form_blocks(const lin_t *L, const double *H, double *Kb, double *Db);
 
 /* The KKT matrix [K G^T; G 0] of the linearization (K: 6x6 blocks on the slots of the carrier
@@ -57,7 +56,7 @@ typedef struct {
   klu_common common;
 } lin_kkt_t;
 
-/* The pattern of L's KKT matrix (needs lin_colour) and its KLU analysis. */
+/* The pattern of L's KKT matrix (needs lin_graph) and its KLU analysis. */
 phm_status lin_kkt_build(lin_kkt_t *S, const lin_t *L, phm_error *err);
 void lin_kkt_free(lin_kkt_t *S);
 /* Values from the blocks Kb (36 per graph slot) and Gp, then a KLU factorization with fresh

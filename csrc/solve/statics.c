@@ -21,7 +21,7 @@ static void static_residual(lin_t *L, const double *H, double *R) {
 
 /* Work arrays of one Newton solve (allocated once by phm_static). */
 typedef struct {
-  double *R, *f1, *f2, *Gp, *Hsave, *lsave, *x, *Hold;
+  double *R, *Gp, *Hsave, *lsave, *x, *Hold;
   double *Hptc, *lptc; /* ptc's start (newton, which ptc calls, keeps its own in Hsave, lsave) */
   int *order, *via;    /* the chain retraction's walk (chain_build) */
 } static_work_t;
@@ -129,8 +129,8 @@ static void take_step(const phm_model *m, const static_work_t *w, double *H, dou
  * set: S holds a factorization made in this solve), 1 on failure (H, lam restored, *have 0). With
  * *have on entry, the tangent predictor first: S's factorization (of the last load's solve) on
  * this load's residual, one step (for a load increment dF that is K^-1 dF). Then corrections at
- * each iterate: a new tangent [K G^T; G 0] (the elements' blocks in closed form, the rest by
- * coloured differences, csrc/solve/linearize.c) factored by KLU, or, while they contract by
+ * each iterate: a new tangent [K G^T; G 0] (in closed form, csrc/solve/linearize.c) factored by
+ * KLU, or, while they contract by
  * NEWTON_THETA, simplified ones with the last factorization (one residual and solve each); each
  * step scaled down to at most 1 rad of rotation and taken by the chain retraction (take_step).
  * Converged when a correction is below tol (rad, and lengths in units of the element length
@@ -156,8 +156,9 @@ static void take_step(const phm_model *m, const static_work_t *w, double *H, dou
  * round-off); simplified corrections with NEWTON_THETA = 0.1 on H exp(delta): 21, 21, 65, 50, 49,
  * 951; with the predictor too: 15, 15, 76, 78, 44, 893; the chain retraction with the predictor
  * (no simplified corrections): 29, 31, 31, 9, 9, 12; all three: 12, 12, 21, 9, 9, 12, CPU -45 %
- * at N = 1000 (a simplified correction costs a residual and a solve, a tangent the coloured
- * differences of the pairs and loads and a factorization). NEWTON_THETA = 0.03: 16, 16, 21, 9, 9,
+ * at N = 1000 (a simplified correction costs a residual and a solve, a tangent then cost the
+ * coloured differences of the pairs and loads and a factorization; the pairs', loads' and
+ * springs' tangents have been closed form since). NEWTON_THETA = 0.03: 16, 16, 21, 9, 9,
  * 12; 0.3: 11, 11, 21, 9, 9, 15. Simplified corrections right after the predictor (a
  * factorization from the last load, before the whole load increment) went astray on stiff beams
  * (the stiff roll-up 20, the stiff tip load 33): after the predictor a new tangent is made.
@@ -203,7 +204,7 @@ static int newton(lin_t *L, lin_kkt_t *S, double *H, double *lam, double tol, in
     if (age == 0 || !(sn <= NEWTON_THETA * sprev)) { /* a new tangent */
       if (tangents++ == maxit) break;
       (*iters)++;
-      lin_force_jacobian_blocks(L, H, w->f1, w->f2);
+      lin_force_jacobian_blocks(L, H);
       if (nk) lin_constraint_blocks(L, H, w->Gp);
       for (int i = 0; i < N; i++) x[i] = -R[i];
       if (lin_kkt_factor(S, L->Kb, w->Gp) || lin_kkt_solve(S, x)) break;
@@ -253,7 +254,7 @@ static int ptc(lin_t *L, lin_kkt_t *S, double *H, double *lam, double tol, int m
   rn = sqrt(rn);
   for (int it = 0; it < maxit && isfinite(rn); it++) {
     (*iters)++;
-    lin_force_jacobian_blocks(L, H, w->f1, w->f2);
+    lin_force_jacobian_blocks(L, H);
     if (nk) lin_constraint_blocks(L, H, w->Gp);
     if (it == 0) { /* the first step: the inertia term 100 times the stiffness */
       double trK = 0;
@@ -318,7 +319,6 @@ phm_status phm_static_monitored(const phm_model *m, const double *poses, double 
   memset(&S, 0, sizeof S);
   static_work_t w = {
       .R = malloc(sizeof(double) * (size_t)N),
-      .f1 = malloc(sizeof(double) * (size_t)n6), .f2 = malloc(sizeof(double) * (size_t)n6),
       .Gp = malloc(sizeof(double) * 12 * (size_t)(nk + 1)),
       .Hsave = malloc(sizeof(double) * 16 * (size_t)nc), .lsave = malloc(sizeof(double) * (size_t)(nk + 1)),
       .x = malloc(sizeof(double) * (size_t)N), .Hold = malloc(sizeof(double) * 16 * (size_t)nc),
@@ -326,13 +326,13 @@ phm_status phm_static_monitored(const phm_model *m, const double *poses, double 
       .order = malloc(sizeof(int) * (size_t)nc), .via = malloc(sizeof(int) * (size_t)nc)};
   int *adj = malloc(sizeof(int) * (size_t)(nc + 1 + 2 * m->ne));
   double *lam = calloc((size_t)(nk + 1), sizeof(double));
-  if (!w.R || !w.f1 || !w.f2 || !w.Gp || !w.Hsave || !w.lsave || !w.x || !w.Hold || !w.Hptc ||
+  if (!w.R || !w.Gp || !w.Hsave || !w.lsave || !w.x || !w.Hold || !w.Hptc ||
       !w.lptc || !w.order || !w.via || !adj || !lam) {
     st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
     goto done;
   }
   chain_build(m, w.order, w.via, adj);
-  if ((st = lin_alloc(&L, m, err)) || (st = lin_colour(&L, err))) goto done;
+  if ((st = lin_alloc(&L, m, err)) || (st = lin_graph(&L, err))) goto done;
   if ((st = lin_kkt_build(&S, &L, err))) goto done;
   L.time = time;
   L.tref = phm_model_tref(m, time, NULL);
@@ -404,7 +404,7 @@ done:
   if (iters) *iters = it;
   lin_free(&L);
   lin_kkt_free(&S);
-  free(w.R); free(w.f1); free(w.f2); free(w.Gp);
+  free(w.R); free(w.Gp);
   free(w.Hsave); free(w.lsave); free(w.x); free(w.Hold);
   free(w.Hptc); free(w.lptc); free(w.order); free(w.via); free(adj); free(lam);
   return st;

@@ -1,4 +1,5 @@
-/* law.h -- the time laws' breakpoints, validation and copies (phm_law_eval is public: phmech.h). */
+/* law.h -- the time laws' breakpoints and copies (phm_law_eval and phm_law_check are public:
+ * phmech.h). */
 #ifndef PHM_LAW_H
 #define PHM_LAW_H
 
@@ -10,8 +11,6 @@
  * out, or only their count when out is NULL; returns the count (an expression: its leaves', not
  * sorted, possibly repeated). */
 int phm_law_breakpoints(const phm_law *law, double *out);
-/* PHM_OK, or PHM_EINVAL naming `what idx` (e.g. "pair 3") and the bad parameter. */
-phm_status phm_law_check(const phm_law *law, const char *what, int idx, phm_error *err);
 /* What a deep copy of a (checked) law needs: adds its expression nodes to *nnodes and the
  * doubles of its tables (points, pieces, breakpoints) to *ndoubles. */
 void phm_law_extent(const phm_law *law, size_t *nnodes, size_t *ndoubles);

@@ -26,6 +26,22 @@ static inline void phm_mtv6(const double A[36], const double x[6], double y[6]) 
   }
 }
 
+/* out (rows x 12) = D [-A, B] (D: rows x 6, A and B 6x6, all row-major): a derivative in a
+ * relative perturbation, D (x) with x = B db - A da, carried to the two ends' (da, db). */
+static inline void phm_mul_ends(const double *D, int rows, const double A[36], const double B[36],
+                                double *out) {
+  for (int r = 0; r < rows; r++)
+    for (int j = 0; j < 6; j++) {
+      double sa = 0, sb = 0;
+      for (int l = 0; l < 6; l++) {
+        sa += D[6 * r + l] * A[6 * l + j];
+        sb += D[6 * r + l] * B[6 * l + j];
+      }
+      out[12 * r + j] = -sa;
+      out[12 * r + 6 + j] = sb;
+    }
+}
+
 static inline double phm_dot(const double *a, const double *b, int n) {
   double s = 0;
   for (int i = 0; i < n; i++) s += a[i] * b[i];

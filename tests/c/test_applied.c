@@ -1,7 +1,8 @@
 /* test_applied.c -- csrc/model/applied.c, the applied wrenches: an actuator on every pair type
  * (its wrenches deliver u . xdot, the port's power; the PD law), a point-to-point spring-damper
  * (wrenches = minus the gradient of its energy, damping power), loads and interactions (body
- * wrench in closed form, port power, no work on a rigid motion). */
+ * wrench in closed form, port power, no work on a rigid motion); the closed-form tangent of all
+ * of them (phm_applied_tangent) against central differences. */
 #include "check.h"
 #include "model.h"
 
@@ -171,6 +172,110 @@ static void load_wrench_and_port_power(void) {
   }
 }
 
+typedef struct {
+  int n6;
+  double *K, *T; /* dense d wr/d delta, d wr/d t (6 nc x 6 nc) */
+} dense_sink;
+static void add_dense(void *ctx, int ca, int cb, const double w[12], const double Kx[144],
+                      const double Kt[144]) {
+  dense_sink *s = ctx;
+  int c[2] = {ca, cb};
+  (void)w;
+  for (int bi = 0; bi < 2; bi++)
+    for (int bj = 0; bj < 2; bj++) {
+      if (c[bi] < 0 || c[bj] < 0) continue;
+      for (int i = 0; i < 6; i++)
+        for (int j = 0; j < 6; j++) {
+          size_t e = (size_t)(6 * c[bi] + i) * s->n6 + 6 * c[bj] + j, q = 12 * (6 * bi + i) + 6 * bj + j;
+          s->K[e] += Kx[q];
+          if (Kt) s->T[e] += Kt[q];
+        }
+    }
+}
+
+/* phm_applied_tangent against central differences (1e-6) of phm_applied in every carrier's pose
+ * (H exp(eps e_j)) and twist, at random poses and twists: actuators of every kind (PD, effort,
+ * joint spring) on every pair type, between carriers and from the ground; spring-dampers between
+ * carriers and to a world point; loads in world and body axes with a reaction carrier or the
+ * ground. Each part (pose, twist) to 1e-7 relative to its largest entry. */
+static void applied_tangent_is_central_differences(void) {
+  enum { NC = 3, N6 = 6 * NC };
+  for (int type = 1; type < phm_pair_type_count(); type++)
+    for (int trial = 0; trial < 3; trial++) {
+      phm_carrier_desc car[NC];
+      phm_pair_desc pr[2];
+      phm_actuator_desc ac[2];
+      phm_spring_desc sp[2];
+      phm_load_desc ld[2];
+      for (int c = 0; c < NC; c++) carrier_unit(&car[c]);
+      memset(ac, 0, sizeof ac);
+      for (int p = 0; p < 2; p++) {
+        rand_pair(type, 1, &pr[p]);
+        pr[p].a = p ? -1 : 0;
+        pr[p].b = p ? 2 : 1;
+        ac[p].pair = p;
+        ac[p].kind = (trial + p) % 3 == 0 ? PHM_ACT_PD : (trial + p) % 3 == 1 ? PHM_ACT_EFFORT : PHM_ACT_SPRING;
+        for (int i = 0; i < 6; i++) {
+          ac[p].kp[i] = 1 + fabs(rand11());
+          ac[p].kd[i] = fabs(rand11());
+          ac[p].x_set[i] = rand11();
+          ac[p].vec[i] = rand11();
+        }
+        ac[p].law = (phm_law){.kind = PHM_LAW_SINE, .amplitude = 0.5, .frequency = 0.7};
+      }
+      sp[0] = (phm_spring_desc){.a = 0, .b = 1, .pa = {0.1, 0, 0.2}, .pb = {0, -0.3, 0}, .k = 30, .c = 0.5, .d0 = 0.5};
+      sp[1] = (phm_spring_desc){.a = 2, .b = -1, .pa = {0.2, 0.1, 0}, .pb = {1, 1, 1}, .k = 20, .c = 0.7, .d0 = 0.3};
+      ld[0] = (phm_load_desc){.carrier = 1, .reaction = 2, .w = {0.1, 0.2, 0.3, 1, -2, 3}, .world = 1,
+                              .point = {0.05, 0.1, 0}, .law = {.kind = PHM_LAW_CONSTANT, .amplitude = 1.0}};
+      ld[1] = (phm_load_desc){.carrier = 0, .reaction = trial == 1 ? 2 : -1, .w = {-0.3, 0.2, 0.1, 2, 1, -1},
+                              .world = 0, .point = {0, 0.1, -0.2}, .law = {.kind = PHM_LAW_CONSTANT, .amplitude = 1.0}};
+      phm_model_desc d = {.ncarriers = NC, .carriers = car, .npairs = 2, .pairs = pr, .nactuators = 2,
+                          .actuators = ac, .nsprings = 2, .springs = sp, .nloads = 2, .loads = ld};
+      phm_model *m = create_model(&d);
+      if (!m) continue;
+      double H[16 * NC], tw[N6], xs[12], time = 0.3, tref = 0.5, scale = 0.8;
+      for (int c = 0; c < NC; c++) rand_pose(H + 16 * c, 1.0);
+      for (int i = 0; i < N6; i++) tw[i] = rand11();
+      phm_model_joints(m, H, NULL, xs); /* principal values: no branch jump within the steps */
+      static double K[N6 * N6], T[N6 * N6];
+      memset(K, 0, sizeof K);
+      memset(T, 0, sizeof T);
+      dense_sink ds = {N6, K, T};
+      phm_applied_tangent(m, NULL, H, tw, xs, time, tref, scale, add_dense, &ds);
+      double ek = 0, bk = 0, et = 0, bt = 0, eps = 1e-6;
+      for (int c = 0; c < NC; c++)
+        for (int j = 0; j < 6; j++) {
+          double Hp[16 * NC], Hm[16 * NC], tp[N6], tm[N6], e[6] = {0}, wp[N6], wm[N6], vp[N6], vm[N6];
+          e[j] = 1.0;
+          memcpy(Hp, H, sizeof Hp);
+          memcpy(Hm, H, sizeof Hm);
+          perturbed(H + 16 * c, e, eps, Hp + 16 * c);
+          perturbed(H + 16 * c, e, -eps, Hm + 16 * c);
+          phm_applied(m, Hp, tw, xs, time, tref, scale, wp, NULL, NULL, NULL, NULL, NULL);
+          phm_applied(m, Hm, tw, xs, time, tref, scale, wm, NULL, NULL, NULL, NULL, NULL);
+          memcpy(tp, tw, sizeof tp);
+          memcpy(tm, tw, sizeof tm);
+          tp[6 * c + j] += eps;
+          tm[6 * c + j] -= eps;
+          phm_applied(m, H, tp, xs, time, tref, scale, vp, NULL, NULL, NULL, NULL, NULL);
+          phm_applied(m, H, tm, xs, time, tref, scale, vm, NULL, NULL, NULL, NULL, NULL);
+          for (int i = 0; i < N6; i++) {
+            double rk = (wp[i] - wm[i]) / (2 * eps), rt = (vp[i] - vm[i]) / (2 * eps);
+            ek = fmax(ek, fabs(rk - K[N6 * i + 6 * c + j]));
+            bk = fmax(bk, fabs(rk));
+            et = fmax(et, fabs(rt - T[N6 * i + 6 * c + j]));
+            bt = fmax(bt, fabs(rt));
+          }
+        }
+      check_worst("applied tangent = central FD: d(actuators, springs, loads)/dpose", ek / bk, 1e-7);
+      check_worst("applied tangent = central FD: d(actuators, springs)/dtwist", et / bt, 1e-7);
+      if (!(ek <= 1e-7 * bk && et <= 1e-7 * bt))
+        printf("  (%s, trial %d: pose %.2e, twist %.2e)\n", phm_pair_type(type)->name, trial, ek / bk, et / bt);
+      phm_model_free(m);
+    }
+}
+
 CHECK_MAIN(CHECK_CASE(actuator_power_is_effort_times_joint_rate_on_every_pair_type),
            CHECK_CASE(spring_wrenches_are_minus_its_energy_gradient),
-           CHECK_CASE(load_wrench_and_port_power))
+           CHECK_CASE(load_wrench_and_port_power),
+           CHECK_CASE(applied_tangent_is_central_differences))

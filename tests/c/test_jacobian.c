@@ -3,11 +3,11 @@
  * bent, twisted and moving states with quaternions off the unit sphere (the residual normalizes
  * them). Per component: carriers alone (their kinematic and gyroscopic rows, in closed form),
  * se3 elements (closed form: the elastic, geometric and damping parts through the quaternion
- * chart), and a model whose pairs, spring, load and gravity keep the coloured forward
- * differences (the hybrid assembly). Reference step 1e-6 (x max(1, |y_j|)): truncation ~ 1e-12 and
- * round-off ~ 1e-10 relative to entries of order 1..1e3, so the closed-form parts are held to
- * 1e-7 relative; the forward-difference remainder has errors ~ sqrt(eps) of its own entries,
- * held to 1e-5. */
+ * chart), every pair type (closed form: rows, G^T lambda, G^T mu, joint rates; driven, with
+ * driven coordinates, with a dropped row), and a model with a spring-damper, an interaction and a
+ * PD actuator too (phm_applied_tangent). Reference step 1e-6 (x max(1, |y_j|)): truncation
+ * ~ 1e-12 and round-off ~ 1e-10 relative to entries of order 1..1e3, so the closed form is held
+ * to 1e-7 relative. */
 #include "check.h"
 #include "dae.h"
 
@@ -160,7 +160,50 @@ static void elements_are_closed_form(void) {
   }
 }
 
-static void pairs_springs_loads_gravity_keep_forward_differences(void) {
+/* Every pair type in closed form (phm_pair_tangent): between two carriers of a chain of elements
+ * and from the ground, random frames (the constraints need not hold), driven by a motion (fixed),
+ * with driven joint coordinates (every coordinate the table lets follow a law) and with a
+ * dropped row. */
+static void pairs_are_closed_form(void) {
+  static builder b;
+  static const char *const names[] = {
+      "J = central FD: fixed pairs (one driven by a motion)", "J = central FD: revolute pairs",
+      "J = central FD: prismatic pairs", "J = central FD: helical pairs",
+      "J = central FD: cylindrical pairs", "J = central FD: universal pairs",
+      "J = central FD: spherical pairs", "J = central FD: planar pairs", "J = central FD: free pairs"};
+  for (int type = 0; type < phm_pair_type_count() && type < 9; type++)
+    for (int variant = 0; variant < 2; variant++) {
+      chain(&b, 5, 1);
+      int mt = phm_pair_type(type)->m, mask = phm_pair_type(type)->xdrivable;
+      for (int p = 0; p < 2; p++) {
+        phm_pair_desc *pr = &b.pair[p];
+        pr->type = type;
+        pr->a = p ? -1 : 1;
+        pr->b = p ? 0 : 3;
+        pr->pitch = 0.3 * rand11();
+        rand_pose(pr->Ta, 1.0);
+        rand_pose(pr->Tb, 1.0);
+        if (type == pair_code("fixed") && p == variant) {
+          pr->driven = 1;
+          for (int i = 0; i < 6; i++) pr->axis[i] = rand11();
+          pr->law = (phm_law){.kind = PHM_LAW_SINE, .amplitude = 0.7, .frequency = 0.3, .phase = 0.2};
+        }
+        if (p == variant)
+          for (int c = 0; c < 6 - mt; c++)
+            if (mask >> c & 1) {
+              pr->xdriven |= 1 << c;
+              pr->xlaw[c] = (phm_law){.kind = PHM_LAW_SINE, .amplitude = 0.5 + rand01(),
+                                      .frequency = 0.2 + rand01(), .phase = rand11()};
+            }
+        if (p != variant && mt >= 2) pr->drop = 0x1;
+      }
+      b.d.npairs = 2;
+      b.d.pairs = b.pair;
+      compare(names[type], &b, 1e-7);
+    }
+}
+
+static void pairs_springs_loads_actuators_are_closed_form(void) {
   static builder b;
   chain(&b, 5, 1);
   b.pair[0].type = pair_code("fixed");
@@ -186,8 +229,9 @@ static void pairs_springs_loads_gravity_keep_forward_differences(void) {
                                  .vec = {1}, .law = {.kind = PHM_LAW_CONSTANT, .amplitude = 0.2}};
   b.d.nactuators = 1;
   b.d.actuators = b.act;
-  compare("J = central FD: elements, fixed, revolute with PD, spring, load, gravity (hybrid)", &b, 1e-5);
+  compare("J = central FD: elements, fixed, revolute with PD, spring, load, gravity", &b, 1e-7);
 }
 
 CHECK_MAIN(CHECK_CASE(carriers_and_gravity_are_closed_form), CHECK_CASE(elements_are_closed_form),
-           CHECK_CASE(pairs_springs_loads_gravity_keep_forward_differences))
+           CHECK_CASE(pairs_are_closed_form),
+           CHECK_CASE(pairs_springs_loads_actuators_are_closed_form))

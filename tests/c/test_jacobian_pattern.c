@@ -1,9 +1,10 @@
-/* test_jacobian_pattern.c -- the DAE Jacobian's sparsity pattern and column colouring
- * (csrc/dae/jacobian.c, built from the coupling graph of csrc/model/graph.c in time linear in
- * the nonzeros) against the straightforward O(n^2) construction they replaced, kept here as the
- * reference: the CSC pattern (row indices ascending in each column) and the colours must be
- * identical, since KLU's elimination order follows the pattern and IDA's Newton on the leaf
- * spring depends on it (tests/test_scenes.py). Models: a chain of beam elements, a closed loop
+/* test_jacobian_pattern.c -- the DAE Jacobian's sparsity pattern (csrc/dae/jacobian.c, built
+ * from the coupling graph of csrc/model/graph.c in time linear in the nonzeros) against the
+ * straightforward O(n^2) construction it replaced, kept here as the reference: the CSC pattern
+ * (row indices ascending in each column) must be identical, since KLU's elimination order
+ * follows the pattern and IDA's Newton on the leaf spring depends on it (tests/test_scenes.py).
+ * (The Jacobian's values are all in closed form: the column colouring of its former finite
+ * differences is gone.) Models: a chain of beam elements, a closed loop
  * with every pair type (dropped rows, a free pair, a driven pair), springs and loads with
  * reactions, pairs to the ground on either side, and random models. */
 #include <stdio.h>
@@ -15,18 +16,16 @@
 
 
 /* ---------------------------------------------------------------- the reference */
-/* The pattern and colouring as csrc/dae/jacobian.c built them before the coupling graph: a dense
- * block adjacency, every row tested for every column, colours from a dense scan. */
+/* The pattern as csrc/dae/jacobian.c built it before the coupling graph: a dense block
+ * adjacency, every row tested for every column. */
 typedef struct {
-  int nnz, ncolor;
+  int nnz;
   sunindextype *colptr, *rowind;
-  int *color;
 } pattern;
 
 static void pattern_free(pattern *p) {
   free(p->colptr);
   free(p->rowind);
-  free(p->color);
 }
 
 static int reference_pattern(const dae_t *d, pattern *p) {
@@ -57,7 +56,6 @@ static int reference_pattern(const dae_t *d, pattern *p) {
   }
   int *blk = malloc(sizeof(int) * (size_t)n);
   p->colptr = malloc(sizeof(sunindextype) * (size_t)(n + 1));
-  p->color = malloc(sizeof(int) * (size_t)n);
   for (int i = 0; i < n; i++) {
     if (i < d->ix) blk[i] = i / PHM_NSTATE;
     else if (i < d->ie) {
@@ -93,40 +91,8 @@ static int reference_pattern(const dae_t *d, pattern *p) {
     }
   }
   p->colptr[n] = k;
-  int *bcol = malloc(sizeof(int) * (size_t)(nb + 1));
-  char *used = malloc((size_t)nb + 1);
-  int nbcol = 0;
-  for (int b = 0; b < nb; b++) {
-    memset(used, 0, (size_t)nb + 1);
-    for (int x = 0; x < nb; x++) {
-      if (!adj[(size_t)b * nb + x]) continue;
-      for (int z = 0; z < b; z++)
-        if (adj[(size_t)x * nb + z]) used[bcol[z]] = 1;
-    }
-    int cidx = 0;
-    while (used[cidx]) cidx++;
-    bcol[b] = cidx;
-    if (cidx + 1 > nbcol) nbcol = cidx + 1;
-  }
-  int width = PHM_NSTATE;
-  for (int i = 0; i < n; i++) {
-    int b = blk[i];
-    if (b < 0) { p->color[i] = nbcol * width + (i - d->ie); continue; }
-    int off;
-    if (b < nc) off = i - PHM_NSTATE * b;
-    else {
-      int ip = b - nc, mc = m->pair_m[ip];
-      if (i < d->ie) off = i - d->ix - m->pair_j[ip] + 2 * mc;
-      else if (i < d->im) off = i - d->il - m->pair_row[ip];
-      else off = i - d->im - m->pair_row[ip] + mc;
-    }
-    p->color[i] = bcol[b] * width + off;
-  }
-  p->ncolor = nbcol * width + (d->il - d->ie);
   free(adj);
   free(blk);
-  free(bcol);
-  free(used);
   return 0;
 }
 
@@ -235,34 +201,16 @@ static void compare(const char *name, builder *b) {
     phm_model_free(m);
     return;
   }
-  int same = d.nnz == ref.nnz && d.ncolor == ref.ncolor;
+  int same = d.nnz == ref.nnz;
   for (int j = 0; same && j <= d.n; j++) same = d.colptr[j] == ref.colptr[j];
   for (int k = 0; same && k < d.nnz; k++) same = d.rowind[k] == ref.rowind[k];
   snprintf(msg, sizeof msg, "%s: CSC pattern identical (n %d, nnz %d vs %d)", name, d.n, d.nnz, ref.nnz);
-  CHECK(same, "%s", msg);
-  same = d.ncolor == ref.ncolor;
-  for (int j = 0; same && j < d.n; j++) same = d.color[j] == ref.color[j];
-  snprintf(msg, sizeof msg, "%s: colouring identical (%d vs %d colours)", name, d.ncolor, ref.ncolor);
   CHECK(same, "%s", msg);
   int ascending = 1;
   for (int j = 0; j < d.n; j++)
     for (sunindextype k = d.colptr[j] + 1; k < d.colptr[j + 1]; k++) ascending &= d.rowind[k] > d.rowind[k - 1];
   snprintf(msg, sizeof msg, "%s: rows ascending in every column", name);
   CHECK(ascending, "%s", msg);
-  /* a valid colouring: no two columns of one colour share a row */
-  int *owner = malloc(sizeof(int) * (size_t)d.n), valid = 1;
-  for (int c = 0; c < d.ncolor && valid; c++) {
-    for (int i = 0; i < d.n; i++) owner[i] = -1;
-    for (int j = 0; j < d.n; j++)
-      if (d.color[j] == c)
-        for (sunindextype k = d.colptr[j]; k < d.colptr[j + 1]; k++) {
-          if (owner[d.rowind[k]] >= 0) valid = 0;
-          owner[d.rowind[k]] = j;
-        }
-  }
-  free(owner);
-  snprintf(msg, sizeof msg, "%s: columns of one colour share no row", name);
-  CHECK(valid, "%s", msg);
   pattern_free(&ref);
   dae_free(&d);
   phm_model_free(m);

@@ -1,14 +1,119 @@
 /* test_linearize.c -- the stiffness and damping blocks of modes and statics (csrc/solve/linearize.c:
- * the se3 elements' in closed form, the rest by coloured central differences) against central
+ * all in closed form) against central
  * differences computed here, carrier by carrier and direction by direction, of the generalized
  * forces f_c(delta) = dexp_{-delta}^T w_c(H_c exp(delta)) (docs/method.md section 7.1) and of the
  * wrenches in the twists. A chain of four elements, bent and twisted, clamped to the ground, a
- * revolute pair with constraint wrenches lambda, gravity and a world-fixed load. Reference steps
+ * revolute pair with constraint wrenches lambda and a PD actuator, a spring-damper to the ground,
+ * gravity and a world-fixed load; and every pair type's geometric stiffness alone. Reference steps
  * 1e-6 (rad, m; truncation ~ 1e-12, round-off ~ 1e-10 relative): 1e-7 relative. */
 #include "check.h"
 #include "solve.h"
 
 enum { NC = 5 };
+
+/* The worst error of L->Kb (lin_force_jacobian_blocks at poses H of NC carriers) against central
+ * differences of f_c(delta) = dexp_{-delta}^T w_c(H_c exp(delta)), relative to the largest entry. */
+static double stiffness_error(lin_t *L, const double *H) {
+  double fp[6 * NC], fm[6 * NC], Hp[16 * NC], err_k = 0, big_k = 0, s = 1e-6;
+  for (int c = 0; c < NC; c++)
+    for (int j = 0; j < 6; j++) {
+      for (int side = 0; side < 2; side++) {
+        double dl[6] = {0}, md[6], D[36], *f = side ? fm : fp;
+        dl[j] = side ? -s : s;
+        for (int i = 0; i < 6; i++) md[i] = -dl[i];
+        memcpy(Hp, H, sizeof Hp);
+        perturbed(H + 16 * c, dl, 1.0, Hp + 16 * c);
+        lin_total_force(L, Hp, f);
+        phm_se3_dexp(md, D);
+        double w[6];
+        for (int i = 0; i < 6; i++) {
+          w[i] = 0;
+          for (int q = 0; q < 6; q++) w[i] += D[6 * q + i] * f[6 * c + q];
+        }
+        memcpy(f + 6 * c, w, sizeof w);
+      }
+      for (int r = 0; r < NC; r++) {
+        int q = L->ptr[r];
+        while (q < L->ptr[r + 1] && L->nbr[q] != c) q++;
+        for (int i = 0; i < 6; i++) {
+          double ref = (fp[6 * r + i] - fm[6 * r + i]) / (2 * s);
+          double got = q < L->ptr[r + 1] ? L->Kb[36 * q + 6 * i + j] : 0.0;
+          err_k = fmax(err_k, fabs(ref - got));
+          big_k = fmax(big_k, fabs(ref));
+        }
+      }
+    }
+  return err_k / big_k;
+}
+
+/* L's blocks at poses H (lin_force_jacobian_blocks) at time and load scale, with random
+ * constraint wrenches lam (ncons). */
+static void blocks_at(lin_t *L, const double *H, double time, double scale, double *lam) {
+  for (int i = 0; i < L->m->ncons; i++) lam[i] = 5.0 * rand11();
+  L->time = time;
+  L->tref = 0.5;
+  L->scale = scale;
+  L->lam = lam;
+  lin_force_jacobian_blocks(L, H);
+}
+
+/* The pairs' constraint wrenches alone, in closed form (phm_pair_tangent): every pair type
+ * between carriers and from the ground, random frames and poses (off the joint manifold: the
+ * geometric stiffness holds anywhere), random lambda, a driven fixed pair and driven joint
+ * coordinates; no differences are taken (no load, spring or actuator). */
+static void pair_stiffness_is_closed_form(void) {
+  static const char *const names[] = {
+      "geometric stiffness of fixed pairs = central FD", "geometric stiffness of revolute pairs = central FD",
+      "geometric stiffness of prismatic pairs = central FD", "geometric stiffness of helical pairs = central FD",
+      "geometric stiffness of cylindrical pairs = central FD", "geometric stiffness of universal pairs = central FD",
+      "geometric stiffness of spherical pairs = central FD", "geometric stiffness of planar pairs = central FD",
+      "geometric stiffness of free pairs = central FD"};
+  for (int type = 0; type < phm_pair_type_count() && type < 9; type++)
+    for (int trial = 0; trial < 3; trial++) {
+      phm_carrier_desc car[NC];
+      phm_pair_desc pair[3];
+      double H[16 * NC];
+      memset(pair, 0, sizeof pair);
+      for (int c = 0; c < NC; c++) {
+        carrier_unit(&car[c]);
+        rand_pose(H + 16 * c, 1.0);
+      }
+      int mt = phm_pair_type(type)->m, mask = phm_pair_type(type)->xdrivable;
+      for (int p = 0; p < 3; p++) {
+        pair[p].type = type;
+        pair[p].a = p == 0 ? -1 : p;
+        pair[p].b = p == 0 ? 0 : p + 2;
+        pair[p].pitch = 0.3 * rand11();
+        rand_pose(pair[p].Ta, 1.0);
+        rand_pose(pair[p].Tb, 1.0);
+        if (p == 1 && type == pair_code("fixed")) {
+          pair[p].driven = 1;
+          for (int i = 0; i < 6; i++) pair[p].axis[i] = rand11();
+          pair[p].law = (phm_law){.kind = PHM_LAW_SINE, .amplitude = 0.7, .frequency = 0.3, .phase = 0.2};
+        }
+        if (p == 2)
+          for (int c = 0; c < 6 - mt; c++)
+            if (mask >> c & 1) {
+              pair[p].xdriven |= 1 << c;
+              pair[p].xlaw[c] = (phm_law){.kind = PHM_LAW_SINE, .amplitude = 0.5, .frequency = 0.3};
+            }
+      }
+      phm_model_desc d = {.ncarriers = NC, .carriers = car, .npairs = 3, .pairs = pair};
+      phm_model *m = create_model(&d);
+      if (!m) continue;
+      lin_t L = {0};
+      phm_error err;
+      if (lin_alloc(&L, m, &err) || lin_graph(&L, &err)) {
+        check_fail("lin set-up: %s", err.msg);
+      } else {
+        double lam[24];
+        blocks_at(&L, H, 0.3, 1.0, lam);
+        check_worst(names[type], stiffness_error(&L, H), 1e-7);
+      }
+      lin_free(&L);
+      phm_model_free(m);
+    }
+}
 
 static void stiffness_and_damping_blocks_are_central_differences(void) {
   phm_carrier_desc car[NC];
@@ -47,58 +152,32 @@ static void stiffness_and_damping_blocks_are_central_differences(void) {
   pair[1].b = 4;
   load[0] = (phm_load_desc){.carrier = 3, .reaction = -1, .w = {0.1, 0.2, 0.3, 1, -2, 3}, .world = 1,
                             .point = {0.05, 0, 0}, .law = {.kind = PHM_LAW_CONSTANT, .amplitude = 1.0}};
+  phm_spring_desc spr[1] = {{.a = 1, .b = -1, .pa = {0.1, 0, 0}, .pb = {1, 1, 1}, .k = 30, .c = 0.5, .d0 = 0.5}};
+  phm_actuator_desc act[1] = {{.pair = 1, .kind = PHM_ACT_PD, .kp = {50}, .kd = {2}, .x_set = {0.1},
+                               .vec = {1}, .law = {.kind = PHM_LAW_CONSTANT, .amplitude = 0.2}}};
   phm_model_desc d = {.ncarriers = NC, .carriers = car, .nelements = NC - 1, .elements = el,
-                      .npairs = 2, .pairs = pair, .nloads = 1, .loads = load,
-                      .gravity = {0, 0, -9.81}};
+                      .npairs = 2, .pairs = pair, .nloads = 1, .loads = load, .nsprings = 1,
+                      .springs = spr, .nactuators = 1, .actuators = act, .gravity = {0, 0, -9.81}};
   phm_model *m = create_model(&d);
   if (!m) return;
   lin_t L = {0};
   phm_error err;
-  if (lin_alloc(&L, m, &err) || lin_colour(&L, &err)) {
+  if (lin_alloc(&L, m, &err) || lin_graph(&L, &err)) {
     check_fail("lin set-up: %s", err.msg);
     lin_free(&L);
     phm_model_free(m);
     return;
   }
-  double lam[12], f1[6 * NC], f2[6 * NC], fp[6 * NC], fm[6 * NC], Hp[16 * NC];
-  for (int i = 0; i < m->ncons; i++) lam[i] = 5.0 * rand11();
-  L.time = 0.0;
-  L.tref = 0.5;
-  L.scale = 0.7;
-  L.lam = lam;
-  lin_force_jacobian_blocks(&L, H, f1, f2);
+  double lam[12];
+  blocks_at(&L, H, 0.0, 0.7, lam);
   double *Db = calloc(36 * (size_t)L.ptr[NC] + 1, sizeof(double));
   lin_closed_form_blocks(&L, H, NULL, Db);
-  double err_k = 0, big_k = 0, err_d = 0, big_d = 0, s = 1e-6;
+  check_worst("stiffness blocks = central FD of f_c(delta)", stiffness_error(&L, H), 1e-7);
+  double err_d = 0, big_d = 0;
   for (int c = 0; c < NC; c++)
     for (int j = 0; j < 6; j++) {
-      for (int side = 0; side < 2; side++) {
-        double dl[6] = {0}, md[6], D[36], *f = side ? fm : fp;
-        dl[j] = side ? -s : s;
-        for (int i = 0; i < 6; i++) md[i] = -dl[i];
-        memcpy(Hp, H, sizeof Hp);
-        perturbed(H + 16 * c, dl, 1.0, Hp + 16 * c);
-        lin_total_force(&L, Hp, f);
-        phm_se3_dexp(md, D);
-        double w[6];
-        for (int i = 0; i < 6; i++) {
-          w[i] = 0;
-          for (int q = 0; q < 6; q++) w[i] += D[6 * q + i] * f[6 * c + q];
-        }
-        memcpy(f + 6 * c, w, sizeof w);
-      }
-      for (int r = 0; r < NC; r++) {
-        int q = L.ptr[r];
-        while (q < L.ptr[r + 1] && L.nbr[q] != c) q++;
-        for (int i = 0; i < 6; i++) {
-          double ref = (fp[6 * r + i] - fm[6 * r + i]) / (2 * s);
-          double got = q < L.ptr[r + 1] ? L.Kb[36 * q + 6 * i + j] : 0.0;
-          err_k = fmax(err_k, fabs(ref - got));
-          big_k = fmax(big_k, fabs(ref));
-        }
-      }
-      /* the elements' damping: d w/d t_c (affine in the twists: one-sided differences are exact
-       * up to round-off; load scale 0 leaves only the elements' wrenches) */
+      /* the damping: d w/d t_c (affine in the twists: one-sided differences are exact up to
+       * round-off; load scale 0 leaves the elements', the spring's and the PD actuator's) */
       double tw[6 * NC] = {0}, wr0[6 * NC], wr1[6 * NC];
       phm_applied(m, H, tw, NULL, 0.0, 0.5, 0.0, wr0, NULL, NULL, NULL, NULL, NULL);
       tw[6 * c + j] = 1.0;
@@ -114,11 +193,11 @@ static void stiffness_and_damping_blocks_are_central_differences(void) {
         }
       }
     }
-  check_worst("stiffness blocks = central FD of f_c(delta)", err_k / big_k, 1e-7);
-  check_worst("elements' damping blocks = dw/dt", err_d / big_d, 1e-10);
+  check_worst("damping blocks (elements, spring, PD actuator) = dw/dt", err_d / big_d, 1e-10);
   free(Db);
   lin_free(&L);
   phm_model_free(m);
 }
 
-CHECK_MAIN(CHECK_CASE(stiffness_and_damping_blocks_are_central_differences))
+CHECK_MAIN(CHECK_CASE(stiffness_and_damping_blocks_are_central_differences),
+           CHECK_CASE(pair_stiffness_is_closed_form))

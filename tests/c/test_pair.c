@@ -496,9 +496,129 @@ static void driven_joint_coordinates_follow_their_laws(void) {
                 "driven coordinates 0x2 beyond the 1 joint coordinates of a revolute pair");
 }
 
+/* The values of pair 0 that phm_pair_tangent differentiates, at poses H (a's ignored with
+ * a_ground) and fixed twists ta, tb: g, c = Ga ta + Gb tb - vt, x, xdot (k), [Ga^T lam; Gb^T lam],
+ * the same for mu and the effort wrenches of u (phm_pair_effort_wrench), in one vector (mc, mc,
+ * k, k, 12, 12, 12). */
+static int pair_values(const phm_model *m, int a_ground, const double H[32], const double ta[6],
+                       const double tb[6], const double *xref, double time, const double *lam,
+                       const double *mu, const double *u, double *v) {
+  phm_pair_data pd;
+  int mc = m->pair_m[0], k = m->pair_k[0], n = 0;
+  phm_pair_evaluate(m, 0, a_ground ? NULL : H, H + 16, a_ground ? NULL : ta, tb, xref, time, time,
+                    1, &pd);
+  for (int r = 0; r < mc; r++) v[n++] = pd.g[r];
+  double wu[12] = {0};
+  phm_pair_effort_wrench(m, 0, &pd, u, wu);
+  for (int r = 0; r < mc; r++) {
+    double c = -pd.vt[r];
+    for (int j = 0; j < 6; j++) c += (a_ground ? 0.0 : pd.Ga[6 * r + j] * ta[j]) + pd.Gb[6 * r + j] * tb[j];
+    v[n++] = c;
+  }
+  for (int c = 0; c < k; c++) v[n++] = pd.x[c];
+  for (int c = 0; c < k; c++) v[n++] = pd.xdot[c];
+  for (int s = 0; s < 2; s++) {
+    const double *l = s ? mu : lam;
+    for (int side = 0; side < 2; side++)
+      for (int j = 0; j < 6; j++) {
+        double acc = 0;
+        for (int r = 0; r < mc; r++) acc += (side ? pd.Gb : pd.Ga)[6 * r + j] * l[r];
+        v[n++] = acc;
+      }
+  }
+  for (int i = 0; i < 12; i++) v[n++] = wu[i];
+  return n;
+}
+
+/* phm_pair_tangent against central differences (step 1e-6 along H exp(eps e_j) of each carrier)
+ * for every pair type at random poses off its manifold and random twists and multipliers: a to
+ * the ground or to a carrier, a driven fixed pair, driven joint coordinates, a dropped row. The
+ * position rows dg, the velocity rows dc, the joint coordinates dx and rates dxd, the constraint
+ * wrenches' Kl, Km and the effort wrenches' Ku each to 1e-7 relative to their largest entry. */
+static void pair_tangent_is_central_differences(void) {
+  static const char *const part[7] = {
+      "pair tangent = central FD: dg/dpose", "pair tangent = central FD: d(G t - vt)/dpose",
+      "pair tangent = central FD: dx/dpose", "pair tangent = central FD: d(Phi^T t_rel)/dpose",
+      "pair tangent = central FD: d(G^T lambda)/dpose", "pair tangent = central FD: d(G^T mu)/dpose",
+      "pair tangent = central FD: d(effort wrenches)/dpose"};
+  for (int type = 0; type < PAIR_TYPES; type++)
+    for (int trial = 0; trial < 8; trial++) {
+      const char *tn = phm_pair_type(type)->name;
+      phm_pair_desc pr;
+      rand_pair(type, trial, &pr);
+      int mt = phm_pair_type(type)->m, k = 6 - mt, mask = phm_pair_type(type)->xdrivable;
+      double time = 0.37;
+      if (type == PHM_PAIR_FIXED && trial % 2) {
+        pr.driven = 1;
+        for (int i = 0; i < 6; i++) pr.axis[i] = rand11();
+        pr.law = (phm_law){.kind = PHM_LAW_SINE, .amplitude = 0.7, .frequency = 0.3, .phase = 0.2};
+      }
+      if (mask && trial % 2)
+        for (int c = 0; c < k; c++)
+          if (mask >> c & 1) {
+            pr.xdriven |= 1 << c;
+            pr.xlaw[c] = (phm_law){.kind = PHM_LAW_SINE, .amplitude = 0.5 + rand01(),
+                                   .frequency = 0.2 + rand01(), .phase = rand11()};
+          }
+      if (trial == 4 && mt >= 2) pr.drop = 0x2;
+      phm_model *m = two_carrier_model(&pr, NULL, 0);
+      if (!m) continue;
+      int ag = pr.a < 0, mc = m->pair_m[0];
+      double H[32], ta[6], tb[6], lam[6], mu[6], u[6], xref[6];
+      rand_pose(H, 1.0);
+      rand_pose(H + 16, 1.0);
+      for (int i = 0; i < 6; i++) {
+        ta[i] = ag ? 0.0 : rand11();
+        tb[i] = rand11();
+        lam[i] = rand11();
+        mu[i] = rand11();
+        u[i] = rand11();
+      }
+      /* the branch of the angles: the principal values at H (no reference within pi of a jump) */
+      phm_pair_joint(m, 0, ag ? NULL : H, H + 16, NULL, NULL, NULL, xref, NULL);
+      double dg[72], dc[72], dx[72], dxd[72], Kl[144], Km[144], Ku[144];
+      phm_pair_tangent(m, 0, ag ? NULL : H, H + 16, ag ? NULL : ta, tb, xref, time, time, lam, mu,
+                       u, NULL, dg, dc, dx, dxd, Kl, Km, Ku);
+      /* reference: central differences, column j of [da; db] */
+      double ref[96 * 12], vp[96], vm[96], eps = 1e-6;
+      int nv = 0;
+      for (int j = 0; j < 12; j++) {
+        double Hp[32], Hm[32], e[6] = {0};
+        e[j % 6] = 1.0;
+        memcpy(Hp, H, sizeof Hp);
+        memcpy(Hm, H, sizeof Hm);
+        perturbed(H + 16 * (j / 6), e, eps, Hp + 16 * (j / 6));
+        perturbed(H + 16 * (j / 6), e, -eps, Hm + 16 * (j / 6));
+        nv = pair_values(m, ag, Hp, ta, tb, xref, time, lam, mu, u, vp);
+        pair_values(m, ag, Hm, ta, tb, xref, time, lam, mu, u, vm);
+        for (int i = 0; i < nv; i++) ref[12 * i + j] = (vp[i] - vm[i]) / (2 * eps);
+      }
+      /* the closed forms in the same order; a's columns only when a is a carrier */
+      const double *got[7] = {dg, dc, dx, dxd, Kl, Km, Ku};
+      int rows[7] = {mc, mc, k, k, 12, 12, 12}, off = 0;
+      for (int c = 0; c < 7; c++) {
+        double err = 0, big = 0;
+        for (int i = 0; i < rows[c]; i++)
+          for (int j = ag ? 6 : 0; j < 12; j++) {
+            if (ag && c >= 4 && i < 6) continue; /* the ground's wrench */
+            err = fmax(err, fabs(got[c][12 * i + j] - ref[12 * (off + i) + j]));
+            big = fmax(big, fabs(ref[12 * (off + i) + j]));
+          }
+        off += rows[c];
+        if (rows[c] == 0) continue;
+        check_worst(part[c], err / fmax(big, 1e-300), 1e-7);
+        if (!(err <= 1e-7 * big))
+          printf("  (%s, trial %d, driven %d, xdriven %#x, drop %#x)\n", tn, trial, pr.driven,
+                 pr.xdriven, pr.drop);
+      }
+      phm_model_free(m);
+    }
+}
+
 CHECK_MAIN(CHECK_CASE(pair_table_lists_the_types_in_order),
            CHECK_CASE(driven_fixed_pair_follows_its_prescribed_motion),
            CHECK_CASE(every_type_vanishes_on_its_manifold_with_consistent_jacobians),
            CHECK_CASE(type_pose_and_coordinates_are_inverse),
            CHECK_CASE(drop_mask_keeps_the_other_rows_of_the_full_set),
-           CHECK_CASE(driven_joint_coordinates_follow_their_laws))
+           CHECK_CASE(driven_joint_coordinates_follow_their_laws),
+           CHECK_CASE(pair_tangent_is_central_differences))
