@@ -123,7 +123,16 @@ static double galpha_error(const dae_t *d, const galpha_t *g, double h, double h
  * next step once the steps on it have needed GALPHA_EXTRA_BUDGET iterations beyond two: a
  * matrix costs ~10 iterations (N = 100 cantilever: 0.73 ms against 62 us, KLU's refactorization
  * a third of it), and before this rule a matrix was kept until Newton failed, each step taking
- * three iterations meanwhile (2.94 per step there). */
+ * three iterations meanwhile (2.94 per step there; now 2.14, ledger 6.9e-5 -> 6.5e-5).
+ * Why not fewer: the predictor is ~1e4 tolerances off (the mesh's vibrations between the band
+ * and the step's Nyquist frequency in the twists; constant, linear and quadratic extrapolations
+ * of y' alike), so one iteration needs a contraction <= 3e-5, a matrix of that very step.
+ * Dropped: IDA's one-iteration test (185 of 2000 steps accepted); a refresh on a measured rate
+ * above 3e-3, or after every three-iteration step, without the cap (the second iteration's rate
+ * nrm1/nrm0 is the predictor's, far below the next contraction: the double pendulum then
+ * accepted last corrections of 380 tolerances, ledger 3.5e-6 -> 5.9e-4); budgets 1 and 8
+ * (Jacobians or ledgers of the slider-crank); the rate of the last two corrections (3.2 per
+ * step, worse ledgers). */
 #define GALPHA_FIRST_MAX 30.0
 #define GALPHA_EXTRA_BUDGET 4
 
