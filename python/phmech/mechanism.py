@@ -753,8 +753,9 @@ class Mechanism:
         result holds a NaN or inf: a non-finite value (the model's numbers overflowing double
         precision) raises SolverError with the finite part of the trajectory.
 
-        ``result.stats`` reports what the run cost and how good it is: steps, evaluations, wall
-        time, ``band`` [Hz], ``error_estimate`` (adaptive generalized-alpha: the sum of the local
+        ``result.stats`` reports what the run cost and how good it is: steps, evaluations
+        (``residual_evals``, ``jacobian_evals``: iteration-matrix refreshes, ``nonlinear_iters``:
+        Newton iterations, ``newton_iters_per_step``), wall time, ``band`` [Hz], ``error_estimate`` (adaptive generalized-alpha: the sum of the local
         error estimates of the configuration, a bound without error propagation), ``floor_steps``
         (steps accepted at the band's smallest step with their estimate above the tolerance:
         motion above the band), ``energy_scale`` [J], ``ledger_relative`` (the largest absolute
@@ -916,6 +917,11 @@ class Mechanism:
         pairs = {p["name"]: dict(index=i, layout=layout[i], units=p["pair"]._type.units)
                  for i, p in enumerate(self._pairs)}
         stats = {**stats, **_run.quality(energy, band)}
+        # Newton iterations (linear solves) per step, the issue-12 measure (docs/integrators.md,
+        # "Newton iterations"); rejected step attempts count in the iterations, not the steps.
+        # Not in a checkpoint's mid-run stats, which hold no counters
+        if "nonlinear_iters" in stats:
+            stats["newton_iters_per_step"] = stats["nonlinear_iters"] / max(1, stats["steps"])
         if not stats["adaptive"]:
             stats.pop("error_estimate", None)
             stats.pop("floor_steps", None)
