@@ -133,7 +133,7 @@ def fft_point(p, N: int, rtol: float, f_ref: float, f_modal_N: float, error_test
     pulse = ph.Pulse(t0=T0, duration=DURATION, value=impulse / DURATION)
     m, h = ls.build(p, elements=N, beta=BETA, pulse=pulse)
     c1 = time.process_time()
-    kw = {} if error_test is None else dict(error_test=error_test)
+    kw = dict(integrator="ida", **({} if error_test is None else dict(error_test=error_test)))
     tag = dict(error_test=error_test or "all")
     if step is not None:
         kw = dict(integrator="generalized-alpha", step=step, rho_inf=rho_inf)

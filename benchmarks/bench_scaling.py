@@ -5,8 +5,10 @@ peak memory against problem size, with fitted exponents.
 
 1. ``elements``: the paper's Table I cantilever (``table1_properties(1.0)``), straight and at rest,
    tip force F_TIP (downward) applied at t = 0, simulated T seconds; N = 10 ... 1000 elements.
-   phmech ``se3`` (KLU, rtol 1e-4; and, when available, ``error_test="configuration"`` and the
-   fixed-step ``integrator="generalized-alpha"`` with h = 1e-3, rho_inf = 1), Exudyn
+   phmech ``se3``: the default integrator (``phmech-default``, rtol 1e-4), IDA with KLU (rtol
+   1e-4, every state in its error test: ``phmech-klu``; ``error_test="configuration"``:
+   ``phmech-klu-cfg``) and the fixed-step ``integrator="generalized-alpha"`` with h = 1e-3,
+   rho_inf = 1 (``phmech-klu-galpha``); Exudyn
    ``ObjectBeamGeometricallyExact2D`` (planar Simo-Reissner), ``ObjectBeamGeometricallyExact``
    (3-D, Euler-parameter nodes, like-for-like with phmech's 3-D model) and ``ObjectANCFCable2D``
    (planar ANCF Euler-Bernoulli cable, same EI, EA, rhoA); Exudyn: generalized-alpha
@@ -14,7 +16,8 @@ peak memory against problem size, with fitted exponents.
 2. ``chain``: n identical slender rigid links (0.1 m, 0.1 kg, uniform-rod inertia) joined by
    revolute pairs with parallel axes (z), first pivot to ground, released from horizontal under
    gravity -y, simulated T = 0.5 s (short: the multi-link chain is chaotic). phmech
-   ``Mechanism`` (KLU and dense, rtol 1e-6), Exudyn (3-D rigid bodies with Euler parameters +
+   ``Mechanism`` (the default integrator at rtol 1e-4, ``chain-phmech-default``; IDA with KLU and
+   dense, rtol 1e-6), Exudyn (3-D rigid bodies with Euler parameters +
    revolute joints, redundant coordinates, generalized-alpha h = 1e-4, spectral radius 0.8,
    Newton tolerance 1e-10),
    MuJoCo (hinge chain in minimal coordinates, RK4, dt = 1e-3). Accuracy: largest error over the
@@ -71,13 +74,17 @@ def has_galpha() -> bool:
 
 # ------------------------------------------------------------------ element models (tip at T)
 def ph_beam(N: int, T: float, rtol: float, solver: str, error_test: str | None = None,
-            ga_step: float | None = None):
+            ga_step: float | None = None, default: bool = False):
     """phmech se3 cantilever, tip force at t = 0; returns (cpu_s of simulate, tip (x, z) at T, stats).
-    ``ga_step``: phmech's fixed-step generalized-alpha (rho_inf 1, as Exudyn here) instead of IDA."""
+    IDA (``error_test``: None = every state); ``ga_step``: phmech's fixed-step generalized-alpha
+    (rho_inf 1, as Exudyn here); ``default``: the default integrator (step-size controlled
+    generalized-alpha) at ``rtol``."""
     import phmech as ph
     m, b = phmech_cantilever(N)
     m.add_wrench("tip", b.end, (0, 0, 0, 0, 0, -F_TIP), law=ph.Constant(1.0))
-    kw = {} if error_test is None else {"error_test": error_test}
+    kw = dict(integrator="ida", **({} if error_test is None else {"error_test": error_test}))
+    if default:
+        kw = {}
     if ga_step is not None:
         kw = dict(integrator="generalized-alpha", step=ga_step, rho_inf=1.0)
         rtol = 1e-6
@@ -168,7 +175,8 @@ def ex_ge3d(N: int, T: float, h: float):
 
 
 # ------------------------------------------------------------------ chain models (tip of end link at T)
-def ph_chain(n: int, T: float, rtol: float, solver: str):
+def ph_chain(n: int, T: float, rtol: float, solver: str, default: bool = False):
+    """phmech chain: IDA (every state in its error test) at ``rtol``, or the default integrator."""
     import phmech as ph
     from phmech import se3
     m = ph.Mechanism(gravity=(0, -G, 0))
@@ -179,7 +187,7 @@ def ph_chain(n: int, T: float, rtol: float, solver: str):
         prev = ph.Frame(b.carrier, se3.translation([LINK_L, 0, 0]))
         ends.append(prev)
     t0 = time.process_time()
-    r = m.simulate(T, T / 5, rtol=rtol, linear_solver=solver)
+    r = m.simulate(T, T / 5, rtol=rtol, linear_solver=solver, **({} if default else dict(integrator="ida")))
     c = time.process_time() - t0
     return c, np.array([r.position(e)[-1, :2] for e in ends]), dict(r.stats)
 
@@ -231,6 +239,8 @@ def mj_chain(n: int, T: float, dt: float, integrator: str = "RK4"):
 
 def runner(code: str, size: int, setting: float):
     """fn(T) -> (cpu_s, tip, stats) for one code."""
+    if code == "phmech-default":
+        return lambda T: ph_beam(size, T, setting, "klu", default=True)
     if code == "phmech-klu":
         return lambda T: ph_beam(size, T, setting, "klu")
     if code == "phmech-klu-cfg":
@@ -243,6 +253,8 @@ def runner(code: str, size: int, setting: float):
         return lambda T: ex_ge3d(size, T, setting)
     if code == "exudyn-ancf2d":
         return lambda T: ex_ancf(size, T, setting)
+    if code == "chain-phmech-default":
+        return lambda T: ph_chain(size, T, setting, "klu", default=True)
     if code in ("chain-phmech-klu", "chain-phmech-dense"):
         return lambda T: ph_chain(size, T, setting, code.rsplit("-", 1)[1])
     if code == "chain-exudyn":
@@ -336,7 +348,7 @@ def fit(rs, baseline, lo):
 
 
 def chain_reference(n: int, T: float) -> dict:
-    """MuJoCo RK4 at dt 1e-5; for n <= 10 also phmech KLU at rtol 1e-10 (cross-check)."""
+    """MuJoCo RK4 at dt 1e-5; for n <= 10 also phmech IDA (KLU) at rtol 1e-10 (cross-check)."""
     c, ends, _ = mj_chain(n, T, MJ_DT_REF)
     ref = dict(size=n, link_ends=ends.tolist(), code="mujoco RK4 dt 1e-5", cpu_s=c)
     if n <= 10:
@@ -348,7 +360,7 @@ def chain_reference(n: int, T: float) -> dict:
 def bench_elements(quick: bool, budget: float, runs, skipped) -> dict:
     Ns = [10, 30, 100] if quick else [10, 30, 100, 300, 1000]
     T = 0.05 if quick else ELEM_T
-    cases = [("phmech-klu", 1e-4, T, Ns)]
+    cases = [("phmech-default", 1e-4, T, Ns), ("phmech-klu", 1e-4, T, Ns)]
     if has_error_test():
         cases.append(("phmech-klu-cfg", 1e-4, T, Ns))
     if has_galpha():
@@ -365,7 +377,8 @@ def bench_elements(quick: bool, budget: float, runs, skipped) -> dict:
 def bench_chain(quick: bool, budget: float, runs, skipped) -> tuple:
     ns = [1, 3, 10, 30] if quick else [1, 3, 10, 30, 100]
     T = CHAIN_T
-    cases = [("chain-phmech-klu", 1e-6, T, ns), ("chain-phmech-dense", 1e-6, T, ns),
+    cases = [("chain-phmech-default", 1e-4, T, ns), ("chain-phmech-klu", 1e-6, T, ns),
+             ("chain-phmech-dense", 1e-6, T, ns),
              ("chain-exudyn", EX_H_CHAIN, T, ns), ("chain-mujoco", MJ_DT, T, ns)]
     sweep(cases, budget, runs, skipped)
     cases = [c for c in cases if not CODES or c[0] in CODES]
