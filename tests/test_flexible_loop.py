@@ -86,3 +86,11 @@ def test_no_energy_supplied(runs):
         supplied[rtol] = np.abs(res.energy["supplied"]).max()
         assert supplied[rtol] <= bound, (rtol, supplied[rtol], bound)
     assert supplied[1e-8] < 0.05 * supplied[1e-6]     # 100x tighter tolerance: measured 95x less
+
+
+def test_constraint_residuals_small(runs):
+    cr = runs[1e-8][4]
+    # measured max |g| 3.3e-14, max |G t| 8.2e-12 at rtol 1e-8 (7.0e-12 with the closed-form
+    # Jacobian); with test_no_energy_supplied this caps the supplied energy's bound too
+    assert cr["position"].max() <= 1e-10, cr["position"].max()
+    assert cr["velocity"].max() <= 1e-8, cr["velocity"].max()

@@ -100,3 +100,49 @@ def test_default_picks_sparse_on_large_models():
 def test_unknown_method_is_refused():
     with pytest.raises(ph.ModelError, match="unknown modes method"):
         _core.model_modes(cantilever(4)._build(), 2, None, None, 0.0, 7)
+
+
+def _bar_chain(kinds, gravity):
+    """Rigid bars (0.3 m, 1 kg) in a chain from the ground, one pair type per joint."""
+    from phmech import se3
+    m, prev = ph.Mechanism(gravity=gravity), None
+    for i, kind in enumerate(kinds):
+        b = m.add_rigid_body(f"b{i}", 1.0, np.diag([1e-4, 0.0075, 0.0075]), com=(0.15, 0, 0))
+        a = m.ground if prev is None else ph.Frame(prev.carrier, se3.translation([0.3, 0, 0]))
+        m.add_pair(f"p{i}", kind(), a, b)
+        prev = b
+    return m
+
+
+def _modes_at(m, n, method):
+    st = m.static()
+    return _core.model_modes(m._build(), n, st.poses, st.constraint_wrenches, 0.0, method)[0]
+
+
+def test_few_degrees_of_freedom_on_many_coordinates_take_the_dense_path():
+    # was, on the sparse path (method 2; by default from 300 coordinates, e.g. 50 bodies with
+    # fewer than 9 degrees of freedom), before its block was bounded by the manifold: a hanging
+    # chain of 10 bars, alternately revolute and welded (60 coordinates, 5 degrees of freedom),
+    # showed -1.9e8 rad/s for its 2.18 rad/s mode -- round-off vectors of a block larger than the
+    # manifold. Reference: the dense reduced problem, and the compound pendulum of the chain's
+    # first two bars as one rigid body: omega^2 = m g d / J about the pivot
+    m = _bar_chain([ph.Revolute, ph.Fixed] * 5, gravity=(9.81, 0, 0))
+    for method in (0, SPARSE):
+        np.testing.assert_allclose(_modes_at(m, 1, method), _modes_at(m, 1, DENSE), rtol=1e-12)
+    assert 2.0 < _modes_at(m, 1, 0)[0] < 2.4          # measured 2.1769 rad/s
+    # a 60-bar hanging chain (360 coordinates, 60 degrees of freedom) takes the sparse path
+    m = _bar_chain([ph.Revolute] * 60, gravity=(9.81, 0, 0))
+    np.testing.assert_allclose(_modes_at(m, 5, SPARSE), _modes_at(m, 5, DENSE), rtol=1e-10)
+
+
+def test_unstable_modes_come_in_ascending_order_from_both_paths():
+    # an upright chain of 30 bars at its (unstable) static equilibrium: negative eigenvalues only
+    # among the lowest; each path lists them ascending (the sparse path listed its negative ones
+    # in descending order). The sparse path's are the unstable modes nearest the shift (measured
+    # -19.9, -17.7, -15.6 rad/s), the dense path's the most unstable (-96.7, -88.0, -81.1): see
+    # docs/validation.md, finding 9
+    m = _bar_chain([ph.Revolute] * 30, gravity=(-9.81, 0, 0))
+    d, s = _modes_at(m, 3, DENSE), _modes_at(m, 3, SPARSE)
+    for om in (d, s):
+        assert np.all(om < 0) and np.all(np.diff(om) > 0), om
+    assert d[0] < s[0]

@@ -289,9 +289,11 @@ typedef struct {
  * subspace iteration on the sparse KKT system (O(N) per iteration); AUTO: sparse from
  * PHM_SPARSE_MODES_MIN carrier coordinates (6 per carrier) on. Measured (Table I cantilever, 5
  * modes, core only): 5 elements (30 coordinates) dense 0.14 ms, sparse 0.11 ms; 21 elements
- * 2.61 / 0.67 ms; 40 elements 14.3 / 1.2 ms (benchmarks/modes_scaling.py from 25 elements). */
+ * 2.61 / 0.67 ms; 40 elements 14.3 / 1.2 ms (benchmarks/modes_scaling.py from 25 elements). Not
+ * lowered for that: at an unstable configuration the sparse path finds the unstable modes
+ * nearest its shift, not the most unstable ones (docs/validation.md, finding 9). */
 enum { PHM_MODES_AUTO = 0, PHM_MODES_DENSE = 1, PHM_MODES_SPARSE = 2 };
-#define PHM_SPARSE_MODES_MIN 60
+#define PHM_SPARSE_MODES_MIN 300
 /* The dense path's shift-inverted pencil (csrc/solve/modes.c) gives the modes whose
  * theta = 1/(lambda - sigma) is above this fraction of the first's: relative accuracy ~ eps/this. */
 #define PHM_MODES_RESOLVED 1e-6

@@ -315,6 +315,10 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
          * convergence test too (as from IDA's, csrc/solve/ida.c), they lag by the iteration
          * that accepts: the manipulator's ledger went from 1.7e-4 to 1.2e-3. */
         double sum = 0, suml = 0, rd = newton_tol * opt->rtol;
+        /* the ledger rows are y_L' - P(y) = 0 with only their diagonal cj in the matrix, cj of
+         * the step hjac it was made for: rescaled to this step's cj (cj ~ 1/h), their correction
+         * is exact but for P's lag, so they contract as the other states do */
+        for (int i = d->ie; i < d->il; i++) dY[i] *= h / hjac;
         for (int i = 0; i < d->il; i++) {
           Y[i] += dY[i];
           double e = dY[i] / (rd * fabs(Y[i]) + w[i]);
@@ -333,7 +337,7 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
           if (nrm <= 0.033) { ok = 1; break; }
         } else {
           double rate = nrm0 > 0 ? pow(nrm_rate / nrm0, 1.0 / it) : 0.0;
-          if (rate > 0.9) break;
+          if (rate > 0.9 && nrm_rate > 0.033) break; /* diverging (not round-off over round-off) */
           /* at it == 1 the rate is the first contraction, from the predictor: its error lies
            * mostly in what any iteration matrix resolves (the unresolved vibrations of the
            * mesh, linear), so nrm1/nrm0 underestimates the contraction of what is left (the

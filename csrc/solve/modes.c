@@ -58,8 +58,13 @@ static phm_status modes_sparse(const phm_model *m, lin_t *L, const double *H, co
                                double *shapes, phm_error *err) {
   int nc = m->nc, n6 = 6 * nc, nk = m->ncons, N = n6 + nk, nb = L->ptr[nc];
   const int *ptr = L->ptr, *nbr = L->nbr;
+  /* at most the manifold's dimension n6 - nk (the kept rows are independent: redundant ones
+   * are dropped), else the vectors beyond it are round-off whose Ritz values (theta ~ -1e-15,
+   * lambda ~ -1e15) came first: a hanging chain of 10 rigid bars with 5 revolute pairs (60
+   * coordinates, 5 degrees of freedom) showed -1.9e8 rad/s for its 2.18 rad/s mode */
   int b = 2 * nf > nf + 8 ? 2 * nf : nf + 8;
   if (b > n6 / 2) b = n6 / 2;
+  if (b > n6 - nk) b = n6 - nk;
   phm_status st = PHM_OK;
   lin_kkt_t S;
   memset(&S, 0, sizeof S);
@@ -155,7 +160,7 @@ static phm_status modes_sparse(const phm_model *m, lin_t *L, const double *H, co
     /* order by lambda = sigma + 1/theta ascending: theta < 0 (lambda below sigma) first, then
      * theta > 0 from the largest down; dsyev gave theta ascending */
     int np_ = 0;
-    for (int k = 0; k < b; k++) if (ev[k] < 0) order[np_++] = k;
+    for (int k = b - 1; k >= 0; k--) if (ev[k] < 0) order[np_++] = k;  /* theta -> 0-: lambda -> -inf */
     for (int k = b - 1; k >= 0; k--) if (ev[k] >= 0) order[np_++] = k;
     /* converged: the wanted theta settle to 1e-12, or to their round-off floor (1e-15 of the
      * largest |theta|, which the Ritz matrix resolves in absolute terms) */
@@ -420,7 +425,12 @@ phm_status phm_modes(const phm_model *m, const double *poses, const double *lamb
   double *work = NULL, *ev = NULL, *Y = NULL, *A = NULL, *Bm = NULL, *evi = NULL, *Yi = NULL;
   if ((st = lin_red_blocks(&R, m, poses, lambda, time, err))) goto done;
   int sparse = method == PHM_MODES_SPARSE || (method == PHM_MODES_AUTO && n6 >= PHM_SPARSE_MODES_MIN);
-  if (sparse && 4 * nmodes <= n6 - nk) {
+  /* the subspace iteration's block (modes_sparse: max(2 nf, nf + 8) vectors) must be at most
+   * half the manifold's dimension n6 - nk: a block near that dimension holds round-off vectors,
+   * and on a whole-manifold block its Ritz values never settled (a hanging chain of 10 bars,
+   * 5 degrees of freedom: "did not converge in 1000 iterations"). Smaller manifolds: dense. */
+  int block = 2 * nmodes > nmodes + 8 ? 2 * nmodes : nmodes + 8;
+  if (sparse && 2 * block <= n6 - nk) {
     st = modes_sparse(m, &R.L, R.H, R.L.Kb, R.Db, nmodes, omega, zeta, shapes, err);
     if (st == PHM_OK) {
       *nfound = nmodes;
