@@ -146,3 +146,21 @@ def test_unstable_modes_come_in_ascending_order_from_both_paths():
     for om in (d, s):
         assert np.all(om < 0) and np.all(np.diff(om) > 0), om
     assert d[0] < s[0]
+
+
+def test_default_redoes_an_unstable_sparse_result_densely():
+    # an upright chain of 60 bars (360 coordinates: sparse by default) at its unstable
+    # equilibrium: the sparse path alone gives -13.0 rad/s (the unstable mode nearest its shift),
+    # the default redoes it densely and reports the most unstable, -142.9 rad/s (measured);
+    # static()'s stability check reads the same value
+    import warnings
+    m = _bar_chain([ph.Revolute] * 60, gravity=(-9.81, 0, 0))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ph.StabilityWarning)
+        st = m.static()
+    d = _core.model_modes(m._build(), 3, st.poses, st.constraint_wrenches, 0.0, DENSE)[0]
+    s = _core.model_modes(m._build(), 3, st.poses, st.constraint_wrenches, 0.0, SPARSE)[0]
+    auto = _core.model_modes(m._build(), 3, st.poses, st.constraint_wrenches, 0.0, 0)[0]
+    assert s[0] > 0.5 * d[0]                      # the sparse path's nearest unstable mode
+    np.testing.assert_allclose(auto, d, rtol=1e-12)
+    assert st.stable is False and st.lowest_omega == pytest.approx(d[0], rel=1e-9)

@@ -294,6 +294,9 @@ typedef struct {
  * nearest its shift, not the most unstable ones (docs/validation.md, finding 9). */
 enum { PHM_MODES_AUTO = 0, PHM_MODES_DENSE = 1, PHM_MODES_SPARSE = 2 };
 #define PHM_SPARSE_MODES_MIN 300
+/* AUTO: a sparse result with an unstable mode is redone densely up to this many coordinates on
+ * the constraint manifold (dense: 0.15 s at 600, 0.4 s at 900 coordinates; ~O(n^3)). */
+#define PHM_DENSE_MODES_MAX 1500
 /* The dense path's shift-inverted pencil (csrc/solve/modes.c) gives the modes whose
  * theta = 1/(lambda - sigma) is above this fraction of the first's: relative accuracy ~ eps/this. */
 #define PHM_MODES_RESOLVED 1e-6
