@@ -48,23 +48,16 @@ static phm_status apply_op(const phm_model *m, lin_kkt_t *S, const double *V, do
  * Y = (K - sigma M)^-1 M X through the KKT system [K - sigma M, G^T; G, 0] (KLU, O(N) per
  * solve; Y satisfies G Y = 0), Y made M-orthonormal, then Rayleigh-Ritz on the inverse
  * operator (K symmetrized blockwise, as the dense path symmetrizes its reduced matrices). A block of
- * b = max(2 nf, nf + 8) vectors converges mode i at the rate (lambda_i - sigma)/(lambda_b+1 -
- * sigma) per iteration and holds repeated eigenvalues (up to b of them) that one Krylov vector
- * would miss. sigma < 0 keeps K - sigma M nonsingular for rigid-body modes. Returns PHM_OK,
+ * b vectors (phm_modes: max(2 nf, nf + 8), at most half the manifold) converges mode i at the rate (lambda_i - sigma)/(lambda_b+1 - sigma)
+ * per iteration and holds repeated eigenvalues (up to b of them) that one Krylov vector would
+ * miss. sigma < 0 keeps K - sigma M nonsingular for rigid-body modes. Returns PHM_OK,
  * PHM_ESINGULAR when the KKT matrix is singular (the caller then takes the dense path), or an
  * error. */
 static phm_status modes_sparse(const phm_model *m, lin_t *L, const double *H, const double *Kb,
-                               const double *Db, int nf, double *omega, double *zeta,
+                               const double *Db, int nf, int b, double *omega, double *zeta,
                                double *shapes, phm_error *err) {
   int nc = m->nc, n6 = 6 * nc, nk = m->ncons, N = n6 + nk, nb = L->ptr[nc];
   const int *ptr = L->ptr, *nbr = L->nbr;
-  /* at most the manifold's dimension n6 - nk (the kept rows are independent: redundant ones
-   * are dropped), else the vectors beyond it are round-off whose Ritz values (theta ~ -1e-15,
-   * lambda ~ -1e15) came first: a hanging chain of 10 rigid bars with 5 revolute pairs (60
-   * coordinates, 5 degrees of freedom) showed -1.9e8 rad/s for its 2.18 rad/s mode */
-  int b = 2 * nf > nf + 8 ? 2 * nf : nf + 8;
-  if (b > n6 / 2) b = n6 / 2;
-  if (b > n6 - nk) b = n6 - nk;
   phm_status st = PHM_OK;
   lin_kkt_t S;
   memset(&S, 0, sizeof S);
@@ -425,24 +418,27 @@ phm_status phm_modes(const phm_model *m, const double *poses, const double *lamb
   double *work = NULL, *ev = NULL, *Y = NULL, *A = NULL, *Bm = NULL, *evi = NULL, *Yi = NULL;
   if ((st = lin_red_blocks(&R, m, poses, lambda, time, err))) goto done;
   int sparse = method == PHM_MODES_SPARSE || (method == PHM_MODES_AUTO && n6 >= PHM_SPARSE_MODES_MIN);
-  /* the subspace iteration's block (modes_sparse: max(2 nf, nf + 8) vectors) must be at most
-   * half the manifold's dimension n6 - nk: a block near that dimension holds round-off vectors,
-   * and on a whole-manifold block its Ritz values never settled (a hanging chain of 10 bars,
-   * 5 degrees of freedom: "did not converge in 1000 iterations"). Smaller manifolds: dense. */
+  /* the subspace iteration's block, max(2 nf, nf + 8) vectors, must be at most half the
+   * manifold's dimension n6 - nk (the kept rows are independent: redundant ones are dropped): a
+   * block beyond it held round-off vectors whose Ritz values (theta ~ -1e-15) came first (a
+   * hanging chain of 10 bars with 5 revolute pairs, 60 coordinates: -1.9e8 rad/s for its 2.18
+   * rad/s mode), and on a whole-manifold block they never settled ("did not converge in 1000
+   * iterations"). Smaller manifolds: dense. */
   int block = 2 * nmodes > nmodes + 8 ? 2 * nmodes : nmodes + 8;
   if (sparse && 2 * block <= n6 - nk) {
-    st = modes_sparse(m, &R.L, R.H, R.L.Kb, R.Db, nmodes, omega, zeta, shapes, err);
-    /* an unstable mode found: shift-invert found the unstable modes nearest its shift, not
+    st = modes_sparse(m, &R.L, R.H, R.L.Kb, R.Db, nmodes, block, omega, zeta, shapes, err);
+    /* with an unstable mode, shift-invert has found the unstable modes nearest its shift, not
      * necessarily the most unstable (an upright chain of 60 bars: -13.0 rad/s where the lowest
-     * is -142.9; docs/validation.md, finding 9), so AUTO redoes it densely where that is
-     * affordable (PHM_DENSE_MODES_MAX reduced coordinates: a few seconds) */
-    if (st == PHM_OK && method == PHM_MODES_AUTO && omega[0] < 0 && n6 - nk <= PHM_DENSE_MODES_MAX) st = PHM_ESINGULAR;
-    else if (st == PHM_OK) {
+     * is -142.9; docs/validation.md, finding 9): AUTO redoes it densely where that is
+     * affordable (PHM_DENSE_MODES_MAX manifold coordinates) */
+    int unstable = st == PHM_OK && method == PHM_MODES_AUTO && omega[0] < 0 &&
+                   n6 - nk <= PHM_DENSE_MODES_MAX;
+    if (st == PHM_OK && !unstable) {
       *nfound = nmodes;
       goto done;
     }
-    if (st != PHM_ESINGULAR) goto done;
-    if (method == PHM_MODES_SPARSE) {
+    if (st != PHM_OK && st != PHM_ESINGULAR) goto done;
+    if (st == PHM_ESINGULAR && method == PHM_MODES_SPARSE) {
       st = PHM_FAIL(err, PHM_ESINGULAR, "modes: the KKT matrix [K - sigma M, G^T; G, 0] is singular "
                     "(dependent constraint rows at this configuration?); the dense method handles it");
       goto done;

@@ -1045,12 +1045,13 @@ class Mechanism:
         the modes of the lightest carriers are then below what double precision resolves (a link
         of density 1e-300 hinged to a 1 kg body gave 1.4e9 rad/s for bending modes of ~1e153
         rad/s, without a word: tests/test_fuzz_findings.py)."""
-        masses = np.array([c["mass"] for c in self._car], dtype=float)
-        masses = masses[masses > 0]
-        if masses.size < 2 or masses.max() <= self.MASS_RATIO_RESOLVED * masses.min():
+        # massless carriers have no modes of their own: left out
+        masses = np.array([c["mass"] if c["mass"] > 0 else np.inf for c in self._car] + [np.inf])
+        light = int(np.argmin(masses))
+        heavy = masses[np.isfinite(masses)].max(initial=0.0)
+        if not heavy > self.MASS_RATIO_RESOLVED * masses[light]:
             return
-        light = int(np.argmin([c["mass"] if c["mass"] > 0 else np.inf for c in self._car]))
-        warnings.warn(f"the carriers' masses span {masses.max():.3g} kg to {masses.min():.3g} kg "
+        warnings.warn(f"the carriers' masses span {heavy:.3g} kg to {masses[light]:.3g} kg "
                       f"(lightest: {self._desc.carrier_name(light)}), a ratio above "
                       f"{self.MASS_RATIO_RESOLVED:.2g}: double precision cannot resolve the lightest "
                       "carriers' modes next to the heaviest (their frequencies and shapes may be "
