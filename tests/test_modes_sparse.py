@@ -4,6 +4,8 @@ se3 element's second-order convergence, six rigid-body modes of a free beam, rep
 frequencies of a square section, a closed loop with a flexible link, damping ratios. The method
 is chosen through the core binding (method 1 dense, 2 sparse; the default picks sparse from
 PHM_SPARSE_MODES_MIN carrier coordinates on)."""
+import warnings
+
 import numpy as np
 import pytest
 
@@ -114,8 +116,8 @@ def _bar_chain(kinds, gravity):
     return m
 
 
-def _modes_at(m, n, method):
-    st = m.static()
+def _modes_at(m, st, n, method):
+    """The core's n lowest frequencies [rad/s] at the static equilibrium st, by method."""
     return _core.model_modes(m._build(), n, st.poses, st.constraint_wrenches, 0.0, method)[0]
 
 
@@ -124,15 +126,17 @@ def test_few_degrees_of_freedom_on_many_coordinates_take_the_dense_path():
     # fewer than 9 degrees of freedom), before its block was bounded by the manifold: a hanging
     # chain of 10 bars, alternately revolute and welded (60 coordinates, 5 degrees of freedom),
     # showed -1.9e8 rad/s for its 2.18 rad/s mode -- round-off vectors of a block larger than the
-    # manifold. Reference: the dense reduced problem, and the compound pendulum of the chain's
-    # first two bars as one rigid body: omega^2 = m g d / J about the pivot
+    # manifold. Reference: the dense reduced problem
     m = _bar_chain([ph.Revolute, ph.Fixed] * 5, gravity=(9.81, 0, 0))
+    st = m.static()
+    dense = _modes_at(m, st, 1, DENSE)
     for method in (0, SPARSE):
-        np.testing.assert_allclose(_modes_at(m, 1, method), _modes_at(m, 1, DENSE), rtol=1e-12)
-    assert 2.0 < _modes_at(m, 1, 0)[0] < 2.4          # measured 2.1769 rad/s
+        np.testing.assert_allclose(_modes_at(m, st, 1, method), dense, rtol=1e-12)
+    assert 2.0 < dense[0] < 2.4          # measured 2.1769 rad/s
     # a 60-bar hanging chain (360 coordinates, 60 degrees of freedom) takes the sparse path
     m = _bar_chain([ph.Revolute] * 60, gravity=(9.81, 0, 0))
-    np.testing.assert_allclose(_modes_at(m, 5, SPARSE), _modes_at(m, 5, DENSE), rtol=1e-10)
+    st = m.static()
+    np.testing.assert_allclose(_modes_at(m, st, 5, SPARSE), _modes_at(m, st, 5, DENSE), rtol=1e-10)
 
 
 def test_unstable_modes_come_in_ascending_order_from_both_paths():
@@ -142,7 +146,10 @@ def test_unstable_modes_come_in_ascending_order_from_both_paths():
     # -19.9, -17.7, -15.6 rad/s), the dense path's the most unstable (-96.7, -88.0, -81.1): see
     # docs/validation.md, finding 9
     m = _bar_chain([ph.Revolute] * 30, gravity=(-9.81, 0, 0))
-    d, s = _modes_at(m, 3, DENSE), _modes_at(m, 3, SPARSE)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ph.StabilityWarning)
+        st = m.static()
+    d, s = _modes_at(m, st, 3, DENSE), _modes_at(m, st, 3, SPARSE)
     for om in (d, s):
         assert np.all(om < 0) and np.all(np.diff(om) > 0), om
     assert d[0] < s[0]
@@ -153,14 +160,11 @@ def test_default_redoes_an_unstable_sparse_result_densely():
     # equilibrium: the sparse path alone gives -13.0 rad/s (the unstable mode nearest its shift),
     # the default redoes it densely and reports the most unstable, -142.9 rad/s (measured);
     # static()'s stability check reads the same value
-    import warnings
     m = _bar_chain([ph.Revolute] * 60, gravity=(-9.81, 0, 0))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ph.StabilityWarning)
         st = m.static()
-    d = _core.model_modes(m._build(), 3, st.poses, st.constraint_wrenches, 0.0, DENSE)[0]
-    s = _core.model_modes(m._build(), 3, st.poses, st.constraint_wrenches, 0.0, SPARSE)[0]
-    auto = _core.model_modes(m._build(), 3, st.poses, st.constraint_wrenches, 0.0, 0)[0]
+    d, s, auto = (_modes_at(m, st, 3, method) for method in (DENSE, SPARSE, 0))
     assert s[0] > 0.5 * d[0]                      # the sparse path's nearest unstable mode
     np.testing.assert_allclose(auto, d, rtol=1e-12)
     assert st.stable is False and st.lowest_omega == pytest.approx(d[0], rel=1e-9)
