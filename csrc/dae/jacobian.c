@@ -208,10 +208,12 @@ static void add_wrench_tangent(void *ctx, int ca, int cb, const double w[12], co
 /* The closed-form part of the Jacobian at (y, y') (the poses, twists, pairs and G^T mu in
  * d->data): each carrier's kinematic rows q' = 1/2 q (x) (0, w + dw), p' = R (v + dv) ((dw, dv)
  * = G^T mu) and momentum rows M t' - ad*_t M t - gravity in its own states, and each se3
- * element's wrenches (phm_element_tangent) and each actuator's, load's and spring's
+ * element's wrenches (phm_element_tangent) and consistent mass (phm_element_inertia, which reads
+ * the twists' rates yp) and each actuator's, load's and spring's
  * (phm_applied_tangent) in the states of its two carriers, through the chart (q, p) -> body
  * perturbation [dxi/dq, 0; 0, R^T]. */
-static void jacobian_closed_form(dae_t *d, double time, double cj, const double *y, double *val) {
+static void jacobian_closed_form(dae_t *d, double time, double cj, const double *y,
+                                 const double *yp, double *val) {
   const phm_model *m = d->m;
   const phm_data *D = &d->data;
   double gn = fabs(m->gravity[0]) + fabs(m->gravity[1]) + fabs(m->gravity[2]);
@@ -272,6 +274,15 @@ static void jacobian_closed_form(dae_t *d, double time, double cj, const double 
     phm_element_tangent(e, D->H + 16 * e->a, D->H + 16 * e->b, D->tw + 6 * e->a, D->tw + 6 * e->b,
                         w, w + 6, Kx, Ct);
     add_wrench_tangent(&sink, e->a, e->b, w, Kx, Ct);
+  }
+  static const double Kzero[144];
+  for (int k = 0; k < m->nmc; k++) { /* consistent masses: -Kt into the twists (a "wrench" -f) */
+    const phm_element_desc *e = &m->el[m->mc_el[k]];
+    double f[12], Kt[144];
+    phm_element_inertia(m->mc + 144 * (size_t)k, D->tw + 6 * e->a, D->tw + 6 * e->b,
+                        yp + PHM_NSTATE * e->a + 7, yp + PHM_NSTATE * e->b + 7, cj, f, Kt);
+    for (int i = 0; i < 144; i++) Kt[i] = -Kt[i];
+    add_wrench_tangent(&sink, e->a, e->b, f, Kzero, Kt);
   }
   /* actuators, loads, springs: at the pairs' evaluation of this state (dae_pair_rows) */
   phm_applied_tangent(m, D->pair, D->H, D->tw, y + d->ix, time, d->tref, 1.0, add_wrench_tangent,
@@ -387,7 +398,7 @@ int dae_jacobian(dae_t *d, double t, double cj, const double *y, const double *y
   /* the poses, twists, pairs and G^T mu of the state (the pairs' rows go to scratch) */
   dae_unpack(d->m, y, D->H, D->tw);
   dae_pair_rows(d, t, y, ypv, D->rtmp);
-  jacobian_closed_form(d, t, cj, y, val);
+  jacobian_closed_form(d, t, cj, y, ypv, val);
   jacobian_pairs(d, t, cj, y, val);
   return 0;
 }

@@ -138,7 +138,19 @@ typedef struct {
   double K[36];      /* section stiffness (symmetric positive definite)                   */
   double D[36];      /* section viscous damping (symmetric positive semidefinite)         */
   double eps_hat[6]; /* unstressed strain (kappa_hat, 1, 0, 0) for the curved/straight shape */
+  int mass;          /* phm_element_mass_kind                                             */
+  double Ms[36];     /* section inertia per unit length (kg m, kg; as a carrier's M, per metre),
+                      * read when mass = PHM_MASS_CONSISTENT                               */
 } phm_element_desc;
+
+/* How an element's own kinetic energy reaches its nodes (docs/method.md section 4.2, "Mass").
+ * LUMPED: the nodes' inertias carry it -- the builder gives each node h/2 Ms per adjacent element.
+ * CONSISTENT: the nodes still carry h/2 Ms each, and the element adds the coupling
+ * Mc = M_helix + (h/12) d^T Ms d - diag(h/2 Ms, h/2 Ms) (phm_element_mass) in the body twists of
+ * its two nodes: the kinetic energy of its constant-strain (helix) field at the unstressed shape,
+ * blended half-way with the lumped one. Constant in the body twists, so the energy balance stays
+ * exact; its linearization has no leading dispersion error (docs/mass_matrix_study.md). */
+typedef enum { PHM_MASS_LUMPED = 0, PHM_MASS_CONSISTENT = 1 } phm_element_mass_kind;
 
 /* A pair type: a row of THE pair table (csrc/model/pair.c, the only place that defines pair
  * types; phm_pair_type(i) returns row i, phm_pair_type_count() the number of rows; Python builds its

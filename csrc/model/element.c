@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "linalg.h"
+#include "pose.h"
 
 void phm_element_eval(const phm_element_desc *e, const double Ha[16], const double Hb[16],
                       const double ta[6], const double tb[6], double wa[6], double wb[6],
@@ -157,4 +158,137 @@ void phm_model_stress_resultants(const phm_model *m, const double *H, const doub
     phm_element_eval(e, H + 16 * e->a, H + 16 * e->b, t ? t + 6 * e->a : NULL,
                      t ? t + 6 * e->b : NULL, wa, wb, NULL, NULL, sigma + 6 * ie);
   }
+}
+
+/* ---------------------------------------------------------------- mass (docs/method.md section 4.2, "Mass") */
+/* 6-point Gauss-Legendre on [0, 1]: exact for the straight element's integrand (degree 4 in xi)
+ * and, for a curved one, converged to round-off while an element turns by less than ~1 rad. */
+static const double GAUSS_X[6] = {0.033765242898423987, 0.16939530676686776, 0.38069040695840156,
+                                  0.61930959304159845, 0.83060469323313224, 0.96623475710157601};
+static const double GAUSS_W[6] = {0.085662246189585178, 0.18038078652406930, 0.23395696728634552,
+                                  0.23395696728634552, 0.18038078652406930, 0.085662246189585178};
+
+static void mm6(const double A[36], const double B[36], double C[36]) {
+  for (int i = 0; i < 6; i++)
+    for (int j = 0; j < 6; j++) {
+      double s = 0;
+      for (int k = 0; k < 6; k++) s += A[6 * i + k] * B[6 * k + j];
+      C[6 * i + j] = s;
+    }
+}
+
+/* Mc += w T^T Ms T for T (6 x 12, row-major). */
+static void add_gram(double Mc[144], const double T[72], const double Ms[36], double w) {
+  double MT[72];
+  for (int i = 0; i < 6; i++)
+    for (int j = 0; j < 12; j++) {
+      double s = 0;
+      for (int k = 0; k < 6; k++) s += Ms[6 * i + k] * T[12 * k + j];
+      MT[12 * i + j] = s;
+    }
+  for (int i = 0; i < 12; i++)
+    for (int j = 0; j < 12; j++) {
+      double s = 0;
+      for (int k = 0; k < 6; k++) s += T[12 * k + i] * MT[12 * k + j];
+      Mc[12 * i + j] += w * s;
+    }
+}
+
+/* The section at xi in [0, 1] of the element's helix H(xi) = H_a exp(xi X) moves with the body
+ * twist t(xi) = A_a(xi) t_a + A_b(xi) t_b: from X' = dexp_{-X}^-1 (t_b - Ad_{exp(-X)} t_a) =
+ * dexp_{-X}^-1 t_b - dexp_X^-1 t_a, t(xi) = Ad_{exp(-xi X)} t_a + xi dexp_{-xi X} X'. At the
+ * unstressed shape X = h eps_hat this is constant; for a straight element it interpolates the
+ * rotations linearly and the displacements with the cubic term (h/2) xi (1 - xi) of the rotations'
+ * difference (docs/mass_matrix_study.md, "d4 helix"). */
+void phm_element_mass(double h, const double Ms[36], const double eps_hat[6], double Mc[144]) {
+  double X[6], mX[6], Dp[36], Dm[36];
+  for (int i = 0; i < 6; i++) X[i] = h * eps_hat[i], mX[i] = -X[i];
+  phm_se3_dexp_inv(X, Dp);
+  phm_se3_dexp_inv(mX, Dm);
+  memset(Mc, 0, sizeof(double) * 144);
+  for (int g = 0; g < 6; g++) {
+    double xi = GAUSS_X[g], Y[6], E[16], AdE[36], dY[36], Pa[36], Pb[36], T[72];
+    for (int i = 0; i < 6; i++) Y[i] = -xi * X[i];
+    phm_se3_exp(Y, E);
+    phm_se3_Ad(E, AdE);
+    phm_se3_dexp(Y, dY);
+    mm6(dY, Dp, Pa);
+    mm6(dY, Dm, Pb);
+    for (int i = 0; i < 6; i++)
+      for (int j = 0; j < 6; j++) {
+        T[12 * i + j] = AdE[6 * i + j] - xi * Pa[6 * i + j];
+        T[12 * i + 6 + j] = xi * Pb[6 * i + j];
+      }
+    add_gram(Mc, T, Ms, h * GAUSS_W[g]);
+  }
+  /* + (h/12) d^T Ms d, d = t_b - Ad_{R0^T} t_a (t_a's components in b's axes, R0 the rotation
+   * of exp(X)): half the difference of lumped and consistent on the transported velocity
+   * difference, which cancels the helix's leading dispersion error; - the nodes' h/2 Ms */
+  double E0[16], T[72] = {0};
+  phm_se3_exp(X, E0);
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) {
+      double r = E0[4 * j + i]; /* R0^T */
+      T[12 * i + j] = T[12 * (3 + i) + 3 + j] = -r;
+    }
+  for (int i = 0; i < 6; i++) T[12 * i + 6 + i] = 1.0;
+  add_gram(Mc, T, Ms, h / 12.0);
+  for (int i = 0; i < 6; i++)
+    for (int j = 0; j < 6; j++) {
+      Mc[12 * i + j] -= 0.5 * h * Ms[6 * i + j];
+      Mc[12 * (6 + i) + 6 + j] -= 0.5 * h * Ms[6 * i + j];
+    }
+  for (int i = 0; i < 12; i++) /* symmetric to the last bit */
+    for (int j = 0; j < i; j++) Mc[12 * i + j] = Mc[12 * j + i] = 0.5 * (Mc[12 * i + j] + Mc[12 * j + i]);
+}
+
+/* f = [ (Mc t')_a - ad*_{t_a} (Mc t)_a ; (Mc t')_b - ad*_{t_b} (Mc t)_b ], t = [t_a; t_b]: the mass
+ * coupling's terms in its nodes' momentum balances (the Euler-Poincare equations of the kinetic
+ * energy 1/2 t^T Mc t, left-invariant on SE(3) x SE(3), whose power t . f is d/dt of that energy).
+ * Kt (may be NULL) = df/dt + cj df/dt'. */
+void phm_element_inertia(const double Mc[144], const double ta[6], const double tb[6],
+                         const double dta[6], const double dtb[6], double cj, double f[12],
+                         double Kt[144]) {
+  double t[12], td[12], u[12];
+  memcpy(t, ta, 6 * sizeof(double));
+  memcpy(t + 6, tb, 6 * sizeof(double));
+  memcpy(td, dta, 6 * sizeof(double));
+  memcpy(td + 6, dtb, 6 * sizeof(double));
+  for (int i = 0; i < 12; i++) {
+    double s = 0, sd = 0;
+    for (int j = 0; j < 12; j++) s += Mc[12 * i + j] * t[j], sd += Mc[12 * i + j] * td[j];
+    u[i] = s;
+    f[i] = sd;
+  }
+  for (int s = 0; s < 2; s++) {
+    double a[6];
+    phm_ad_dual_apply(t + 6 * s, u + 6 * s, a);
+    for (int i = 0; i < 6; i++) f[6 * s + i] -= a[i];
+  }
+  if (!Kt) return;
+  for (int s = 0; s < 2; s++) {
+    const double *ts = t + 6 * s, *us = u + 6 * s;
+    for (int j = 0; j < 12; j++) {
+      double col[6], a[6];
+      for (int i = 0; i < 6; i++) col[i] = Mc[12 * (6 * s + i) + j];
+      phm_ad_dual_apply(ts, col, a); /* ad*_{t_s} Mc e_j */
+      for (int i = 0; i < 6; i++) Kt[12 * (6 * s + i) + j] = cj * col[i] - a[i];
+    }
+    for (int j = 0; j < 6; j++) { /* ad*_{e_j} u_s: the twist's own slot */
+      double ej[6] = {0}, a[6];
+      ej[j] = 1.0;
+      phm_ad_dual_apply(ej, us, a);
+      for (int i = 0; i < 6; i++) Kt[12 * (6 * s + i) + 6 * s + j] -= a[i];
+    }
+  }
+}
+
+/* 1/2 t^T Mc t, t = [t_a; t_b]. */
+double phm_element_kinetic(const double Mc[144], const double ta[6], const double tb[6]) {
+  double t[12], K = 0;
+  memcpy(t, ta, 6 * sizeof(double));
+  memcpy(t + 6, tb, 6 * sizeof(double));
+  for (int i = 0; i < 12; i++)
+    for (int j = 0; j < 12; j++) K += t[i] * Mc[12 * i + j] * t[j];
+  return 0.5 * K;
 }

@@ -18,6 +18,11 @@ void phm_model_energy(const phm_model *m, const double *H, const double *t, doub
       Vg -= m->car[c].mass * m->gravity[i] * x;
     }
   }
+  if (t)
+    for (int k = 0; k < m->nmc; k++) {
+      const phm_element_desc *el = &m->el[m->mc_el[k]];
+      K += phm_element_kinetic(m->mc + 144 * (size_t)k, t + 6 * el->a, t + 6 * el->b);
+    }
   for (int ie = 0; ie < m->ne; ie++) {
     const phm_element_desc *el = &m->el[ie];
     double wa[6], wb[6], v;

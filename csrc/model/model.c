@@ -47,6 +47,8 @@ void phm_model_free(phm_model *m) {
   if (!m) return;
   free(m->car);
   free(m->el);
+  free(m->mc_el);
+  free(m->mc);
   free(m->pair);
   free(m->pair_row);
   free(m->pair_m);
@@ -123,6 +125,10 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
       return PHM_FAIL(err, PHM_EINVAL, "element %d: non-finite stiffness, damping or unstressed strain", i);
     if (!spd6(e->K, 0)) return PHM_FAIL(err, PHM_EINVAL, "element %d: section stiffness is not symmetric positive definite", i);
     if (!spd6(e->D, 1)) return PHM_FAIL(err, PHM_EINVAL, "element %d: section damping is not symmetric positive semidefinite", i);
+    if (e->mass != PHM_MASS_LUMPED && e->mass != PHM_MASS_CONSISTENT)
+      return PHM_FAIL(err, PHM_EINVAL, "element %d: unknown mass kind %d (0 lumped, 1 consistent)", i, e->mass);
+    if (e->mass == PHM_MASS_CONSISTENT && (!phm_all_finite(e->Ms, 36) || !spd6(e->Ms, 0)))
+      return PHM_FAIL(err, PHM_EINVAL, "element %d: consistent mass needs a finite, symmetric positive definite section inertia", i);
   }
   for (int i = 0; i < d->npairs; i++) {
     const phm_pair_desc *p = &d->pairs[i];
@@ -227,6 +233,20 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   }
   memcpy(m->car, d->carriers, sizeof *m->car * (size_t)m->nc);
   if (m->ne) memcpy(m->el, d->elements, sizeof *m->el * (size_t)m->ne);
+  for (int i = 0; i < m->ne; i++) m->nmc += m->el[i].mass == PHM_MASS_CONSISTENT;
+  m->mc_el = malloc(sizeof(int) * (size_t)(m->nmc + 1));
+  m->mc = malloc(sizeof(double) * 144 * (size_t)(m->nmc + 1));
+  if (!m->mc_el || !m->mc) {
+    free(laws);
+    phm_model_free(m);
+    return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+  }
+  for (int i = 0, k = 0; i < m->ne; i++)
+    if (m->el[i].mass == PHM_MASS_CONSISTENT) {
+      const phm_element_desc *e = &m->el[i];
+      m->mc_el[k] = i;
+      phm_element_mass(e->h, e->Ms, e->eps_hat, m->mc + 144 * (size_t)k++);
+    }
   if (m->np) memcpy(m->pair, d->pairs, sizeof *m->pair * (size_t)m->np);
   for (int i = 0; i < m->np; i++) { /* constant: computed once, read by every pair evaluation */
     double Tbi[16];

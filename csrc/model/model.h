@@ -32,6 +32,9 @@ struct phm_model {
   double *tables;   /* owned copies of the laws' tables (points, pieces, breakpoints) */
   phm_law *lawnodes; /* owned copies of the expression laws' nodes */
   double lref;      /* length scale for finite differences, m */
+  int nmc;          /* elements with a mass coupling (PHM_MASS_CONSISTENT)              */
+  int *mc_el;       /* nmc: their indices, ascending                                    */
+  double *mc;       /* nmc x 144: their couplings Mc (phm_element_mass), computed once  */
 };
 
 /* tref for the interval [t, ...): midpoint between t and the next breakpoint (or t + 1). */
@@ -149,6 +152,15 @@ void phm_element_eval(const phm_element_desc *e, const double Ha[16], const doub
 void phm_element_tangent(const phm_element_desc *e, const double Ha[16], const double Hb[16],
                          const double ta[6], const double tb[6], double wa[6], double wb[6],
                          double Kx[144], double Ct[144]);
+
+/* A mass coupling Mc (phm_element_mass) in the momentum balances of its element's nodes a, b:
+ * f = [(Mc t')_a - ad*_{t_a} (Mc t)_a; (Mc t')_b - ad*_{t_b} (Mc t)_b] (12) at twists ta, tb and
+ * their rates dta, dtb, and (Kt not NULL) Kt = df/d[ta; tb] + cj df/d[dta; dtb] (12 x 12). */
+void phm_element_inertia(const double Mc[144], const double ta[6], const double tb[6],
+                         const double dta[6], const double dtb[6], double cj, double f[12],
+                         double Kt[144]);
+/* Its kinetic energy 1/2 [ta; tb]^T Mc [ta; tb]. */
+double phm_element_kinetic(const double Mc[144], const double ta[6], const double tb[6]);
 
 /* ---------------------------------------------------------------- applied wrenches (applied.c) */
 /* Applied wrenches (elastic + damping + gravity + springs + actuators + external x scale) on every

@@ -101,6 +101,8 @@ static const column element_columns[] = {
     MATRIX("K", "element stiffness", phm_element_desc, K, 6, 6),
     MATRIX("D", "element damping", phm_element_desc, D, 6, 6),
     VECTOR("eps_hat", "element unstressed strain", phm_element_desc, eps_hat, 6),
+    INDEX("mass", "element mass kinds", phm_element_desc, mass, "mass kind of element"),
+    MATRIX("Ms", "element section inertias", phm_element_desc, Ms, 6, 6),
 };
 static const column pair_columns[] = {
     INDEX("type", "pair types", phm_pair_desc, type, "pair type of pair"),
@@ -1003,7 +1005,35 @@ done:
   return res;
 }
 
+/* element_mass(h, Ms (6, 6), eps_hat (6,)) -> Mc (12, 12) (phm_element_mass). */
+static PyObject *py_element_mass(PyObject *self, PyObject *args) {
+  (void)self;
+  double h;
+  PyObject *mo, *eo, *res = NULL;
+  PyArrayObject *Ms = NULL, *eps = NULL, *out = NULL;
+  if (!PyArg_ParseTuple(args, "dOO", &h, &mo, &eo)) return NULL;
+  npy_intp t66[2] = {6, 6}, t6[1] = {6}, dims[2] = {12, 12};
+  if (!(Ms = phm_py_double_array(mo, "Ms", t66, 2, 1))) goto done;
+  if (!(eps = phm_py_double_array(eo, "eps_hat", t6, 1, 1))) goto done;
+  if (PyArray_NDIM(Ms) != 2 || PyArray_NDIM(eps) != 1 || !(h > 0) || !isfinite(h)) {
+    PyErr_SetString(phm_py_ModelError, "element_mass: expected h > 0, Ms (6, 6) and eps_hat (6,)");
+    goto done;
+  }
+  if (!(out = (PyArrayObject *)PyArray_SimpleNew(2, dims, NPY_DOUBLE))) goto done;
+  phm_element_mass(h, PyArray_DATA(Ms), PyArray_DATA(eps), PyArray_DATA(out));
+  res = (PyObject *)out;
+  out = NULL;
+done:
+  Py_XDECREF(out);
+  Py_XDECREF(Ms);
+  Py_XDECREF(eps);
+  return res;
+}
+
 PyMethodDef phm_py_model_methods[] = {
+    {"element_mass", py_element_mass, METH_VARARGS,
+     "element_mass(h, Ms (6, 6), eps_hat (6,)) -> Mc (12, 12): the mass coupling a consistent-mass "
+     "element adds in its nodes' body twists (csrc/model/element.c, phm_element_mass)."},
     {"law_eval", py_law_eval, METH_VARARGS,
      "law_eval(law, times) -> (n, 3) array of s, s', s'' (csrc/util/law.c) of a law tuple "
      "(python/phmech/_marshal.py) at each time; ModelError for an invalid law."},
@@ -1018,7 +1048,7 @@ PyMethodDef phm_py_model_methods[] = {
     {"model_new", (PyCFunction)(void (*)(void))py_model_new, METH_VARARGS | METH_KEYWORDS,
      "model_new(carriers, elements, pairs, loads, actuators, springs, gravity) -> model capsule "
      "(validated; raises ModelError). Each component kind is a dict of columns with one row per "
-     "component (keys: carriers mass, M, com, H0, t0; elements h, nodes, K, D, eps_hat; pairs "
+     "component (keys: carriers mass, M, com, H0, t0; elements h, nodes, K, D, eps_hat, mass (0 lumped, 1 consistent), Ms; pairs "
      "type, carriers, Ta, Tb, driven, axis, law, pitch, x0, has_x0, drop; loads carrier, world, "
      "point, w, law, reaction; actuators pair, kind, vec, kp, kd, x_set, law; springs k, "
      "carriers, pa, pb, c, rest_length; pairs also xlaws: per pair None or one law or None "

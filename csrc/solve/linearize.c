@@ -130,6 +130,14 @@ void lin_free(lin_t *L) {
   free(L->ptr);
   free(L->nbr);
   free(L->Kb);
+  free(L->Mb);
+}
+
+/* The slot of block (r, c) in the coupling graph (ptr, nbr), or -1. */
+static int graph_slot(const int *ptr, const int *nbr, int r, int c) {
+  for (int q = ptr[r]; q < ptr[r + 1]; q++)
+    if (nbr[q] == c) return q;
+  return -1;
 }
 
 /* The coupling graph of L's model and room for the force Jacobian blocks. */
@@ -138,7 +146,25 @@ phm_status lin_graph(lin_t *L, phm_error *err) {
   phm_status st = phm_carrier_graph(m, 0, &L->ptr, &L->nbr, err);
   if (st) return st;
   L->Kb = calloc(36 * (size_t)L->ptr[m->nc] + 1, sizeof(double));
-  if (!L->Kb) return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+  L->Mb = calloc(36 * (size_t)L->ptr[m->nc] + 1, sizeof(double));
+  if (!L->Kb || !L->Mb) return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+  for (int c = 0; c < m->nc; c++) {
+    int q = graph_slot(L->ptr, L->nbr, c, c);
+    if (q < 0) return PHM_FAIL(err, PHM_EINVAL, "carrier graph: carrier %d has no diagonal slot", c);
+    memcpy(L->Mb + 36 * (size_t)q, m->car[c].M, 36 * sizeof(double));
+  }
+  for (int k = 0; k < m->nmc; k++) { /* an element's coupling: its nodes are neighbours */
+    const phm_element_desc *e = &m->el[m->mc_el[k]];
+    const double *Mc = m->mc + 144 * (size_t)k;
+    int ab[2] = {e->a, e->b};
+    for (int bi = 0; bi < 2; bi++)
+      for (int bj = 0; bj < 2; bj++) {
+        int q = graph_slot(L->ptr, L->nbr, ab[bi], ab[bj]);
+        if (q < 0) return PHM_FAIL(err, PHM_EINVAL, "carrier graph: element %d's nodes are not neighbours", m->mc_el[k]);
+        for (int i = 0; i < 6; i++)
+          for (int j = 0; j < 6; j++) L->Mb[36 * (size_t)q + 6 * i + j] += Mc[12 * (6 * bi + i) + 6 * bj + j];
+      }
+  }
   return PHM_OK;
 }
 

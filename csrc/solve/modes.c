@@ -26,17 +26,17 @@ static void block_mv(int nc, const int *ptr, const int *nbr, const double *B, co
   }
 }
 
-/* y = M x for the block-diagonal mass (6x6 per carrier). */
-static void mass_mv(const phm_model *m, const double *x, double *y) {
-  for (int c = 0; c < m->nc; c++) phm_mv6(m->car[c].M, x + 6 * c, y + 6 * c);
+/* y = M x for the mass blocks of L (carriers' inertias, consistent elements' couplings). */
+static void mass_mv(const lin_t *L, const double *x, double *y) {
+  block_mv(L->m->nc, L->ptr, L->nbr, L->Mb, x, y);
 }
 
 /* W_j = (K - sigma M)^-1 M V_j for the b columns of V (6 nc each; W may be V) through the
  * factored KKT system: the solution satisfies G W_j = 0. rhs: scratch of 6 nc + nk. */
-static phm_status apply_op(const phm_model *m, lin_kkt_t *S, const double *V, double *W, int b,
+static phm_status apply_op(const lin_t *L, lin_kkt_t *S, const double *V, double *W, int b,
                            int n6, int nk, double *rhs, phm_error *err) {
   for (int j = 0; j < b; j++) {
-    mass_mv(m, V + (size_t)j * n6, rhs);
+    mass_mv(L, V + (size_t)j * n6, rhs);
     memset(rhs + n6, 0, sizeof(double) * (size_t)nk);
     if (lin_kkt_solve(S, rhs)) return PHM_FAIL(err, PHM_ESOLVER, "modes: KLU solve failed");
     memcpy(W + (size_t)j * n6, rhs, sizeof(double) * (size_t)n6);
@@ -83,13 +83,10 @@ static phm_status modes_sparse(const phm_model *m, lin_t *L, const double *H, co
         for (int j = 0; j < 6; j++)
           Ks[36 * (size_t)q + 6 * i + j] = 0.5 * (Kb[36 * (size_t)q + 6 * i + j] + Kb[36 * (size_t)qt + 6 * j + i]);
       if (c == r)
-        for (int i = 0; i < 6; i++) { trK += Ks[36 * (size_t)q + 7 * i]; trM += m->car[r].M[7 * i]; }
+        for (int i = 0; i < 6; i++) { trK += Ks[36 * (size_t)q + 7 * i]; trM += L->Mb[36 * (size_t)q + 7 * i]; }
     }
   double sigma = trK > 0 && trM > 0 ? -1e-9 * trK / trM : -1.0;
-  for (int r = 0; r < nc; r++)
-    for (int q = ptr[r]; q < ptr[r + 1]; q++)
-      if (nbr[q] == r)
-        for (int i = 0; i < 36; i++) Ks[36 * (size_t)q + i] -= sigma * m->car[r].M[i];
+  for (size_t i = 0; i < 36 * (size_t)nb; i++) Ks[i] -= sigma * L->Mb[i];
   if (nk) lin_constraint_blocks(L, H, Gp);
   if ((st = lin_kkt_build(&S, L, err))) goto done;
   /* singular or nearly (dependent constraint rows at this configuration): the caller falls back
@@ -114,7 +111,7 @@ static phm_status modes_sparse(const phm_model *m, lin_t *L, const double *H, co
     W[i] = (double)(rng >> 11) / 9007199254740992.0 - 0.5;
   }
   for (int j = 0; j < b; j++) prev[j] = INFINITY;
-  if ((st = apply_op(m, &S, W, W, b, n6, nk, rhs, err))) goto done; /* W = Op(random) */
+  if ((st = apply_op(L, &S, W, W, b, n6, nk, rhs, err))) goto done; /* W = Op(random) */
   int converged = 0;
   for (int it = 0; it < 1000 && !converged; it++) {
     /* Y = W, M-orthonormal (modified Gram-Schmidt, twice) */
@@ -127,7 +124,7 @@ static phm_status modes_sparse(const phm_model *m, lin_t *L, const double *H, co
           const double *yi = Y + (size_t)i * n6;
           for (int k = 0; k < n6; k++) yj[k] -= s * yi[k];
         }
-      mass_mv(m, yj, MY + (size_t)j * n6);
+      mass_mv(L, yj, MY + (size_t)j * n6);
       double nrm = sqrt(phm_dot(MY + (size_t)j * n6, yj, n6));
       if (!(nrm > 0) || !isfinite(nrm)) {
         st = PHM_FAIL(err, PHM_ESOLVER, "modes: the subspace iteration lost rank (the mass "
@@ -138,7 +135,7 @@ static phm_status modes_sparse(const phm_model *m, lin_t *L, const double *H, co
     }
     /* W = (K - sigma M)^-1 M Y; T = Y^T M W has the eigenvalues theta = 1/(lambda - sigma), the
      * wanted (smallest) lambda the largest |theta|: relative accuracy where it matters */
-    if ((st = apply_op(m, &S, Y, W, b, n6, nk, rhs, err))) goto done;
+    if ((st = apply_op(L, &S, Y, W, b, n6, nk, rhs, err))) goto done;
     for (int j = 0; j < b; j++)
       for (int i = 0; i <= j; i++) {
         double tij = 0.5 * (phm_dot(MY + (size_t)i * n6, W + (size_t)j * n6, n6) +
@@ -320,9 +317,7 @@ static phm_status lin_red_reduce(lin_red_t *R, const phm_model *m, phm_error *er
       for (int q = ptr[r]; q < ptr[r + 1]; q++) {
         int c = nbr[q];
         const double *B;
-        if (w < 2) B = (w == 0 ? Kb : Db) + 36 * (size_t)q;
-        else if (c == r) B = m->car[c].M;
-        else continue;
+        B = (w == 0 ? Kb : w == 1 ? Db : R->L.Mb) + 36 * (size_t)q;
         if (red[r] >= 0 && red[c] >= 0) {
           for (int i = 0; i < 6; i++)
             for (int j = 0; j < 6; j++) out[(size_t)(red[r] + i) * nr + red[c] + j] += B[6 * i + j];

@@ -27,11 +27,13 @@ typedef struct {
   /* carrier coupling graph (CSR) and the force Jacobian blocks (lin_graph; modes and statics) */
   int *ptr, *nbr;
   double *Kb;
+  double *Mb; /* the mass in the same slots: carriers' inertias, consistent elements' couplings */
 } lin_t;
 
 phm_status lin_alloc(lin_t *L, const phm_model *m, phm_error *err);
 void lin_free(lin_t *L);
-/* The coupling graph of L's model and room for the force Jacobian blocks. */
+/* The coupling graph of L's model, room for the force Jacobian blocks and the mass blocks Mb
+ * (filled: they are constant). */
 phm_status lin_graph(lin_t *L, phm_error *err);
 /* Generalized forces at poses H: applied wrenches (x L->scale) + G^T L->lam (nc x 6, body frame). */
 void lin_total_force(lin_t *L, const double *H, double *f);

@@ -157,7 +157,8 @@ class Mechanism:
                           pose=None, curvature=None, discretization: str = "se3",
                           band: Optional[float] = None,
                           frequency_tolerance: Optional[float] = None, *,
-                          start=None, fidelity: str = "nonlinear") -> FlexibleLink:
+                          start=None, fidelity: str = "nonlinear",
+                          mass: str = "lumped") -> FlexibleLink:
         """A flexible link of ``length`` [m] along the local x axis of its start frame, placed by
         ``start`` (a frame: the link's start coincides with it, its axis along the frame's x,
         e.g. ``start=body.frame_at((0.3, 0, 0))``) or ``pose`` (4x4, the pose of its start; give
@@ -189,10 +190,21 @@ class Mechanism:
         wrench. Right for a link whose first flexible frequency is far above the band of
         interest (docs/user_guide.md, "Model only what a scene needs"); it has no strain, so no
         stress resultants, and its ``properties``' stiffness and damping do not act (they are
-        still checked, so that one properties object serves both fidelities)."""
+        still checked, so that one properties object serves both fidelities).
+
+        ``mass`` (a nonlinear link's): ``"lumped"`` (each node carries the section inertia of
+        half of each adjacent element) or ``"consistent"`` (the kinetic energy of each element's
+        constant-strain field at the unstressed shape, blended half-way with the lumped one, which
+        couples neighbouring nodes; docs/method.md section 4.2, "Mass"). Consistent mass has no
+        leading dispersion error: at equal N its frequencies are several times more accurate (the
+        Table I cantilever at N = 21: within 0.1 % on five modes where lumped is 0.69 % off),
+        its energy balance stays exact, and each step costs more (docs/performance.md)."""
         if not isinstance(fidelity, str) or fidelity not in FIDELITIES:
             raise ModelError(f"link {name!r}: unknown fidelity {fidelity!r} (available: "
                              f"{', '.join(map(repr, FIDELITIES))})")
+        if not isinstance(mass, str) or mass not in ("lumped", "consistent"):
+            raise ModelError(f"link {name!r}: unknown mass {mass!r} (available: 'lumped', "
+                             f"'consistent')")
         if not isinstance(discretization, str) or discretization != "se3":
             raise ModelError(f"unknown discretization {discretization!r} (available: 'se3')")
         L = real("length", length)
@@ -269,7 +281,8 @@ class Mechanism:
             self._car.append(dict(M=Mk, mass=float(Mk[3, 3]), com=np.zeros(3), H0=H0[k],
                                   t0=np.zeros(6)))
         for k in range(N):
-            self._el.append(dict(a=first + k, b=first + k + 1, h=h, K=K, D=Dm, eps=eps))
+            self._el.append(dict(a=first + k, b=first + k + 1, h=h, K=K, D=Dm, eps=eps,
+                                 mass=mass, Ms=I))
         if given is not None:
             for k in range(N + 1):
                 self._given[first + k] = np.array(self._car[first + k]["H0"])
