@@ -38,6 +38,9 @@ typedef struct {
   double *H, *tw;   /* poses and twists projected (nc x 16, nc x 6): the start's, a restart's */
   double *qprev;    /* n: the state before a restart (quaternion signs, joint branches, ledger) */
   double *Lc;       /* nc x 36: Cholesky factors of the inertias                              */
+  int *lcfail;      /* nc: 1 where a carrier's inertia failed its Cholesky test                */
+  double *b1c;      /* 6 ncc: the constrained carriers' b1, kept for the dense path            */
+  double *cg;       /* 5 x 6 nc: conjugate gradients with consistent element masses (or NULL)  */
   double *acc;      /* 6 nc: accelerations t'                                                 */
   double *G, *X;    /* ncons x 6 ncc: G on the constrained carriers; M^-1 G^T (or dc/dt's G)  */
   double *A, *b;    /* least-squares matrix (the largest of the systems) and right-hand side  */

@@ -72,14 +72,15 @@ static void sparse_rate_of_constraint_rates(dae_t *d, double time, const double 
 }
 
 /* The acceleration level with S = G M^-1 G^T: lambda = S^-1 (b2 - G M^-1 b1), t' = M^-1 (b1 +
- * G^T lambda). acc holds b1 on entry (the constrained carriers' still unsolved). */
+ * G^T lambda). acc holds b1 on entry (the constrained carriers' still unsolved); homog: b2 = 0. */
 static phm_status sparse_acceleration(dae_t *d, double time, const double *H, const double *tw,
-                                      const double *xs) {
+                                      const double *xs, int homog) {
   const phm_model *m = d->m;
   dae_ic_work *w = &d->data.ic;
   int nk = m->ncons;
   double *acc = w->acc, *rhs = w->b;
-  sparse_rate_of_constraint_rates(d, time, H, tw, xs);
+  if (homog) memset(w->c1 + nk, 0, sizeof(double) * (size_t)nk);
+  else sparse_rate_of_constraint_rates(d, time, H, tw, xs);
   ic_schur_rows(d, H, xs, time, NULL, NULL);
   if (ic_schur_factor(d, 1)) return PHM_ESINGULAR;
   for (int k = 0; k < w->ncc; k++) phm_chol6_solve(w->Lc + 36 * w->clist[k], acc + 6 * w->clist[k]);
@@ -129,9 +130,10 @@ static phm_status dense_positions_velocities(dae_t *d, double time, double *H, d
 }
 
 /* spd: the Schur complement densely (minimum-norm lambda for redundant rows); otherwise (a
- * constrained carrier's inertia is singular) the KKT system of the constrained carriers. */
+ * constrained carrier's inertia is singular) the KKT system of the constrained carriers.
+ * homog: b2 = 0. */
 static phm_status dense_acceleration(dae_t *d, double time, const double *H, const double *tw,
-                                     const double *xs, int spd, phm_error *err) {
+                                     const double *xs, int spd, int homog, phm_error *err) {
   const phm_model *m = d->m;
   dae_ic_work *w = &d->data.ic;
   int nk = m->ncons, ncc = w->ncc, n6c = 6 * ncc, Nk = n6c + nk, nc = m->nc;
@@ -160,7 +162,7 @@ static phm_status dense_acceleration(dae_t *d, double time, const double *H, con
     }
   }
   double *b2 = c1 + nk; /* reuse: b2 = -dc/dt */
-  for (int r = 0; r < nk; r++) b2[r] = -(c1[r] - c1[nk + r]) / (2 * tau);
+  for (int r = 0; r < nk; r++) b2[r] = homog ? 0.0 : -(c1[r] - c1[nk + r]) / (2 * tau);
   if (spd) {
     /* X = M^-1 G^T (n6c x nk, row-major); S = G X; rhs = b2 - G M^-1 b1 */
     for (int k = 0; k < ncc; k++) {
@@ -228,6 +230,122 @@ static phm_status singular_here(double time, phm_error *err) {
   return PHM_FAIL(err, PHM_ESINGULAR, "consistent initial values at t = %.6g s: the constraint rows are dependent at this configuration (a singular position of the mechanism: a dead point, aligned axes)", time);
 }
 
+/* The acceleration level with the carriers' own inertias (w->Lc, their Cholesky factors;
+ * w->lcfail: those that failed it): acc holds b1 on entry, t' on exit, with lambda in w->lam,
+ * G t' = b2 (homog: 0). A free carrier solves its own 6x6 block (minimum-norm if its inertia is
+ * singular); the constrained ones the Schur complement sparsely, or densely where it is singular
+ * (or spd = 0: a constrained carrier's inertia is singular, the KKT system). */
+static phm_status accel_carriers(dae_t *d, double time, const double *H, const double *tw,
+                                 const double *xs, int spd, int homog, phm_error *err) {
+  const phm_model *m = d->m;
+  dae_ic_work *w = &d->data.ic;
+  int nc = m->nc, nk = m->ncons;
+  double *acc = w->acc;
+  phm_status st;
+  for (int c = 0; c < nc; c++) {
+    if (w->cmap[c] >= 0 && nk > 0) continue;
+    if (!w->lcfail[c]) phm_chol6_solve(w->Lc + 36 * c, acc + 6 * c);
+    else { /* free carrier with singular inertia: minimum-norm solution of its own block */
+      double Mc[36], bc[6];
+      memcpy(Mc, m->car[c].M, sizeof Mc);
+      memcpy(bc, acc + 6 * c, sizeof bc);
+      if ((st = phm_lstsq_in(6, 6, Mc, bc, NULL, &w->ls, err))) return st;
+      memcpy(acc + 6 * c, bc, sizeof bc);
+    }
+  }
+  if (nk == 0) return PHM_OK;
+  /* a failed sparse solve may leave M^-1 b1 in acc: b1 is kept for the dense path */
+  for (int k = 0; k < w->ncc; k++) memcpy(w->b1c + 6 * k, acc + 6 * w->clist[k], 6 * sizeof(double));
+  st = spd ? sparse_acceleration(d, time, H, tw, xs, homog) : PHM_ESINGULAR;
+  if (st == PHM_ESINGULAR) {
+    for (int k = 0; k < w->ncc; k++) memcpy(acc + 6 * w->clist[k], w->b1c + 6 * k, 6 * sizeof(double));
+    st = w->dense ? dense_acceleration(d, time, H, tw, xs, spd, homog, err) : singular_here(time, err);
+  }
+  return st;
+}
+
+/* y = M x with the consistent elements' couplings (csrc/model/element.c, phm_element_mass). */
+static void coupled_mass_mv(const phm_model *m, const double *x, double *y) {
+  for (int c = 0; c < m->nc; c++) phm_mv6(m->car[c].M, x + 6 * c, y + 6 * c);
+  for (int k = 0; k < m->nmc; k++) {
+    const phm_element_desc *e = &m->el[m->mc_el[k]];
+    const double *Mc = m->mc + 144 * (size_t)k;
+    int ab[2] = {e->a, e->b};
+    for (int i = 0; i < 12; i++) {
+      double s = 0;
+      for (int j = 0; j < 12; j++) s += Mc[12 * i + j] * x[6 * ab[j / 6] + j % 6];
+      y[6 * ab[i / 6] + i % 6] += s;
+    }
+  }
+}
+
+/* r = M_l z: the residual r less its component G^T mu in the constraints' range, which the
+ * lumped solve z = P r left out (M_l z = r + G^T mu). Replacing r by it keeps r^T z = z^T M_l z
+ * non-negative; without it the range component grows with the iterations and r^T z, swamped by
+ * mu^T G z at round-off, went negative before convergence (Gould, Hribar & Nocedal's residual
+ * update). */
+static void lumped_residual(const phm_model *m, const double *z, double *r) {
+  for (int c = 0; c < m->nc; c++) phm_mv6(m->car[c].M, z + 6 * c, r + 6 * c);
+}
+
+/* The acceleration level with the consistent elements' mass couplings: the mass M = M_l + the
+ * couplings is no longer block-diagonal, and M^-1 is dense, so the Schur complement is not
+ * sparse. Projected preconditioned conjugate gradients (Gould, Hribar & Nocedal 2001): from the
+ * lumped solution (accel_carriers, which meets G t' = b2), CG on the constraint manifold with the
+ * lumped solve (b2 = 0) as preconditioner and projector; M is symmetric positive definite, so it
+ * converges, in few iterations where M_l^-1 M is well clustered. lambda from the last residual:
+ * M t' - b1 = G^T lambda. acc holds b1 on entry (the carriers' parts; the couplings' gyroscopic
+ * terms are added here). */
+static phm_status accel_coupled(dae_t *d, double time, const double *H, const double *tw,
+                                const double *xs, int spd, phm_error *err) {
+  const phm_model *m = d->m;
+  dae_ic_work *w = &d->data.ic;
+  size_t n6 = 6 * (size_t)m->nc;
+  double *acc = w->acc, *b1 = w->cg, *x = b1 + n6, *r = x + n6, *p = r + n6, *q = p + n6;
+  phm_status st;
+  static const double zero[6];
+  for (int k = 0; k < m->nmc; k++) { /* b1 -= the couplings' terms at t' = 0: -ad*_t (Mc t) */
+    const phm_element_desc *e = &m->el[m->mc_el[k]];
+    double f[12];
+    phm_element_inertia(m->mc + 144 * (size_t)k, tw + 6 * e->a, tw + 6 * e->b, zero, zero, 0.0, f, NULL);
+    for (int i = 0; i < 6; i++) acc[6 * e->a + i] -= f[i], acc[6 * e->b + i] -= f[6 + i];
+  }
+  memcpy(b1, acc, sizeof(double) * n6);
+  if ((st = accel_carriers(d, time, H, tw, xs, spd, 0, err))) return st;
+  memcpy(x, acc, sizeof(double) * n6);
+  coupled_mass_mv(m, x, q);
+  for (size_t i = 0; i < n6; i++) r[i] = b1[i] - q[i];
+  memcpy(acc, r, sizeof(double) * n6);
+  if ((st = accel_carriers(d, time, H, tw, xs, spd, 1, err))) return st;
+  lumped_residual(m, acc, r);
+  memcpy(p, acc, sizeof(double) * n6);
+  double rz = phm_dot(r, acc, (int)n6), rz0 = rz, xmx = phm_dot(x, q, (int)n6);
+  int it = 0, maxit = 10 * (int)n6 + 100;
+  /* converged when the energy norm of the preconditioned residual is 1e-14 of the solution's */
+  for (; rz > 1e-28 * fmax(xmx, rz0) && rz > 0; it++) {
+    if (it == maxit)
+      return PHM_FAIL(err, PHM_ESOLVER, "consistent initial values at t = %.6g s: the accelerations with consistent element masses did not converge in %d conjugate-gradient iterations", time, maxit);
+    coupled_mass_mv(m, p, q);
+    double pq = phm_dot(p, q, (int)n6);
+    if (!(pq > 0)) return PHM_FAIL(err, PHM_ESINGULAR, "consistent initial values at t = %.6g s: the mass with consistent elements is not positive definite on the constraint manifold", time);
+    double alpha = rz / pq;
+    for (size_t i = 0; i < n6; i++) x[i] += alpha * p[i], r[i] -= alpha * q[i];
+    memcpy(acc, r, sizeof(double) * n6);
+    if ((st = accel_carriers(d, time, H, tw, xs, spd, 1, err))) return st;
+    lumped_residual(m, acc, r);
+    double rzn = phm_dot(r, acc, (int)n6), beta = rzn / rz;
+    rz = rzn;
+    for (size_t i = 0; i < n6; i++) p[i] = acc[i] + beta * p[i];
+  }
+  /* the final residual, exactly, and its lumped solve: t' += z (G z = 0), lambda */
+  coupled_mass_mv(m, x, q);
+  for (size_t i = 0; i < n6; i++) acc[i] = b1[i] - q[i];
+  if ((st = accel_carriers(d, time, H, tw, xs, spd, 1, err))) return st;
+  for (size_t i = 0; i < n6; i++) acc[i] += x[i];
+  return PHM_OK;
+}
+
+
 /* Project poses H (nc x 16) onto g = 0 and twists tw onto G t = vt (minimum-norm corrections);
  * then solve the acceleration-level system for t' and lambda. Writes y (carrier blocks and lambda,
  * mu = 0) and yp (all but the ledger values in y, which the caller sets). qprev: previous
@@ -261,32 +379,13 @@ phm_status dae_consistent_ic(dae_t *d, double time, double *H, double *tw, const
     phm_mv6(M, tw + 6 * c, Mt);
     phm_ad_dual_apply(tw + 6 * c, Mt, adm);
     for (int i = 0; i < 6; i++) acc[6 * c + i] = adm[i] + d->data.wr[6 * c + i];
-    if (phm_chol6(M, 0.0, 1e-10, Lc + 36 * c)) {
-      if (cmap[c] >= 0 && nk > 0) spd = 0;
-      else { /* free carrier with singular inertia: minimum-norm solution of its own block */
-        double Mc[36], bc[6];
-        memcpy(Mc, M, sizeof Mc);
-        memcpy(bc, acc + 6 * c, sizeof bc);
-        if ((st = phm_lstsq_in(6, 6, Mc, bc, NULL, &w->ls, err))) goto done;
-        memcpy(acc + 6 * c, bc, sizeof bc);
-      }
-    } else if (cmap[c] < 0 || nk == 0) phm_chol6_solve(Lc + 36 * c, acc + 6 * c);
+    w->lcfail[c] = phm_chol6(M, 0.0, 1e-10, Lc + 36 * c) != 0;
+    if (w->lcfail[c] && cmap[c] >= 0 && nk > 0) spd = 0;
   }
-  if (nk > 0) {
-    st = spd ? sparse_acceleration(d, time, H, tw, xs) : PHM_ESINGULAR;
-    if (st == PHM_ESINGULAR) {
-      if (spd) /* a failed solve may have left M^-1 b1 in acc: b1 again for the dense path */
-        for (int k = 0; k < w->ncc; k++) {
-          int c = w->clist[k];
-          double Mt[6], adm[6];
-          phm_mv6(m->car[c].M, tw + 6 * c, Mt);
-          phm_ad_dual_apply(tw + 6 * c, Mt, adm);
-          for (int i = 0; i < 6; i++) acc[6 * c + i] = adm[i] + d->data.wr[6 * c + i];
-        }
-      st = w->dense ? dense_acceleration(d, time, H, tw, xs, spd, err) : singular_here(time, err);
-    }
+  if (m->nmc == 0) {
+    st = accel_carriers(d, time, H, tw, xs, spd, 0, err);
     if (st) goto done;
-  }
+  } else if ((st = accel_coupled(d, time, H, tw, xs, spd, err))) goto done;
   /* write y and yp */
   for (int c = 0; c < nc; c++) {
     double *yc = y + PHM_NSTATE * c, *ypc = yp + PHM_NSTATE * c;

@@ -120,7 +120,7 @@ int dae_residual(dae_t *d, double time, const double *y, const double *yp, doubl
 void dae_free(dae_t *d) {
   phm_data *D = &d->data;
   dae_ic_work *w = &D->ic;
-  void *bufs[] = {D->H, D->tw, D->pair, D->wr, D->gl, D->gm, D->pport, D->eff, D->rtmp, w->cmap, w->clist, w->H, w->tw, w->qprev, w->Lc, w->acc, w->G,
+  void *bufs[] = {D->H, D->tw, D->pair, D->wr, D->gl, D->gm, D->pport, D->eff, D->rtmp, w->cmap, w->clist, w->H, w->tw, w->qprev, w->Lc, w->lcfail, w->b1c, w->cg, w->acc, w->G,
                   w->X, w->A, w->b, w->g, w->vt, w->c1, w->lam, w->Hp, w->res, d->colptr,
                   d->rowind};
   for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) free(bufs[i]);
@@ -171,6 +171,9 @@ static phm_status ic_alloc(dae_t *d, phm_error *err) {
   w->tw = malloc(sizeof(double) * 6 * nc);
   w->qprev = malloc(sizeof(double) * n);
   w->Lc = malloc(sizeof(double) * 36 * nc);
+  w->lcfail = malloc(sizeof(int) * nc);
+  w->b1c = malloc(sizeof(double) * (6 * (size_t)ncc + 1));
+  w->cg = m->nmc ? malloc(sizeof(double) * 30 * nc) : NULL;
   w->acc = malloc(sizeof(double) * 6 * nc);
   w->G = malloc(sizeof(double) * (ng + 1));
   w->X = malloc(sizeof(double) * (ng + 1));
@@ -182,7 +185,7 @@ static phm_status ic_alloc(dae_t *d, phm_error *err) {
   w->lam = malloc(sizeof(double) * (nk + 1));
   w->Hp = malloc(sizeof(double) * 16 * nc);
   w->res = malloc(sizeof(double) * n);
-  if (!w->H || !w->tw || !w->qprev || !w->Lc || !w->acc || !w->G || !w->X || !w->A || !w->b ||
+  if (!w->H || !w->tw || !w->qprev || !w->Lc || !w->lcfail || !w->b1c || (m->nmc && !w->cg) || !w->acc || !w->G || !w->X || !w->A || !w->b ||
       !w->g || !w->vt || !w->c1 || !w->lam || !w->Hp || !w->res)
     return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
   phm_status st = ic_schur_alloc(d, err);

@@ -7,7 +7,8 @@ Neither changes them. Rows are dicts (units: SI, poses 4x4, twists (omega, v), w
 - carriers: M (6x6 spatial inertia at the carrier frame), mass [kg], com [m, body coordinates],
   H0 (initial pose), t0 (initial body twist)
 - elements: a, b (carriers of nodes k, k+1), h [m], K, D (6x6 section stiffness and damping),
-  eps (unstressed strain (kappa [1/m], 1, 0, 0))
+  eps (unstressed strain (kappa [1/m], 1, 0, 0)), mass ("lumped" or "consistent"), Ms (6x6
+  section inertia per length, which a consistent element's coupling reads)
 - pairs: name, type (pairs.PairType code), pair (the Fixed, Revolute, ... object), k, a, b
   (carriers, -1 = ground), Ta, Tb (frame offsets, already turned to the joint axis), fa_name,
   fb_name (for messages), driven (a Motion), axis (twist), law (laws._Law or None), xlaws (None
@@ -80,6 +81,16 @@ class ModelDescription:
             return []
         first = self.first_element[link.name]
         return self.elements[first:first + link.elements]
+
+    def mass_couplings(self) -> dict:
+        """The consistent-mass elements' node carriers ``_coupled_nodes`` (ne, 2) and couplings
+        ``_couplings`` (ne, 12, 12) in their nodes' body twists, from the core's kernel
+        (phm_element_mass; what the simulation integrated), for a result's momentum."""
+        from . import _core
+        rows = [e for e in self.elements if e.get("mass", "lumped") == "consistent"]
+        return dict(_coupled_nodes=np.array([[e["a"], e["b"]] for e in rows], dtype=int).reshape(-1, 2),
+                    _couplings=np.array([_core.element_mass(e["h"], e["Ms"], e["eps"]) for e in rows],
+                                        dtype=float).reshape(-1, 12, 12))
 
     def port_names(self) -> list:
         """Names of the ports in the core's order: actuators, loads, springs."""

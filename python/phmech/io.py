@@ -569,6 +569,12 @@ def simulation_dataset(res):
         "com": (("model_carrier", "xyz"), res._com,
                 dict(units="m", long_name="centre of mass in carrier coordinates")),
     }
+    if res._couplings is not None and len(res._couplings):
+        data["coupled_nodes"] = (("coupled_element", "end"), res._coupled_nodes,
+                                 dict(long_name="node carriers of the consistent-mass elements"))
+        data["couplings"] = (("coupled_element", "twist_row", "twist_col"), res._couplings,
+                             dict(units="kg m^2, kg m, kg", long_name="consistent-mass couplings "
+                                  "in the nodes' body twists (phm_element_mass)"))
     kinds = list(res.energy)
     data["energy"] = (("time", "energy_kind"),
                       np.column_stack([res.energy[k] for k in kinds]) if kinds else np.zeros((nt, 0)),
@@ -710,7 +716,10 @@ def load_result(path):
         pair_wrenches=a("pair_wrenches"), _pairs=decode_value(meta["pairs"]),
         redundant_constraints=decode_value(meta["redundant"]),
         carriers=a("carrier") if meta["recorded"] else None,
-        _inertia=a("inertia"), _mass=a("mass"), _com=a("com"), _bodies=bodies)
+        _inertia=a("inertia"), _mass=a("mass"), _com=a("com"), _bodies=bodies,
+        _coupled_nodes=a("coupled_nodes").astype(int) if "coupled_nodes" in ds
+        else np.zeros((0, 2), dtype=int),
+        _couplings=a("couplings") if "couplings" in ds else np.zeros((0, 12, 12)))
 
 
 def simulation_dataframe(res):

@@ -952,7 +952,8 @@ class Mechanism:
                                 _inertia=np.array([c["M"] for c in self._car], dtype=float),
                                 _mass=np.array([c["mass"] for c in self._car], dtype=float),
                                 _com=np.array([c["com"] for c in self._car], dtype=float),
-                                _bodies=dict(self._bodies))
+                                _bodies=dict(self._bodies),
+                                **self._desc.mass_couplings())
 
     def _check_outputs(self, span: float, record) -> None:
         """ModelError when (t_end - t_start) / dt_out output times would take more than half the

@@ -122,6 +122,10 @@ class SimulationResult:
     _mass: np.ndarray = None
     _com: np.ndarray = None
     _bodies: dict = dataclasses.field(default_factory=dict)
+    #: consistent-mass elements: their node carriers (ne, 2) and mass couplings Mc (ne, 12, 12)
+    #: in the nodes' body twists (csrc/model/element.c, phm_element_mass; momentum adds them)
+    _coupled_nodes: np.ndarray = None
+    _couplings: np.ndarray = None
 
     def _frame(self, x) -> Frame:
         """A body, frame, link end or body's name as a Frame of the simulated mechanism."""
@@ -243,7 +247,8 @@ class SimulationResult:
         ``Momentum(linear, angular)``, each (nt, 3), in kg m/s and kg m^2/s.
 
         Each carrier (a rigid body, or a beam node with its lumped inertia) contributes its body
-        momentum (L_b, P_b) = M t, M its 6x6 spatial inertia about the carrier frame (centre of
+        momentum (L_b, P_b) = M t (plus, for the nodes of ``mass="consistent"`` elements, their
+        share Mc [t_a; t_b] of the element's coupling), M its 6x6 spatial inertia about the carrier frame (centre of
         mass possibly offset) and t = (omega, v) its body twist, moved to the world frame by the
         dual adjoint, (L, P) = Ad*_{H^-1} (L_b, P_b) with H = (R, p) the carrier's pose:
         P = R P_b, L = R L_b + (p - about) x P. So ``linear`` is sum m v_com and ``angular`` the
@@ -270,10 +275,18 @@ class SimulationResult:
                 raise ModelError(f"momentum: about must be a finite world point (3,) or one point "
                                  f"per output ({nt}, 3) [m] (got shape {a.shape})")
         cols = self._columns(cars)
+        col = dict(zip(cars, cols))
+        body = {c: self.twists[:, j] @ self._inertia[c].T for c, j in col.items()}
+        nodes = np.zeros((0, 2), int) if self._coupled_nodes is None else self._coupled_nodes
+        for (na, nb), Mc in zip(nodes, self._couplings if len(nodes) else ()):
+            if na in col and nb in col:   # a consistent element's share of its nodes' momenta
+                u = np.concatenate([self.twists[:, col[na]], self.twists[:, col[nb]]], 1) @ Mc.T
+                body[na] = body[na] + u[:, :6]
+                body[nb] = body[nb] + u[:, 6:]
         P = np.zeros((nt, 3))
         L = np.zeros((nt, 3))
-        for c, j in zip(cars, cols):          # per carrier, vectorized over time
-            mb = self.twists[:, j] @ self._inertia[c].T         # body momentum (L_b, P_b)
+        for c, j in col.items():              # per carrier, vectorized over time
+            mb = body[c]                      # body momentum (L_b, P_b)
             R = self.poses[:, j, :3, :3]
             Pw = np.einsum("nij,nj->ni", R, mb[:, 3:])
             P += Pw

@@ -1,9 +1,11 @@
 /* test_element.c -- csrc/model/element.c, the se3 beam element: its node wrenches against central
  * finite differences of its elastic energy, its power balance and dissipation, and
  * phm_model_stress_resultants against sigma = K (log(Ha^-1 Hb)/h - eps_hat) + D eps' computed
- * here (eps' by central differences). */
+ * here (eps' by central differences); the consistent mass (its rigid-motion energy, its
+ * gyroscopic terms' power). */
 #include "check.h"
 #include "model.h"
+#include "linalg.h"
 
 /* A random element: length in [0.1, 0.5), K and D symmetric positive definite, a curved
  * unstressed shape (kappa_x, kappa_z, stretch 1). */
@@ -196,6 +198,83 @@ static void element_tangent_is_the_derivative_of_its_wrenches(void) {
   }
 }
 
+/* The consistent mass (phm_element_mass): its helix part, Mc + diag(h/2 Ms, h/2 Ms) - (h/12) d^T
+ * Ms d, gives a rigidly moving element (t_b = Ad_{exp(-X)} t_a) the kinetic energy of its
+ * sections integrated here independently (composite Simpson, 400 intervals, of
+ * 1/2 (Ad_{exp(-s eps_hat)} t_a)^T Ms (...) over s in [0, h]); Mc is symmetric; the couplings'
+ * gyroscopic terms do no work: t . f = t . Mc t' (phm_element_inertia). */
+static void consistent_mass_is_the_helix_energy_and_its_gyroscopic_terms_do_no_work(void) {
+  for (int trial = 0; trial < 20; trial++) {
+    phm_element_desc e;
+    rand_element(&e);
+    rand_spd6(e.Ms, 1.0);
+    double Mc[144], X[6], E[16], AdE[36], ta[6], tb[6], t[12];
+    phm_element_mass(e.h, e.Ms, e.eps_hat, Mc);
+    double asym = 0;
+    for (int i = 0; i < 12; i++)
+      for (int j = 0; j < 12; j++) asym = fmax(asym, fabs(Mc[12 * i + j] - Mc[12 * j + i]));
+    check_worst("consistent mass Mc is symmetric", asym / maxabs(144, Mc), 0.0);
+    for (int i = 0; i < 6; i++) X[i] = e.h * e.eps_hat[i], ta[i] = rand11();
+    phm_se3_exp(X, E);
+    double Ei[16];
+    phm_se3_inverse(E, Ei);
+    phm_se3_Ad(Ei, AdE);
+    phm_mv6(AdE, ta, tb);
+    memcpy(t, ta, sizeof ta);
+    memcpy(t + 6, tb, sizeof tb);
+    /* the helix part's energy */
+    double Kh = 0, d[6];
+    for (int i = 0; i < 12; i++)
+      for (int j = 0; j < 12; j++) Kh += 0.5 * t[i] * Mc[12 * i + j] * t[j];
+    double Mta[6], Mtb[6];
+    phm_mv6(e.Ms, ta, Mta);
+    phm_mv6(e.Ms, tb, Mtb);
+    Kh += 0.25 * e.h * (phm_dot(ta, Mta, 6) + phm_dot(tb, Mtb, 6));
+    for (int i = 0; i < 3; i++) { /* d = t_b - Ad_{R0^T} t_a */
+      d[i] = tb[i] - (E[i] * ta[0] + E[4 + i] * ta[1] + E[8 + i] * ta[2]);
+      d[3 + i] = tb[3 + i] - (E[i] * ta[3] + E[4 + i] * ta[4] + E[8 + i] * ta[5]);
+    }
+    double Md[6];
+    phm_mv6(e.Ms, d, Md);
+    Kh -= 0.5 * e.h / 12.0 * phm_dot(d, Md, 6);
+    /* the sections' energy, Simpson */
+    int n = 400;
+    double Kref = 0;
+    for (int k = 0; k <= n; k++) {
+      double s = e.h * k / n, Y[6], G[16], Gi[16], Ad[36], ts[6], Mts[6];
+      for (int i = 0; i < 6; i++) Y[i] = s * e.eps_hat[i];
+      phm_se3_exp(Y, G);
+      phm_se3_inverse(G, Gi);
+      phm_se3_Ad(Gi, Ad);
+      phm_mv6(Ad, ta, ts);
+      phm_mv6(e.Ms, ts, Mts);
+      double wgt = (k == 0 || k == n) ? 1 : (k % 2 ? 4 : 2);
+      Kref += wgt * 0.5 * phm_dot(ts, Mts, 6);
+    }
+    Kref *= e.h / (3.0 * n);
+    check_worst("consistent mass: rigid motion's helix energy = sections' energy (Simpson)",
+                fabs(Kh - Kref) / Kref, 1e-10);
+    /* gyroscopic terms do no work */
+    double dta[6], dtb[6], f[12], u[12];
+    for (int i = 0; i < 6; i++) ta[i] = rand11(), tb[i] = rand11(), dta[i] = rand11(), dtb[i] = rand11();
+    phm_element_inertia(Mc, ta, tb, dta, dtb, 0.0, f, NULL);
+    memcpy(t, ta, sizeof ta);
+    memcpy(t + 6, tb, sizeof tb);
+    double td[12], P = 0, Pref = 0, scale = 0;
+    memcpy(td, dta, sizeof dta);
+    memcpy(td + 6, dtb, sizeof dtb);
+    for (int i = 0; i < 12; i++) {
+      u[i] = 0;
+      for (int j = 0; j < 12; j++) u[i] += Mc[12 * i + j] * td[j];
+      P += t[i] * f[i];
+      Pref += t[i] * u[i];
+      scale += fabs(t[i] * u[i]);
+    }
+    check_worst("consistent mass: t . f = d/dt (1/2 t^T Mc t)", fabs(P - Pref) / scale, 1e-13);
+  }
+}
+
 CHECK_MAIN(CHECK_CASE(element_wrenches_are_minus_energy_gradient_and_power_balances),
+           CHECK_CASE(consistent_mass_is_the_helix_energy_and_its_gyroscopic_terms_do_no_work),
            CHECK_CASE(stress_resultants_are_stiffness_times_strain_plus_damping_times_rate),
            CHECK_CASE(element_tangent_is_the_derivative_of_its_wrenches))

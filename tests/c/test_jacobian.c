@@ -3,7 +3,7 @@
  * bent, twisted and moving states with quaternions off the unit sphere (the residual normalizes
  * them). Per component: carriers alone (their kinematic and gyroscopic rows, in closed form),
  * se3 elements (closed form: the elastic, geometric and damping parts through the quaternion
- * chart), every pair type (closed form: rows, G^T lambda, G^T mu, joint rates; driven, with
+ * chart; consistent masses), every pair type (closed form: rows, G^T lambda, G^T mu, joint rates; driven, with
  * driven coordinates, with a dropped row), and a model with a spring-damper, an interaction and a
  * PD actuator too (phm_applied_tangent). Reference step 1e-6 (x max(1, |y_j|)): truncation
  * ~ 1e-12 and round-off ~ 1e-10 relative to entries of order 1..1e3, so the closed form is held
@@ -157,6 +157,14 @@ static void elements_are_closed_form(void) {
   for (int k = 0; k < 3; k++) {
     chain(&b, 5, 1);
     compare("J = central FD: 4 elements, bent, twisted, moving", &b, 1e-7);
+  }
+  for (int k = 0; k < 2; k++) { /* consistent masses: cj Mc and the couplings' gyroscopic terms */
+    chain(&b, 5, 1);
+    for (int e = 0; e < 4; e++) {
+      b.el[e].mass = PHM_MASS_CONSISTENT;
+      rand_spd6(b.el[e].Ms, 2.0);
+    }
+    compare("J = central FD: 4 elements with consistent mass, bent, twisted, moving", &b, 1e-7);
   }
 }
 
