@@ -65,6 +65,19 @@ static void galpha_residual(dae_t *d, galpha_t *g, double t0, double h) {
 
 /* dR/dy1 ~ alpha_f (dF/dy + cj dF/dy') on the differential block (cj = alpha_m / (alpha_f gamma h)),
  * dF/dy on the multiplier columns and on the constraint rows; dense copy when LS is dense. */
+/* Factor the iteration matrix A. SUNDIALS's KLU refactors each new matrix with the pivot order
+ * of its first factorization and, when that order meets a zero pivot, reports a failure without
+ * looking for another order; so a failure is retried once after SUNLinSol_KLUReInit, which makes
+ * the next setup analyse and factor afresh. Measured: with consistent element masses the
+ * manipulator's first step (tests/test_io.py) failed on the pivots of an earlier matrix at every
+ * step size down to 1e-7 s, and a fresh factorization of the same matrix succeeds. */
+static int factor_iteration_matrix(SUNLinearSolver LS, SUNMatrix A, int klu, long nnz) {
+  if (SUNLinSolSetup(LS, A) == PHM_SUN_SUCCESS) return 0;
+  if (!klu || SUNLinSol_KLUReInit(LS, A, (sunindextype)nnz, SUNKLU_REINIT_PARTIAL) != PHM_SUN_SUCCESS)
+    return 1;
+  return SUNLinSolSetup(LS, A) != PHM_SUN_SUCCESS;
+}
+
 static int galpha_jacobian(dae_t *d, galpha_t *g, double t0, double h, SUNMatrix Js, SUNMatrix A) {
   double cj = g->euler ? 1.0 / h : g->am / (g->af * g->gam * h);
   double af = stage_af(g);
@@ -284,7 +297,8 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
         galpha_residual(d, &g, t, h);
         out->nres++;
         if (hjac == 0) {
-          if (galpha_jacobian(d, &g, t, h, Js, A) || SUNLinSolSetup(LS, A) != PHM_SUN_SUCCESS) {
+          if (galpha_jacobian(d, &g, t, h, Js, A) ||
+              factor_iteration_matrix(LS, A, opt->linear_solver == 1, d->nnz)) {
             if (restart && !g.euler) break; /* redone as backward Euler below */
             if (adaptive) { /* a shorter step (Newton-failure path): fresh, so it halves */
               fresh = 1;

@@ -238,6 +238,11 @@ static void pairs_springs_loads_actuators_are_closed_form(void) {
   b.d.nactuators = 1;
   b.d.actuators = b.act;
   compare("J = central FD: elements, fixed, revolute with PD, spring, load, gravity", &b, 1e-7);
+  for (int e = 0; e < 4; e++) {
+    b.el[e].mass = PHM_MASS_CONSISTENT;
+    rand_spd6(b.el[e].Ms, 2.0);
+  }
+  compare("J = central FD: the same with consistent masses", &b, 1e-7);
 }
 
 CHECK_MAIN(CHECK_CASE(carriers_and_gravity_are_closed_form), CHECK_CASE(elements_are_closed_form),
