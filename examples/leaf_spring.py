@@ -135,8 +135,9 @@ def _weld(m, name, a_carrier, H_a, b_carrier, H_b, H_joint):
 def build(p: LeafSpringParams, elements: int = 10, beta: float = 1e-5, leaf_mass_scale: float = 1.0,
           axial_shear_scale: float = 1.0, body_rot_inertia_scale: float = 1.0,
           pulse: ph.Pulse | None = None, delta: float = 0.0, mounting: str = "clamp",
-          k_mount: float = K_MOUNT, mass: str = "lumped"):
-    """The mechanism. ``mass``: the leaves' mass ("lumped" or "consistent", see
+          k_mount: float = K_MOUNT, mass: str = "lumped", fidelity: str = "nonlinear"):
+    """The mechanism. ``mass``: the leaves' mass ("lumped" or "consistent"), ``fidelity`` the
+    leaves' ("nonlinear", or "modal": each reduced onto its ends; see
     Mechanism.add_flexible_link). ``beta`` [s]: stiffness-proportional material damping D = beta K.
     ``leaf_mass_scale`` scales the leaves' inertia (tiny: massless leaves), ``axial_shear_scale``
     scales EA, kGA_y, kGA_z (large: inextensible, shear-rigid leaves), ``body_rot_inertia_scale``
@@ -164,8 +165,10 @@ def build(p: LeafSpringParams, elements: int = 10, beta: float = 1e-5, leaf_mass
     xs = (-p.spacing / 2, p.spacing / 2)
     H_start = [se3.translation([x, 0.0, 0.0]) @ Rleaf for x in xs]
     H_tip = [se3.translation([x, 0.0, p.L]) @ Rleaf for x in xs]
-    F1 = m.add_flexible_link("F1", p.L, props, elements=elements, pose=H_start[0], mass=mass)
-    F2 = m.add_flexible_link("F2", p.L, props, elements=elements, pose=H_start[1], mass=mass)
+    F1 = m.add_flexible_link("F1", p.L, props, elements=elements, pose=H_start[0], mass=mass,
+                             fidelity=fidelity)
+    F2 = m.add_flexible_link("F2", p.L, props, elements=elements, pose=H_start[1], mass=mass,
+                             fidelity=fidelity)
 
     ri = body_rot_inertia_scale
     b = p.block

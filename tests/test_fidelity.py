@@ -219,8 +219,8 @@ def test_rigid_link_frames_loads_results_io_and_drawing(tmp_path):
 # ---------------------------------------------------------------- (e) bad input
 def test_fidelity_bad_input():
     m = ph.Mechanism()
-    with pytest.raises(ph.ModelError, match="unknown fidelity 'modal'.*'nonlinear', 'rigid'"):
-        m.add_flexible_link("a", L, PROPS, fidelity="modal")
+    with pytest.raises(ph.ModelError, match="unknown fidelity 'model'.*'nonlinear', 'rigid', 'modal'"):
+        m.add_flexible_link("a", L, PROPS, fidelity="model")
     with pytest.raises(ph.ModelError, match="unknown fidelity"):
         m.add_flexible_link("a", L, PROPS, fidelity=None)
     with pytest.raises(ph.ModelError, match="elements must be an integer >= 1"):

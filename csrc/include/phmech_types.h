@@ -141,6 +141,8 @@ typedef struct {
   int mass;          /* phm_element_mass_kind                                             */
   double Ms[36];     /* section inertia per unit length (kg m, kg; as a carrier's M, per metre),
                       * read when mass = PHM_MASS_CONSISTENT                               */
+  double Mc[144];    /* mass = PHM_MASS_GIVEN: the coupling itself (symmetric; the nodes'
+                      * inertias plus it must be positive definite)                       */
 } phm_element_desc;
 
 /* How an element's own kinetic energy reaches its nodes (docs/method.md section 4.2, "Mass").
@@ -150,7 +152,9 @@ typedef struct {
  * its two nodes: the kinetic energy of its constant-strain (helix) field at the unstressed shape,
  * blended half-way with the lumped one. Constant in the body twists, so the energy balance stays
  * exact; its linearization has no leading dispersion error (docs/mass_matrix_study.md). */
-typedef enum { PHM_MASS_LUMPED = 0, PHM_MASS_CONSISTENT = 1 } phm_element_mass_kind;
+/* GIVEN: the coupling Mc of the description (a reduced link's condensed mass, whose nodes are
+ * interface frames: python/phmech/fidelity.py). */
+typedef enum { PHM_MASS_LUMPED = 0, PHM_MASS_CONSISTENT = 1, PHM_MASS_GIVEN = 2 } phm_element_mass_kind;
 
 /* A pair type: a row of THE pair table (csrc/model/pair.c, the only place that defines pair
  * types; phm_pair_type(i) returns row i, phm_pair_type_count() the number of rows; Python builds its

@@ -125,10 +125,17 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
       return PHM_FAIL(err, PHM_EINVAL, "element %d: non-finite stiffness, damping or unstressed strain", i);
     if (!spd6(e->K, 0)) return PHM_FAIL(err, PHM_EINVAL, "element %d: section stiffness is not symmetric positive definite", i);
     if (!spd6(e->D, 1)) return PHM_FAIL(err, PHM_EINVAL, "element %d: section damping is not symmetric positive semidefinite", i);
-    if (e->mass != PHM_MASS_LUMPED && e->mass != PHM_MASS_CONSISTENT)
-      return PHM_FAIL(err, PHM_EINVAL, "element %d: unknown mass kind %d (0 lumped, 1 consistent)", i, e->mass);
+    if (e->mass != PHM_MASS_LUMPED && e->mass != PHM_MASS_CONSISTENT && e->mass != PHM_MASS_GIVEN)
+      return PHM_FAIL(err, PHM_EINVAL, "element %d: unknown mass kind %d (0 lumped, 1 consistent, 2 given)", i, e->mass);
     if (e->mass == PHM_MASS_CONSISTENT && (!phm_all_finite(e->Ms, 36) || !spd6(e->Ms, 0)))
       return PHM_FAIL(err, PHM_EINVAL, "element %d: consistent mass needs a finite, symmetric positive definite section inertia", i);
+    if (e->mass == PHM_MASS_GIVEN) {
+      if (!phm_all_finite(e->Mc, 144)) return PHM_FAIL(err, PHM_EINVAL, "element %d: non-finite mass coupling", i);
+      for (int r = 0; r < 12; r++)
+        for (int c = 0; c < r; c++)
+          if (fabs(e->Mc[12 * r + c] - e->Mc[12 * c + r]) > 1e-12 * (fabs(e->Mc[12 * r + c]) + fabs(e->Mc[12 * c + r])))
+            return PHM_FAIL(err, PHM_EINVAL, "element %d: the mass coupling is not symmetric", i);
+    }
   }
   for (int i = 0; i < d->npairs; i++) {
     const phm_pair_desc *p = &d->pairs[i];
@@ -233,7 +240,7 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   }
   memcpy(m->car, d->carriers, sizeof *m->car * (size_t)m->nc);
   if (m->ne) memcpy(m->el, d->elements, sizeof *m->el * (size_t)m->ne);
-  for (int i = 0; i < m->ne; i++) m->nmc += m->el[i].mass == PHM_MASS_CONSISTENT;
+  for (int i = 0; i < m->ne; i++) m->nmc += m->el[i].mass != PHM_MASS_LUMPED;
   m->mc_el = malloc(sizeof(int) * (size_t)(m->nmc + 1));
   m->mc = malloc(sizeof(double) * 144 * (size_t)(m->nmc + 1));
   if (!m->mc_el || !m->mc) {
@@ -242,10 +249,11 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
     return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
   }
   for (int i = 0, k = 0; i < m->ne; i++)
-    if (m->el[i].mass == PHM_MASS_CONSISTENT) {
+    if (m->el[i].mass != PHM_MASS_LUMPED) {
       const phm_element_desc *e = &m->el[i];
       m->mc_el[k] = i;
-      phm_element_mass(e->h, e->Ms, e->eps_hat, m->mc + 144 * (size_t)k++);
+      if (e->mass == PHM_MASS_GIVEN) memcpy(m->mc + 144 * (size_t)k++, e->Mc, 144 * sizeof(double));
+      else phm_element_mass(e->h, e->Ms, e->eps_hat, m->mc + 144 * (size_t)k++);
     }
   if (m->np) memcpy(m->pair, d->pairs, sizeof *m->pair * (size_t)m->np);
   for (int i = 0; i < m->np; i++) { /* constant: computed once, read by every pair evaluation */

@@ -32,9 +32,9 @@ struct phm_model {
   double *tables;   /* owned copies of the laws' tables (points, pieces, breakpoints) */
   phm_law *lawnodes; /* owned copies of the expression laws' nodes */
   double lref;      /* length scale for finite differences, m */
-  int nmc;          /* elements with a mass coupling (PHM_MASS_CONSISTENT)              */
+  int nmc;          /* elements with a mass coupling (CONSISTENT or GIVEN)              */
   int *mc_el;       /* nmc: their indices, ascending                                    */
-  double *mc;       /* nmc x 144: their couplings Mc (phm_element_mass), computed once  */
+  double *mc;       /* nmc x 144: their couplings Mc (phm_element_mass, or given), once  */
 };
 
 /* tref for the interval [t, ...): midpoint between t and the next breakpoint (or t + 1). */

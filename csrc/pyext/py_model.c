@@ -103,6 +103,7 @@ static const column element_columns[] = {
     VECTOR("eps_hat", "element unstressed strain", phm_element_desc, eps_hat, 6),
     INDEX("mass", "element mass kinds", phm_element_desc, mass, "mass kind of element"),
     MATRIX("Ms", "element section inertias", phm_element_desc, Ms, 6, 6),
+    MATRIX("Mc", "element mass couplings", phm_element_desc, Mc, 12, 12),
 };
 static const column pair_columns[] = {
     INDEX("type", "pair types", phm_pair_desc, type, "pair type of pair"),
@@ -1048,7 +1049,7 @@ PyMethodDef phm_py_model_methods[] = {
     {"model_new", (PyCFunction)(void (*)(void))py_model_new, METH_VARARGS | METH_KEYWORDS,
      "model_new(carriers, elements, pairs, loads, actuators, springs, gravity) -> model capsule "
      "(validated; raises ModelError). Each component kind is a dict of columns with one row per "
-     "component (keys: carriers mass, M, com, H0, t0; elements h, nodes, K, D, eps_hat, mass (0 lumped, 1 consistent), Ms; pairs "
+     "component (keys: carriers mass, M, com, H0, t0; elements h, nodes, K, D, eps_hat, mass (0 lumped, 1 consistent, 2 given), Ms, Mc; pairs "
      "type, carriers, Ta, Tb, driven, axis, law, pitch, x0, has_x0, drop; loads carrier, world, "
      "point, w, law, reaction; actuators pair, kind, vec, kp, kd, x_set, law; springs k, "
      "carriers, pa, pb, c, rest_length; pairs also xlaws: per pair None or one law or None "

@@ -42,7 +42,7 @@ _EXPR, _SUM, _PRODUCT, _CALLBACK = 9, 10, 11, 8
 #: phm_actuator_kind of each actuator kind of the description
 _ACTUATOR_KINDS = {"effort": 0, "pd": 1, "spring": 2}
 #: element mass kinds (csrc/include/phmech_types.h, phm_element_mass_kind)
-_MASS_KINDS = {"lumped": 0, "consistent": 1}
+_MASS_KINDS = {"lumped": 0, "consistent": 1, "given": 2}
 
 
 def _leaf(law: _Law) -> tuple:
@@ -133,7 +133,9 @@ def components(desc: ModelDescription, poses: np.ndarray, twists: np.ndarray, x0
                       D=_column(el, "D", (6, 6)), eps_hat=_column(el, "eps", (6,)),
                       mass=np.array([_MASS_KINDS[e.get("mass", "lumped")] for e in el], dtype=float),
                       Ms=np.array([e.get("Ms", np.zeros((6, 6))) for e in el],
-                                  dtype=float).reshape(-1, 6, 6)),
+                                  dtype=float).reshape(-1, 6, 6),
+                      Mc=np.array([e.get("Mc", np.zeros((12, 12))) for e in el],
+                                  dtype=float).reshape(-1, 12, 12)),
         pairs=dict(type=_column(pr, "type"), carriers=_ends(pr),
                    Ta=np.array(frames_a, dtype=float).reshape(-1, 4, 4), Tb=_column(pr, "Tb", (4, 4)),
                    driven=_column(pr, "driven"), axis=_column(pr, "axis", (6,)),

@@ -87,9 +87,10 @@ class ModelDescription:
         ``_couplings`` (ne, 12, 12) in their nodes' body twists, from the core's kernel
         (phm_element_mass; what the simulation integrated), for a result's momentum."""
         from . import _core
-        rows = [e for e in self.elements if e.get("mass", "lumped") == "consistent"]
+        rows = [e for e in self.elements if e.get("mass", "lumped") != "lumped"]
         return dict(_coupled_nodes=np.array([[e["a"], e["b"]] for e in rows], dtype=int).reshape(-1, 2),
-                    _couplings=np.array([_core.element_mass(e["h"], e["Ms"], e["eps"]) for e in rows],
+                    _couplings=np.array([e["Mc"] if e["mass"] == "given" else
+                                         _core.element_mass(e["h"], e["Ms"], e["eps"]) for e in rows],
                                         dtype=float).reshape(-1, 12, 12))
 
     def port_names(self) -> list:

@@ -8,8 +8,16 @@ the se3 chain's nodes have on the undeformed link, and a distributed load is its
 wrench (docs/method.md, "Rigid links"). Everything here is exact for a rigid body up to the
 quadrature, which is exact for a straight link and converged to round-off for a curved one.
 
-A modal (Craig-Bampton) fidelity would add its own builder here: a carrier for the boundary
-frames plus modal coordinates, with the same FlexibleLink face (``nodes`` + ``offsets``).
+``fidelity="modal"``: the link reduced to its interface frames, start and end (docs/method.md,
+"Modal links"): the linearization of its own se3 discretization (``elements``; free, at the
+unstressed shape, phmech's linearize: the same element and mass) condensed onto the two end
+nodes by its static modes (Guyan; Craig-Bampton with no fixed-interface mode). The reduced link
+is ONE se3 element between two carriers whose stiffness and damping reproduce the condensed ones
+exactly at the unstressed shape, and whose mass is the condensed mass as a constant coupling of
+the two carriers' body twists (csrc/include/phmech_types.h, PHM_MASS_GIVEN): port-Hamiltonian,
+its energy balance exact, and every large rigid motion exact. Linear in the deformation between
+its ends (no geometric stiffening); the link's own modes are represented only as far as the
+static modes carry them (fixed-interface modes are not implemented).
 """
 from __future__ import annotations
 
@@ -18,7 +26,7 @@ import numpy as np
 from . import se3
 
 #: the fidelities add_flexible_link accepts
-FIDELITIES = ("nonlinear", "rigid")
+FIDELITIES = ("nonlinear", "rigid", "modal")
 
 # composite Gauss-Legendre: 5 points per segment, segments of at most _MAX_TURN rad of the
 # unstressed curvature (error ~ (0.2)^10 / 10! of the integrand: round-off)
@@ -73,3 +81,40 @@ def distributed_resultant(L: float, eps: np.ndarray, q: np.ndarray, world: bool)
         return np.concatenate([np.zeros(3), q * L]), np.einsum("n,ni->i", w, p) / L
     f = np.einsum("nij,j->ni", G[:, :3, :3], q)
     return np.concatenate([np.einsum("n,ni->i", w, np.cross(p, f)), w @ f]), np.zeros(3)
+
+
+def static_reduction(length: float, properties, elements: int, eps: np.ndarray, mass: str) -> dict:
+    """The modal link of a flexible link (module doc): its ``elements``-element se3 chain, free and
+    unstressed, linearized by phmech (stiffness K, damping D, mass M in the nodes' body
+    perturbations), condensed onto its end nodes by the static modes T = [I; -K_ii^-1 K_ib]:
+    K_B = T^T K T, D_B, M_B (12 x 12 on (start, end)). K_c, D_c = the (end, end) blocks: the end's
+    stiffness and damping against the start held, in the perturbation xi = log(T0^-1 H_a^-1 H_b)
+    of the end relative to the start carried rigidly (T0 = exp(X0), X0 = length eps). One se3
+    element of length L with unstressed strain eps has, at the unstressed shape, the strain
+    L d(eps) = dexp_{-X0}^-1 d(xi); so its section stiffness K = L dexp_{-X0}^T K_c dexp_{-X0}
+    (and D likewise) gives it exactly K_c. Returns the element's ``K``, ``D``, the carriers'
+    inertias ``M_start``, ``M_end`` (M_B's diagonal blocks) and the coupling ``Mc`` (M_B less
+    them), and the condensed matrices ``K_B``, ``M_B``."""
+    from .mechanism import Mechanism
+    m = Mechanism()
+    kap = np.asarray(eps[:3], dtype=float)
+    m.add_flexible_link("link", length, properties, elements=elements, mass=mass,
+                        curvature=None if not np.any(kap) else kap)
+    lin = m.linearize()
+    K, D, M = lin.stiffness, lin.damping, lin.mass
+    n = K.shape[0]
+    b = np.r_[0:6, n - 6:n]
+    i = np.r_[6:n - 6]
+    T = np.zeros((n, 12))
+    T[b, np.arange(12)] = 1.0
+    if i.size:
+        T[i] = -np.linalg.solve(K[np.ix_(i, i)], K[np.ix_(i, b)])
+    sym = lambda X: 0.5 * (X + X.T)
+    K_B, D_B, M_B = (sym(T.T @ X @ T) for X in (K, D, M))
+    X0 = length * np.asarray(eps, dtype=float)
+    E = se3.dexp(-X0)
+    Mc = M_B.copy()
+    Mc[:6, :6] = 0.0
+    Mc[6:, 6:] = 0.0
+    return dict(K=sym(length * E.T @ K_B[6:, 6:] @ E), D=sym(length * E.T @ D_B[6:, 6:] @ E),
+                M_start=M_B[:6, :6].copy(), M_end=M_B[6:, 6:].copy(), Mc=Mc, K_B=K_B, M_B=M_B)

@@ -111,8 +111,9 @@ class FlexibleLink:
     ``fidelity`` (phmech.fidelity): ``"nonlinear"``, every node its own carrier (``offsets``
     None: each node frame is its carrier's frame), or ``"rigid"``, the whole link ONE carrier
     (every entry of ``nodes`` the same index) and the node frames fixed ``offsets``
-    (elements + 1, 4, 4) on it, where the nonlinear link's nodes sit on the undeformed link.
-    Results read a node's pose as its carrier's pose times its offset (:meth:`node_poses`),
+    (elements + 1, 4, 4) on it, where the nonlinear link's nodes sit on the undeformed link, or
+    ``"modal"``, the link statically reduced onto its ends: two carriers, one element
+    (``elements`` = 1, ``reduced_from`` the discretization reduced). Results read a node's pose as its carrier's pose times its offset (:meth:`node_poses`),
     so they need not tell the two apart."""
     name: str
     length: float
@@ -121,6 +122,9 @@ class FlexibleLink:
     mesh: Optional["MeshChoice"] = None
     fidelity: str = "nonlinear"
     offsets: Optional[np.ndarray] = dataclasses.field(default=None, compare=False)
+    #: a modal link: the number of se3 elements it was reduced from (its face is ONE element
+    #: between its two interface frames, start and end; phmech.fidelity)
+    reduced_from: Optional[int] = None
 
     @property
     def rigid(self) -> bool:
@@ -155,6 +159,10 @@ class FlexibleLink:
         n = len(self.nodes)
         if isinstance(k, bool) or not isinstance(k, (int, np.integer)):
             raise ModelError(f"link {self.name!r}: node index must be an integer (got {k!r})")
+        if not -n <= k < n and self.fidelity == "modal":
+            raise ModelError(f"link {self.name!r} is modal: its frames are its interfaces, start "
+                             f"(node 0) and end (node 1); got node({k}) (a frame inside it needs "
+                             f"fidelity='nonlinear')")
         if not -n <= k < n:
             raise ModelError(f"link {self.name!r} has nodes 0..{n - 1} ({self.elements} elements; "
                              f"negative indices -{n}..-1 count from the end); got node({k})")

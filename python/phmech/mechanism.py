@@ -27,7 +27,8 @@ from ._checks import array, choice, integer, per_coordinate, positive, positive_
 from ._core import ModelError, SolverError
 from .actuators import PD, Effort, Spring, actuator_row
 from .description import ModelDescription
-from .fidelity import FIDELITIES, distributed_resultant, node_offsets, rigid_link_inertia
+from .fidelity import (FIDELITIES, distributed_resultant, node_offsets, rigid_link_inertia,
+                       static_reduction)
 from .frames import Body, FlexibleLink, Frame, frame_of, link_of, rotation
 from .graphs import Graphs, mechanism_graphs
 from .laws import (Constant, Cycloidal, Function, Linear, Motion, PiecewisePolynomial, Product,
@@ -192,7 +193,18 @@ class Mechanism:
         stress resultants, and its ``properties``' stiffness and damping do not act (they are
         still checked, so that one properties object serves both fidelities).
 
-        ``mass`` (a nonlinear link's): ``"lumped"`` (each node carries the section inertia of
+        ``fidelity="modal"``: the link reduced onto its two ends (interface frames ``start``
+        and ``end``; no ``node(k)`` inside): its ``elements``-element se3 chain (the band chooses
+        it as for a nonlinear link) linearized at the unstressed shape and condensed by its
+        static modes (Guyan reduction; phmech.fidelity, docs/method.md "Modal links"), kept as
+        one element whose stiffness, damping and mass are the condensed ones. Exact for the
+        link's linear statics between its ends and for any large rigid motion; its dynamics
+        carry the link's inertia through the static shapes, right while the link's own modes
+        lie well above the band (measured: the leaf spring's first frequency within 1e-7 of the
+        full links', docs/user_guide.md); no geometric stiffening (keep "nonlinear" for large
+        deflections, fast spin), no gravity and no distributed load on it (ModelError).
+
+        ``mass`` (a nonlinear link's, or the discretization a modal one is reduced from): ``"lumped"`` (each node carries the section inertia of
         half of each adjacent element) or ``"consistent"`` (the kinetic energy of each element's
         constant-strain field at the unstressed shape, blended half-way with the lumped one, which
         couples neighbouring nodes; docs/method.md section 4.2, "Mass"). Consistent mass has no
@@ -271,6 +283,8 @@ class Mechanism:
                                 offsets=node_offsets(L, N, eps))
             self._links[name] = link
             return link
+        if fidelity == "modal":
+            return self._add_modal_link(name, L, properties, N, eps, I, H0, given, choice, mass)
         self._new_name(name)
         first = len(self._car)
         self._desc.first_element[name] = len(self._el)
@@ -287,6 +301,36 @@ class Mechanism:
             for k in range(N + 1):
                 self._given[first + k] = np.array(self._car[first + k]["H0"])
         link = FlexibleLink(name, L, N, list(range(first, first + N + 1)), choice)
+        self._links[name] = link
+        return link
+
+    def _add_modal_link(self, name, L, properties, N, eps, I, H0, given, choice, mass) -> FlexibleLink:
+        """add_flexible_link(fidelity="modal"): two carriers (start, end) and one se3 element
+        carrying the link's statically reduced stiffness, damping and mass (phmech.fidelity)."""
+        with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):
+            try:
+                red = static_reduction(L, properties, N, eps, mass)
+            except np.linalg.LinAlgError:
+                red = None
+        ok = red is not None and all(np.all(np.isfinite(red[k])) for k in ("K", "D", "Mc", "M_start", "M_end"))
+        if not (ok and positive_definite(red["K"], cholesky=True) and positive_definite(red["M_B"], cholesky=True)
+                and positive_definite(red["M_start"], cholesky=True) and positive_definite(red["M_end"], cholesky=True)):
+            raise ModelError(f"link {name!r}: its static reduction ({N} elements onto its ends) is not "
+                             f"finite and positive definite in double precision (length {L:g} m with "
+                             f"these properties)")
+        self._new_name(name)
+        first = len(self._car)
+        self._desc.first_element[name] = len(self._el)
+        self._desc.link_strain[name] = eps
+        half = 0.5 * float(I[3, 3]) * L            # gravity's masses; gravity is refused (see _build)
+        for k, Mk in ((0, red["M_start"]), (N, red["M_end"])):
+            self._car.append(dict(M=Mk, mass=half, com=np.zeros(3), H0=H0[k], t0=np.zeros(6)))
+        self._el.append(dict(a=first, b=first + 1, h=L, K=red["K"], D=red["D"], eps=eps,
+                             mass="given", Mc=red["Mc"], Ms=I))
+        if given is not None:
+            self._given[first] = np.array(H0[0])
+            self._given[first + 1] = np.array(H0[N])
+        link = FlexibleLink(name, L, 1, [first, first + 1], choice, fidelity="modal", reduced_from=N)
         self._links[name] = link
         return link
 
@@ -616,6 +660,10 @@ class Mechanism:
                              f"got {link!r}")
         q = array(f"distributed load {name!r}: force_per_length", force_per_length, (3,),
                   "3 finite numbers [N/m]")
+        if link.fidelity == "modal":
+            raise ModelError(f"distributed load {name!r}: link {link.name!r} is modal (reduced onto "
+                             f"its ends): a distributed load on it would act only at its two ends; "
+                             f"use fidelity='nonlinear' for it")
         if link.rigid:   # its resultant wrench, exact for a rigid body (phmech.fidelity)
             w, pt = distributed_resultant(link.length, self._desc.link_unstressed_strain(link), q,
                                           frame == "world")
@@ -714,6 +762,11 @@ class Mechanism:
         """The core model of this mechanism at its initial configuration, with ``extra_loads``
         (load rows) after its own: built once per call, or none when finding the initial
         configuration built it."""
+        modal = [lk.name for lk in self._links.values() if lk.fidelity == "modal"]
+        if modal and np.any(self._desc.gravity):
+            raise ModelError(f"link {modal[0]!r} is modal: gravity on a statically reduced link would "
+                             f"act only on its two ends, which is not its distributed weight; use "
+                             f"fidelity='nonlinear' (or 'rigid') under gravity")
         state, model = self._initial_state(extra_loads)
         if model is None:
             model = _marshal.core_model(self._desc, state.poses, state.twists, state.x0,

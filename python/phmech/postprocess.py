@@ -35,6 +35,11 @@ def stress_resultants(desc: ModelDescription, model, result: SimulationResult, l
         raise ModelError(f"stress_resultants: link {link.name!r} is rigid (fidelity='rigid'): it "
                          f"has no strain, so no stress resultants; the pairs' constraint wrenches "
                          f"(result.joint(name)['wrench']) give the forces at its ends")
+    if link.fidelity == "modal":
+        raise ModelError(f"stress_resultants: link {link.name!r} is modal (reduced onto its ends): "
+                         f"its one element's strain is the end-to-end deformation, not a section's; "
+                         f"the pairs' constraint wrenches (result.joint(name)['wrench']) give the "
+                         f"forces at its ends")
     cols = result._columns(link.nodes)
     nt, nc = len(result.t), len(desc.carriers)
     first = desc.first_element[link.name]
