@@ -272,10 +272,7 @@ class Mechanism:
                 raise ModelError(f"link {name!r}: the rigid link's spatial inertia (length {L:g} m, "
                                  f"these properties) is not finite and positive definite in "
                                  f"double precision")
-            self._new_name(name)
-            c = len(self._car)
-            self._desc.first_element[name] = len(self._el)
-            self._desc.link_strain[name] = eps
+            c = self._start_link(name, eps)
             self._car.append(dict(M=M, mass=mass, com=com, H0=H0[0], t0=np.zeros(6)))
             if given is not None:
                 self._given[c] = np.array(H0[0])
@@ -285,10 +282,7 @@ class Mechanism:
             return link
         if fidelity == "modal":
             return self._add_modal_link(name, L, properties, N, eps, I, H0, given, choice, mass)
-        self._new_name(name)
-        first = len(self._car)
-        self._desc.first_element[name] = len(self._el)
-        self._desc.link_strain[name] = eps
+        first = self._start_link(name, eps)
         for k in range(N + 1):
             share = h if 0 < k < N else h / 2
             Mk = I * share
@@ -304,6 +298,14 @@ class Mechanism:
         self._links[name] = link
         return link
 
+    def _start_link(self, name: str, eps: np.ndarray) -> int:
+        """Claim a link's name and record where its elements start and its unstressed strain;
+        returns the index its first carrier will have."""
+        self._new_name(name)
+        self._desc.first_element[name] = len(self._el)
+        self._desc.link_strain[name] = eps
+        return len(self._car)
+
     def _add_modal_link(self, name, L, properties, N, eps, I, H0, given, choice, mass) -> FlexibleLink:
         """add_flexible_link(fidelity="modal"): two carriers (start, end) and one se3 element
         carrying the link's statically reduced stiffness, damping and mass (phmech.fidelity)."""
@@ -318,10 +320,7 @@ class Mechanism:
             raise ModelError(f"link {name!r}: its static reduction ({N} elements onto its ends) is not "
                              f"finite and positive definite in double precision (length {L:g} m with "
                              f"these properties)")
-        self._new_name(name)
-        first = len(self._car)
-        self._desc.first_element[name] = len(self._el)
-        self._desc.link_strain[name] = eps
+        first = self._start_link(name, eps)
         half = 0.5 * float(I[3, 3]) * L            # gravity's masses; gravity is refused (see _build)
         for k, Mk in ((0, red["M_start"]), (N, red["M_end"])):
             self._car.append(dict(M=Mk, mass=half, com=np.zeros(3), H0=H0[k], t0=np.zeros(6)))
