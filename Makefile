@@ -136,6 +136,7 @@ bench: build
 	$(PY) benchmarks/run.py $(BENCH_ARGS)
 	$(PY) benchmarks/bench_scaling.py $(BENCH_ARGS)
 	$(PY) benchmarks/bench_leaf_spring.py $(BENCH_ARGS)
+	$(PY) benchmarks/bench_modal.py $(BENCH_ARGS)
 	$(PY) benchmarks/mass_matrix_study.py
 
 clean:
