@@ -22,6 +22,7 @@ static modes carry them (fixed-interface modes are not implemented).
 from __future__ import annotations
 
 import numpy as np
+from scipy.linalg import eigh
 
 from . import se3
 
@@ -116,5 +117,55 @@ def static_reduction(length: float, properties, elements: int, eps: np.ndarray, 
     Mc = M_B.copy()
     Mc[:6, :6] = 0.0
     Mc[6:, 6:] = 0.0
+    # the link's first frequency held at its start: the scale of its validity (modal_validity)
+    ev = eigh(K[6:, 6:], M[6:, 6:], eigvals_only=True, subset_by_index=[0, 0])
     return dict(K=sym(length * E.T @ K_B[6:, 6:] @ E), D=sym(length * E.T @ D_B[6:, 6:] @ E),
-                M_start=M_B[:6, :6].copy(), M_end=M_B[6:, 6:].copy(), Mc=Mc, K_B=K_B, M_B=M_B)
+                M_start=M_B[:6, :6].copy(), M_end=M_B[6:, 6:].copy(), Mc=Mc, K_B=K_B, M_B=M_B,
+                omega_clamped=float(np.sqrt(max(ev[0], 0.0))))
+
+
+#: Southwell's coefficient of a uniform cantilever's first bending mode: spinning at Omega about
+#: an axis through its root, omega^2 = omega_0^2 + 1.19 Omega^2 (centrifugal stiffening)
+SOUTHWELL = 1.19
+
+
+def modal_validity(result, link, T0: np.ndarray, tolerance: float) -> list:
+    """What a simulation asked of a modal link beyond what it models (docs/method.md section
+    4.10): messages for the AccuracyWarning of Mechanism.simulate. ``T0``: the unstressed pose
+    of its end on its start, exp(L eps_hat); ``tolerance``: the relative frequency error the
+    Mechanism accepts.
+
+    - spin: the link's rotation rate Omega (its start's, the largest over the run) against its
+      first frequency held at its start, omega_1: centrifugal stiffening, which a modal link
+      lacks, raises that frequency by sqrt(1 + 1.19 (Omega/omega_1)^2) - 1 (Southwell's
+      coefficient for a uniform cantilever); warned when that exceeds ``tolerance``;
+    - deflection: the end's rotation and displacement relative to the start carried rigidly,
+      theta and |u|/L: the reduction is linear in them, its error of order their square;
+      warned when max(theta, |u|/L)^2 exceeds ``tolerance``."""
+    a, b = link.nodes[0], link.nodes[-1]
+    try:
+        cols = result._columns([a, b])
+    except Exception:   # noqa: BLE001 -- the link was not recorded: nothing to check
+        return []
+    out = []
+    om1 = link.clamped_frequency * 2.0 * np.pi
+    spin = float(np.max(np.linalg.norm(result.twists[:, cols[0], :3], axis=1)))
+    rise = np.sqrt(1.0 + SOUTHWELL * (spin / om1) ** 2) - 1.0
+    if rise > tolerance:
+        out.append(f"modal link {link.name!r} spins at up to {spin:.3g} rad/s, {spin / om1:.3g} "
+                   f"times its first frequency held at its start ({om1:.3g} rad/s): the "
+                   f"centrifugal stiffening a modal link leaves out raises that frequency by about "
+                   f"{100 * rise:.3g} % (above the tolerance {tolerance:g}); use "
+                   f"fidelity='nonlinear' for it")
+    Ha, Hb = result.poses[:, cols[0]], result.poses[:, cols[1]]
+    rel = np.linalg.inv(Ha @ T0) @ Hb
+    c = np.clip((np.trace(rel[:, :3, :3], axis1=1, axis2=2) - 1.0) / 2.0, -1.0, 1.0)
+    theta = float(np.max(np.arccos(c)))
+    u = float(np.max(np.linalg.norm(rel[:, :3, 3], axis=1))) / link.length
+    big = max(theta, u)
+    if big * big > tolerance:
+        out.append(f"modal link {link.name!r} deflects by up to {theta:.3g} rad and {u:.3g} of its "
+                   f"length between its ends: a modal link is linear in that deflection, its "
+                   f"error of order {big * big:.2g} (above the tolerance {tolerance:g}); use "
+                   f"fidelity='nonlinear' for it")
+    return out

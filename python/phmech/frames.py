@@ -125,6 +125,9 @@ class FlexibleLink:
     #: a modal link: the number of se3 elements it was reduced from (its face is ONE element
     #: between its two interface frames, start and end; phmech.fidelity)
     reduced_from: Optional[int] = None
+    #: a modal link: its first frequency [Hz] held at its start (the scale against which
+    #: Mechanism.simulate checks its spin; phmech.fidelity.modal_validity)
+    clamped_frequency: Optional[float] = None
 
     @property
     def rigid(self) -> bool:

@@ -27,8 +27,8 @@ from ._checks import array, choice, integer, per_coordinate, positive, positive_
 from ._core import ModelError, SolverError
 from .actuators import PD, Effort, Spring, actuator_row
 from .description import ModelDescription
-from .fidelity import (FIDELITIES, distributed_resultant, node_offsets, rigid_link_inertia,
-                       static_reduction)
+from .fidelity import (FIDELITIES, distributed_resultant, modal_validity, node_offsets,
+                       rigid_link_inertia, static_reduction)
 from .frames import Body, FlexibleLink, Frame, frame_of, link_of, rotation
 from .graphs import Graphs, mechanism_graphs
 from .laws import (Constant, Cycloidal, Function, Linear, Motion, PiecewisePolynomial, Product,
@@ -329,7 +329,8 @@ class Mechanism:
         if given is not None:
             self._given[first] = np.array(H0[0])
             self._given[first + 1] = np.array(H0[N])
-        link = FlexibleLink(name, L, 1, [first, first + 1], choice, fidelity="modal", reduced_from=N)
+        link = FlexibleLink(name, L, 1, [first, first + 1], choice, fidelity="modal", reduced_from=N,
+                            clamped_frequency=red["omega_clamped"] / (2.0 * np.pi))
         self._links[name] = link
         return link
 
@@ -961,6 +962,11 @@ class Mechanism:
                 unsaved = f"; the checkpoint could not be written: {e}"
         if not r["error"]:
             _run.warn_if_inaccurate(result.stats)
+            for lk in self._links.values():
+                if lk.fidelity == "modal":
+                    T0 = se3.exp(lk.length * self._desc.link_unstressed_strain(lk))
+                    for msg in modal_validity(result, lk, T0, self.frequency_tolerance):
+                        warnings.warn(msg, AccuracyWarning, stacklevel=2)
         if r["error"]:
             t_last = f"{result.t[-1]:.6g} s" if len(result.t) else "the start"
             err = SolverError(f"{r['error']} (the trajectory up to {t_last} is in this error's "
