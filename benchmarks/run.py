@@ -6,13 +6,15 @@
    against the Timoshenko frequency equation (``phmech.timoshenko.frequencies``) vs number of
    first-order states and vs CPU time, for phmech ``se3`` (3-D), phmech ``mixed`` (planar, linear),
    Exudyn's 2-D and 3-D geometrically exact beams, its ANCF cable and MuJoCo's cable (the last two
-   against their own continuum models; benchmarks/peers.py).
+   against their own continuum models; benchmarks/peers.py); phmech ``se3`` with lumped (the
+   default) and with consistent element mass (``add_flexible_link(mass="consistent")``).
 2. ``transient``: the Table I cantilever (``table1_properties(1.0)``) bent by a static tip force
    3 EI / (4 L^2) (tip ~ 0.24 L) and released at rest; tip (x, z) over ``T`` seconds sampled every
-   5 ms; error = max over samples of |tip - reference| / L. Reference: phmech ``se3`` at rtol 1e-10
+   5 ms; error = max over samples of |tip - reference| / L. Reference: phmech ``se3``, IDA at rtol 1e-10
    on N_ref/2 and N_ref elements, Richardson-extrapolated (second order in h); its self-convergence
    is stored. Sweeps: phmech N x rtol with IDA (every state in the error test; the configuration
-   error test) and N x step with the fixed-step generalized-alpha integrator; Exudyn's 2-D beam
+   error test) and N x step with the fixed-step generalized-alpha integrator, the last two with
+   lumped and with consistent element mass; Exudyn's 2-D beam
    N x step size (generalized-alpha, spectral radius 1 and 0.9), its 3-D beam and ANCF cable,
    MuJoCo's cable.
 
@@ -174,11 +176,11 @@ def exudyn_settings(sparse: bool):
     return ss
 
 
-def phmech_cantilever(N: int):
+def phmech_cantilever(N: int, mass: str = "lumped"):
     import phmech as ph
     from phmech.section import table1_properties
     m = ph.Mechanism()
-    b = m.add_flexible_link("b", TABLE1["L"], table1_properties(1.0), elements=N)
+    b = m.add_flexible_link("b", TABLE1["L"], table1_properties(1.0), elements=N, mass=mass)
     m.add_pair("clamp", ph.Fixed(), m.ground, b.start)
     return m, b
 
@@ -203,6 +205,8 @@ def bench_modes(quick: bool) -> dict:
     Ns = [3, 5, 9, 15, 21, 40, 80] if quick else [3, 5, 9, 15, 21, 40, 80, 160]
     reps = 1 if quick else 3   # (1 for N >= 80, see below)
     fns = {"phmech_se3": (studies.se3_frequencies, lambda N: 12 * N),
+           "phmech_se3_consistent": (lambda N, n: studies.se3_frequencies(N, n, mass="consistent"),
+                                     lambda N: 12 * N),
            "phmech_mixed": (studies.mixed_frequencies, lambda N: 4 * N),
            "exudyn_ge2d": (exudyn_frequencies, lambda N: 6 * N),
            "exudyn_ge3d": (peers.exudyn_ge3d_frequencies, lambda N: 12 * N),
@@ -226,6 +230,13 @@ def bench_modes(quick: bool) -> dict:
     fronts = {nm: pareto([r["cpu_s"] for r in rs], [r["max_abs_rel_error"] or np.nan for r in rs])
               for nm, rs in runs.items()}
     levels = [1e-1, 3e-2, 1e-2, 3e-3, 1e-3]
+    # consistent mass: the max error over modes 1-5 is not monotone in N (modes 3-5 go from above
+    # the exact value on coarse meshes to below it on fine ones, so one coarse mesh can sit near
+    # that crossing); its front is also given over the meshes from which the error only decreases
+    rs_c = runs["phmech_se3_consistent"]
+    e_c = [r["max_abs_rel_error"] or np.inf for r in rs_c]
+    tail = next(i for i in range(len(e_c)) if all(a > b for a, b in zip(e_c[i:], e_c[i + 1:])))
+    front_c_tail = pareto([r["cpu_s"] for r in rs_c[tail:]], e_c[tail:])
 
     def over(peer):   # CPU(se3) / CPU(peer) at equal error (each against its own reference)
         r = {}
@@ -241,6 +252,8 @@ def bench_modes(quick: bool) -> dict:
                                                + str(ref["exudyn_ancf"].tolist()),
                                 "mujoco_cable": "Rayleigh beam (rotary inertia, no shear): "
                                                 + str(ref["mujoco_cable"].tolist())},
+               mass_note="phmech_se3: lumped element mass (the default); phmech_se3_consistent: "
+                         "add_flexible_link(mass='consistent') (docs/mass_matrix_study.md, d6)",
                states_note="first-order states: se3 12 per free node (3-D), mixed 4N (planar), "
                            "Exudyn GE2D 6 per free node (planar), Exudyn GE3D 12 per free node (3-D), "
                            "Exudyn ANCF cable 8 per free node (planar), MuJoCo cable 6 per segment (3 ball dofs)",
@@ -253,6 +266,11 @@ def bench_modes(quick: bool) -> dict:
                           "in-plane dofs), so its CPU time is of that script, not of a MuJoCo modal solver",
                machine=machine(), runs=runs,
                cpu_ratio_at_equal_error={"se3_over_exudyn": ratios(fronts["phmech_se3"], fronts["exudyn_ge2d"], levels),
+                                         "se3_consistent_over_exudyn": ratios(fronts["phmech_se3_consistent"],
+                                                                              fronts["exudyn_ge2d"], levels),
+                                         "se3_consistent_over_exudyn_monotone_meshes": dict(
+                                             ratios(front_c_tail, fronts["exudyn_ge2d"], levels),
+                                             N_from=rs_c[tail]["N"]),
                                          "mixed_over_exudyn": ratios(fronts["phmech_mixed"], fronts["exudyn_ge2d"], levels),
                                          "se3_over_exudyn_ge3d": over("exudyn_ge3d"),
                                          "se3_over_exudyn_ancf_vs_EB": over("exudyn_ancf"),
@@ -284,11 +302,12 @@ def plot_modes(out):
 
 
 # ------------------------------------------------------------------ 2. transient
-def phmech_transient(N: int, rtol: float, solver: str, T: float, **options):
-    """(cpu_s incl. static, simulation cpu_s, t, tip (nt, 2) = (x, z), stats); ``options`` go to
-    ``Mechanism.simulate`` (error_test, integrator, step, rho_inf)."""
+def phmech_transient(N: int, rtol: float, solver: str, T: float, mass: str = "lumped", **options):
+    """(cpu_s incl. static, simulation cpu_s, t, tip (nt, 2) = (x, z), stats); ``mass`` is the
+    link's element mass; ``options`` go to ``Mechanism.simulate`` (error_test, integrator, step,
+    rho_inf)."""
     t0 = time.process_time()
-    m, b = phmech_cantilever(N)
+    m, b = phmech_cantilever(N, mass)
     st = m.static(loads=[(b.end, (0, 0, 0, 0, 0, -F_TIP), "world")], steps=4)
     t1 = time.process_time()
     r = m.simulate(T, DT_OUT, rtol=rtol, initial=st, linear_solver=solver, **options)
@@ -316,30 +335,35 @@ def bench_transient(quick: bool) -> dict:
     T = 0.5 if quick else 1.0
     Nref = 40 if quick else 80
     rref = 1e-10
-    print(f"transient: reference phmech se3 N={Nref // 2},{Nref} rtol {rref:g} over {T} s ...", flush=True)
+    print(f"transient: reference phmech se3 N={Nref // 2},{Nref} IDA rtol {rref:g} over {T} s ...", flush=True)
+    # IDA with every state in its error test: rtol then bounds the time error (the default
+    # integrator's steps stop at its band's floor, 1/(20 band) = 0.5 ms here, whatever rtol)
     ref = {}
     for N in (Nref // 2, Nref):
-        c, _, t, tip, stats = phmech_transient(N, rref, "klu", T)
+        c, _, t, tip, stats = phmech_transient(N, rref, "klu", T, integrator="ida")
         ref[N] = (t, tip, c, stats)
         print(f"  N={N}: CPU {c:.1f} s, {stats['steps']} steps", flush=True)
-    c, _, t, tip_r8, _ = phmech_transient(Nref, 1e-8, "klu", T)
+    c, _, t, tip_r8, _ = phmech_transient(Nref, 1e-8, "klu", T, integrator="ida")
+    # an independent discretization of the same beam: consistent element mass on N_ref elements
+    _, _, t_c, tip_c, _ = phmech_transient(Nref, rref, "klu", T, "consistent", integrator="ida")
     t_ref = ref[Nref][0]
     ref_tip = ref[Nref][1] + (ref[Nref][1] - ref[Nref // 2][1]) / 3.0      # Richardson, order 2
     selfconv = dict(
         space_N_half_vs_N=tip_error(ref[Nref // 2][0], ref[Nref // 2][1], t_ref, ref[Nref][1]),
         richardson_correction=tip_error(t_ref, ref[Nref][1], t_ref, ref_tip),
-        time_rtol_1em8_vs_1em10=tip_error(t_ref, tip_r8, t_ref, ref[Nref][1]))
+        time_rtol_1em8_vs_1em10=tip_error(t_ref, tip_r8, t_ref, ref[Nref][1]),
+        consistent_mass_N_vs_reference=tip_error(t_c, tip_c, t_ref, ref_tip))
     print(f"  self-convergence: {selfconv}", flush=True)
 
     runs = []
     ph_N = [5, 10, 20] if quick else [5, 10, 20, 40]
 
-    def phmech_point(variant, N, rtol, solver="klu", **options):
-        c, cs, t, tip, stats = phmech_transient(N, rtol, solver, T, **options)
+    def phmech_point(variant, N, rtol, solver="klu", mass="lumped", **options):
+        c, cs, t, tip, stats = phmech_transient(N, rtol, solver, T, mass, **options)
         e = tip_error(t, tip, t_ref, ref_tip)
-        runs.append(dict(code="phmech", variant=variant, N=N, rtol=rtol, cpu_s=c, sim_cpu_s=cs,
+        runs.append(dict(code="phmech", variant=variant, N=N, rtol=rtol, mass=mass, cpu_s=c, sim_cpu_s=cs,
                          error=e, stats=stats, **options))
-        print(f"  phmech {variant:14s} N={N:3d} rtol {rtol:.0e} {options.get('step', '')}: err {e:.2e}, "
+        print(f"  phmech {variant:25s} N={N:3d} rtol {rtol:.0e} {options.get('step', '')}: err {e:.2e}, "
               f"CPU {c:.3f} s, {stats['steps']} steps, {stats['nonlinear_iters']} Newton, "
               f"{stats['jacobian_evals']} jac", flush=True)
 
@@ -348,15 +372,22 @@ def bench_transient(quick: bool) -> dict:
         for rtol in [1e-3, 1e-4, 1e-6, 1e-8]:
             for solver in (["klu", "dense"] if N <= 10 and rtol == 1e-6 else ["klu"]):
                 phmech_point(f"se3-ida-{solver}", N, rtol, solver, integrator="ida")
+    # phmech's two best routes (the next two) also with consistent element mass, on the same
+    # grids, each consistent point right after its lumped twin (the same machine load)
+    masses = (("lumped", ""), ("consistent", "-consistent"))
     # IDA, twists out of the error test (BDF order <= 2)
     for N in ph_N:
         for rtol in [1e-3, 1e-4, 1e-5, 1e-6]:
-            phmech_point("se3-ida-config", N, rtol, error_test="configuration", integrator="ida")
+            for mass, suffix in masses:
+                phmech_point("se3-ida-config" + suffix, N, rtol, mass=mass, error_test="configuration",
+                             integrator="ida")
     # fixed-step generalized-alpha (rho_inf 0.9, as Exudyn's default); rtol = Newton tolerance
     for N in ph_N + ([] if quick else [80]):
         for h in [1e-2, 5e-3, 2e-3, 1e-3, 5e-4]:
             for rtol in [1e-4, 1e-6]:
-                phmech_point("se3-galpha", N, rtol, integrator="generalized-alpha", step=h, rho_inf=0.9)
+                for mass, suffix in masses:
+                    phmech_point("se3-galpha" + suffix, N, rtol, mass=mass, integrator="generalized-alpha",
+                                 step=h, rho_inf=0.9)
     ex_N = [5, 10, 20, 40] if quick else [5, 10, 20, 40, 80]
     ex_h = [5e-3, 1e-3, 2.5e-4] if quick else [5e-3, 2e-3, 1e-3, 5e-4, 2.5e-4, 1e-4]
     for rho in (1.0, 0.9):
@@ -401,28 +432,51 @@ def bench_transient(quick: bool) -> dict:
     def front(pred):
         rs = [r for r in runs if pred(r) and "error" in r]
         return pareto([r["cpu_s"] for r in rs], [r["error"] for r in rs])
-    fph = front(lambda r: r["code"] == "phmech")
+    # phmech's best front over its default (lumped) mass, as in the earlier runs; consistent apart
+    fph = front(lambda r: r["code"] == "phmech" and r["mass"] == "lumped")
+    fph_c = front(lambda r: r["code"] == "phmech" and r["mass"] == "consistent")
     fex = front(lambda r: r["code"] == "exudyn" and r["variant"].startswith("ge2d"))
     levels = [3e-2, 1e-2, 3e-3, 1e-3, 3e-4]
     by_variant = {}
     for v in sorted({r["variant"] for r in runs if r["code"] == "phmech"}):
         by_variant[v] = ratios(front(lambda r, v=v: r["variant"] == v), fex, levels)
+    # what consistent mass costs on the same grid point (N, rtol, step), consistent / lumped
+    key = lambda r: (r["N"], r["rtol"], r.get("step"))                           # noqa: E731
+    same_grid = {}
+    for v in ("se3-ida-config", "se3-galpha"):
+        lumped = {key(r): r for r in runs if r["variant"] == v}
+        pairs = [(lumped[key(r)], r) for r in runs if r["variant"] == v + "-consistent" and key(r) in lumped]
+        same_grid[v] = {q: float(np.median([c[q] / a[q] for a, c in pairs])) for q in ("cpu_s", "sim_cpu_s")}
+        same_grid[v].update(steps=float(np.median([c["stats"]["steps"] / a["stats"]["steps"] for a, c in pairs])),
+                            pairs=len(pairs))
     by_peer = {f"{code}-{variant}": ratios(fph, front(lambda r, v=variant: r["variant"] == v), levels)
                for code, variant, *_ in peer_grid}
     out = dict(problem=f"Table I cantilever (table1_properties(1.0)) released from static tip force "
                        f"{F_TIP:.1f} N; tip (x,z) every {DT_OUT} s over {T} s",
                error="max_t |tip - tip_ref| / L",
-               reference=dict(code="phmech se3 KLU", N=[Nref // 2, Nref], rtol=rref,
+               reference=dict(code="phmech se3 KLU", integrator="ida", error_test="all", N=[Nref // 2, Nref], rtol=rref,
                               atol="rtol * 1e-2 (phmech default)",
                               extrapolation="Richardson, tip_ref = tip_N + (tip_N - tip_N/2)/3",
                               cpu_s=[ref[Nref // 2][2], ref[Nref][2]], self_convergence=selfconv),
                cpu_note="cpu_s includes model build and the static solution; sim_cpu_s the time integration only",
-               machine=machine(), runs=runs, pareto_phmech=fph, pareto_exudyn=fex,
+               machine=machine(), runs=runs, pareto_phmech=fph, pareto_phmech_consistent=fph_c,
+               pareto_exudyn=fex,
                cpu_ratio_at_equal_error=ratios(fph, fex, levels),
+               cpu_ratio_at_equal_error_consistent=ratios(fph_c, fex, levels),
+               # levels above the consistent front's least accurate point have no ratio (None):
+               # that point already reaches them, so its CPU bounds the ratio from above
+               cpu_ratio_at_equal_error_consistent_at_most={
+                   f"{e:.0e}": dict(phmech_cpu_s=fph_c[0][0], phmech_error=fph_c[0][1],
+                                    exudyn_cpu_s=cpu_at_error(fex, e),
+                                    ratio_at_most=fph_c[0][0] / cpu_at_error(fex, e))
+                   for e in levels if fph_c and e > fph_c[0][1] and cpu_at_error(fex, e) is not None},
                cpu_ratio_at_equal_error_by_phmech_variant=by_variant,
+               consistent_over_lumped_same_grid_median=same_grid,
                cpu_ratio_phmech_best_over_peer=by_peer,
                ratio_note="cpu_ratio_at_equal_error* are phmech / Exudyn GE2D (ratio > 1: phmech slower); "
-                          "cpu_ratio_phmech_best_over_peer compares phmech's best front with each other peer")
+                          "cpu_ratio_at_equal_error and pareto_phmech: phmech's lumped-mass routes (the default), "
+                          "*_consistent: its consistent-mass routes (variants *-consistent); "
+                          "cpu_ratio_phmech_best_over_peer compares phmech's best lumped front with each other peer")
     write_json("bench_transient", out)
     plot_transient(out, t_ref, ref_tip)
     return out
@@ -437,7 +491,7 @@ def plot_transient(out, t_ref, ref_tip):
     variants = sorted({(r["code"], r["variant"]) for r in out["runs"]})
     for k, (code, var) in enumerate(variants):
         rs = [r for r in out["runs"] if r["variant"] == var and r["code"] == code and "error" in r]
-        col = f"C{k % 10}"
+        col = plt.cm.tab20(k % 20)
         ph = code == "phmech"
         ax[0].loglog([r["cpu_s"] for r in rs], [r["error"] for r in rs], "o" if ph else "s",
                      color=col, ms=3, alpha=0.5)

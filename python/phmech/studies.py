@@ -29,29 +29,32 @@ def mixed_frequencies(N: int, n: int = 5, beam: dict = TABLE1) -> np.ndarray:
 
 
 def se3_cantilever(N: int, properties: BeamProperties | None = None, length: float = 1.0,
-                   damping: np.ndarray | None = None) -> tuple[Mechanism, object]:
+                   damping: np.ndarray | None = None, mass: str = "lumped") -> tuple[Mechanism, object]:
     """A cantilever of the nonlinear ``se3`` link along x, clamped at its start to the ground.
 
     ``properties`` default to :func:`phmech.table1_properties` (bending in the x-z plane carries
-    Table I; the other directions are made much stiffer). Returns ``(mechanism, link)``.
+    Table I; the other directions are made much stiffer); ``mass`` is the link's mass model
+    (``"lumped"`` or ``"consistent"``, :meth:`Mechanism.add_flexible_link`). Returns
+    ``(mechanism, link)``.
     """
     props = table1_properties() if properties is None else properties
     if damping is not None:
         props = BeamProperties(stiffness=props.stiffness, inertia=props.inertia, damping=damping)
     m = Mechanism()
-    link = m.add_flexible_link("beam", length, props, elements=N)
+    link = m.add_flexible_link("beam", length, props, elements=N, mass=mass)
     m.add_pair("clamp", Fixed(), m.ground, link.start)
     return m, link
 
 
-def se3_frequencies(N: int, n: int = 5) -> np.ndarray:
-    """First ``n`` cantilever frequencies [rad/s] of the ``se3`` link (Table I), N elements.
+def se3_frequencies(N: int, n: int = 5, mass: str = "lumped") -> np.ndarray:
+    """First ``n`` cantilever frequencies [rad/s] of the ``se3`` link (Table I), N elements, with
+    the element mass ``mass`` (``"lumped"`` or ``"consistent"``).
 
     The 3-D model's lowest modes are the x-z bending modes of Table I because the other
     directions of :func:`phmech.table1_properties` are 10^4 times stiffer; this is checked: every
     returned mode must be dominated by z translation and y rotation.
     """
-    m, _ = se3_cantilever(N)
+    m, _ = se3_cantilever(N, mass=mass)
     res = m.modes(n)
     shapes = res.shapes  # (n, ncarriers, 6): (rx, ry, rz, x, y, z)
     in_plane = np.sum(shapes[:, :, [1, 5]] ** 2, axis=(1, 2)) / np.sum(shapes ** 2, axis=(1, 2))
