@@ -509,7 +509,8 @@ def _links_meta(links: dict) -> dict:
     return {lk.name: dict(length=lk.length, elements=lk.elements, nodes=list(lk.nodes),
                           mesh=None if lk.mesh is None else dataclasses.asdict(lk.mesh),
                           fidelity=lk.fidelity,
-                          offsets=None if lk.offsets is None else np.asarray(lk.offsets).tolist())
+                          offsets=None if lk.offsets is None else np.asarray(lk.offsets).tolist(),
+                          reduced_from=lk.reduced_from, clamped_frequency=lk.clamped_frequency)
             for lk in links.values()}
 
 
@@ -523,7 +524,8 @@ def _links_from(meta: dict) -> dict:
         offsets = d.get("offsets")
         out[name] = FlexibleLink(name, d["length"], d["elements"], list(d["nodes"]), mesh,
                                  d.get("fidelity", "nonlinear"),
-                                 None if offsets is None else np.array(offsets, dtype=float))
+                                 None if offsets is None else np.array(offsets, dtype=float),
+                                 d.get("reduced_from"), d.get("clamped_frequency"))
     return out
 
 
