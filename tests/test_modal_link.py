@@ -174,3 +174,48 @@ def test_a_spin_up_shows_the_modal_links_error_and_phmech_warns():
                for m in w_modal)
     assert any("deflects by up to" in m for m in w_modal)
     assert not any("modal link" in m for m in w_full)
+
+
+def test_a_modal_links_centre_of_mass_is_the_links():
+    """At rest a curved modal link's centre of mass (the carriers' halves at the unstressed
+    link's centre of mass) is the rigid link's (the section integral along the arc), and its
+    mass the link's."""
+    props = table1_properties()
+    out = {}
+    for fid in ("modal", "rigid"):
+        m = ph.Mechanism()
+        m.add_flexible_link("c", 1.0, props, elements=8, fidelity=fid, curvature=(0, 0, 2.0))
+        r = m.simulate(0.002, 1e-3)
+        out[fid] = (r.centre_of_mass()[0], r.mass())
+    np.testing.assert_allclose(out["modal"][0], out["rigid"][0], rtol=0, atol=1e-12)
+    assert out["modal"][1] == pytest.approx(out["rigid"][1], rel=1e-12)
+
+
+def test_a_modal_link_with_its_own_modes_in_the_band_warns():
+    """A free Table I link sized for a 30 Hz band has two of its own modes in it (7.85 and
+    18.9 Hz with the nonlinear link): a modal link drops them, and says so."""
+    m = ph.Mechanism(band=30.0)
+    with pytest.warns(ph.AccuracyWarning, match="has 2 of its own .* modes in the band 30 Hz"):
+        lk = m.add_flexible_link("b", 1.0, table1_properties(), fidelity="modal")
+    assert lk.mesh is None and lk.reduced_from > 1
+
+
+def test_a_result_file_keeps_the_modal_link(tmp_path):
+    m = kicked_modal_strip()
+    r = m.simulate(0.004, 1e-3)
+    r.to_netcdf(tmp_path / "r.nc")
+    back = ph.load_result(tmp_path / "r.nc")
+    lk = m._links["s"]
+    np.testing.assert_array_equal(back.positions(lk), r.positions(lk))
+    np.testing.assert_array_equal(back.momentum(lk).linear, r.momentum(lk).linear)
+
+
+def test_a_modal_link_reduced_from_a_consistent_chain_conserves_momentum():
+    strip = ph.BeamProperties.from_material(ph.Section.rectangle(0.02, 0.002),
+                                            ph.Material(E=210e9, nu=0.3, density=7850.0))
+    m = ph.Mechanism()
+    lk = m.add_flexible_link("s", 0.5, strip, elements=8, fidelity="modal", mass="consistent")
+    m.add_wrench("kick", lk.end, (0, 0, 0, *KICK_F), law=ph.Pulse(t0=0.0, duration=KICK_T))
+    r = m.simulate(0.01, 1e-3, integrator="ida", rtol=1e-9)
+    P = r.momentum().linear[r.t >= KICK_T - 1e-12]
+    assert np.max(np.linalg.norm(P - KICK_F * KICK_T, axis=1)) <= 1e-9 * np.linalg.norm(KICK_F * KICK_T)

@@ -322,7 +322,7 @@ static phm_status accel_coupled(dae_t *d, double time, const double *H, const do
   double rz = phm_dot(r, acc, (int)n6), rz0 = rz, xmx = phm_dot(x, q, (int)n6);
   int it = 0, maxit = 10 * (int)n6 + 100;
   /* converged when the energy norm of the preconditioned residual is 1e-14 of the solution's */
-  for (; rz > 1e-28 * fmax(xmx, rz0) && rz > 0; it++) {
+  for (; rz > 1e-28 * fmax(xmx, rz0); it++) {
     if (it == maxit)
       return PHM_FAIL(err, PHM_ESOLVER, "consistent initial values at t = %.6g s: the accelerations with consistent element masses did not converge in %d conjugate-gradient iterations", time, maxit);
     coupled_mass_mv(m, p, q);
@@ -334,6 +334,8 @@ static phm_status accel_coupled(dae_t *d, double time, const double *H, const do
     if ((st = accel_carriers(d, time, H, tw, xs, spd, 1, err))) return st;
     lumped_residual(m, acc, r);
     double rzn = phm_dot(r, acc, (int)n6), beta = rzn / rz;
+    if (rzn < 0) /* the lumped solve is positive definite on the manifold: round-off beyond it */
+      return PHM_FAIL(err, PHM_ESOLVER, "consistent initial values at t = %.6g s: the accelerations with consistent element masses lost positivity at %.3g of the start's residual after %d conjugate-gradient iterations", time, sqrt(-rzn / fmax(rz0, 1e-300)), it + 1);
     rz = rzn;
     for (size_t i = 0; i < n6; i++) p[i] = acc[i] + beta * p[i];
   }

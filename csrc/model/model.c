@@ -95,6 +95,32 @@ static int cmp_double(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
+/* A given coupling with its nodes' inertias, diag(M_a, M_b) + Mc, passes a Cholesky
+ * factorization (12 x 12, no tolerance): the kinetic energy of the element's two nodes is
+ * positive for every motion. */
+static int coupled_mass_spd(const phm_element_desc *e, const phm_carrier_desc *car) {
+  double A[144];
+  memcpy(A, e->Mc, sizeof A);
+  for (int i = 0; i < 6; i++)
+    for (int j = 0; j < 6; j++) {
+      A[12 * i + j] += car[e->a].M[6 * i + j];
+      A[12 * (6 + i) + 6 + j] += car[e->b].M[6 * i + j];
+    }
+  for (int j = 0; j < 12; j++) {
+    double s = A[13 * j];
+    for (int k = 0; k < j; k++) s -= A[12 * j + k] * A[12 * j + k];
+    if (!(s > 0)) return 0;
+    double r = sqrt(s);
+    A[13 * j] = r;
+    for (int i = j + 1; i < 12; i++) {
+      double t = A[12 * i + j];
+      for (int k = 0; k < j; k++) t -= A[12 * i + k] * A[12 * j + k];
+      A[12 * i + j] = t / r;
+    }
+  }
+  return 1;
+}
+
 phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error *err) {
   phm_error_clear(err);
   if (!d || !out) return PHM_FAIL(err, PHM_EINVAL, "phm_model_create: NULL argument");
@@ -135,6 +161,8 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
         for (int c = 0; c < r; c++)
           if (fabs(e->Mc[12 * r + c] - e->Mc[12 * c + r]) > 1e-12 * (fabs(e->Mc[12 * r + c]) + fabs(e->Mc[12 * c + r])))
             return PHM_FAIL(err, PHM_EINVAL, "element %d: the mass coupling is not symmetric", i);
+      if (!coupled_mass_spd(e, d->carriers))
+        return PHM_FAIL(err, PHM_EINVAL, "element %d: its nodes' inertias plus its mass coupling are not positive definite", i);
     }
   }
   for (int i = 0; i < d->npairs; i++) {

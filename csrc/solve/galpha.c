@@ -63,13 +63,11 @@ static void galpha_residual(dae_t *d, galpha_t *g, double t0, double h) {
   memcpy(R, Ra, sizeof(double) * (size_t)d->il); /* incl. the joint-rate rows dae_pair_rows wrote */
 }
 
-/* dR/dy1 ~ alpha_f (dF/dy + cj dF/dy') on the differential block (cj = alpha_m / (alpha_f gamma h)),
- * dF/dy on the multiplier columns and on the constraint rows; dense copy when LS is dense. */
 /* Factor the iteration matrix A. SUNDIALS's KLU refactors each new matrix with the pivot order
  * of its first factorization and, when that order meets a zero pivot, reports a failure without
  * looking for another order; so a failure is retried once after SUNLinSol_KLUReInit, which makes
  * the next setup analyse and factor afresh. Measured: with consistent element masses the
- * manipulator's first step (tests/test_io.py) failed on the pivots of an earlier matrix at every
+ * manipulator's first step (tests/test_consistent_mass.py) failed on the pivots of an earlier matrix at every
  * step size down to 1e-7 s, and a fresh factorization of the same matrix succeeds. */
 static int factor_iteration_matrix(SUNLinearSolver LS, SUNMatrix A, int klu, long nnz) {
   if (SUNLinSolSetup(LS, A) == PHM_SUN_SUCCESS) return 0;
@@ -78,6 +76,8 @@ static int factor_iteration_matrix(SUNLinearSolver LS, SUNMatrix A, int klu, lon
   return SUNLinSolSetup(LS, A) != PHM_SUN_SUCCESS;
 }
 
+/* dR/dy1 ~ alpha_f (dF/dy + cj dF/dy') on the differential block (cj = alpha_m / (alpha_f gamma h)),
+ * dF/dy on the multiplier columns and on the constraint rows; dense copy when LS is dense. */
 static int galpha_jacobian(dae_t *d, galpha_t *g, double t0, double h, SUNMatrix Js, SUNMatrix A) {
   double cj = g->euler ? 1.0 / h : g->am / (g->af * g->gam * h);
   double af = stage_af(g);

@@ -61,8 +61,8 @@ def modal_energy(mechanism, result, modes) -> np.ndarray:
     ``modes``: ``mechanism.modes(n)`` at the configuration ``result`` started from (its shapes are
     mass-normalized tangent displacements). Each carrier's displacement is the tangent
     d = log(H(0)^-1 H(t)) and its rate the body twist; the modal coordinate is q_k = phi_k^T M d
-    (M: the carriers' lumped 6x6 mass matrices) and the modal energy 1/2 (qdot_k^2 + omega_k^2
-    q_k^2). Meaningful for small motions about the start (vibrations): the sum over the modes
+    and the modal energy 1/2 (qdot_k^2 + omega_k^2 q_k^2), M the mechanism's mass (the
+    carriers' 6x6 blocks and any consistent or modal element's coupling). Meaningful for small motions about the start (vibrations): the sum over the modes
     is then the mechanical energy. Large rotations and the axial shortening of bending (second
     order in the deflection) are not modal motions: they show as spurious energy in the stiff
     axial modes, so compare modes one by one, or the total of the modes you trust, over time.
@@ -77,8 +77,9 @@ def modal_energy(mechanism, result, modes) -> np.ndarray:
                          "(simulate without record=) and the modes must be this mechanism's")
     H0inv = np.array([se3.inverse(H) for H in poses[0]])
     d = np.array([[se3.log(H0inv[c] @ Hc) for c, Hc in enumerate(Ht)] for Ht in poses])
-    q = np.einsum("kcj,cji,nci->nk", phi, M, d)
-    qdot = np.einsum("kcj,cji,nci->nk", phi, M, twists)
+    Mphi = mechanism._desc.mass_times(phi)
+    q = np.einsum("kci,nci->nk", Mphi, d)
+    qdot = np.einsum("kci,nci->nk", Mphi, twists)
     return 0.5 * (qdot ** 2 + np.asarray(modes.omega) ** 2 * q ** 2)
 
 
@@ -131,16 +132,16 @@ def mode_energies(desc, poses, shapes) -> dict:
     computed at, ``shapes`` (n, ncarriers, 6) tangent displacements (body frame, H exp(phi)).
     Returns a dict of arrays:
 
-    - ``kinetic`` (n, ncarriers): phi_c^T M_c phi_c per carrier (twice the kinetic energy of a unit
-      modal velocity; sums to 1 for mass-normalized shapes);
+    - ``kinetic`` (n, ncarriers): phi_c^T (M phi)_c per carrier, M the mechanism's mass with any
+      element couplings (twice the kinetic energy of a unit modal velocity, split by carrier;
+      sums to 1 for mass-normalized shapes);
     - ``strain`` (n, nelements, 4): twice the strain energy of the shape in each element, split by
       (torsion, bending-y, bending-z, axial) (see MODE_KINDS): 1/h dX_g . (K dX)_g, dX the change
       of the element's relative twist log(H_a^-1 H_b) = dexp_inv(-X) (phi_b - Ad_{exp(-X)} phi_a),
       h its length, K the section stiffness. Linear in the shape, so exact for the tangent."""
     from . import se3
     phi = np.asarray(shapes, dtype=float)
-    M = np.array([c["M"] for c in desc.carriers], dtype=float)
-    kin = np.einsum("nci,cij,ncj->nc", phi, M, phi)
+    kin = np.einsum("nci,nci->nc", phi, desc.mass_times(phi))
     els = desc.elements
     strain = np.zeros((len(phi), len(els), 4))
     if els:

@@ -7,8 +7,9 @@ Neither changes them. Rows are dicts (units: SI, poses 4x4, twists (omega, v), w
 - carriers: M (6x6 spatial inertia at the carrier frame), mass [kg], com [m, body coordinates],
   H0 (initial pose), t0 (initial body twist)
 - elements: a, b (carriers of nodes k, k+1), h [m], K, D (6x6 section stiffness and damping),
-  eps (unstressed strain (kappa [1/m], 1, 0, 0)), mass ("lumped" or "consistent"), Ms (6x6
-  section inertia per length, which a consistent element's coupling reads)
+  eps (unstressed strain (kappa [1/m], 1, 0, 0)), mass ("lumped", "consistent" or "given"), Ms
+  (6x6 section inertia per length, which a consistent element's coupling reads), Mc (12x12, a
+  "given" element's coupling: a modal link's condensed mass)
 - pairs: name, type (pairs.PairType code), pair (the Fixed, Revolute, ... object), k, a, b
   (carriers, -1 = ground), Ta, Tb (frame offsets, already turned to the joint axis), fa_name,
   fb_name (for messages), driven (a Motion), axis (twist), law (laws._Law or None), xlaws (None
@@ -92,6 +93,20 @@ class ModelDescription:
                     _couplings=np.array([e["Mc"] if e["mass"] == "given" else
                                          _core.element_mass(e["h"], e["Ms"], e["eps"]) for e in rows],
                                         dtype=float).reshape(-1, 12, 12))
+
+    def mass_times(self, v: np.ndarray) -> np.ndarray:
+        """M v for tangent vectors v (..., ncarriers, 6) (body frames): every carrier's 6x6
+        inertia on its own block plus the consistent and given elements' couplings (what the
+        core's mass is; docs/method.md section 4.2, "Mass")."""
+        v = np.asarray(v, dtype=float)
+        M = np.array([c["M"] for c in self.carriers], dtype=float)
+        out = np.einsum("cij,...cj->...ci", M, v)
+        cp = self.mass_couplings()
+        for (a, b), Mc in zip(cp["_coupled_nodes"], cp["_couplings"]):
+            u = np.concatenate([v[..., a, :], v[..., b, :]], axis=-1) @ Mc.T
+            out[..., a, :] += u[..., :6]
+            out[..., b, :] += u[..., 6:]
+        return out
 
     def port_names(self) -> list:
         """Names of the ports in the core's order: actuators, loads, springs."""

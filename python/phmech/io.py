@@ -85,7 +85,7 @@ FORMAT = "phmech-model"
 SCHEMA_VERSION = 1
 RESULT_FORMAT = "phmech-result"
 #: the result-file schema this phmech writes and the newest it reads
-RESULT_SCHEMA_VERSION = 1
+RESULT_SCHEMA_VERSION = 2   # 2: the element mass couplings (consistent and modal links)
 
 
 def _version() -> str:

@@ -46,11 +46,13 @@ class MeshChoice:
                 f"estimated frequency error {self.estimated_error:.2g} (asked {self.tolerance:g})")
 
 
-def _free_frequencies(length: float, properties, elements: int, band: float, curvature) -> np.ndarray:
+def _free_frequencies(length: float, properties, elements: int, band: float, curvature,
+                      mass: str = "lumped") -> np.ndarray:
     """Elastic free-free frequencies [Hz] of the link alone up to just above ``band``."""
     from .mechanism import Mechanism
     m = Mechanism()
-    m.add_flexible_link("link", length, properties, elements=elements, curvature=curvature)
+    m.add_flexible_link("link", length, properties, elements=elements, curvature=curvature,
+                        mass=mass)
     available = 6 * (elements + 1)
     n = min(available, RIGID_MODES + 8)
     while True:
@@ -61,12 +63,12 @@ def _free_frequencies(length: float, properties, elements: int, band: float, cur
 
 
 def choose_elements(length: float, properties, band: float, tolerance: float = 1e-3,
-                    max_elements: int = 256, curvature=None) -> MeshChoice:
+                    max_elements: int = 256, curvature=None, mass: str = "lumped") -> MeshChoice:
     """About the fewest elements for which every free-free mode of a flexible link up to ``band``
     [Hz] has an estimated relative frequency error within ``tolerance``: from 2 elements, each
     next count is the one the second-order error law predicts from the last estimate (5 % more),
     and a count the law says could be smaller is tried once. ``properties``: as for
-    ``Mechanism.add_flexible_link`` (and ``curvature``). Raises ModelError for a band or tolerance that is not
+    ``Mechanism.add_flexible_link`` (and ``curvature``, ``mass``). Raises ModelError for a band or tolerance that is not
     positive and when ``max_elements`` are not enough."""
     band = real("band", band)
     tolerance = real("frequency tolerance", tolerance)
@@ -78,8 +80,8 @@ def choose_elements(length: float, properties, band: float, tolerance: float = 1
     N, last, best, tried = 2, None, None, set()
     while N <= max_elements and N not in tried:
         tried.add(N)
-        f1 = _free_frequencies(length, properties, N, band, curvature)
-        f2 = _free_frequencies(length, properties, 2 * N, band, curvature)
+        f1 = _free_frequencies(length, properties, N, band, curvature, mass)
+        f2 = _free_frequencies(length, properties, 2 * N, band, curvature, mass)
         if not (np.all(f1 > 0) and np.all(f2 > 0)):
             # an unstable "mode" (phm_modes reports omega^2 < 0 as a negative frequency) or a zero
             # one: a link of 1e20 m had them, in a band of 1e-300 Hz; no error estimate is possible

@@ -207,7 +207,7 @@ class SimulationResult:
                     it = self._links.get(it, self._bodies.get(it, it))
                 if isinstance(it, Body) and self._bodies.get(it.name) == it:
                     cs = [it.carrier]
-                elif isinstance(it, FlexibleLink) and self._links.get(it.name) is it:
+                elif isinstance(it, FlexibleLink) and self._links.get(it.name) == it:
                     cs = it.carriers
                 elif isinstance(it, (str, Body, FlexibleLink)):
                     nm = it if isinstance(it, str) else it.name
@@ -248,7 +248,8 @@ class SimulationResult:
 
         Each carrier (a rigid body, or a beam node with its lumped inertia) contributes its body
         momentum (L_b, P_b) = M t (plus, for the nodes of ``mass="consistent"`` elements, their
-        share Mc [t_a; t_b] of the element's coupling), M its 6x6 spatial inertia about the carrier frame (centre of
+        share Mc [t_a; t_b] of the element's coupling, and likewise for a modal link's two
+        carriers), M its 6x6 spatial inertia about the carrier frame (centre of
         mass possibly offset) and t = (omega, v) its body twist, moved to the world frame by the
         dual adjoint, (L, P) = Ad*_{H^-1} (L_b, P_b) with H = (R, p) the carrier's pose:
         P = R P_b, L = R L_b + (p - about) x P. So ``linear`` is sum m v_com and ``angular`` the

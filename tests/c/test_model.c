@@ -165,6 +165,16 @@ static const char *apply_fault(desc3 *s, int fault, const phm_model_desc **d) {
   case 23: s->sp.d0 = -1; return "spring 0: stiffness, damping and rest length must be >= 0 (got 5, 0, -1)";
   case 24: s->ld.reaction = 2; return "load 0: reaction carrier 2 out of range or equal to the loaded one";
   case 25: s->table[2] = -1.0; return "load 0: table law times must be strictly increasing";
+  case 26: s->el.mass = 3; return "element 0: unknown mass kind 3 (0 lumped, 1 consistent, 2 given)";
+  case 27: s->el.mass = PHM_MASS_CONSISTENT; return "element 0: consistent mass needs a finite, symmetric positive definite section inertia";
+  case 28: /* a given coupling that is not symmetric */
+    s->el.mass = PHM_MASS_GIVEN;
+    s->el.Mc[1] = 0.1;
+    return "element 0: the mass coupling is not symmetric";
+  case 29: /* symmetric, but it takes more than the nodes' unit inertias have */
+    s->el.mass = PHM_MASS_GIVEN;
+    s->el.Mc[0] = -1.0;
+    return "element 0: its nodes' inertias plus its mass coupling are not positive definite";
   default: return NULL;
   }
 }

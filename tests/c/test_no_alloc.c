@@ -64,7 +64,7 @@ static void translation(double H[16], double x) {
   H[3] = x;
 }
 
-static phm_model *build(void) {
+static phm_model *build(int mass) {
   static phm_carrier_desc car[NC];
   static phm_element_desc el[NE];
   static phm_pair_desc pr[2];
@@ -93,6 +93,8 @@ static phm_model *build(void) {
       el[e].D[7 * i] = 1e-3 * K[i] / h;
     }
     el[e].eps_hat[3] = 1.0;
+    el[e].mass = mass;
+    for (int i = 0; i < 6; i++) el[e].Ms[7 * i] = i < 3 ? 1e-4 : 0.5; /* per metre */
   }
   memset(pr, 0, sizeof pr);
   for (int p = 0; p < 2; p++) {
@@ -230,7 +232,7 @@ static void run(const phm_model *m, const char *name, phm_sim_options opt) {
 }
 
 int main(void) {
-  phm_model *m = build();
+  phm_model *m = build(PHM_MASS_LUMPED);
   CHECK(m != NULL, "%s", "model created");
   if (!m) return 1;
   CHECK(m->nbp >= 5 && m->bp[m->nbp - 1] < 0.05, "%s", "breakpoints inside the run (0.01 ... 0.04 s)");
@@ -264,6 +266,25 @@ int main(void) {
   run(m, "IDA, KLU", o);
   o.linear_solver = 0;
   run(m, "IDA, dense", o);
+  phm_model_free(m);
+
+  /* the same with consistent element masses: their couplings in the residual and Jacobian, the
+   * initial accelerations by conjugate gradients at every breakpoint */
+  m = build(PHM_MASS_CONSISTENT);
+  CHECK(m != NULL, "%s", "model with consistent masses created");
+  if (!m) return 1;
+  o = base;
+  o.integrator = PHM_INTEGRATOR_GALPHA;
+  o.adaptive = 1;
+  o.rtol = 1e-4;
+  o.atol = 1e-6;
+  o.band = 100.0;
+  o.linear_solver = 1;
+  run(m, "consistent masses: generalized-alpha, adaptive, KLU", o);
+  o = base;
+  o.integrator = PHM_INTEGRATOR_IDA;
+  o.linear_solver = 1;
+  run(m, "consistent masses: IDA, KLU", o);
 
   /* the counters see the core's own calls: a least-squares solve without a workspace allocates */
   double A[4] = {2, 0, 0, 1}, b[2] = {1, 1};
