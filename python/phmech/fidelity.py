@@ -129,9 +129,61 @@ def _static_reduction(length, properties, elements, eps, mass, Mechanism) -> dic
     Mc[6:, 6:] = 0.0
     # the link's first frequency held at its start: the scale of its validity (modal_validity)
     ev = eigh(K[6:, 6:], M[6:, 6:], eigvals_only=True, subset_by_index=[0, 0])
+    gravity = _gravity_points(m, T, X0)
     return dict(K=sym(length * E.T @ K_B[6:, 6:] @ E), D=sym(length * E.T @ D_B[6:, 6:] @ E),
                 M_start=M_B[:6, :6].copy(), M_end=M_B[6:, 6:].copy(), Mc=Mc, K_B=K_B, M_B=M_B,
-                omega_clamped=float(np.sqrt(max(ev[0], 0.0))))
+                omega_clamped=float(np.sqrt(max(ev[0], 0.0))), gravity=gravity)
+
+
+def _gravity_points(m, T: np.ndarray, X0: np.ndarray) -> tuple:
+    """Where gravity acts on a modal link: a point mass on each end carrier whose weight is the
+    static condensation T^T w of the chain's weights (node k: (0, m_k R_k^T g) in its body
+    frame, at the unstressed shape) for every direction of g: so the reduced link's gravity
+    load is the chain's, condensed (Guyan's consistent load). The forces give the masses (half
+    the link's each); the moments give the two points by least squares over the three
+    directions, constrained to keep the chain's centre of mass (exact when the condensed
+    moments are those of points, as for a straight uniform link: the points sit at L/6 from each
+    end, the consistent load's end moments w L^2 / 12). Returns ((m_start, c_start, miss_start),
+    (m_end, c_end, miss_end)), c in each end's frame, miss the relative residual of that end's
+    moments (0 for a straight uniform link; a curved link's condensed moments are not those of
+    any point, and there miss is the error of its gravity load)."""
+    car = m._car
+    nodes = [np.asarray(c["H0"]) for c in car]          # the link alone: start at identity
+    n = 6 * len(car)
+    wB = []
+    for j in range(3):
+        g = np.eye(3)[j]
+        w = np.zeros(n)
+        for k, (c, Hk) in enumerate(zip(car, nodes)):
+            w[6 * k + 3:6 * k + 6] = c["mass"] * Hk[:3, :3].T @ g
+        wB.append(T.T @ w)
+    Tb = se3.exp(X0)
+    masses, blocks, rhs = [], [], []
+    for end, R in ((0, np.eye(3)), (1, Tb[:3, :3])):
+        f = np.array([wB[j][6 * end + 3:6 * end + 6] for j in range(3)])      # (3 dirs, 3)
+        tau = np.array([wB[j][6 * end:6 * end + 3] for j in range(3)])
+        e_body = np.array([R.T @ np.eye(3)[j] for j in range(3)])           # g_j in the end's axes
+        mass = float(np.mean(np.einsum("ji,ji->j", f, e_body)))
+        masses.append(mass)
+        blocks.append(np.vstack([-mass * se3.hat(e) for e in e_body]))      # tau_j = c x (mass e_j)
+        rhs.append(tau.reshape(-1))
+    # minimize |A_a c_a - tau_a|^2 + |A_b c_b - tau_b|^2 subject to the centre of mass:
+    # m_a c_a + m_b (R_b c_b + p_b) = sum_k m_k p_k
+    mtot = sum(c["mass"] for c in car)
+    com = sum(c["mass"] * Hk[:3, 3] for c, Hk in zip(car, nodes)) / mtot
+    A = np.zeros((18, 6))
+    A[:9, :3], A[9:, 3:] = blocks
+    b = np.concatenate(rhs)
+    C = np.hstack([masses[0] * np.eye(3), masses[1] * Tb[:3, :3]])
+    d = mtot * com - masses[1] * Tb[:3, 3]
+    K = np.block([[A.T @ A, C.T], [C, np.zeros((3, 3))]])
+    sol = np.linalg.lstsq(K, np.concatenate([A.T @ b, d]), rcond=None)[0]
+    out = []
+    for end in range(2):
+        c = sol[3 * end:3 * end + 3]
+        r = blocks[end] @ c - rhs[end]
+        out.append((masses[end], c, float(np.linalg.norm(r) / max(np.linalg.norm(rhs[end]), 1e-300))))
+    return tuple(out)
 
 
 #: Southwell's coefficient of a uniform cantilever's first bending mode: spinning at Omega about

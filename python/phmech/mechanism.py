@@ -117,6 +117,9 @@ class Mechanism:
         self._calls: list = []
         self._last_settings = None
         self._recording = False
+        #: modal link name -> how far its gravity point masses miss its condensed weight's end
+        #: moments (relative; phmech.fidelity.static_reduction), warned about under gravity
+        self._modal_gravity_miss: dict = {}
 
     @property
     def gravity(self) -> np.ndarray:
@@ -202,7 +205,9 @@ class Mechanism:
         carry the link's inertia through the static shapes, right while the link's own modes
         lie well above the band (measured: the leaf spring's first frequency within 1e-7 of the
         full links', docs/user_guide.md); no geometric stiffening (keep "nonlinear" for large
-        deflections, fast spin), no gravity and no distributed load on it (ModelError).
+        deflections, fast spin; simulate warns), gravity on two point masses carrying its
+        condensed weight (exact for a straight uniform link, a warning for a curved one), no
+        distributed load (ModelError).
 
         ``mass`` (a nonlinear link's, or the discretization a modal one is reduced from; a rigid
         link's inertia is exact whatever it says): ``"lumped"`` (each node carries the section inertia of
@@ -323,14 +328,11 @@ class Mechanism:
                              f"finite and positive definite in double precision (length {L:g} m with "
                              f"these properties)")
         first = self._start_link(name, eps)
-        # gravity is refused (see _build); the masses and centres of mass say where the link's
-        # mass is for centre_of_mass(): half of it on each end at the unstressed link's centre
-        # of mass (exact at rest and in rigid motion)
-        _, mlink, com = rigid_link_inertia(L, I, eps)
-        T0 = se3.exp(L * eps)
-        com_end = (se3.inverse(T0) @ np.r_[com, 1.0])[:3]
-        for k, Mk, c in ((0, red["M_start"], com), (N, red["M_end"], com_end)):
-            self._car.append(dict(M=Mk, mass=0.5 * mlink, com=c, H0=H0[k], t0=np.zeros(6)))
+        # gravity's point masses: the chain's weights condensed onto the ends (phmech.fidelity;
+        # also what centre_of_mass() reads)
+        for k, Mk, (mk, ck, _) in ((0, red["M_start"], red["gravity"][0]), (N, red["M_end"], red["gravity"][1])):
+            self._car.append(dict(M=Mk, mass=mk, com=ck, H0=H0[k], t0=np.zeros(6)))
+        self._modal_gravity_miss[name] = max(g[2] for g in red["gravity"])
         self._el.append(dict(a=first, b=first + 1, h=L, K=red["K"], D=red["D"], eps=eps,
                              mass="given", Mc=red["Mc"], Ms=I))
         if given is not None:
@@ -777,11 +779,14 @@ class Mechanism:
         """The core model of this mechanism at its initial configuration, with ``extra_loads``
         (load rows) after its own: built once per call, or none when finding the initial
         configuration built it."""
-        modal = [lk.name for lk in self._links.values() if lk.fidelity == "modal"]
-        if modal and np.any(self._desc.gravity):
-            raise ModelError(f"link {modal[0]!r} is modal: gravity on a statically reduced link would "
-                             f"act only on its two ends, which is not its distributed weight; use "
-                             f"fidelity='nonlinear' (or 'rigid') under gravity")
+        if np.any(self._desc.gravity):
+            for nm, miss in self._modal_gravity_miss.items():
+                if miss > self.frequency_tolerance:
+                    warnings.warn(f"modal link {nm!r} under gravity: two point masses carry its "
+                                  f"weight, whose end moments they match to {miss:.2g} (a curved "
+                                  f"link's are not those of any point); its gravity load is that "
+                                  f"far off; use fidelity='nonlinear' for it", AccuracyWarning,
+                                  stacklevel=3)
         state, model = self._initial_state(extra_loads)
         if model is None:
             model = _marshal.core_model(self._desc, state.poses, state.twists, state.x0,
