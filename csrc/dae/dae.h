@@ -76,6 +76,9 @@ typedef struct {
   /* KLU: the Jacobian's sparsity pattern (CSC) */
   int nnz;
   sunindextype *colptr, *rowind;
+  /* the pattern dae_jacobian_prune left last (nzcnt < 0: none yet) */
+  long nzcnt;
+  sunindextype *nzptr, *nzrow;
 } dae_t;
 
 /* ---------------------------------------------------------------- residual.c */
@@ -140,6 +143,11 @@ phm_status dae_jacobian_pattern(dae_t *d, phm_error *err);
  * the ledger rows' diagonal. r0 (the residual F(t, y, y')) is not read. 0 on success. */
 int dae_jacobian(dae_t *d, double t, double cj, const double *y, const double *yp,
                  const double *r0, SUNMatrix J);
+/* Drop the entries of J (CSC, on the pattern of dae_jacobian_pattern) whose values are exactly
+ * zero, in place; returns 1 if the pattern left differs from the one the previous call left (or
+ * there was none), 0 if it is the same: a sparse LU analysed for that pattern can then be
+ * refactored, otherwise it needs a fresh analysis. No allocation. */
+int dae_jacobian_prune(dae_t *d, SUNMatrix J);
 
 /* ---------------------------------------------------------------- output.c */
 /* Store output iout (state y at time t; E0: the energy at output 0, set there), check that it is

@@ -77,8 +77,12 @@ static int factor_iteration_matrix(SUNLinearSolver LS, SUNMatrix A, int klu, lon
 }
 
 /* dR/dy1 ~ alpha_f (dF/dy + cj dF/dy') on the differential block (cj = alpha_m / (alpha_f gamma h)),
- * dF/dy on the multiplier columns and on the constraint rows; dense copy when LS is dense. */
-static int galpha_jacobian(dae_t *d, galpha_t *g, double t0, double h, SUNMatrix Js, SUNMatrix A) {
+ * dF/dy on the multiplier columns and on the constraint rows; dense copy when LS is dense.
+ * KLU (A == Js): the exact zeros are dropped (dae_jacobian_prune), and LS is reset for a fresh
+ * analysis when the pattern left differs from the one its factors were made for (a refactor
+ * assumes that pattern). */
+static int galpha_jacobian(dae_t *d, galpha_t *g, double t0, double h, SUNMatrix Js, SUNMatrix A,
+                           SUNLinearSolver LS) {
   double cj = g->euler ? 1.0 / h : g->am / (g->af * g->gam * h);
   double af = stage_af(g);
   if (dae_jacobian(d, t0 + af * h, cj, N_VGetArrayPointer(g->ya), N_VGetArrayPointer(g->ypa),
@@ -89,11 +93,12 @@ static int galpha_jacobian(dae_t *d, galpha_t *g, double t0, double h, SUNMatrix
   for (int j = 0; j < d->il; j++)
     for (sunindextype k = cp[j]; k < cp[j + 1]; k++)
       if (ri[k] < d->il) val[k] *= af;
-  if (A != Js) {
-    SUNMatZero(A);
-    for (int j = 0; j < d->n; j++)
-      for (sunindextype k = cp[j]; k < cp[j + 1]; k++) SM_ELEMENT_D(A, ri[k], j) = val[k];
-  }
+  if (A == Js)
+    return dae_jacobian_prune(d, Js) &&
+           SUNLinSol_KLUReInit(LS, Js, (sunindextype)d->nnz, SUNKLU_REINIT_PARTIAL) != PHM_SUN_SUCCESS;
+  SUNMatZero(A);
+  for (int j = 0; j < d->n; j++)
+    for (sunindextype k = cp[j]; k < cp[j + 1]; k++) SM_ELEMENT_D(A, ri[k], j) = val[k];
   return 0;
 }
 
@@ -297,7 +302,7 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
         galpha_residual(d, &g, t, h);
         out->nres++;
         if (hjac == 0) {
-          if (galpha_jacobian(d, &g, t, h, Js, A) ||
+          if (galpha_jacobian(d, &g, t, h, Js, A, LS) ||
               factor_iteration_matrix(LS, A, opt->linear_solver == 1, d->nnz)) {
             if (restart && !g.euler) break; /* redone as backward Euler below */
             if (adaptive) { /* a shorter step (Newton-failure path): fresh, so it halves */
