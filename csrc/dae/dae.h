@@ -76,9 +76,10 @@ typedef struct {
   /* KLU: the Jacobian's sparsity pattern (CSC) */
   int nnz;
   sunindextype *colptr, *rowind;
-  /* the pattern dae_jacobian_prune left last (nzcnt < 0: none yet) */
+  /* dae_jacobian_prune: the entries of the pattern ever nonzero (nnz bytes), and how many it
+   * kept last (nzcnt < 0: none yet) */
   long nzcnt;
-  sunindextype *nzptr, *nzrow;
+  unsigned char *nzkeep;
 } dae_t;
 
 /* ---------------------------------------------------------------- residual.c */
@@ -143,10 +144,10 @@ phm_status dae_jacobian_pattern(dae_t *d, phm_error *err);
  * the ledger rows' diagonal. r0 (the residual F(t, y, y')) is not read. 0 on success. */
 int dae_jacobian(dae_t *d, double t, double cj, const double *y, const double *yp,
                  const double *r0, SUNMatrix J);
-/* Drop the entries of J (CSC, on the pattern of dae_jacobian_pattern) whose values are exactly
- * zero, in place; returns 1 if the pattern left differs from the one the previous call left (or
- * there was none), 0 if it is the same: a sparse LU analysed for that pattern can then be
- * refactored, otherwise it needs a fresh analysis. No allocation. */
+/* Drop the entries of J (CSC, on the pattern of dae_jacobian_pattern) that have been exactly
+ * zero in every call so far, in place; returns 1 if the pattern kept grew (or this is the first
+ * call), 0 if it is the same: a sparse LU analysed for that pattern can then be refactored,
+ * otherwise it needs a fresh analysis. No allocation. */
 int dae_jacobian_prune(dae_t *d, SUNMatrix J);
 
 /* ---------------------------------------------------------------- output.c */

@@ -320,6 +320,8 @@ static phm_status accel_coupled(dae_t *d, double time, const double *H, const do
   lumped_residual(m, acc, r);
   memcpy(p, acc, sizeof(double) * n6);
   double rz = phm_dot(r, acc, (int)n6), rz0 = rz, xmx = phm_dot(x, q, (int)n6);
+  if (rz < 0)
+    return PHM_FAIL(err, PHM_ESOLVER, "consistent initial values at t = %.6g s: the carriers' own inertias are not positive on the constraint manifold (conjugate gradients cannot start)", time);
   int it = 0, maxit = 10 * (int)n6 + 100;
   /* converged when the energy norm of the preconditioned residual is 1e-14 of the solution's */
   for (; rz > 1e-28 * fmax(xmx, rz0); it++) {

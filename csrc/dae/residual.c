@@ -122,12 +122,13 @@ void dae_free(dae_t *d) {
   dae_ic_work *w = &D->ic;
   void *bufs[] = {D->H, D->tw, D->pair, D->wr, D->gl, D->gm, D->pport, D->eff, D->rtmp, w->cmap, w->clist, w->H, w->tw, w->qprev, w->Lc, w->lcfail, w->b1c, w->cg, w->acc, w->G,
                   w->X, w->A, w->b, w->g, w->vt, w->c1, w->lam, w->Hp, w->res, d->colptr,
-                  d->rowind, d->nzptr, d->nzrow};
+                  d->rowind, d->nzkeep};
   for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) free(bufs[i]);
   phm_lstsq_work_free(&w->ls);
   ic_schur_free(w);
   memset(D, 0, sizeof *D);
-  d->colptr = d->rowind = d->nzptr = d->nzrow = NULL;
+  d->colptr = d->rowind = NULL;
+  d->nzkeep = NULL;
 }
 
 /* The consistent initial values' scratch (dae_consistent_ic): its systems are least-squares

@@ -96,8 +96,10 @@ static int cmp_double(const void *a, const void *b) {
 }
 
 /* A given coupling with its nodes' inertias, diag(M_a, M_b) + Mc, passes a Cholesky
- * factorization (12 x 12, no tolerance): the kinetic energy of the element's two nodes is
- * positive for every motion. */
+ * factorization (12 x 12, no tolerance): the kinetic energy of the element's two nodes alone is
+ * positive for every motion. Couplings that share a carrier are not checked together (a modal
+ * link's element has its own two carriers; the initial accelerations' conjugate gradients stop
+ * with an error if the whole mass is not positive). */
 static int coupled_mass_spd(const phm_element_desc *e, const phm_carrier_desc *car) {
   double A[144];
   memcpy(A, e->Mc, sizeof A);

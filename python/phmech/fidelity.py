@@ -130,9 +130,36 @@ def _static_reduction(length, properties, elements, eps, mass, Mechanism) -> dic
     # the link's first frequency held at its start: the scale of its validity (modal_validity)
     ev = eigh(K[6:, 6:], M[6:, 6:], eigvals_only=True, subset_by_index=[0, 0])
     gravity = _gravity_points(m, T, X0)
+    sag = _gravity_sag_error(m, K, gravity, K_B[6:, 6:], length)
     return dict(K=sym(length * E.T @ K_B[6:, 6:] @ E), D=sym(length * E.T @ D_B[6:, 6:] @ E),
                 M_start=M_B[:6, :6].copy(), M_end=M_B[6:, 6:].copy(), Mc=Mc, K_B=K_B, M_B=M_B,
-                omega_clamped=float(np.sqrt(max(ev[0], 0.0))), gravity=gravity)
+                omega_clamped=float(np.sqrt(max(ev[0], 0.0))), gravity=gravity,
+                gravity_sag_error=sag)
+
+
+def _gravity_sag_error(m, K: np.ndarray, gravity: tuple, K_end: np.ndarray, length: float) -> float:
+    """How far the gravity points put the end of the link held at its start, against the chain
+    (linear statics, the three directions of g, the end's rotation scaled by the length): the
+    largest difference over the largest sag (an axial g barely moves the end: its own relative
+    error means nothing). Round-off for a straight link; the measure of the gravity warning
+    (Mechanism._build)."""
+    car = m._car
+    n = 6 * len(car)
+    (_, _, _), (m_b, c_b, _) = gravity
+    Rb = np.asarray(car[-1]["H0"])[:3, :3]
+    scale = np.r_[length, length, length, 1.0, 1.0, 1.0]
+    worst = big = 0.0
+    for j in range(3):
+        g = np.eye(3)[j]
+        w = np.zeros(n)
+        for k, c in enumerate(car):
+            w[6 * k + 3:6 * k + 6] = c["mass"] * np.asarray(c["H0"])[:3, :3].T @ g
+        full = np.linalg.solve(K[6:, 6:], w[6:])[-6:]
+        f = m_b * Rb.T @ g
+        red = np.linalg.solve(K_end, np.r_[np.cross(c_b, f), f])
+        worst = max(worst, np.linalg.norm(scale * (red - full)))
+        big = max(big, np.linalg.norm(scale * full))
+    return float(worst / max(big, 1e-300))
 
 
 def _gravity_points(m, T: np.ndarray, X0: np.ndarray) -> tuple:
@@ -144,9 +171,10 @@ def _gravity_points(m, T: np.ndarray, X0: np.ndarray) -> tuple:
     directions, constrained to keep the chain's centre of mass (exact when the condensed
     moments are those of points, as for a straight uniform link: the points sit at L/6 from each
     end, the consistent load's end moments w L^2 / 12). Returns ((m_start, c_start, miss_start),
-    (m_end, c_end, miss_end)), c in each end's frame, miss the relative residual of that end's
-    moments (0 for a straight uniform link; a curved link's condensed moments are not those of
-    any point, and there miss is the error of its gravity load)."""
+    (m_end, c_end, miss_end)), c in each end's frame, miss the relative misfit of that end's
+    weights and moments, the larger (0 for a straight uniform link; a curved or pre-twisted
+    link's condensed weight is not that of any point; what that does to the sag is
+    _gravity_sag_error's)."""
     car = m._car
     nodes = [np.asarray(c["H0"]) for c in car]          # the link alone: start at identity
     n = 6 * len(car)
@@ -158,13 +186,15 @@ def _gravity_points(m, T: np.ndarray, X0: np.ndarray) -> tuple:
             w[6 * k + 3:6 * k + 6] = c["mass"] * Hk[:3, :3].T @ g
         wB.append(T.T @ w)
     Tb = se3.exp(X0)
-    masses, blocks, rhs = [], [], []
+    masses, blocks, rhs, forces, e_bodies = [], [], [], [], []
     for end, R in ((0, np.eye(3)), (1, Tb[:3, :3])):
         f = np.array([wB[j][6 * end + 3:6 * end + 6] for j in range(3)])      # (3 dirs, 3)
         tau = np.array([wB[j][6 * end:6 * end + 3] for j in range(3)])
         e_body = np.array([R.T @ np.eye(3)[j] for j in range(3)])           # g_j in the end's axes
         mass = float(np.mean(np.einsum("ji,ji->j", f, e_body)))
         masses.append(mass)
+        forces.append(f)
+        e_bodies.append(e_body)
         blocks.append(np.vstack([-mass * se3.hat(e) for e in e_body]))      # tau_j = c x (mass e_j)
         rhs.append(tau.reshape(-1))
     # minimize |A_a c_a - tau_a|^2 + |A_b c_b - tau_b|^2 subject to the centre of mass:
@@ -182,7 +212,10 @@ def _gravity_points(m, T: np.ndarray, X0: np.ndarray) -> tuple:
     for end in range(2):
         c = sol[3 * end:3 * end + 3]
         r = blocks[end] @ c - rhs[end]
-        out.append((masses[end], c, float(np.linalg.norm(r) / max(np.linalg.norm(rhs[end]), 1e-300))))
+        f_fit = masses[end] * e_bodies[end]                                  # the point's weights
+        miss = max(np.linalg.norm(r) / max(np.linalg.norm(rhs[end]), 1e-300),
+                   np.linalg.norm(forces[end] - f_fit) / max(np.linalg.norm(forces[end]), 1e-300))
+        out.append((masses[end], c, float(miss)))
     return tuple(out)
 
 
@@ -197,7 +230,8 @@ def modal_validity(result, link, T0: np.ndarray, tolerance: float) -> list:
     of its end on its start, exp(L eps_hat); ``tolerance``: the relative frequency error the
     Mechanism accepts.
 
-    - spin: the link's rotation rate Omega (its start's, the largest over the run) against its
+    - spin: the link's rotation rate Omega (its start's, about axes across its chord, the largest
+      over the run) against its
       first frequency held at its start, omega_1: centrifugal stiffening, which a modal link
       lacks, raises that frequency by sqrt(1 + 1.19 (Omega/omega_1)^2) - 1 (Southwell's
       coefficient for a uniform cantilever); warned when that exceeds ``tolerance``;
@@ -211,11 +245,15 @@ def modal_validity(result, link, T0: np.ndarray, tolerance: float) -> list:
         return []
     out = []
     om1 = link.clamped_frequency * 2.0 * np.pi
-    spin = float(np.max(np.linalg.norm(result.twists[:, cols[0], :3], axis=1)))
+    # spin about the chord (the link's own axis) does not stiffen its bending: only the rest
+    chord = T0[:3, 3] / max(np.linalg.norm(T0[:3, 3]), 1e-300)          # start-frame axes
+    w = result.twists[:, cols[0], :3]
+    spin = float(np.max(np.linalg.norm(w - np.outer(w @ chord, chord), axis=1)))
     rise = np.sqrt(1.0 + SOUTHWELL * (spin / om1) ** 2) - 1.0
     if rise > tolerance:
         out.append(f"modal link {link.name!r} spins at up to {spin:.3g} rad/s, {spin / om1:.3g} "
-                   f"times its first frequency held at its start ({om1:.3g} rad/s): the "
+                   f"times its first frequency held at its start ({om1:.3g} rad/s), across its "
+                   f"axis: the "
                    f"centrifugal stiffening a modal link leaves out raises that frequency by about "
                    f"{100 * rise:.3g} % (above the tolerance {tolerance:g}); use "
                    f"fidelity='nonlinear' for it")

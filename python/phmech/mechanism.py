@@ -117,8 +117,8 @@ class Mechanism:
         self._calls: list = []
         self._last_settings = None
         self._recording = False
-        #: modal link name -> how far its gravity point masses miss its condensed weight's end
-        #: moments (relative; phmech.fidelity.static_reduction), warned about under gravity
+        #: modal link name -> how far its gravity point masses put its end off the full link's
+        #: sag (relative; phmech.fidelity.static_reduction), warned about under gravity
         self._modal_gravity_miss: dict = {}
 
     @property
@@ -332,7 +332,7 @@ class Mechanism:
         # also what centre_of_mass() reads)
         for k, Mk, (mk, ck, _) in ((0, red["M_start"], red["gravity"][0]), (N, red["M_end"], red["gravity"][1])):
             self._car.append(dict(M=Mk, mass=mk, com=ck, H0=H0[k], t0=np.zeros(6)))
-        self._modal_gravity_miss[name] = max(g[2] for g in red["gravity"])
+        self._modal_gravity_miss[name] = red["gravity_sag_error"]
         self._el.append(dict(a=first, b=first + 1, h=L, K=red["K"], D=red["D"], eps=eps,
                              mass="given", Mc=red["Mc"], Ms=I))
         if given is not None:
@@ -783,10 +783,10 @@ class Mechanism:
             for nm, miss in self._modal_gravity_miss.items():
                 if miss > self.frequency_tolerance:
                     warnings.warn(f"modal link {nm!r} under gravity: two point masses carry its "
-                                  f"weight, whose end moments they match to {miss:.2g} (a curved "
-                                  f"link's are not those of any point); its gravity load is that "
-                                  f"far off; use fidelity='nonlinear' for it", AccuracyWarning,
-                                  stacklevel=3)
+                                  f"condensed weight (a curved or pre-twisted link's is not that "
+                                  f"of any point), which puts its end, held at its start, "
+                                  f"{miss:.2g} off the full link's sag; use fidelity='nonlinear' "
+                                  f"for it if that matters", AccuracyWarning, stacklevel=3)
         state, model = self._initial_state(extra_loads)
         if model is None:
             model = _marshal.core_model(self._desc, state.poses, state.twists, state.x0,

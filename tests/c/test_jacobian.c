@@ -245,6 +245,54 @@ static void pairs_springs_loads_actuators_are_closed_form(void) {
   compare("J = central FD: the same with consistent masses", &b, 1e-7);
 }
 
+/* dae_jacobian_prune keeps every entry ever nonzero: the first call reports a new pattern, the
+ * same values again do not, an entry gone back to zero stays (its value 0), and a newly nonzero
+ * entry grows the pattern. */
+static void pruning_keeps_a_growing_pattern(void) {
+  static builder b;
+  chain(&b, 3, 1);
+  phm_model *m = create_model(&b.d);
+  if (!m) return;
+  dae_t d;
+  phm_error err;
+  SUNContext ctx;
+  if (phm_sun_context_create(&ctx) || dae_init(&d, m, &err) || dae_jacobian_pattern(&d, &err)) {
+    check_fail("%s", "prune: set-up");
+    phm_model_free(m);
+    return;
+  }
+  SUNMatrix J = SUNSparseMatrix(d.n, d.n, d.nnz, CSC_MAT, ctx);
+  sunindextype *cp = SUNSparseMatrix_IndexPointers(J), *ri = SUNSparseMatrix_IndexValues(J);
+  double *val = SUNSparseMatrix_Data(J);
+  /* the full pattern with every other entry zero */
+  #define FILL(zero_at, nonzero_at)                                              \
+    do {                                                                       \
+      for (int j = 0; j <= d.n; j++) cp[j] = d.colptr[j];                      \
+      for (int k = 0; k < d.nnz; k++) {                                        \
+        ri[k] = d.rowind[k];                                                   \
+        val[k] = (k % 2 == 0 && k != (zero_at)) || k == (nonzero_at) ? 1.0 + k : 0.0; \
+      }                                                                        \
+    } while (0)
+  FILL(-1, -1);
+  CHECK(dae_jacobian_prune(&d, J) == 1, "%s", "prune: the first call is a new pattern");
+  long kept = (long)cp[d.n];
+  CHECK(kept == (d.nnz + 1) / 2, "prune: kept %ld of %d (the nonzero half)", kept, d.nnz);
+  FILL(-1, -1);
+  CHECK(dae_jacobian_prune(&d, J) == 0, "%s", "prune: the same values, the same pattern");
+  FILL(0, -1); /* entry 0 back to zero: kept, with its zero */
+  CHECK(dae_jacobian_prune(&d, J) == 0 && (long)cp[d.n] == kept && val[0] == 0.0, "%s",
+        "prune: an entry back to zero stays in the pattern");
+  FILL(-1, 1); /* entry 1 nonzero for the first time */
+  CHECK(dae_jacobian_prune(&d, J) == 1 && (long)cp[d.n] == kept + 1, "%s",
+        "prune: a newly nonzero entry grows the pattern");
+  #undef FILL
+  SUNMatDestroy(J);
+  dae_free(&d);
+  SUNContext_Free(&ctx);
+  phm_model_free(m);
+}
+
 CHECK_MAIN(CHECK_CASE(carriers_and_gravity_are_closed_form), CHECK_CASE(elements_are_closed_form),
+           CHECK_CASE(pruning_keeps_a_growing_pattern),
            CHECK_CASE(pairs_are_closed_form),
            CHECK_CASE(pairs_springs_loads_actuators_are_closed_form))
