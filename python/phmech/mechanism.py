@@ -870,8 +870,8 @@ class Mechanism:
           flexible links whose mesh vibrations "all" would resolve. ``max_step`` [s] bounds
           the steps (IDA and adaptive generalized-alpha).
 
-        ``linear_solver``: ``"auto"`` (KLU sparse for 6 or more carriers, else dense),
-        ``"dense"`` or ``"klu"``."""
+        ``linear_solver``: ``"auto"`` (KLU sparse for the generalized-alpha, and for IDA with 6
+        or more carriers, else dense), ``"dense"`` or ``"klu"``."""
         t0, t1, dt = (real("t_start", t_start), real("t_end", t_end), real("dt_out", dt_out))
         if t1 <= t0:
             raise ModelError(f"t_end must be > t_start (got {t1} <= {t0})")
@@ -879,7 +879,12 @@ class Mechanism:
             raise ModelError(f"dt_out must be > 0 (got {dt})")
         solvers = {"dense": 0, "klu": 1}
         if isinstance(linear_solver, str) and linear_solver == "auto":
-            linear_solver = "klu" if len(self._car) >= 6 else "dense"
+            # the generalized-alpha's KLU matrix drops its exact zeros (dae_jacobian_prune): KLU
+            # is then faster than the dense LU from one carrier on (measured 2026-11-27: a
+            # pendulum 7.5 against 12.4 ms, the four-bar of benchmarks/scenes.py 51 against 94
+            # ms, a 3-carrier modal-link pendulum 0.19 against 0.52 s); IDA keeps its rule
+            linear_solver = "klu" if integrator == "generalized-alpha" or len(self._car) >= 6 \
+                else "dense"
         if not isinstance(linear_solver, str) or linear_solver not in solvers:
             raise ModelError(f"unknown linear_solver {linear_solver!r} (available: 'auto', 'dense', 'klu')")
         integrators = {"ida": 0, "generalized-alpha": 1}
