@@ -253,11 +253,13 @@ def f_euler_bernoulli(p: LeafSpringParams) -> float:
 # ------------------------------------------------------------------------------- simulation
 def run(p: LeafSpringParams, t_end: float = 10.0, elements: int = 10, beta: float = 1e-5,
         rtol: float | None = None, atol: float | None = None, dt_out: float = 2e-3, t_fft: float = 2.0,
-        impulse: float = 0.05, duration: float = 0.01, t0: float = 0.1) -> dict:
+        impulse: float = 0.05, duration: float = 0.01, t0: float = 0.1,
+        fidelity: str = "nonlinear") -> dict:
     """Simulate the pulse response and analyse it. Impulse ``impulse`` [N s] as a rectangular
-    pulse of ``duration`` [s] from ``t0`` [s]. Returns a dict of results and arrays."""
+    pulse of ``duration`` [s] from ``t0`` [s]; ``fidelity`` of the leaves (see build). Returns a
+    dict of results and arrays."""
     pulse = ph.Pulse(t0=t0, duration=duration, value=impulse / duration)
-    m, h = build(p, elements=elements, beta=beta, pulse=pulse)
+    m, h = build(p, elements=elements, beta=beta, pulse=pulse, fidelity=fidelity)
     c0 = time.process_time()
     modes = m.modes(3)
     cpu_modes = time.process_time() - c0
@@ -515,6 +517,9 @@ def plot(out: dict, p: LeafSpringParams, path_resp: str, path_spec: str, path_mo
 def main(argv=None) -> dict:
     ap = example_parser(__doc__, "short run (5 s, no mesh refinement study)")
     ap.add_argument("--beta", type=float, default=1e-5, help="material damping D = beta K [s]")
+    ap.add_argument("--fidelity", choices=("nonlinear", "modal"), default="nonlinear",
+                    help="the leaves: nonlinear se3 chains, or each reduced onto its ends "
+                         "(modal; try --elements 64)")
     ap.add_argument("--misalignment", action="store_true",
                     help="also sweep F1's base misalignment delta (0..2 deg): prestressed modes, "
                          "stability limit, pulse responses, parasitic motion of R1")
@@ -524,7 +529,8 @@ def main(argv=None) -> dict:
 
     p = default_params()
     c0 = time.process_time()
-    out = run(p, t_end=t_end, elements=N, beta=a.beta, rtol=a.rtol, atol=a.atol)
+    out = run(p, t_end=t_end, elements=N, beta=a.beta, rtol=a.rtol, atol=a.atol,
+              fidelity=a.fidelity)
     brk = modal_breakdown(p, N, a.beta, refine=not a.quick)
     cpu = time.process_time() - c0
     fa, fc = f_analytic(p), f_analytic_mass_corrected(p)
@@ -538,7 +544,8 @@ def main(argv=None) -> dict:
                   modal_vs_mass_corrected=out["f_modal"] / fc - 1, modes=out["modes"],
                   damping_ratio=out["damping_ratio"], amplitude_m=out["amplitude"],
                   energy_ledger_rel=out["ledger"], breakdown=brk,
-                  settings=dict(elements=N, t_end=t_end, beta=a.beta, rtol=a.rtol, atol=a.atol),
+                  settings=dict(elements=N, t_end=t_end, beta=a.beta, rtol=a.rtol, atol=a.atol,
+                                fidelity=a.fidelity),
                   params=p.as_dict())
     figures = []
     if a.misalignment:
