@@ -90,14 +90,21 @@ void dae_free(dae_t *d);
 /* Carrier poses H (nc x 16) and twists tw (nc x 6) from the state vector y. */
 void dae_unpack(const phm_model *m, const double *y, double *H, double *tw);
 /* Every pair at the poses and twists in d->data (H, tw) and the joint-coordinate branches of y,
- * at time: into d->data.pair. */
-void dae_eval_pairs(dae_t *d, double time, const double *y);
+ * at time: into d->data.pair, the parts `what` asks for (PHM_PAIR_ROWS | PHM_PAIR_JOINT,
+ * phm_pair_evaluate). */
+void dae_eval_pairs(dae_t *d, double time, const double *y, int what);
 /* F(time, y, y'); 0 on success. No allocation. */
 int dae_residual(dae_t *d, double time, const double *y, const double *yp, double *F);
 /* The pairs' rows of F (joint-coordinate rates, velocity and position constraints) at the poses
  * and twists already unpacked into d->data (H, tw): evaluates every pair (dae_eval_pairs) and
  * accumulates G^T lambda and G^T mu per carrier into d->data.gl, gm. */
 void dae_pair_rows(dae_t *d, double time, const double *y, const double *yp, double *F);
+/* Only the constraint rows of F (velocity and position: F[il..n)) at state y, the same numbers
+ * as dae_unpack + dae_pair_rows give: unpacks only the carriers of the pairs into d->data (H, tw)
+ * and evaluates only the pairs with kept rows, without their joint coordinates and rates; the
+ * other carriers' H, tw, d->data.gl, gm and the pairs' joint fields are left as they were (a mix
+ * of two states: read d->data only after a full evaluation). */
+void dae_constraint_rows(dae_t *d, double time, const double *y, double *F);
 /* Absolute tolerance of state i for the error weights (the multipliers' own floors). */
 double dae_state_atol(const dae_t *d, int i, double atol);
 /* State i is a carrier's twist component. */

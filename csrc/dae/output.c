@@ -60,7 +60,7 @@ static void record(dae_t *d, const double *y, phm_sim_output *out, int iout, dou
   if (out->lambda && m->ncons)
     memcpy(out->lambda + (size_t)iout * m->ncons, y + d->il, sizeof(double) * m->ncons);
   /* every pair once: joint coordinates and rates, constraint wrenches, the actuators' efforts */
-  dae_eval_pairs(d, time, y);
+  dae_eval_pairs(d, time, y, PHM_PAIR_ROWS | PHM_PAIR_JOINT);
   for (int ip = 0; ip < m->np; ip++) {
     const phm_pair_data *p = D->pair + ip;
     int j0 = m->pair_j[ip];

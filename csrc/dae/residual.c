@@ -13,23 +13,83 @@
 #include "linalg.h"
 #include "pose.h"
 
-/* Carrier poses H (nc x 16) and twists tw (nc x 6) from the state vector y. */
-void dae_unpack(const phm_model *m, const double *y, double *H, double *tw) {
-  for (int c = 0; c < m->nc; c++) {
-    const double *yc = y + PHM_NSTATE * c;
-    phm_qp_to_H(yc, yc + 4, H + 16 * c);
-    memcpy(tw + 6 * c, yc + 7, 6 * sizeof(double));
-  }
+/* Carrier c's pose H[16 c ..] and twist tw[6 c ..] from the state vector y. */
+static void unpack_carrier(const double *y, int c, double *H, double *tw) {
+  const double *yc = y + PHM_NSTATE * c;
+  phm_qp_to_H(yc, yc + 4, H + 16 * c);
+  memcpy(tw + 6 * c, yc + 7, 6 * sizeof(double));
 }
 
-void dae_eval_pairs(dae_t *d, double time, const double *y) {
+/* Carrier poses H (nc x 16) and twists tw (nc x 6) from the state vector y. */
+void dae_unpack(const phm_model *m, const double *y, double *H, double *tw) {
+  for (int c = 0; c < m->nc; c++) unpack_carrier(y, c, H, tw);
+}
+
+/* Pair ip at the poses and twists in d->data and the joint-coordinate branches of y. */
+static void eval_pair(dae_t *d, int ip, double time, const double *y, int what) {
   const phm_model *m = d->m;
-  const double *H = d->data.H, *tw = d->data.tw, *xs = y + d->ix;
+  const phm_pair_desc *pr = &m->pair[ip];
+  const double *H = d->data.H, *tw = d->data.tw;
+  phm_pair_evaluate(m, ip, pr->a >= 0 ? H + 16 * pr->a : NULL, pr->b >= 0 ? H + 16 * pr->b : NULL,
+                    pr->a >= 0 ? tw + 6 * pr->a : NULL, pr->b >= 0 ? tw + 6 * pr->b : NULL,
+                    y + d->ix + m->pair_j[ip], time, d->tref, what, d->data.pair + ip);
+}
+
+void dae_eval_pairs(dae_t *d, double time, const double *y, int what) {
+  for (int ip = 0; ip < d->m->np; ip++) eval_pair(d, ip, time, y, what);
+}
+
+/* acc += G^T l for one side's block G (mc x 6) of a pair: the order over the rows r is the one
+ * every carrier's sum has always had (a carrier's sums stay bit-identical). */
+static void add_GT(const double *G, int mc, const double *lam, const double *mu, double *gl,
+                   double *gm) {
+  for (int r = 0; r < mc; r++)
+    for (int j = 0; j < 6; j++) {
+      gl[j] += G[6 * r + j] * lam[r];
+      gm[j] += G[6 * r + j] * mu[r];
+    }
+}
+
+/* The pairs' rows; with `full` also the joint-coordinate rates and G^T lambda, G^T mu (see
+ * dae_pair_rows and dae_constraint_rows). One body for both, so that the constraint rows of the
+ * step's end are the very numbers of a full evaluation; `full` is tested once per pair. Without
+ * `full`, a pair without kept rows (free) is not evaluated: it has no row to give. */
+static void rows_of_pairs(dae_t *d, double time, const double *y, const double *yp, double *F,
+                          int full) {
+  /* ground's twist: G_r t sums both sides without a test per entry. Adding G * 0 = +-0 leaves
+   * every sum as it was (up to the sign of an exact zero) */
+  static const double zero6[6] = {0, 0, 0, 0, 0, 0};
+  const phm_model *m = d->m;
+  phm_data *D = &d->data;
+  if (full) {
+    memset(D->gl, 0, sizeof(double) * 6 * (size_t)m->nc);
+    memset(D->gm, 0, sizeof(double) * 6 * (size_t)m->nc);
+  }
   for (int ip = 0; ip < m->np; ip++) {
     const phm_pair_desc *pr = &m->pair[ip];
-    phm_pair_evaluate(m, ip, pr->a >= 0 ? H + 16 * pr->a : NULL, pr->b >= 0 ? H + 16 * pr->b : NULL,
-                      pr->a >= 0 ? tw + 6 * pr->a : NULL, pr->b >= 0 ? tw + 6 * pr->b : NULL,
-                      xs + m->pair_j[ip], time, d->tref, 1, d->data.pair + ip);
+    const phm_pair_data *p = D->pair + ip;
+    int r0 = m->pair_row[ip], mc = m->pair_m[ip];
+    if (!full && mc == 0) continue;
+    eval_pair(d, ip, time, y, full ? PHM_PAIR_ROWS | PHM_PAIR_JOINT : PHM_PAIR_ROWS);
+    if (full) {
+      int j0 = m->pair_j[ip], k = m->pair_k[ip];
+      for (int c = 0; c < k; c++) F[d->ix + j0 + c] = yp[d->ix + j0 + c] - p->xdot[c];
+      const double *lam = y + d->il + r0, *mu = y + d->im + r0;
+      /* a != b (phm_model_create): the two sides' sums never meet */
+      if (pr->a >= 0) add_GT(p->Ga, mc, lam, mu, D->gl + 6 * pr->a, D->gm + 6 * pr->a);
+      if (pr->b >= 0) add_GT(p->Gb, mc, lam, mu, D->gl + 6 * pr->b, D->gm + 6 * pr->b);
+    }
+    const double *ta = pr->a >= 0 ? D->tw + 6 * pr->a : zero6;
+    const double *tb = pr->b >= 0 ? D->tw + 6 * pr->b : zero6;
+    for (int r = 0; r < mc; r++) {
+      double c = -p->vt[r];
+      for (int j = 0; j < 6; j++) {
+        c += p->Ga[6 * r + j] * ta[j];
+        c += p->Gb[6 * r + j] * tb[j];
+      }
+      F[d->il + r0 + r] = c;       /* velocity constraint -> lambda */
+      F[d->im + r0 + r] = p->g[r]; /* position constraint -> mu     */
+    }
   }
 }
 
@@ -37,36 +97,18 @@ void dae_eval_pairs(dae_t *d, double time, const double *y) {
  * coordinate rates (F[ix..ie)), velocity constraints (F[il..im)) and position constraints
  * (F[im..n)); accumulates G^T lambda and G^T mu per carrier into gl, gm. No allocation. */
 void dae_pair_rows(dae_t *d, double time, const double *y, const double *yp, double *F) {
-  const phm_model *m = d->m;
-  phm_data *D = &d->data;
-  int nc = m->nc;
-  memset(D->gl, 0, sizeof(double) * 6 * (size_t)nc);
-  memset(D->gm, 0, sizeof(double) * 6 * (size_t)nc);
-  dae_eval_pairs(d, time, y);
-  for (int ip = 0; ip < m->np; ip++) {
-    const phm_pair_desc *pr = &m->pair[ip];
-    const phm_pair_data *p = D->pair + ip;
-    int r0 = m->pair_row[ip], mc = m->pair_m[ip], j0 = m->pair_j[ip], k = m->pair_k[ip];
-    for (int c = 0; c < k; c++) F[d->ix + j0 + c] = yp[d->ix + j0 + c] - p->xdot[c];
-    const double *lam = y + d->il + r0, *mu = y + d->im + r0, *Ga = p->Ga, *Gb = p->Gb;
-    for (int r = 0; r < mc; r++) {
-      double c = -p->vt[r];
-      for (int j = 0; j < 6; j++) {
-        if (pr->a >= 0) {
-          c += Ga[6 * r + j] * D->tw[6 * pr->a + j];
-          D->gl[6 * pr->a + j] += Ga[6 * r + j] * lam[r];
-          D->gm[6 * pr->a + j] += Ga[6 * r + j] * mu[r];
-        }
-        if (pr->b >= 0) {
-          c += Gb[6 * r + j] * D->tw[6 * pr->b + j];
-          D->gl[6 * pr->b + j] += Gb[6 * r + j] * lam[r];
-          D->gm[6 * pr->b + j] += Gb[6 * r + j] * mu[r];
-        }
-      }
-      F[d->il + r0 + r] = c;       /* velocity constraint -> lambda */
-      F[d->im + r0 + r] = p->g[r]; /* position constraint -> mu     */
-    }
-  }
+  rows_of_pairs(d, time, y, yp, F, 1);
+}
+
+/* The constraint rows alone (F[il..n)): the generalized-alpha evaluates them at the step's end
+ * after the full residual at the stage. The full evaluation it used before also unpacked every
+ * carrier and computed the joint rates and G^T lambda, G^T mu, all discarded; only the carriers
+ * of the pairs are unpacked here (ic.clist: every pair's carriers, none without constraint rows).
+ * No allocation. */
+void dae_constraint_rows(dae_t *d, double time, const double *y, double *F) {
+  const dae_ic_work *w = &d->data.ic;
+  for (int k = 0; k < w->ncc; k++) unpack_carrier(y, w->clist[k], d->data.H, d->data.tw);
+  rows_of_pairs(d, time, y, NULL, F, 0);
 }
 
 /* The DAE residual; no allocation. The pairs are evaluated once (dae_pair_rows) and their

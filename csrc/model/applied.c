@@ -227,7 +227,7 @@ void phm_applied_pairs(const phm_model *m, const phm_pair_data *pd, const double
     if (!pd) { /* evaluated here: frames, joint coordinates and rates (no constraint rows) */
       phm_pair_evaluate(m, ip, pr->a >= 0 ? H + 16 * pr->a : NULL, pr->b >= 0 ? H + 16 * pr->b : NULL,
                         (tw && pr->a >= 0) ? tw + 6 * pr->a : NULL, (tw && pr->b >= 0) ? tw + 6 * pr->b : NULL,
-                        xs ? xs + j0 : NULL, time, tref, 0, &own);
+                        xs ? xs + j0 : NULL, time, tref, PHM_PAIR_JOINT, &own);
     }
     const phm_pair_data *p = pd ? pd + ip : &own;
     double u[6];
@@ -467,7 +467,7 @@ static void actuator_tangent(const phm_model *m, int ia, const phm_pair_data *pd
   const double *tb = (tw && pr->b >= 0) ? tw + 6 * pr->b : NULL;
   const double *xr = xs ? xs + j0 : NULL;
   phm_pair_data own;
-  if (!pd) phm_pair_evaluate(m, ip, Ha, Hb, ta, tb, xr, time, tref, 0, &own);
+  if (!pd) phm_pair_evaluate(m, ip, Ha, Hb, ta, tb, xr, time, tref, PHM_PAIR_JOINT, &own);
   const phm_pair_data *p = pd ? pd + ip : &own;
   double u[6], dx[72], dxd[72], Ku[144], B[72];
   actuator_effort(m, ac, p, time, tref, scale, u);

@@ -87,14 +87,23 @@ typedef struct {
   double x[6], xdot[6];          /* joint coordinates and rates (first k)                         */
 } phm_pair_data;
 
+/* What phm_pair_evaluate fills besides the frames (h, AdBa), as bit flags. */
+enum {
+  PHM_PAIR_ROWS = 1, /* the constraint rows g, Ga, Gb, vt, W                                    */
+  PHM_PAIR_JOINT = 2 /* the joint coordinates x, their effort basis Phi and rates xdot          */
+};
+
 /* Evaluate pair ip at carrier poses Ha, Hb (NULL = ground) and twists ta, tb (NULL = at rest) into
- * *pd: frames, joint coordinates x (nearest the branch references xref, k values; NULL: the
- * model's x0) and rates, and with rows != 0 its constraint rows at (time, tref) too (g, Ga, Gb,
- * vt, W; the same numbers as phm_pair_eval). The kinematics of the pair type is evaluated once
- * for both (twice for a pair driven by a motion: g at the prescribed pose, x at h). */
+ * *pd: its frames and, as `what` asks (PHM_PAIR_ROWS | PHM_PAIR_JOINT), its constraint rows at
+ * (time, tref) (g, Ga, Gb, vt, W; the same numbers as phm_pair_eval) and its joint coordinates x
+ * (nearest the branch references xref, k values; NULL: the model's x0), Phi and rates xdot; the
+ * fields not asked for are left as they were. The kinematics of the pair type is evaluated once
+ * for both (twice for a pair driven by a motion with its joint asked for: g at the prescribed
+ * pose, x at h). The rows alone serve the generalized-alpha's constraint rows at the step's end,
+ * which read neither coordinates nor rates (csrc/dae/residual.c, dae_constraint_rows). */
 void phm_pair_evaluate(const phm_model *m, int ip, const double *Ha, const double *Hb,
                        const double *ta, const double *tb, const double *xref, double time,
-                       double tref, int rows, phm_pair_data *pd);
+                       double tref, int what, phm_pair_data *pd);
 
 /* The closed-form tangent of pair ip's kept rows and joint (docs/method.md section 4.3) at poses
  * Ha, Hb (NULL = ground) and twists ta, tb (NULL = at rest), for the perturbations Ha exp(da),

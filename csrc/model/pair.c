@@ -65,7 +65,9 @@ static pq lin2(double a, pq x, double b, pq y) {
   for (int j = 0; j < 6; j++) r.d[j] = a * x.d[j] + b * y.d[j];
   return r;
 }
-static pq neg(pq x) { return lin2(-1.0, x, 0.0, x); }
+/* inline: pair_kin is forced inline into its two callers, and GCC (-O3) then left neg out of line
+ * -- 12 calls returning a 56-byte struct through memory per evaluation of the kinematics */
+static inline pq neg(pq x) { return lin2(-1.0, x, 0.0, x); }
 static pq atan2_pq(pq y, pq x, int tan) {
   double n = x.v * x.v + y.v * y.v, ni = n > 0 ? 1.0 / n : 0.0;
   pq r = {atan2(y.v, x.v), {0}};
@@ -312,6 +314,17 @@ typedef struct {
   double DW[216], DPhi[216]; /* d B_e/d eta_j at 6 e + j for entry e of the 6x6 bases W, Phi   */
 } pair_tan;
 
+/* G (mc x 6, row-major) = sign W^T Ad on W's first mc columns: one side's velocity block (the
+ * sign is exact, so each entry is the sum it always was). */
+static void wt_ad(const double W[36], int mc, const double Ad[36], double sign, double *G) {
+  for (int r = 0; r < mc; r++)
+    for (int j = 0; j < 6; j++) {
+      double s = 0;
+      for (int k = 0; k < 6; k++) s += W[6 * k + r] * Ad[6 * k + j];
+      G[6 * r + j] = sign * s;
+    }
+}
+
 static void pair_rows(const phm_model *m, int ip, const double h[16], const double AdTbi[36],
                       const double AdBa[36], const double *xref, double time, double tref, int all,
                       double *g, double *Ga, double *Gb, double *vt, double W[36], double *Phi,
@@ -373,16 +386,8 @@ static void pair_rows(const phm_model *m, int ip, const double h[16], const doub
   }
   if (g) memcpy(g, gf, sizeof(double) * (size_t)mc);
   /* G_b = W^T Ad_{Tb^-1},  G_a = -W^T Ad_{(H_b Tb)^-1 H_a} */
-  for (int r = 0; r < mc; r++)
-    for (int j = 0; j < 6; j++) {
-      double sb = 0, sa = 0;
-      for (int k = 0; k < 6; k++) {
-        if (Gb) sb += W[6 * k + r] * AdTbi[6 * k + j];
-        if (Ga) sa += W[6 * k + r] * AdBa[6 * k + j];
-      }
-      if (Gb) Gb[6 * r + j] = sb;
-      if (Ga) Ga[6 * r + j] = -sa;
-    }
+  if (Gb) wt_ad(W, mc, AdTbi, 1.0, Gb);
+  if (Ga) wt_ad(W, mc, AdBa, -1.0, Ga);
   if (vt) {
     for (int r = 0; r < mc; r++) {
       double acc = vf[r];
@@ -411,17 +416,19 @@ void phm_pair_eval(const phm_model *m, int ip, const double *Ha, const double *H
 
 void phm_pair_evaluate(const phm_model *m, int ip, const double *Ha, const double *Hb,
                        const double *ta, const double *tb, const double *xref, double time,
-                       double tref, int rows, phm_pair_data *pd) {
+                       double tref, int what, phm_pair_data *pd) {
   const phm_pair_desc *pr = &m->pair[ip];
   const double *AdTbi = m->pair_AdTbi + 36 * ip;
+  int joint = what & PHM_PAIR_JOINT;
   double tr[6];
-  if (!xref) xref = m->xref0 + m->pair_j[ip];
+  if (!xref) xref = m->xref0 + m->pair_j[ip]; /* the rows need it too: helical, driven coordinates */
   phm_pair_frames(m, ip, Ha, Hb, pd->h, NULL, pd->AdBa);
-  if (rows)
+  if (what & PHM_PAIR_ROWS) /* without Phi and x, a driven pair skips its second kinematics */
     pair_rows(m, ip, pd->h, AdTbi, pd->AdBa, xref, time, tref, 0, pd->g, pd->Ga, pd->Gb, pd->vt,
-              pd->W, pd->Phi, pd->x, NULL);
-  else
+              pd->W, joint ? pd->Phi : NULL, joint ? pd->x : NULL, NULL);
+  else if (joint)
     phm_pair_kin(pr->type, pr->pitch, pd->h, xref, NULL, NULL, pd->Phi, pd->x);
+  if (!joint) return;
   /* xdot = Phi^T t_rel */
   phm_pair_rel_twist(AdTbi, pd->AdBa, ta, tb, tr);
   for (int c = 0; c < m->pair_k[ip]; c++) pd->xdot[c] = col_dot(pd->Phi, c, tr);
@@ -575,7 +582,7 @@ void phm_pair_joint(const phm_model *m, int ip, const double *Ha, const double *
                     const double *ta, const double *tb, const double *xref, double *x,
                     double *xdot) {
   phm_pair_data pd;
-  phm_pair_evaluate(m, ip, Ha, Hb, ta, tb, xref, 0.0, 0.0, 0, &pd);
+  phm_pair_evaluate(m, ip, Ha, Hb, ta, tb, xref, 0.0, 0.0, PHM_PAIR_JOINT, &pd);
   memcpy(x, pd.x, sizeof(double) * (size_t)m->pair_k[ip]);
   if (xdot) memcpy(xdot, pd.xdot, sizeof(double) * (size_t)m->pair_k[ip]);
 }

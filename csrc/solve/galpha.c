@@ -58,9 +58,8 @@ static void galpha_stage(const dae_t *d, galpha_t *g, double h) {
 static void galpha_residual(dae_t *d, galpha_t *g, double t0, double h) {
   double *Ra = N_VGetArrayPointer(g->Ra), *R = N_VGetArrayPointer(g->R);
   dae_residual(d, t0 + stage_af(g) * h, N_VGetArrayPointer(g->ya), N_VGetArrayPointer(g->ypa), Ra);
-  dae_unpack(d->m, N_VGetArrayPointer(g->Y), d->data.H, d->data.tw);
-  dae_pair_rows(d, t0 + h, N_VGetArrayPointer(g->Y), N_VGetArrayPointer(g->Yp), R);
-  memcpy(R, Ra, sizeof(double) * (size_t)d->il); /* incl. the joint-rate rows dae_pair_rows wrote */
+  dae_constraint_rows(d, t0 + h, N_VGetArrayPointer(g->Y), R);
+  memcpy(R, Ra, sizeof(double) * (size_t)d->il);
 }
 
 /* Factor the iteration matrix A. SUNDIALS's KLU refactors each new matrix with the pivot order

@@ -612,7 +612,7 @@ phm_status phm_linear_model(const phm_model *m, const double *poses, const doubl
       const phm_pair_desc *pr = &m->pair[ip];
       phm_pair_data pd;
       phm_pair_evaluate(m, ip, pr->a >= 0 ? R.H + 16 * pr->a : NULL, pr->b >= 0 ? R.H + 16 * pr->b : NULL,
-                        NULL, NULL, NULL, time, tref, 0, &pd);
+                        NULL, NULL, NULL, time, tref, PHM_PAIR_JOINT, &pd);
       for (int c = 0; c < k; c++, j++) {
         double u[6] = {0};
         u[c] = 1.0;

@@ -7,7 +7,8 @@
  * driven coordinates, with a dropped row), and a model with a spring-damper, an interaction and a
  * PD actuator too (phm_applied_tangent). Reference step 1e-6 (x max(1, |y_j|)): truncation
  * ~ 1e-12 and round-off ~ 1e-10 relative to entries of order 1..1e3, so the closed form is held
- * to 1e-7 relative. */
+ * to 1e-7 relative. The constraint rows alone (dae_constraint_rows) are held to the residual's
+ * bit for bit. */
 #include "check.h"
 #include "dae.h"
 
@@ -102,7 +103,12 @@ static void compare(const char *name, builder *b, double tol) {
     rand_state(&d, y, yp);
     double t = 0.1, cj = 37.0 * (1 + trial);
     d.tref = 0.5;
+    /* the constraint rows alone (the generalized-alpha's at the step's end), with the data of the
+     * previous trial's state still in d: the very bits of the full residual's rows */
+    dae_constraint_rows(&d, t, y, rp);
     dae_residual(&d, t, y, yp, r0);
+    CHECK(!memcmp(rp + d.il, r0 + d.il, sizeof(double) * (size_t)(n - d.il)),
+          "%s: dae_constraint_rows = the residual's constraint rows, bit for bit", name);
     if (dae_jacobian(&d, t, cj, y, yp, r0, J)) {
       check_fail("%s: dae_jacobian failed", name);
       break;

@@ -362,7 +362,8 @@ static void drop_mask_keeps_the_other_rows_of_the_full_set(void) {
     for (int i = 0; i < 6; i++)
       for (int r = 0; r < kept; r++) wref[i] += W[6 * i + sel[r]] * lam[r];
     phm_pair_data pd;
-    phm_pair_evaluate(m, 0, pr.a < 0 ? NULL : H, H + 16, NULL, NULL, NULL, 0.0, 1.0, 1, &pd);
+    phm_pair_evaluate(m, 0, pr.a < 0 ? NULL : H, H + 16, NULL, NULL, NULL, 0.0, 1.0, PHM_PAIR_ROWS,
+                      &pd);
     phm_pair_wrench(m, 0, &pd, lam, w);
     snprintf(name, sizeof name, "%s, drop %#x: wrench = kept W^C columns lambda", tn, pr.drop);
     check(name, maxdiff(6, w, wref), 1e-15 * (1.0 + maxabs(6, wref)));
@@ -506,7 +507,7 @@ static int pair_values(const phm_model *m, int a_ground, const double H[32], con
   phm_pair_data pd;
   int mc = m->pair_m[0], k = m->pair_k[0], n = 0;
   phm_pair_evaluate(m, 0, a_ground ? NULL : H, H + 16, a_ground ? NULL : ta, tb, xref, time, time,
-                    1, &pd);
+                    PHM_PAIR_ROWS | PHM_PAIR_JOINT, &pd);
   for (int r = 0; r < mc; r++) v[n++] = pd.g[r];
   double wu[12] = {0};
   phm_pair_effort_wrench(m, 0, &pd, u, wu);
