@@ -519,9 +519,11 @@ def redundant_rows(desc: ModelDescription, G, tree_pairs):
     order = [(r0 + r, ip, r) for pref in (True, False) for ip, (r0, m) in enumerate(spans)
              if (ip in tree_pairs) == pref for r in range(m)]
     n_tree = sum(ip in tree_pairs for _, ip, _ in order)
+    if n_tree == len(order):   # no loop-closing row: nothing to test (a tree, a chain)
+        return masks, []
     Gs = scipy.sparse.csr_matrix(G)
     tol = RANK_TOL * _largest_singular_value(Gs)
-    if not tol > 0 or n_tree == len(order):
+    if not tol > 0:
         return masks, []
     # the candidates: the loop rows, less their components in the span of the tree rows
     cand = order[n_tree:]
