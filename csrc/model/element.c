@@ -168,15 +168,6 @@ static const double GAUSS_X[6] = {0.033765242898423987, 0.16939530676686776, 0.3
 static const double GAUSS_W[6] = {0.085662246189585178, 0.18038078652406930, 0.23395696728634552,
                                   0.23395696728634552, 0.18038078652406930, 0.085662246189585178};
 
-static void mm6(const double A[36], const double B[36], double C[36]) {
-  for (int i = 0; i < 6; i++)
-    for (int j = 0; j < 6; j++) {
-      double s = 0;
-      for (int k = 0; k < 6; k++) s += A[6 * i + k] * B[6 * k + j];
-      C[6 * i + j] = s;
-    }
-}
-
 /* Mc += w T^T Ms T for T (6 x 12, row-major). */
 static void add_gram(double Mc[144], const double T[72], const double Ms[36], double w) {
   double MT[72];
@@ -207,17 +198,16 @@ void phm_element_mass(double h, const double Ms[36], const double eps_hat[6], do
   phm_se3_dexp_inv(mX, Dm);
   memset(Mc, 0, sizeof(double) * 144);
   for (int g = 0; g < 6; g++) {
-    double xi = GAUSS_X[g], Y[6], E[16], AdE[36], dY[36], Pa[36], Pb[36], T[72];
+    double xi = GAUSS_X[g], Y[6], E[16], AdE[36], dY[36], T[72];
     for (int i = 0; i < 6; i++) Y[i] = -xi * X[i];
     phm_se3_exp(Y, E);
     phm_se3_Ad(E, AdE);
     phm_se3_dexp(Y, dY);
-    mm6(dY, Dp, Pa);
-    mm6(dY, Dm, Pb);
+    phm_mul_ends(dY, 6, Dp, Dm, T); /* [-dexp_{-xi X} dexp_X^-1, dexp_{-xi X} dexp_{-X}^-1] */
     for (int i = 0; i < 6; i++)
       for (int j = 0; j < 6; j++) {
-        T[12 * i + j] = AdE[6 * i + j] - xi * Pa[6 * i + j];
-        T[12 * i + 6 + j] = xi * Pb[6 * i + j];
+        T[12 * i + j] = AdE[6 * i + j] + xi * T[12 * i + j];
+        T[12 * i + 6 + j] *= xi;
       }
     add_gram(Mc, T, Ms, h * GAUSS_W[g]);
   }
