@@ -264,29 +264,29 @@ static phm_status accel_carriers(dae_t *d, double time, const double *H, const d
   return st;
 }
 
-/* y = M x with the consistent elements' couplings (csrc/model/element.c, phm_element_mass). */
-static void coupled_mass_mv(const phm_model *m, const double *x, double *y) {
+/* y = M_l x: the carriers' own inertias (the lumped mass). */
+static void carrier_mass_mv(const phm_model *m, const double *x, double *y) {
   for (int c = 0; c < m->nc; c++) phm_mv6(m->car[c].M, x + 6 * c, y + 6 * c);
+}
+
+/* y = M x with the consistent and given elements' couplings: each adds Mc [x_a; x_b], its
+ * inertial terms at rest (phm_element_inertia with zero twists). */
+static void coupled_mass_mv(const phm_model *m, const double *x, double *y) {
+  static const double zero[6];
+  carrier_mass_mv(m, x, y);
   for (int k = 0; k < m->nmc; k++) {
     const phm_element_desc *e = &m->el[m->mc_el[k]];
-    const double *Mc = m->mc + 144 * (size_t)k;
-    int ab[2] = {e->a, e->b};
-    for (int i = 0; i < 12; i++) {
-      double s = 0;
-      for (int j = 0; j < 12; j++) s += Mc[12 * i + j] * x[6 * ab[j / 6] + j % 6];
-      y[6 * ab[i / 6] + i % 6] += s;
-    }
+    double f[12];
+    phm_element_inertia(m->mc + 144 * (size_t)k, zero, zero, x + 6 * e->a, x + 6 * e->b, 0.0, f, NULL);
+    for (int i = 0; i < 6; i++) y[6 * e->a + i] += f[i], y[6 * e->b + i] += f[6 + i];
   }
 }
 
-/* r = M_l z: the residual r less its component G^T mu in the constraints' range, which the
- * lumped solve z = P r left out (M_l z = r + G^T mu). Replacing r by it keeps r^T z = z^T M_l z
- * non-negative; without it the range component grows with the iterations and r^T z, swamped by
- * mu^T G z at round-off, went negative before convergence (Gould, Hribar & Nocedal's residual
- * update). */
-static void lumped_residual(const phm_model *m, const double *z, double *r) {
-  for (int c = 0; c < m->nc; c++) phm_mv6(m->car[c].M, z + 6 * c, r + 6 * c);
-}
+/* In the conjugate gradients below, the residual r is replaced by M_l z after each lumped
+ * solve z = P r: that drops r's component G^T mu in the constraints' range, which the solve left
+ * out (M_l z = r + G^T mu), and keeps r^T z = z^T M_l z non-negative; without it the range
+ * component grows with the iterations and r^T z, swamped by mu^T G z at round-off, went negative
+ * before convergence (Gould, Hribar & Nocedal's residual update). */
 
 /* The acceleration level with the consistent elements' mass couplings: the mass M = M_l + the
  * couplings is no longer block-diagonal, and M^-1 is dense, so the Schur complement is not
@@ -317,7 +317,7 @@ static phm_status accel_coupled(dae_t *d, double time, const double *H, const do
   for (size_t i = 0; i < n6; i++) r[i] = b1[i] - q[i];
   memcpy(acc, r, sizeof(double) * n6);
   if ((st = accel_carriers(d, time, H, tw, xs, spd, 1, err))) return st;
-  lumped_residual(m, acc, r);
+  carrier_mass_mv(m, acc, r);
   memcpy(p, acc, sizeof(double) * n6);
   double rz = phm_dot(r, acc, (int)n6), rz0 = rz, xmx = phm_dot(x, q, (int)n6);
   if (rz < 0)
@@ -334,7 +334,7 @@ static phm_status accel_coupled(dae_t *d, double time, const double *H, const do
     for (size_t i = 0; i < n6; i++) x[i] += alpha * p[i], r[i] -= alpha * q[i];
     memcpy(acc, r, sizeof(double) * n6);
     if ((st = accel_carriers(d, time, H, tw, xs, spd, 1, err))) return st;
-    lumped_residual(m, acc, r);
+    carrier_mass_mv(m, acc, r);
     double rzn = phm_dot(r, acc, (int)n6), beta = rzn / rz;
     if (rzn < 0) /* the lumped solve is positive definite on the manifold: round-off beyond it */
       return PHM_FAIL(err, PHM_ESOLVER, "consistent initial values at t = %.6g s: the accelerations with consistent element masses lost positivity at %.3g of the start's residual after %d conjugate-gradient iterations", time, sqrt(-rzn / fmax(rz0, 1e-300)), it + 1);
