@@ -97,16 +97,16 @@ def static_reduction(length: float, properties, elements: int, eps: np.ndarray, 
     (and D likewise) gives it exactly K_c. Returns the element's ``K``, ``D``, the carriers'
     inertias ``M_start``, ``M_end`` (M_B's diagonal blocks) and the coupling ``Mc`` (M_B less
     them), and the condensed matrices ``K_B``, ``M_B``."""
-    from .mechanism import Mechanism
     with threadpool_limits(limits=1, user_api="blas"):
-        return _static_reduction(length, properties, elements, eps, mass, Mechanism)
+        return _static_reduction(length, properties, elements, eps, mass)
 
 
-def _static_reduction(length, properties, elements, eps, mass, Mechanism) -> dict:
+def _static_reduction(length, properties, elements, eps, mass) -> dict:
     """static_reduction's work, with one BLAS thread: its matrices are small (6 (elements + 1)),
     and NumPy's multithreaded BLAS spun on them. Measured at 64 elements: 33 ms single-threaded
     against 48-150 ms of CPU (and 0.26 s of wall time at 32 elements) with two threads on two
     cores another job was using."""
+    from .mechanism import Mechanism
     m = Mechanism()
     kap = np.asarray(eps[:3], dtype=float)
     m.add_flexible_link("link", length, properties, elements=elements, mass=mass,
@@ -137,24 +137,28 @@ def _static_reduction(length, properties, elements, eps, mass, Mechanism) -> dic
                 gravity_sag_error=sag)
 
 
+def _chain_weights(car: list, g: np.ndarray) -> np.ndarray:
+    """The chain's weights under gravity g (its start frame's axes) as generalized forces on its
+    nodes' body perturbations, 6 per node: (0, m_k R_k^T g) at the unstressed shape."""
+    w = np.zeros(6 * len(car))
+    for k, c in enumerate(car):
+        w[6 * k + 3:6 * k + 6] = c["mass"] * np.asarray(c["H0"])[:3, :3].T @ g
+    return w
+
+
 def _gravity_sag_error(m, K: np.ndarray, gravity: tuple, K_end: np.ndarray, length: float) -> float:
     """How far the gravity points put the end of the link held at its start, against the chain
     (linear statics, the three directions of g, the end's rotation scaled by the length): the
     largest difference over the largest sag (an axial g barely moves the end: its own relative
     error means nothing). Round-off for a straight link; the measure of the gravity warning
     (Mechanism._build)."""
-    car = m._car
-    n = 6 * len(car)
     (_, _, _), (m_b, c_b, _) = gravity
-    Rb = np.asarray(car[-1]["H0"])[:3, :3]
+    Rb = np.asarray(m._car[-1]["H0"])[:3, :3]
     scale = np.r_[length, length, length, 1.0, 1.0, 1.0]
     worst = big = 0.0
     for j in range(3):
         g = np.eye(3)[j]
-        w = np.zeros(n)
-        for k, c in enumerate(car):
-            w[6 * k + 3:6 * k + 6] = c["mass"] * np.asarray(c["H0"])[:3, :3].T @ g
-        full = np.linalg.solve(K[6:, 6:], w[6:])[-6:]
+        full = np.linalg.solve(K[6:, 6:], _chain_weights(m._car, g)[6:])[-6:]
         f = m_b * Rb.T @ g
         red = np.linalg.solve(K_end, np.r_[np.cross(c_b, f), f])
         worst = max(worst, np.linalg.norm(scale * (red - full)))
@@ -177,14 +181,7 @@ def _gravity_points(m, T: np.ndarray, X0: np.ndarray) -> tuple:
     _gravity_sag_error's)."""
     car = m._car
     nodes = [np.asarray(c["H0"]) for c in car]          # the link alone: start at identity
-    n = 6 * len(car)
-    wB = []
-    for j in range(3):
-        g = np.eye(3)[j]
-        w = np.zeros(n)
-        for k, (c, Hk) in enumerate(zip(car, nodes)):
-            w[6 * k + 3:6 * k + 6] = c["mass"] * Hk[:3, :3].T @ g
-        wB.append(T.T @ w)
+    wB = [T.T @ _chain_weights(car, np.eye(3)[j]) for j in range(3)]
     Tb = se3.exp(X0)
     masses, blocks, rhs, forces, e_bodies = [], [], [], [], []
     for end, R in ((0, np.eye(3)), (1, Tb[:3, :3])):
