@@ -243,13 +243,14 @@ int main(void) {
   base.error_test = PHM_ERRTEST_ALL;
   base.rho_inf = 0.9;
 
-  phm_sim_options o = base; /* simulate()'s defaults (python/phmech/mechanism.py) */
-  o.integrator = PHM_INTEGRATOR_GALPHA;
-  o.adaptive = 1;
-  o.rtol = 1e-4;
-  o.atol = 1e-6;
-  o.band = 100.0; /* 1 / (2 dt_out) */
-  o.linear_solver = 1;
+  phm_sim_options defaults = base; /* simulate()'s defaults (python/phmech/mechanism.py) */
+  defaults.integrator = PHM_INTEGRATOR_GALPHA;
+  defaults.adaptive = 1;
+  defaults.rtol = 1e-4;
+  defaults.atol = 1e-6;
+  defaults.band = 100.0; /* 1 / (2 dt_out) */
+  defaults.linear_solver = 1;
+  phm_sim_options o = defaults;
   run(m, "generalized-alpha, adaptive, KLU", o);
   o.linear_solver = 0;
   run(m, "generalized-alpha, adaptive, dense", o);
@@ -273,14 +274,7 @@ int main(void) {
   m = build(PHM_MASS_CONSISTENT);
   CHECK(m != NULL, "%s", "model with consistent masses created");
   if (!m) return 1;
-  o = base;
-  o.integrator = PHM_INTEGRATOR_GALPHA;
-  o.adaptive = 1;
-  o.rtol = 1e-4;
-  o.atol = 1e-6;
-  o.band = 100.0;
-  o.linear_solver = 1;
-  run(m, "consistent masses: generalized-alpha, adaptive, KLU", o);
+  run(m, "consistent masses: generalized-alpha, adaptive, KLU", defaults);
   o = base;
   o.integrator = PHM_INTEGRATOR_IDA;
   o.linear_solver = 1;
