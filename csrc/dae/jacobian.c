@@ -283,12 +283,12 @@ static void jacobian_closed_form(dae_t *d, double time, double cj, const double 
   }
   static const double Kzero[144];
   for (int k = 0; k < m->nmc; k++) { /* consistent masses: -Kt into the twists (a "wrench" -f) */
-    const phm_element_desc *e = &m->el[m->mc_el[k]];
+    const int ca = m->mc_a[k], cb = m->mc_b[k];
     double f[12], Kt[144];
-    phm_element_inertia(m->mc + 144 * (size_t)k, D->tw + 6 * e->a, D->tw + 6 * e->b,
-                        yp + PHM_NSTATE * e->a + 7, yp + PHM_NSTATE * e->b + 7, cj, f, Kt);
+    phm_element_inertia(m->mc + 144 * (size_t)k, D->tw + 6 * ca, D->tw + 6 * cb,
+                        yp + PHM_NSTATE * ca + 7, yp + PHM_NSTATE * cb + 7, cj, f, Kt);
     for (int i = 0; i < 144; i++) Kt[i] = -Kt[i];
-    add_wrench_tangent(&sink, e->a, e->b, f, Kzero, Kt);
+    add_wrench_tangent(&sink, ca, cb, f, Kzero, Kt);
   }
   /* actuators, loads, springs: at the pairs' evaluation of this state (dae_pair_rows) */
   phm_applied_tangent(m, D->pair, D->H, D->tw, y + d->ix, time, d->tref, 1.0, add_wrench_tangent,

@@ -144,13 +144,13 @@ int dae_residual(dae_t *d, double time, const double *y, const double *yp, doubl
     for (int i = 0; i < 6; i++) Ps += D->gl[6 * c + i] * t[i]; /* power of constraint wrenches */
   }
   for (int k = 0; k < m->nmc; k++) { /* consistent element masses couple their nodes' balances */
-    const phm_element_desc *e = &m->el[m->mc_el[k]];
+    const int ca = m->mc_a[k], cb = m->mc_b[k];
     double f[12];
-    phm_element_inertia(m->mc + 144 * (size_t)k, D->tw + 6 * e->a, D->tw + 6 * e->b,
-                        yp + PHM_NSTATE * e->a + 7, yp + PHM_NSTATE * e->b + 7, 0.0, f, NULL);
+    phm_element_inertia(m->mc + 144 * (size_t)k, D->tw + 6 * ca, D->tw + 6 * cb,
+                        yp + PHM_NSTATE * ca + 7, yp + PHM_NSTATE * cb + 7, 0.0, f, NULL);
     for (int i = 0; i < 6; i++) {
-      F[PHM_NSTATE * e->a + 7 + i] += f[i];
-      F[PHM_NSTATE * e->b + 7 + i] += f[6 + i];
+      F[PHM_NSTATE * ca + 7 + i] += f[i];
+      F[PHM_NSTATE * cb + 7 + i] += f[6 + i];
     }
   }
   F[d->ie] = yp[d->ie] - Pd;

@@ -125,7 +125,7 @@ typedef struct phm_law {
 
 typedef struct {
   double M[36];      /* spatial inertia at the carrier frame, body coordinates, kg, kg m, kg m^2 */
-  double mass;       /* kg, for gravity                                                  */
+  double mass;       /* kg, for gravity (>= 0)                                           */
   double com[3];     /* centre of mass in body coordinates, m                            */
   double H0[16];     /* initial pose                                                      */
   double t0[6];      /* initial body twist (omega, v)                                     */
@@ -155,6 +155,16 @@ typedef struct {
 /* GIVEN: the coupling Mc of the description (a reduced link's condensed mass, whose nodes are
  * interface frames: python/phmech/fidelity.py). */
 typedef enum { PHM_MASS_LUMPED = 0, PHM_MASS_CONSISTENT = 1, PHM_MASS_GIVEN = 2 } phm_element_mass_kind;
+
+/* A kinetic coupling of two carriers a != b without an element: T_c = 1/2 [t_a; t_b]^T Mc [t_a; t_b]
+ * in their body twists, constant, like an element's given mass (its energy balance exact, momentum
+ * conserved). A modal link's interior modes couple to its two ends this way: each modal
+ * coordinate is carried by a slider frame on the link's start (docs/method.md section 4.10,
+ * python/phmech/fidelity.py). The carriers' inertias plus Mc must be positive definite. */
+typedef struct {
+  int a, b;          /* carrier indices                                                   */
+  double Mc[144];    /* symmetric 12 x 12 on [t_a; t_b]                                   */
+} phm_coupling_desc;
 
 /* A pair type: a row of THE pair table (csrc/model/pair.c, the only place that defines pair
  * types; phm_pair_type(i) returns row i, phm_pair_type_count() the number of rows; Python builds its
@@ -244,6 +254,7 @@ typedef struct {
   double gravity[3]; /* m/s^2, world */
   int nactuators; const phm_actuator_desc *actuators;
   int nsprings;   const phm_spring_desc *springs;
+  int ncouplings; const phm_coupling_desc *couplings; /* kinetic couplings without an element */
 } phm_model_desc;
 
 typedef struct phm_model phm_model;

@@ -1,4 +1,4 @@
-/* graph.c -- the coupling graph of the carriers (which share an element, pair, spring or load)
+/* graph.c -- the coupling graph of the carriers (which share an element, pair, spring, load or mass coupling)
  * and of the pairs (each coupled to its carriers): the block structure of every Jacobian (the
  * DAE's pattern, csrc/dae/jacobian.c, on carriers and pairs; the stiffness blocks of modes and
  * statics, csrc/solve/linearize.c, on the carriers). */
@@ -10,7 +10,7 @@
 
 phm_status phm_carrier_graph(const phm_model *m, int pairs, int **ptr_out, int **nbr_out,
                              phm_error *err) {
-  int nc = m->nc, nv = nc + (pairs ? m->np : 0), ned = m->ne + m->np + m->nl + m->ns;
+  int nc = m->nc, nv = nc + (pairs ? m->np : 0), ned = m->ne + m->np + m->nl + m->ns + m->nmc;
   if (pairs) ned += 2 * m->np;
   /* the edges in the order of the components; a pair's vertex meets its carriers after all
    * carrier-carrier edges */
@@ -22,6 +22,7 @@ phm_status phm_carrier_graph(const phm_model *m, int pairs, int **ptr_out, int *
   for (int i = 0; i < m->np; i++) { ea[k] = m->pair[i].a; eb[k++] = m->pair[i].b; }
   for (int i = 0; i < m->nl; i++) { ea[k] = m->load[i].carrier; eb[k++] = m->load[i].reaction; }
   for (int i = 0; i < m->ns; i++) { ea[k] = m->spr[i].a; eb[k++] = m->spr[i].b; }
+  for (int i = 0; i < m->nmc; i++) { ea[k] = m->mc_a[i]; eb[k++] = m->mc_b[i]; } /* couplings */
   if (pairs)
     for (int i = 0; i < m->np; i++) {
       ea[k] = nc + i; eb[k++] = m->pair[i].a;

@@ -47,7 +47,8 @@ void phm_model_free(phm_model *m) {
   if (!m) return;
   free(m->car);
   free(m->el);
-  free(m->mc_el);
+  free(m->mc_a);
+  free(m->mc_b);
   free(m->mc);
   free(m->pair);
   free(m->pair_row);
@@ -95,18 +96,26 @@ static int cmp_double(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
+/* A 12 x 12 coupling is symmetric to round-off. */
+static int symmetric12(const double Mc[144]) {
+  for (int r = 0; r < 12; r++)
+    for (int c = 0; c < r; c++)
+      if (fabs(Mc[12 * r + c] - Mc[12 * c + r]) > 1e-12 * (fabs(Mc[12 * r + c]) + fabs(Mc[12 * c + r]))) return 0;
+  return 1;
+}
+
 /* A given coupling with its nodes' inertias, diag(M_a, M_b) + Mc, passes a Cholesky
  * factorization (12 x 12, no tolerance): the kinetic energy of the element's two nodes alone is
  * positive for every motion. Couplings that share a carrier are not checked together (a modal
  * link's element has its own two carriers; the initial accelerations' conjugate gradients stop
  * with an error if the whole mass is not positive). */
-static int coupled_mass_spd(const phm_element_desc *e, const phm_carrier_desc *car) {
+static int coupled_mass_spd(int a, int b, const double Mc[144], const phm_carrier_desc *car) {
   double A[144];
-  memcpy(A, e->Mc, sizeof A);
+  memcpy(A, Mc, sizeof A);
   for (int i = 0; i < 6; i++)
     for (int j = 0; j < 6; j++) {
-      A[12 * i + j] += car[e->a].M[6 * i + j];
-      A[12 * (6 + i) + 6 + j] += car[e->b].M[6 * i + j];
+      A[12 * i + j] += car[a].M[6 * i + j];
+      A[12 * (6 + i) + 6 + j] += car[b].M[6 * i + j];
     }
   for (int j = 0; j < 12; j++) {
     double s = A[13 * j];
@@ -130,17 +139,19 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   if (d->ncarriers < 1) return PHM_FAIL(err, PHM_EINVAL, "model has no carrier (body or beam node)");
   PHM_CHECK(d->carriers && (d->nelements <= 0 || d->elements) && (d->npairs <= 0 || d->pairs) &&
                 (d->nloads <= 0 || d->loads) && (d->nactuators <= 0 || d->actuators) &&
-                (d->nsprings <= 0 || d->springs),
+                (d->nsprings <= 0 || d->springs) && (d->ncouplings <= 0 || d->couplings),
             err, PHM_EINVAL, "model description: a component count is positive but its array is NULL");
-  if (d->nelements < 0 || d->npairs < 0 || d->nloads < 0)
-    return PHM_FAIL(err, PHM_EINVAL, "negative element, pair or load count");
+  if (d->nelements < 0 || d->npairs < 0 || d->nloads < 0 || d->ncouplings < 0)
+    return PHM_FAIL(err, PHM_EINVAL, "negative element, pair, load or coupling count");
   if (!phm_all_finite(d->gravity, 3)) return PHM_FAIL(err, PHM_EINVAL, "gravity has a non-finite entry");
   phm_status st;
   for (int i = 0; i < d->ncarriers; i++) {
     const phm_carrier_desc *c = &d->carriers[i];
     if (!phm_all_finite(c->M, 36) || !isfinite(c->mass) || !phm_all_finite(c->com, 3) || !phm_all_finite(c->t0, 6))
       return PHM_FAIL(err, PHM_EINVAL, "carrier %d: non-finite inertia, mass, centre of mass or twist", i);
-    if (!(c->mass > 0)) return PHM_FAIL(err, PHM_EINVAL, "carrier %d: mass must be > 0 (got %g kg)", i, c->mass);
+    /* the mass gravity pulls (the inertia is M): zero for a modal link's slider whose mode has no
+     * weight (python/phmech/fidelity.py, modal_sliders) */
+    if (!(c->mass >= 0)) return PHM_FAIL(err, PHM_EINVAL, "carrier %d: mass must be >= 0 (got %g kg)", i, c->mass);
     if (!spd6(c->M, 0)) return PHM_FAIL(err, PHM_EINVAL, "carrier %d: spatial inertia is not symmetric positive definite", i);
     if ((st = check_pose(c->H0, "carrier", i, err))) return st;
   }
@@ -159,13 +170,19 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
       return PHM_FAIL(err, PHM_EINVAL, "element %d: consistent mass needs a finite, symmetric positive definite section inertia", i);
     if (e->mass == PHM_MASS_GIVEN) {
       if (!phm_all_finite(e->Mc, 144)) return PHM_FAIL(err, PHM_EINVAL, "element %d: non-finite mass coupling", i);
-      for (int r = 0; r < 12; r++)
-        for (int c = 0; c < r; c++)
-          if (fabs(e->Mc[12 * r + c] - e->Mc[12 * c + r]) > 1e-12 * (fabs(e->Mc[12 * r + c]) + fabs(e->Mc[12 * c + r])))
-            return PHM_FAIL(err, PHM_EINVAL, "element %d: the mass coupling is not symmetric", i);
-      if (!coupled_mass_spd(e, d->carriers))
+      if (!symmetric12(e->Mc)) return PHM_FAIL(err, PHM_EINVAL, "element %d: the mass coupling is not symmetric", i);
+      if (!coupled_mass_spd(e->a, e->b, e->Mc, d->carriers))
         return PHM_FAIL(err, PHM_EINVAL, "element %d: its nodes' inertias plus its mass coupling are not positive definite", i);
     }
+  }
+  for (int i = 0; i < d->ncouplings; i++) {
+    const phm_coupling_desc *c = &d->couplings[i];
+    if (c->a < 0 || c->a >= d->ncarriers || c->b < 0 || c->b >= d->ncarriers || c->a == c->b)
+      return PHM_FAIL(err, PHM_EINVAL, "coupling %d: carriers (%d, %d) out of range or equal", i, c->a, c->b);
+    if (!phm_all_finite(c->Mc, 144)) return PHM_FAIL(err, PHM_EINVAL, "coupling %d: non-finite mass coupling", i);
+    if (!symmetric12(c->Mc)) return PHM_FAIL(err, PHM_EINVAL, "coupling %d: the mass coupling is not symmetric", i);
+    if (!coupled_mass_spd(c->a, c->b, c->Mc, d->carriers))
+      return PHM_FAIL(err, PHM_EINVAL, "coupling %d: its carriers' inertias plus the coupling are not positive definite", i);
   }
   for (int i = 0; i < d->npairs; i++) {
     const phm_pair_desc *p = &d->pairs[i];
@@ -271,20 +288,31 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   memcpy(m->car, d->carriers, sizeof *m->car * (size_t)m->nc);
   if (m->ne) memcpy(m->el, d->elements, sizeof *m->el * (size_t)m->ne);
   for (int i = 0; i < m->ne; i++) m->nmc += m->el[i].mass != PHM_MASS_LUMPED;
-  m->mc_el = malloc(sizeof(int) * (size_t)(m->nmc + 1));
+  m->nmc += d->ncouplings;
+  m->mc_a = malloc(sizeof(int) * (size_t)(m->nmc + 1));
+  m->mc_b = malloc(sizeof(int) * (size_t)(m->nmc + 1));
   m->mc = malloc(sizeof(double) * 144 * (size_t)(m->nmc + 1));
-  if (!m->mc_el || !m->mc) {
+  if (!m->mc_a || !m->mc_b || !m->mc) {
     free(laws);
     phm_model_free(m);
     return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
   }
-  for (int i = 0, k = 0; i < m->ne; i++)
-    if (m->el[i].mass != PHM_MASS_LUMPED) {
-      const phm_element_desc *e = &m->el[i];
-      m->mc_el[k] = i;
-      if (e->mass == PHM_MASS_GIVEN) memcpy(m->mc + 144 * (size_t)k++, e->Mc, 144 * sizeof(double));
-      else phm_element_mass(e->h, e->Ms, e->eps_hat, m->mc + 144 * (size_t)k++);
+  {
+    int k = 0;
+    for (int i = 0; i < m->ne; i++)
+      if (m->el[i].mass != PHM_MASS_LUMPED) {
+        const phm_element_desc *e = &m->el[i];
+        m->mc_a[k] = e->a;
+        m->mc_b[k] = e->b;
+        if (e->mass == PHM_MASS_GIVEN) memcpy(m->mc + 144 * (size_t)k++, e->Mc, 144 * sizeof(double));
+        else phm_element_mass(e->h, e->Ms, e->eps_hat, m->mc + 144 * (size_t)k++);
+      }
+    for (int i = 0; i < d->ncouplings; i++, k++) {
+      m->mc_a[k] = d->couplings[i].a;
+      m->mc_b[k] = d->couplings[i].b;
+      memcpy(m->mc + 144 * (size_t)k, d->couplings[i].Mc, 144 * sizeof(double));
     }
+  }
   if (m->np) memcpy(m->pair, d->pairs, sizeof *m->pair * (size_t)m->np);
   for (int i = 0; i < m->np; i++) { /* constant: computed once, read by every pair evaluation */
     double Tbi[16];

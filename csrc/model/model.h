@@ -32,8 +32,9 @@ struct phm_model {
   double *tables;   /* owned copies of the laws' tables (points, pieces, breakpoints) */
   phm_law *lawnodes; /* owned copies of the expression laws' nodes */
   double lref;      /* length scale for finite differences, m */
-  int nmc;          /* elements with a mass coupling (CONSISTENT or GIVEN)              */
-  int *mc_el;       /* nmc: their indices, ascending                                    */
+  int nmc;          /* mass couplings: the elements' (CONSISTENT or GIVEN, in element order),
+                     * then the description's couplings without an element                */
+  int *mc_a, *mc_b; /* nmc: the two carriers of each                                    */
   double *mc;       /* nmc x 144: their couplings Mc (phm_element_mass, or given), once  */
 };
 

@@ -145,8 +145,13 @@ static const column spring_columns[] = {
     SCALAR("rest_length", "spring rest lengths", phm_spring_desc, d0),
 };
 
+static const column coupling_columns[] = {
+    MATRIX("Mc", "mass couplings", phm_coupling_desc, Mc, 12, 12),
+    INDEX2("carriers", "coupled carriers", phm_coupling_desc, a, b, "coupling"),
+};
+
 #define KIND(name, noun, st, cols) {name, noun, sizeof(st), cols, (int)(sizeof cols / sizeof cols[0])}
-enum { NKINDS = 6 };
+enum { NKINDS = 7 };
 static const component COMPONENTS[NKINDS] = {
     KIND("carriers", "carrier", phm_carrier_desc, carrier_columns),
     KIND("elements", "element", phm_element_desc, element_columns),
@@ -154,6 +159,7 @@ static const component COMPONENTS[NKINDS] = {
     KIND("loads", "load", phm_load_desc, load_columns),
     KIND("actuators", "actuator", phm_actuator_desc, actuator_columns),
     KIND("springs", "spring", phm_spring_desc, spring_columns),
+    KIND("couplings", "coupling", phm_coupling_desc, coupling_columns),
 };
 
 /* ---------------------------------------------------------------- laws
@@ -419,10 +425,15 @@ static int parse_component(const component *cp, PyObject *d, PyObject *keep, npy
 
 static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
   (void)self;
-  static char *kwl[] = {"carriers", "elements", "pairs", "loads", "actuators", "springs", "gravity", NULL};
-  PyObject *o[NKINDS + 1];
-  if (!PyArg_ParseTupleAndKeywords(args, kw, "OOOOOOO", kwl, &o[0], &o[1], &o[2], &o[3], &o[4], &o[5], &o[6]))
+  static char *kwl[] = {"carriers", "elements", "pairs", "loads", "actuators", "springs", "gravity",
+                        "couplings", NULL};
+  /* o[6] gravity, o[7] the couplings (optional: none) */
+  PyObject *o[NKINDS + 1] = {NULL};
+  if (!PyArg_ParseTupleAndKeywords(args, kw, "OOOOOOO|O", kwl, &o[0], &o[1], &o[2], &o[3], &o[4], &o[5],
+                                   &o[6], &o[7]))
     return NULL;
+  PyObject *grav_arg = o[6];
+  o[6] = o[7];
   PyObject *keep = PyList_New(0);
   if (!keep) return NULL;
   PyObject *result = NULL;
@@ -431,13 +442,14 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
   npy_intp g3[1] = {3};
   PyArrayObject *grav = NULL;
   for (int k = 0; k < NKINDS; k++)
-    if (parse_component(&COMPONENTS[k], o[k], keep, &n[k], &items[k]) < 0) goto fail;
-  if (!(grav = phm_py_double_array(o[NKINDS], "gravity", g3, 1, 0))) goto fail;
+    if (o[k] && parse_component(&COMPONENTS[k], o[k], keep, &n[k], &items[k]) < 0) goto fail;
+  if (!(grav = phm_py_double_array(grav_arg, "gravity", g3, 1, 0))) goto fail;
   {
     phm_model_desc d = {.ncarriers = (int)n[0], .carriers = items[0], .nelements = (int)n[1],
                         .elements = items[1], .npairs = (int)n[2], .pairs = items[2],
                         .nloads = (int)n[3], .loads = items[3], .nactuators = (int)n[4],
-                        .actuators = items[4], .nsprings = (int)n[5], .springs = items[5]};
+                        .actuators = items[4], .nsprings = (int)n[5], .springs = items[5],
+                        .ncouplings = (int)n[6], .couplings = items[6]};
     memcpy(d.gravity, PyArray_DATA(grav), 3 * sizeof(double));
     phm_model *m = NULL;
     phm_error err;
@@ -1047,12 +1059,12 @@ PyMethodDef phm_py_model_methods[] = {
     {"model_joints", py_model_joints, METH_VARARGS,
      "model_joints(model, poses, xs=None) -> x (njoints,): joint coordinates at the poses."},
     {"model_new", (PyCFunction)(void (*)(void))py_model_new, METH_VARARGS | METH_KEYWORDS,
-     "model_new(carriers, elements, pairs, loads, actuators, springs, gravity) -> model capsule "
+     "model_new(carriers, elements, pairs, loads, actuators, springs, gravity, couplings=None) -> model capsule "
      "(validated; raises ModelError). Each component kind is a dict of columns with one row per "
      "component (keys: carriers mass, M, com, H0, t0; elements h, nodes, K, D, eps_hat, mass (0 lumped, 1 consistent, 2 given), Ms, Mc; pairs "
      "type, carriers, Ta, Tb, driven, axis, law, pitch, x0, has_x0, drop; loads carrier, world, "
      "point, w, law, reaction; actuators pair, kind, vec, kp, kd, x_set, law; springs k, "
-     "carriers, pa, pb, c, rest_length; pairs also xlaws: per pair None or one law or None "
+     "carriers, pa, pb, c, rest_length; couplings Mc (12, 12), carriers; pairs also xlaws: per pair None or one law or None "
      "per joint coordinate); laws are tuples (kind, amplitude, t0, duration, frequency, "
      "phase, offset, data, order, nodes, fn) (python/phmech/_marshal.py); gravity (3,)."},
     {"model_set_initial", py_model_set_initial, METH_VARARGS,

@@ -154,13 +154,13 @@ phm_status lin_graph(lin_t *L, phm_error *err) {
     memcpy(L->Mb + 36 * (size_t)q, m->car[c].M, 36 * sizeof(double));
   }
   for (int k = 0; k < m->nmc; k++) { /* an element's coupling: its nodes are neighbours */
-    const phm_element_desc *e = &m->el[m->mc_el[k]];
+    const int ca = m->mc_a[k], cb = m->mc_b[k];
     const double *Mc = m->mc + 144 * (size_t)k;
-    int ab[2] = {e->a, e->b};
+    int ab[2] = {ca, cb};
     for (int bi = 0; bi < 2; bi++)
       for (int bj = 0; bj < 2; bj++) {
         int q = graph_slot(L->ptr, L->nbr, ab[bi], ab[bj]);
-        if (q < 0) return PHM_FAIL(err, PHM_EINVAL, "carrier graph: element %d's nodes are not neighbours", m->mc_el[k]);
+        if (q < 0) return PHM_FAIL(err, PHM_EINVAL, "carrier graph: mass coupling %d's carriers are not neighbours", k);
         for (int i = 0; i < 6; i++)
           for (int j = 0; j < 6; j++) L->Mb[36 * (size_t)q + 6 * i + j] += Mc[12 * (6 * bi + i) + 6 * bj + j];
       }

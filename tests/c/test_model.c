@@ -16,6 +16,7 @@ typedef struct {
   phm_actuator_desc ac;
   phm_load_desc ld;
   phm_spring_desc sp;
+  phm_coupling_desc cp; /* a kinetic coupling without an element, used by the faults only */
   double table[6];
   phm_model_desc d;
 } desc3;
@@ -137,9 +138,9 @@ static const char *apply_fault(desc3 *s, int fault, const phm_model_desc **d) {
   switch (fault) {
   case 0: *d = NULL; return "phm_model_create: NULL argument";
   case 1: s->d.ncarriers = 0; return "model has no carrier";
-  case 2: s->d.nelements = -1; return "negative element, pair or load count";
+  case 2: s->d.nelements = -1; return "negative element, pair, load or coupling count";
   case 3: s->d.gravity[1] = NAN; return "gravity has a non-finite entry";
-  case 4: s->car[1].mass = 0; return "carrier 1: mass must be > 0 (got 0 kg)";
+  case 4: s->car[1].mass = -1; return "carrier 1: mass must be >= 0 (got -1 kg)";
   case 5: s->car[0].M[1] = 0.5; return "carrier 0: spatial inertia is not symmetric positive definite";
   case 6: s->car[2].H0[0] = 1.1; return "carrier 2: pose rotation is not orthonormal with det +1";
   case 7: /* a reflection: orthonormal, det -1 */
@@ -175,6 +176,20 @@ static const char *apply_fault(desc3 *s, int fault, const phm_model_desc **d) {
     s->el.mass = PHM_MASS_GIVEN;
     s->el.Mc[0] = -1.0;
     return "element 0: its nodes' inertias plus its mass coupling are not positive definite";
+  case 30: /* couplings without an element: carriers 0 and 2 (no element between them) */
+  case 31:
+  case 32:
+  case 33:
+    s->cp.a = 0;
+    s->cp.b = 2;
+    s->d.ncouplings = 1;
+    s->d.couplings = &s->cp;
+    if (fault == 30) { s->cp.b = 0; return "coupling 0: carriers (0, 0) out of range or equal"; }
+    if (fault == 31) { s->cp.Mc[5] = NAN; return "coupling 0: non-finite mass coupling"; }
+    if (fault == 32) { s->cp.Mc[12 * 3 + 9] = 0.1; return "coupling 0: the mass coupling is not symmetric"; }
+    s->cp.Mc[6] = s->cp.Mc[72] = 1.0; /* rotation x of a with rotation x of b, at the unit inertias */
+    return "coupling 0: its carriers' inertias plus the coupling are not positive definite";
+  case 34: s->d.ncouplings = 1; return "a component count is positive but its array is NULL";
   default: return NULL;
   }
 }
