@@ -135,10 +135,11 @@ def _weld(m, name, a_carrier, H_a, b_carrier, H_b, H_joint):
 def build(p: LeafSpringParams, elements: int = 10, beta: float = 1e-5, leaf_mass_scale: float = 1.0,
           axial_shear_scale: float = 1.0, body_rot_inertia_scale: float = 1.0,
           pulse: ph.Pulse | None = None, delta: float = 0.0, mounting: str = "clamp",
-          k_mount: float = K_MOUNT, mass: str = "lumped", fidelity: str = "nonlinear"):
+          k_mount: float = K_MOUNT, mass: str = "lumped", fidelity: str = "nonlinear",
+          band: float | None = None):
     """The mechanism. ``mass``: the leaves' mass ("lumped" or "consistent"), ``fidelity`` the
-    leaves' ("nonlinear", or "modal": each reduced onto its ends; see
-    Mechanism.add_flexible_link). ``beta`` [s]: stiffness-proportional material damping D = beta K.
+    leaves' ("nonlinear", or "modal": each reduced onto its ends, with the fixed-interface modes
+    ``band`` [Hz] chooses (None: none); see Mechanism.add_flexible_link). ``beta`` [s]: stiffness-proportional material damping D = beta K.
     ``leaf_mass_scale`` scales the leaves' inertia (tiny: massless leaves), ``axial_shear_scale``
     scales EA, kGA_y, kGA_z (large: inextensible, shear-rigid leaves), ``body_rot_inertia_scale``
     the rotational inertia of the bodies. ``pulse``: the force law of w_x [N] on R1's centre of
@@ -160,7 +161,7 @@ def build(p: LeafSpringParams, elements: int = 10, beta: float = 1e-5, leaf_mass
         K[i, i] *= axial_shear_scale
     props = ph.BeamProperties(K, el.inertia * leaf_mass_scale, beta * K)
 
-    m = ph.Mechanism(gravity=(0.0, 0.0, 0.0))
+    m = ph.Mechanism(gravity=(0.0, 0.0, 0.0), band=band)
     Rleaf = se3.rotation("y", -math.pi / 2)      # local x -> world z, local z -> world -x
     xs = (-p.spacing / 2, p.spacing / 2)
     H_start = [se3.translation([x, 0.0, 0.0]) @ Rleaf for x in xs]

@@ -1,6 +1,6 @@
 """The one place that knows how a model description reaches the C core (``_core.model_new``).
 
-``model_new(carriers, elements, pairs, loads, actuators, springs, gravity)`` takes one
+``model_new(carriers, elements, pairs, loads, actuators, springs, gravity, couplings)`` takes one
 description per component kind: a dict of columns, each column an array whose first axis runs
 over the components of that kind (laws: a list with one law tuple, or None, per component). The
 columns are the fields of the core's description structs (csrc/include/phmech_types.h,
@@ -156,7 +156,10 @@ def components(desc: ModelDescription, poses: np.ndarray, twists: np.ndarray, x0
         springs=dict(carriers=_ends(sp), pa=_column(sp, "pa", (3,)), pb=_column(sp, "pb", (3,)),
                      k=np.array([q["kcd"][0] for q in sp], dtype=float),
                      c=np.array([q["kcd"][1] for q in sp], dtype=float), rest_length=rest),
-        gravity=np.asarray(desc.gravity, dtype=float))
+        gravity=np.asarray(desc.gravity, dtype=float),
+        couplings=dict(Mc=np.array([c["Mc"] for c in desc.couplings], dtype=float).reshape(-1, 12, 12),
+                       carriers=np.array([[c["a"], c["b"]] for c in desc.couplings],
+                                         dtype=float).reshape(-1, 2)))
 
 
 def core_model(desc: ModelDescription, poses: np.ndarray, twists: np.ndarray, x0: np.ndarray,

@@ -21,6 +21,8 @@ Neither changes them. Rows are dicts (units: SI, poses 4x4, twists (omega, v), w
   of which k are used), law (or None)
 - springs: name, a, b, pa, pb [m, frame coordinates], kcd (k [N/m], c [N s/m], rest length [m]
   or None for the initial distance)
+- couplings: a, b (carriers), Mc (12x12 kinetic coupling of their body twists without an
+  element: a modal link's modes with its ends, phmech.fidelity.modal_sliders)
 """
 from __future__ import annotations
 
@@ -42,6 +44,7 @@ class ModelDescription:
     loads: list = dataclasses.field(default_factory=list)
     actuators: list = dataclasses.field(default_factory=list)
     springs: list = dataclasses.field(default_factory=list)
+    couplings: list = dataclasses.field(default_factory=list)
     bodies: dict = dataclasses.field(default_factory=dict)     # name -> Body
     links: dict = dataclasses.field(default_factory=dict)      # name -> FlexibleLink
     #: link name -> index of its first element (its elements are consecutive)
@@ -85,12 +88,13 @@ class ModelDescription:
 
     def mass_couplings(self) -> dict:
         """The consistent-mass elements' node carriers ``_coupled_nodes`` (ne, 2) and couplings
-        ``_couplings`` (ne, 12, 12) in their nodes' body twists, from the core's kernel
+        ``_couplings`` (ne, 12, 12) in their nodes' body twists, then the couplings without an
+        element (a modal link's modes), from the core's kernel
         (phm_element_mass; what the simulation integrated), for a result's momentum."""
         from . import _core
-        rows = [e for e in self.elements if e.get("mass", "lumped") != "lumped"]
+        rows = [e for e in self.elements if e.get("mass", "lumped") != "lumped"] + self.couplings
         return dict(_coupled_nodes=np.array([[e["a"], e["b"]] for e in rows], dtype=int).reshape(-1, 2),
-                    _couplings=np.array([e["Mc"] if e["mass"] == "given" else
+                    _couplings=np.array([e["Mc"] if e.get("mass", "given") == "given" else
                                          _core.element_mass(e["h"], e["Ms"], e["eps"]) for e in rows],
                                         dtype=float).reshape(-1, 12, 12))
 

@@ -21,11 +21,32 @@ static modes carry them (fixed-interface modes are not implemented).
 """
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 from scipy.linalg import eigh
 from threadpoolctl import threadpool_limits
 
 from . import se3
+
+@dataclasses.dataclass(frozen=True)
+class ModalChoice:
+    """How many fixed-interface modes a modal link keeps (``modes``) for the ``band`` [Hz] and
+    ``tolerance`` (relative frequency error) asked for; ``error``: the largest relative error
+    of its own frequencies below the band against the chain it was reduced from, free and held
+    at its start (reduction_error); ``chosen``: whether the band chose ``modes`` (else the
+    user gave it)."""
+    modes: int
+    band: float
+    tolerance: float
+    error: float
+    chosen: bool
+
+    def __str__(self) -> str:
+        how = "chosen" if self.chosen else "given"
+        return (f"{self.modes} fixed-interface modes ({how}): frequency error {self.error:.2g} "
+                f"below {self.band:g} Hz against the chain reduced from (asked {self.tolerance:g})")
+
 
 #: the fidelities add_flexible_link accepts
 FIDELITIES = ("nonlinear", "rigid", "modal")
@@ -134,7 +155,95 @@ def _static_reduction(length, properties, elements, eps, mass) -> dict:
     return dict(K=sym(length * E.T @ K_B[6:, 6:] @ E), D=sym(length * E.T @ D_B[6:, 6:] @ E),
                 M_start=M_B[:6, :6].copy(), M_end=M_B[6:, 6:].copy(), Mc=Mc, K_B=K_B, M_B=M_B,
                 omega_clamped=float(np.sqrt(max(ev[0], 0.0))), gravity=gravity,
-                gravity_sag_error=sag)
+                gravity_sag_error=sag, chain=dict(K=K, D=D, M=M, T=T, interior=i,
+                                                  weights=np.array([_chain_weights(m._car, np.eye(3)[j])
+                                                                    for j in range(3)]).T))
+
+
+def interior_modes(red: dict, n: int) -> dict:
+    """The first ``n`` fixed-interface modes of a statically reduced link (``red``, from
+    static_reduction): its chain's modes with both ends held, Phi (6 (N + 1) x n, zero at the
+    ends), mass-normalized (Phi^T M Phi = I), lowest first. Their Ritz coupling with the static
+    modes T (Craig-Bampton): ``Mbq`` = T^T M Phi (12 x n, the kinetic coupling of the ends' body
+    twists with the modal rates), stiffness ``lam`` = Phi^T K Phi (n,; T^T K Phi = 0: an interior
+    shape is K-orthogonal to the static modes), damping ``Dqq`` = Phi^T D Phi and ``Dbq`` =
+    T^T D Phi (zero for a damping proportional to the stiffness), and ``Cg`` (n x 3) the modal
+    forces of the chain's weight per unit gravity along the start frame's axes (Phi^T w_j). The
+    modes' frequencies ``frequency`` [Hz] (all of them, for choose_modes)."""
+    ch = red["chain"]
+    K, M, D, T, i = ch["K"], ch["M"], ch["D"], ch["T"], ch["interior"]
+    if "fixed_interface" not in ch:          # once per reduction (choose_modes asks repeatedly)
+        with threadpool_limits(limits=1, user_api="blas"):
+            ch["fixed_interface"] = eigh(K[np.ix_(i, i)], M[np.ix_(i, i)])
+    lam, Pi = ch["fixed_interface"]
+    Phi = np.zeros((K.shape[0], n))
+    Phi[i] = Pi[:, :n]
+    return dict(Mbq=T.T @ M @ Phi, lam=lam[:n].copy(), Dqq=Phi.T @ D @ Phi, Dbq=T.T @ D @ Phi,
+                Cg=Phi.T @ ch["weights"], frequency=np.sqrt(np.maximum(lam, 0.0)) / (2 * np.pi))
+
+
+def reduced_matrices(red: dict, modes: dict) -> tuple:
+    """K_r, M_r (12 + n square) of the reduced link in (start, end, modal) coordinates."""
+    n = len(modes["lam"])
+    Kr = np.zeros((12 + n, 12 + n))
+    Kr[:12, :12] = red["K_B"]
+    Kr[12:, 12:] = np.diag(modes["lam"])
+    Mr = np.eye(12 + n)
+    Mr[:12, :12] = red["M_B"]
+    Mr[:12, 12:] = modes["Mbq"]
+    Mr[12:, :12] = modes["Mbq"].T
+    return Kr, Mr
+
+
+def _frequencies(K: np.ndarray, M: np.ndarray, skip: int) -> np.ndarray:
+    """Frequencies [Hz] of (K, M) past the ``skip`` lowest (rigid) ones."""
+    with threadpool_limits(limits=1, user_api="blas"):
+        ev = eigh(K, M, eigvals_only=True)[skip:]
+    return np.sqrt(np.maximum(ev, 0.0)) / (2 * np.pi)
+
+
+def chain_frequencies(red: dict) -> tuple:
+    """The chain's frequencies [Hz], free (its six rigid modes left out) and held at its start."""
+    K, M = red["chain"]["K"], red["chain"]["M"]
+    return _frequencies(K, M, 6), _frequencies(K[6:, 6:], M[6:, 6:], 0)
+
+
+def reduction_error(red: dict, modes: dict, band: float, full: tuple = None) -> tuple:
+    """The largest relative error of the reduced link's frequencies below ``band`` [Hz] against
+    its chain's (``full``: chain_frequencies, computed if None), free and held at its start (the
+    two ways a link's own modes show), and how many chain frequencies lie below the band. Ritz
+    bounds: the error only falls as modes are added."""
+    full = chain_frequencies(red) if full is None else full
+    Kr, Mr = reduced_matrices(red, modes)
+    worst, count = 0.0, 0
+    for f, sub in ((full[0], lambda: _frequencies(Kr, Mr, 6)),
+                   (full[1], lambda: _frequencies(Kr[6:, 6:], Mr[6:, 6:], 0))):
+        k = int(np.sum(f <= band))
+        count = max(count, k)
+        if k == 0:
+            continue
+        g = sub()
+        if len(g) < k:
+            return np.inf, count
+        worst = max(worst, float(np.max(np.abs(g[:k] / f[:k] - 1.0))))
+    return worst, count
+
+
+def choose_modes(red: dict, band: float, tolerance: float) -> tuple:
+    """The fewest fixed-interface modes (interior_modes) for which reduction_error at ``band``
+    is within ``tolerance``: (n, error, modes). All the chain's interior modes reproduce it to
+    round-off, so a choice always exists."""
+    total = len(red["chain"]["interior"])
+    full = chain_frequencies(red)
+    n = 0
+    while True:
+        modes = interior_modes(red, n)
+        err, _ = reduction_error(red, modes, band, full)
+        if err <= tolerance or n >= total:
+            return n, err, modes
+        # every mode below twice the band at least (they converge the in-band ones), then one more
+        below = int(np.sum(modes["frequency"] <= 2.0 * band))
+        n = min(total, max(n + 1, below if n < below else n + 1))
 
 
 def _chain_weights(car: list, g: np.ndarray) -> np.ndarray:
@@ -266,3 +375,100 @@ def modal_validity(result, link, T0: np.ndarray, tolerance: float) -> list:
                    f"error of order {big * big:.2g} (above the tolerance {tolerance:g}); use "
                    f"fidelity='nonlinear' for it")
     return out
+
+
+#: a slider's inertia across its axis, relative to its modal mass (and times the link length
+#: squared for rotations): the slider moves with the link's start there (its pair holds it), and
+#: its carrier needs a positive definite inertia; the same inertia is taken back through its
+#: coupling with the start, so that the kinetic energy of the pair's motion is unchanged. Left:
+#: 1/2 EPS mu s^2 |e x omega|^2 (the slider's offset s along e turning with the start at omega),
+#: a 1e-6 share of a mode's kinetic energy at the rotation rates a modal link stays valid at.
+SLIDER_EPS = 1e-6
+#: what a link's start keeps of its gravity mass when its sliders take theirs (share of it)
+SLIDER_GRAVITY_SHARE = 0.5
+
+
+def modal_sliders(red: dict, modes: dict, length: float) -> dict:
+    """The modal coordinates of a reduced link as sliders (docs/method.md section 4.10): mode j
+    is the displacement s_j = alpha_j q_j of a carrier that slides along the unit axis e_j of the
+    link's start frame (a prismatic pair holds it to the start: same orientation, origin at
+    s_j e_j), so that every stage of phmech carries it as a carrier. Its rate is
+    q_j' = u_j . (t_j - t_a), u_j = (0, e_j) / alpha_j, a constant linear map of the two body
+    twists, so the Craig-Bampton kinetic energy
+
+        T = 1/2 [t_a; t_b]^T M_B [t_a; t_b] + [t_a; t_b]^T Mbq q' + 1/2 q'^T q'
+
+    becomes a constant quadratic form in the body twists of the start, the end and the sliders:
+    its diagonal blocks the carriers' inertias, the (start, end) block the element's coupling and
+    the others couplings without an element (csrc/include/phmech_types.h, phm_coupling_desc). Its
+    stiffness lam_j q_j^2 / 2 and damping are a spring-damper along the slider (collinear, so
+    exactly linear in s_j). Gravity: the slider carries a point mass m_j at its origin, so its
+    weight's potential -m_j s_j e_j . R_a^T g is the modal one, -q_j Cg_j . R_a^T g, when
+    e_j = Cg_j / |Cg_j| and m_j alpha_j = |Cg_j|; the start's point mass gives up m_j at its
+    origin (its first moment kept). A mode without weight (|Cg_j| ~ 0) slides along x, with
+    alpha_j = 1/sqrt(link mass).
+
+    Returns the carriers' inertias ``M_start``, ``M_end`` and ``sliders`` (one dict per mode:
+    ``M`` 6x6, ``axis`` e_j, ``alpha``, ``gravity_mass``, ``couplings`` {'start', 'end', k (an
+    earlier slider)}: 12x12 on [t_other; t_j], ``k``, ``c`` [N/m, N s/m]), the element's coupling
+    ``Mc``, the mass ``gravity_taken`` from the start, and ``Dbq_share``: how much of the
+    damping coupling of the ends with the modes (T^T D Phi) is left out, relative to the modal
+    damping (zero for a damping proportional to the stiffness)."""
+    n = len(modes["lam"])
+    (m_start, _, _), _ = red["gravity"]
+    mass = float(np.trace(red["M_B"][3:6, 3:6] + red["M_B"][9:12, 9:12]) / 3.0 +
+                 2.0 * np.trace(red["M_B"][3:6, 9:12]) / 3.0)
+    mass = max(mass, 1e-300)
+    Cg = modes["Cg"]
+    cnorm = np.linalg.norm(Cg, axis=1) if n else np.zeros(0)
+    heavy = cnorm > 1e-8 * np.sqrt(mass)
+    m_g = SLIDER_GRAVITY_SHARE * m_start / max(int(np.sum(heavy)), 1)
+    N = 6 * (2 + n)
+    F = np.zeros((N, N))
+    F[:12, :12] = red["M_B"]
+    sliders = []
+    for j in range(n):
+        if heavy[j]:
+            e, alpha, mg = Cg[j] / cnorm[j], cnorm[j] / m_g, m_g
+        else:
+            e, alpha, mg = np.array([1.0, 0.0, 0.0]), 1.0 / np.sqrt(mass), 0.0
+        E = np.concatenate([np.zeros(3), e])
+        u = E / alpha
+        mu = float(u @ u)
+        A, B, J = slice(0, 6), slice(6, 12), slice(12 + 6 * j, 18 + 6 * j)
+        ma, mb = modes["Mbq"][:6, j], modes["Mbq"][6:, j]
+        F[A, J] += np.outer(ma, u) - np.outer(u, u)
+        F[J, A] += np.outer(u, ma) - np.outer(u, u)
+        F[B, J] += np.outer(mb, u)
+        F[J, B] += np.outer(u, mb)
+        F[A, A] += np.outer(u, u) - np.outer(ma, u) - np.outer(u, ma)
+        F[B, A] -= np.outer(mb, u)
+        F[A, B] -= np.outer(u, mb)
+        F[J, J] += np.outer(u, u)
+        R = SLIDER_EPS * mu * np.diag(np.r_[np.full(3, length ** 2), np.ones(3)])
+        R[3:, 3:] -= SLIDER_EPS * mu * np.outer(e, e)
+        F[J, J] += R
+        F[A, A] += R
+        F[A, J] -= R
+        F[J, A] -= R
+        sliders.append(dict(axis=e, alpha=alpha, gravity_mass=mg, k=modes["lam"][j] / alpha ** 2,
+                            c=max(modes["Dqq"][j, j], 0.0) / alpha ** 2))
+    F = 0.5 * (F + F.T)
+    blk = lambda X, i, k: X[6 * i:6 * i + 6, 6 * k:6 * k + 6]
+    Mc = np.zeros((12, 12))
+    Mc[:6, 6:], Mc[6:, :6] = blk(F, 0, 1), blk(F, 1, 0)
+    for j, sl in enumerate(sliders):
+        sl["M"] = blk(F, 2 + j, 2 + j).copy()
+        sl["couplings"] = {}
+        for other, i in [("start", 0), ("end", 1)] + [(k, 2 + k) for k in range(j)]:
+            X = blk(F, i, 2 + j)
+            if np.any(X):
+                C = np.zeros((12, 12))
+                C[:6, 6:], C[6:, :6] = X, X.T
+                sl["couplings"][other] = C
+    D = modes["Dqq"]
+    off = np.abs(D - np.diag(np.diag(D))).max() if n else 0.0
+    scale = max(np.abs(np.diag(D)).max() if n else 0.0, 1e-300)
+    dbq = float(max(off, np.abs(modes["Dbq"]).max() if n else 0.0) / scale) if np.any(D) else 0.0
+    return dict(M_start=blk(F, 0, 0).copy(), M_end=blk(F, 1, 1).copy(), Mc=Mc, sliders=sliders,
+                gravity_taken=float(sum(s["gravity_mass"] for s in sliders)), Dbq_share=dbq)

@@ -128,6 +128,12 @@ class FlexibleLink:
     #: a modal link: its first frequency [Hz] held at its start (the scale against which
     #: Mechanism.simulate checks its spin; phmech.fidelity.modal_validity)
     clamped_frequency: Optional[float] = None
+    #: a modal link: the carriers of its fixed-interface modes' sliders (phmech.fidelity,
+    #: modal_sliders), after its two interface carriers
+    sliders: list = dataclasses.field(default_factory=list)
+    #: a modal link: how many fixed-interface modes it keeps and why (fidelity.ModalChoice;
+    #: None when neither a band nor modes= was given)
+    modal_choice: Optional[object] = None
 
     @property
     def rigid(self) -> bool:
@@ -136,8 +142,9 @@ class FlexibleLink:
 
     @property
     def carriers(self) -> list:
-        """The link's distinct carrier indices, from its start (one for a rigid link)."""
-        return list(dict.fromkeys(self.nodes))
+        """The link's distinct carrier indices, from its start (one for a rigid link; a modal
+        link's sliders after its two ends)."""
+        return list(dict.fromkeys(self.nodes)) + list(self.sliders)
 
     def offset(self, k: int) -> np.ndarray:
         """The 4x4 offset of node ``k``'s frame on its carrier (identity for a nonlinear link)."""
@@ -218,6 +225,8 @@ def carrier_name(c: int, bodies: dict, links: dict) -> str:
     for lk in links.values():
         if c in lk.nodes:
             return f"rigid link {lk.name!r}" if lk.rigid else f"node {lk.nodes.index(c)} of link {lk.name!r}"
+        if c in lk.sliders:
+            return f"mode {lk.sliders.index(c) + 1} of modal link {lk.name!r}"
     return f"carrier {c}"
 
 

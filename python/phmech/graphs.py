@@ -249,12 +249,17 @@ def mechanism_graphs(desc: "ModelDescription") -> Graphs:
     inner: dict = {}
     g = MechanismGraph(rigid=list(desc.rigid_carriers().values()),
                        flexible=[nm for nm, lk in desc.links.items() if not lk.rigid], inner=inner)
+    # a modal link's sliders (its modes' pairs and springs) are inside its G_F edge
+    inside = {c for lk in desc.links.values() for c in lk.sliders}
     for e in desc.pairs:
-        g.pairs.append((e["name"], _vertex(desc, e["a"], inner), _vertex(desc, e["b"], inner)))
+        if e["b"] not in inside:
+            g.pairs.append((e["name"], _vertex(desc, e["a"], inner), _vertex(desc, e["b"], inner)))
     for ld in desc.loads:
         if ld.get("interaction"):
             g.interactions.append((ld["name"], _vertex(desc, ld["carrier"], inner),
                                    _vertex(desc, ld["reaction"], inner)))
     for q in desc.springs:
+        if q["b"] in inside:
+            continue
         g.interactions.append((q["name"], _vertex(desc, q["a"], inner), _vertex(desc, q["b"], inner)))
     return Graphs(g, g.incidence_pairs(), g.incidence_interactions())

@@ -27,8 +27,9 @@ from ._checks import array, choice, integer, per_coordinate, positive, positive_
 from ._core import ModelError, SolverError
 from .actuators import PD, Effort, Spring, actuator_row
 from .description import ModelDescription
-from .fidelity import (FIDELITIES, distributed_resultant, modal_validity, node_offsets,
-                       rigid_link_inertia, static_reduction)
+from .fidelity import (FIDELITIES, ModalChoice, choose_modes, distributed_resultant,
+                       interior_modes, modal_sliders, modal_validity, node_offsets,
+                       reduction_error, rigid_link_inertia, static_reduction)
 from .frames import Body, FlexibleLink, Frame, frame_of, link_of, rotation
 from .graphs import Graphs, mechanism_graphs
 from .laws import (Constant, Cycloidal, Function, Linear, Motion, PiecewisePolynomial, Product,
@@ -162,7 +163,7 @@ class Mechanism:
                           band: Optional[float] = None,
                           frequency_tolerance: Optional[float] = None, *,
                           start=None, fidelity: str = "nonlinear",
-                          mass: str = "lumped") -> FlexibleLink:
+                          mass: str = "lumped", modes: Optional[int] = None) -> FlexibleLink:
         """A flexible link of ``length`` [m] along the local x axis of its start frame, placed by
         ``start`` (a frame: the link's start coincides with it, its axis along the frame's x,
         e.g. ``start=body.frame_at((0.3, 0, 0))``) or ``pose`` (4x4, the pose of its start; give
@@ -209,6 +210,17 @@ class Mechanism:
         condensed weight (exact for a straight uniform link, a warning for a curved one), no
         distributed load (ModelError).
 
+        ``modes`` (modal links): how many of the link's fixed-interface modes (its chain's modes
+        with both ends held) join the static shapes (Craig-Bampton). None: chosen from ``band``
+        (the link's or the Mechanism's; a modal link takes ``elements=`` and ``band=`` together,
+        the band then choosing its modes only): the fewest with which the link's own frequencies below
+        the band, free and held at its start, are those of the chain within
+        ``frequency_tolerance`` (``link.modal_choice`` says how many and the error); 0 without
+        a band. Each mode is a slider on the link's start frame (a prismatic pair
+        ``"<link>.mode<j>"``, whose joint coordinate is the mode's scaled amplitude, and a
+        spring-damper ``"<link>.mode<j>.spring"``; docs/method.md "Modal links"): every analysis
+        carries it.
+
         ``mass`` (a nonlinear link's, or the discretization a modal one is reduced from; a rigid
         link's inertia is exact whatever it says): ``"lumped"`` (each node carries the section inertia of
         half of each adjacent element) or ``"consistent"`` (the kinetic energy of each element's
@@ -232,8 +244,9 @@ class Mechanism:
         if elements is not None and (isinstance(elements, (bool, np.bool_)) or not isinstance(elements, (int, np.integer))
                                      or elements < 1):
             raise ModelError(f"elements must be an integer >= 1 or None (got {elements!r})")
-        if elements is not None and band is not None:
-            raise ModelError(f"link {name!r}: give elements= or band=, not both")
+        if elements is not None and band is not None and fidelity != "modal":
+            raise ModelError(f"link {name!r}: give elements= or band=, not both (a modal link "
+                             f"takes both: its chain's elements, and the band its modes keep)")
         mat6 = "a finite 6x6 matrix"
         K = array("properties.stiffness", getattr(properties, "stiffness", None), (6, 6), mat6)
         I = array("properties.inertia", getattr(properties, "inertia", None), (6, 6), mat6)
@@ -287,8 +300,14 @@ class Mechanism:
                                 offsets=node_offsets(L, N, eps))
             self._links[name] = link
             return link
+        if modes is not None and fidelity != "modal":
+            raise ModelError(f"link {name!r}: modes= is for fidelity='modal' links (this one is "
+                             f"{fidelity!r})")
         if fidelity == "modal":
-            return self._add_modal_link(name, L, properties, N, eps, I, H0, given, choice, mass)
+            band = self.band if band is None else band
+            tol = self.frequency_tolerance if frequency_tolerance is None else frequency_tolerance
+            return self._add_modal_link(name, L, properties, N, eps, I, H0, given, choice, mass,
+                                        modes, band, tol)
         first = self._start_link(name, eps)
         for k in range(N + 1):
             share = h if 0 < k < N else h / 2
@@ -313,9 +332,11 @@ class Mechanism:
         self._desc.link_strain[name] = eps
         return len(self._car)
 
-    def _add_modal_link(self, name, L, properties, N, eps, I, H0, given, choice, mass) -> FlexibleLink:
+    def _add_modal_link(self, name, L, properties, N, eps, I, H0, given, choice, mass, modes,
+                        band, tol) -> FlexibleLink:
         """add_flexible_link(fidelity="modal"): two carriers (start, end) and one se3 element
-        carrying the link's statically reduced stiffness, damping and mass (phmech.fidelity)."""
+        carrying the link's statically reduced stiffness, damping and mass (phmech.fidelity), and
+        a slider per fixed-interface mode kept (modal_sliders)."""
         with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):
             try:
                 red = static_reduction(L, properties, N, eps, mass)
@@ -327,28 +348,74 @@ class Mechanism:
             raise ModelError(f"link {name!r}: its static reduction ({N} elements onto its ends) is not "
                              f"finite and positive definite in double precision (length {L:g} m with "
                              f"these properties)")
+        interior = len(red["chain"]["interior"])
+        modal_choice = None
+        if modes is not None:
+            if isinstance(modes, (bool, np.bool_)) or not isinstance(modes, (int, np.integer)) \
+                    or modes < 0:
+                raise ModelError(f"link {name!r}: modes must be an integer >= 0 or None (got {modes!r})")
+            if modes > interior:
+                raise ModelError(f"link {name!r}: modes={modes} but its {N}-element chain has "
+                                 f"{interior} interior degrees of freedom, so at most {interior} "
+                                 f"fixed-interface modes (more elements=, or fewer modes)")
+            n = int(modes)
+            shapes = interior_modes(red, n)
+            if band is not None:
+                err, _ = reduction_error(red, shapes, band)
+                modal_choice = ModalChoice(n, band, tol, err, False)
+        elif band is not None:
+            n, err, shapes = choose_modes(red, band, tol)
+            modal_choice = ModalChoice(n, band, tol, err, True)
+        else:
+            n, shapes = 0, interior_modes(red, 0)
+        sl = modal_sliders(red, shapes, L)
+        if n and sl["Dbq_share"] > tol:
+            warnings.warn(f"link {name!r}: its section damping couples its modes with each other "
+                          f"and with its ends ({sl['Dbq_share']:.2g} of the modal damping); a modal "
+                          f"link keeps only each mode's own damping (exact for a damping "
+                          f"proportional to the stiffness)", AccuracyWarning, stacklevel=3)
         first = self._start_link(name, eps)
         # gravity's point masses: the chain's weights condensed onto the ends (phmech.fidelity;
-        # also what centre_of_mass() reads)
-        for k, Mk, (mk, ck, _) in ((0, red["M_start"], red["gravity"][0]), (N, red["M_end"], red["gravity"][1])):
-            self._car.append(dict(M=Mk, mass=mk, com=ck, H0=H0[k], t0=np.zeros(6)))
+        # also what centre_of_mass() reads); the start's gives the sliders theirs
+        (m_a, c_a, _), (m_b, c_b, _) = red["gravity"]
+        m_keep = m_a - sl["gravity_taken"]
+        self._car.append(dict(M=sl["M_start"], mass=m_keep, com=c_a * (m_a / m_keep), H0=H0[0],
+                              t0=np.zeros(6)))
+        self._car.append(dict(M=sl["M_end"], mass=m_b, com=c_b, H0=H0[N], t0=np.zeros(6)))
         self._modal_gravity_miss[name] = red["gravity_sag_error"]
         self._el.append(dict(a=first, b=first + 1, h=L, K=red["K"], D=red["D"], eps=eps,
-                             mass="given", Mc=red["Mc"], Ms=I))
+                             mass="given", Mc=sl["Mc"], Ms=I))
+        sliders = list(range(first + 2, first + 2 + n))
+        for j, s in enumerate(sl["sliders"]):
+            self._car.append(dict(M=s["M"], mass=s["gravity_mass"], com=np.zeros(3), H0=H0[0],
+                                  t0=np.zeros(6)))
+            ends = {"start": first, "end": first + 1}
+            for other, C in s["couplings"].items():
+                a = ends[other] if isinstance(other, str) else first + 2 + other
+                self._desc.couplings.append(dict(a=a, b=first + 2 + j, Mc=C))
         if given is not None:
             self._given[first] = np.array(H0[0])
             self._given[first + 1] = np.array(H0[N])
-        if choice is not None and choice.modes_in_band > 0:
+            for c in sliders:
+                self._given[c] = np.array(H0[0])
+        link = FlexibleLink(name, L, 1, [first, first + 1], None, fidelity="modal", reduced_from=N,
+                            clamped_frequency=red["omega_clamped"] / (2.0 * np.pi),
+                            sliders=sliders, modal_choice=modal_choice)
+        self._links[name] = link
+        reach = 10.0 * L
+        for j, (c, s) in enumerate(zip(sliders, sl["sliders"])):
+            on_start = Frame(first, np.eye(4), f"{name}.start")
+            on_slider = Frame(c, np.eye(4), f"{name}.mode{j + 1}")
+            self.add_pair(f"{name}.mode{j + 1}", Prismatic(axis=s["axis"]), on_start, on_slider)
+            # collinear with the slide: tension k (d - reach) = k s exactly
+            self.add_spring_damper(f"{name}.mode{j + 1}.spring", on_start, on_slider, s["k"], s["c"],
+                                   rest_length=reach, point_a=-reach * s["axis"])
+        if choice is not None and choice.modes_in_band > 0 and n == 0:
             warnings.warn(f"link {name!r} is modal but has {choice.modes_in_band} of its own "
                           f"(free-free) modes in the band {choice.band:g} Hz, from "
-                          f"{choice.frequencies[0]:.4g} Hz: a modal link keeps only its static "
-                          f"shapes, so it drops them; use fidelity='nonlinear' for it",
-                          AccuracyWarning, stacklevel=3)
-        # no mesh claim: the band's accuracy holds for the chain reduced from, not for the
-        # reduced link (reduced_from says which chain)
-        link = FlexibleLink(name, L, 1, [first, first + 1], None, fidelity="modal", reduced_from=N,
-                            clamped_frequency=red["omega_clamped"] / (2.0 * np.pi))
-        self._links[name] = link
+                          f"{choice.frequencies[0]:.4g} Hz: with modes=0 a modal link keeps only "
+                          f"its static shapes, so it drops them; leave modes=None to have them "
+                          f"chosen from the band", AccuracyWarning, stacklevel=3)
         return link
 
     @_recorded
