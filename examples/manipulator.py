@@ -133,7 +133,8 @@ def build(p: ManipulatorParams, elements: int = 8, ff=None, kp=None, kd=None, ta
     """The mechanism and a dict of handles. ``ff``: constant gravity-compensation torques
     [N m] per actuated joint (None: none); ``kp``, ``kd``, ``target`` override the params.
     ``x0``: initial joint coordinates per pair name (default: all 0, the rest pose).
-    ``fidelity``: link name -> "rigid" or "nonlinear" (default: every link nonlinear)."""
+    ``fidelity``: link name -> "rigid", "modal" or "nonlinear" (default: every link nonlinear),
+    or a dict of add_flexible_link keywords (e.g. ``{"fidelity": "modal", "modes": 2}``)."""
     x0 = x0 or {}
     kp = p.kp if kp is None else kp
     kd = p.kd if kd is None else kd
@@ -149,9 +150,10 @@ def build(p: ManipulatorParams, elements: int = 8, ff=None, kp=None, kd=None, ta
     H_k7 = T([p.L2 + p.hand_offset, p.L1, 0.0])
     H_R3 = T([p.L2 + p.hand_offset + p.L_R3 / 2, p.L1, 0.0])   # R3's frame at its centre
     fid = {"F1": "nonlinear", "F2": "nonlinear", "F3": "nonlinear", **(fidelity or {})}
-    F1 = m.add_flexible_link("F1", p.L1, p.section(1), elements=elements, pose=H_F1, fidelity=fid["F1"])
-    F2 = m.add_flexible_link("F2", p.L2, p.section(2), elements=elements, pose=H_F2, fidelity=fid["F2"])
-    F3 = m.add_flexible_link("F3", p.L2, p.section(2), elements=elements, pose=H_F3, fidelity=fid["F3"])
+    kw = {k: dict(fidelity=v) if isinstance(v, str) else dict(v) for k, v in fid.items()}
+    F1 = m.add_flexible_link("F1", p.L1, p.section(1), elements=elements, pose=H_F1, **kw["F1"])
+    F2 = m.add_flexible_link("F2", p.L2, p.section(2), elements=elements, pose=H_F2, **kw["F2"])
+    F3 = m.add_flexible_link("F3", p.L2, p.section(2), elements=elements, pose=H_F3, **kw["F3"])
     R1 = m.add_rigid_body("R1", p.m_R1, _plate_inertia(p.m_R1, 0.06, p.a_R1), pose=H_R1)
     R2 = m.add_rigid_body("R2", p.m_R2, _plate_inertia(p.m_R2, 0.04, p.a_R2), pose=H_R2)
     R3 = m.add_rigid_body("R3", p.m_R3, _plate_inertia(p.m_R3, p.L_R3, 0.03), pose=H_R3)
