@@ -169,7 +169,8 @@ def interior_modes(red: dict, n: int) -> dict:
     shape is K-orthogonal to the static modes), damping ``Dqq`` = Phi^T D Phi and ``Dbq`` =
     T^T D Phi (zero for a damping proportional to the stiffness), and ``Cg`` (n x 3) the modal
     forces of the chain's weight per unit gravity along the start frame's axes (Phi^T w_j). The
-    modes' frequencies ``frequency`` [Hz] (all of them, for choose_modes)."""
+    modes' frequencies ``frequency`` [Hz] (all of them, for choose_modes), and ``peak`` (n, 2):
+    each mode's largest nodal displacement [m] and rotation [rad] per unit of q."""
     ch = red["chain"]
     K, M, D, T, i = ch["K"], ch["M"], ch["D"], ch["T"], ch["interior"]
     if "fixed_interface" not in ch:          # once per reduction (choose_modes asks repeatedly)
@@ -178,8 +179,14 @@ def interior_modes(red: dict, n: int) -> dict:
     lam, Pi = ch["fixed_interface"]
     Phi = np.zeros((K.shape[0], n))
     Phi[i] = Pi[:, :n]
+    nodes = Phi.reshape(K.shape[0] // 6, 6, n)         # (node, component, mode)
+    peak = np.zeros((n, 2))
+    if n:
+        peak[:, 0] = np.linalg.norm(nodes[:, 3:, :], axis=1).max(axis=0)
+        peak[:, 1] = np.linalg.norm(nodes[:, :3, :], axis=1).max(axis=0)
     return dict(Mbq=T.T @ M @ Phi, lam=lam[:n].copy(), Dqq=Phi.T @ D @ Phi, Dbq=T.T @ D @ Phi,
-                Cg=Phi.T @ ch["weights"], frequency=np.sqrt(np.maximum(lam, 0.0)) / (2 * np.pi))
+                Cg=Phi.T @ ch["weights"], frequency=np.sqrt(np.maximum(lam, 0.0)) / (2 * np.pi),
+                peak=peak)
 
 
 def reduced_matrices(red: dict, modes: dict) -> tuple:
@@ -343,7 +350,9 @@ def modal_validity(result, link, T0: np.ndarray, tolerance: float) -> list:
       coefficient for a uniform cantilever); warned when that exceeds ``tolerance``;
     - deflection: the end's rotation and displacement relative to the start carried rigidly,
       theta and |u|/L: the reduction is linear in them, its error of order their square;
-      warned when max(theta, |u|/L)^2 exceeds ``tolerance``."""
+      warned when max(theta, |u|/L)^2 exceeds ``tolerance``; likewise inside the link, the sum
+      over its fixed-interface modes of |s_j| times the mode's peak displacement (/L) and
+      rotation per unit of s_j (an upper bound of the interior deflection)."""
     a, b = link.nodes[0], link.nodes[-1]
     try:
         cols = result._columns([a, b])
@@ -374,6 +383,19 @@ def modal_validity(result, link, T0: np.ndarray, tolerance: float) -> list:
                    f"length between its ends: a modal link is linear in that deflection, its "
                    f"error of order {big * big:.2g} (above the tolerance {tolerance:g}); use "
                    f"fidelity='nonlinear' for it")
+    if link.sliders:
+        # its modes' deflection inside, bounded by the sum of their peaks (slider coordinates s)
+        s = np.abs(np.stack([result.joint(f"{link.name}.mode{j + 1}")["x"][:, 0]
+                             for j in range(len(link.sliders))], axis=1))
+        peak = np.asarray(link.modal_peaks)
+        ui = float(np.max(s @ peak[:, 0])) / link.length
+        ti = float(np.max(s @ peak[:, 1]))
+        inner = max(ui, ti)
+        if inner * inner > tolerance:
+            out.append(f"modal link {link.name!r} deflects inside by up to {ui:.3g} of its length "
+                       f"and {ti:.3g} rad in its fixed-interface modes: a modal link is linear "
+                       f"in them, its error of order {inner * inner:.2g} (above the tolerance "
+                       f"{tolerance:g}); use fidelity='nonlinear' for it")
     return out
 
 
@@ -410,7 +432,8 @@ def modal_sliders(red: dict, modes: dict, length: float) -> dict:
 
     Returns the carriers' inertias ``M_start``, ``M_end`` and ``sliders`` (one dict per mode:
     ``M`` 6x6, ``axis`` e_j, ``alpha``, ``gravity_mass``, ``couplings`` {'start', 'end', k (an
-    earlier slider)}: 12x12 on [t_other; t_j], ``k``, ``c`` [N/m, N s/m]), the element's coupling
+    earlier slider)}: 12x12 on [t_other; t_j], ``k``, ``c`` [N/m, N s/m], ``peak``: the mode's
+    largest displacement [m] and rotation [rad] inside the link per metre of s_j), the element's coupling
     ``Mc``, the mass ``gravity_taken`` from the start, and ``Dbq_share``: how much of the
     damping coupling of the ends with the modes (T^T D Phi) is left out, relative to the modal
     damping (zero for a damping proportional to the stiffness)."""
@@ -452,7 +475,8 @@ def modal_sliders(red: dict, modes: dict, length: float) -> dict:
         F[A, J] -= R
         F[J, A] -= R
         sliders.append(dict(axis=e, alpha=alpha, gravity_mass=mg, k=modes["lam"][j] / alpha ** 2,
-                            c=max(modes["Dqq"][j, j], 0.0) / alpha ** 2))
+                            c=max(modes["Dqq"][j, j], 0.0) / alpha ** 2,
+                            peak=modes["peak"][j] / alpha))
     F = 0.5 * (F + F.T)
     blk = lambda X, i, k: X[6 * i:6 * i + 6, 6 * k:6 * k + 6]
     Mc = np.zeros((12, 12))

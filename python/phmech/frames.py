@@ -134,6 +134,9 @@ class FlexibleLink:
     #: a modal link: how many fixed-interface modes it keeps and why (fidelity.ModalChoice;
     #: None when neither a band nor modes= was given)
     modal_choice: Optional[object] = None
+    #: a modal link: per slider, the largest displacement [m] and rotation [rad] its mode puts
+    #: inside the link per metre of its coordinate (fidelity.modal_validity's interior check)
+    modal_peaks: Optional[list] = dataclasses.field(default=None, compare=False)
 
     @property
     def rigid(self) -> bool:

@@ -510,11 +510,15 @@ def _links_meta(links: dict) -> dict:
                           mesh=None if lk.mesh is None else dataclasses.asdict(lk.mesh),
                           fidelity=lk.fidelity,
                           offsets=None if lk.offsets is None else np.asarray(lk.offsets).tolist(),
-                          reduced_from=lk.reduced_from, clamped_frequency=lk.clamped_frequency)
+                          reduced_from=lk.reduced_from, clamped_frequency=lk.clamped_frequency,
+                          sliders=list(lk.sliders),
+                          modal_choice=None if lk.modal_choice is None else dataclasses.asdict(lk.modal_choice),
+                          modal_peaks=lk.modal_peaks)
             for lk in links.values()}
 
 
 def _links_from(meta: dict) -> dict:
+    from .fidelity import ModalChoice
     from .mesh import MeshChoice
     out = {}
     for name, d in meta.items():
@@ -525,7 +529,10 @@ def _links_from(meta: dict) -> dict:
         out[name] = FlexibleLink(name, d["length"], d["elements"], list(d["nodes"]), mesh,
                                  d.get("fidelity", "nonlinear"),
                                  None if offsets is None else np.array(offsets, dtype=float),
-                                 d.get("reduced_from"), d.get("clamped_frequency"))
+                                 d.get("reduced_from"), d.get("clamped_frequency"),
+                                 list(d.get("sliders", [])),
+                                 None if d.get("modal_choice") is None else ModalChoice(**d["modal_choice"]),
+                                 d.get("modal_peaks"))
     return out
 
 

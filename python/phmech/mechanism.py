@@ -400,7 +400,8 @@ class Mechanism:
                 self._given[c] = np.array(H0[0])
         link = FlexibleLink(name, L, 1, [first, first + 1], None, fidelity="modal", reduced_from=N,
                             clamped_frequency=red["omega_clamped"] / (2.0 * np.pi),
-                            sliders=sliders, modal_choice=modal_choice)
+                            sliders=sliders, modal_choice=modal_choice,
+                            modal_peaks=[list(s["peak"]) for s in sl["sliders"]])
         self._links[name] = link
         reach = 10.0 * L
         for j, (c, s) in enumerate(zip(sliders, sl["sliders"])):
