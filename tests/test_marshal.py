@@ -33,6 +33,21 @@ def test_a_valid_description_builds_a_model():
     assert sizes[0] == 4 and sizes[3] == 3   # carriers; ports: actuator, load, spring
 
 
+def test_couplings_are_optional():
+    """model_new's couplings: left out, None or an empty set of columns are the same (no coupling
+    without an element); a coupling between carriers that are not there is refused by the core."""
+    kw = described()
+    assert kw["couplings"]["Mc"].shape == (0, 12, 12)
+    for couplings in ("absent", None, kw["couplings"]):
+        args = {k: v for k, v in kw.items() if k != "couplings"}
+        if couplings != "absent":
+            args["couplings"] = couplings
+        assert _core.model_sizes(_core.model_new(**args))[0] == 4
+    bad = dict(kw, couplings=dict(Mc=np.zeros((1, 12, 12)), carriers=np.array([[0.0, 9.0]])))
+    with pytest.raises(ph.ModelError, match="coupling 0: carriers \\(0, 9\\) out of range"):
+        _core.model_new(**bad)
+
+
 @pytest.mark.parametrize("kind,key", [(k, c) for k in ("carriers", "pairs", "springs")
                                       for c in ("mass", "type", "carriers", "law", "rest_length")
                                       if c in described()[k]])

@@ -433,7 +433,7 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
                                    &o[6], &o[7]))
     return NULL;
   PyObject *grav_arg = o[6];
-  o[6] = o[7];
+  o[6] = o[7] == Py_None ? NULL : o[7]; /* None: no coupling, as when left out */
   PyObject *keep = PyList_New(0);
   if (!keep) return NULL;
   PyObject *result = NULL;

@@ -165,8 +165,8 @@ static void take_step(const phm_model *m, const static_work_t *w, double *H, dou
  * Doubling the load step beyond 1/steps (up to 1) after one that took a single tangent: 7, 7,
  * 21, 9, 9, 14, and the hard statics cases still passed; not kept, since `steps` bounds the
  * increment the caller asked for (see phm_static_monitored). */
-static int newton(lin_t *L, lin_kkt_t *S, double *H, double *lam, double tol, int maxit,
-                  static_work_t *w, int *iters, int *have) {
+static int newton_steps(lin_t *L, lin_kkt_t *S, double *H, double *lam, double tol, int maxit,
+                        static_work_t *w, int *iters, int *have) {
   const phm_model *m = L->m;
   int nc = m->nc, n6 = 6 * nc, nk = m->ncons, N = n6 + nk;
   double *R = w->R, *x = w->x, rot = 0.0, sn = INFINITY;
@@ -225,6 +225,21 @@ static int newton(lin_t *L, lin_kkt_t *S, double *H, double *lam, double tol, in
   }
   memcpy(H, w->Hsave, sizeof(double) * 16 * (size_t)nc);
   if (nk) memcpy(lam, w->lsave, sizeof(double) * (size_t)nk);
+  return 1;
+}
+
+/* newton_steps, and a "converged" state that is not finite (a step small in the norm of the
+ * poses whose multipliers or exponential overflowed: found by tests/test_fuzz.py on a free
+ * link under a huge load) is a failure: the state goes back to the one before, so that the
+ * caller cuts the load step and, failing, hands back the last finite equilibrium. */
+static int newton(lin_t *L, lin_kkt_t *S, double *H, double *lam, double tol, int maxit,
+                  static_work_t *w, int *iters, int *have) {
+  int nc = L->m->nc, nk = L->m->ncons;
+  if (newton_steps(L, S, H, lam, tol, maxit, w, iters, have)) return 1;
+  if (phm_all_finite(H, 16 * (size_t)nc) && (!nk || phm_all_finite(lam, (size_t)nk))) return 0;
+  memcpy(H, w->Hsave, sizeof(double) * 16 * (size_t)nc);
+  if (nk) memcpy(lam, w->lsave, sizeof(double) * (size_t)nk);
+  *have = 0;
   return 1;
 }
 

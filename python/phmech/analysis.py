@@ -138,7 +138,10 @@ def mode_energies(desc, poses, shapes) -> dict:
     - ``strain`` (n, nelements, 4): twice the strain energy of the shape in each element, split by
       (torsion, bending-y, bending-z, axial) (see MODE_KINDS): 1/h dX_g . (K dX)_g, dX the change
       of the element's relative twist log(H_a^-1 H_b) = dexp_inv(-X) (phi_b - Ad_{exp(-X)} phi_a),
-      h its length, K the section stiffness. Linear in the shape, so exact for the tangent."""
+      h its length, K the section stiffness. Linear in the shape, so exact for the tangent;
+    - ``spring_strain`` (n, nsprings, 4): the same for the springs that carry a modal link's
+      fixed-interface modes (phmech.fidelity.modal_sliders; ``spring_links`` names each one's
+      link), k dd^2 split by the shares of its mode's strain kinds."""
     from . import se3
     phi = np.asarray(shapes, dtype=float)
     kin = np.einsum("nci,nci->nc", phi, desc.mass_times(phi))
@@ -158,7 +161,20 @@ def mode_energies(desc, poses, shapes) -> dict:
         prod = dX * KdX / h[None, :, None]
         for comp, kind in enumerate(_STRAIN_KIND):
             strain[:, :, kind] += prod[:, :, comp]
-    return dict(kinetic=kin, strain=strain)
+    # a modal link's fixed-interface modes store their strain energy in their sliders' springs:
+    # k dd^2 (dd the change of the spring's length), split by the mode's kinds
+    internal = [q for q in desc.springs if "kinds" in q]
+    sstrain = np.zeros((len(phi), len(internal), 4))
+    for i, q in enumerate(internal):
+        ends = []
+        for c, pt in ((q["a"], q["pa"]), (q["b"], q["pb"])):
+            R, p = poses[c][:3, :3], poses[c][:3, :3] @ pt + poses[c][:3, 3]
+            ends.append((p, np.einsum("ij,nj->ni", R, phi[:, c, 3:] + np.cross(phi[:, c, :3], pt))))
+        n_hat = (ends[1][0] - ends[0][0]) / np.linalg.norm(ends[1][0] - ends[0][0])
+        dd = (ends[1][1] - ends[0][1]) @ n_hat
+        sstrain[:, i, :] = (q["kcd"][0] * dd ** 2)[:, None] * np.asarray(q["kinds"])[None, :]
+    return dict(kinetic=kin, strain=strain, spring_strain=sstrain,
+                spring_links=[q["link"] for q in internal])
 
 
 def label_modes(desc, poses, omega, shapes) -> dict:
@@ -174,9 +190,9 @@ def label_modes(desc, poses, omega, shapes) -> dict:
     ``participation`` (list of dicts: each body's and link's share of the mode's kinetic
     energy) and ``strain_participation`` (each link's share of the strain energy)."""
     e = mode_energies(desc, poses, shapes)
-    kin, strain = e["kinetic"], e["strain"]
+    kin, strain, sstrain = e["kinetic"], e["strain"], e["spring_strain"]
     om2 = np.asarray(omega, dtype=float) ** 2
-    per_kind = strain.sum(axis=1)                           # (n, 4)
+    per_kind = strain.sum(axis=1) + sstrain.sum(axis=1)     # (n, 4)
     U = per_kind.sum(axis=1)
     ktot = kin.sum(axis=1)
     ref = om2 * ktot
@@ -194,7 +210,9 @@ def label_modes(desc, poses, omega, shapes) -> dict:
         for lk in desc.links.values():
             i0 = desc.first_element[lk.name]
             ne = len(desc.link_elements(lk))
-            d[lk.name] = float(strain[k, i0:i0 + ne].sum() / U[k]) if U[k] > 0 else 0.0
+            own = strain[k, i0:i0 + ne].sum() + sum(
+                sstrain[k, i].sum() for i, nm in enumerate(e["spring_links"]) if nm == lk.name)
+            d[lk.name] = float(own / U[k]) if U[k] > 0 else 0.0
         spart.append(d)
     return dict(kind=kinds, strain_fractions=frac, elastic_fraction=elastic, participation=part,
                 strain_participation=spart)

@@ -11,13 +11,14 @@ quadrature, which is exact for a straight link and converged to round-off for a 
 ``fidelity="modal"``: the link reduced to its interface frames, start and end (docs/method.md,
 "Modal links"): the linearization of its own se3 discretization (``elements``; free, at the
 unstressed shape, phmech's linearize: the same element and mass) condensed onto the two end
-nodes by its static modes (Guyan; Craig-Bampton with no fixed-interface mode). The reduced link
+nodes by its static modes (Guyan), plus, with ``modes=``, its fixed-interface modes (Craig-Bampton). The reduced link
 is ONE se3 element between two carriers whose stiffness and damping reproduce the condensed ones
 exactly at the unstressed shape, and whose mass is the condensed mass as a constant coupling of
 the two carriers' body twists (csrc/include/phmech_types.h, PHM_MASS_GIVEN): port-Hamiltonian,
 its energy balance exact, and every large rigid motion exact. Linear in the deformation between
-its ends (no geometric stiffening); the link's own modes are represented only as far as the
-static modes carry them (fixed-interface modes are not implemented).
+its ends (no geometric stiffening); the link's own modes are represented as far as the static
+modes and the fixed-interface modes kept carry them: each kept mode is a slider carrier on the
+link's start (modal_sliders), chosen by count or from a band (choose_modes).
 """
 from __future__ import annotations
 
@@ -155,7 +156,7 @@ def _static_reduction(length, properties, elements, eps, mass) -> dict:
     return dict(K=sym(length * E.T @ K_B[6:, 6:] @ E), D=sym(length * E.T @ D_B[6:, 6:] @ E),
                 M_start=M_B[:6, :6].copy(), M_end=M_B[6:, 6:].copy(), Mc=Mc, K_B=K_B, M_B=M_B,
                 omega_clamped=float(np.sqrt(max(ev[0], 0.0))), gravity=gravity,
-                gravity_sag_error=sag, chain=dict(K=K, D=D, M=M, T=T, interior=i,
+                gravity_sag_error=sag, chain=dict(K=K, D=D, M=M, T=T, interior=i, desc=m._desc,
                                                   weights=np.array([_chain_weights(m._car, np.eye(3)[j])
                                                                     for j in range(3)]).T))
 
@@ -169,8 +170,10 @@ def interior_modes(red: dict, n: int) -> dict:
     shape is K-orthogonal to the static modes), damping ``Dqq`` = Phi^T D Phi and ``Dbq`` =
     T^T D Phi (zero for a damping proportional to the stiffness), and ``Cg`` (n x 3) the modal
     forces of the chain's weight per unit gravity along the start frame's axes (Phi^T w_j). The
-    modes' frequencies ``frequency`` [Hz] (all of them, for choose_modes), and ``peak`` (n, 2):
-    each mode's largest nodal displacement [m] and rotation [rad] per unit of q."""
+    modes' frequencies ``frequency`` [Hz] (all of them, for choose_modes), ``peak`` (n, 2):
+    each mode's largest nodal displacement [m] and rotation [rad] per unit of q, and ``kinds``
+    (n, 4): the shares of each mode's strain energy in torsion, bending-y, bending-z and axial
+    strain (phmech.analysis.mode_energies on the chain), which label the modal link's modes."""
     ch = red["chain"]
     K, M, D, T, i = ch["K"], ch["M"], ch["D"], ch["T"], ch["interior"]
     if "fixed_interface" not in ch:          # once per reduction (choose_modes asks repeatedly)
@@ -179,14 +182,22 @@ def interior_modes(red: dict, n: int) -> dict:
     lam, Pi = ch["fixed_interface"]
     Phi = np.zeros((K.shape[0], n))
     Phi[i] = Pi[:, :n]
+    from .analysis import mode_energies
+    desc = ch["desc"]
+    shapes = np.moveaxis(Phi.reshape(K.shape[0] // 6, 6, n), 2, 0)      # (mode, node, 6)
+    strain = mode_energies(desc, np.array([c["H0"] for c in desc.carriers]), shapes)["strain"].sum(axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        kinds = np.where(strain.sum(axis=1, keepdims=True) > 0,
+                         strain / np.maximum(strain.sum(axis=1, keepdims=True), 1e-300), 0.0)
     nodes = Phi.reshape(K.shape[0] // 6, 6, n)         # (node, component, mode)
     peak = np.zeros((n, 2))
     if n:
         peak[:, 0] = np.linalg.norm(nodes[:, 3:, :], axis=1).max(axis=0)
         peak[:, 1] = np.linalg.norm(nodes[:, :3, :], axis=1).max(axis=0)
     return dict(Mbq=T.T @ M @ Phi, lam=lam[:n].copy(), Dqq=Phi.T @ D @ Phi, Dbq=T.T @ D @ Phi,
+                Dbb=np.diag(T.T @ D @ T).copy(),
                 Cg=Phi.T @ ch["weights"], frequency=np.sqrt(np.maximum(lam, 0.0)) / (2 * np.pi),
-                peak=peak)
+                peak=peak, kinds=kinds)
 
 
 def reduced_matrices(red: dict, modes: dict) -> tuple:
@@ -332,9 +343,41 @@ def _gravity_points(m, T: np.ndarray, X0: np.ndarray) -> tuple:
     return tuple(out)
 
 
+def gravity_preload_sensitivity(length: float, properties, elements: int, eps: np.ndarray,
+                                mass: str) -> float:
+    """How much the link's own weight along its axis moves its first frequency held at its start,
+    relative, per m/s^2 of gravity: its chain (nonlinear) clamped at the start under 1 m/s^2
+    along its axis (tension), modes at that equilibrium against the unloaded ones. A modal link
+    has no geometric stiffness (and its end's gravity point even shifts it the other way), so
+    this is the error a gravity preload adds to it (Mechanism._build warns)."""
+    from .mechanism import Mechanism
+    from .pairs import Fixed
+    kap = np.asarray(eps[:3], dtype=float)
+    f = []
+    for g in (0.0, 1.0):
+        m = Mechanism(gravity=(g, 0.0, 0.0))
+        lk = m.add_flexible_link("link", length, properties, elements=elements, mass=mass,
+                                 curvature=None if not np.any(kap) else kap)
+        m.add_pair("clamp", Fixed(), m.ground, lk.start)
+        with threadpool_limits(limits=1, user_api="blas"):
+            f.append(m.modes(1, at=m.static() if g else None).frequency[0])
+    return float(abs(f[1] / f[0] - 1.0))
+
+
 #: Southwell's coefficient of a uniform cantilever's first bending mode: spinning at Omega about
 #: an axis through its root, omega^2 = omega_0^2 + 1.19 Omega^2 (centrifugal stiffening)
 SOUTHWELL = 1.19
+
+
+def _beyond_linear(name: str, where: str, theta: float, u: float, tolerance: float) -> list:
+    """modal_validity's deflection message: rotation theta [rad] and displacement u (a share of
+    the length) whose square, the linear model's error, exceeds the tolerance."""
+    big = max(theta, u)
+    if big * big <= tolerance:
+        return []
+    return [f"modal link {name!r} deflects by up to {theta:.3g} rad and {u:.3g} of its length "
+            f"{where}: a modal link is linear in that deflection, its error of order "
+            f"{big * big:.2g} (above the tolerance {tolerance:g}); use fidelity='nonlinear' for it"]
 
 
 def modal_validity(result, link, T0: np.ndarray, tolerance: float) -> list:
@@ -377,26 +420,37 @@ def modal_validity(result, link, T0: np.ndarray, tolerance: float) -> list:
     c = np.clip((np.trace(rel[:, :3, :3], axis1=1, axis2=2) - 1.0) / 2.0, -1.0, 1.0)
     theta = float(np.max(np.arccos(c)))
     u = float(np.max(np.linalg.norm(rel[:, :3, 3], axis=1))) / link.length
-    big = max(theta, u)
-    if big * big > tolerance:
-        out.append(f"modal link {link.name!r} deflects by up to {theta:.3g} rad and {u:.3g} of its "
-                   f"length between its ends: a modal link is linear in that deflection, its "
-                   f"error of order {big * big:.2g} (above the tolerance {tolerance:g}); use "
-                   f"fidelity='nonlinear' for it")
+    out += _beyond_linear(link.name, "between its ends", theta, u, tolerance)
     if link.sliders:
         # its modes' deflection inside, bounded by the sum of their peaks (slider coordinates s)
         s = np.abs(np.stack([result.joint(f"{link.name}.mode{j + 1}")["x"][:, 0]
                              for j in range(len(link.sliders))], axis=1))
         peak = np.asarray(link.modal_peaks)
-        ui = float(np.max(s @ peak[:, 0])) / link.length
-        ti = float(np.max(s @ peak[:, 1]))
-        inner = max(ui, ti)
-        if inner * inner > tolerance:
-            out.append(f"modal link {link.name!r} deflects inside by up to {ui:.3g} of its length "
-                       f"and {ti:.3g} rad in its fixed-interface modes: a modal link is linear "
-                       f"in them, its error of order {inner * inner:.2g} (above the tolerance "
-                       f"{tolerance:g}); use fidelity='nonlinear' for it")
+        out += _beyond_linear(link.name, "inside, in its fixed-interface modes",
+                              float(np.max(s @ peak[:, 1])),
+                              float(np.max(s @ peak[:, 0])) / link.length, tolerance)
     return out
+
+
+def damping_coupling(modes: dict) -> float:
+    """The largest damping coupling a modal link leaves out, as a correlation: |D_ij| /
+    sqrt(D_ii D_jj) over the modes' off-diagonal entries (Phi^T D Phi) and over the ends' static
+    shapes with the modes (T^T D Phi), 0 for a damping proportional to the stiffness. Entries
+    and directions below 1e-10 of the largest damping are round-off and left out (a damped
+    direction's coupling with an undamped one is itself zero for a positive semidefinite D)."""
+    Dqq, Dbq, dbb = modes["Dqq"], modes["Dbq"], modes["Dbb"]
+    dq = np.diag(Dqq)
+    if not len(dq):
+        return 0.0
+    diag = np.concatenate([np.abs(dq), np.abs(dbb)])
+    floor = 1e-10 * max(float(diag.max()), 1e-300)
+    worst = 0.0
+    for X, r, c in ((Dqq - np.diag(dq), dq, dq), (Dbq, dbb, dq)):
+        den = np.sqrt(np.outer(np.abs(r), np.abs(c)))
+        ok = (den > floor) & (np.abs(X) > floor)
+        if np.any(ok):
+            worst = max(worst, float(np.max(np.abs(X[ok]) / den[ok])))
+    return worst
 
 
 #: a slider's inertia across its axis, relative to its modal mass (and times the link length
@@ -430,16 +484,19 @@ def modal_sliders(red: dict, modes: dict, length: float) -> dict:
     exactly linear in s_j). Gravity: the slider carries a point mass m_j at its origin, so its
     weight's potential -m_j s_j e_j . R_a^T g is the modal one, -q_j Cg_j . R_a^T g, when
     e_j = Cg_j / |Cg_j| and m_j alpha_j = |Cg_j|; the start's point mass gives up m_j at its
-    origin (its first moment kept). A mode without weight (|Cg_j| ~ 0) slides along x, with
-    alpha_j = 1/sqrt(link mass).
+    origin (its first moment kept). alpha_j = max(|Cg_j| / m_g, 1/sqrt(link mass)), m_g a share
+    of the start's gravity mass: the slider's mass 1/alpha_j^2 stays below the link's. A mode
+    without weight (|Cg_j| ~ 0) slides along x, with alpha_j = 1/sqrt(link mass).
 
     Returns the carriers' inertias ``M_start``, ``M_end`` and ``sliders`` (one dict per mode:
     ``M`` 6x6, ``axis`` e_j, ``alpha``, ``gravity_mass``, ``couplings`` {'start', 'end', k (an
     earlier slider)}: 12x12 on [t_other; t_j], ``k``, ``c`` [N/m, N s/m], ``peak``: the mode's
     largest displacement [m] and rotation [rad] inside the link per metre of s_j), the element's coupling
-    ``Mc``, the mass ``gravity_taken`` from the start, and ``Dbq_share``: how much of the
-    damping coupling of the ends with the modes (T^T D Phi) is left out, relative to the modal
-    damping (zero for a damping proportional to the stiffness)."""
+    ``Mc``, the mass ``gravity_taken`` from the start, ``Dbq_share``: the damping coupling left
+    out (damping_coupling), and ``mismatch``: the largest
+    difference, relative to its largest entry, between the Craig-Bampton mass of
+    reduced_matrices and the sliders' quadratic form restricted to the motions their pairs allow
+    (round-off for a well-conditioned model)."""
     n = len(modes["lam"])
     (m_start, _, _), _ = red["gravity"]
     mass = float(np.trace(red["M_B"][3:6, 3:6] + red["M_B"][9:12, 9:12]) / 3.0 +
@@ -454,10 +511,15 @@ def modal_sliders(red: dict, modes: dict, length: float) -> dict:
     F[:12, :12] = red["M_B"]
     sliders = []
     for j in range(n):
+        # alpha at least 1/sqrt(link mass): a mode with a small weight would otherwise get a tiny
+        # alpha, a slider mass 1/alpha^2 many orders above the link's and an ill-conditioned
+        # model (measured: a curved link's modes with |Cg| ~ 1e-6 put its frequencies 10 % off)
+        alpha = 1.0 / np.sqrt(mass)
         if heavy[j]:
-            e, alpha, mg = Cg[j] / cnorm[j], cnorm[j] / m_g, m_g
+            alpha = max(cnorm[j] / m_g, alpha)
+            e, mg = Cg[j] / cnorm[j], cnorm[j] / alpha
         else:
-            e, alpha, mg = np.array([1.0, 0.0, 0.0]), 1.0 / np.sqrt(mass), 0.0
+            e, mg = np.array([1.0, 0.0, 0.0]), 0.0
         E = np.concatenate([np.zeros(3), e])
         u = E / alpha
         mu = float(u @ u)
@@ -479,8 +541,16 @@ def modal_sliders(red: dict, modes: dict, length: float) -> dict:
         F[J, A] -= R
         sliders.append(dict(axis=e, alpha=alpha, gravity_mass=mg, k=modes["lam"][j] / alpha ** 2,
                             c=max(modes["Dqq"][j, j], 0.0) / alpha ** 2,
-                            peak=modes["peak"][j] / alpha))
+                            peak=modes["peak"][j] / alpha, kinds=modes["kinds"][j]))
     F = 0.5 * (F + F.T)
+    # what the sliders' pairs let move, (t_a, t_b, q'), mapped back: the Craig-Bampton mass
+    P = np.zeros((N, 12 + n))
+    P[:12, :12] = np.eye(12)
+    for j, sl in enumerate(sliders):
+        P[12 + 6 * j:18 + 6 * j, :6] = np.eye(6)
+        P[15 + 6 * j:18 + 6 * j, 12 + j] = sl["axis"] * sl["alpha"]
+    _, Mr = reduced_matrices(red, modes)
+    mismatch = float(np.max(np.abs(P.T @ F @ P - Mr)) / max(np.max(np.abs(Mr)), 1e-300))
     blk = lambda X, i, k: X[6 * i:6 * i + 6, 6 * k:6 * k + 6]
     Mc = np.zeros((12, 12))
     Mc[:6, 6:], Mc[6:, :6] = blk(F, 0, 1), blk(F, 1, 0)
@@ -493,9 +563,7 @@ def modal_sliders(red: dict, modes: dict, length: float) -> dict:
                 C = np.zeros((12, 12))
                 C[:6, 6:], C[6:, :6] = X, X.T
                 sl["couplings"][other] = C
-    D = modes["Dqq"]
-    off = np.abs(D - np.diag(np.diag(D))).max() if n else 0.0
-    scale = max(np.abs(np.diag(D)).max() if n else 0.0, 1e-300)
-    dbq = float(max(off, np.abs(modes["Dbq"]).max() if n else 0.0) / scale) if np.any(D) else 0.0
+    dbq = damping_coupling(modes)
     return dict(M_start=blk(F, 0, 0).copy(), M_end=blk(F, 1, 1).copy(), Mc=Mc, sliders=sliders,
-                gravity_taken=float(sum(s["gravity_mass"] for s in sliders)), Dbq_share=dbq)
+                gravity_taken=float(sum(s["gravity_mass"] for s in sliders)), Dbq_share=dbq,
+                mismatch=mismatch)

@@ -28,7 +28,8 @@ from ._core import ModelError, SolverError
 from .actuators import PD, Effort, Spring, actuator_row
 from .description import ModelDescription
 from .fidelity import (FIDELITIES, ModalChoice, choose_modes, distributed_resultant,
-                       interior_modes, modal_sliders, modal_validity, node_offsets,
+                       gravity_preload_sensitivity, interior_modes, modal_sliders,
+                       modal_validity, node_offsets,
                        reduction_error, rigid_link_inertia, static_reduction)
 from .frames import Body, FlexibleLink, Frame, frame_of, link_of, rotation
 from .graphs import Graphs, mechanism_graphs
@@ -121,6 +122,10 @@ class Mechanism:
         #: modal link name -> how far its gravity point masses put its end off the full link's
         #: sag (relative; phmech.fidelity.static_reduction), warned about under gravity
         self._modal_gravity_miss: dict = {}
+        #: modal link name -> [its chain's arguments, the relative shift of its first frequency
+        #: held at its start per m/s^2 of gravity along it (fidelity.gravity_preload_sensitivity;
+        #: None until a build under gravity asks)]
+        self._modal_preload: dict = {}
 
     @property
     def gravity(self) -> np.ndarray:
@@ -369,6 +374,10 @@ class Mechanism:
         else:
             n, shapes = 0, interior_modes(red, 0)
         sl = modal_sliders(red, shapes, L)
+        if sl["mismatch"] > 1e-8:
+            raise ModelError(f"link {name!r}: its {n} fixed-interface modes as sliders reproduce the "
+                             f"Craig-Bampton mass only to {sl['mismatch']:.2g} (ill-conditioned in "
+                             f"double precision); keep fewer modes")
         if n and sl["Dbq_share"] > tol:
             warnings.warn(f"link {name!r}: its section damping couples its modes with each other "
                           f"and with its ends ({sl['Dbq_share']:.2g} of the modal damping); a modal "
@@ -383,6 +392,7 @@ class Mechanism:
                               t0=np.zeros(6)))
         self._car.append(dict(M=sl["M_end"], mass=m_b, com=c_b, H0=H0[N], t0=np.zeros(6)))
         self._modal_gravity_miss[name] = red["gravity_sag_error"]
+        self._modal_preload[name] = [(L, properties, N, eps, mass), None]   # measured when needed
         self._el.append(dict(a=first, b=first + 1, h=L, K=red["K"], D=red["D"], eps=eps,
                              mass="given", Mc=sl["Mc"], Ms=I))
         sliders = list(range(first + 2, first + 2 + n))
@@ -411,6 +421,8 @@ class Mechanism:
             # collinear with the slide: tension k (d - reach) = k s exactly
             self.add_spring_damper(f"{name}.mode{j + 1}.spring", on_start, on_slider, s["k"], s["c"],
                                    rest_length=reach, point_a=-reach * s["axis"])
+            # its energy is the link's strain energy, of its mode's kinds (analysis.label_modes)
+            self._springs[-1].update(link=name, kinds=np.asarray(s["kinds"], dtype=float))
         if choice is not None and choice.modes_in_band > 0 and n == 0:
             warnings.warn(f"link {name!r} is modal but has {choice.modes_in_band} of its own "
                           f"(free-free) modes in the band {choice.band:g} Hz, from "
@@ -855,6 +867,18 @@ class Mechanism:
                                   f"of any point), which puts its end, held at its start, "
                                   f"{miss:.2g} off the full link's sag; use fidelity='nonlinear' "
                                   f"for it if that matters", AccuracyWarning, stacklevel=3)
+            gmax = float(np.max(np.abs(self._desc.gravity)))   # |g| without overflowing
+            g = gmax * float(np.linalg.norm(self._desc.gravity / gmax)) if self._modal_preload else 0.0
+            for nm, entry in self._modal_preload.items():
+                if entry[1] is None:
+                    entry[1] = gravity_preload_sensitivity(*entry[0])
+                if entry[1] * g > self.frequency_tolerance:
+                    warnings.warn(f"modal link {nm!r} under gravity: its weight along it (tension "
+                                  f"or compression) moves its first frequency held at its start by "
+                                  f"about {100 * entry[1] * g:.2g} % in the full link (geometric "
+                                  f"stiffness), which a modal link leaves out (its gravity points "
+                                  f"even shift it the other way); use fidelity='nonlinear' for it "
+                                  f"if it hangs or stands", AccuracyWarning, stacklevel=3)
         state, model = self._initial_state(extra_loads)
         if model is None:
             model = _marshal.core_model(self._desc, state.poses, state.twists, state.x0,
@@ -1152,7 +1176,7 @@ class Mechanism:
             if isinstance(x, FlexibleLink):
                 if self._links.get(x.name) != x:
                     raise ModelError(f"record: link {x.name!r} is not a link of this mechanism")
-                out += [c for c in x.nodes if c not in out]
+                out += [c for c in x.carriers if c not in out]   # a modal link's sliders too
                 continue
             c = frame_of(x, self._desc, "record").carrier
             if c < 0:

@@ -231,7 +231,7 @@ class SimulationResult:
             missing = [c for c in carriers if c not in kept]
             if missing:
                 full = [repr(b.name) for b in self._bodies.values() if b.carrier in kept]
-                full += [repr(lk.name) for lk in self._links.values() if all(c in kept for c in lk.nodes)]
+                full += [repr(lk.name) for lk in self._links.values() if all(c in kept for c in lk.carriers)]
                 lost = ", ".join(carrier_name(c, self._bodies, self._links) for c in missing[:5])
                 lost += f" and {len(missing) - 5} more" if len(missing) > 5 else ""
                 raise ModelError(
