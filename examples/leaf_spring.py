@@ -255,12 +255,13 @@ def f_euler_bernoulli(p: LeafSpringParams) -> float:
 def run(p: LeafSpringParams, t_end: float = 10.0, elements: int = 10, beta: float = 1e-5,
         rtol: float | None = None, atol: float | None = None, dt_out: float = 2e-3, t_fft: float = 2.0,
         impulse: float = 0.05, duration: float = 0.01, t0: float = 0.1,
-        fidelity: str = "nonlinear") -> dict:
+        fidelity: str = "nonlinear", band: float | None = None) -> dict:
     """Simulate the pulse response and analyse it. Impulse ``impulse`` [N s] as a rectangular
-    pulse of ``duration`` [s] from ``t0`` [s]; ``fidelity`` of the leaves (see build). Returns a
-    dict of results and arrays."""
+    pulse of ``duration`` [s] from ``t0`` [s]; ``fidelity`` of the leaves and the ``band`` [Hz]
+    that chooses modal leaves' fixed-interface modes (see build). Returns a dict of results and
+    arrays."""
     pulse = ph.Pulse(t0=t0, duration=duration, value=impulse / duration)
-    m, h = build(p, elements=elements, beta=beta, pulse=pulse, fidelity=fidelity)
+    m, h = build(p, elements=elements, beta=beta, pulse=pulse, fidelity=fidelity, band=band)
     c0 = time.process_time()
     modes = m.modes(3)
     cpu_modes = time.process_time() - c0
@@ -521,6 +522,9 @@ def main(argv=None) -> dict:
     ap.add_argument("--fidelity", choices=("nonlinear", "modal"), default="nonlinear",
                     help="the leaves: nonlinear se3 chains, or each reduced onto its ends "
                          "(modal; try --elements 64)")
+    ap.add_argument("--modes-band", type=float, default=None, metavar="HZ",
+                    help="modal leaves: keep the fixed-interface modes this band needs "
+                         "(default: none, the static shapes only)")
     ap.add_argument("--misalignment", action="store_true",
                     help="also sweep F1's base misalignment delta (0..2 deg): prestressed modes, "
                          "stability limit, pulse responses, parasitic motion of R1")
@@ -531,7 +535,7 @@ def main(argv=None) -> dict:
     p = default_params()
     c0 = time.process_time()
     out = run(p, t_end=t_end, elements=N, beta=a.beta, rtol=a.rtol, atol=a.atol,
-              fidelity=a.fidelity)
+              fidelity=a.fidelity, band=a.modes_band)
     brk = modal_breakdown(p, N, a.beta, refine=not a.quick)
     cpu = time.process_time() - c0
     fa, fc = f_analytic(p), f_analytic_mass_corrected(p)
@@ -546,7 +550,7 @@ def main(argv=None) -> dict:
                   damping_ratio=out["damping_ratio"], amplitude_m=out["amplitude"],
                   energy_ledger_rel=out["ledger"], breakdown=brk,
                   settings=dict(elements=N, t_end=t_end, beta=a.beta, rtol=a.rtol, atol=a.atol,
-                                fidelity=a.fidelity),
+                                fidelity=a.fidelity, modes_band=a.modes_band),
                   params=p.as_dict())
     figures = []
     if a.misalignment:
