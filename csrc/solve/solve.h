@@ -18,6 +18,13 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
                       N_Vector yp, const double *tout, int nout, double E0[1], double nbp,
                       phm_sim_output *out, phm_error *err);
 
+/* ---------------------------------------------------------------- nvector_ops.c */
+/* Install phmech's compiled copies of the serial N_Vector operations IDA spends its time in on v
+ * (N_VNew_Serial's; its clones inherit them), and of the zero on the sparse matrix A: the same
+ * numbers, bit for bit, as SUNDIALS's (whose Debian build is unoptimized). */
+void phm_nvector_ops(N_Vector v);
+void phm_sparse_matrix_ops(SUNMatrix A);
+
 /* ---------------------------------------------------------------- linearization (linearize.c) */
 typedef struct {
   const phm_model *m;
