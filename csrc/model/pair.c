@@ -272,20 +272,60 @@ static double col_dot(const double B[36], int c, const double v[6]) {
 /* ---------------------------------------------------------------- pairs */
 /* Frames of pair ip: B = H_b Tb, h = (H_a Ta)^-1 B, AdTbi = Ad_{Tb^-1}, AdBa = Ad_{B^-1 H_a}, so
  * that the relative twist is t_rel = AdTbi t_b - AdBa t_a (in F_b). */
+/* Frame X = H T (H NULL: T) as rotation R (3x3 row-major) and origin p: phm_se3_compose's
+ * arithmetic, inline. */
+static inline void frame_of(const double *H, const double T[16], double R[9], double p[3]) {
+  for (int i = 0; i < 3; i++) {
+    if (!H) {
+      for (int j = 0; j < 3; j++) R[3 * i + j] = T[4 * i + j];
+      p[i] = T[4 * i + 3];
+      continue;
+    }
+    for (int j = 0; j < 3; j++)
+      R[3 * i + j] = H[4 * i] * T[j] + H[4 * i + 1] * T[4 + j] + H[4 * i + 2] * T[8 + j];
+    p[i] = (H[4 * i] * T[3] + H[4 * i + 1] * T[7] + H[4 * i + 2] * T[11]) + H[4 * i + 3];
+  }
+}
+
+/* Frames of pair ip: B = H_b Tb, h = (H_a Ta)^-1 B, AdTbi = Ad_{Tb^-1}, AdBa = Ad_{B^-1 H_a}, so
+ * that the relative twist is t_rel = AdTbi t_b - AdBa t_a (in F_b). Fused (no 4x4 inverse or
+ * compose, no copies), with the arithmetic of phm_se3_inverse, phm_se3_compose and phm_se3_Ad
+ * (the same numbers; an exact zero's sign aside). */
 void phm_pair_frames(const phm_model *m, int ip, const double *Ha, const double *Hb, double h[16],
                      double AdTbi[36], double AdBa[36]) {
   const phm_pair_desc *pr = &m->pair[ip];
-  double A[16], B[16], Ai[16], Bi[16], T[16];
-  if (Ha) phm_se3_compose(Ha, pr->Ta, A); else memcpy(A, pr->Ta, sizeof A);
-  if (Hb) phm_se3_compose(Hb, pr->Tb, B); else memcpy(B, pr->Tb, sizeof B);
-  phm_se3_inverse(A, Ai);
-  phm_se3_compose(Ai, B, h);
-  if (AdTbi) memcpy(AdTbi, m->pair_AdTbi + 36 * ip, 36 * sizeof(double));
-  if (AdBa) {
-    phm_se3_inverse(B, Bi);
-    if (Ha) phm_se3_compose(Bi, Ha, T); else memcpy(T, Bi, sizeof T);
-    phm_se3_Ad(T, AdBa);
+  double RA[9], pA[3], RB[9], pB[3];
+  frame_of(Ha, pr->Ta, RA, pA);
+  frame_of(Hb, pr->Tb, RB, pB);
+  for (int i = 0; i < 3; i++) { /* h = A^-1 B: R_A^T R_B, R_A^T p_B + (-R_A^T p_A) */
+    for (int j = 0; j < 3; j++)
+      h[4 * i + j] = RA[i] * RB[j] + RA[3 + i] * RB[3 + j] + RA[6 + i] * RB[6 + j];
+    double qa = -(RA[i] * pA[0] + RA[3 + i] * pA[1] + RA[6 + i] * pA[2]);
+    h[4 * i + 3] = (RA[i] * pB[0] + RA[3 + i] * pB[1] + RA[6 + i] * pB[2]) + qa;
   }
+  h[12] = h[13] = h[14] = 0.0;
+  h[15] = 1.0;
+  if (AdTbi) memcpy(AdTbi, m->pair_AdTbi + 36 * ip, 36 * sizeof(double));
+  if (!AdBa) return;
+  double R[9], p[3]; /* B^-1 H_a (H_a NULL: B^-1) */
+  for (int i = 0; i < 3; i++) {
+    double qb = -(RB[i] * pB[0] + RB[3 + i] * pB[1] + RB[6 + i] * pB[2]);
+    if (!Ha) {
+      for (int j = 0; j < 3; j++) R[3 * i + j] = RB[3 * j + i];
+      p[i] = qb;
+      continue;
+    }
+    for (int j = 0; j < 3; j++)
+      R[3 * i + j] = RB[i] * Ha[j] + RB[3 + i] * Ha[4 + j] + RB[6 + i] * Ha[8 + j];
+    p[i] = (RB[i] * Ha[3] + RB[3 + i] * Ha[7] + RB[6 + i] * Ha[11]) + qb;
+  }
+  for (int i = 0; i < 3; i++) /* Ad = [R 0; hat(p) R, R] */
+    for (int j = 0; j < 3; j++) {
+      int i1 = (i + 1) % 3, i2 = (i + 2) % 3; /* (hat(p) R)_ij = p_i1 R_i2,j - p_i2 R_i1,j */
+      AdBa[6 * i + j] = AdBa[6 * (3 + i) + 3 + j] = R[3 * i + j];
+      AdBa[6 * i + 3 + j] = 0.0;
+      AdBa[6 * (3 + i) + j] = -p[i2] * R[3 * i1 + j] + p[i1] * R[3 * i2 + j];
+    }
 }
 
 void phm_pair_rel_twist(const double AdTbi[36], const double AdBa[36], const double *ta,
