@@ -32,6 +32,9 @@ struct phm_model {
   double *tables;   /* owned copies of the laws' tables (points, pieces, breakpoints) */
   phm_law *lawnodes; /* owned copies of the expression laws' nodes */
   double lref;      /* length scale for finite differences, m */
+  int pair_general; /* 0 (phm_model_create): pairs through their closed forms and structural
+                     * shortcuts (pair.c); 1: the table's general path alone -- the C tests
+                     * set it to compare the two                                           */
   int nmc;          /* mass couplings: the elements' (CONSISTENT or GIVEN, in element order),
                      * then the description's couplings without an element                */
   int *mc_a, *mc_b; /* nmc: the two carriers of each                                    */
@@ -52,6 +55,13 @@ void phm_pair_kin(int type, double pitch, const double h[16], const double *xref
  * Dg (6 per constraint row), DW and DPhi (6 per entry of the 6x6 bases: d B[e]/d eta_j at
  * 6 e + j), Dx (6 per joint coordinate); any may be NULL (all NULL: phm_pair_kin). */
 void phm_pair_kin_tangent(int type, double pitch, const double h[16], const double *xref,
+                          double *g, double *W, double *Phi, double *x, double *Dg, double *DW,
+                          double *DPhi, double *Dx);
+
+/* phm_pair_kin_tangent through the table's general switch (forward-mode pq) for every type,
+ * without the closed forms phm_pair_kin_tangent takes for some: what the C tests compare them
+ * against. */
+void phm_pair_kin_general(int type, double pitch, const double h[16], const double *xref,
                           double *g, double *W, double *Phi, double *x, double *Dg, double *DW,
                           double *DPhi, double *Dx);
 

@@ -250,16 +250,75 @@ PAIR_KIN_INLINE void pair_kin(int tan, int type, double pitch, const double h[16
   if (DPhi) memcpy(DPhi, DPl, sizeof DPl);
 }
 
+/* The revolute row of the table in closed form: pair_kin's PAIR_REVOLUTE case with the values
+ * and derivatives its pq primitives give, written out (the same arithmetic: the same numbers, an
+ * exact zero's sign aside; tests/c/test_pair.c compares the two). g = (R_21, -R_20, q), W^C and Phi
+ * constant (their derivatives vanish: DW, DPhi are zero-filled when asked), x = theta. */
+/* A constant 0/1 basis (6x6 row-major): entry e is 1 when bit e of ones is set. Stores, not a
+ * copy of a table: GCC copied one with `rep movsq`, half of this closed form's time. */
+static inline void unit_basis(double B[36], unsigned long long ones) {
+  for (int e = 0; e < 36; e++) B[e] = (ones >> e & 1) ? 1.0 : 0.0;
+}
+static void revolute_kin(const double h[16], const double *xref, double *g, double *W,
+                         double *Phi, double *x, double *Dg, double *Dx) {
+  double q[3];
+  for (int i = 0; i < 3; i++) q[i] = h[i] * h[3] + h[4 + i] * h[7] + h[8 + i] * h[11];
+  if (g) {
+    g[0] = h[9];
+    g[1] = -h[8];
+    g[2] = q[0];
+    g[3] = q[1];
+    g[4] = q[2];
+  }
+  if (W) unit_basis(W, 1ULL << 0 | 1ULL << 7 | 1ULL << 20 | 1ULL << 27 | 1ULL << 34);
+  if (Phi) unit_basis(Phi, 1ULL << 12);
+  if (x) x[0] = near_angle(atan2(h[4], h[0]), xref, 0);
+  if (Dg) { /* dR = R hat(omega), dq = q x omega + v */
+    static const double z[6] = {0, 0, 0, 0, 0, 0};
+    for (int r = 0; r < 5; r++) memcpy(Dg + 6 * r, z, sizeof z);
+    Dg[0] = h[10];  Dg[2] = -h[8];  /* R_21 */
+    Dg[7] = h[10];  Dg[8] = -h[9];  /* -R_20 */
+    Dg[13] = -q[2]; Dg[14] = q[1];  Dg[15] = 1; /* q_0 */
+    Dg[18] = q[2];  Dg[20] = -q[0]; Dg[22] = 1; /* q_1 */
+    Dg[24] = -q[1]; Dg[25] = q[0];  Dg[29] = 1; /* q_2 */
+  }
+  if (Dx) { /* theta = atan2(R_10, R_00) */
+    double n = h[0] * h[0] + h[4] * h[4], ni = n > 0 ? 1.0 / n : 0.0;
+    Dx[0] = Dx[3] = Dx[4] = Dx[5] = 0;
+    Dx[1] = (h[0] * -h[6] - h[4] * -h[2]) * ni;
+    Dx[2] = (h[0] * h[5] - h[4] * h[1]) * ni;
+  }
+}
+
+/* The kinematics of a type: its closed form where it has one (general = 0), else the table's
+ * switch (pair_kin). DW, DPhi of a closed form with constant bases are zero-filled. */
+static void kin(int general, int type, double pitch, const double h[16], const double *xref,
+                double *g, double *W, double *Phi, double *x, double *Dg, double *DW, double *DPhi,
+                double *Dx) {
+  int tan = Dg || DW || DPhi || Dx;
+  if (!general && type == PAIR_REVOLUTE) {
+    revolute_kin(h, xref, g, W, Phi, x, Dg, Dx);
+    if (DW) memset(DW, 0, 216 * sizeof(double));
+    if (DPhi) memset(DPhi, 0, 216 * sizeof(double));
+  } else if (tan) pair_kin(1, type, pitch, h, xref, g, W, Phi, x, Dg, DW, DPhi, Dx);
+  else pair_kin(0, type, pitch, h, xref, g, W, Phi, x, NULL, NULL, NULL, NULL);
+}
+
 void phm_pair_kin_tangent(int type, double pitch, const double h[16], const double *xref,
                           double *g, double *W, double *Phi, double *x, double *Dg, double *DW,
                           double *DPhi, double *Dx) {
-  if (!Dg && !DW && !DPhi && !Dx) phm_pair_kin(type, pitch, h, xref, g, W, Phi, x);
-  else pair_kin(1, type, pitch, h, xref, g, W, Phi, x, Dg, DW, DPhi, Dx);
+  kin(0, type, pitch, h, xref, g, W, Phi, x, Dg, DW, DPhi, Dx);
+}
+
+void phm_pair_kin_general(int type, double pitch, const double h[16], const double *xref,
+                          double *g, double *W, double *Phi, double *x, double *Dg, double *DW,
+                          double *DPhi, double *Dx) {
+  kin(1, type, pitch, h, xref, g, W, Phi, x, Dg, DW, DPhi, Dx);
 }
 
 void phm_pair_kin(int type, double pitch, const double h[16], const double *xref, double *g,
                   double *W, double *Phi, double *x) {
-  pair_kin(0, type, pitch, h, xref, g, W, Phi, x, NULL, NULL, NULL, NULL);
+  kin(0, type, pitch, h, xref, g, W, Phi, x, NULL, NULL, NULL, NULL);
 }
 
 /* Column c of a 6x6 row-major basis dotted with v: a joint rate Phi_c^T t_rel. */
@@ -352,17 +411,45 @@ int phm_pair_rows_full(const phm_pair_desc *pr) {
 typedef struct {
   double Dg[6 * PHM_MAXCON]; /* d g_r/d eta_j at 6 r + j (the rows pair_rows keeps)             */
   double DW[216], DPhi[216]; /* d B_e/d eta_j at 6 e + j for entry e of the 6x6 bases W, Phi   */
+  int W0, Phi0;              /* DW (its kept columns), DPhi vanish: then they are not filled    */
 } pair_tan;
 
-/* G (mc x 6, row-major) = sign W^T Ad on W's first mc columns: one side's velocity block (the
- * sign is exact, so each entry is the sum it always was). */
-static void wt_ad(const double W[36], int mc, const double Ad[36], double sign, double *G) {
-  for (int r = 0; r < mc; r++)
-    for (int j = 0; j < 6; j++) {
-      double s = 0;
-      for (int k = 0; k < 6; k++) s += W[6 * k + r] * Ad[6 * k + j];
-      G[6 * r + j] = sign * s;
+static int all_zero(const double *a, int n) {
+  for (int i = 0; i < n; i++)
+    if (a[i] != 0.0) return 0;
+  return 1;
+}
+
+/* The row k when column c of the 6x6 basis B is the unit vector e_k, else -1. */
+static int unit_col(const double B[36], int c) {
+  int k = -1;
+  for (int i = 0; i < 6; i++) {
+    double b = B[6 * i + c];
+    if (b == 0.0) continue;
+    if (b != 1.0 || k >= 0) return -1;
+    k = i;
+  }
+  return k;
+}
+
+/* out (n x ncol, leading dimension ldo) = sign B^T A on the first n columns of the 6x6 basis B
+ * (A: 6 x ncol, leading dimension lda). A unit column e_k of B gives A's row k: the sum over its
+ * zeros is that row (an exact zero's sign aside), so the constant bases of most types cost a
+ * copy. The sign is exact, so each entry is the sum it always was. */
+static void bt_mul(const double B[36], int n, const double *A, int lda, int ncol, double sign,
+                   double *out, int ldo) {
+  for (int r = 0; r < n; r++) {
+    int k = unit_col(B, r);
+    if (k >= 0) {
+      for (int j = 0; j < ncol; j++) out[ldo * r + j] = sign * A[lda * k + j];
+      continue;
     }
+    for (int j = 0; j < ncol; j++) {
+      double s = 0;
+      for (int i = 0; i < 6; i++) s += B[6 * i + r] * A[lda * i + j];
+      out[ldo * r + j] = sign * s;
+    }
+  }
 }
 
 static void pair_rows(const phm_model *m, int ip, const double h[16], const double AdTbi[36],
@@ -407,18 +494,23 @@ static void pair_rows(const phm_model *m, int ip, const double h[16], const doub
     }
     if (Phi) memcpy(Phi, Pl, sizeof Pl);
     if (x) memcpy(x, xl, sizeof(double) * (size_t)(6 - mt));
+  } else if (!m->pair_general && pr->type == PAIR_REVOLUTE) { /* constant bases: DW = DPhi = 0 */
+    revolute_kin(h, xref, gf, W, Phi, x, T ? T->Dg : NULL, NULL);
+    if (T) T->W0 = T->Phi0 = 1;
   } else {
-    phm_pair_kin_tangent(pr->type, pr->pitch, h, xref, gf, W, Phi, x, T ? T->Dg : NULL,
-                         T ? T->DW : NULL, T ? T->DPhi : NULL, NULL);
+    kin(m->pair_general, pr->type, pr->pitch, h, xref, gf, W, Phi, x, T ? T->Dg : NULL,
+        T ? T->DW : NULL, T ? T->DPhi : NULL, NULL);
   }
+  if (T && !T->W0 && !m->pair_general) T->W0 = all_zero(T->DW, 216);
+  if (T && !T->Phi0 && !m->pair_general) T->Phi0 = all_zero(T->DPhi, 216);
   if (!all && pr->drop) { /* the kept rows: sel increasing, so the forward copy is safe */
     const int *sel = m->pair_sel + 6 * ip;
     for (int r = 0; r < mc; r++) {
       gf[r] = gf[sel[r]];
       vf[r] = vf[sel[r]];
       for (int i = 0; i < 6; i++) W[6 * i + r] = W[6 * i + sel[r]];
-      if (T) {
-        memmove(T->Dg + 6 * r, T->Dg + 6 * sel[r], 6 * sizeof(double));
+      if (T) memmove(T->Dg + 6 * r, T->Dg + 6 * sel[r], 6 * sizeof(double));
+      if (T && !T->W0) {
         for (int i = 0; i < 6; i++)
           memmove(T->DW + 6 * (6 * i + r), T->DW + 6 * (6 * i + sel[r]), 6 * sizeof(double));
       }
@@ -426,8 +518,8 @@ static void pair_rows(const phm_model *m, int ip, const double h[16], const doub
   }
   if (g) memcpy(g, gf, sizeof(double) * (size_t)mc);
   /* G_b = W^T Ad_{Tb^-1},  G_a = -W^T Ad_{(H_b Tb)^-1 H_a} */
-  if (Gb) wt_ad(W, mc, AdTbi, 1.0, Gb);
-  if (Ga) wt_ad(W, mc, AdBa, -1.0, Ga);
+  if (Gb) bt_mul(W, mc, AdTbi, 6, 6, 1.0, Gb, 6);
+  if (Ga) bt_mul(W, mc, AdBa, 6, 6, -1.0, Ga, 6);
   if (vt) {
     for (int r = 0; r < mc; r++) {
       double acc = vf[r];
@@ -469,9 +561,21 @@ void phm_pair_evaluate(const phm_model *m, int ip, const double *Ha, const doubl
   else if (joint)
     phm_pair_kin(pr->type, pr->pitch, pd->h, xref, NULL, NULL, pd->Phi, pd->x);
   if (!joint) return;
-  /* xdot = Phi^T t_rel */
+  /* xdot = Phi^T t_rel (for a unit column e_k of Phi: t_rel's entry k alone) */
+  int k = m->pair_k[ip], unit = !m->pair_general;
+  for (int c = 0; unit && c < k; c++) unit = unit_col(pd->Phi, c) >= 0;
+  if (unit) {
+    for (int c = 0; c < k; c++) {
+      int i = unit_col(pd->Phi, c);
+      double u = 0, v = 0;
+      for (int j = 0; tb && j < 6; j++) u += AdTbi[6 * i + j] * tb[j];
+      for (int j = 0; ta && j < 6; j++) v += pd->AdBa[6 * i + j] * ta[j];
+      pd->xdot[c] = u - v;
+    }
+    return;
+  }
   phm_pair_rel_twist(AdTbi, pd->AdBa, ta, tb, tr);
-  for (int c = 0; c < m->pair_k[ip]; c++) pd->xdot[c] = col_dot(pd->Phi, c, tr);
+  for (int c = 0; c < k; c++) pd->xdot[c] = col_dot(pd->Phi, c, tr);
 }
 
 void phm_pair_wrench(const phm_model *m, int ip, const phm_pair_data *pd, const double *lam,
@@ -489,6 +593,28 @@ void phm_pair_wrench(const phm_model *m, int ip, const phm_pair_data *pd, const 
 static void eta_to_carriers(const double *D, int rows, const double AdTbi[36],
                             const double AdBa[36], double *out) {
   phm_mul_ends(D, rows, AdBa, AdTbi, out);
+}
+
+/* The same skipping D's exact zeros (the sums of phm_mul_ends over the other terms, in the same
+ * order: the same numbers, an exact zero's sign aside): the position rows of most types are
+ * sparse in eta. */
+static void eta_to_carriers_sparse(const double *D, int rows, const double AdTbi[36],
+                                   const double AdBa[36], double *out) {
+  for (int r = 0; r < rows; r++) {
+    double sa[6] = {0, 0, 0, 0, 0, 0}, sb[6] = {0, 0, 0, 0, 0, 0};
+    for (int l = 0; l < 6; l++) {
+      double d = D[6 * r + l];
+      if (d == 0.0) continue;
+      for (int j = 0; j < 6; j++) {
+        sa[j] += d * AdBa[6 * l + j];
+        sb[j] += d * AdTbi[6 * l + j];
+      }
+    }
+    for (int j = 0; j < 6; j++) {
+      out[12 * r + j] = -sa[j];
+      out[12 * r + 6 + j] = sb[j];
+    }
+  }
 }
 
 /* out (rows x 6) = sum_i B[i][r] v_i along eta: the derivative of B^T v (B: a 6x6 basis, its
@@ -523,13 +649,13 @@ static void wrench_tangent(const double W[36], const double *DW, int mc, const d
   for (int i = 0; i < 6; i++) {
     w[i] = 0;
     for (int r = 0; r < mc; r++) w[i] += W[6 * i + r] * l[r];
-    for (int j = 0; j < 6; j++) {
+    for (int j = 0; DW && j < 6; j++) {
       double s = 0;
       for (int r = 0; r < mc; r++) s += DW[6 * (6 * i + r) + j] * l[r];
       Dl[6 * i + j] = s;
     }
   }
-  eta_to_carriers(Dl, 6, AdTbi, AdBa, Dw);
+  if (DW) eta_to_carriers(Dl, 6, AdTbi, AdBa, Dw);
   phm_mtv6(AdBa, w, z);
   ad_dual_bar(z, Bz);
   ad_dual_bar(w, Bw);
@@ -539,6 +665,17 @@ static void wrench_tangent(const double W[36], const double *DW, int mc, const d
       for (int l2 = 0; l2 < 6; l2++) s += Bw[6 * i + l2] * AdTbi[6 * l2 + j];
       BA[6 * i + j] = s;
     }
+  if (!DW) { /* constant basis: Dw = 0, K = [-bar(z), AdBa^T bar(w) AdTbi; 0, 0] */
+    for (int i = 0; i < 6; i++)
+      for (int j = 0; j < 6; j++) {
+        double s = 0;
+        for (int l2 = 0; l2 < 6; l2++) s += AdBa[6 * l2 + i] * BA[6 * l2 + j];
+        K[12 * i + j] = -Bz[6 * i + j];
+        K[12 * i + 6 + j] = s;
+        K[12 * (6 + i) + j] = K[12 * (6 + i) + 6 + j] = 0.0;
+      }
+    return;
+  }
   for (int i = 0; i < 6; i++)
     for (int j = 0; j < 12; j++) {
       double sa = 0, sb = 0;
@@ -561,6 +698,7 @@ void phm_pair_tangent(const phm_model *m, int ip, const double *Ha, const double
   int mc = m->pair_m[ip], k = m->pair_k[ip];
   phm_pair_data own;
   pair_tan T;
+  T.W0 = T.Phi0 = 0;
   if (!pd) pd = &own;
   if (!xref) xref = m->xref0 + m->pair_j[ip];
   phm_pair_frames(m, ip, Ha, Hb, pd->h, NULL, pd->AdBa);
@@ -591,7 +729,8 @@ void phm_pair_tangent(const phm_model *m, int ip, const double *Ha, const double
         Dt[12 * i + 6 + j] = -sb;
       }
   }
-  if (dg) eta_to_carriers(T.Dg, mc, AdTbi, pd->AdBa, dg);
+  if (dg && m->pair_general) eta_to_carriers(T.Dg, mc, AdTbi, pd->AdBa, dg);
+  else if (dg) eta_to_carriers_sparse(T.Dg, mc, AdTbi, pd->AdBa, dg);
   if (dc) { /* c = W^T (t_rel - ds a) - vf: a driven pair's prescribed twist ds a is fixed */
     double u[6];
     memcpy(u, tr, sizeof u);
@@ -600,22 +739,29 @@ void phm_pair_tangent(const phm_model *m, int ip, const double *Ha, const double
       phm_law_eval(&pr->law, time, tref, &ds, NULL);
       for (int i = 0; i < 6; i++) u[i] -= ds * pr->axis[i];
     }
-    basis_dot(T.DW, mc, u, D6);
-    eta_to_carriers(D6, mc, AdTbi, pd->AdBa, dc);
-    for (int r = 0; r < mc; r++)
-      for (int j = 0; j < 12; j++)
-        for (int i = 0; i < 6; i++) dc[12 * r + j] += pd->W[6 * i + r] * Dt[12 * i + j];
+    if (T.W0) bt_mul(pd->W, mc, Dt, 12, 12, 1.0, dc, 12); /* constant W: dW^T u = 0 */
+    else {
+      basis_dot(T.DW, mc, u, D6);
+      eta_to_carriers(D6, mc, AdTbi, pd->AdBa, dc);
+      for (int r = 0; r < mc; r++)
+        for (int j = 0; j < 12; j++)
+          for (int i = 0; i < 6; i++) dc[12 * r + j] += pd->W[6 * i + r] * Dt[12 * i + j];
+    }
   }
   if (dxd) { /* xdot = Phi^T t_rel */
-    basis_dot(T.DPhi, k, tr, D6);
-    eta_to_carriers(D6, k, AdTbi, pd->AdBa, dxd);
-    for (int c = 0; c < k; c++)
-      for (int j = 0; j < 12; j++)
-        for (int i = 0; i < 6; i++) dxd[12 * c + j] += pd->Phi[6 * i + c] * Dt[12 * i + j];
+    if (T.Phi0) bt_mul(pd->Phi, k, Dt, 12, 12, 1.0, dxd, 12);
+    else {
+      basis_dot(T.DPhi, k, tr, D6);
+      eta_to_carriers(D6, k, AdTbi, pd->AdBa, dxd);
+      for (int c = 0; c < k; c++)
+        for (int j = 0; j < 12; j++)
+          for (int i = 0; i < 6; i++) dxd[12 * c + j] += pd->Phi[6 * i + c] * Dt[12 * i + j];
+    }
   }
-  if (Kl && lam) wrench_tangent(pd->W, T.DW, mc, lam, AdTbi, pd->AdBa, Kl);
-  if (Km && mu) wrench_tangent(pd->W, T.DW, mc, mu, AdTbi, pd->AdBa, Km);
-  if (Ku && u) wrench_tangent(pd->Phi, T.DPhi, k, u, AdTbi, pd->AdBa, Ku);
+  const double *DW = T.W0 ? NULL : T.DW, *DPhi = T.Phi0 ? NULL : T.DPhi;
+  if (Kl && lam) wrench_tangent(pd->W, DW, mc, lam, AdTbi, pd->AdBa, Kl);
+  if (Km && mu) wrench_tangent(pd->W, DW, mc, mu, AdTbi, pd->AdBa, Km);
+  if (Ku && u) wrench_tangent(pd->Phi, DPhi, k, u, AdTbi, pd->AdBa, Ku);
 }
 
 void phm_pair_joint(const phm_model *m, int ip, const double *Ha, const double *Hb,

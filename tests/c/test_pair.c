@@ -2,7 +2,8 @@
  * and their order, a driven fixed pair against its prescribed motion, every pair type's
  * constraints, Jacobian blocks and joint coordinates against finite differences and an
  * independent forward kinematics (pair_fk below), phm_pair_type_pose and
- * phm_pair_type_coordinates, the rows a drop mask keeps, and joint coordinates driven by laws. */
+ * phm_pair_type_coordinates, the rows a drop mask keeps, joint coordinates driven by laws, and the
+ * closed forms and shortcuts of the evaluation against the table's general path. */
 #include "check.h"
 #include "model.h"
 
@@ -616,10 +617,152 @@ static void pair_tangent_is_central_differences(void) {
     }
 }
 
+/* Largest |a - b| over n entries relative to the largest |b| (1 when b vanishes). */
+static double reldiff(int n, const double *a, const double *b) {
+  return maxdiff(n, a, b) / fmax(maxabs(n, b), 1.0);
+}
+
+/* phm_pair_kin_tangent (closed forms where a type has one: the revolute) against the table's
+ * general switch (phm_pair_kin_general), values and derivatives, for every type at random poses
+ * near and far from the manifold, with and without a branch reference. */
+static void closed_forms_are_the_general_kinematics(void) {
+  for (int type = 0; type < PAIR_TYPES; type++)
+    for (int trial = 0; trial < 40; trial++) {
+      double h[16], xref[6], pitch = 0.3 * rand11();
+      rand_pose(h, trial % 2 ? 1.0 : 1e-3);
+      for (int i = 0; i < 6; i++) xref[i] = 4 * rand11();
+      double v[2][6 + 36 + 36 + 6 + 36 + 216 + 216 + 36];
+      for (int general = 0; general < 2; general++) {
+        double *o = v[general];
+        memset(o, 0, sizeof v[0]);
+        (general ? phm_pair_kin_general : phm_pair_kin_tangent)(
+            type, pitch, h, trial % 3 ? xref : NULL, o, o + 6, o + 42, o + 78, o + 84, o + 120,
+            o + 336, o + 552);
+      }
+      static char names[PAIR_TYPES][96]; /* check_worst keeps the name */
+      char *name = names[type];
+      snprintf(name, sizeof names[0], "%s: closed-form kinematics = general (values, tangents)",
+               phm_pair_type(type)->name);
+      check_worst(name, reldiff((int)(sizeof v[0] / sizeof(double)), v[0], v[1]), 1e-13);
+    }
+}
+
+/* Frames h = F_a^-1 F_b and AdBa = Ad_{F_b^-1 H_a} (phm_pair_frames, fused) against the SE(3)
+ * algebra's inverse, compose and Ad. */
+static void frames_are_the_se3_compositions(void) {
+  for (int trial = 0; trial < 20; trial++) {
+    phm_pair_desc pr;
+    rand_pair(PHM_PAIR_REVOLUTE, trial, &pr);
+    phm_model *m = two_carrier_model(&pr, NULL, 0);
+    if (!m) continue;
+    double H[32], h[16], AdTbi[36], AdBa[36], A[16], B[16], Ai[16], Bi[16], T[16], hr[16], Ar[36];
+    rand_pose(H, 2.0);
+    rand_pose(H + 16, 2.0);
+    const double *Ha = pr.a < 0 ? NULL : H;
+    phm_pair_frames(m, 0, Ha, H + 16, h, AdTbi, AdBa);
+    if (Ha) phm_se3_compose(Ha, pr.Ta, A);
+    else memcpy(A, pr.Ta, sizeof A);
+    phm_se3_compose(H + 16, pr.Tb, B);
+    phm_se3_inverse(A, Ai);
+    phm_se3_compose(Ai, B, hr);
+    phm_se3_inverse(B, Bi);
+    if (Ha) phm_se3_compose(Bi, Ha, T);
+    else memcpy(T, Bi, sizeof T);
+    phm_se3_Ad(T, Ar);
+    check_worst("frames: h = (H_a Ta)^-1 H_b Tb", reldiff(16, h, hr), 1e-15);
+    check_worst("frames: AdBa = Ad((H_b Tb)^-1 H_a)", reldiff(36, AdBa, Ar), 1e-15);
+    phm_model_free(m);
+  }
+}
+
+/* phm_pair_evaluate and phm_pair_tangent with their closed forms and structural shortcuts
+ * (unit columns of a basis, vanishing derivatives of constant bases, sparse position rows)
+ * against the general path (m->pair_general = 1) for every type at random poses, twists,
+ * multipliers and efforts: a to the ground or to a carrier, a driven fixed pair, driven joint
+ * coordinates, a dropped row. Every output to 1e-13 relative to its largest entry. */
+static void pair_shortcuts_are_the_general_path(void) {
+  static const char *const part[4] = {"shortcuts = general: evaluation (g, G, vt, W, Phi, x, xdot)",
+                                      "shortcuts = general: dg, dc, dx, dxd",
+                                      "shortcuts = general: Kl, Km, Ku",
+                                      "shortcuts = general: tangent's evaluation"};
+  for (int type = 0; type < PAIR_TYPES; type++)
+    for (int trial = 0; trial < 12; trial++) {
+      phm_pair_desc pr;
+      rand_pair(type, trial, &pr);
+      int mt = phm_pair_type(type)->m, k = 6 - mt, mask = phm_pair_type(type)->xdrivable;
+      double time = 0.37;
+      if (type == PHM_PAIR_FIXED && trial % 2) {
+        pr.driven = 1;
+        for (int i = 0; i < 6; i++) pr.axis[i] = rand11();
+        pr.law = (phm_law){.kind = PHM_LAW_SINE, .amplitude = 0.7, .frequency = 0.3, .phase = 0.2};
+      }
+      if (mask && trial % 4 == 1)
+        for (int c = 0; c < k; c++)
+          if (mask >> c & 1) {
+            pr.xdriven |= 1 << c;
+            pr.xlaw[c] = (phm_law){.kind = PHM_LAW_SINE, .amplitude = 0.5 + rand01(),
+                                   .frequency = 0.2 + rand01(), .phase = rand11()};
+          }
+      if (trial % 4 == 2 && mt >= 2) pr.drop = 0x2 | (mt >= 4 ? 0x8 : 0);
+      phm_model *m = two_carrier_model(&pr, NULL, 0);
+      if (!m) continue;
+      int ag = pr.a < 0;
+      double H[32], ta[6], tb[6], lam[6], mu[6], u[6], xref[6];
+      rand_pose(H, 1.0);
+      rand_pose(H + 16, 1.0);
+      for (int i = 0; i < 6; i++) {
+        ta[i] = rand11();
+        tb[i] = rand11();
+        lam[i] = rand11();
+        mu[i] = rand11();
+        u[i] = rand11();
+        xref[i] = 4 * rand11();
+      }
+      enum { NE = 6 + 36 + 36 + 6 + 36 + 36 + 6 + 6, NT = 4 * 72, NK = 3 * 144 };
+      double ev[2][NE], tv[2][NT], kv[2][NK], pv[2][NE];
+      for (int general = 0; general < 2; general++) {
+        phm_pair_data pd, pt;
+        memset(&pd, 0, sizeof pd);
+        memset(&pt, 0, sizeof pt);
+        m->pair_general = general;
+        phm_pair_evaluate(m, 0, ag ? NULL : H, H + 16, ag ? NULL : ta, tb, xref, time, time,
+                          PHM_PAIR_ROWS | PHM_PAIR_JOINT, &pd);
+        double *t = tv[general], *kk = kv[general];
+        memset(t, 0, sizeof tv[0]);
+        phm_pair_tangent(m, 0, ag ? NULL : H, H + 16, ag ? NULL : ta, tb, xref, time, time, lam,
+                         mu, u, &pt, t, t + 72, t + 144, t + 216, kk, kk + 144, kk + 288);
+        const phm_pair_data *src[2] = {&pd, &pt};
+        for (int s = 0; s < 2; s++) {
+          double *e = s ? pv[general] : ev[general];
+          int n = 0;
+          memcpy(e + n, src[s]->g, sizeof pd.g); n += 6;
+          memcpy(e + n, src[s]->Ga, sizeof pd.Ga); n += 36;
+          memcpy(e + n, src[s]->Gb, sizeof pd.Gb); n += 36;
+          memcpy(e + n, src[s]->vt, sizeof pd.vt); n += 6;
+          memcpy(e + n, src[s]->W, sizeof pd.W); n += 36;
+          memcpy(e + n, src[s]->Phi, sizeof pd.Phi); n += 36;
+          memcpy(e + n, src[s]->x, sizeof pd.x); n += 6;
+          memcpy(e + n, src[s]->xdot, sizeof pd.xdot);
+        }
+      }
+      m->pair_general = 0;
+      double err[4] = {reldiff(NE, ev[0], ev[1]), reldiff(NT, tv[0], tv[1]),
+                       reldiff(NK, kv[0], kv[1]), reldiff(NE, pv[0], pv[1])};
+      for (int c = 0; c < 4; c++)
+        if (!check_worst(part[c], err[c], 1e-13))
+          printf("  (%s, trial %d, driven %d, xdriven %#x, drop %#x)\n", phm_pair_type(type)->name,
+                 trial, pr.driven, pr.xdriven, pr.drop);
+      phm_model_free(m);
+    }
+}
+
 CHECK_MAIN(CHECK_CASE(pair_table_lists_the_types_in_order),
            CHECK_CASE(driven_fixed_pair_follows_its_prescribed_motion),
            CHECK_CASE(every_type_vanishes_on_its_manifold_with_consistent_jacobians),
            CHECK_CASE(type_pose_and_coordinates_are_inverse),
            CHECK_CASE(drop_mask_keeps_the_other_rows_of_the_full_set),
            CHECK_CASE(driven_joint_coordinates_follow_their_laws),
-           CHECK_CASE(pair_tangent_is_central_differences))
+           CHECK_CASE(pair_tangent_is_central_differences),
+           CHECK_CASE(closed_forms_are_the_general_kinematics),
+           CHECK_CASE(frames_are_the_se3_compositions),
+           CHECK_CASE(pair_shortcuts_are_the_general_path))
