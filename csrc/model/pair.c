@@ -254,10 +254,11 @@ PAIR_KIN_INLINE void pair_kin(int tan, int type, double pitch, const double h[16
  * and derivatives its pq primitives give, written out (the same arithmetic: the same numbers, an
  * exact zero's sign aside; tests/c/test_pair.c compares the two). g = (R_21, -R_20, q), W^C and Phi
  * constant (their derivatives vanish: DW, DPhi are zero-filled when asked), x = theta. */
-/* A constant 0/1 basis (6x6 row-major): entry e is 1 when bit e of ones is set. Stores, not a
- * copy of a table: GCC copied one with `rep movsq`, half of this closed form's time. */
-static inline void unit_basis(double B[36], unsigned long long ones) {
-  for (int e = 0; e < 36; e++) B[e] = (ones >> e & 1) ? 1.0 : 0.0;
+/* A constant 0/1 basis (6x6 row-major) from its pattern of bytes: converted, not copied -- GCC
+ * copied a table of doubles (and zeroed one) with `rep movsq` (`rep stosq`), slower than the
+ * rest of this closed form. */
+static inline void unit_basis(double B[36], const unsigned char pat[36]) {
+  for (int e = 0; e < 36; e++) B[e] = pat[e];
 }
 static void revolute_kin(const double h[16], const double *xref, double *g, double *W,
                          double *Phi, double *x, double *Dg, double *Dx) {
@@ -270,8 +271,12 @@ static void revolute_kin(const double h[16], const double *xref, double *g, doub
     g[3] = q[1];
     g[4] = q[2];
   }
-  if (W) unit_basis(W, 1ULL << 0 | 1ULL << 7 | 1ULL << 20 | 1ULL << 27 | 1ULL << 34);
-  if (Phi) unit_basis(Phi, 1ULL << 12);
+  static const unsigned char Wp[36] = {1, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, /* [e0 e1 e3 e4 e5] */
+                                       0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0,
+                                       0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1, 0},
+                             Pp[36] = {[12] = 1}; /* Phi = e2 */
+  if (W) unit_basis(W, Wp);
+  if (Phi) unit_basis(Phi, Pp);
   if (x) x[0] = near_angle(atan2(h[4], h[0]), xref, 0);
   if (Dg) { /* dR = R hat(omega), dq = q x omega + v */
     static const double z[6] = {0, 0, 0, 0, 0, 0};
@@ -422,14 +427,14 @@ static int all_zero(const double *a, int n) {
 
 /* The row k when column c of the 6x6 basis B is the unit vector e_k, else -1. */
 static int unit_col(const double B[36], int c) {
-  int k = -1;
+  int k = 0, ones = 0, nonzeros = 0; /* without branches: the pattern changes from column to column */
   for (int i = 0; i < 6; i++) {
     double b = B[6 * i + c];
-    if (b == 0.0) continue;
-    if (b != 1.0 || k >= 0) return -1;
-    k = i;
+    ones += b == 1.0;
+    nonzeros += b != 0.0;
+    k = b == 1.0 ? i : k;
   }
-  return k;
+  return ones == 1 && nonzeros == 1 ? k : -1;
 }
 
 /* out (n x ncol, leading dimension ldo) = sign B^T A on the first n columns of the 6x6 basis B
