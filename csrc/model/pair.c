@@ -633,6 +633,24 @@ static void basis_dot(const double *DB, int rows, const double v[6], double *out
     }
 }
 
+/* out (n x 12) = d(B^T v)/d[da; db] on B's first n columns at fixed v, with the twist's
+ * derivative Dt (6 x 12): (dB^T v) through eta, plus B^T Dt. DB NULL: a constant basis, B^T Dt
+ * alone (what the sums give when dB vanishes, an exact zero's sign aside). */
+static void basis_rate_tangent(const double B[36], const double *DB, int n, const double v[6],
+                               const double Dt[72], const double AdTbi[36],
+                               const double AdBa[36], double *out) {
+  if (!DB) {
+    bt_mul(B, n, Dt, 12, 12, 1.0, out, 12);
+    return;
+  }
+  double D6[36];
+  basis_dot(DB, n, v, D6);
+  eta_to_carriers(D6, n, AdTbi, AdBa, out);
+  for (int r = 0; r < n; r++)
+    for (int j = 0; j < 12; j++)
+      for (int i = 0; i < 6; i++) out[12 * r + j] += B[6 * i + r] * Dt[12 * i + j];
+}
+
 /* bar(z) (6 x 6): bar(z) t = ad_t^T z, the derivative of ad*_(.) z (docs/method.md 3.4). */
 static void ad_dual_bar(const double z[6], double B[36]) {
   for (int j = 0; j < 6; j++) {
@@ -715,7 +733,7 @@ void phm_pair_tangent(const phm_model *m, int ip, const double *Ha, const double
                          NULL, Dx);
     eta_to_carriers(Dx, k, AdTbi, pd->AdBa, dx);
   }
-  double tr[6], Dt[72] = {0}, D6[36];
+  double tr[6], Dt[72] = {0};
   phm_pair_rel_twist(AdTbi, pd->AdBa, ta, tb, tr);
   for (int c = 0; c < k; c++) pd->xdot[c] = col_dot(pd->Phi, c, tr);
   if (ta) { /* d t_rel at fixed twists: [AdBa ad_ta, -ad_(AdBa ta) AdTbi] [da; db] */
@@ -744,26 +762,10 @@ void phm_pair_tangent(const phm_model *m, int ip, const double *Ha, const double
       phm_law_eval(&pr->law, time, tref, &ds, NULL);
       for (int i = 0; i < 6; i++) u[i] -= ds * pr->axis[i];
     }
-    if (T.W0) bt_mul(pd->W, mc, Dt, 12, 12, 1.0, dc, 12); /* constant W: dW^T u = 0 */
-    else {
-      basis_dot(T.DW, mc, u, D6);
-      eta_to_carriers(D6, mc, AdTbi, pd->AdBa, dc);
-      for (int r = 0; r < mc; r++)
-        for (int j = 0; j < 12; j++)
-          for (int i = 0; i < 6; i++) dc[12 * r + j] += pd->W[6 * i + r] * Dt[12 * i + j];
-    }
-  }
-  if (dxd) { /* xdot = Phi^T t_rel */
-    if (T.Phi0) bt_mul(pd->Phi, k, Dt, 12, 12, 1.0, dxd, 12);
-    else {
-      basis_dot(T.DPhi, k, tr, D6);
-      eta_to_carriers(D6, k, AdTbi, pd->AdBa, dxd);
-      for (int c = 0; c < k; c++)
-        for (int j = 0; j < 12; j++)
-          for (int i = 0; i < 6; i++) dxd[12 * c + j] += pd->Phi[6 * i + c] * Dt[12 * i + j];
-    }
+    basis_rate_tangent(pd->W, T.W0 ? NULL : T.DW, mc, u, Dt, AdTbi, pd->AdBa, dc);
   }
   const double *DW = T.W0 ? NULL : T.DW, *DPhi = T.Phi0 ? NULL : T.DPhi;
+  if (dxd) basis_rate_tangent(pd->Phi, DPhi, k, tr, Dt, AdTbi, pd->AdBa, dxd); /* Phi^T t_rel */
   if (Kl && lam) wrench_tangent(pd->W, DW, mc, lam, AdTbi, pd->AdBa, Kl);
   if (Km && mu) wrench_tangent(pd->W, DW, mc, mu, AdTbi, pd->AdBa, Km);
   if (Ku && u) wrench_tangent(pd->Phi, DPhi, k, u, AdTbi, pd->AdBa, Ku);

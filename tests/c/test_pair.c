@@ -532,6 +532,25 @@ static int pair_values(const phm_model *m, int a_ground, const double H[32], con
   return n;
 }
 
+/* A random pair of the type (rand_pair), driven by a motion when it is a fixed one on an odd
+ * trial, and with its drivable joint coordinates following laws when xdrive. */
+static void rand_pair_driven(int type, int trial, int xdrive, phm_pair_desc *pr) {
+  rand_pair(type, trial, pr);
+  int k = 6 - phm_pair_type(type)->m, mask = phm_pair_type(type)->xdrivable;
+  if (type == PHM_PAIR_FIXED && trial % 2) {
+    pr->driven = 1;
+    for (int i = 0; i < 6; i++) pr->axis[i] = rand11();
+    pr->law = (phm_law){.kind = PHM_LAW_SINE, .amplitude = 0.7, .frequency = 0.3, .phase = 0.2};
+  }
+  if (mask && xdrive)
+    for (int c = 0; c < k; c++)
+      if (mask >> c & 1) {
+        pr->xdriven |= 1 << c;
+        pr->xlaw[c] = (phm_law){.kind = PHM_LAW_SINE, .amplitude = 0.5 + rand01(),
+                                .frequency = 0.2 + rand01(), .phase = rand11()};
+      }
+}
+
 /* phm_pair_tangent against central differences (step 1e-6 along H exp(eps e_j) of each carrier)
  * for every pair type at random poses off its manifold and random twists and multipliers: a to
  * the ground or to a carrier, a driven fixed pair, driven joint coordinates, a dropped row. The
@@ -547,21 +566,9 @@ static void pair_tangent_is_central_differences(void) {
     for (int trial = 0; trial < 8; trial++) {
       const char *tn = phm_pair_type(type)->name;
       phm_pair_desc pr;
-      rand_pair(type, trial, &pr);
-      int mt = phm_pair_type(type)->m, k = 6 - mt, mask = phm_pair_type(type)->xdrivable;
+      rand_pair_driven(type, trial, trial % 2, &pr);
+      int mt = phm_pair_type(type)->m, k = 6 - mt;
       double time = 0.37;
-      if (type == PHM_PAIR_FIXED && trial % 2) {
-        pr.driven = 1;
-        for (int i = 0; i < 6; i++) pr.axis[i] = rand11();
-        pr.law = (phm_law){.kind = PHM_LAW_SINE, .amplitude = 0.7, .frequency = 0.3, .phase = 0.2};
-      }
-      if (mask && trial % 2)
-        for (int c = 0; c < k; c++)
-          if (mask >> c & 1) {
-            pr.xdriven |= 1 << c;
-            pr.xlaw[c] = (phm_law){.kind = PHM_LAW_SINE, .amplitude = 0.5 + rand01(),
-                                   .frequency = 0.2 + rand01(), .phase = rand11()};
-          }
       if (trial == 4 && mt >= 2) pr.drop = 0x2;
       phm_model *m = two_carrier_model(&pr, NULL, 0);
       if (!m) continue;
@@ -688,21 +695,9 @@ static void pair_shortcuts_are_the_general_path(void) {
   for (int type = 0; type < PAIR_TYPES; type++)
     for (int trial = 0; trial < 12; trial++) {
       phm_pair_desc pr;
-      rand_pair(type, trial, &pr);
-      int mt = phm_pair_type(type)->m, k = 6 - mt, mask = phm_pair_type(type)->xdrivable;
+      rand_pair_driven(type, trial, trial % 4 == 1, &pr);
+      int mt = phm_pair_type(type)->m;
       double time = 0.37;
-      if (type == PHM_PAIR_FIXED && trial % 2) {
-        pr.driven = 1;
-        for (int i = 0; i < 6; i++) pr.axis[i] = rand11();
-        pr.law = (phm_law){.kind = PHM_LAW_SINE, .amplitude = 0.7, .frequency = 0.3, .phase = 0.2};
-      }
-      if (mask && trial % 4 == 1)
-        for (int c = 0; c < k; c++)
-          if (mask >> c & 1) {
-            pr.xdriven |= 1 << c;
-            pr.xlaw[c] = (phm_law){.kind = PHM_LAW_SINE, .amplitude = 0.5 + rand01(),
-                                   .frequency = 0.2 + rand01(), .phase = rand11()};
-          }
       if (trial % 4 == 2 && mt >= 2) pr.drop = 0x2 | (mt >= 4 ? 0x8 : 0);
       phm_model *m = two_carrier_model(&pr, NULL, 0);
       if (!m) continue;
