@@ -200,9 +200,12 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
       st = PHM_FAIL(err, PHM_ENOMEM, "out of memory (N_Vector)");
       goto done;
     }
+    phm_nvector_ops(*vs[k]); /* compiled vector operations (nvector_ops.c; the linear solver's) */
     N_VConst(0.0, *vs[k]); /* N_VNew leaves the data uninitialized */
   }
+  phm_nvector_ops(yy);
   Js = SUNSparseMatrix(n, n, d->nnz, CSC_MAT, ctx);
+  if (Js) phm_sparse_matrix_ops(Js);
   A = opt->linear_solver == 1 ? Js : SUNDenseMatrix(n, n, ctx);
   if (!Js || !A) {
     st = PHM_FAIL(err, PHM_ENOMEM, "out of memory (matrix)");
