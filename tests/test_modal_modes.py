@@ -272,3 +272,18 @@ def test_damping_that_couples_the_modes_is_warned():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         ph.Mechanism().add_flexible_link("b", 1.0, prop, elements=16, fidelity="modal", modes=10)
+
+
+def test_a_modal_link_whose_mode_names_are_taken_is_refused_whole():
+    """The sliders' pair and spring names are checked before anything is added: a clear error,
+    and the mechanism is as it was (a link under another name then builds and has modes)."""
+    m = ph.Mechanism()
+    body = m.add_rigid_body("r", 1.0, np.eye(3))
+    m.add_pair("b.mode2", ph.Fixed(), m.ground, body)
+    with pytest.raises(ph.ModelError, match="its mode 2 needs the name 'b.mode2'"):
+        m.add_flexible_link("b", 1.0, table1_properties(), elements=5, fidelity="modal", modes=3)
+    assert len(m._car) == 1 and not m._desc.couplings and "b" not in m._desc.links
+    lk = m.add_flexible_link("c", 1.0, table1_properties(), elements=5, fidelity="modal", modes=3,
+                             start=body.frame)
+    m.add_pair("weld", ph.Fixed(), body, lk.start)
+    assert len(lk.sliders) == 3 and m.modes(2).frequency[0] > 0

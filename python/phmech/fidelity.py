@@ -492,8 +492,8 @@ def modal_sliders(red: dict, modes: dict, length: float) -> dict:
     ``M`` 6x6, ``axis`` e_j, ``alpha``, ``gravity_mass``, ``couplings`` {'start', 'end', k (an
     earlier slider)}: 12x12 on [t_other; t_j], ``k``, ``c`` [N/m, N s/m], ``peak``: the mode's
     largest displacement [m] and rotation [rad] inside the link per metre of s_j), the element's coupling
-    ``Mc``, the mass ``gravity_taken`` from the start, ``Dbq_share``: the damping coupling left
-    out (damping_coupling), and ``mismatch``: the largest
+    ``Mc``, the mass ``gravity_taken`` from the start, ``damping_coupling``: the damping coupling
+    left out (damping_coupling), and ``mismatch``: the largest
     difference, relative to its largest entry, between the Craig-Bampton mass of
     reduced_matrices and the sliders' quadratic form restricted to the motions their pairs allow
     (round-off for a well-conditioned model)."""
@@ -565,5 +565,5 @@ def modal_sliders(red: dict, modes: dict, length: float) -> dict:
                 sl["couplings"][other] = C
     dbq = damping_coupling(modes)
     return dict(M_start=blk(F, 0, 0).copy(), M_end=blk(F, 1, 1).copy(), Mc=Mc, sliders=sliders,
-                gravity_taken=float(sum(s["gravity_mass"] for s in sliders)), Dbq_share=dbq,
+                gravity_taken=float(sum(s["gravity_mass"] for s in sliders)), damping_coupling=dbq,
                 mismatch=mismatch)

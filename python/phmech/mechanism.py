@@ -373,14 +373,19 @@ class Mechanism:
             modal_choice = ModalChoice(n, band, tol, err, True)
         else:
             n, shapes = 0, interior_modes(red, 0)
+        for j in range(n):   # the sliders' names, before anything is added
+            for nm in (f"{name}.mode{j + 1}", f"{name}.mode{j + 1}.spring"):
+                if nm in self._names:
+                    raise ModelError(f"link {name!r}: its mode {j + 1} needs the name {nm!r}, which "
+                                     f"is already used")
         sl = modal_sliders(red, shapes, L)
         if sl["mismatch"] > 1e-8:
             raise ModelError(f"link {name!r}: its {n} fixed-interface modes as sliders reproduce the "
                              f"Craig-Bampton mass only to {sl['mismatch']:.2g} (ill-conditioned in "
                              f"double precision); keep fewer modes")
-        if n and sl["Dbq_share"] > tol:
+        if n and sl["damping_coupling"] > tol:
             warnings.warn(f"link {name!r}: its section damping couples its modes with each other "
-                          f"and with its ends ({sl['Dbq_share']:.2g} of the modal damping); a modal "
+                          f"and with its ends (correlation {sl['damping_coupling']:.2g}); a modal "
                           f"link keeps only each mode's own damping (exact for a damping "
                           f"proportional to the stiffness)", AccuracyWarning, stacklevel=3)
         first = self._start_link(name, eps)
