@@ -76,6 +76,11 @@ typedef struct {
   int ns, nt0;           /* states per carrier (PHM_NSTATE, or PHM_NSTATE_PLANAR) and the first
                           * of its twist components among them */
   struct dae_planar *pl; /* non-NULL: the in-plane reduction of pl's full DAE (planar.c) */
+  int nnorm, ncfg_drop;  /* the integrators' RMS norms count nnorm states (the full DAE's n)
+                          * and the configuration error ncfg_drop more than it holds (3 per
+                          * carrier when planar): the dropped states have no error, and
+                          * counted as a 3-D solve counts them the norms, and so the steps
+                          * and Newton's tests, are the 3-D solve's (n and 0 in 3-D) */
   double tref;           /* reference time of the laws' current piece (phm_model_tref) */
   phm_data data;         /* allocated by dae_init */
   char idamsg[256];         /* IDA's last error message, through idasink (csrc/solve/ida.c) */

@@ -110,6 +110,8 @@ phm_status dae_planar_init(dae_t *d, const phm_model *m, int axis, phm_error *er
   d->il = pl->full.il - shift;
   d->im = pl->full.im - shift;
   d->n = pl->full.n - shift;
+  d->nnorm = pl->full.n;
+  d->ncfg_drop = 3 * m->nc; /* two quaternion components and one position per carrier */
   d->nzcnt = -1;
   size_t nf = (size_t)pl->full.n;
   pl->y = calloc(nf + 1, sizeof(double));
@@ -229,7 +231,15 @@ phm_status dae_planar_consistent_ic(dae_t *d, double time, double *H, double *tw
   memset(pl->yp, 0, sizeof(double) * (size_t)pl->full.n);
   phm_status st = dae_consistent_ic(&pl->full, time, H, tw, NULL, xs, check_x0, pl->y, pl->yp, err);
   if (st) return st;
+  /* the base: the out-of-plane position as found; the out-of-plane quaternion components and
+   * twist zero, as they are in exact arithmetic (the checks hold them to 1e-12; the values
+   * found carry round-off, 1e-24 .. 1e-17, which would leave round-off entries in the
+   * Jacobian's in-plane rows that KLU can take as pivots) */
   memcpy(pl->base, pl->y, sizeof(double) * (size_t)pl->full.ix);
+  for (int c = 0; c < d->m->nc; c++)
+    for (int i = 0; i < PHM_NSTATE - PHM_NSTATE_PLANAR; i++)
+      if (pl->drop[i] != 4 && pl->drop[i] != 5 && pl->drop[i] != 6)
+        pl->base[PHM_NSTATE * c + pl->drop[i]] = 0.0;
   gather(d, pl->y, y);
   gather(d, pl->yp, yp);
   restore(d); /* the dropped rates are zero (in-plane forces: the checks) */

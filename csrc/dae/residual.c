@@ -256,6 +256,7 @@ phm_status dae_init(dae_t *d, const phm_model *m, phm_error *err) {
   d->il = d->ie + 2 + m->nport;
   d->im = d->il + m->ncons;
   d->n = d->im + m->ncons;
+  d->nnorm = d->n;
   phm_data *D = &d->data;
   size_t nc = (size_t)m->nc, n = (size_t)d->n;
   D->H = malloc(sizeof(double) * 16 * nc);
