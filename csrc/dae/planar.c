@@ -129,13 +129,8 @@ void dae_planar_free(dae_t *d) {
   struct dae_planar *pl = d->pl;
   if (!pl) return;
   dae_free(&pl->full);
-  free(pl->y);
-  free(pl->yp);
-  free(pl->F);
-  free(pl->base);
-  free(pl->fval);
-  free(pl->jmap);
-  free(pl);
+  void *bufs[] = {pl->y, pl->yp, pl->F, pl->base, pl->fval, pl->jmap, pl};
+  for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) free(bufs[i]);
   d->pl = NULL;
 }
 

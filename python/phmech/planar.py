@@ -61,7 +61,7 @@ def check(comp: dict, poses, twists, G, layout, names, k: int) -> Optional[str]:
         off = [(k, i) for i in range(3) if i != k] + [(i, k) for i in range(3) if i != k]
         if not (abs(R[k, k] - 1.0) <= ZERO and all(abs(R[a, b]) <= ZERO for a, b in off)):
             return f"carrier {c}'s initial rotation is not about {ax}"
-        if not _zero(t[O], t):
+        if not _zero(t[O], twists):   # the scale: the scene's twists (a carrier at rest: round-off)
             return f"carrier {c}'s initial twist has out-of-plane components {t[O]}"
         if not _decoupled(car["M"][c], k):
             return f"carrier {c}'s inertia couples in-plane and out-of-plane motion"
