@@ -184,12 +184,14 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
      * error-test failure at every step described at ida_atol, 58354 in 59949 steps) failed;
      * with 0.1 both pass as before, and the chain of 100 bodies costs 0.55 CPU s per simulated
      * s with 0.1, 0.51 with 0.001. The planar DAE (csrc/dae/planar.c) takes the largest entry
-     * of the column (1.0): with 0.1 that slider-crank, planar, failed again at h = 2e-11 s (rtol
-     * 1e-8) and its ledger was 5.8e-7 at rtol 1e-6 (dense LU 9.3e-9); with 1.0, 1.2e-8 -- but
-     * at rtol 1e-8 it still fails (t = 0.164 s, h = 2e-11; with BTF at 0.031 s), which is why
-     * Mechanism.simulate(planar=None) keeps IDA with KLU in 3-D (unresolved). */
+     * of the column (1.0) and AMD: with COLAMD and 0.1 that slider-crank, planar, failed again
+     * at h = 2e-11 s (rtol 1e-8; with 1.0 at t = 0.164 s, with BTF too at 0.031 s), and its
+     * ledger was 5.8e-7 at rtol 1e-6 (dense LU 9.3e-9); with AMD and 1.0 it runs, ledgers
+     * 7.5e-9 (rtol 1e-8; 3-D 6.8e-10) and 5.2e-8 (1e-6; 3-D 2.7e-8). Measured 2026-11-27 on
+     * that one scene: why its pivots fail is not understood. */
     if (LS) {
       SUNLinSol_KLUGetCommon(LS)->btf = 0;
+      if (d->pl) SUNLinSol_KLUGetCommon(LS)->ordering = 0; /* AMD */
       SUNLinSol_KLUGetCommon(LS)->tol = d->pl ? 1.0 : 0.1;
     }
   } else {

@@ -1062,9 +1062,10 @@ class Mechanism:
         twists = None if initial is None else np.zeros((len(self._car), 6))
         if planar not in (None, True, False):
             raise ModelError(f"planar must be None, True or False (got {planar!r})")
-        # planar=None leaves IDA in 3-D: with the planar DAE and KLU it failed the flexible
-        # slider-crank of tests/test_flexible_loop.py at rtol 1e-8 (IDA_CONV_FAIL, KLU's pivots;
-        # csrc/solve/ida.c), and with the dense LU the spline-driven revolute of
+        # planar=None leaves IDA in 3-D: with the planar DAE and KLU's pivoting for 3-D it failed
+        # the flexible slider-crank of tests/test_flexible_loop.py at rtol 1e-8 (IDA_CONV_FAIL;
+        # csrc/solve/ida.c: it runs with AMD and full pivoting, a remedy measured on that one
+        # scene), and with the dense LU the spline-driven revolute of
         # tests/test_driven_pairs.py ended its spin-up 1.6e-4 N m off in its torque (3-D 6.7e-5,
         # the test's bound 1.3e-4: where IDA's steps land near the breakpoint)
         auto_ok = integrator != "ida"
