@@ -5,8 +5,9 @@ thread_time medians of 5 repetitions, N = 20 and 100 elements, the default integ
 
     .venv/bin/python benchmarks/bench_planar.py [T_END, default 1.0]
 
-Measured 2026-11-27 (T = 1 s): generalized-alpha 0.876 (N = 20) and 0.855 (N = 100); IDA 0.694
-and 0.795; tips within 9e-9 L of the 3-D solve's, ledgers equal to two digits."""
+Measured 2026-11-27 (T = 1 s; IDA's KLU with AMD on the planar DAE): generalized-alpha 0.847
+(N = 20) and 0.838 (N = 100); IDA 0.700 and 0.798; tips within 8e-9 L of the 3-D solve's,
+ledgers equal to two digits (generalized-alpha) or within 10 % (IDA)."""
 import sys, time, statistics, numpy as np, warnings
 sys.path.insert(0, "benchmarks")
 warnings.simplefilter("ignore")
