@@ -23,6 +23,8 @@
 #include "sundials_compat.h"
 
 #define PHM_NSTATE 13 /* per carrier: q (4), p (3), t (6) */
+/* per carrier of a planar DAE (dae_planar_init; normal z: q_w, q_z, p_x, p_y, omega_z, v_x, v_y) */
+#define PHM_NSTATE_PLANAR 7
 
 /* Scratch of the consistent initial values (dae_consistent_ic), sized from the model. */
 /* The dense fallback systems of the consistent initial values are kept up to this many doubles
@@ -66,9 +68,19 @@ typedef struct {
   dae_ic_work ic;
 } phm_data;
 
+struct dae_planar; /* planar.c */
+
 typedef struct {
   const phm_model *m;
   int n, ix, ie, il, im; /* sizes and offsets of the state blocks */
+  int ns, nt0;           /* states per carrier (PHM_NSTATE, or PHM_NSTATE_PLANAR) and the first
+                          * of its twist components among them */
+  struct dae_planar *pl; /* non-NULL: the in-plane reduction of pl's full DAE (planar.c) */
+  int nnorm, ncfg_drop;  /* the integrators' RMS norms count nnorm states (the full DAE's n)
+                          * and the configuration error ncfg_drop more than it holds (3 per
+                          * carrier when planar): the dropped states have no error, and
+                          * counted as a 3-D solve counts them the norms, and so the steps
+                          * and Newton's tests, are the 3-D solve's (n and 0 in 3-D) */
   double tref;           /* reference time of the laws' current piece (phm_model_tref) */
   phm_data data;         /* allocated by dae_init */
   char idamsg[256];         /* IDA's last error message, through idasink (csrc/solve/ida.c) */
@@ -156,6 +168,38 @@ int dae_jacobian(dae_t *d, double t, double cj, const double *y, const double *y
  * call), 0 if it is the same: a sparse LU analysed for that pattern can then be refactored,
  * otherwise it needs a fresh analysis. No allocation. */
 int dae_jacobian_prune(dae_t *d, SUNMatrix J);
+
+/* The values of J = dF/dy + cj dF/dy' on the pattern of dae_jacobian_pattern (d->nnz of them)
+ * into val, as dae_jacobian's (full DAE only). No allocation. */
+void dae_jacobian_values(dae_t *d, double t, double cj, const double *y, const double *yp,
+                         double *val);
+
+/* ---------------------------------------------------------------- planar.c */
+/* The planar DAE of m: every carrier moves in the plane normal to world axis `axis` (0, 1, 2:
+ * x, y, z; rotation about it, in-plane twist; the caller checked it, with m's out-of-plane
+ * constraint rows dropped). d holds only the in-plane carrier states (PHM_NSTATE_PLANAR per
+ * carrier: q_w, q_axis, two positions, omega_axis, two body velocities), then the joint coordinates, ledger
+ * and multipliers as the full DAE; its residual, Jacobian, initial values, restarts and outputs
+ * expand d's vectors into the full DAE's (the out-of-plane states at their initial values, zero
+ * rates), evaluate it and gather the in-plane rows. dae_free frees both. */
+phm_status dae_planar_init(dae_t *d, const phm_model *m, int axis, phm_error *err);
+/* The full DAE behind d (d itself when it is not planar): its data holds the poses and twists
+ * of the carriers (d->data of a planar d is empty). */
+dae_t *dae_full(dae_t *d);
+int dae_planar_residual(dae_t *d, double time, const double *y, const double *yp, double *F);
+void dae_planar_constraint_rows(dae_t *d, double time, const double *y, double *F);
+phm_status dae_planar_pattern(dae_t *d, phm_error *err);
+int dae_planar_jacobian(dae_t *d, double t, double cj, const double *y, const double *yp,
+                        SUNMatrix J);
+phm_status dae_planar_consistent_ic(dae_t *d, double time, double *H, double *tw,
+                                    const double *xs, int check_x0, double *y, double *yp,
+                                    phm_error *err);
+phm_status dae_planar_restart(dae_t *d, double t, double tpiece, double *nbp, double *y,
+                              double *yp, phm_error *err);
+phm_status dae_planar_emit_output(dae_t *d, const double *y, phm_sim_output *out, int iout,
+                                  double E0[1], double t, const phm_sim_options *opt, int *stop,
+                                  phm_error *err);
+void dae_planar_free(dae_t *d);
 
 /* ---------------------------------------------------------------- output.c */
 /* Store output iout (state y at time t; E0: the energy at output 0, set there), check that it is

@@ -362,6 +362,8 @@ static phm_status accel_coupled(dae_t *d, double time, const double *H, const do
 phm_status dae_consistent_ic(dae_t *d, double time, double *H, double *tw, const double *qprev,
                              const double *xs, int check_x0, double *y, double *yp,
                              phm_error *err) {
+  if (d->pl) /* the start's (a planar restart is dae_planar_restart's) */
+    return dae_planar_consistent_ic(d, time, H, tw, xs, check_x0, y, yp, err);
   const phm_model *m = d->m;
   dae_ic_work *w = &d->data.ic;
   int nc = m->nc, nk = m->ncons;
@@ -444,6 +446,7 @@ done:
  * data's scratch: a restart allocates nothing. */
 phm_status dae_restart_at_breakpoint(dae_t *d, double t, double tpiece, double *nbp, double *y,
                                      double *yp, phm_error *err) {
+  if (d->pl) return dae_planar_restart(d, t, tpiece, nbp, y, yp, err);
   double *H = d->data.ic.H, *tw = d->data.ic.tw, *qprev = d->data.ic.qprev;
   d->tref = phm_model_tref(d->m, tpiece, nbp);
   dae_unpack(d->m, y, H, tw);

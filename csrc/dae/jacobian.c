@@ -48,6 +48,7 @@ static int block_rows(const dae_t *d, int b, const int *nb, int nnb, sunindextyp
  * dependence on the other states is left out of the Newton matrix: nothing else depends on
  * them, so this only delays their convergence by one iteration). */
 phm_status dae_jacobian_pattern(dae_t *d, phm_error *err) {
+  if (d->pl) return dae_planar_pattern(d, err);
   const phm_model *m = d->m;
   int n = d->n, nc = m->nc, nb = nc + m->np;
   int *ptr = NULL, *nbr = NULL, *srt = NULL, *fill = NULL, *blk = NULL;
@@ -391,21 +392,26 @@ static void jacobian_pairs(dae_t *d, double time, double cj, const double *y, do
 /* J = dF/dy + cj dF/dyp (no allocation), all in closed form: jacobian_closed_form and
  * jacobian_pairs at the state's poses, twists and pairs (dae_unpack, dae_pair_rows). r0, the
  * residual F(t, y, y'), is not needed. */
-int dae_jacobian(dae_t *d, double t, double cj, const double *y, const double *ypv,
-                 const double *r0, SUNMatrix J) {
-  int n = d->n;
-  sunindextype *cp = SUNSparseMatrix_IndexPointers(J), *ri = SUNSparseMatrix_IndexValues(J);
-  double *val = SUNSparseMatrix_Data(J);
-  for (int j = 0; j <= n; j++) cp[j] = d->colptr[j];
-  for (int k = 0; k < d->nnz; k++) ri[k] = d->rowind[k];
+void dae_jacobian_values(dae_t *d, double t, double cj, const double *y, const double *ypv,
+                         double *val) {
   memset(val, 0, sizeof(double) * (size_t)d->nnz);
   phm_data *D = &d->data;
-  (void)r0;
   /* the poses, twists, pairs and G^T mu of the state (the pairs' rows go to scratch) */
   dae_unpack(d->m, y, D->H, D->tw);
   dae_pair_rows(d, t, y, ypv, D->rtmp);
   jacobian_closed_form(d, t, cj, y, ypv, val);
   jacobian_pairs(d, t, cj, y, val);
+}
+
+int dae_jacobian(dae_t *d, double t, double cj, const double *y, const double *ypv,
+                 const double *r0, SUNMatrix J) {
+  (void)r0;
+  if (d->pl) return dae_planar_jacobian(d, t, cj, y, ypv, J);
+  int n = d->n;
+  sunindextype *cp = SUNSparseMatrix_IndexPointers(J), *ri = SUNSparseMatrix_IndexValues(J);
+  for (int j = 0; j <= n; j++) cp[j] = d->colptr[j];
+  for (int k = 0; k < d->nnz; k++) ri[k] = d->rowind[k];
+  dae_jacobian_values(d, t, cj, y, ypv, SUNSparseMatrix_Data(J));
   return 0;
 }
 

@@ -99,6 +99,7 @@ static void record(dae_t *d, const double *y, phm_sim_output *out, int iout, dou
  * interrupt callback asks; *stop = 1 if the progress callback asks to stop quietly. */
 phm_status dae_emit_output(dae_t *d, const double *y, phm_sim_output *out, int iout, double E0[1],
                               double t, const phm_sim_options *opt, int *stop, phm_error *err) {
+  if (d->pl) return dae_planar_emit_output(d, y, out, iout, E0, t, opt, stop, err);
   *stop = 0;
   record(d, y, out, iout, E0, t);
   phm_status st = check_output(d, out, iout, t, err);

@@ -106,6 +106,10 @@ void dae_pair_rows(dae_t *d, double time, const double *y, const double *yp, dou
  * of the pairs are unpacked here (ic.clist: every pair's carriers, none without constraint rows).
  * No allocation. */
 void dae_constraint_rows(dae_t *d, double time, const double *y, double *F) {
+  if (d->pl) {
+    dae_planar_constraint_rows(d, time, y, F);
+    return;
+  }
   const dae_ic_work *w = &d->data.ic;
   for (int k = 0; k < w->ncc; k++) unpack_carrier(y, w->clist[k], d->data.H, d->data.tw);
   rows_of_pairs(d, time, y, NULL, F, 0);
@@ -114,6 +118,7 @@ void dae_constraint_rows(dae_t *d, double time, const double *y, double *F) {
 /* The DAE residual; no allocation. The pairs are evaluated once (dae_pair_rows) and their
  * actuators read that evaluation. */
 int dae_residual(dae_t *d, double time, const double *y, const double *yp, double *F) {
+  if (d->pl) return dae_planar_residual(d, time, y, yp, F);
   const phm_model *m = d->m;
   phm_data *D = &d->data;
   int nc = m->nc;
@@ -160,6 +165,7 @@ int dae_residual(dae_t *d, double time, const double *y, const double *yp, doubl
 }
 
 void dae_free(dae_t *d) {
+  dae_planar_free(d);
   phm_data *D = &d->data;
   dae_ic_work *w = &D->ic;
   void *bufs[] = {D->H, D->tw, D->pair, D->wr, D->gl, D->gm, D->pport, D->eff, D->rtmp, w->cmap, w->clist, w->H, w->tw, w->qprev, w->Lc, w->lcfail, w->b1c, w->cg, w->acc, w->G,
@@ -243,11 +249,14 @@ static phm_status ic_alloc(dae_t *d, phm_error *err) {
 phm_status dae_init(dae_t *d, const phm_model *m, phm_error *err) {
   memset(d, 0, sizeof *d);
   d->m = m;
+  d->ns = PHM_NSTATE;
+  d->nt0 = 7;
   d->ix = PHM_NSTATE * m->nc;
   d->ie = d->ix + m->nj;
   d->il = d->ie + 2 + m->nport;
   d->im = d->il + m->ncons;
   d->n = d->im + m->ncons;
+  d->nnorm = d->n;
   phm_data *D = &d->data;
   size_t nc = (size_t)m->nc, n = (size_t)d->n;
   D->H = malloc(sizeof(double) * 16 * nc);
@@ -289,5 +298,6 @@ double dae_state_atol(const dae_t *d, int i, double atol) {
   return i >= d->im ? fmax(1.0, atol) /* mu */ : i >= d->il ? fmax(1e-6, atol) /* lambda */ : atol;
 }
 
-/* State i is a carrier's twist component (layout: q[4], p[3], t[6] per carrier). */
-int dae_is_twist(const dae_t *d, int i) { return i < d->ix && i % PHM_NSTATE >= 7; }
+/* State i is a carrier's twist component (layout: q[4], p[3], t[6] per carrier, or the planar
+ * q_w, q_z, p_x, p_y, omega_z, v_x, v_y). */
+int dae_is_twist(const dae_t *d, int i) { return i < d->ix && i % d->ns >= d->nt0; }

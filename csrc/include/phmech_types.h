@@ -310,6 +310,9 @@ typedef struct {
   int adaptive;           /* GALPHA: 0 fixed step, 1 variable step with error control       */
   double band;            /* GALPHA adaptive: highest frequency to resolve [Hz]; <= 0: none */
   phm_monitor monitor;    /* may be NULL; called with ctx                                   */
+  int planar;             /* 0: 3-D; 1, 2, 3: the planar DAE, every carrier moving in the plane
+                           * normal to world x, y, z (checked by the caller, who dropped the
+                           * out-of-plane constraint rows; csrc/dae/planar.c)              */
 } phm_sim_options;
 
 /* How phm_modes solves its eigenproblem: dense LAPACK on the reduced problem (O(N^3)), or

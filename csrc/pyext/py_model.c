@@ -533,7 +533,7 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
   (void)self;
   static char *kwl[] = {"model", "tout", "rtol", "atol", "linear_solver", "poses", "twists",
                         "callback", "max_step", "max_order", "record", "error_test",
-                        "integrator", "step", "rho_inf", "adaptive", "band", "monitor", "arrays", NULL};
+                        "integrator", "step", "rho_inf", "adaptive", "band", "monitor", "arrays", "planar", NULL};
   PyObject *cap, *to, *po = Py_None, *twi = Py_None, *cb = Py_None, *rec = Py_None, *mon = Py_None;
   PyObject *arr = Py_None; /* callable(dict of the output arrays), called once before the run */
   PyObject *res = NULL; /* before the first `goto fail0`: that path returns it */
@@ -541,10 +541,11 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
   double rtol, atol, max_step = 0;
   int solver = 0, max_order = 0, error_test = 0, integrator = 0;
   double step = 0, rho_inf = 1, band = 0;
-  int adaptive = 0;
-  if (!PyArg_ParseTupleAndKeywords(args, kw, "OOddi|OOOdiOiiddidOO", kwl, &cap, &to, &rtol, &atol, &solver,
+  int adaptive = 0, planar = 0;
+  if (!PyArg_ParseTupleAndKeywords(args, kw, "OOddi|OOOdiOiiddidOOi", kwl, &cap, &to, &rtol, &atol, &solver,
                                    &po, &twi, &cb, &max_step, &max_order, &rec, &error_test,
-                                   &integrator, &step, &rho_inf, &adaptive, &band, &mon, &arr))
+                                   &integrator, &step, &rho_inf, &adaptive, &band, &mon, &arr,
+                                   &planar))
     return NULL;
   phm_model *m = get_model(cap);
   if (!m) return NULL;
@@ -612,7 +613,7 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
   }
   cb_ctx c = {cb == Py_None ? NULL : cb, 0, 0, NULL, NULL, NULL, mon == Py_None ? NULL : mon};
   phm_sim_options opt = {rtol, atol, solver, 0, max_step, max_order, error_test, interrupt_cb, progress_cb, &c,
-                         integrator, step, rho_inf, adaptive, band, monitor_cb};
+                         integrator, step, rho_inf, adaptive, band, monitor_cb, planar};
   phm_sim_output out;
   memset(&out, 0, sizeof out);
   out.record = R ? (const int *)PyArray_DATA(R) : NULL;
@@ -1074,7 +1075,7 @@ PyMethodDef phm_py_model_methods[] = {
     {"model_simulate", (PyCFunction)(void (*)(void))py_model_simulate, METH_VARARGS | METH_KEYWORDS,
      "model_simulate(model, tout, rtol, atol, linear_solver, poses=None, twists=None, "
      "callback=None, max_step=0, max_order=0, record=None, error_test=0, integrator=0, step=0, "
-     "rho_inf=1, adaptive=0, band=0, monitor=None, arrays=None) -> dict of arrays and solver "
+     "rho_inf=1, adaptive=0, band=0, monitor=None, arrays=None, planar=0) -> dict of arrays and solver "
      "statistics; arrays(dict) is called once before the run with the output arrays it fills."},
     {"model_modes", py_model_modes, METH_VARARGS,
      "model_modes(model, n, poses=None, lambda=None, time=0, method=0) -> (omega, zeta, shapes, "

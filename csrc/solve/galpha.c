@@ -130,7 +130,7 @@ static double galpha_error(const dae_t *d, const galpha_t *g, double h, double h
     cnt++;
   }
   *emax = mx;
-  return cnt ? sqrt(sum / cnt) : 0.0;
+  return cnt ? sqrt(sum / (cnt + d->ncfg_drop)) : 0.0;
 }
 
 /* Newton's convergence test and the iteration matrix's refresh (measured on
@@ -351,7 +351,7 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
           double e = dY[i] / (opt->rtol * fabs(Y[i]) + w[i]);
           sum += e * e;
         }
-        double nrm = sqrt((sum + suml) / n), nrm_rate = sqrt(sum / n);
+        double nrm = sqrt((sum + suml) / d->nnorm), nrm_rate = sqrt(sum / d->nnorm);
         if (!isfinite(nrm)) break;
         if (it == 0) {
           nrm0 = nrm_rate;

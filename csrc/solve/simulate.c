@@ -52,11 +52,11 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
   /* set-up: the DAE's data and Jacobian pattern (the integrators' sparse Jacobian: every
    * generalized-alpha run, IDA with KLU); nothing of phmech's allocates after it */
   dae_t d;
-  if ((st = dae_init(&d, m, err))) return st;
+  if ((st = opt->planar ? dae_planar_init(&d, m, opt->planar - 1, err) : dae_init(&d, m, err))) return st;
   SUNContext ctx = NULL;
   N_Vector yy = NULL, yp = NULL;
   int nc = m->nc;
-  double *H = d.data.ic.H, *tw = d.data.ic.tw;
+  double *H = dae_full(&d)->data.ic.H, *tw = dae_full(&d)->data.ic.tw;
   if ((opt->integrator == PHM_INTEGRATOR_GALPHA || opt->linear_solver == 1) &&
       (st = dae_jacobian_pattern(&d, err)))
     goto done;

@@ -22,7 +22,7 @@ from typing import Callable, Optional, Sequence, Union
 
 import numpy as np
 
-from . import _core, _marshal, _run, analysis, io, postprocess, se3, topology
+from . import _core, _marshal, _run, analysis, io, planar as _planar, postprocess, se3, topology
 from ._checks import array, choice, integer, per_coordinate, positive, positive_definite, real, rigid_pose
 from ._core import ModelError, SolverError
 from .actuators import PD, Effort, Spring, actuator_row
@@ -899,7 +899,8 @@ class Mechanism:
                  error_test: str = "all", integrator: str = "generalized-alpha",
                  step: Optional[float] = None, rho_inf: Optional[float] = None,
                  band: Optional[float] = None, checkpoint=None,
-                 checkpoint_every: Optional[float] = None) -> SimulationResult:
+                 checkpoint_every: Optional[float] = None,
+                 planar: Optional[bool] = None) -> SimulationResult:
         """Integrate from ``t_start`` to ``t_end`` [s], sampling every ``dt_out`` [s].
 
         The defaults are meant to be right and fast; ``simulate(t_end, dt_out)`` is the intended
@@ -968,7 +969,15 @@ class Mechanism:
           the steps (IDA and adaptive generalized-alpha).
 
         ``linear_solver``: ``"auto"`` (KLU sparse for the generalized-alpha, and for IDA with 6
-        or more carriers, else dense), ``"dense"`` or ``"klu"``."""
+        or more carriers, else dense), ``"dense"`` or ``"klu"``.
+
+        ``planar``: when every carrier moves in one plane normal to a world axis (phmech.planar
+        says what is checked, at the initial configuration), the integrator solves a DAE of the
+        in-plane states alone (7 of a carrier's 13; out-of-plane constraint rows dropped), with
+        the same results. None (default): so when the checks pass, with the generalized-alpha
+        (IDA stays 3-D unless asked: see the comment in simulate); True: require it (ModelError
+        naming the first check that fails); False: the 3-D DAE. ``result.stats["planar"]`` is
+        the plane's normal axis ("x", "y", "z") or None."""
         t0, t1, dt = (real("t_start", t_start), real("t_end", t_end), real("dt_out", dt_out))
         if t1 <= t0:
             raise ModelError(f"t_end must be > t_start (got {t1} <= {t0})")
@@ -1051,12 +1060,24 @@ class Mechanism:
                              "minimum-norm multipliers need every carrier's pose")
         poses = None if initial is None else self._start_poses(initial, "initial")
         twists = None if initial is None else np.zeros((len(self._car), 6))
+        if planar not in (None, True, False):
+            raise ModelError(f"planar must be None, True or False (got {planar!r})")
+        # planar=None leaves IDA in 3-D: with the planar DAE and KLU's pivoting for 3-D it failed
+        # the flexible slider-crank of tests/test_flexible_loop.py at rtol 1e-8 (IDA_CONV_FAIL;
+        # csrc/solve/ida.c: it runs with AMD and full pivoting, a remedy measured on that one
+        # scene), and with the dense LU the spline-driven revolute of
+        # tests/test_driven_pairs.py ended its spin-up 1.6e-4 N m off in its torque (3-D 6.7e-5,
+        # the test's bound 1.3e-4: where IDA's steps land near the breakpoint)
+        auto_ok = integrator != "ida"
+        plane = None if planar is False or (planar is None and not auto_ok) else \
+            self._plane(model, poses, twists, planar is True)
         run = dict(linear_solver=linear_solver, integrator=integrator, adaptive=adaptive,
-                   rtol=rtol, atol=atol)
+                   rtol=rtol, atol=atol, planar=None if plane is None else _planar.AXES[plane[0]])
+        sim_model = model if plane is None else plane[2]
 
         def assemble(r, k, stats, interrupted) -> SimulationResult:
             return self._simulation_result(r, k, tout, model, drop_masks, rec, band,
-                                           {**stats, **run}, interrupted)
+                                           {**stats, **run}, interrupted, plane)
 
         saver = None
         if checkpoint is not None:
@@ -1066,12 +1087,13 @@ class Mechanism:
             raise ModelError("checkpoint_every applies with checkpoint=path only")
         monitor = _run.RunMonitor(t0, t1, band, integrator, progress, callback, checkpoint=saver)
         with _run.sigterm_as_interrupt(monitor):
-            r = _core.model_simulate(model, tout, rtol, atol, solvers[linear_solver], poses, twists,
+            r = _core.model_simulate(sim_model, tout, rtol, atol, solvers[linear_solver], poses, twists,
                                      monitor.on_output, float(max_step), int(max_order), rec,
                                      tests[error_test], integrators[integrator], float(step or 0.0),
                                      float(1.0 if rho_inf is None else rho_inf), adaptive=int(adaptive),
                                      band=float(band if adaptive else 0.0), monitor=monitor,
-                                     arrays=None if saver is None else saver.arrays_ready)
+                                     arrays=None if saver is None else saver.arrays_ready,
+                                     planar=0 if plane is None else plane[0] + 1)
         monitor.finish(r["stats"]["steps"])
         result = assemble(r, r["nout"], r["stats"], bool(r["interrupted"]) or monitor.terminated)
         unsaved = ""
@@ -1097,8 +1119,49 @@ class Mechanism:
             raise err
         return result
 
+    def _plane(self, model, poses, twists, require: bool):
+        """(axis, drop masks, core model) of the planar DAE when the scene is planar at its
+        start (``model``: this analysis's, made planar in place; ``poses``, ``twists``: the
+        run's, None for the initial configuration's), else
+        None, or with ``require`` ModelError naming the first check that fails per axis. The
+        masks drop the out-of-plane constraint rows and the in-plane rows redundant among the
+        in-plane ones."""
+        state = self._state
+        H = state.poses if poses is None else np.asarray(poses, dtype=float)
+        T = state.twists if twists is None else np.asarray(twists, dtype=float)
+        comp = _marshal.components(self._desc, H, T, state.x0, state.drop_masks, state.frames_a)
+        layout = postprocess.full_layout(self._desc)
+        names = [p["name"] for p in self._desc.pairs]
+        nc = len(H)
+        if layout:   # every row, the dropped ones too
+            _, G, _ = _core.model_constraints_full(model, H, None, 0.0)
+        else:
+            G = np.zeros((0, 6 * nc))
+        why = {}
+        for k in (2, 1, 0):
+            why[k] = _planar.check(comp, H, T, G, layout, names, k)
+            if why[k] is None:
+                break
+        else:
+            if require:
+                raise ModelError("planar=True: the scene is not planar (" + "; ".join(
+                    f"about {_planar.AXES[k]}: {why[k]}" for k in (2, 1, 0)) + ")")
+            return None
+        masks = _planar.out_of_plane_rows(G, layout, nc, k)
+        if G.shape[0]:
+            keep = np.ones(G.shape[0], dtype=bool)
+            for ip, (row, m, _, _) in enumerate(layout):
+                keep[[row + r for r in range(m) if (masks[ip] >> r) & 1]] = False
+            tree = topology.place_tree(self._desc)[2]
+            red, _ = topology.redundant_rows(self._desc, G * keep[:, None], tree)
+            masks = [a | b for a, b in zip(masks, red)]
+        # this analysis's model, moved to the planar drop masks (no second model)
+        model = _marshal.with_initial(model, self._desc, state.poses, state.poses, state.twists,
+                                      state.x0, masks)
+        return k, masks, model
+
     def _simulation_result(self, r: dict, k: int, tout, model, drop_masks, rec, band: float,
-                           stats: dict, interrupted: bool) -> SimulationResult:
+                           stats: dict, interrupted: bool, plane=None) -> SimulationResult:
         """The SimulationResult of the first ``k`` outputs in the arrays ``r`` of
         ``_core.model_simulate`` (the whole run, or a checkpoint's part of it while it runs),
         ``stats`` the core's statistics and the run's options."""
@@ -1107,7 +1170,17 @@ class Mechanism:
         ports = {nm: r["ports"][:k, i].copy() for i, nm in enumerate(self._desc.port_names())}
         layout = _core.model_sizes(model)[4]
         lam, pw = r["lambda"][:k], r["pair_wrenches"][:k]
-        if self.redundant_constraints and k > 0:
+        if plane is not None and self.redundant_constraints and k > 0:
+            lam, pw, layout = postprocess.min_norm_multipliers(
+                self._desc, plane[2], plane[1], r["poses"][:k], r["joints"][:k], lam, tout[:k])
+        elif plane is not None:   # the 3-D layout has every row: the dropped ones carry 0
+            layout = postprocess.full_layout(self._desc)
+            keep = [row + i for ip, (row, m, _, _) in enumerate(layout) for i in range(m)
+                    if not (plane[1][ip] >> i) & 1]
+            full = np.zeros((lam.shape[0], layout[-1][0] + layout[-1][1] if layout else 0))
+            full[:, keep] = lam
+            lam = full
+        elif self.redundant_constraints and k > 0:
             lam, pw, layout = postprocess.min_norm_multipliers(
                 self._desc, model, drop_masks, r["poses"][:k], r["joints"][:k], lam, tout[:k])
         pairs = {p["name"]: dict(index=i, layout=layout[i], units=p["pair"]._type.units)

@@ -83,13 +83,15 @@ static void rand_state(const dae_t *d, double *y, double *yp) {
 /* Worst relative errors of dae_jacobian against central differences: rows of the carriers and
  * pairs (the ledger rows keep only their diagonal in the pattern, csrc/dae/jacobian.c), entries
  * outside the pattern included (their reference must vanish). */
-static void compare(const char *name, builder *b, double tol) {
+static void compare_dae(const char *name, builder *b, double tol, int planar) {
   phm_model *m = create_model(&b->d);
   if (!m) return;
   dae_t d;
   phm_error err;
   SUNContext ctx;
-  if (phm_sun_context_create(&ctx) || dae_init(&d, m, &err) || dae_jacobian_pattern(&d, &err)) {
+  if (phm_sun_context_create(&ctx) ||
+      (planar ? dae_planar_init(&d, m, planar - 1, &err) : dae_init(&d, m, &err)) ||
+      dae_jacobian_pattern(&d, &err)) {
     check_fail("%s: set-up", name);
     phm_model_free(m);
     return;
@@ -100,7 +102,18 @@ static void compare(const char *name, builder *b, double tol) {
          *ypp = yy + n, *rp = ypp + n, *rm = malloc(sizeof(double) * (size_t)n);
   double *dense = calloc((size_t)n * n, sizeof(double));
   for (int trial = 0; trial < 3; trial++) {
-    rand_state(&d, y, yp);
+    if (planar) { /* the reduced state: any values, a quaternion (q_w, q_k) off the unit circle */
+      for (int i = 0; i < n; i++) {
+        y[i] = rand11();
+        yp[i] = rand11();
+      }
+      for (int c = 0; c < m->nc; c++) {
+        double a = 3.0 * rand11(), s = 1.0 + 0.05 * rand11();
+        y[PHM_NSTATE_PLANAR * c] = s * cos(a);
+        y[PHM_NSTATE_PLANAR * c + 1] = s * sin(a);
+      }
+    } else
+      rand_state(&d, y, yp);
     double t = 0.1, cj = 37.0 * (1 + trial);
     d.tref = 0.5;
     /* the constraint rows alone (the generalized-alpha's at the step's end), with the data of the
@@ -146,6 +159,8 @@ static void compare(const char *name, builder *b, double tol) {
   SUNContext_Free(&ctx);
   phm_model_free(m);
 }
+
+static void compare(const char *name, builder *b, double tol) { compare_dae(name, b, tol, 0); }
 
 static void carriers_and_gravity_are_closed_form(void) {
   static builder b;
@@ -215,6 +230,30 @@ static void pairs_are_closed_form(void) {
       b.d.pairs = b.pair;
       compare(names[type], &b, 1e-7);
     }
+}
+
+/* The planar DAE's Jacobian (csrc/dae/planar.c, gathered from the full one) against central
+ * differences of its own residual: a submatrix, whatever the model (planar or not), for each
+ * normal axis. */
+static void planar_is_the_submatrix(void) {
+  static builder b;
+  static const char *const names[] = {"J = central FD: planar DAE about x",
+                                      "J = central FD: planar DAE about y",
+                                      "J = central FD: planar DAE about z"};
+  for (int axis = 0; axis < 3; axis++) {
+    chain(&b, 5, 1);
+    for (int p = 0; p < 2; p++) {
+      phm_pair_desc *pr = &b.pair[p];
+      pr->type = pair_code("revolute");
+      pr->a = p ? -1 : 1;
+      pr->b = p ? 0 : 3;
+      rand_pose(pr->Ta, 1.0);
+      rand_pose(pr->Tb, 1.0);
+    }
+    b.d.npairs = 2;
+    b.d.pairs = b.pair;
+    compare_dae(names[axis], &b, 1e-7, axis + 1);
+  }
 }
 
 static void pairs_springs_loads_actuators_are_closed_form(void) {
@@ -300,5 +339,5 @@ static void pruning_keeps_a_growing_pattern(void) {
 
 CHECK_MAIN(CHECK_CASE(carriers_and_gravity_are_closed_form), CHECK_CASE(elements_are_closed_form),
            CHECK_CASE(pruning_keeps_a_growing_pattern),
-           CHECK_CASE(pairs_are_closed_form),
+           CHECK_CASE(pairs_are_closed_form), CHECK_CASE(planar_is_the_submatrix),
            CHECK_CASE(pairs_springs_loads_actuators_are_closed_form))
