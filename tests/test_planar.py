@@ -73,3 +73,24 @@ def test_non_planar_scene_is_3d_or_refused():
         m.simulate(0.1, 1e-2, planar=True)
     with pytest.raises(ph.ModelError, match="planar must be"):
         m.simulate(0.1, 1e-2, planar="yes")
+
+
+@pytest.mark.parametrize("drive", ["law", "effort"])
+def test_a_pair_driven_or_actuated_out_of_the_plane_keeps_the_scene_3d(drive):
+    """A revolute about x (out of the x-y plane) whose angle follows a law, or which an effort
+    drives, under a body and link lying in that plane: the scene is not planar (it once was
+    taken as planar about z, the driven row dropped as out-of-plane and the law silently not
+    followed: the angle stayed 0 where the 3-D solve reached the law's 0.5 rad)."""
+    m = ph.Mechanism()
+    b = m.add_rigid_body("b", 1.0, np.eye(3) * 0.01)
+    if drive == "law":
+        m.add_pair("h", ph.Revolute(axis="x"), m.ground, b, driven=ph.Cycloidal(0.5, 0.01, 0.1))
+    else:
+        m.add_pair("h", ph.Revolute(axis="x"), m.ground, b, actuator=ph.Effort(ph.Constant(1.0)))
+    lk = m.add_flexible_link("l", 1.0, table1_properties(4.0), elements=3, start=b.frame)
+    m.add_pair("w", ph.Fixed(), b, lk.start)
+    r = m.simulate(0.2, 1e-2)
+    assert r.stats["planar"] is None
+    assert abs(r.joint("h")["x"][-1, 0]) > (0.1 if drive == "law" else 1e-3)
+    with pytest.raises(ph.ModelError, match="'h' is actuated or driven along an out-of-plane axis"):
+        m.simulate(0.2, 1e-2, planar=True)

@@ -98,12 +98,16 @@ def check(comp: dict, poses, twists, G, layout, names, k: int) -> Optional[str]:
     actuated = set(int(p) for p in comp["actuators"]["pair"])
     for ip, (a, b) in enumerate(np.asarray(pr["carriers"], dtype=int).reshape(-1, 2)):
         if ip in actuated or pr["driven"][ip] or pr["xlaws"][ip] is not None:
-            if layout[ip][3] != 1:
+            row, _, _, kk = layout[ip]
+            if kk != 1:
                 return f"pair {names[ip]!r} is actuated or driven along more than one coordinate"
-            Fb = (poses[b] if b >= 0 else np.eye(4)) @ pr["Tb"][ip]
-            s = pr["axis"][ip]
-            sw = np.concatenate([Fb[:3, :3] @ s[:3], Fb[:3, :3] @ s[3:]])
-            if not _zero(sw[O], sw):
+            # the direction its effort or law moves: the null space of its type's 5 rows on one
+            # of its carriers (a carrier's body axes: rotated about k, so in and out of the plane
+            # as the world's); a driven coordinate's row, dropped as out-of-plane, would
+            # silently leave the law undone
+            c = b if b >= 0 else a
+            free = np.linalg.svd(G[row:row + 5, 6 * c:6 * c + 6])[2][-1]
+            if not _zero(free[O], free):
                 return f"pair {names[ip]!r} is actuated or driven along an out-of-plane axis"
     nc = len(poses)
     ci = np.concatenate([I + 6 * c for c in range(nc)]) if nc else np.zeros(0, int)
