@@ -250,16 +250,16 @@ PAIR_KIN_INLINE void pair_kin(int tan, int type, double pitch, const double h[16
   if (DPhi) memcpy(DPhi, DPl, sizeof DPl);
 }
 
-/* The revolute row of the table in closed form: pair_kin's PAIR_REVOLUTE case with the values
- * and derivatives its pq primitives give, written out (the same arithmetic: the same numbers, an
- * exact zero's sign aside; tests/c/test_pair.c compares the two). g = (R_21, -R_20, q), W^C and Phi
- * constant (their derivatives vanish: DW, DPhi are zero-filled when asked), x = theta. */
 /* A constant 0/1 basis (6x6 row-major) from its pattern of bytes: converted, not copied -- GCC
  * copied a table of doubles (and zeroed one) with `rep movsq` (`rep stosq`), slower than the
  * rest of this closed form. */
 static inline void unit_basis(double B[36], const unsigned char pat[36]) {
   for (int e = 0; e < 36; e++) B[e] = pat[e];
 }
+/* The revolute row of the table in closed form: pair_kin's PAIR_REVOLUTE case with the values
+ * and derivatives its pq primitives give, written out (the same arithmetic: the same numbers, an
+ * exact zero's sign aside; tests/c/test_pair.c compares the two). g = (R_21, -R_20, q), W^C and Phi
+ * constant (their derivatives vanish: DW, DPhi are zero-filled when asked), x = theta. */
 static void revolute_kin(const double h[16], const double *xref, double *g, double *W,
                          double *Phi, double *x, double *Dg, double *Dx) {
   double q[3];
@@ -334,8 +334,6 @@ static double col_dot(const double B[36], int c, const double v[6]) {
 }
 
 /* ---------------------------------------------------------------- pairs */
-/* Frames of pair ip: B = H_b Tb, h = (H_a Ta)^-1 B, AdTbi = Ad_{Tb^-1}, AdBa = Ad_{B^-1 H_a}, so
- * that the relative twist is t_rel = AdTbi t_b - AdBa t_a (in F_b). */
 /* Frame X = H T (H NULL: T) as rotation R (3x3 row-major) and origin p: phm_se3_compose's
  * arithmetic, inline. */
 static inline void frame_of(const double *H, const double T[16], double R[9], double p[3]) {
@@ -567,11 +565,11 @@ void phm_pair_evaluate(const phm_model *m, int ip, const double *Ha, const doubl
     phm_pair_kin(pr->type, pr->pitch, pd->h, xref, NULL, NULL, pd->Phi, pd->x);
   if (!joint) return;
   /* xdot = Phi^T t_rel (for a unit column e_k of Phi: t_rel's entry k alone) */
-  int k = m->pair_k[ip], unit = !m->pair_general;
-  for (int c = 0; unit && c < k; c++) unit = unit_col(pd->Phi, c) >= 0;
+  int k = m->pair_k[ip], unit = !m->pair_general, row[6];
+  for (int c = 0; unit && c < k; c++) unit = (row[c] = unit_col(pd->Phi, c)) >= 0;
   if (unit) {
     for (int c = 0; c < k; c++) {
-      int i = unit_col(pd->Phi, c);
+      int i = row[c];
       double u = 0, v = 0;
       for (int j = 0; tb && j < 6; j++) u += AdTbi[6 * i + j] * tb[j];
       for (int j = 0; ta && j < 6; j++) v += pd->AdBa[6 * i + j] * ta[j];
@@ -754,6 +752,7 @@ void phm_pair_tangent(const phm_model *m, int ip, const double *Ha, const double
   }
   if (dg && m->pair_general) eta_to_carriers(T.Dg, mc, AdTbi, pd->AdBa, dg);
   else if (dg) eta_to_carriers_sparse(T.Dg, mc, AdTbi, pd->AdBa, dg);
+  const double *DW = T.W0 ? NULL : T.DW, *DPhi = T.Phi0 ? NULL : T.DPhi; /* NULL: constant */
   if (dc) { /* c = W^T (t_rel - ds a) - vf: a driven pair's prescribed twist ds a is fixed */
     double u[6];
     memcpy(u, tr, sizeof u);
@@ -762,9 +761,8 @@ void phm_pair_tangent(const phm_model *m, int ip, const double *Ha, const double
       phm_law_eval(&pr->law, time, tref, &ds, NULL);
       for (int i = 0; i < 6; i++) u[i] -= ds * pr->axis[i];
     }
-    basis_rate_tangent(pd->W, T.W0 ? NULL : T.DW, mc, u, Dt, AdTbi, pd->AdBa, dc);
+    basis_rate_tangent(pd->W, DW, mc, u, Dt, AdTbi, pd->AdBa, dc);
   }
-  const double *DW = T.W0 ? NULL : T.DW, *DPhi = T.Phi0 ? NULL : T.DPhi;
   if (dxd) basis_rate_tangent(pd->Phi, DPhi, k, tr, Dt, AdTbi, pd->AdBa, dxd); /* Phi^T t_rel */
   if (Kl && lam) wrench_tangent(pd->W, DW, mc, lam, AdTbi, pd->AdBa, Kl);
   if (Km && mu) wrench_tangent(pd->W, DW, mc, mu, AdTbi, pd->AdBa, Km);
