@@ -196,14 +196,12 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
   N_Vector *vs[] = {&g.y0, &g.yp0, &g.Y, &g.Yp, &g.ya, &g.ypa, &g.Ra, &g.R, &g.dY, &g.w, &g.yq, &g.ypq, &g.yqq};
   int nv = (int)(sizeof vs / sizeof vs[0]);
   for (int k = 0; k < nv; k++) {
-    if (!(*vs[k] = N_VNew_Serial(n, ctx))) {
+    if (!(*vs[k] = N_VClone(yy))) { /* yy's compiled operations (simulate.c) with it */
       st = PHM_FAIL(err, PHM_ENOMEM, "out of memory (N_Vector)");
       goto done;
     }
-    phm_nvector_ops(*vs[k]); /* compiled vector operations (nvector_ops.c; the linear solver's) */
-    N_VConst(0.0, *vs[k]); /* N_VNew leaves the data uninitialized */
+    N_VConst(0.0, *vs[k]); /* a clone's data is uninitialized */
   }
-  phm_nvector_ops(yy);
   Js = SUNSparseMatrix(n, n, d->nnz, CSC_MAT, ctx);
   if (Js) phm_sparse_matrix_ops(Js);
   A = opt->linear_solver == 1 ? Js : SUNDenseMatrix(n, n, ctx);

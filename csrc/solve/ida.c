@@ -132,9 +132,6 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
   }
   d->idasink = (phm_sun_errsink){ida_err_message, d};
   IDACHK(phm_ida_set_errsink(mem, ctx, &d->idasink));
-  /* IDA clones its vectors from yy: they all get the compiled operations (nvector_ops.c) */
-  phm_nvector_ops(yy);
-  phm_nvector_ops(yp);
   IDACHK(IDAInit(mem, ida_res, t, yy, yp));
   {
     N_Vector av = N_VNew_Serial(d->n, ctx);

@@ -74,6 +74,9 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
     st = PHM_FAIL(err, PHM_ENOMEM, "out of memory (N_Vector)");
     goto done;
   }
+  /* compiled vector operations (nvector_ops.c); the integrators' vectors are clones of yy */
+  phm_nvector_ops(yy);
+  phm_nvector_ops(yp);
   double *y = N_VGetArrayPointer(yy), *ypd = N_VGetArrayPointer(yp);
   double t = tout[0], nbp;
   d.tref = phm_model_tref(m, t, &nbp);
