@@ -189,8 +189,9 @@ dae_t *dae_full(dae_t *d);
 int dae_planar_residual(dae_t *d, double time, const double *y, const double *yp, double *F);
 void dae_planar_constraint_rows(dae_t *d, double time, const double *y, double *F);
 phm_status dae_planar_pattern(dae_t *d, phm_error *err);
-int dae_planar_jacobian(dae_t *d, double t, double cj, const double *y, const double *yp,
-                        SUNMatrix J);
+/* dae_jacobian_values for the reduced pattern: the full DAE's, gathered through the entry map. */
+void dae_planar_jacobian_values(dae_t *d, double t, double cj, const double *y, const double *yp,
+                                double *val);
 phm_status dae_planar_consistent_ic(dae_t *d, double time, double *H, double *tw,
                                     const double *xs, int check_x0, double *y, double *yp,
                                     phm_error *err);

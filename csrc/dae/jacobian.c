@@ -406,12 +406,12 @@ void dae_jacobian_values(dae_t *d, double t, double cj, const double *y, const d
 int dae_jacobian(dae_t *d, double t, double cj, const double *y, const double *ypv,
                  const double *r0, SUNMatrix J) {
   (void)r0;
-  if (d->pl) return dae_planar_jacobian(d, t, cj, y, ypv, J);
   int n = d->n;
   sunindextype *cp = SUNSparseMatrix_IndexPointers(J), *ri = SUNSparseMatrix_IndexValues(J);
   for (int j = 0; j <= n; j++) cp[j] = d->colptr[j];
   for (int k = 0; k < d->nnz; k++) ri[k] = d->rowind[k];
-  dae_jacobian_values(d, t, cj, y, ypv, SUNSparseMatrix_Data(J));
+  if (d->pl) dae_planar_jacobian_values(d, t, cj, y, ypv, SUNSparseMatrix_Data(J));
+  else dae_jacobian_values(d, t, cj, y, ypv, SUNSparseMatrix_Data(J));
   return 0;
 }
 

@@ -198,21 +198,14 @@ phm_status dae_planar_pattern(dae_t *d, phm_error *err) {
   return PHM_OK;
 }
 
-int dae_planar_jacobian(dae_t *d, double t, double cj, const double *y, const double *yp,
-                        SUNMatrix J) {
+void dae_planar_jacobian_values(dae_t *d, double t, double cj, const double *y, const double *yp,
+                                double *val) {
   struct dae_planar *pl = d->pl;
   pl->full.tref = d->tref;
   expand(d, y, pl->y);
   expand(d, yp, pl->yp);
   dae_jacobian_values(&pl->full, t, cj, pl->y, pl->yp, pl->fval);
-  sunindextype *cp = SUNSparseMatrix_IndexPointers(J), *ri = SUNSparseMatrix_IndexValues(J);
-  double *val = SUNSparseMatrix_Data(J);
-  for (int j = 0; j <= d->n; j++) cp[j] = d->colptr[j];
-  for (int k = 0; k < d->nnz; k++) {
-    ri[k] = d->rowind[k];
-    val[k] = pl->fval[pl->jmap[k]];
-  }
-  return 0;
+  for (int k = 0; k < d->nnz; k++) val[k] = pl->fval[pl->jmap[k]];
 }
 
 /* The start's consistent values: the full DAE's, whose dropped carrier states become the base
