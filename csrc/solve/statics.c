@@ -125,6 +125,12 @@ static void take_step(const phm_model *m, const static_work_t *w, double *H, dou
  * while it contracts: |x_k| <= NEWTON_THETA |x_(k-1)|; otherwise a new tangent is made there. */
 #define NEWTON_THETA 0.1
 
+/* The poses and multipliers newton_steps saved on entry, back (a failed load step). */
+static void back_to_saved(const static_work_t *w, int nc, int nk, double *H, double *lam) {
+  memcpy(H, w->Hsave, sizeof(double) * 16 * (size_t)nc);
+  if (nk) memcpy(lam, w->lsave, sizeof(double) * (size_t)nk);
+}
+
 /* Newton from (H, lam) at the load scale L->scale; 0 on convergence (H, lam updated, and *have
  * set: S holds a factorization made in this solve), 1 on failure (H, lam restored, *have 0). With
  * *have on entry, the tangent predictor first: S's factorization (of the last load's solve) on
@@ -223,8 +229,7 @@ static int newton_steps(lin_t *L, lin_kkt_t *S, double *H, double *lam, double t
     age++;
     static_residual(L, H, R);
   }
-  memcpy(H, w->Hsave, sizeof(double) * 16 * (size_t)nc);
-  if (nk) memcpy(lam, w->lsave, sizeof(double) * (size_t)nk);
+  back_to_saved(w, nc, nk, H, lam);
   return 1;
 }
 
@@ -237,8 +242,7 @@ static int newton(lin_t *L, lin_kkt_t *S, double *H, double *lam, double tol, in
   int nc = L->m->nc, nk = L->m->ncons;
   if (newton_steps(L, S, H, lam, tol, maxit, w, iters, have)) return 1;
   if (phm_all_finite(H, 16 * (size_t)nc) && (!nk || phm_all_finite(lam, (size_t)nk))) return 0;
-  memcpy(H, w->Hsave, sizeof(double) * 16 * (size_t)nc);
-  if (nk) memcpy(lam, w->lsave, sizeof(double) * (size_t)nk);
+  back_to_saved(w, nc, nk, H, lam);
   *have = 0;
   return 1;
 }
