@@ -33,17 +33,43 @@ def outplane(k: int) -> np.ndarray:
 
 
 def _zero(x, scale=None) -> bool:
-    x = np.asarray(x, dtype=float)
+    """Every entry of x is zero up to ZERO times the largest entry of ``scale`` (exactly zero
+    without a scale, or when the scale is all zeros)."""
     s = float(np.max(np.abs(scale))) if scale is not None and np.size(scale) else 0.0
-    return bool(np.all(np.abs(x) <= ZERO * s)) if s > 0 else bool(np.all(x == 0))
+    return bool(np.all(np.abs(np.asarray(x, dtype=float)) <= ZERO * s))
 
 
-def _decoupled(M, k: int, nblk: int = 1) -> bool:
-    """M (6 nblk square) has no entry coupling the in-plane components with the out-of-plane."""
+def _zero_each(x, scale) -> np.ndarray:
+    """_zero of each x[i] against scale[i] (arrays of n items), as n booleans."""
+    x, scale = np.asarray(x, dtype=float), np.asarray(scale, dtype=float)
+    n = len(x)
+    if n == 0:
+        return np.ones(0, dtype=bool)
+    s = np.abs(scale.reshape(n, -1)).max(axis=1) if scale[0].size else np.zeros(n)
+    return np.all(np.abs(x.reshape(n, -1)) <= ZERO * s[:, None], axis=1)
+
+
+def _decoupled_each(M, k: int, nblk: int = 1) -> np.ndarray:
+    """Per matrix of M (n, 6 nblk, 6 nblk): no entry couples the in-plane components with the
+    out-of-plane ones."""
     M = np.asarray(M, dtype=float)
+    if len(M) == 0:
+        return np.ones(0, dtype=bool)
     i = np.concatenate([inplane(k) + 6 * b for b in range(nblk)])
     o = np.concatenate([outplane(k) + 6 * b for b in range(nblk)])
-    return _zero(M[np.ix_(i, o)], M) and _zero(M[np.ix_(o, i)], M)
+    return _zero_each(M[:, i][:, :, o], M) & _zero_each(M[:, o][:, :, i], M)
+
+
+def _first(checks):
+    """The message of the first failing item, items in order and each item's checks in the
+    order given: ``checks`` = [(ok per item, message(i)), ...]."""
+    failing = [np.flatnonzero(~ok) for ok, _ in checks]
+    first = min((f[0] for f in failing if len(f)), default=None)
+    if first is None:
+        return None
+    for (ok, message), f in zip(checks, failing):
+        if len(f) and f[0] == first:
+            return message(int(first))
 
 
 def check(comp: dict, poses, twists, G, layout, names, k: int) -> Optional[str]:
@@ -56,36 +82,44 @@ def check(comp: dict, poses, twists, G, layout, names, k: int) -> Optional[str]:
     if not _zero(g[k], g):
         return f"gravity {tuple(g)} has a component along {ax}"
     car = comp["carriers"]
-    for c, (H, t) in enumerate(zip(poses, twists)):
-        R = H[:3, :3]
-        off = [(k, i) for i in range(3) if i != k] + [(i, k) for i in range(3) if i != k]
-        if not (abs(R[k, k] - 1.0) <= ZERO and all(abs(R[a, b]) <= ZERO for a, b in off)):
-            return f"carrier {c}'s initial rotation is not about {ax}"
-        if not _zero(t[O], twists):   # the scale: the scene's twists (a carrier at rest: round-off)
-            return f"carrier {c}'s initial twist has out-of-plane components {t[O]}"
-        if not _decoupled(car["M"][c], k):
-            return f"carrier {c}'s inertia couples in-plane and out-of-plane motion"
-        if car["mass"][c] > 0 and np.any(g) and not _zero(car["com"][c][k], car["com"][c]):
-            return f"carrier {c}'s centre of mass is off the plane (its weight would tilt it)"
+    H = np.asarray(poses, dtype=float).reshape(-1, 4, 4)
+    T = np.asarray(twists, dtype=float).reshape(-1, 6)
+    nc = len(H)
+    R = H[:, :3, :3]
+    off = np.array([i for i in range(3) if i != k])
+    about_k = (np.abs(R[:, k, k] - 1.0) <= ZERO) & np.all(np.abs(R[:, k, off]) <= ZERO, axis=1) & \
+        np.all(np.abs(R[:, off, k]) <= ZERO, axis=1)
+    # the twists' scale: the scene's (a carrier at rest: round-off)
+    still = np.all(np.abs(T[:, O]) <= ZERO * (np.max(np.abs(T)) if T.size else 0.0), axis=1)
+    com = np.asarray(car["com"], dtype=float).reshape(-1, 3)
+    weightless = (np.asarray(car["mass"], dtype=float) <= 0) | (not np.any(g)) | _zero_each(com[:, k], com)
+    why = _first([
+        (about_k, lambda c: f"carrier {c}'s initial rotation is not about {ax}"),
+        (still, lambda c: f"carrier {c}'s initial twist has out-of-plane components {T[c][O]}"),
+        (_decoupled_each(car["M"], k), lambda c: f"carrier {c}'s inertia couples in-plane and out-of-plane motion"),
+        (weightless, lambda c: f"carrier {c}'s centre of mass is off the plane (its weight would tilt it)")])
+    if why:
+        return why
     el = comp["elements"]
-    for e in range(len(el["h"])):
-        for key in ("K", "D", "Ms"):
-            if not _decoupled(el[key][e], k):
-                return f"element {e}'s {key} couples in-plane and out-of-plane strains"
-        if not _decoupled(el["Mc"][e], k, 2):
-            return f"element {e}'s consistent mass couples in-plane and out-of-plane motion"
-        if not _zero(el["eps_hat"][e][O], el["eps_hat"][e]):
-            return f"element {e}'s unstressed curvature is not about {ax}"
-    for c, Mc in enumerate(comp["couplings"]["Mc"]):
-        if not _decoupled(Mc, k, 2):
-            return f"inertial coupling {c} couples in-plane and out-of-plane motion"
+    eps = np.asarray(el["eps_hat"], dtype=float).reshape(-1, 6)
+    why = _first([(_decoupled_each(el[key], k), lambda e, key=key:
+                   f"element {e}'s {key} couples in-plane and out-of-plane strains") for key in ("K", "D", "Ms")] + [
+        (_decoupled_each(el["Mc"], k, 2), lambda e: f"element {e}'s consistent mass couples in-plane and out-of-plane motion"),
+        (_zero_each(eps[:, O], eps), lambda e: f"element {e}'s unstressed curvature is not about {ax}")])
+    if why:
+        return why
+    why = _first([(_decoupled_each(comp["couplings"]["Mc"], k, 2),
+                   lambda c: f"inertial coupling {c} couples in-plane and out-of-plane motion")])
+    if why:
+        return why
     ld = comp["loads"]
-    for i in range(len(ld["carrier"])):
-        w = ld["w"][i]
-        if not _zero(w[O], w):
-            return f"load {i} has out-of-plane components {w[O]}"
-        if np.any(w[3:]) and not _zero(ld["point"][i][k], ld["point"][i]):
-            return f"load {i} acts at a point off the plane"
+    w = np.asarray(ld["w"], dtype=float).reshape(-1, 6)
+    point = np.asarray(ld["point"], dtype=float).reshape(-1, 3)
+    no_arm = ~np.any(w[:, 3:] != 0, axis=1) | _zero_each(point[:, k], point)
+    why = _first([(_zero_each(w[:, O], w), lambda i: f"load {i} has out-of-plane components {w[i][O]}"),
+                  (no_arm, lambda i: f"load {i} acts at a point off the plane")])
+    if why:
+        return why
     sp = comp["springs"]
     for i, (a, b) in enumerate(np.asarray(sp["carriers"], dtype=int).reshape(-1, 2)):
         pa, pb = sp["pa"][i], sp["pb"][i]
@@ -109,25 +143,27 @@ def check(comp: dict, poses, twists, G, layout, names, k: int) -> Optional[str]:
             free = np.linalg.svd(G[row:row + 5, 6 * c:6 * c + 6])[2][-1]
             if not _zero(free[O], free):
                 return f"pair {names[ip]!r} is actuated or driven along an out-of-plane axis"
-    nc = len(poses)
-    ci = np.concatenate([I + 6 * c for c in range(nc)]) if nc else np.zeros(0, int)
-    co = np.concatenate([O + 6 * c for c in range(nc)]) if nc else np.zeros(0, int)
-    for ip, (row, m, _, _) in enumerate(layout):
-        for r in range(row, row + m):
-            gi, go = G[r, ci], G[r, co]
-            if not _zero(gi, G[r]) and not _zero(go, G[r]):
-                return f"pair {names[ip]!r}'s constraint row {r - row} mixes in-plane and out-of-plane motion"
+    if layout:
+        inside, outside = _row_parts(G, nc, k)
+        mixed = ~inside & ~outside
+        for ip, (row, m, _, _) in enumerate(layout):
+            r = np.flatnonzero(mixed[row:row + m])
+            if len(r):
+                return f"pair {names[ip]!r}'s constraint row {r[0]} mixes in-plane and out-of-plane motion"
     return None
+
+
+def _row_parts(G, nc: int, k: int):
+    """Per constraint row of G: (no in-plane component, no out-of-plane component), each zero
+    up to ZERO times the row's largest entry."""
+    Gc = np.asarray(G, dtype=float).reshape(G.shape[0], nc, 6)
+    s = ZERO * np.abs(G).max(axis=1, initial=0.0)
+    no_in = np.all(np.abs(Gc[:, :, inplane(k)]).reshape(G.shape[0], -1) <= s[:, None], axis=1)
+    no_out = np.all(np.abs(Gc[:, :, outplane(k)]).reshape(G.shape[0], -1) <= s[:, None], axis=1)
+    return no_in, no_out
 
 
 def out_of_plane_rows(G, layout, nc: int, k: int) -> list:
     """Per pair the drop mask of its rows without an in-plane component (check() passed)."""
-    ci = np.concatenate([inplane(k) + 6 * c for c in range(nc)]) if nc else np.zeros(0, int)
-    masks = []
-    for row, m, _, _ in layout:
-        mask = 0
-        for r in range(m):
-            if _zero(G[row + r, ci], G[row + r]):
-                mask |= 1 << r
-        masks.append(mask)
-    return masks
+    no_in = _row_parts(G, nc, k)[0] if layout else None
+    return [int(sum(1 << r for r in range(m) if no_in[row + r])) for row, m, _, _ in layout]
