@@ -15,6 +15,7 @@ Every check is one of exact zeros, taken as zero up to 1e-12 of the scale of its
 round-off of a static solution or a closed loop)."""
 from __future__ import annotations
 
+from functools import lru_cache
 from typing import Optional
 
 import numpy as np
@@ -49,24 +50,30 @@ def _zero_each(x, scale) -> np.ndarray:
     return np.all(np.abs(x.reshape(n, -1)) <= ZERO * s[:, None], axis=1)
 
 
+@lru_cache(maxsize=None)
+def _coupling_mask(k: int, nblk: int) -> np.ndarray:
+    """The entries of a (6 nblk)-square matrix that couple in-plane with out-of-plane components."""
+    inside = np.isin(np.arange(6 * nblk) % 6, inplane(k))
+    return inside[:, None] != inside[None, :]
+
+
 def _decoupled_each(M, k: int, nblk: int = 1) -> np.ndarray:
     """Per matrix of M (n, 6 nblk, 6 nblk): no entry couples the in-plane components with the
-    out-of-plane ones."""
-    M = np.asarray(M, dtype=float)
-    if len(M) == 0:
+    out-of-plane ones (zero up to ZERO times the matrix's largest entry)."""
+    A = np.abs(np.asarray(M, dtype=float).reshape(-1, 6 * nblk, 6 * nblk))
+    if len(A) == 0:
         return np.ones(0, dtype=bool)
-    i = np.concatenate([inplane(k) + 6 * b for b in range(nblk)])
-    o = np.concatenate([outplane(k) + 6 * b for b in range(nblk)])
-    return _zero_each(M[:, i][:, :, o], M) & _zero_each(M[:, o][:, :, i], M)
+    s = ZERO * A.max(axis=(1, 2))
+    return np.all(A[:, _coupling_mask(k, nblk)] <= s[:, None], axis=1)
 
 
 def _first(checks):
     """The message of the first failing item, items in order and each item's checks in the
     order given: ``checks`` = [(ok per item, message(i)), ...]."""
-    failing = [np.flatnonzero(~ok) for ok, _ in checks]
-    first = min((f[0] for f in failing if len(f)), default=None)
-    if first is None:
+    if all(ok.all() for ok, _ in checks):
         return None
+    failing = [np.flatnonzero(~ok) for ok, _ in checks]
+    first = min(f[0] for f in failing if len(f))
     for (ok, message), f in zip(checks, failing):
         if len(f) and f[0] == first:
             return message(int(first))
@@ -102,8 +109,10 @@ def check(comp: dict, poses, twists, G, layout, names, k: int) -> Optional[str]:
         return why
     el = comp["elements"]
     eps = np.asarray(el["eps_hat"], dtype=float).reshape(-1, 6)
-    why = _first([(_decoupled_each(el[key], k), lambda e, key=key:
-                   f"element {e}'s {key} couples in-plane and out-of-plane strains") for key in ("K", "D", "Ms")] + [
+    ne = len(eps)
+    sections = _decoupled_each(np.concatenate([el[key] for key in ("K", "D", "Ms")]), k).reshape(3, ne)
+    why = _first([(ok, lambda e, key=key: f"element {e}'s {key} couples in-plane and out-of-plane strains")
+                  for ok, key in zip(sections, ("K", "D", "Ms"))] + [
         (_decoupled_each(el["Mc"], k, 2), lambda e: f"element {e}'s consistent mass couples in-plane and out-of-plane motion"),
         (_zero_each(eps[:, O], eps), lambda e: f"element {e}'s unstressed curvature is not about {ax}")])
     if why:
