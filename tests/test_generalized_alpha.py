@@ -190,3 +190,17 @@ def test_fourbar_constraints_between_steps_hold_to_the_interpolation_error():
     assert res[1e-3]["position"] < 1e-8 and res[1e-3]["velocity"] < 1e-6
     assert 12 < res[2e-3]["position"] / res[1e-3]["position"] < 20
     assert 6 < res[2e-3]["velocity"] / res[1e-3]["velocity"] < 12
+
+
+@pytest.mark.parametrize("options, advice", [
+    (dict(integrator="generalized-alpha", step=0.1, rho_inf=0.0), "use a smaller step= or rtol="),
+    (dict(integrator="ida", rtol=0.1), "with IDA this means its tolerances are too loose"),
+])
+def test_energy_drift_warning_gives_the_route_s_advice(options, advice):
+    """The pendulum with a step of 0.1 s that damps everything (rho_inf 0: ledger 4.5e-2 of its
+    energy, measured), or IDA at rtol 0.1 (1.1e-1): the AccuracyWarning says what to change for
+    that integrator, not the default one's dt_out / band."""
+    m = pendulum()
+    with pytest.warns(ph.AccuracyWarning, match=advice):
+        r = m.simulate(2.0, 0.1, **options)
+    assert r.stats["ledger_relative"] > 0.01

@@ -45,13 +45,21 @@ def warn_if_inaccurate(stats: dict, stacklevel: int = 3) -> None:
     LEDGER_WARN, with what to change."""
     x = stats.get("ledger_relative", 0.0)
     if x > LEDGER_WARN:
+        if stats.get("integrator") == "generalized-alpha" and not stats.get("adaptive", True):
+            advice = (f"with a fixed step this means the step is too large for the motion (or "
+                      f"rho_inf damps too much), or the Newton tolerance rtol "
+                      f"({stats.get('rtol', 0.0):.3g}) is too loose: use a smaller step= or rtol=")
+        elif stats.get("integrator") == "ida":
+            advice = "with IDA this means its tolerances are too loose: use a smaller rtol="
+        else:
+            advice = (f"with the default integrator this means the outputs, and so the band "
+                      f"({stats['band']:.3g} Hz), are too coarse for the motion (stiff links "
+                      f"swinging fast stretch spuriously): use a smaller dt_out or a higher band=")
         warnings.warn(
             f"simulate: the energy ledger drifted by {x:.2g} of the run's energy scale "
             f"({stats['energy_scale']:.3g} J): the integrator did not conserve energy to "
-            f"{LEDGER_WARN:g}, so the trajectory is doubtful. With the default integrator this "
-            f"means the outputs, and so the band ({stats['band']:.3g} Hz), are too coarse for the "
-            f"motion (stiff links swinging fast stretch spuriously): use a smaller dt_out or a "
-            f"higher band=", AccuracyWarning, stacklevel=stacklevel)
+            f"{LEDGER_WARN:g}, so the trajectory is doubtful; {advice}", AccuracyWarning,
+            stacklevel=stacklevel)
 
 
 def band_floor(band: float) -> float:
