@@ -1155,8 +1155,7 @@ class Mechanism:
             keep = np.ones(G.shape[0], dtype=bool)
             for ip, (row, m, _, _) in enumerate(layout):
                 keep[[row + r for r in range(m) if (masks[ip] >> r) & 1]] = False
-            tree = topology.place_tree(self._desc)[2]
-            red, _ = topology.redundant_rows(self._desc, G * keep[:, None], tree)
+            red, _ = topology.redundant_rows(self._desc, G * keep[:, None], state.tree)
             masks = [a | b for a, b in zip(masks, red)]
         # this analysis's model, moved to the planar drop masks (no second model)
         model = _marshal.with_initial(model, self._desc, state.poses, state.poses, state.twists,

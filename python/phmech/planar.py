@@ -96,12 +96,13 @@ def check(comp: dict, poses, twists, G, layout, names, k: int) -> Optional[str]:
     off = np.array([i for i in range(3) if i != k])
     about_k = (np.abs(R[:, k, k] - 1.0) <= ZERO) & np.all(np.abs(R[:, k, off]) <= ZERO, axis=1) & \
         np.all(np.abs(R[:, off, k]) <= ZERO, axis=1)
+    if not about_k.all():   # first and alone: it rejects the other axes of most planar scenes
+        return f"carrier {int(np.flatnonzero(~about_k)[0])}'s initial rotation is not about {ax}"
     # the twists' scale: the scene's (a carrier at rest: round-off)
     still = np.all(np.abs(T[:, O]) <= ZERO * (np.max(np.abs(T)) if T.size else 0.0), axis=1)
     com = np.asarray(car["com"], dtype=float).reshape(-1, 3)
     weightless = (np.asarray(car["mass"], dtype=float) <= 0) | (not np.any(g)) | _zero_each(com[:, k], com)
     why = _first([
-        (about_k, lambda c: f"carrier {c}'s initial rotation is not about {ax}"),
         (still, lambda c: f"carrier {c}'s initial twist has out-of-plane components {T[c][O]}"),
         (_decoupled_each(car["M"], k), lambda c: f"carrier {c}'s inertia couples in-plane and out-of-plane motion"),
         (weightless, lambda c: f"carrier {c}'s centre of mass is off the plane (its weight would tilt it)")])

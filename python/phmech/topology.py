@@ -79,7 +79,8 @@ class InitialState:
     the coordinates reached, on their branch); ``drop_masks``, per pair the bits of its
     redundant constraint rows; ``frames_a``, every pair's frame offset on a (a Fixed pair's weld
     orientation taken from the given poses); ``redundant``, the (pair name, direction) rows
-    dropped; ``adjustments``, the InitialAdjustment rows."""
+    dropped; ``adjustments``, the InitialAdjustment rows; ``tree``, the pairs that are tree edges
+    (place_tree)."""
     poses: np.ndarray
     twists: np.ndarray
     x0: np.ndarray
@@ -87,6 +88,7 @@ class InitialState:
     frames_a: list
     redundant: list
     adjustments: list
+    tree: frozenset = frozenset()
 
 
 def pose_across(e: dict, x, xd, Ha, ta, forward: bool = True, Ta: Optional[np.ndarray] = None):
@@ -624,7 +626,7 @@ def initial_state(desc: ModelDescription, extra_loads=()):
     H, T, tree, frames_a = place_tree(desc)
     x0 = np.array([p["x0"] for p in desc.pairs]).reshape(-1, 6)
     if not desc.pairs:
-        return InitialState(H, T, x0, [], frames_a, [], []), None
+        return InitialState(H, T, x0, [], frames_a, [], [], frozenset(tree)), None
     model = _marshal.core_model(desc, H, T, x0, None, frames_a, extra_loads)
     H_tree = H.copy()
     H = close_loops(desc, model, H, tree, None)
@@ -639,5 +641,5 @@ def initial_state(desc: ModelDescription, extra_loads=()):
             x0[ip, :k] = x[j:j + k]
     _, G, _ = _core.model_constraints_full(model, H, None, 0.0)
     masks, dropped = redundant_rows(desc, G, tree)
-    state = InitialState(H, T, x0, masks, frames_a, dropped, adjustments)
+    state = InitialState(H, T, x0, masks, frames_a, dropped, adjustments, frozenset(tree))
     return state, _marshal.with_initial(model, desc, H_tree, H, T, x0, masks)
