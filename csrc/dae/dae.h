@@ -64,6 +64,8 @@ typedef struct {
   double *pport;         /* nport: power of every port                                         */
   double *eff;           /* nj: actuator efforts summed per joint coordinate (outputs)          */
   double *rtmp;          /* n: scratch rows (the pairs' rows dae_jacobian evaluates)           */
+  double *gwork;         /* nc x 33: the generalized-alpha's scratch (csrc/solve/galpha.c: its
+                          * co-rotation), here so that nothing allocates after the set-up     */
   /* consistent initial values (dae_consistent_ic, dae_restart_at_breakpoint) */
   dae_ic_work ic;
 } phm_data;
@@ -117,6 +119,15 @@ void dae_pair_rows(dae_t *d, double time, const double *y, const double *yp, dou
  * other carriers' H, tw, d->data.gl, gm and the pairs' joint fields are left as they were (a mix
  * of two states: read d->data only after a full evaluation). */
 void dae_constraint_rows(dae_t *d, double time, const double *y, double *F);
+/* Where a carrier's pose and twist sit among its d->ns states: first nq quaternion components
+ * (qf: which of w, x, y, z), then npos position axes (pf: which of x, y, z), then from d->nt0
+ * nt twist components (tf: which of omega, v). 3-D: 4, 3 and 6, all in order; planar
+ * (dae_planar_init): w and the normal's component, the two in-plane axes, the rotation about
+ * the normal and the two in-plane velocities. */
+typedef struct {
+  int nq, qf[4], npos, pf[3], nt, tf[6];
+} dae_carrier_layout;
+void dae_carrier_states(const dae_t *d, dae_carrier_layout *L);
 /* Absolute tolerance of state i for the error weights (the multipliers' own floors). */
 double dae_state_atol(const dae_t *d, int i, double atol);
 /* State i is a carrier's twist component. */
@@ -186,6 +197,8 @@ phm_status dae_planar_init(dae_t *d, const phm_model *m, int axis, phm_error *er
 /* The full DAE behind d (d itself when it is not planar): its data holds the poses and twists
  * of the carriers (d->data of a planar d is empty). */
 dae_t *dae_full(dae_t *d);
+/* dae_carrier_states of a planar d (its kept states). */
+void dae_planar_carrier_states(const dae_t *d, dae_carrier_layout *L);
 int dae_planar_residual(dae_t *d, double time, const double *y, const double *yp, double *F);
 void dae_planar_constraint_rows(dae_t *d, double time, const double *y, double *F);
 phm_status dae_planar_pattern(dae_t *d, phm_error *err);

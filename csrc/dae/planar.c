@@ -134,6 +134,17 @@ void dae_planar_free(dae_t *d) {
   d->pl = NULL;
 }
 
+void dae_planar_carrier_states(const dae_t *d, dae_carrier_layout *L) {
+  const int *keep = d->pl->keep; /* ascending: q (0..3), p (4..6), then t (7..12) */
+  L->nq = L->npos = 2;
+  L->nt = 3;
+  for (int i = 0; i < 2; i++) {
+    L->qf[i] = keep[i];
+    L->pf[i] = keep[2 + i] - 4;
+  }
+  for (int i = 0; i < 3; i++) L->tf[i] = keep[4 + i] - 7;
+}
+
 int dae_planar_residual(dae_t *d, double time, const double *y, const double *yp, double *F) {
   struct dae_planar *pl = d->pl;
   pl->full.tref = d->tref;

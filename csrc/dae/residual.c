@@ -168,7 +168,7 @@ void dae_free(dae_t *d) {
   dae_planar_free(d);
   phm_data *D = &d->data;
   dae_ic_work *w = &D->ic;
-  void *bufs[] = {D->H, D->tw, D->pair, D->wr, D->gl, D->gm, D->pport, D->eff, D->rtmp, w->cmap, w->clist, w->H, w->tw, w->qprev, w->Lc, w->lcfail, w->b1c, w->cg, w->acc, w->G,
+  void *bufs[] = {D->H, D->tw, D->pair, D->wr, D->gl, D->gm, D->pport, D->eff, D->rtmp, D->gwork, w->cmap, w->clist, w->H, w->tw, w->qprev, w->Lc, w->lcfail, w->b1c, w->cg, w->acc, w->G,
                   w->X, w->A, w->b, w->g, w->vt, w->c1, w->lam, w->Hp, w->res, d->colptr,
                   d->rowind, d->nzkeep};
   for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) free(bufs[i]);
@@ -268,9 +268,10 @@ phm_status dae_init(dae_t *d, const phm_model *m, phm_error *err) {
   D->pport = malloc(sizeof(double) * (size_t)(m->nport + 1));
   D->eff = malloc(sizeof(double) * (size_t)(m->nj + 1));
   D->rtmp = malloc(sizeof(double) * n);
+  D->gwork = calloc(33 * nc + 1, sizeof(double));
   phm_status st = PHM_OK;
   if (!D->H || !D->tw || !D->pair || !D->wr || !D->gl || !D->gm || !D->pport || !D->eff ||
-      !D->rtmp)
+      !D->rtmp || !D->gwork)
     st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
   else
     st = ic_alloc(d, err);
@@ -296,6 +297,19 @@ phm_status dae_init(dae_t *d, const phm_model *m, phm_error *err) {
  * cost a 350x larger energy drift in a flexible slider-crank and a 1.45e-6 ledger residual. */
 double dae_state_atol(const dae_t *d, int i, double atol) {
   return i >= d->im ? fmax(1.0, atol) /* mu */ : i >= d->il ? fmax(1e-6, atol) /* lambda */ : atol;
+}
+
+void dae_carrier_states(const dae_t *d, dae_carrier_layout *L) {
+  if (d->pl) {
+    dae_planar_carrier_states(d, L);
+    return;
+  }
+  L->nq = 4;
+  L->npos = 3;
+  L->nt = 6;
+  for (int i = 0; i < 6; i++) L->tf[i] = i;
+  for (int i = 0; i < 4; i++) L->qf[i] = i;
+  for (int i = 0; i < 3; i++) L->pf[i] = i;
 }
 
 /* State i is a carrier's twist component (layout: q[4], p[3], t[6] per carrier, or the planar

@@ -117,6 +117,123 @@ static int galpha_jacobian(dae_t *d, galpha_t *g, double t0, double h, SUNMatrix
   return 0;
 }
 
+/* The fixed step's iteration matrix co-rotated with the carriers. Modified Newton keeps a
+ * matrix for many steps (the fixed step refreshes it only when Newton fails), and in the world
+ * coordinates of the poses (q, p) it ages with the carriers' rotation: an element's stiff axial
+ * and shear directions turn with it, a change of stiffness ~ dtheta (EA - kGA) / l_e that on a
+ * fine mesh dwarfs the M / h^2 of the soft (bending) motions beside it. Measured on the Table I
+ * cantilever under a tip force from rest (benchmarks/bench_scaling.py, h = 1 ms, rho_inf 1): the
+ * contraction on a matrix ten steps old was 1e-3 .. 7e-3 at N = 30 and 1.6e-2 .. 6e-2 at
+ * N = 1000 (fresh: 1.5e-4), the Newton iterations per step grew from 2.38 to 3.66 with N, and
+ * a matrix at every step costs ten iterations (3 ms against 0.32 ms at N = 1000).
+ * A rotation of a carrier, q -> dq (x) q and p -> dR p, turns its kinematic rows
+ * (q' = 1/2 q (x) w, p' = R v) as it turns q and p and leaves its momentum rows and twist (body
+ * frame) alone; elements, pairs and springs act through the relative pose of their carriers.
+ * So if every carrier turned alike, the matrix would be D J D^T, D = diag(L(dq), dR, I) per
+ * carrier (orthogonal); the solve takes D J^-1 D^T with each carrier's own rotation since the
+ * matrix was computed, exact to first order in the relative rotation of the carriers an
+ * element couples (a beam's neighbours turn nearly alike). Not across a pair or spring whose
+ * carriers turned apart (a joint, a pivot on the ground): its rows would turn wrongly, so D is
+ * used only while every pair and spring has turned by at most GALPHA_COROT_SLIP times the
+ * largest rotation of a carrier (measured on benchmarks/scenes.py: clamps and welds 0 or 1e-13
+ * of it, joints 0.5 .. 1.5). Loads and gravity turn with the world, not the body: their
+ * stiffness is force times lever, small against an element's.
+ * Fixed step only: under the default integrator's refresh rule (GALPHA_EXTRA_BUDGET) the leaf
+ * spring of benchmarks/scenes.py kept its matrices 4.7x longer (67 Jacobians against 313) and
+ * its ledger went from 1.0e-6 to 2.8e-5 of its energy scale (docs/integrators.md). */
+#define GALPHA_COROT_SLIP 1e-2
+typedef struct {
+  dae_carrier_layout L;  /* where a carrier's q and p sit among its states */
+  double *qref;          /* nc x 4: the quaternions at the matrix's stage state */
+  double *dq;            /* nc x 4: the rotation of each carrier since then */
+  double *D;             /* nc x (nq^2 + npos^2): this step's L(dq), dR on those components */
+  int on;                /* D is in use this step */
+} galpha_corot;
+
+/* Carrier c's quaternion (w, x, y, z) from state y (planar: the kept components, others 0). */
+static void corot_quat(const dae_t *d, const galpha_corot *cr, const double *y, int c, double q[4]) {
+  q[0] = q[1] = q[2] = q[3] = 0.0;
+  for (int j = 0; j < cr->L.nq; j++) q[cr->L.qf[j]] = y[d->ns * c + j];
+}
+
+/* The buffers, in work (nc x 33 doubles: the DAE's gwork). */
+static void corot_init(const dae_t *d, galpha_corot *cr, double *work) {
+  size_t nc = (size_t)d->m->nc;
+  memset(cr, 0, sizeof *cr);
+  dae_carrier_states(d, &cr->L);
+  cr->qref = work;
+  cr->dq = work + 4 * nc;
+  cr->D = work + 8 * nc; /* at most 16 + 9 per carrier */
+}
+
+/* The carriers' quaternions at ya, the stage state a new matrix was computed at. */
+static void corot_reference(const dae_t *d, galpha_corot *cr, const double *ya) {
+  for (int c = 0; c < d->m->nc; c++) corot_quat(d, cr, ya, c, cr->qref + 4 * c);
+}
+
+/* The angle of the rotation between carriers a and b's (-1: the ground's, none) since the
+ * matrix was computed. */
+static double corot_slip(const galpha_corot *cr, int a, int b) {
+  static const double one[4] = {1, 0, 0, 0};
+  const double *p = a >= 0 ? cr->dq + 4 * a : one, *r = b >= 0 ? cr->dq + 4 * b : one;
+  double v[3] = {-p[0] * r[1] + p[1] * r[0] - p[2] * r[3] + p[3] * r[2], /* vec(p (x) conj(r)) */
+                 -p[0] * r[2] + p[1] * r[3] + p[2] * r[0] - p[3] * r[1],
+                 -p[0] * r[3] - p[1] * r[2] + p[2] * r[1] + p[3] * r[0]};
+  return 2.0 * sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
+
+/* D for the stage state ya: per carrier dq = q (x) conj(q_ref), L(dq) (dq (x) .) on its
+ * quaternion components and dR = R(dq) on its position axes. Returns the largest rotation
+ * across a pair or spring since the matrix was computed, and in *rot the largest of a carrier. */
+static double corot_set(const dae_t *d, galpha_corot *cr, const double *ya, double *rot) {
+  int nq = cr->L.nq, np = cr->L.npos, nd = nq * nq + np * np;
+  *rot = 0;
+  for (int c = 0; c < d->m->nc; c++) {
+    double q[4], R[9], *a = cr->dq + 4 * c;
+    const double *r = cr->qref + 4 * c;
+    corot_quat(d, cr, ya, c, q);
+    a[0] = q[0] * r[0] + q[1] * r[1] + q[2] * r[2] + q[3] * r[3];
+    a[1] = -q[0] * r[1] + q[1] * r[0] - q[2] * r[3] + q[3] * r[2];
+    a[2] = -q[0] * r[2] + q[1] * r[3] + q[2] * r[0] - q[3] * r[1];
+    a[3] = -q[0] * r[3] - q[1] * r[2] + q[2] * r[1] + q[3] * r[0];
+    *rot = fmax(*rot, corot_slip(cr, c, -1));
+    const double Lq[16] = {a[0], -a[1], -a[2], -a[3], a[1], a[0], -a[3], a[2],
+                           a[2], a[3],  a[0],  -a[1], a[3], -a[2], a[1], a[0]};
+    phm_quat_to_rot(a, R);
+    double *Dc = cr->D + (size_t)nd * c;
+    for (int i = 0; i < nq; i++)
+      for (int j = 0; j < nq; j++) Dc[nq * i + j] = Lq[4 * cr->L.qf[i] + cr->L.qf[j]];
+    for (int i = 0; i < np; i++)
+      for (int j = 0; j < np; j++) Dc[nq * nq + np * i + j] = R[3 * cr->L.pf[i] + cr->L.pf[j]];
+  }
+  const phm_model *m = d->m;
+  double slip = 0;
+  for (int k = 0; k < m->np; k++) slip = fmax(slip, corot_slip(cr, m->pair[k].a, m->pair[k].b));
+  for (int k = 0; k < m->ns; k++) slip = fmax(slip, corot_slip(cr, m->spr[k].a, m->spr[k].b));
+  return slip;
+}
+
+/* x <- B x (tr = 0) or B^T x (tr = 1) for the nb x nb matrix B (nb <= 4) */
+static void corot_block(const double *B, int nb, int tr, double *x) {
+  double t[4];
+  for (int i = 0; i < nb; i++) {
+    t[i] = 0.0;
+    for (int j = 0; j < nb; j++) t[i] += (tr ? B[nb * j + i] : B[nb * i + j]) * x[j];
+  }
+  memcpy(x, t, sizeof(double) * (size_t)nb);
+}
+
+/* v <- D v (tr = 0) or D^T v (tr = 1) */
+static void corot_apply(const dae_t *d, const galpha_corot *cr, int tr, double *v) {
+  int nq = cr->L.nq, np = cr->L.npos, nd = nq * nq + np * np;
+  for (int c = 0; c < d->m->nc; c++) {
+    double *x = v + d->ns * c;
+    const double *Dc = cr->D + (size_t)nd * c;
+    corot_block(Dc, nq, tr, x);
+    corot_block(Dc + nq * nq, np, tr, x + nq);
+  }
+}
+
 /* Local error estimate of a converged step h (previous steps hq, hqq; 0: not there), WRMS-normed
  * with the error weights of the configuration states (poses, joint coordinates; twists, ledger
  * integrals and multipliers are left out): the trapezoidal local error h^3 y'''/12, with y''' = 6
@@ -209,6 +326,8 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
   g.gam = 0.5 + g.am - g.af;
   SUNMatrix Js = NULL, A = NULL;
   SUNLinearSolver LS = NULL;
+  galpha_corot cr;
+  corot_init(d, &cr, dae_full(d)->data.gwork);
   N_Vector *vs[] = {&g.y0, &g.yp0, &g.Y, &g.Yp, &g.ya, &g.ypa, &g.Ra, &g.R, &g.dY, &g.w, &g.yq, &g.ypq, &g.yqq,
                      &g.yi};
   int nv = (int)(sizeof vs / sizeof vs[0]);
@@ -338,15 +457,22 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
             goto done;
           }
           out->njac++;
+          corot_reference(d, &cr, N_VGetArrayPointer(g.ya));
           extra = 0;
           hjac = h;
           fresh = 1;
         }
+        if (it == 0 && (cr.on = !adaptive && !fresh)) { /* see galpha_corot */
+          double rot, slip = corot_set(d, &cr, N_VGetArrayPointer(g.ya), &rot);
+          cr.on = slip <= GALPHA_COROT_SLIP * rot;
+        }
         N_VScale(-1.0, g.R, g.dY);
+        if (cr.on) corot_apply(d, &cr, 1, dY);
         if (SUNLinSolSolve(LS, A, g.dY, g.dY, 0.0) != PHM_SUN_SUCCESS) {
           st = PHM_FAIL(err, PHM_ESOLVER, "generalized-alpha: linear solve failed at t = %.9g s", t);
           goto done;
         }
+        if (cr.on) corot_apply(d, &cr, 0, dY);
         out->nniters++;
         /* WRMS norm of the correction, weights 1 / (ntol (rtol |Y| + a)) at the updated iterate:
          * nrm of every state decides convergence; nrm_rate, without the energy ledger's
