@@ -64,8 +64,10 @@ typedef struct {
   double *pport;         /* nport: power of every port                                         */
   double *eff;           /* nj: actuator efforts summed per joint coordinate (outputs)          */
   double *rtmp;          /* n: scratch rows (the pairs' rows dae_jacobian evaluates)           */
-  double *gwork;         /* nc x 33: the generalized-alpha's scratch (csrc/solve/galpha.c: its
-                          * co-rotation), here so that nothing allocates after the set-up     */
+  double *dtw;           /* nc x 6: a change of the twists (dae_ledger_dpower)                 */
+  double *gwork;         /* nc x 33 + the ledger's il - ie: the generalized-alpha's scratch
+                          * (csrc/solve/galpha.c: co-rotation, ledger corrections), here so
+                          * that nothing allocates after the set-up                           */
   /* consistent initial values (dae_consistent_ic, dae_restart_at_breakpoint) */
   dae_ic_work ic;
 } phm_data;
@@ -128,6 +130,18 @@ typedef struct {
   int nq, qf[4], npos, pf[3], nt, tf[6];
 } dae_carrier_layout;
 void dae_carrier_states(const dae_t *d, dae_carrier_layout *L);
+/* The energy ledger's Newton rows hold only their diagonal (csrc/dae/jacobian.c), so their
+ * corrections lag the others' by an iteration. dP[0 .. il - ie) = what they leave out: the
+ * change of the ledger's power rates (Pd, Ps, the ports) for a correction dy (d's layout) of
+ * the state y -- of the actuators' and loads' power (phm_applied_dpower) and of the constraint
+ * wrenches' (G^T lambda . t) for the change `at` dy of the twists (at: the stage's share of it)
+ * and dy of lambda, exact in those at the poses held (P is at most quadratic in them: a
+ * linearization missed a damper's rate that a correction turns to its opposite, which leaves
+ * P as it was). Spring and element damping are left out (0: they lag as before). At the state
+ * of the last dae_residual and dae_constraint_rows (d's data: the pairs with constraint rows at
+ * the latter's). No allocation. */
+void dae_ledger_dpower(dae_t *d, double time, const double *y, const double *dy, double at,
+                       double *dP);
 /* Absolute tolerance of state i for the error weights (the multipliers' own floors). */
 double dae_state_atol(const dae_t *d, int i, double atol);
 /* State i is a carrier's twist component. */

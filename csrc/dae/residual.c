@@ -168,7 +168,7 @@ void dae_free(dae_t *d) {
   dae_planar_free(d);
   phm_data *D = &d->data;
   dae_ic_work *w = &D->ic;
-  void *bufs[] = {D->H, D->tw, D->pair, D->wr, D->gl, D->gm, D->pport, D->eff, D->rtmp, D->gwork, w->cmap, w->clist, w->H, w->tw, w->qprev, w->Lc, w->lcfail, w->b1c, w->cg, w->acc, w->G,
+  void *bufs[] = {D->H, D->tw, D->pair, D->wr, D->gl, D->gm, D->pport, D->eff, D->rtmp, D->dtw, D->gwork, w->cmap, w->clist, w->H, w->tw, w->qprev, w->Lc, w->lcfail, w->b1c, w->cg, w->acc, w->G,
                   w->X, w->A, w->b, w->g, w->vt, w->c1, w->lam, w->Hp, w->res, d->colptr,
                   d->rowind, d->nzkeep};
   for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) free(bufs[i]);
@@ -268,10 +268,11 @@ phm_status dae_init(dae_t *d, const phm_model *m, phm_error *err) {
   D->pport = malloc(sizeof(double) * (size_t)(m->nport + 1));
   D->eff = malloc(sizeof(double) * (size_t)(m->nj + 1));
   D->rtmp = malloc(sizeof(double) * n);
-  D->gwork = calloc(33 * nc + 1, sizeof(double));
+  D->dtw = calloc(6 * nc + 1, sizeof(double));
+  D->gwork = calloc(33 * nc + (size_t)(d->il - d->ie) + 1, sizeof(double));
   phm_status st = PHM_OK;
   if (!D->H || !D->tw || !D->pair || !D->wr || !D->gl || !D->gm || !D->pport || !D->eff ||
-      !D->rtmp || !D->gwork)
+      !D->rtmp || !D->dtw || !D->gwork)
     st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
   else
     st = ic_alloc(d, err);
@@ -310,6 +311,36 @@ void dae_carrier_states(const dae_t *d, dae_carrier_layout *L) {
   for (int i = 0; i < 6; i++) L->tf[i] = i;
   for (int i = 0; i < 4; i++) L->qf[i] = i;
   for (int i = 0; i < 3; i++) L->pf[i] = i;
+}
+
+void dae_ledger_dpower(dae_t *d, double time, const double *y, const double *dy, double at,
+                       double *dP) {
+  const phm_model *m = d->m;
+  dae_t *f = dae_full(d);
+  phm_data *D = &f->data;
+  dae_carrier_layout L;
+  dae_carrier_states(d, &L);
+  /* the stage's change of the twists (full layout; planar: the in-plane ones) */
+  double *dtw = D->dtw;
+  for (int c = 0; c < m->nc; c++)
+    for (int j = 0; j < L.nt; j++) dtw[6 * c + L.tf[j]] = at * dy[d->ns * c + d->nt0 + j];
+  memset(dP, 0, sizeof(double) * (size_t)(d->il - d->ie));
+  phm_applied_dpower(m, D->pair, D->H, dtw, time, f->tref, dP + 1, dP + 2);
+  /* the constraint wrenches' power sum_c (G^T lambda)_c . t_c (dae_residual's Ps) */
+  const double *lam = y + d->il, *dlam = dy + d->il;
+  for (int ip = 0; ip < m->np; ip++) {
+    const phm_pair_desc *pr = &m->pair[ip];
+    const phm_pair_data *p = D->pair + ip;
+    int r0 = m->pair_row[ip];
+    for (int s = 0; s < 2; s++) {
+      int c = s ? pr->b : pr->a;
+      if (c < 0) continue;
+      const double *G = s ? p->Gb : p->Ga, *t = D->tw + 6 * c, *dt = dtw + 6 * c;
+      for (int r = 0; r < m->pair_m[ip]; r++)
+        dP[1] += (lam[r0 + r] + dlam[r0 + r]) * phm_dot(G + 6 * r, dt, 6) +
+                 dlam[r0 + r] * phm_dot(G + 6 * r, t, 6); /* (l + dl) G (t + dt) - l G t */
+    }
+  }
 }
 
 /* State i is a carrier's twist component (layout: q[4], p[3], t[6] per carrier, or the planar

@@ -29,10 +29,9 @@ static void point_state(const double *H, const double *tw, int c, const double r
   }
 }
 
-/* Add the world force F and world torque T (about the world point x) to carrier c's body wrench. */
-static void add_world_wrench(const double *H, int c, const double x[3], const double F[3],
-                             const double T[3], double *wr) {
-  if (c < 0) return;
+/* Carrier c's body wrench w of the world force F and world torque T (about the world point x). */
+static void world_wrench(const double *H, int c, const double x[3], const double F[3],
+                         const double T[3], double w[6]) {
   const double *Hc = H + 16 * c;
   double f[3], t[3], d[3], r[3];
   for (int i = 0; i < 3; i++) d[i] = x[i] - Hc[4 * i + 3];
@@ -41,13 +40,21 @@ static void add_world_wrench(const double *H, int c, const double x[3], const do
     t[i] = Hc[i] * T[0] + Hc[4 + i] * T[1] + Hc[8 + i] * T[2];
     r[i] = Hc[i] * d[0] + Hc[4 + i] * d[1] + Hc[8 + i] * d[2];
   }
-  double *w = wr + 6 * c;
-  w[0] += t[0] + r[1] * f[2] - r[2] * f[1];
-  w[1] += t[1] + r[2] * f[0] - r[0] * f[2];
-  w[2] += t[2] + r[0] * f[1] - r[1] * f[0];
-  w[3] += f[0];
-  w[4] += f[1];
-  w[5] += f[2];
+  w[0] = t[0] + r[1] * f[2] - r[2] * f[1];
+  w[1] = t[1] + r[2] * f[0] - r[0] * f[2];
+  w[2] = t[2] + r[0] * f[1] - r[1] * f[0];
+  w[3] = f[0];
+  w[4] = f[1];
+  w[5] = f[2];
+}
+
+/* Add the world force F and world torque T (about the world point x) to carrier c's body wrench. */
+static void add_world_wrench(const double *H, int c, const double x[3], const double F[3],
+                             const double T[3], double *wr) {
+  if (c < 0) return;
+  double w[6];
+  world_wrench(H, c, x, F, T, w);
+  for (int i = 0; i < 6; i++) wr[6 * c + i] += w[i];
 }
 
 /* Point-to-point spring-damper: tension f = k (d - d0) + c dd/dt along the line of its points. */
@@ -120,18 +127,19 @@ void phm_load_wrench(const phm_model *m, int il, const double *H, double s, doub
   w[3] = f[0];
   w[4] = f[1];
   w[5] = f[2];
-  for (int i = 0; i < 6; i++) wr[6 * l->carrier + i] += w[i];
+  if (wr)
+    for (int i = 0; i < 6; i++) wr[6 * l->carrier + i] += w[i];
   memset(wre, 0, 6 * sizeof(double));
   if (l->reaction >= 0) {
-    double x[3], v[3], F[3], T[3], before[6];
+    double x[3], v[3], F[3], T[3];
     point_state(H, NULL, l->carrier, r, x, v);
     for (int i = 0; i < 3; i++) { /* world force and torque (about x), reversed */
       F[i] = -(Hc[4 * i] * f[0] + Hc[4 * i + 1] * f[1] + Hc[4 * i + 2] * f[2]);
       T[i] = -(Hc[4 * i] * tau[0] + Hc[4 * i + 1] * tau[1] + Hc[4 * i + 2] * tau[2]);
     }
-    memcpy(before, wr + 6 * l->reaction, sizeof before);
-    add_world_wrench(H, l->reaction, x, F, T, wr);
-    for (int i = 0; i < 6; i++) wre[i] = wr[6 * l->reaction + i] - before[i];
+    world_wrench(H, l->reaction, x, F, T, wre);
+    if (wr)
+      for (int i = 0; i < 6; i++) wr[6 * l->reaction + i] += wre[i];
   }
 }
 
@@ -263,6 +271,40 @@ void phm_applied_pairs(const phm_model *m, const phm_pair_data *pd, const double
   if (Psupp) *Psupp = Ps;
 }
 
+
+void phm_applied_dpower(const phm_model *m, const phm_pair_data *pd, const double *H,
+                        const double *dtw, double time, double tref, double *dPs,
+                        double *dPport) {
+  for (int ia = 0; ia < m->na; ia++) { /* P = u . xdot, u = u(x, xdot) */
+    const phm_actuator_desc *ac = &m->act[ia];
+    int ip = ac->pair, k = m->pair_k[ip];
+    const phm_pair_desc *pr = &m->pair[ip];
+    const phm_pair_data *p = pd + ip;
+    double u[6], tr[6], P = 0;
+    actuator_effort(m, ac, p, time, tref, 1.0, u);
+    phm_pair_rel_twist(m->pair_AdTbi + 36 * ip, p->AdBa, pr->a >= 0 ? dtw + 6 * pr->a : NULL,
+                       pr->b >= 0 ? dtw + 6 * pr->b : NULL, tr);
+    for (int c = 0; c < k; c++) {
+      double dxd = 0, du = 0;
+      for (int i = 0; i < 6; i++) dxd += p->Phi[6 * i + c] * tr[i];
+      if (ac->kind != PHM_ACT_EFFORT) du = -ac->kd[c] * dxd;
+      P += u[c] * dxd + (p->xdot[c] + dxd) * du; /* (u + du)(xdot + dxd) - u xdot */
+    }
+    *dPs += P;
+    dPport[ia] = P;
+  }
+  for (int il = 0; il < m->nl; il++) { /* P = w . t at the load's wrench of the pose */
+    const phm_load_desc *l = &m->load[il];
+    double s = phm_law_eval(&l->law, time, tref, NULL, NULL), w[6], wre[6], P = 0;
+    if (s != 0) {
+      phm_load_wrench(m, il, H, s, NULL, w, wre);
+      P = phm_dot(w, dtw + 6 * l->carrier, 6);
+      if (l->reaction >= 0) P += phm_dot(wre, dtw + 6 * l->reaction, 6);
+    }
+    *dPs += P;
+    dPport[m->na + il] = P;
+  }
+}
 
 /* ---------------------------------------------------------------- closed-form tangents */
 /* The body wrench w = (t + r x f, f) of a torque t and a force f at body point r, and the skew

@@ -221,11 +221,22 @@ void phm_gravity_tangent(const phm_model *m, int c, const double Hc[16], double 
  * carrier b (through Ad_{Tb^-1}^T), its reaction on carrier a (through AdBa^T). */
 void phm_pair_effort_wrench(const phm_model *m, int ip, const phm_pair_data *p, const double *u,
                             double *wr);
-/* Adds to wr (nc x 6) load il's wrench at poses H, s times its vector (the law's value s): w on
- * its carrier (body frame, also returned in w) and, for an interaction, the opposite wrench on
- * its reaction carrier (returned in wre, its body frame; zero without reaction). */
+/* Adds to wr (nc x 6; NULL: only returns them) load il's wrench at poses H, s times its vector
+ * (the law's value s): w on its carrier (body frame, also returned in w) and, for an
+ * interaction, the opposite wrench on its reaction carrier (returned in wre, its body frame;
+ * zero without reaction). */
 void phm_load_wrench(const phm_model *m, int il, const double *H, double s, double *wr,
                      double w[6], double wre[6]);
+/* The change of the powers of the actuators and loads (as phm_applied_pairs counts them, scale 1)
+ * for a change dtw (nc x 6) of the twists at the poses H and the pairs' evaluation pd: exact in
+ * the twists (an actuator's u(x, xdot) . xdot is quadratic in them through a PD's or a joint
+ * spring's damping, a load's w . t linear); u's dependence on x, which moves by about h xdot
+ * (kp h / kd of it), and a world load's turn with the pose are left out. Added to *dPs (the
+ * supplied power) and per port into dPport[0 .. na + nl) (actuators, then loads): what the
+ * energy ledger's Newton rows leave out (dae_ledger_dpower). No allocation. */
+void phm_applied_dpower(const phm_model *m, const phm_pair_data *pd, const double *H,
+                        const double *dtw, double time, double tref, double *dPs,
+                        double *dPport);
 /* Point-to-point spring-damper: adds its wrenches to wr (may be NULL), elastic energy *V and
  * damping power *Pd (>= 0; either may be NULL). tw NULL: at rest. */
 void phm_spring_eval(const phm_spring_desc *sp, const double *H, const double *tw, double *wr,

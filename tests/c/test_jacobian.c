@@ -20,7 +20,7 @@ typedef struct {
   phm_pair_desc pair[2];
   phm_load_desc load[1];
   phm_spring_desc spr[1];
-  phm_actuator_desc act[1];
+  phm_actuator_desc act[2];
   phm_model_desc d;
 } builder;
 
@@ -256,32 +256,38 @@ static void planar_is_the_submatrix(void) {
   }
 }
 
+/* Five carriers on elements, a fixed pair to the ground, a revolute with a PD actuator between
+ * the last two, a spring-damper to the ground, an interaction (load with a reaction), gravity. */
+static void applied_model(builder *b) {
+  chain(b, 5, 1);
+  b->pair[0].type = pair_code("fixed");
+  b->pair[0].a = -1;
+  b->pair[0].b = 0;
+  b->pair[1].type = pair_code("revolute");
+  b->pair[1].a = 3;
+  b->pair[1].b = 4;
+  for (int p = 0; p < 2; p++)
+    for (int i = 0; i < 4; i++) b->pair[p].Ta[5 * i] = b->pair[p].Tb[5 * i] = 1.0;
+  /* identity frames: the constraints need not hold, only their derivatives are compared */
+  b->d.npairs = 2;
+  b->d.pairs = b->pair;
+  b->spr[0] = (phm_spring_desc){.a = 1, .b = -1, .pa = {0.1, 0, 0}, .pb = {1, 1, 1}, .k = 30, .c = 0.5, .d0 = 0.5};
+  b->d.nsprings = 1;
+  b->d.springs = b->spr;
+  b->load[0] = (phm_load_desc){.carrier = 2, .reaction = 4, .w = {0.1, 0.2, 0.3, 1, -2, 3}, .world = 1,
+                               .point = {0.05, 0, 0}, .law = {.kind = PHM_LAW_CONSTANT, .amplitude = 1.0}};
+  b->d.nloads = 1;
+  b->d.loads = b->load;
+  b->d.gravity[2] = -9.81;
+  b->act[0] = (phm_actuator_desc){.pair = 1, .kind = PHM_ACT_PD, .kp = {50}, .kd = {2}, .x_set = {0.1},
+                                  .vec = {1}, .law = {.kind = PHM_LAW_CONSTANT, .amplitude = 0.2}};
+  b->d.nactuators = 1;
+  b->d.actuators = b->act;
+}
+
 static void pairs_springs_loads_actuators_are_closed_form(void) {
   static builder b;
-  chain(&b, 5, 1);
-  b.pair[0].type = pair_code("fixed");
-  b.pair[0].a = -1;
-  b.pair[0].b = 0;
-  b.pair[1].type = pair_code("revolute");
-  b.pair[1].a = 3;
-  b.pair[1].b = 4;
-  for (int p = 0; p < 2; p++)
-    for (int i = 0; i < 4; i++) b.pair[p].Ta[5 * i] = b.pair[p].Tb[5 * i] = 1.0;
-  /* identity frames: the constraints need not hold, only their derivatives are compared */
-  b.d.npairs = 2;
-  b.d.pairs = b.pair;
-  b.spr[0] = (phm_spring_desc){.a = 1, .b = -1, .pa = {0.1, 0, 0}, .pb = {1, 1, 1}, .k = 30, .c = 0.5, .d0 = 0.5};
-  b.d.nsprings = 1;
-  b.d.springs = b.spr;
-  b.load[0] = (phm_load_desc){.carrier = 2, .reaction = 4, .w = {0.1, 0.2, 0.3, 1, -2, 3}, .world = 1,
-                              .point = {0.05, 0, 0}, .law = {.kind = PHM_LAW_CONSTANT, .amplitude = 1.0}};
-  b.d.nloads = 1;
-  b.d.loads = b.load;
-  b.d.gravity[2] = -9.81;
-  b.act[0] = (phm_actuator_desc){.pair = 1, .kind = PHM_ACT_PD, .kp = {50}, .kd = {2}, .x_set = {0.1},
-                                 .vec = {1}, .law = {.kind = PHM_LAW_CONSTANT, .amplitude = 0.2}};
-  b.d.nactuators = 1;
-  b.d.actuators = b.act;
+  applied_model(&b);
   compare("J = central FD: elements, fixed, revolute with PD, spring, load, gravity", &b, 1e-7);
   for (int e = 0; e < 4; e++) {
     b.el[e].mass = PHM_MASS_CONSISTENT;
@@ -337,7 +343,70 @@ static void pruning_keeps_a_growing_pattern(void) {
   phm_model_free(m);
 }
 
+/* dae_ledger_dpower against the change of the ledger rows F = E' - P of the residual for a
+ * random change of the twists and of lambda, of order one (applied_model with an effort
+ * actuator too): the supplied power and the actuators' and loads' ports, exact in those
+ * (P is at most quadratic in them: u . xdot with a PD's damping, lambda . G t); held to 1e-12
+ * of the largest change. In 3-D and planar about z. */
+static void ledger_dpower_is_the_power_change(void) {
+  static builder b;
+  applied_model(&b);
+  b.act[1] = (phm_actuator_desc){.pair = 1, .kind = PHM_ACT_EFFORT, .vec = {1},
+                                 .law = {.kind = PHM_LAW_CONSTANT, .amplitude = 0.7}};
+  b.d.nactuators = 2;
+  phm_model *m = create_model(&b.d);
+  if (!m) return;
+  for (int planar = 0; planar <= 3; planar += 3) {
+    const char *name = planar ? "ledger dpower = the residual's change (planar)" : "ledger dpower = the residual's change";
+    dae_t d;
+    phm_error err;
+    if (planar ? dae_planar_init(&d, m, planar - 1, &err) : dae_init(&d, m, &err)) {
+      check_fail("%s: set-up", name);
+      continue;
+    }
+    int n = d.n, nl = d.il - d.ie;
+    double *y = malloc(sizeof(double) * (size_t)n * 6), *yp = y + n, *dy = yp + n, *yy = dy + n,
+           *rp = yy + n, *rm = rp + n, dP[16];
+    for (int trial = 0; trial < 3; trial++) {
+      for (int i = 0; i < n; i++) {
+        y[i] = rand11();
+        yp[i] = rand11();
+        dy[i] = i >= d.il && i < d.im ? rand11() : 0.0; /* lambda */
+      }
+      for (int c = 0; c < m->nc; c++) {
+        double a = 3.0 * rand11(), s = 1.0 + 0.05 * rand11();
+        double *yc = y + d.ns * c;
+        if (planar) {
+          yc[0] = s * cos(a);
+          yc[1] = s * sin(a);
+        } else {
+          for (int i = 0; i < 4; i++) yc[i] = rand11();
+        }
+        for (int j = d.nt0; j < d.ns; j++) dy[d.ns * c + j] = rand11(); /* the twists */
+      }
+      double t = 0.1;
+      d.tref = 0.5;
+      for (int i = 0; i < n; i++) yy[i] = y[i] + dy[i];
+      dae_residual(&d, t, yy, yp, rp);
+      dae_residual(&d, t, y, yp, rm);
+      dae_constraint_rows(&d, t, y, yy);
+      dae_ledger_dpower(&d, t, y, dy, 1.0, dP);
+      double worst = 0, big = 0;
+      for (int i = 1; i < 2 + m->na + m->nl && i < nl; i++) { /* not Pd, nor the springs' ports */
+        double ref = -(rp[d.ie + i] - rm[d.ie + i]);
+        worst = fmax(worst, fabs(ref - dP[i]));
+        big = fmax(big, fabs(ref));
+      }
+      check_worst(name, worst / big, 1e-12);
+    }
+    free(y);
+    dae_free(&d);
+  }
+  phm_model_free(m);
+}
+
 CHECK_MAIN(CHECK_CASE(carriers_and_gravity_are_closed_form), CHECK_CASE(elements_are_closed_form),
            CHECK_CASE(pruning_keeps_a_growing_pattern),
            CHECK_CASE(pairs_are_closed_form), CHECK_CASE(planar_is_the_submatrix),
-           CHECK_CASE(pairs_springs_loads_actuators_are_closed_form))
+           CHECK_CASE(pairs_springs_loads_actuators_are_closed_form),
+           CHECK_CASE(ledger_dpower_is_the_power_change))
