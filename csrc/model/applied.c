@@ -29,6 +29,16 @@ static void point_state(const double *H, const double *tw, int c, const double r
   }
 }
 
+/* The body wrench w = (t + r x f, f) of a torque t and a force f at body point r. */
+static void body_wrench(const double t[3], const double f[3], const double r[3], double w[6]) {
+  w[0] = t[0] + r[1] * f[2] - r[2] * f[1];
+  w[1] = t[1] + r[2] * f[0] - r[0] * f[2];
+  w[2] = t[2] + r[0] * f[1] - r[1] * f[0];
+  w[3] = f[0];
+  w[4] = f[1];
+  w[5] = f[2];
+}
+
 /* Carrier c's body wrench w of the world force F and world torque T (about the world point x). */
 static void world_wrench(const double *H, int c, const double x[3], const double F[3],
                          const double T[3], double w[6]) {
@@ -40,12 +50,7 @@ static void world_wrench(const double *H, int c, const double x[3], const double
     t[i] = Hc[i] * T[0] + Hc[4 + i] * T[1] + Hc[8 + i] * T[2];
     r[i] = Hc[i] * d[0] + Hc[4 + i] * d[1] + Hc[8 + i] * d[2];
   }
-  w[0] = t[0] + r[1] * f[2] - r[2] * f[1];
-  w[1] = t[1] + r[2] * f[0] - r[0] * f[2];
-  w[2] = t[2] + r[0] * f[1] - r[1] * f[0];
-  w[3] = f[0];
-  w[4] = f[1];
-  w[5] = f[2];
+  body_wrench(t, f, r, w);
 }
 
 /* Add the world force F and world torque T (about the world point x) to carrier c's body wrench. */
@@ -121,12 +126,7 @@ void phm_load_wrench(const phm_model *m, int il, const double *H, double s, doub
   double tau[3], f[3];
   load_body(l, Hc, s, tau, f);
   const double *r = l->point;
-  w[0] = tau[0] + r[1] * f[2] - r[2] * f[1];
-  w[1] = tau[1] + r[2] * f[0] - r[0] * f[2];
-  w[2] = tau[2] + r[0] * f[1] - r[1] * f[0];
-  w[3] = f[0];
-  w[4] = f[1];
-  w[5] = f[2];
+  body_wrench(tau, f, r, w);
   if (wr)
     for (int i = 0; i < 6; i++) wr[6 * l->carrier + i] += w[i];
   memset(wre, 0, 6 * sizeof(double));
