@@ -324,7 +324,7 @@ void dae_ledger_dpower(dae_t *d, double time, const double *y, const double *dy,
   double *dtw = D->dtw;
   for (int c = 0; c < m->nc; c++)
     for (int j = 0; j < L.nt; j++) dtw[6 * c + L.tf[j]] = at * dy[d->ns * c + d->nt0 + j];
-  memset(dP, 0, sizeof(double) * (size_t)(d->il - d->ie));
+  for (int i = 0; i < d->il - d->ie; i++) dP[i] = 0.0;
   phm_applied_dpower(m, D->pair, D->H, dtw, time, f->tref, dP + 1, dP + 2);
   /* the constraint wrenches' power sum_c (G^T lambda)_c . t_c (dae_residual's Ps) */
   const double *lam = y + d->il, *dlam = dy + d->il;

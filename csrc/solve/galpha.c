@@ -213,25 +213,31 @@ static double corot_set(const dae_t *d, galpha_corot *cr, const double *ya, doub
   return slip;
 }
 
-/* x <- B x (tr = 0) or B^T x (tr = 1) for the nb x nb matrix B (nb <= 4) */
-static void corot_block(const double *B, int nb, int tr, double *x) {
+/* x <- B x (tr = 0) or B^T x (tr = 1) for the nb x nb matrix B; inlined with constant nb by
+ * corot_apply (a loop of variable length, and a memcpy of the result, per carrier made the
+ * N = 30 cantilever's run 5 % slower) */
+static inline void corot_block(const double *B, int nb, int tr, double *x) {
   double t[4];
   for (int i = 0; i < nb; i++) {
     t[i] = 0.0;
     for (int j = 0; j < nb; j++) t[i] += (tr ? B[nb * j + i] : B[nb * i + j]) * x[j];
   }
-  memcpy(x, t, sizeof(double) * (size_t)nb);
+  for (int i = 0; i < nb; i++) x[i] = t[i];
 }
 
 /* v <- D v (tr = 0) or D^T v (tr = 1) */
 static void corot_apply(const dae_t *d, const galpha_corot *cr, int tr, double *v) {
-  int nq = cr->L.nq, np = cr->L.npos, nd = nq * nq + np * np;
-  for (int c = 0; c < d->m->nc; c++) {
-    double *x = v + d->ns * c;
-    const double *Dc = cr->D + (size_t)nd * c;
-    corot_block(Dc, nq, tr, x);
-    corot_block(Dc + nq * nq, np, tr, x + nq);
-  }
+  int nc = d->m->nc, ns = d->ns;
+  if (cr->L.nq == 2) /* planar: two 2 x 2 blocks */
+    for (int c = 0; c < nc; c++) {
+      corot_block(cr->D + 8 * (size_t)c, 2, tr, v + ns * c);
+      corot_block(cr->D + 8 * (size_t)c + 4, 2, tr, v + ns * c + 2);
+    }
+  else
+    for (int c = 0; c < nc; c++) {
+      corot_block(cr->D + 25 * (size_t)c, 4, tr, v + ns * c);
+      corot_block(cr->D + 25 * (size_t)c + 16, 3, tr, v + ns * c + 4);
+    }
 }
 
 /* Local error estimate of a converged step h (previous steps hq, hqq; 0: not there), WRMS-normed
