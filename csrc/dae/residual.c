@@ -313,6 +313,14 @@ void dae_carrier_states(const dae_t *d, dae_carrier_layout *L) {
   for (int i = 0; i < 3; i++) L->pf[i] = i;
 }
 
+/* dtw's carrier c (-1: none) = at times its twist's change in dy (full layout; planar: the
+ * in-plane components, the others stay 0) */
+static void twist_change(const dae_t *d, const dae_carrier_layout *L, const double *dy, double at,
+                         int c, double *dtw) {
+  if (c < 0) return;
+  for (int j = 0; j < L->nt; j++) dtw[6 * c + L->tf[j]] = at * dy[d->ns * c + d->nt0 + j];
+}
+
 void dae_ledger_dpower(dae_t *d, double time, const double *y, const double *dy, double at,
                        double *dP) {
   const phm_model *m = d->m;
@@ -320,10 +328,17 @@ void dae_ledger_dpower(dae_t *d, double time, const double *y, const double *dy,
   phm_data *D = &f->data;
   dae_carrier_layout L;
   dae_carrier_states(d, &L);
-  /* the stage's change of the twists (full layout; planar: the in-plane ones) */
+  /* the stage's change of the twists of the carriers of the pairs (and so of the actuators)
+   * and of the loads: only those are read (all of them: 2 % of the N = 30 cantilever's run) */
   double *dtw = D->dtw;
-  for (int c = 0; c < m->nc; c++)
-    for (int j = 0; j < L.nt; j++) dtw[6 * c + L.tf[j]] = at * dy[d->ns * c + d->nt0 + j];
+  for (int ip = 0; ip < m->np; ip++) {
+    twist_change(d, &L, dy, at, m->pair[ip].a, dtw);
+    twist_change(d, &L, dy, at, m->pair[ip].b, dtw);
+  }
+  for (int il = 0; il < m->nl; il++) {
+    twist_change(d, &L, dy, at, m->load[il].carrier, dtw);
+    twist_change(d, &L, dy, at, m->load[il].reaction, dtw);
+  }
   for (int i = 0; i < d->il - d->ie; i++) dP[i] = 0.0;
   phm_applied_dpower(m, D->pair, D->H, dtw, time, f->tref, dP + 1, dP + 2);
   /* the constraint wrenches' power sum_c (G^T lambda)_c . t_c (dae_residual's Ps) */
