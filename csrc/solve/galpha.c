@@ -182,35 +182,39 @@ static double corot_slip(const galpha_corot *cr, int a, int b) {
   return 2.0 * sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 }
 
-/* D for the stage state ya: per carrier dq = q (x) conj(q_ref), L(dq) (dq (x) .) on its
- * quaternion components and dR = R(dq) on its position axes. Returns the largest rotation
- * across a pair or spring since the matrix was computed, and in *rot the largest of a carrier. */
-static double corot_set(const dae_t *d, galpha_corot *cr, const double *ya, double *rot) {
+/* This step's D from the stage state ya: per carrier dq = q (x) conj(q_ref), then, unless a
+ * pair or spring turned across by more than GALPHA_COROT_SLIP times the largest rotation of a
+ * carrier (returns 0: D not used), L(dq) (dq (x) .) on its quaternion components and
+ * dR = R(dq) on its position axes (returns 1). */
+static int corot_set(const dae_t *d, galpha_corot *cr, const double *ya) {
+  const phm_model *m = d->m;
   int nq = cr->L.nq, np = cr->L.npos, nd = nq * nq + np * np;
-  *rot = 0;
-  for (int c = 0; c < d->m->nc; c++) {
-    double q[4], R[9], *a = cr->dq + 4 * c;
+  double rot = 0, slip = 0;
+  for (int c = 0; c < m->nc; c++) {
+    double q[4], *a = cr->dq + 4 * c;
     const double *r = cr->qref + 4 * c;
     corot_quat(d, cr, ya, c, q);
     a[0] = q[0] * r[0] + q[1] * r[1] + q[2] * r[2] + q[3] * r[3];
     a[1] = -q[0] * r[1] + q[1] * r[0] - q[2] * r[3] + q[3] * r[2];
     a[2] = -q[0] * r[2] + q[1] * r[3] + q[2] * r[0] - q[3] * r[1];
     a[3] = -q[0] * r[3] - q[1] * r[2] + q[2] * r[1] + q[3] * r[0];
-    *rot = fmax(*rot, corot_slip(cr, c, -1));
+    rot = fmax(rot, corot_slip(cr, c, -1));
+  }
+  for (int k = 0; k < m->np; k++) slip = fmax(slip, corot_slip(cr, m->pair[k].a, m->pair[k].b));
+  for (int k = 0; k < m->ns; k++) slip = fmax(slip, corot_slip(cr, m->spr[k].a, m->spr[k].b));
+  if (!(slip <= GALPHA_COROT_SLIP * rot)) return 0;
+  for (int c = 0; c < m->nc; c++) {
+    const double *a = cr->dq + 4 * c;
     const double Lq[16] = {a[0], -a[1], -a[2], -a[3], a[1], a[0], -a[3], a[2],
                            a[2], a[3],  a[0],  -a[1], a[3], -a[2], a[1], a[0]};
+    double R[9], *Dc = cr->D + (size_t)nd * c;
     phm_quat_to_rot(a, R);
-    double *Dc = cr->D + (size_t)nd * c;
     for (int i = 0; i < nq; i++)
       for (int j = 0; j < nq; j++) Dc[nq * i + j] = Lq[4 * cr->L.qf[i] + cr->L.qf[j]];
     for (int i = 0; i < np; i++)
       for (int j = 0; j < np; j++) Dc[nq * nq + np * i + j] = R[3 * cr->L.pf[i] + cr->L.pf[j]];
   }
-  const phm_model *m = d->m;
-  double slip = 0;
-  for (int k = 0; k < m->np; k++) slip = fmax(slip, corot_slip(cr, m->pair[k].a, m->pair[k].b));
-  for (int k = 0; k < m->ns; k++) slip = fmax(slip, corot_slip(cr, m->spr[k].a, m->spr[k].b));
-  return slip;
+  return 1;
 }
 
 /* x <- B x (tr = 0) or B^T x (tr = 1) for the nb x nb matrix B; inlined with constant nb by
@@ -469,10 +473,7 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
           hjac = h;
           fresh = 1;
         }
-        if (it == 0 && (cr.on = !adaptive && !fresh)) { /* see galpha_corot */
-          double rot, slip = corot_set(d, &cr, N_VGetArrayPointer(g.ya), &rot);
-          cr.on = slip <= GALPHA_COROT_SLIP * rot;
-        }
+        if (it == 0) cr.on = !adaptive && !fresh && corot_set(d, &cr, N_VGetArrayPointer(g.ya)); /* galpha_corot */
         N_VScale(-1.0, g.R, g.dY);
         if (cr.on) corot_apply(d, &cr, 1, dY);
         if (SUNLinSolSolve(LS, A, g.dY, g.dY, 0.0) != PHM_SUN_SUCCESS) {
