@@ -327,6 +327,11 @@ enum { PHM_MODES_AUTO = 0, PHM_MODES_DENSE = 1, PHM_MODES_SPARSE = 2 };
 /* AUTO: a sparse result with an unstable mode is redone densely up to this many coordinates on
  * the constraint manifold (dense: 0.15 s at 600, 0.4 s at 900 coordinates; ~O(n^3)). */
 #define PHM_DENSE_MODES_MAX 1500
+/* The sparse path's count of eigenvalues below its shift (the KKT matrix's inertia from an
+ * LDL' factorization without pivoting, csrc/solve/linearize.c) is trusted when its certificate
+ * ||E||_1 est(||KKT^-1||_1) (E: the factorization's residual) is below this: 1 bounds it in
+ * theory, 0.1 leaves a factor 10 for the condition estimate's error. */
+#define PHM_INERTIA_CHECK 0.1
 /* The dense path's shift-inverted pencil (csrc/solve/modes.c) gives the modes whose
  * theta = 1/(lambda - sigma) is above this fraction of the first's: relative accuracy ~ eps/this. */
 #define PHM_MODES_RESOLVED 1e-6
