@@ -723,6 +723,43 @@ static PyObject *py_model_modes(PyObject *self, PyObject *args) {
   return res;
 }
 
+static PyObject *py_model_modes_count(PyObject *self, PyObject *args) {
+  (void)self;
+  PyObject *cap, *po = Py_None, *lo = Py_None;
+  double shift, time = 0;
+  if (!PyArg_ParseTuple(args, "Od|OOd", &cap, &shift, &po, &lo, &time)) return NULL;
+  phm_model *m = get_model(cap);
+  if (!m) return NULL;
+  int nc = phm_model_ncarriers(m), nk = phm_model_nconstraints(m);
+  PyArrayObject *P = NULL, *L = NULL;
+  if (po != Py_None) {
+    npy_intp tail[3] = {nc, 4, 4};
+    if (!(P = phm_py_double_array(po, "poses", tail, 3, 0))) return NULL;
+  }
+  if (lo != Py_None) {
+    npy_intp tail[1] = {nk};
+    if (!(L = phm_py_double_array(lo, "constraint wrenches", tail, 1, 0))) {
+      Py_XDECREF(P);
+      return NULL;
+    }
+  }
+  int below = -1;
+  double check = 0;
+  phm_error err;
+  phm_status st;
+  Py_BEGIN_ALLOW_THREADS
+  st = phm_modes_count(m, P ? PyArray_DATA(P) : NULL, L ? PyArray_DATA(L) : NULL, time, shift,
+                       &below, &check, &err);
+  Py_END_ALLOW_THREADS
+  PyObject *res = NULL;
+  if (model_law_error(cap)) res = NULL;
+  else if (st) phm_py_raise(&err);
+  else res = Py_BuildValue("id", below, check);
+  Py_XDECREF(P);
+  Py_XDECREF(L);
+  return res;
+}
+
 /* model_linear(model, ports, poses=None, lambda=None, time=0): ports a list of (kind, index, T
  * (4, 4)) -> (K, D, M, Z, B, (nr, ncol)) of phm_linear_model, flat (Python reshapes). */
 static PyObject *py_model_linear(PyObject *self, PyObject *args) {
@@ -1080,6 +1117,9 @@ PyMethodDef phm_py_model_methods[] = {
     {"model_modes", py_model_modes, METH_VARARGS,
      "model_modes(model, n, poses=None, lambda=None, time=0, method=0) -> (omega, zeta, shapes, "
      "nfound); method 0 auto, 1 dense, 2 sparse (phm_modes)."},
+    {"model_modes_count", py_model_modes_count, METH_VARARGS,
+     "model_modes_count(model, shift, poses=None, lambda=None, time=0) -> (below, check): how many "
+     "eigenvalues omega^2 lie below shift [(rad/s)^2] (phm_modes_count)"},
     {"model_linear", py_model_linear, METH_VARARGS,
      "model_linear(model, ports, poses=None, lambda=None, time=0) -> (K, D, M, Z, B, (nr, ncol)): "
      "flat buffers whose leading nr*nr (Z: 6nc*nr, B: nr*ncol) values are the row-major matrices "
