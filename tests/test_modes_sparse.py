@@ -3,7 +3,8 @@ reduced problem and against independent references: the exact Timoshenko frequen
 se3 element's second-order convergence, six rigid-body modes of a free beam, repeated bending
 frequencies of a square section, a closed loop with a flexible link, damping ratios. The method
 is chosen through the core binding (method 1 dense, 2 sparse; the default picks sparse from
-PHM_SPARSE_MODES_MIN carrier coordinates on)."""
+PHM_SPARSE_MODES_MIN + 6 n carrier coordinates on, n modes), and the sparse path's count of the
+eigenvalues below its shift (phm_modes_count) against the dense reduced problem's."""
 import warnings
 
 import numpy as np
@@ -99,6 +100,17 @@ def test_default_picks_sparse_on_large_models():
     assert np.array_equal(auto, sparse)
 
 
+def test_default_takes_sparse_from_ten_plus_n_carriers():
+    # PHM_SPARSE_MODES_MIN + 6 n coordinates (n modes), where the sparse path becomes the faster
+    # (measured, core only: 2 modes at N = 11, 72 coordinates, 0.22 / 0.21 ms dense / sparse; 5
+    # modes at N = 14, 90 coordinates, 0.48 / 0.42 ms): one carrier fewer is dense
+    for n, N in ((2, 11), (5, 14)):
+        for elements, method in ((N, SPARSE), (N - 1, DENSE)):
+            model = cantilever(elements)._build()
+            auto = _core.model_modes(model, n, None, None, 0.0)[0]
+            assert np.array_equal(auto, modes(cantilever(elements), n, method)[0]), (n, elements)
+
+
 def test_unknown_method_is_refused():
     with pytest.raises(ph.ModelError, match="unknown modes method"):
         _core.model_modes(cantilever(4)._build(), 2, None, None, 0.0, 7)
@@ -122,7 +134,7 @@ def _modes_at(m, st, n, method):
 
 
 def test_few_degrees_of_freedom_on_many_coordinates_take_the_dense_path():
-    # was, on the sparse path (method 2; by default from 300 coordinates, e.g. 50 bodies with
+    # was, on the sparse path (method 2; by default then from 300 coordinates, e.g. 50 bodies with
     # fewer than 9 degrees of freedom), before its block was bounded by the manifold: a hanging
     # chain of 10 bars, alternately revolute and welded (60 coordinates, 5 degrees of freedom),
     # showed -1.9e8 rad/s for its 2.18 rad/s mode -- round-off vectors of a block larger than the
@@ -202,7 +214,7 @@ def test_a_strong_instability_beyond_the_stable_modes_is_not_missed(arms):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ph.StabilityWarning)
         st = m.static()
-    assert 6 * len(m._car) >= 300
+    assert 6 * len(m._car) >= 300   # sparse by default before the count too
     d, s, auto = (_modes_at(m, st, 5, method) for method in (DENSE, SPARSE, 0))
     assert -64 < d[0] < -62 and np.sum(d < 0) == len(arms)   # measured -63.06 (-5.72) rad/s
     np.testing.assert_allclose(auto, d, rtol=1e-12)

@@ -127,7 +127,8 @@ phm_status phm_simulate(const phm_model *model, const double *poses0, const doub
 /* Linearized modes at poses (NULL: H0) with constraint wrenches lambda (NULL: zero), loads at
  * `time`: the nmodes lowest omega [rad/s], damping ratios zeta, shapes [nmodes][nc][6] (tangent
  * coordinates, mass-normalized); *nfound modes returned (<= nmodes, limited by the free DOF).
- * method: PHM_MODES_AUTO (dense below PHM_SPARSE_MODES_MIN carrier coordinates), _DENSE, _SPARSE.
+ * method: PHM_MODES_AUTO (dense below PHM_SPARSE_MODES_MIN + 6 nmodes carrier coordinates), _DENSE,
+ * _SPARSE.
  * The sparse path checks its result against the count of eigenvalues below its shift
  * (phm_modes_count): when eigenvalues lie below the shift that its iteration did not find (an
  * unstable mode far from the shift, docs/validation.md finding 9), AUTO redoes it densely up to

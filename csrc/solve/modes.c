@@ -648,7 +648,8 @@ phm_status phm_modes(const phm_model *m, const double *poses, const double *lamb
   int *iwork = NULL, *ifail = NULL;
   double *work = NULL, *ev = NULL, *Y = NULL, *A = NULL, *Bm = NULL, *evi = NULL, *Yi = NULL;
   if ((st = lin_red_blocks(&R, m, poses, lambda, time, err))) goto done;
-  int sparse = method == PHM_MODES_SPARSE || (method == PHM_MODES_AUTO && n6 >= PHM_SPARSE_MODES_MIN);
+  int sparse = method == PHM_MODES_SPARSE ||
+               (method == PHM_MODES_AUTO && n6 >= PHM_SPARSE_MODES_MIN + 6 * nmodes);
   /* the subspace iteration's block, max(2 nf, nf + 8) vectors, must be at most half the
    * manifold's dimension n6 - nk (the kept rows are independent: redundant ones are dropped): a
    * block beyond it held round-off vectors whose Ritz values (theta ~ -1e-15) came first (a
