@@ -547,10 +547,16 @@ static phm_status sparse_path(lin_red_t *R, const phm_model *m, int nf, int b, i
                   "configuration) may answer", check, PHM_INERTIA_CHECK);
     goto done;
   }
+  if (nb > below) { /* not at convergence (interlacing): a Ritz value on an eigenvalue at sigma */
+    st = PHM_FAIL(err, PHM_ESOLVER, "modes: the sparse path's iteration found %d eigenvalues below "
+                  "its shift %.6g (rad/s)^2, its count %d; the dense method may answer", nb, sigma,
+                  below);
+    goto done;
+  }
   /* spectrum slicing: lo with nothing below it, hi with something */
   double lo = 0, hi = sigma;
   int found = 0;
-  for (int k = 1; k <= 40 && !found && nb < below; k++) {
+  for (int k = 1; k <= 40 && !found; k++) {
     double tau = sigma * pow(10.0, k);
     if (sparse_shift(&P, tau)) continue; /* on an eigenvalue: further down */
     if (!(P.check < PHM_INERTIA_CHECK)) break;
