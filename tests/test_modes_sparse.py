@@ -3,7 +3,8 @@ reduced problem and against independent references: the exact Timoshenko frequen
 se3 element's second-order convergence, six rigid-body modes of a free beam, repeated bending
 frequencies of a square section, a closed loop with a flexible link, damping ratios. The method
 is chosen through the core binding (method 1 dense, 2 sparse; the default picks sparse from
-PHM_SPARSE_MODES_MIN carrier coordinates on)."""
+PHM_SPARSE_MODES_MIN + 6 n carrier coordinates on, n modes), and the sparse path's count of the
+eigenvalues below its shift (phm_modes_count) against the dense reduced problem's."""
 import warnings
 
 import numpy as np
@@ -99,6 +100,17 @@ def test_default_picks_sparse_on_large_models():
     assert np.array_equal(auto, sparse)
 
 
+def test_default_takes_sparse_from_ten_plus_n_carriers():
+    # PHM_SPARSE_MODES_MIN + 6 n coordinates (n modes), where the sparse path becomes the faster
+    # (measured, core only: 2 modes at N = 11, 72 coordinates, 0.22 / 0.21 ms dense / sparse; 5
+    # modes at N = 14, 90 coordinates, 0.48 / 0.42 ms): one carrier fewer is dense
+    for n, N in ((2, 11), (5, 14)):
+        for elements, method in ((N, SPARSE), (N - 1, DENSE)):
+            model = cantilever(elements)._build()
+            auto = _core.model_modes(model, n, None, None, 0.0)[0]
+            assert np.array_equal(auto, modes(cantilever(elements), n, method)[0]), (n, elements)
+
+
 def test_unknown_method_is_refused():
     with pytest.raises(ph.ModelError, match="unknown modes method"):
         _core.model_modes(cantilever(4)._build(), 2, None, None, 0.0, 7)
@@ -122,7 +134,7 @@ def _modes_at(m, st, n, method):
 
 
 def test_few_degrees_of_freedom_on_many_coordinates_take_the_dense_path():
-    # was, on the sparse path (method 2; by default from 300 coordinates, e.g. 50 bodies with
+    # was, on the sparse path (method 2; by default then from 300 coordinates, e.g. 50 bodies with
     # fewer than 9 degrees of freedom), before its block was bounded by the manifold: a hanging
     # chain of 10 bars, alternately revolute and welded (60 coordinates, 5 degrees of freedom),
     # showed -1.9e8 rad/s for its 2.18 rad/s mode -- round-off vectors of a block larger than the
@@ -142,9 +154,11 @@ def test_few_degrees_of_freedom_on_many_coordinates_take_the_dense_path():
 def test_unstable_modes_come_in_ascending_order_from_both_paths():
     # an upright chain of 30 bars at its (unstable) static equilibrium: negative eigenvalues only
     # among the lowest; each path lists them ascending (the sparse path listed its negative ones
-    # in descending order). The sparse path's are the unstable modes nearest the shift (measured
-    # -19.9, -17.7, -15.6 rad/s), the dense path's the most unstable (-96.7, -88.0, -81.1): see
-    # docs/validation.md, finding 9
+    # in descending order). The sparse path's were the unstable modes nearest its shift
+    # (-19.9, -17.7, -15.6 rad/s) where the dense path's are the most unstable (-96.7, -88.0,
+    # -81.1): docs/validation.md, finding 9. Its count of the eigenvalues below the shift (30,
+    # more than its block holds) now sends it lower (spectrum slicing): the same modes, measured
+    # within 2.5e-14
     m = _bar_chain([ph.Revolute] * 30, gravity=(-9.81, 0, 0))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ph.StabilityWarning)
@@ -152,19 +166,132 @@ def test_unstable_modes_come_in_ascending_order_from_both_paths():
     d, s = _modes_at(m, st, 3, DENSE), _modes_at(m, st, 3, SPARSE)
     for om in (d, s):
         assert np.all(om < 0) and np.all(np.diff(om) > 0), om
-    assert d[0] < s[0]
+    np.testing.assert_allclose(s, d, rtol=1e-12)
 
 
-def test_default_redoes_an_unstable_sparse_result_densely():
+def test_an_unstable_sparse_result_is_the_most_unstable():
     # an upright chain of 60 bars (360 coordinates: sparse by default) at its unstable
-    # equilibrium: the sparse path alone gives -13.0 rad/s (the unstable mode nearest its shift),
-    # the default redoes it densely and reports the most unstable, -142.9 rad/s (measured);
+    # equilibrium: the sparse path alone gave -13.0 rad/s (the unstable mode nearest its shift),
+    # where the lowest is -142.9 rad/s (measured); the default (redone densely) and the sparse
+    # method (the spectrum sliced: shift-invert below the lowest eigenvalue) now give it, and
     # static()'s stability check reads the same value
     m = _bar_chain([ph.Revolute] * 60, gravity=(-9.81, 0, 0))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ph.StabilityWarning)
         st = m.static()
     d, s, auto = (_modes_at(m, st, 3, method) for method in (DENSE, SPARSE, 0))
-    assert s[0] > 0.5 * d[0]                      # the sparse path's nearest unstable mode
     np.testing.assert_allclose(auto, d, rtol=1e-12)
+    np.testing.assert_allclose(s, d, rtol=1e-12)   # measured 1.0e-14
     assert st.stable is False and st.lowest_omega == pytest.approx(d[0], rel=1e-9)
+
+
+def _chain_with_inverted_pendulums(n, arms):
+    """A hanging chain of n bars (0.3 m, 1 kg) ending in short inverted pendulums: a 1 kg point
+    mass on an arm of each length in `arms` [m], hinged at the chain's end, standing up against
+    gravity."""
+    from phmech import se3
+    m = _bar_chain([ph.Revolute] * n, gravity=(9.81, 0, 0))
+    end = ph.Frame(m._bodies[f"b{n - 1}"].carrier, se3.translation([0.3, 0, 0]))
+    for i, arm in enumerate(arms):
+        p = m.add_rigid_body(f"inverted{i}", 1.0, 1e-6 * np.eye(3), com=(-arm, 0, 0))
+        m.add_pair(f"hinge{i}", ph.Revolute(), end, p)
+    return m
+
+
+@pytest.mark.parametrize("arms", [(0.01,), (0.3, 0.01)])
+def test_a_strong_instability_beyond_the_stable_modes_is_not_missed(arms):
+    # docs/validation.md, finding 9: shift-invert finds the eigenvalues nearest its shift (~0);
+    # a hanging chain of 60 bars has dozens of stable modes below 10 rad/s, and a 1 cm inverted
+    # pendulum at its end falls at -63.1 rad/s, farther from the shift than the block's stable
+    # modes. Before the count of eigenvalues below the shift, modes() returned (0.881, 2.029,
+    # ...) rad/s by every method but the dense one, and static() reported the configuration
+    # stable (lowest_omega 0.881): an unstable equilibrium called stable. Now the sparse path's
+    # count (1 below its shift, none found) sends AUTO to the dense path and the sparse method
+    # lower (spectrum slicing), where it finds the missed mode, before the stable ones it had.
+    # With a second, 30 cm pendulum (-5.7 rad/s, near the shift: found) 2 are below, 1 found.
+    # 366 and 372 coordinates, sparse by default
+    m = _chain_with_inverted_pendulums(60, arms)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ph.StabilityWarning)
+        st = m.static()
+    assert 6 * len(m._car) >= 300   # sparse by default before the count too
+    d, s, auto = (_modes_at(m, st, 5, method) for method in (DENSE, SPARSE, 0))
+    assert -64 < d[0] < -62 and np.sum(d < 0) == len(arms)   # measured -63.06 (-5.72) rad/s
+    np.testing.assert_allclose(auto, d, rtol=1e-12)
+    np.testing.assert_allclose(s, d, rtol=1e-11)             # measured 1.8e-13
+    below = _core.model_modes_count(m._build(), -1e-6, st.poses, st.constraint_wrenches)[0]
+    assert below == len(arms)
+    assert st.stable is False and st.lowest_omega == pytest.approx(d[0], rel=1e-9)
+
+
+def _dense_eigenvalues(model, poses, lam):
+    """Every eigenvalue lambda = omega^2 of the reduced problem (the dense path's Kr, Mr)."""
+    import scipy.linalg
+    K, _, M, _, _, (nr, _) = _core.model_linear(model, [], poses, lam, 0.0)
+    return scipy.linalg.eigh(K[:nr * nr].reshape(nr, nr), M[:nr * nr].reshape(nr, nr), eigvals_only=True)
+
+
+def _count_scenes(rng):
+    """(name, model, poses, constraint wrenches): stable, unstable and non-equilibrium
+    configurations of rigid chains, compressed columns and a free beam."""
+    from phmech import se3
+    for trial in range(4):
+        n = int(rng.integers(20, 50))
+        lens, masses = rng.uniform(0.05, 0.5, n), rng.uniform(0.1, 5, n)
+        axes = rng.choice(["y", "z"], n)
+        for g in ((9.81, 0, 0), (-9.81, 0, 0), tuple(9.81 * rng.normal(size=3))):
+            m, prev = ph.Mechanism(gravity=g), None
+            for i in range(n):
+                J = masses[i] * np.diag([1e-3, lens[i] ** 2 / 12, lens[i] ** 2 / 12])
+                b = m.add_rigid_body(f"b{i}", masses[i], J, com=(lens[i] / 2, 0, 0))
+                a = m.ground if prev is None else ph.Frame(prev.carrier, se3.translation([lens[i - 1], 0, 0]))
+                m.add_pair(f"p{i}", ph.Revolute(axes[i]), a, b)
+                prev = b
+            if g[0] == 9.81 or g[0] == -9.81:   # hanging (stable), upright (unstable)
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore", ph.StabilityWarning)
+                    st = m.static(check_stability=False)
+                yield f"chain {n} g {g}", m._build(), st.poses, st.constraint_wrenches
+            else:                               # gravity askew: not an equilibrium
+                yield f"chain {n} g askew", m._build(), None, None
+    Pcr = np.pi ** 2 * TABLE1["EI"] / (4 * L ** 2)
+    for N, mass in ((30, "lumped"), (60, "consistent")):
+        for P in (0.5, 1 - 1e-4, 3.0, 30.0):    # times the first buckling load
+            m = ph.Mechanism()
+            b = m.add_flexible_link("b", L, table1_properties(1.0), elements=N, mass=mass)
+            m.add_pair("clamp", ph.Fixed(), m.ground, b.start)
+            load = [(b.end, (0, 0, 0, -P * Pcr, 0, 0), "world")]
+            st = m.static(loads=load, steps=1, check_stability=False)
+            yield f"column {N} P {P}", m._build(st.loads), st.poses, st.constraint_wrenches
+    props = ph.BeamProperties.from_material(ph.Section.rectangle(0.01, 0.01), ph.Material(210e9, 0.3, 7850))
+    m = ph.Mechanism()
+    m.add_flexible_link("b", 0.5, props, elements=40)
+    yield "free beam", m._build(), None, None
+
+
+def test_the_count_below_a_shift_is_the_dense_count():
+    # phm_modes_count (the KKT matrix's inertia, csrc/solve/linearize.c) against the dense
+    # reduced problem's eigenvalues, at random shifts through the lowest part of the spectrum
+    # and at the sparse path's own shift (-1e-9 of the mean), kept 1e-6 of the spectrum's scale
+    # away from every eigenvalue (closer, the dense eigenvalues' own round-off decides): a
+    # certified count (certificate below PHM_INERTIA_CHECK = 0.1) is the dense one. Measured: 268
+    # counts, all certified and right; certificates up to 1e-6, but 0.04 on a chain with gravity
+    # askew (not an equilibrium) 6e-4 of its scale from a neutral mode (pivot growth, which the
+    # certificate measures)
+    rng = np.random.default_rng(5)
+    counts = certified = 0
+    for name, model, poses, lam in _count_scenes(rng):
+        ev = _dense_eigenvalues(model, poses, lam)
+        scale = np.abs(ev).max()
+        shifts = [-1e-9 * np.abs(ev).mean()] + list(rng.uniform(ev[0] - abs(ev[0]) - 1, ev[min(12, len(ev) - 1)], 8))
+        for k in rng.integers(0, min(8, len(ev)), 2):
+            shifts += [ev[k] + 1e-5 * scale, ev[k] - 1e-5 * scale]
+        for shift in shifts:
+            if np.min(np.abs(ev - shift)) < 1e-6 * scale:
+                continue
+            count, check = _core.model_modes_count(model, float(shift), poses, lam)
+            counts += 1
+            if check < 0.1:
+                certified += 1
+                assert count == np.sum(ev < shift), (name, shift, count, np.sum(ev < shift), check)
+    assert counts > 250 and certified >= 0.95 * counts, (counts, certified)

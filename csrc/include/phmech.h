@@ -127,10 +127,28 @@ phm_status phm_simulate(const phm_model *model, const double *poses0, const doub
 /* Linearized modes at poses (NULL: H0) with constraint wrenches lambda (NULL: zero), loads at
  * `time`: the nmodes lowest omega [rad/s], damping ratios zeta, shapes [nmodes][nc][6] (tangent
  * coordinates, mass-normalized); *nfound modes returned (<= nmodes, limited by the free DOF).
- * method: PHM_MODES_AUTO (dense below PHM_SPARSE_MODES_MIN carrier coordinates), _DENSE, _SPARSE. */
+ * method: PHM_MODES_AUTO (dense below PHM_SPARSE_MODES_MIN + 6 nmodes carrier coordinates), _DENSE,
+ * _SPARSE.
+ * The sparse path checks its result against the count of eigenvalues below its shift
+ * (phm_modes_count): when eigenvalues lie below the shift that its iteration did not find (an
+ * unstable mode far from the shift, docs/validation.md finding 9), AUTO redoes it densely up to
+ * PHM_DENSE_MODES_MAX manifold coordinates, and beyond them, or with _SPARSE, lowers the shift
+ * until nothing is below it (spectrum slicing); a count that cannot be certified is then an
+ * error (PHM_ESOLVER), never an unverified result. */
 phm_status phm_modes(const phm_model *model, const double *poses, const double *lambda,
                      double time, int nmodes, int method, double *omega, double *zeta,
                      double *shapes, int *nfound, phm_error *err);
+
+/* How many eigenvalues lambda = omega^2 [(rad/s)^2] of the linearization at poses (NULL: H0)
+ * with constraint wrenches lambda (NULL: zero), loads at `time`, lie below `shift`: the inertia
+ * of the sparse KKT matrix [K - shift M, G^T; G, 0] (Sylvester; csrc/solve/linearize.c). *check:
+ * the count's certificate, ||E||_1 est(||KKT^-1||_1) for the residual E of its LDL'
+ * factorization; the count is exact when it is < 1 (up to the condition estimate's accuracy:
+ * phm_modes trusts it below PHM_INERTIA_CHECK).
+ * PHM_ESINGULAR when that matrix is singular (shift on an eigenvalue, dependent constraint
+ * rows) or the factorization met a zero pivot. */
+phm_status phm_modes_count(const phm_model *model, const double *poses, const double *lambda,
+                           double time, double shift, int *below, double *check, phm_error *err);
 
 /* The linear port-Hamiltonian model at poses (NULL: H0) with constraint wrenches lambda (NULL:
  * zero), loads at `time`, on the null space Z of the constraint Jacobian (the dense reduction of

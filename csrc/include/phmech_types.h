@@ -316,17 +316,31 @@ typedef struct {
 } phm_sim_options;
 
 /* How phm_modes solves its eigenproblem: dense LAPACK on the reduced problem (O(N^3)), or
- * subspace iteration on the sparse KKT system (O(N) per iteration); AUTO: sparse from
- * PHM_SPARSE_MODES_MIN carrier coordinates (6 per carrier) on. Measured (Table I cantilever, 5
- * modes, core only): 5 elements (30 coordinates) dense 0.14 ms, sparse 0.11 ms; 21 elements
- * 2.61 / 0.67 ms; 40 elements 14.3 / 1.2 ms (benchmarks/modes_scaling.py from 25 elements). Not
- * lowered for that: at an unstable configuration the sparse path finds the unstable modes
- * nearest its shift, not the most unstable ones (docs/validation.md, finding 9). */
+ * subspace iteration on the sparse KKT system (O(N) per iteration, its result checked against the
+ * count of eigenvalues below its shift: docs/validation.md, finding 9); AUTO: sparse from
+ * PHM_SPARSE_MODES_MIN + 6 nmodes carrier coordinates (6 per carrier) on, i.e. from 10 + nmodes
+ * carriers, where it becomes the faster (its block, max(2 nmodes, nmodes + 8) vectors, grows with
+ * nmodes) -- and only when the constraint manifold has at least twice the block's dimension.
+ * Measured (core only, medians; dense / sparse ms), the Table I cantilever of N elements (6 (N + 1)
+ * coordinates): 2 modes, N = 10 (66) 0.17 / 0.19, N = 11 (72) 0.22 / 0.21, N = 15 0.47 / 0.27,
+ * N = 30 3.3 / 0.54, N = 49 12.1 / 0.88; 5 modes, N = 13 (84) 0.41 / 0.44, N = 14 (90) 0.48 /
+ * 0.42, N = 30 3.5 / 0.95, N = 49 12.6 / 1.6; 20 modes, N = 20 (126) 3.3 / 5.6, N = 30 (186)
+ * 8.3 / 7.8. A hanging chain of rigid bars (6 per bar; sparse once the manifold fits the block:
+ * 20 bars for 2 modes, 26 for 5): 20 bars, 2 modes 1.8 / 0.68; 26 bars, 5 modes 4.7 / 1.3; 60
+ * bars 53 / 2.2. The count costs 9-21 % of the sparse path (cantilever, 15-200 elements;
+ * benchmarks/modes_crossover.py). */
 enum { PHM_MODES_AUTO = 0, PHM_MODES_DENSE = 1, PHM_MODES_SPARSE = 2 };
-#define PHM_SPARSE_MODES_MIN 300
-/* AUTO: a sparse result with an unstable mode is redone densely up to this many coordinates on
- * the constraint manifold (dense: 0.15 s at 600, 0.4 s at 900 coordinates; ~O(n^3)). */
+#define PHM_SPARSE_MODES_MIN 60
+/* AUTO: a sparse result that its count does not verify (eigenvalues below its shift that its
+ * iteration did not find, or a count that cannot be certified) is redone densely up to this many
+ * coordinates on the constraint manifold (dense: 0.15 s at 600, 0.4 s at 900 coordinates;
+ * ~O(n^3)); beyond, the spectrum is sliced (csrc/solve/modes.c). */
 #define PHM_DENSE_MODES_MAX 1500
+/* The sparse path's count of eigenvalues below its shift (the KKT matrix's inertia from an
+ * LDL' factorization without pivoting, csrc/solve/linearize.c) is trusted when its certificate
+ * ||E||_1 est(||KKT^-1||_1) (E: the factorization's residual) is below this: 1 bounds it in
+ * theory, 0.1 leaves a factor 10 for the condition estimate's error. */
+#define PHM_INERTIA_CHECK 0.1
 /* The dense path's shift-inverted pencil (csrc/solve/modes.c) gives the modes whose
  * theta = 1/(lambda - sigma) is above this fraction of the first's: relative accuracy ~ eps/this. */
 #define PHM_MODES_RESOLVED 1e-6

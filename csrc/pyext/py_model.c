@@ -673,6 +673,26 @@ fail0:
   return res;
 }
 
+/* The poses (None: the model's initial ones) and constraint wrenches (None: zero) a
+ * linearization is taken at, as arrays in *P, *L (NULL for None); 0, or -1 with an exception set
+ * and nothing held. */
+static int linearization_point(const phm_model *m, PyObject *po, PyObject *lo, PyArrayObject **P,
+                               PyArrayObject **L) {
+  *P = *L = NULL;
+  if (po != Py_None) {
+    npy_intp tail[3] = {phm_model_ncarriers(m), 4, 4};
+    if (!(*P = phm_py_double_array(po, "poses", tail, 3, 0))) return -1;
+  }
+  if (lo != Py_None) {
+    npy_intp tail[1] = {phm_model_nconstraints(m)};
+    if (!(*L = phm_py_double_array(lo, "constraint wrenches", tail, 1, 0))) {
+      Py_CLEAR(*P);
+      return -1;
+    }
+  }
+  return 0;
+}
+
 static PyObject *py_model_modes(PyObject *self, PyObject *args) {
   (void)self;
   PyObject *cap, *po = Py_None, *lo = Py_None;
@@ -685,19 +705,9 @@ static PyObject *py_model_modes(PyObject *self, PyObject *args) {
     PyErr_SetString(phm_py_ModelError, "number of modes must be >= 1");
     return NULL;
   }
-  int nc = phm_model_ncarriers(m), nk = phm_model_nconstraints(m);
-  PyArrayObject *P = NULL, *L = NULL;
-  if (po != Py_None) {
-    npy_intp tail[3] = {nc, 4, 4};
-    if (!(P = phm_py_double_array(po, "poses", tail, 3, 0))) return NULL;
-  }
-  if (lo != Py_None) {
-    npy_intp tail[1] = {nk};
-    if (!(L = phm_py_double_array(lo, "constraint wrenches", tail, 1, 0))) {
-      Py_XDECREF(P);
-      return NULL;
-    }
-  }
+  int nc = phm_model_ncarriers(m);
+  PyArrayObject *P, *L;
+  if (linearization_point(m, po, lo, &P, &L)) return NULL;
   npy_intp d1[1] = {n}, d3[3] = {n, nc, 6};
   PyArrayObject *om = (PyArrayObject *)PyArray_ZEROS(1, d1, NPY_DOUBLE, 0);
   PyArrayObject *ze = (PyArrayObject *)PyArray_ZEROS(1, d1, NPY_DOUBLE, 0);
@@ -723,6 +733,32 @@ static PyObject *py_model_modes(PyObject *self, PyObject *args) {
   return res;
 }
 
+static PyObject *py_model_modes_count(PyObject *self, PyObject *args) {
+  (void)self;
+  PyObject *cap, *po = Py_None, *lo = Py_None;
+  double shift, time = 0;
+  if (!PyArg_ParseTuple(args, "Od|OOd", &cap, &shift, &po, &lo, &time)) return NULL;
+  phm_model *m = get_model(cap);
+  if (!m) return NULL;
+  PyArrayObject *P, *L;
+  if (linearization_point(m, po, lo, &P, &L)) return NULL;
+  int below = -1;
+  double check = 0;
+  phm_error err;
+  phm_status st;
+  Py_BEGIN_ALLOW_THREADS
+  st = phm_modes_count(m, P ? PyArray_DATA(P) : NULL, L ? PyArray_DATA(L) : NULL, time, shift,
+                       &below, &check, &err);
+  Py_END_ALLOW_THREADS
+  PyObject *res = NULL;
+  if (model_law_error(cap)) res = NULL;
+  else if (st) phm_py_raise(&err);
+  else res = Py_BuildValue("id", below, check);
+  Py_XDECREF(P);
+  Py_XDECREF(L);
+  return res;
+}
+
 /* model_linear(model, ports, poses=None, lambda=None, time=0): ports a list of (kind, index, T
  * (4, 4)) -> (K, D, M, Z, B, (nr, ncol)) of phm_linear_model, flat (Python reshapes). */
 static PyObject *py_model_linear(PyObject *self, PyObject *args) {
@@ -736,7 +772,7 @@ static PyObject *py_model_linear(PyObject *self, PyObject *args) {
     PyErr_SetString(phm_py_ModelError, "model_linear: ports must be a list of (kind, index, T)");
     return NULL;
   }
-  int nc = phm_model_ncarriers(m), nk = phm_model_nconstraints(m), n6 = 6 * nc;
+  int nc = phm_model_ncarriers(m), n6 = 6 * nc;
   Py_ssize_t np_ = PyList_GET_SIZE(plist);
   phm_linear_port *ports = PyMem_Calloc((size_t)np_ + 1, sizeof(phm_linear_port));
   PyArrayObject *P = NULL, *L = NULL, *K = NULL, *D = NULL, *M = NULL, *Z = NULL, *B = NULL;
@@ -751,14 +787,7 @@ static PyObject *py_model_linear(PyObject *self, PyObject *args) {
     memcpy(ports[i].T, PyArray_DATA(T), 16 * sizeof(double));
     Py_DECREF(T);
   }
-  if (po != Py_None) {
-    npy_intp tail[3] = {nc, 4, 4};
-    if (!(P = phm_py_double_array(po, "poses", tail, 3, 0))) goto fail;
-  }
-  if (lo != Py_None) {
-    npy_intp tail[1] = {nk};
-    if (!(L = phm_py_double_array(lo, "constraint wrenches", tail, 1, 0))) goto fail;
-  }
+  if (linearization_point(m, po, lo, &P, &L)) goto fail;
   int ncol = phm_linear_port_columns(m, (int)np_, ports);
   npy_intp dnn[1] = {(npy_intp)n6 * n6}, db[1] = {(npy_intp)n6 * ncol};
   K = (PyArrayObject *)PyArray_ZEROS(1, dnn, NPY_DOUBLE, 0);
@@ -1080,6 +1109,9 @@ PyMethodDef phm_py_model_methods[] = {
     {"model_modes", py_model_modes, METH_VARARGS,
      "model_modes(model, n, poses=None, lambda=None, time=0, method=0) -> (omega, zeta, shapes, "
      "nfound); method 0 auto, 1 dense, 2 sparse (phm_modes)."},
+    {"model_modes_count", py_model_modes_count, METH_VARARGS,
+     "model_modes_count(model, shift, poses=None, lambda=None, time=0) -> (below, check): how many "
+     "eigenvalues omega^2 lie below shift [(rad/s)^2] (phm_modes_count)"},
     {"model_linear", py_model_linear, METH_VARARGS,
      "model_linear(model, ports, poses=None, lambda=None, time=0) -> (K, D, M, Z, B, (nr, ncol)): "
      "flat buffers whose leading nr*nr (Z: 6nc*nr, B: nr*ncol) values are the row-major matrices "

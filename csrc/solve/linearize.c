@@ -7,6 +7,8 @@
  * Set-up time code: allocates. */
 #include "solve.h"
 
+#include <amd.h>
+#include <ldl.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -264,11 +266,178 @@ void lin_constraint_blocks(const lin_t *L, const double *H, double *Gp) {
   }
 }
 
-int lin_kkt_factor(lin_kkt_t *S, const double *Kb, const double *Gp) {
+void lin_kkt_values(lin_kkt_t *S, const double *Kb, const double *Gp) {
   for (int k = 0; k < S->Ap[S->n]; k++) S->Ax[k] = S->src[k] >= 0 ? Kb[S->src[k]] : Gp[-S->src[k] - 1];
+}
+
+void lin_kkt_equilibrate(lin_kkt_t *S, double *sc, double *work) {
+  int n = S->n;
+  for (int i = 0; i < n; i++) sc[i] = 1.0;
+  for (int it = 0; it < 3; it++) {
+    for (int i = 0; i < n; i++) work[i] = 0;
+    for (int j = 0; j < n; j++)
+      for (int p = S->Ap[j]; p < S->Ap[j + 1]; p++) work[j] = fmax(work[j], fabs(S->Ax[p]));
+    for (int i = 0; i < n; i++) work[i] = work[i] > 0 && isfinite(work[i]) ? 1.0 / sqrt(work[i]) : 1.0;
+    for (int j = 0; j < n; j++)
+      for (int p = S->Ap[j]; p < S->Ap[j + 1]; p++) S->Ax[p] *= work[j] * work[S->Ai[p]];
+    for (int i = 0; i < n; i++) sc[i] *= work[i];
+  }
+}
+
+int lin_kkt_factor(lin_kkt_t *S, const double *Kb, const double *Gp) {
+  lin_kkt_values(S, Kb, Gp);
+  return lin_kkt_refactor(S);
+}
+
+int lin_kkt_refactor(lin_kkt_t *S) {
   if (S->num) klu_free_numeric(&S->num, &S->common);
   S->num = klu_factor(S->Ap, S->Ai, S->Ax, S->sym, &S->common);
   return !S->num || S->common.status != KLU_OK;
 }
 
 int lin_kkt_solve(lin_kkt_t *S, double *x) { return !klu_solve(S->sym, S->num, S->n, 1, x, &S->common); }
+
+/* ---------------------------------------------------------------- the KKT matrix's inertia */
+void lin_ldl_free(lin_ldl_t *F) {
+  free(F->P); free(F->Pinv); free(F->Lp); free(F->Parent); free(F->Lnz); free(F->Li);
+  free(F->Flag); free(F->Pattern); free(F->Lx); free(F->D); free(F->Y);
+  free(F->Rp); free(F->Rj); free(F->Rx); free(F->cs);
+  memset(F, 0, sizeof *F);
+}
+
+phm_status lin_ldl_analyze(lin_ldl_t *F, const lin_t *L, const lin_kkt_t *S, phm_error *err) {
+  const phm_model *m = L->m;
+  int nc = m->nc, n6 = 6 * nc, N = S->n;
+  memset(F, 0, sizeof *F);
+  F->n = N;
+  int *order = malloc(sizeof(int) * (size_t)(nc + 1)), *pos = malloc(sizeof(int) * (size_t)(nc + 1));
+  int *last = malloc(sizeof(int) * (size_t)(m->np + 1)), *head = malloc(sizeof(int) * (size_t)(nc + 1));
+  int *next = malloc(sizeof(int) * (size_t)(m->np + 1));
+  F->P = malloc(sizeof(int) * (size_t)N);
+  F->Pinv = malloc(sizeof(int) * (size_t)N);
+  F->Lp = malloc(sizeof(int) * (size_t)(N + 1));
+  F->Parent = malloc(sizeof(int) * (size_t)N);
+  F->Lnz = malloc(sizeof(int) * (size_t)N);
+  F->Flag = malloc(sizeof(int) * (size_t)N);
+  F->Pattern = malloc(sizeof(int) * (size_t)N);
+  F->D = malloc(sizeof(double) * (size_t)N);
+  F->Y = calloc((size_t)N, sizeof(double));
+  phm_status st = PHM_OK;
+  if (!order || !pos || !last || !head || !next || !F->P || !F->Pinv || !F->Lp || !F->Parent ||
+      !F->Lnz || !F->Flag || !F->Pattern || !F->D || !F->Y) {
+    st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+    goto done;
+  }
+  /* the carriers in AMD order of their graph (which holds the pairs' edges) */
+  double info[AMD_INFO];
+  int a = amd_order(nc, L->ptr, L->nbr, order, NULL, info);
+  if (a != AMD_OK && a != AMD_OK_BUT_JUMBLED) {
+    st = PHM_FAIL(err, a == AMD_OUT_OF_MEMORY ? PHM_ENOMEM : PHM_ESOLVER, "modes: AMD ordering failed (status %d)", a);
+    goto done;
+  }
+  for (int k = 0; k < nc; k++) { pos[order[k]] = k; head[k] = -1; }
+  /* each pair's rows after the later of its carriers (pairs bucketed by that carrier, in order) */
+  for (int ip = m->np - 1; ip >= 0; ip--) {
+    int pa = m->pair[ip].a, pb = m->pair[ip].b;
+    int c = pa < 0 ? pb : pb < 0 ? pa : pos[pa] > pos[pb] ? pa : pb;
+    last[ip] = c;
+    next[ip] = head[c];
+    head[c] = ip;
+  }
+  int k = 0;
+  for (int t = 0; t < nc; t++) {
+    int c = order[t];
+    for (int i = 0; i < 6; i++) F->P[k++] = 6 * c + i;
+    for (int ip = head[c]; ip >= 0; ip = next[ip])
+      for (int r = 0; r < m->pair_m[ip]; r++) F->P[k++] = n6 + m->pair_row[ip] + r;
+  }
+  if (k != N) {
+    st = PHM_FAIL(err, PHM_ESOLVER, "modes: KKT ordering covers %d of %d unknowns", k, N);
+    goto done;
+  }
+  ldl_symbolic(N, S->Ap, S->Ai, F->Lp, F->Parent, F->Lnz, F->Flag, F->P, F->Pinv);
+  size_t nnz = (size_t)F->Lp[N] + 1;
+  F->Li = malloc(sizeof(int) * nnz);
+  F->Lx = malloc(sizeof(double) * nnz);
+  F->Rj = malloc(sizeof(int) * nnz);
+  F->Rx = malloc(sizeof(double) * nnz);
+  F->Rp = malloc(sizeof(int) * (size_t)(N + 1));
+  F->cs = malloc(sizeof(double) * (size_t)N);
+  if (!F->Li || !F->Lx || !F->Rj || !F->Rx || !F->Rp || !F->cs) st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+done:
+  free(order); free(pos); free(last); free(head); free(next);
+  return st;
+}
+
+int lin_ldl_negative(lin_ldl_t *F, lin_kkt_t *S, double *check) {
+  int N = F->n;
+  *check = INFINITY;
+  if (ldl_numeric(N, S->Ap, S->Ai, S->Ax, F->Lp, F->Parent, F->Lnz, F->Li, F->Lx, F->D, F->Y,
+                  F->Pattern, F->Flag, F->P, F->Pinv) != N)
+    return -1;
+  int neg = 0;
+  for (int k = 0; k < N; k++) neg += F->D[k] < 0;
+  /* ||E||_1 column by column in permuted indices: column k of L D L^T on and below the
+   * diagonal is the sum over the nonzeros L(k, j), j <= k (L(k, k) = 1), of d_j L(k, j) L(i, j),
+   * i >= k; E's lower triangle gives the column sums of |E| (symmetric). Row k of L from the
+   * transpose (rp, rj, rx); w: the dense column, touched: its nonzeros. */
+  double *w = F->Y, *rx = F->Rx, *cs = F->cs;
+  int nnz = F->Lp[N], *rp = F->Rp, *rj = F->Rj, *touched = F->Pattern, *mark = F->Flag;
+  memset(cs, 0, sizeof(double) * (size_t)N);
+  memset(rp, 0, sizeof(int) * (size_t)(N + 1));
+  for (int p = 0; p < nnz; p++) rp[F->Li[p] + 1]++;
+  for (int i = 0; i < N; i++) rp[i + 1] += rp[i];
+  for (int j = 0; j < N; j++)
+    for (int p = F->Lp[j]; p < F->Lp[j] + F->Lnz[j]; p++) {
+      int q = rp[F->Li[p]]++;
+      rj[q] = j;
+      rx[q] = F->Lx[p];
+    }
+  for (int i = N; i > 0; i--) rp[i] = rp[i - 1];
+  rp[0] = 0;
+  for (int i = 0; i < N; i++) { w[i] = 0; mark[i] = -1; }
+  for (int k = 0; k < N; k++) {
+    int nt = 0;
+    /* + P A P^T (i >= k): column P[k] of A, rows Pinv[.] */
+    for (int p = S->Ap[F->P[k]]; p < S->Ap[F->P[k] + 1]; p++) {
+      int i = F->Pinv[S->Ai[p]];
+      if (i < k) continue;
+      if (mark[i] != k) { mark[i] = k; touched[nt++] = i; }
+      w[i] += S->Ax[p];
+    }
+    /* - L D L^T (i >= k) */
+    for (int t = rp[k]; t <= rp[k + 1]; t++) {
+      int j = t < rp[k + 1] ? rj[t] : k;
+      double c = F->D[j] * (t < rp[k + 1] ? rx[t] : 1.0);
+      if (j == k) {
+        if (mark[k] != k) { mark[k] = k; touched[nt++] = k; }
+        w[k] -= c;
+      }
+      for (int p = F->Lp[j]; p < F->Lp[j] + F->Lnz[j]; p++) {
+        int i = F->Li[p];
+        if (i < k) continue;
+        if (mark[i] != k) { mark[i] = k; touched[nt++] = i; }
+        w[i] -= c * F->Lx[p];
+      }
+    }
+    for (int t = 0; t < nt; t++) {
+      int i = touched[t];
+      double e = fabs(w[i]);
+      cs[k] += e;
+      if (i != k) cs[i] += e;
+      w[i] = 0;
+    }
+  }
+  double enorm = 0;
+  for (int i = 0; i < N; i++) enorm = fmax(enorm, cs[i]);
+  /* est ||KKT^-1||_1 = condest / ||KKT||_1 (KLU's estimate on S's factors) */
+  double anorm = 0;
+  for (int j = 0; j < N; j++) {
+    double s = 0;
+    for (int p = S->Ap[j]; p < S->Ap[j + 1]; p++) s += fabs(S->Ax[p]);
+    anorm = fmax(anorm, s);
+  }
+  if (S->num && klu_condest(S->Ap, S->Ax, S->sym, S->num, &S->common) && anorm > 0)
+    *check = enorm * S->common.condest / anorm;
+  return neg;
+}

@@ -71,8 +71,38 @@ void lin_kkt_free(lin_kkt_t *S);
 /* Values from the blocks Kb (36 per graph slot) and Gp, then a KLU factorization with fresh
  * pivoting; 0 on success, 1 if singular. */
 int lin_kkt_factor(lin_kkt_t *S, const double *Kb, const double *Gp);
+/* lin_kkt_factor in steps: the values, then the factorization (0 on success, 1 if singular). */
+void lin_kkt_values(lin_kkt_t *S, const double *Kb, const double *Gp);
+int lin_kkt_refactor(lin_kkt_t *S);
+/* Symmetric equilibration of S's values (three passes of Ruiz's: rows and columns divided by the
+ * square root of their largest entry): S's matrix becomes diag(sc) KKT diag(sc), the same
+ * inertia (a congruence) and KKT^-1 = diag(sc) S^-1 diag(sc). sc, work: n each. */
+void lin_kkt_equilibrate(lin_kkt_t *S, double *sc, double *work);
 /* x <- KKT^-1 x with the last factorization; 0 on success. */
 int lin_kkt_solve(lin_kkt_t *S, double *x);
+/* The inertia of the KKT matrix (Sylvester): a symmetric LDL' factorization without pivoting
+ * (SuiteSparse's LDL) of P KKT P^T, P eliminating the carriers in AMD order of the carrier
+ * graph and each constraint row right after the later of its pair's carriers (a row's zero
+ * diagonal is then its Schur complement -g A^-1 g^T, not a zero pivot). */
+typedef struct {
+  int n, *P, *Pinv, *Lp, *Parent, *Lnz, *Li, *Flag, *Pattern; /* LDL's (ldl.h) */
+  double *Lx, *D, *Y;
+  int *Rp, *Rj;     /* L by rows (the residual's check) */
+  double *Rx, *cs;
+} lin_ldl_t;
+
+/* The ordering and symbolic factorization of S's pattern (lin_kkt_build). */
+phm_status lin_ldl_analyze(lin_ldl_t *F, const lin_t *L, const lin_kkt_t *S, phm_error *err);
+void lin_ldl_free(lin_ldl_t *F);
+/* The number of negative pivots of the LDL' factorization of S's values (S factored by
+ * lin_kkt_factor: its KLU factors give the condition estimate), and in *check the certificate
+ * ||E||_1 est(||KKT^-1||_1) of the factorization's residual E = P KKT P^T - L D L^T: the
+ * computed inertia is exactly KKT + P^T E P's, and that is KKT's (Weyl: the symmetric E moves no
+ * eigenvalue by more than ||E||_2 <= ||E||_1, and none is closer to 0 than 1/||KKT^-1||_2 >=
+ * 1/||KKT^-1||_1) when *check < 1, up to the condition estimate's accuracy. Returns -1 (check
+ * INFINITY) on a zero pivot. O(N) for the carriers' graphs, like the KLU factorization. */
+int lin_ldl_negative(lin_ldl_t *F, lin_kkt_t *S, double *check);
+
 /* The pairs' constraint Jacobian blocks at poses H: row r holds G_a in Gp[12 r ..] and G_b in
  * Gp[12 r + 6 ..] (12 per constraint row). */
 void lin_constraint_blocks(const lin_t *L, const double *H, double *Gp);

@@ -5,8 +5,10 @@
  * wrenches in the twists. A chain of four elements, bent and twisted, clamped to the ground, a
  * revolute pair with constraint wrenches lambda and a PD actuator, a spring-damper to the ground,
  * gravity and a world-fixed load; and every pair type's geometric stiffness alone. Reference steps
- * 1e-6 (rad, m; truncation ~ 1e-12, round-off ~ 1e-10 relative): 1e-7 relative. */
+ * 1e-6 (rad, m; truncation ~ 1e-12, round-off ~ 1e-10 relative): 1e-7 relative. The KKT
+ * matrix's inertia (lin_ldl_negative) against the dense matrix's eigenvalues (LAPACK dsyev). */
 #include "check.h"
+#include "linalg.h"
 #include "solve.h"
 
 enum { NC = 5 };
@@ -199,5 +201,148 @@ static void stiffness_and_damping_blocks_are_central_differences(void) {
   phm_model_free(m);
 }
 
+/* The KKT matrix's inertia from the LDL' factorization without pivoting (lin_ldl_negative, on the
+ * equilibrated matrix) against the eigenvalues of the dense matrix: random pairs (a chain from
+ * the ground, types among fixed, revolute, prismatic, universal, spherical) at random poses,
+ * random symmetric stiffness blocks K + t I. t: random, or -nu_k + delta with nu_k an
+ * eigenvalue of Z^T K Z (Z: the null space of G, orthonormal), so that the reduced matrix
+ * Z^T K Z + t I has the eigenvalue delta, tiny (near-singular): its negative count is then
+ * known without the dense KKT matrix's round-off, #{nu_i < nu_k - delta}. A count whose
+ * certificate is below PHM_INERTIA_CHECK must be exact; most must be certified. */
+static void kkt_inertia_is_the_dense_count(void) {
+  static const char *const types[] = {"fixed", "revolute", "prismatic", "universal", "spherical"};
+  int certified = 0, compared = 0, near_certified = 0, near = 0;
+  double worst = 0;
+  for (int trial = 0; trial < 120; trial++) {
+    phm_carrier_desc car[NC];
+    phm_pair_desc pair[NC];
+    double H[16 * NC];
+    memset(pair, 0, sizeof pair);
+    for (int c = 0; c < NC; c++) {
+      carrier_unit(&car[c]);
+      rand_pose(H + 16 * c, 1.0);
+    }
+    for (int p = 0; p < NC; p++) {
+      pair[p].type = pair_code(types[(int)(5 * rand01()) % 5]);
+      pair[p].a = p - 1;
+      pair[p].b = p;
+      rand_pose(pair[p].Ta, 1.0);
+      rand_pose(pair[p].Tb, 1.0);
+    }
+    phm_model_desc d = {.ncarriers = NC, .carriers = car, .npairs = NC, .pairs = pair};
+    phm_model *m = create_model(&d);
+    if (!m) continue;
+    int nk = phm_model_nconstraints(m), n6 = 6 * NC, N = n6 + nk;
+    lin_t L = {0};
+    lin_kkt_t S = {0};
+    lin_ldl_t F = {0};
+    phm_error err;
+    double *Kb = NULL, *Gp = malloc(sizeof(double) * 12 * (size_t)(nk + 1));
+    double *A = malloc(sizeof(double) * (size_t)N * N), *ev = malloc(sizeof(double) * (size_t)N);
+    double *sc = malloc(sizeof(double) * (size_t)N), *work = malloc(sizeof(double) * 64 * (size_t)N);
+    double *Z = malloc(sizeof(double) * (size_t)n6 * n6), *Kd = calloc((size_t)n6 * n6, sizeof(double));
+    if (lin_alloc(&L, m, &err) || lin_graph(&L, &err) || lin_kkt_build(&S, &L, &err) ||
+        lin_ldl_analyze(&F, &L, &S, &err) || !Gp || !A || !ev || !sc || !work || !Z || !Kd) {
+      check_fail("set-up: %s", err.msg);
+      goto next;
+    }
+    int nb = L.ptr[NC];
+    Kb = calloc(36 * (size_t)nb, sizeof(double));
+    if (!Kb) goto next;
+    /* K: random symmetric blocks on the graph's slots, of a random scale */
+    double scale = pow(10.0, 3 * rand11());
+    for (int r = 0; r < NC; r++)
+      for (int q = L.ptr[r]; q < L.ptr[r + 1]; q++) {
+        int c = L.nbr[q];
+        if (c < r) continue;
+        int qt = L.ptr[c];
+        while (L.nbr[qt] != r) qt++;
+        for (int i = 0; i < 6; i++)
+          for (int j = 0; j < 6; j++) {
+            double v = scale * rand11();
+            if (c == r && j < i) continue;
+            Kb[36 * q + 6 * i + j] = v;
+            Kb[36 * qt + 6 * j + i] = v;
+          }
+      }
+    for (int r = 0; r < NC; r++)
+      for (int q = L.ptr[r]; q < L.ptr[r + 1]; q++)
+        for (int i = 0; i < 6; i++)
+          for (int j = 0; j < 6; j++) Kd[(size_t)(6 * r + i) * n6 + 6 * L.nbr[q] + j] = Kb[36 * q + 6 * i + j];
+    lin_constraint_blocks(&L, H, Gp);
+    /* the null space of G (dense, n6 columns: nk x n6 row-major = n6 x nk column-major G^T) */
+    double *Gt = A, sv[6 * NC];
+    memset(Gt, 0, sizeof(double) * (size_t)n6 * nk);
+    for (int ip = 0; ip < NC; ip++)
+      for (int r = m->pair_row[ip]; r < m->pair_row[ip] + m->pair_m[ip]; r++)
+        for (int side = 0; side < 2; side++) {
+          int c = side ? pair[ip].b : pair[ip].a;
+          if (c >= 0)
+            for (int j = 0; j < 6; j++) Gt[(size_t)r * n6 + 6 * c + j] = Gp[12 * r + 6 * side + j];
+        }
+    int lw = 64 * N, info = 0, one = 1;
+    dgesvd_("A", "N", &n6, &nk, Gt, &n6, sv, Z, &n6, NULL, &one, work, &lw, &info);
+    int nz = n6 - nk;
+    if (info || sv[nk - 1] < 1e-8 * sv[0] || nz < 1) goto next; /* dependent rows: not this test */
+    /* Z^T K Z on the columns nk.. of U */
+    double *R = A;
+    for (int a = 0; a < nz; a++)
+      for (int b = 0; b < nz; b++) {
+        double t = 0;
+        for (int i = 0; i < n6; i++) {
+          double ki = 0;
+          for (int j = 0; j < n6; j++) ki += Kd[(size_t)i * n6 + j] * Z[(size_t)(nk + b) * n6 + j];
+          t += Z[(size_t)(nk + a) * n6 + i] * ki;
+        }
+        R[(size_t)a * nz + b] = t;
+      }
+    dsyev_("N", "U", &nz, R, &nz, ev, work, &lw, &info);
+    if (info) goto next;
+    double numax = fmax(fabs(ev[0]), fabs(ev[nz - 1]));
+    int k = (int)(nz * rand01()) % nz, kind = trial % 4;
+    static const double deltas[4] = {0, 1e-6, 1e-10, -1e-10};
+    double t = kind == 0 ? numax * rand11() : -ev[k] + deltas[kind] * numax;
+    int want = 0;
+    for (int i = 0; i < nz; i++) want += ev[i] + t < 0;
+    if (kind != 0 && k > 0 && fabs(ev[k] - ev[k - 1]) < 1e-8 * numax) goto next;
+    if (kind != 0 && k + 1 < nz && fabs(ev[k + 1] - ev[k]) < 1e-8 * numax) goto next;
+    for (int r = 0; r < NC; r++) {
+      int q = L.ptr[r];
+      while (L.nbr[q] != r) q++;
+      for (int i = 0; i < 6; i++) Kb[36 * q + 7 * i] += t;
+    }
+    lin_kkt_values(&S, Kb, Gp);
+    lin_kkt_equilibrate(&S, sc, work);
+    if (lin_kkt_refactor(&S)) goto next;
+    double check = 0;
+    int neg = lin_ldl_negative(&F, &S, &check);
+    if (kind == 0 || deltas[kind] == 1e-6) {
+      compared++;
+      if (check < PHM_INERTIA_CHECK) certified++;
+    } else {
+      near++;
+      if (check < PHM_INERTIA_CHECK) near_certified++;
+    }
+    if (check < PHM_INERTIA_CHECK) {
+      CHECK(neg - nk == want, "trial %d (t %s): %d negative pivots - %d rows = %d, dense count %d "
+            "(certificate %.2g)", trial, kind ? "near an eigenvalue" : "random", neg, nk, neg - nk,
+            want, check);
+      worst = fmax(worst, check);
+    }
+  next:
+    lin_ldl_free(&F);
+    lin_kkt_free(&S);
+    lin_free(&L);
+    phm_model_free(m);
+    free(Kb); free(Gp); free(A); free(ev); free(sc); free(work); free(Z); free(Kd);
+  }
+  CHECK(compared >= 40 && certified >= compared - compared / 10, "%d of %d counts certified "
+        "(worst certified %.2g); near-singular: %d of %d", certified, compared, worst,
+        near_certified, near);
+  if (check_verbose)
+    printf("  kkt inertia: %d of %d certified (worst %.2g), near-singular %d of %d\n", certified,
+           compared, worst, near_certified, near);
+}
+
 CHECK_MAIN(CHECK_CASE(stiffness_and_damping_blocks_are_central_differences),
-           CHECK_CASE(pair_stiffness_is_closed_form))
+           CHECK_CASE(pair_stiffness_is_closed_form), CHECK_CASE(kkt_inertia_is_the_dense_count))
