@@ -86,6 +86,8 @@ typedef struct {
                           * counted as a 3-D solve counts them the norms, and so the steps
                           * and Newton's tests, are the 3-D solve's (n and 0 in 3-D) */
   double tref;           /* reference time of the laws' current piece (phm_model_tref) */
+  unsigned char *kbody;  /* nc: carrier c's kinematic rows in its body frame (1) or in the
+                          * world's (0): dae_body_kinematics (a full DAE's; NULL when planar) */
   phm_data data;         /* allocated by dae_init */
   char idamsg[256];         /* IDA's last error message, through idasink (csrc/solve/ida.c) */
   phm_sun_errsink idasink; /* here, not in run_ida: SUNDIALS 7 keeps it on the context */
@@ -142,6 +144,11 @@ void dae_carrier_states(const dae_t *d, dae_carrier_layout *L);
  * the latter's). No allocation. */
 void dae_ledger_dpower(dae_t *d, double time, const double *y, const double *dy, double at,
                        double *dP);
+/* The kinematic rows of the carriers that mu acts on (those of pairs with constraint rows) in
+ * their body frames (on != 0), the others' and by default all in the world's: the same equations
+ * premultiplied by an invertible matrix of the carrier's quaternion, whose Newton matrix has
+ * mu's entries constant (residual.c). IDA takes them (csrc/solve/ida.c says why). */
+void dae_body_kinematics(dae_t *d, int on);
 /* Absolute tolerance of state i for the error weights (the multipliers' own floors). */
 double dae_state_atol(const dae_t *d, int i, double atol);
 /* State i is a carrier's twist component. */

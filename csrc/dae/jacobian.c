@@ -170,16 +170,52 @@ static void quat_rate(const double q[4], double Jw[12]) {
   memcpy(Jw, J, sizeof J);
 }
 
-/* kin (7 x 6) = [Jw 0; 0 -R]: the kinematic rows' (q' and p' = R (v + dv)) derivative in the
- * twist correction (dw, dv) = (G^T mu)_c of carrier c (quaternion q, pose Hc). */
-static void kin_rate(const double q[4], const double *Hc, double kin[42]) {
+/* kin (7 x 6): the kinematic rows' derivative in the twist correction (dw, dv) = (G^T mu)_c of
+ * carrier c (quaternion q, pose Hc): [Jw 0; 0 -R] for q' = 1/2 q (x) (0, w + dw) and p' =
+ * R (v + dv); in the body frame (body != 0, dae_body_kinematics) the constant [0; -I 0; 0 -I]. */
+static void kin_rate(int body, const double q[4], const double *Hc, double kin[42]) {
+  memset(kin, 0, sizeof(double) * 42);
+  if (body) {
+    for (int i = 0; i < 6; i++) kin[6 * (1 + i) + i] = -1.0;
+    return;
+  }
   double Jw[12];
   quat_rate(q, Jw);
-  memset(kin, 0, sizeof(double) * 42);
   for (int i = 0; i < 4; i++)
     for (int j = 0; j < 3; j++) kin[6 * i + j] = Jw[3 * i + j];
   for (int i = 0; i < 3; i++)
     for (int j = 0; j < 3; j++) kin[6 * (4 + i) + 3 + j] = -Hc[4 * i + j];
+}
+
+/* Carrier c's body-frame kinematic rows (dae_body_kinematics) in its own states, into the block
+ * B (13 x 13, row-major): 2 conj(q) (x) q' / |q|^2 - (0, w) and R^T p' - v. With P = conj(q)
+ * (x) q' (bilinear) and s2 = 2 / |q|^2: d/dq = s2 dP/dq - s2^2 P q^T, d/dq' = s2 conj(q) (x)
+ * (times cj), d/dw = -I; d(R^T p') = hat(R^T p') dtheta (R -> R exp(hat dtheta)) through the
+ * chart E, cj R^T on p', -I on v. G^T mu's part is jacobian_pairs'. */
+static void body_kinematics_block(const double q[4], const double a[7], const double *Hc,
+                                  const double E[12], double cj, double *B) {
+  double s2 = 2.0 / (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  double P[4] = {q[0] * a[0] + q[1] * a[1] + q[2] * a[2] + q[3] * a[3],
+                 q[0] * a[1] - q[1] * a[0] - q[2] * a[3] + q[3] * a[2],
+                 q[0] * a[2] - q[2] * a[0] - q[3] * a[1] + q[1] * a[3],
+                 q[0] * a[3] - q[3] * a[0] - q[1] * a[2] + q[2] * a[1]};
+  double dP[16] = {a[0], a[1], a[2], a[3],    a[1], -a[0], -a[3], a[2],
+                   a[2], a[3], -a[0], -a[1],  a[3], -a[2], a[1], -a[0]};
+  double L[16] = {q[0], q[1], q[2], q[3],     -q[1], q[0], q[3], -q[2],
+                  -q[2], -q[3], q[0], q[1],   -q[3], q[2], -q[1], q[0]}; /* conj(q) (x) . */
+  for (int i = 0; i < 4; i++)
+    for (int j = 0; j < 4; j++)
+      B[PHM_NSTATE * i + j] = s2 * (dP[4 * i + j] - s2 * P[i] * q[j] + cj * L[4 * i + j]);
+  for (int i = 0; i < 3; i++) B[PHM_NSTATE * (1 + i) + 7 + i] = -1.0;
+  double u[3]; /* R^T p' */
+  for (int i = 0; i < 3; i++) u[i] = Hc[i] * a[4] + Hc[4 + i] * a[5] + Hc[8 + i] * a[6];
+  double U[9] = {0, -u[2], u[1], u[2], 0, -u[0], -u[1], u[0], 0};
+  for (int i = 0; i < 3; i++) {
+    double *b = B + PHM_NSTATE * (4 + i);
+    for (int j = 0; j < 4; j++) b[j] = U[3 * i] * E[j] + U[3 * i + 1] * E[4 + j] + U[3 * i + 2] * E[8 + j];
+    for (int j = 0; j < 3; j++) b[4 + j] = cj * Hc[4 * j + i];
+    b[10 + i] = -1.0;
+  }
 }
 
 /* A component's wrenches on carriers ca, cb (phm_tangent_sink): -Kx through the charts of the
@@ -214,7 +250,7 @@ static void add_wrench_tangent(void *ctx, int ca, int cb, const double w[12], co
 
 /* The closed-form part of the Jacobian at (y, y') (the poses, twists, pairs and G^T mu in
  * d->data): each carrier's kinematic rows q' = 1/2 q (x) (0, w + dw), p' = R (v + dv) ((dw, dv)
- * = G^T mu) and momentum rows M t' - ad*_t M t - gravity in its own states, and each se3
+ * = G^T mu; or in its body frame, body_kinematics_block) and momentum rows M t' - ad*_t M t - gravity in its own states, and each se3
  * element's wrenches (phm_element_tangent) and consistent mass (phm_element_inertia, which reads
  * the twists' rates yp) and each actuator's, load's and spring's
  * (phm_applied_tangent) in the states of its two carriers, through the chart (q, p) -> body
@@ -230,29 +266,33 @@ static void jacobian_closed_form(dae_t *d, double time, double cj, const double 
     int o = PHM_NSTATE * c;
     double B[PHM_NSTATE * PHM_NSTATE] = {0}; /* rows and columns: the carrier's 13 states */
 #define JB(i, j) B[PHM_NSTATE * (i) + (j)]
-    double w[3] = {t[0] + gm[0], t[1] + gm[1], t[2] + gm[2]};
-    double v[3] = {t[3] + gm[3], t[4] + gm[4], t[5] + gm[5]};
-    double Jq[16] = {0, .5 * w[0], .5 * w[1], .5 * w[2],     -.5 * w[0], 0, -.5 * w[2], .5 * w[1],
-                     -.5 * w[1], .5 * w[2], 0, -.5 * w[0],   -.5 * w[2], -.5 * w[1], .5 * w[0], 0};
-    double Jw[12];
-    quat_rate(q, Jw);
-    for (int i = 0; i < 4; i++) {
-      for (int j = 0; j < 4; j++) JB(i, j) = Jq[4 * i + j];
-      for (int j = 0; j < 3; j++) JB(i, 7 + j) = Jw[3 * i + j];
-    }
-    /* p' = R v: d(R v) = -R hat(v) dw, dw = E dq */
-    double E[12], RV[9];
+    double E[12];
     quat_chart(q, E);
-    for (int i = 0; i < 3; i++) {
-      double r[3] = {Hc[4 * i], Hc[4 * i + 1], Hc[4 * i + 2]};
-      RV[3 * i] = r[1] * v[2] - r[2] * v[1]; /* row i of R hat(v): r x v, r = row i of R */
-      RV[3 * i + 1] = r[2] * v[0] - r[0] * v[2];
-      RV[3 * i + 2] = r[0] * v[1] - r[1] * v[0];
-      for (int j = 0; j < 4; j++)
-        JB(4 + i, j) = RV[3 * i] * E[j] + RV[3 * i + 1] * E[4 + j] + RV[3 * i + 2] * E[8 + j];
-      for (int j = 0; j < 3; j++) JB(4 + i, 10 + j) = -r[j];
+    if (d->kbody[c]) body_kinematics_block(q, yp + o, Hc, E, cj, B);
+    else {
+      double w[3] = {t[0] + gm[0], t[1] + gm[1], t[2] + gm[2]};
+      double v[3] = {t[3] + gm[3], t[4] + gm[4], t[5] + gm[5]};
+      double Jq[16] = {0, .5 * w[0], .5 * w[1], .5 * w[2],     -.5 * w[0], 0, -.5 * w[2], .5 * w[1],
+                       -.5 * w[1], .5 * w[2], 0, -.5 * w[0],   -.5 * w[2], -.5 * w[1], .5 * w[0], 0};
+      double Jw[12];
+      quat_rate(q, Jw);
+      for (int i = 0; i < 4; i++) {
+        for (int j = 0; j < 4; j++) JB(i, j) = Jq[4 * i + j];
+        for (int j = 0; j < 3; j++) JB(i, 7 + j) = Jw[3 * i + j];
+      }
+      /* p' = R v: d(R v) = -R hat(v) dw, dw = E dq */
+      double RV[9];
+      for (int i = 0; i < 3; i++) {
+        double r[3] = {Hc[4 * i], Hc[4 * i + 1], Hc[4 * i + 2]};
+        RV[3 * i] = r[1] * v[2] - r[2] * v[1]; /* row i of R hat(v): r x v, r = row i of R */
+        RV[3 * i + 1] = r[2] * v[0] - r[0] * v[2];
+        RV[3 * i + 2] = r[0] * v[1] - r[1] * v[0];
+        for (int j = 0; j < 4; j++)
+          JB(4 + i, j) = RV[3 * i] * E[j] + RV[3 * i + 1] * E[4 + j] + RV[3 * i + 2] * E[8 + j];
+        for (int j = 0; j < 3; j++) JB(4 + i, 10 + j) = -r[j];
+      }
+      for (int i = 0; i < 7; i++) JB(i, i) += cj;
     }
-    for (int i = 0; i < 7; i++) JB(i, i) += cj;
     /* M t' - ad*_t (M t): cj M - ad*_(e_j) M t - ad*_t M e_j */
     double Mt[6];
     phm_mv6(M, t, Mt);
@@ -300,7 +340,8 @@ static void jacobian_closed_form(dae_t *d, double time, double cj, const double 
  * 6.6) at the state y (the poses and twists in d->data), and the ledger rows' diagonal cj. Per
  * pair with carriers a (side 0) and b (side 1), each carrier c_s's states against:
  *   its momentum rows:    -d(G^T lambda)/d pose (Kl), -G_s^T in lambda's columns;
- *   its kinematic rows:   Jw d(G^T mu)_omega, -R d(G^T mu)_v (Km), and Jw G_s^T, -R G_s^T in mu's;
+ *   its kinematic rows:   Jw d(G^T mu)_omega, -R d(G^T mu)_v (Km), and Jw G_s^T, -R G_s^T in mu's
+ *                         (in the body frame -d(G^T mu) and -G_s^T: kin_rate);
  *   the velocity rows:    d(G t - vt)/d pose, G_s in the twist;
  *   the position rows:    dg/d pose;
  *   the joint rows:       x' - Phi^T t_rel: -d(Phi^T t_rel)/d pose, -Phi^T Ad_s in the twist
@@ -325,7 +366,7 @@ static void jacobian_pairs(dae_t *d, double time, double cj, const double *y, do
       if (cr < 0) continue;
       const double *Gr = r ? p->Gb : p->Ga;
       double kin[7 * 6], GT[7 * PHM_MAXCON], GL[6 * PHM_MAXCON]; /* kin G_r^T, -G_r^T */
-      kin_rate(y + PHM_NSTATE * cr, D->H + 16 * cr, kin);
+      kin_rate(d->kbody[cr], y + PHM_NSTATE * cr, D->H + 16 * cr, kin);
       for (int i = 0; i < 7; i++)
         for (int rr = 0; rr < mc; rr++) {
           double acc = 0;
@@ -355,7 +396,7 @@ static void jacobian_pairs(dae_t *d, double time, double cj, const double *y, do
             Kl_r[6 * i + j] = Kl[12 * (6 * r + i) + 6 * s + j];
           }
         double kin[7 * 6];
-        kin_rate(y + PHM_NSTATE * cr, Hr, kin);
+        kin_rate(d->kbody[cr], y + PHM_NSTATE * cr, Hr, kin);
         double KK[PHM_NSTATE * 6]; /* rows of c_r against c_s's perturbation */
         for (int i = 0; i < 7; i++)
           for (int j = 0; j < 6; j++) {

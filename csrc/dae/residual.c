@@ -134,13 +134,25 @@ int dae_residual(dae_t *d, double time, const double *y, const double *yp, doubl
     const double *ypq = ypc;
     double w[3] = {t[0] + gm[0], t[1] + gm[1], t[2] + gm[2]};
     double v[3] = {t[3] + gm[3], t[4] + gm[4], t[5] + gm[5]};
-    /* q' = 1/2 q (x) (0, w) */
-    Fc[0] = ypq[0] + 0.5 * (q[1] * w[0] + q[2] * w[1] + q[3] * w[2]);
-    Fc[1] = ypq[1] - 0.5 * (q[0] * w[0] + q[2] * w[2] - q[3] * w[1]);
-    Fc[2] = ypq[2] - 0.5 * (q[0] * w[1] + q[3] * w[0] - q[1] * w[2]);
-    Fc[3] = ypq[3] - 0.5 * (q[0] * w[2] + q[1] * w[1] - q[2] * w[0]);
-    for (int i = 0; i < 3; i++)
-      Fc[4 + i] = ypq[4 + i] - (Hc[4 * i] * v[0] + Hc[4 * i + 1] * v[1] + Hc[4 * i + 2] * v[2]);
+    if (d->kbody[c]) {
+      /* in the body frame (dae_body_kinematics): 2 conj(q) (x) [q' - 1/2 q (x) (0, w)] / |q|^2
+       * = 2 conj(q) (x) q' / |q|^2 - (0, w), and R^T [p' - R v] = R^T p' - v */
+      double s2 = 2.0 / (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+      Fc[0] = s2 * (q[0] * ypq[0] + q[1] * ypq[1] + q[2] * ypq[2] + q[3] * ypq[3]);
+      Fc[1] = s2 * (q[0] * ypq[1] - q[1] * ypq[0] - q[2] * ypq[3] + q[3] * ypq[2]) - w[0];
+      Fc[2] = s2 * (q[0] * ypq[2] - q[2] * ypq[0] - q[3] * ypq[1] + q[1] * ypq[3]) - w[1];
+      Fc[3] = s2 * (q[0] * ypq[3] - q[3] * ypq[0] - q[1] * ypq[2] + q[2] * ypq[1]) - w[2];
+      for (int i = 0; i < 3; i++) /* (R^T)_ij = R_ji = Hc[4 j + i] */
+        Fc[4 + i] = Hc[i] * ypq[4] + Hc[4 + i] * ypq[5] + Hc[8 + i] * ypq[6] - v[i];
+    } else {
+      /* q' = 1/2 q (x) (0, w) */
+      Fc[0] = ypq[0] + 0.5 * (q[1] * w[0] + q[2] * w[1] + q[3] * w[2]);
+      Fc[1] = ypq[1] - 0.5 * (q[0] * w[0] + q[2] * w[2] - q[3] * w[1]);
+      Fc[2] = ypq[2] - 0.5 * (q[0] * w[1] + q[3] * w[0] - q[1] * w[2]);
+      Fc[3] = ypq[3] - 0.5 * (q[0] * w[2] + q[1] * w[1] - q[2] * w[0]);
+      for (int i = 0; i < 3; i++)
+        Fc[4 + i] = ypq[4 + i] - (Hc[4 * i] * v[0] + Hc[4 * i + 1] * v[1] + Hc[4 * i + 2] * v[2]);
+    }
     double Mt[6], adm[6], Mtd[6];
     phm_mv6(d->m->car[c].M, t, Mt);
     phm_ad_dual_apply(t, Mt, adm);
@@ -170,13 +182,14 @@ void dae_free(dae_t *d) {
   dae_ic_work *w = &D->ic;
   void *bufs[] = {D->H, D->tw, D->pair, D->wr, D->gl, D->gm, D->pport, D->eff, D->rtmp, D->dtw, D->gwork, w->cmap, w->clist, w->H, w->tw, w->qprev, w->Lc, w->lcfail, w->b1c, w->cg, w->acc, w->G,
                   w->X, w->A, w->b, w->g, w->vt, w->c1, w->lam, w->Hp, w->res, d->colptr,
-                  d->rowind, d->nzkeep};
+                  d->rowind, d->nzkeep, d->kbody};
   for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) free(bufs[i]);
   phm_lstsq_work_free(&w->ls);
   ic_schur_free(w);
   memset(D, 0, sizeof *D);
   d->colptr = d->rowind = NULL;
   d->nzkeep = NULL;
+  d->kbody = NULL;
 }
 
 /* The consistent initial values' scratch (dae_consistent_ic): its systems are least-squares
@@ -270,14 +283,27 @@ phm_status dae_init(dae_t *d, const phm_model *m, phm_error *err) {
   D->rtmp = malloc(sizeof(double) * n);
   D->dtw = calloc(6 * nc + 1, sizeof(double));
   D->gwork = calloc(33 * nc + (size_t)(d->il - d->ie) + 1, sizeof(double));
+  d->kbody = calloc(nc + 1, 1);
   phm_status st = PHM_OK;
   if (!D->H || !D->tw || !D->pair || !D->wr || !D->gl || !D->gm || !D->pport || !D->eff ||
-      !D->rtmp || !D->dtw || !D->gwork)
+      !D->rtmp || !D->dtw || !D->gwork || !d->kbody)
     st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
   else
     st = ic_alloc(d, err);
   if (st) dae_free(d);
   return st;
+}
+
+void dae_body_kinematics(dae_t *d, int on) {
+  d = dae_full(d);
+  const phm_model *m = d->m;
+  memset(d->kbody, 0, (size_t)m->nc);
+  if (!on) return;
+  for (int ip = 0; ip < m->np; ip++)
+    if (m->pair_m[ip] > 0) {
+      if (m->pair[ip].a >= 0) d->kbody[m->pair[ip].a] = 1;
+      if (m->pair[ip].b >= 0) d->kbody[m->pair[ip].b] = 1;
+    }
 }
 
 /* Absolute tolerance of state i (IDA's error weights; the generalized-alpha's Newton test).

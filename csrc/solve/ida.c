@@ -112,6 +112,34 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
   int stop;
   double t = tout[0];
   double *y = N_VGetArrayPointer(yy), *ypd = N_VGetArrayPointer(yp);
+  /* The kinematic rows of the carriers that mu acts on in their body frames (dae_body_kinematics).
+   * In the world frame mu enters p' = R (v + dv) and q' = 1/2 q (x) (0, w + dw) through R and q:
+   * its columns of the Newton matrix turn with the carrier, and IDA keeps that matrix until
+   * Newton fails or cj leaves 0.6 .. 1.67 times its value then: for hundreds of steps. mu's
+   * exact value is 0 and its
+   * discrete values are Newton's leftovers, which BDF's predictor extrapolates (at order 5 an
+   * alternating sequence ~30x: the corrector then has to remove ~30 times the last value), and
+   * a matrix that has turned by dtheta leaves ~dtheta of that in mu. IDA accepts one-iteration
+   * corrections on a rate estimate from the matrix's first steps, and mu's weight is loose
+   * (dae_state_atol), so nothing stopped it: measured on the flexible slider-crank of
+   * tests/test_flexible_loop.py with consistent masses (N = 4, rtol 1e-6), the fraction of
+   * mu's predicted value left after the step grew from 0.001 right after a refresh to 0.15
+   * 6 ms later (1.3 times the angle the crank turned at 20 rad/s), past ~0.03 mu grew 1.2-2x
+   * per step with alternating sign (crank pivot's f_x, f_y rows: 0.03 at t = 24 ms, 2e9 at 25,
+   * 7e89 at 28.8), each step accepted after one iteration with corrections of 1e6-4e7
+   * tolerances, until IDA_CONV_FAIL at t = 28.9 ms, h = 4e-11 s. With lumped masses, or with the
+   * dense solver, mu swung the same way (median |mu| ~1 m/s, peaks 1e16 and 5e8) and recovered
+   * at the refreshes that followed Newton failures. In the body frame mu's columns are -G^T,
+   * constant: its correction is exact whatever the matrix's age, median |mu| 2e-6 .. 6e-6, max
+   * 1e-3, and the consistent-mass cases pass (docs/integrators.md, "IDA and mu"). The cost is on
+   * the rotating columns that remain, q' and p' (times cj): only the carriers that mu acts on take
+   * these rows, the others keep those of the world frame (all carriers: a free modal link's
+   * momentum, tests/test_modal_link.py at rtol 1e-9, drifted 8.6e-12 instead of 2.9e-12). The
+   * generalized-alpha keeps the world frame: its predictor of the multipliers is linear and its
+   * first corrections are capped (csrc/solve/galpha.c), and in the body frame a quaternion's
+   * norm correction, large after its second-order predictor, leaked into the rotation through
+   * the turned matrix (a pendulum: 9x the Jacobians, 7x the ledger). */
+  dae_body_kinematics(d, 1);
   id = N_VNew_Serial(d->n, ctx);
   if (!id) {
     st = PHM_FAIL(err, PHM_ENOMEM, "out of memory (N_Vector)");
