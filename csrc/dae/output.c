@@ -3,6 +3,7 @@
  * ledger; every output checked finite before it counts. */
 #include "dae.h"
 
+#include <math.h>
 #include <string.h>
 
 #include "phm_check.h"
@@ -59,6 +60,7 @@ static void record(dae_t *d, const double *y, phm_sim_output *out, int iout, dou
   }
   if (out->lambda && m->ncons)
     memcpy(out->lambda + (size_t)iout * m->ncons, y + d->il, sizeof(double) * m->ncons);
+  for (int i = d->im; i < d->n; i++) out->max_mu = fmax(out->max_mu, fabs(y[i]));
   /* every pair once: joint coordinates and rates, constraint wrenches, the actuators' efforts */
   dae_eval_pairs(d, time, y, PHM_PAIR_ROWS | PHM_PAIR_JOINT);
   for (int ip = 0; ip < m->np; ip++) {

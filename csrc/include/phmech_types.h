@@ -381,6 +381,8 @@ typedef struct {
                     * the configuration (m, rad-like units): a bound of the global error
                     * without error propagation                                       */
   double last_step; int last_order;             /* last step [s] and order (BDF order; GALPHA: 2) */
+  double max_mu;   /* the largest |mu| at the outputs (the position constraints' multipliers,
+                    * docs/method.md section 6.2: 0 for the exact solution, rad/s and m/s) */
   double wall_time;                             /* seconds             */
 } phm_sim_output;
 

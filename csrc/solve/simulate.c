@@ -47,7 +47,7 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
   double t_start = now();
   out->nout_done = 0;
   out->nsteps = out->nres = out->njac = out->nniters = out->netf = out->nncf = out->nfloor = 0;
-  out->err_est = 0;
+  out->err_est = out->max_mu = 0;
   phm_status st = PHM_OK;
   /* set-up: the DAE's data and Jacobian pattern (the integrators' sparse Jacobian: every
    * generalized-alpha run, IDA with KLU); nothing of phmech's allocates after it */

@@ -943,8 +943,10 @@ class Mechanism:
         error estimates of the configuration, a bound without error propagation), ``floor_steps``
         (steps accepted at the band's smallest step with their estimate above the tolerance:
         motion above the band), ``energy_scale`` [J], ``ledger_relative`` (the largest absolute
-        energy ledger residual / energy_scale) and ``numerical_dissipation`` [J] (energy the
-        integrator removed, from the ledger).
+        energy ledger residual / energy_scale), ``numerical_dissipation`` [J] (energy the
+        integrator removed, from the ledger) and ``max_mu`` (the largest multiplier of the
+        position constraints at the outputs, a velocity correction [m/s, rad/s] that is zero for
+        the exact motion: docs/method.md section 6.2).
 
         Other integrators (docs/integrators.md):
 
