@@ -115,30 +115,32 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
   /* The kinematic rows of the carriers that mu acts on in their body frames (dae_body_kinematics).
    * In the world frame mu enters p' = R (v + dv) and q' = 1/2 q (x) (0, w + dw) through R and q:
    * its columns of the Newton matrix turn with the carrier, and IDA keeps that matrix until
-   * Newton fails or cj leaves 0.6 .. 1.67 times its value then: for hundreds of steps. mu's
-   * exact value is 0 and its
-   * discrete values are Newton's leftovers, which BDF's predictor extrapolates (at order 5 an
-   * alternating sequence ~30x: the corrector then has to remove ~30 times the last value), and
-   * a matrix that has turned by dtheta leaves ~dtheta of that in mu. IDA accepts one-iteration
-   * corrections on a rate estimate from the matrix's first steps, and mu's weight is loose
-   * (dae_state_atol), so nothing stopped it: measured on the flexible slider-crank of
-   * tests/test_flexible_loop.py with consistent masses (N = 4, rtol 1e-6), the fraction of
-   * mu's predicted value left after the step grew from 0.001 right after a refresh to 0.15
-   * 6 ms later (1.3 times the angle the crank turned at 20 rad/s), past ~0.03 mu grew 1.2-2x
-   * per step with alternating sign (crank pivot's f_x, f_y rows: 0.03 at t = 24 ms, 2e9 at 25,
-   * 7e89 at 28.8), each step accepted after one iteration with corrections of 1e6-4e7
-   * tolerances, until IDA_CONV_FAIL at t = 28.9 ms, h = 4e-11 s. With lumped masses, or with the
-   * dense solver, mu swung the same way (median |mu| ~1 m/s, peaks 1e16 and 5e8) and recovered
-   * at the refreshes that followed Newton failures. In the body frame mu's columns are -G^T,
-   * constant: its correction is exact whatever the matrix's age, median |mu| 2e-6 .. 6e-6, max
-   * 1e-3, and the consistent-mass cases pass (docs/integrators.md, "IDA and mu"). The cost is on
-   * the rotating columns that remain, q' and p' (times cj): only the carriers that mu acts on take
-   * these rows, the others keep those of the world frame (all carriers: a free modal link's
-   * momentum, tests/test_modal_link.py at rtol 1e-9, drifted 8.6e-12 instead of 2.9e-12). The
-   * generalized-alpha keeps the world frame: its predictor of the multipliers is linear and its
-   * first corrections are capped (csrc/solve/galpha.c), and in the body frame a quaternion's
-   * norm correction, large after its second-order predictor, leaked into the rotation through
-   * the turned matrix (a pendulum: 9x the Jacobians, 7x the ledger). */
+   * Newton fails or cj leaves 0.6 .. 1.67 times its value then, for hundreds of steps. mu's
+   * exact value is 0 and its discrete values are Newton's leftovers, which BDF's predictor
+   * extrapolates, amplifying an alternating sequence, and a matrix that has turned by dtheta
+   * leaves ~dtheta of that prediction in mu. IDA accepts one-iteration corrections on a rate
+   * estimate from the matrix's first steps, and mu's weight is loose (dae_state_atol), so
+   * nothing stopped it. Measured on the flexible slider-crank of tests/test_flexible_loop.py
+   * with consistent masses (N = 4, rtol 1e-6, order 5): the predictor put mu at 13-30x (median
+   * 20) its last value; the fraction of that left after the step grew from 0.001 right after a
+   * refresh to 0.15 6 ms later (1.3 times the angle the crank turned at 20 rad/s); past ~0.03
+   * mu grew 1.2-2x per step with alternating sign (the crank pivot's f_x, f_y rows: 0.03 at
+   * t = 24 ms, 2e9 at 25, 7e89 at 28.8), each step accepted after one iteration with
+   * corrections of 1e6-4e7 tolerances, until IDA_CONV_FAIL at t = 28.9 ms, h = 4e-11 s (and so
+   * for N = 3 .. 8 at rtol 1e-6 and 1e-8). With lumped masses, or with the dense solver, mu
+   * swung the same way (median |mu| ~1 m/s, peaks 1e16 and 5e8) and recovered at the refreshes
+   * that followed Newton failures. In the body frame mu's columns are -G^T, constant: its
+   * correction is exact whatever the matrix's age, median |mu| 2e-6 .. 5e-6, max 2e-3, and the
+   * consistent-mass runs pass (docs/integrators.md, "IDA and mu"). The cost is on the rotating
+   * columns that remain, q' and p' (times cj): only the carriers that mu acts on take these
+   * rows, the others keep the world frame's (all carriers: a free modal link's momentum,
+   * tests/test_modal_link.py at rtol 1e-9, drifted 8.6e-12 instead of 2.9e-12), and the
+   * constrained carriers' positions now keep Newton's leftovers (the slider-crank's max |g|
+   * 5.4e-12 against 3.9e-14 at rtol 1e-8). The generalized-alpha keeps the world frame: its
+   * predictor of the multipliers is linear and its first corrections are capped
+   * (csrc/solve/galpha.c), and in the body frame a quaternion's norm correction, large after
+   * its second-order predictor, leaked into the rotation through the turned matrix (a
+   * pendulum over 100 s: 9x the Jacobians, 7x the ledger). */
   dae_body_kinematics(d, 1);
   id = N_VNew_Serial(d->n, ctx);
   if (!id) {
@@ -213,7 +215,17 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
      * at h = 2e-11 s (rtol 1e-8; with 1.0 at t = 0.164 s, with BTF too at 0.031 s), and its
      * ledger was 5.8e-7 at rtol 1e-6 (dense LU 9.3e-9); with AMD and 1.0 it runs, ledgers
      * 7.5e-9 (rtol 1e-8; 3-D 6.8e-10) and 5.2e-8 (1e-6; 3-D 2.7e-8). Measured 2026-11-27 on
-     * that one scene: why its pivots fail is not understood. */
+     * that one scene. Why its pivots failed (found later): not KLU's doing, the iterate had
+     * diverged before. mu grew without bound in the world-frame kinematic rows (the comment at the
+     * dae_body_kinematics call above), and the matrix holds G^T mu's geometric stiffness, ~mu:
+     * cond(J) 1e114-1e117 at |mu| ~ 1e77 before IDA_CONV_FAIL, against 1.2e13-1.9e13 along
+     * runs without that growth (medians 7e4-9e4 with rows and columns equilibrated), while
+     * sigma_min/sigma_max of G stayed 0.365 (no nearly redundant row). With the body-frame
+     * rows that slider-crank reaches 0.3 s with every setting tried (lumped and consistent
+     * masses, rtol 1e-6 and 1e-8, 3-D and planar DAE; KLU's defaults, 0.001 without BTF, COLAMD
+     * or AMD with 0.1 or 1.0: 40 runs); the settings above stay for accuracy: with KLU's
+     * defaults the lumped run's energy drift at rtol 1e-8 was 8.6e-9 (3-D) and 2.3e-8 (planar)
+     * of its kinetic energy, against 2.5e-9 and 1.2e-9. */
     if (LS) {
       SUNLinSol_KLUGetCommon(LS)->btf = 0;
       if (d->pl) SUNLinSol_KLUGetCommon(LS)->ordering = 0; /* AMD */
