@@ -212,7 +212,8 @@ static void body_kinematics_block(const double q[4], const double a[7], const do
   double U[9] = {0, -u[2], u[1], u[2], 0, -u[0], -u[1], u[0], 0};
   for (int i = 0; i < 3; i++) {
     double *b = B + PHM_NSTATE * (4 + i);
-    for (int j = 0; j < 4; j++) b[j] = U[3 * i] * E[j] + U[3 * i + 1] * E[4 + j] + U[3 * i + 2] * E[8 + j];
+    for (int j = 0; j < 4; j++)
+      b[j] = U[3 * i] * E[j] + U[3 * i + 1] * E[4 + j] + U[3 * i + 2] * E[8 + j];
     for (int j = 0; j < 3; j++) b[4 + j] = cj * Hc[4 * j + i];
     b[10 + i] = -1.0;
   }
@@ -249,12 +250,12 @@ static void add_wrench_tangent(void *ctx, int ca, int cb, const double w[12], co
 }
 
 /* The closed-form part of the Jacobian at (y, y') (the poses, twists, pairs and G^T mu in
- * d->data): each carrier's kinematic rows q' = 1/2 q (x) (0, w + dw), p' = R (v + dv) ((dw, dv)
- * = G^T mu; or in its body frame, body_kinematics_block) and momentum rows M t' - ad*_t M t - gravity in its own states, and each se3
- * element's wrenches (phm_element_tangent) and consistent mass (phm_element_inertia, which reads
- * the twists' rates yp) and each actuator's, load's and spring's
- * (phm_applied_tangent) in the states of its two carriers, through the chart (q, p) -> body
- * perturbation [dxi/dq, 0; 0, R^T]. */
+ * d->data): each carrier's kinematic rows q' = 1/2 q (x) (0, w + dw), p' = R (v + dv) ((dw, dv) =
+ * G^T mu; or in its body frame, body_kinematics_block) and momentum rows M t' - ad*_t M t -
+ * gravity in its own states, and each se3 element's wrenches (phm_element_tangent) and consistent
+ * mass (phm_element_inertia, which reads the twists' rates yp) and each actuator's, load's and
+ * spring's (phm_applied_tangent) in the states of its two carriers, through the chart (q, p) ->
+ * body perturbation [dxi/dq, 0; 0, R^T]. */
 static void jacobian_closed_form(dae_t *d, double time, double cj, const double *y,
                                  const double *yp, double *val) {
   const phm_model *m = d->m;

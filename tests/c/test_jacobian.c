@@ -1,15 +1,15 @@
 /* test_jacobian.c -- the values of the DAE Jacobian dF/dy + cj dF/dy' (csrc/dae/jacobian.c)
  * against central differences of the residual (csrc/dae/residual.c), column by column, at random
  * bent, twisted and moving states with quaternions off the unit sphere (the residual normalizes
- * them). Per component: carriers alone (their kinematic and gyroscopic rows, in closed form),
- * se3 elements (closed form: the elastic, geometric and damping parts through the quaternion
- * chart; consistent masses), every pair type (closed form: rows, G^T lambda, G^T mu, joint rates; driven, with
- * driven coordinates, with a dropped row), and a model with a spring-damper, an interaction and a
- * PD actuator too (phm_applied_tangent); each with the kinematic rows in the world frame and in
- * the body frames of the pairs' carriers (dae_body_kinematics, IDA's). Reference step 1e-6 (x max(1, |y_j|)): truncation
- * ~ 1e-12 and round-off ~ 1e-10 relative to entries of order 1..1e3, so the closed form is held
- * to 1e-7 relative. The constraint rows alone (dae_constraint_rows) are held to the residual's
- * bit for bit. */
+ * them). Per component: carriers alone (their kinematic and gyroscopic rows, in closed form), se3
+ * elements (closed form: the elastic, geometric and damping parts through the quaternion chart;
+ * consistent masses), every pair type (closed form: rows, G^T lambda, G^T mu, joint rates; driven,
+ * with driven coordinates, with a dropped row), and a model with a spring-damper, an interaction
+ * and a PD actuator too (phm_applied_tangent); each with the kinematic rows in the world frame and
+ * in the body frames of the pairs' carriers (dae_body_kinematics, IDA's). Reference step 1e-6 (x
+ * max(1, |y_j|)): truncation ~ 1e-12 and round-off ~ 1e-10 relative to entries of order 1..1e3, so
+ * the closed form is held to 1e-7 relative. The constraint rows alone (dae_constraint_rows) are
+ * held to the residual's bit for bit. */
 #include "check.h"
 #include "dae.h"
 
