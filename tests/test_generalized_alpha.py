@@ -204,3 +204,13 @@ def test_energy_drift_warning_gives_the_route_s_advice(options, advice):
     with pytest.warns(ph.AccuracyWarning, match=advice):
         r = m.simulate(2.0, 0.1, **options)
     assert r.stats["ledger_relative"] > 0.01
+
+
+def test_a_step_between_the_outputs_spacing_lands_on_every_output():
+    """A 2 ms step with outputs every 5 ms lands on each (three 1.67 ms steps per output) and
+    keeps its iteration matrix: measured 1200 steps and 1 Jacobian (a rule by the distance to
+    the next output alternated 1.67 and 2 ms steps, and each switch refreshed it: 795)."""
+    m = pendulum()
+    r = m.simulate(2.0, 0.005, rtol=1e-10, integrator="generalized-alpha", step=2e-3)
+    assert r.stats["steps"] == 1200
+    assert r.stats["jacobian_evals"] <= 3
