@@ -70,10 +70,10 @@ static void ida_err_message(void *ud, const char *function, const char *msg) {
  * Jacobian they were in, 54 in 2232 and 3.5e-9). Their accuracy follows that of the states they
  * integrate.
  * The same arm at rtol 1e-9 used to fail the error test at almost every step from t = 0.46 s
- * (150101 failures in 153084 steps), the largest estimates on the pairs' joint coordinates; since
- * the rows of the carriers mu acts on are written in their body frames (docs/integrators.md, "IDA
- * and mu") it takes 3559 steps with 119 failures, ledger 9.2e-10 (rtol 1e-8: 1935 steps, 20
- * failures, 7.3e-9; measured 2026-11-27). */
+ * (150101 failures in 153084 steps), the largest estimates on the pairs' joint coordinates. It
+ * now takes 3559 steps with 119 failures, ledger 9.2e-10 (rtol 1e-8: 1935 steps, 20 failures,
+ * 7.3e-9; measured 2026-11-27, not bisected: likely the rows of the carriers mu acts on, now in
+ * their body frames, docs/integrators.md "IDA and mu"). */
 static double ida_atol(const dae_t *d, int i, double atol) {
   return i >= d->ie && i < d->il ? 1e300 : dae_state_atol(d, i, atol);
 }
