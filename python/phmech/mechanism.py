@@ -955,12 +955,10 @@ class Mechanism:
           ``rho_inf`` in [0, 1] (default 0.9) is the spectral
           radius at infinity: 1 has no numerical dissipation (then stiff vibrations a step does not resolve
           are not damped and Newton may converge badly), smaller values damp what the step does
-          not resolve. Steps are shortened evenly to land on the output times that are at least
-          a step apart and on the breakpoints of the time laws; outputs closer than ``h`` fall
-          inside steps and are interpolated (cubic Hermite: as accurate as the steps' ends; the
-          constraints hold there to the interpolation error, O(h^4) in the poses and O(h^3) in
-          the rates, and the energy ledger carries it). After the start and each breakpoint a
-          failing first step is redone as one backward-Euler step.
+          not resolve. Steps are shortened evenly to land on the output times and the breakpoints
+          of the time laws (outputs closer than ``h`` shorten the steps to their spacing); after
+          the start and each breakpoint a failing first step is redone as one backward-Euler
+          step.
         - ``integrator="ida"``: SUNDIALS IDA, variable-order BDF with local error control on
           ``rtol`` (default 1e-8) and ``atol``. ``error_test="all"`` (default) puts every
           differential state in the error test, so the step resolves every vibration present,
