@@ -627,7 +627,7 @@ phm_status phm_modes_count(const phm_model *m, const double *poses, const double
                   "singular at shift %g (an eigenvalue there, or dependent constraint rows)", shift);
   if (!st && P.below < 0)
     st = PHM_FAIL(err, PHM_ESINGULAR, "modes count: the LDL' factorization of the KKT matrix met a "
-                  "zero pivot at shift %g", shift);
+                  "zero pivot, or fewer negative pivots than constraint rows, at shift %g", shift);
   if (!st) {
     *below = P.below;
     *check = P.check;
