@@ -189,11 +189,10 @@ def interior_modes(red: dict, n: int) -> dict:
     with np.errstate(invalid="ignore", divide="ignore"):
         kinds = np.where(strain.sum(axis=1, keepdims=True) > 0,
                          strain / np.maximum(strain.sum(axis=1, keepdims=True), 1e-300), 0.0)
-    nodes = Phi.reshape(K.shape[0] // 6, 6, n)         # (node, component, mode)
     peak = np.zeros((n, 2))
     if n:
-        peak[:, 0] = np.linalg.norm(nodes[:, 3:, :], axis=1).max(axis=0)
-        peak[:, 1] = np.linalg.norm(nodes[:, :3, :], axis=1).max(axis=0)
+        peak[:, 0] = np.linalg.norm(shapes[:, :, 3:], axis=2).max(axis=1)
+        peak[:, 1] = np.linalg.norm(shapes[:, :, :3], axis=2).max(axis=1)
     return dict(Mbq=T.T @ M @ Phi, lam=lam[:n].copy(), Dqq=Phi.T @ D @ Phi, Dbq=T.T @ D @ Phi,
                 Dbb=np.diag(T.T @ D @ T).copy(),
                 Cg=Phi.T @ ch["weights"], frequency=np.sqrt(np.maximum(lam, 0.0)) / (2 * np.pi),

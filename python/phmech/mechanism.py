@@ -1152,9 +1152,8 @@ class Mechanism:
             return None
         masks = _planar.out_of_plane_rows(G, layout, nc, k)
         if G.shape[0]:
-            keep = np.ones(G.shape[0], dtype=bool)
-            for ip, (row, m, _, _) in enumerate(layout):
-                keep[[row + r for r in range(m) if (masks[ip] >> r) & 1]] = False
+            keep = np.zeros(G.shape[0], dtype=bool)
+            keep[postprocess.kept_rows(layout, masks)] = True
             red, _ = topology.redundant_rows(self._desc, G * keep[:, None], state.tree)
             masks = [a | b for a, b in zip(masks, red)]
         # this analysis's model, moved to the planar drop masks (no second model)
@@ -1177,8 +1176,7 @@ class Mechanism:
                 self._desc, plane[2], plane[1], r["poses"][:k], r["joints"][:k], lam, tout[:k])
         elif plane is not None:   # the 3-D layout has every row: the dropped ones carry 0
             layout = postprocess.full_layout(self._desc)
-            keep = [row + i for ip, (row, m, _, _) in enumerate(layout) for i in range(m)
-                    if not (plane[1][ip] >> i) & 1]
+            keep = postprocess.kept_rows(layout, plane[1])
             full = np.zeros((lam.shape[0], layout[-1][0] + layout[-1][1] if layout else 0))
             full[:, keep] = lam
             lam = full

@@ -84,7 +84,7 @@ def check(comp: dict, poses, twists, G, layout, names, k: int) -> Optional[str]:
     all constraint rows at the start, with ``layout`` (row, m, joint, k) per pair named
     ``names``) is planar about axis k; else the first check that fails, in words."""
     ax = AXES[k]
-    I, O = inplane(k), outplane(k)
+    O = outplane(k)
     g = comp["gravity"]
     if not _zero(g[k], g):
         return f"gravity {tuple(g)} has a component along {ax}"

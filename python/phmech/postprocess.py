@@ -88,16 +88,20 @@ def full_layout(desc: ModelDescription) -> list:
     return lay
 
 
+def kept_rows(layout: list, drop_masks) -> list:
+    """The rows of ``layout`` (full_layout: every pair's rows) that ``drop_masks`` (per pair, the
+    bits of its dropped rows) keep, in order: the DAE's multipliers are these rows'."""
+    return [row + r for ip, (row, m, _, _) in enumerate(layout) for r in range(m)
+            if not (drop_masks[ip] >> r) & 1]
+
+
 def min_norm_multipliers(desc: ModelDescription, model, drop_masks, poses, joints, lam, times):
     """Hyperconstrained mechanisms: the DAE's multipliers (independent rows only) mapped to the
     minimum-norm multipliers of ALL rows giving the same generalized constraint forces,
     lambda_full = argmin |l| s.t. G_full^T l = G_kept^T lambda; pair wrenches W^C lambda_full.
     Returns (lambda_full (nt, nfull), pair wrenches (nt, npairs, 6), full_layout)."""
     full = full_layout(desc)
-    keep = []
-    for ip in range(len(desc.pairs)):
-        row, m, _, _ = full[ip]
-        keep += [row + r for r in range(m) if not (drop_masks[ip] >> r) & 1]
+    keep = kept_rows(full, drop_masks)
     nf = full[-1][0] + full[-1][1] if full else 0
     lam_f = np.zeros((len(poses), nf))
     pw = np.zeros((len(poses), len(desc.pairs), 6))
