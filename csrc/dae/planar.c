@@ -145,21 +145,26 @@ void dae_planar_carrier_states(const dae_t *d, dae_carrier_layout *L) {
   for (int i = 0; i < 3; i++) L->tf[i] = keep[4 + i] - 7;
 }
 
-int dae_planar_residual(dae_t *d, double time, const double *y, const double *yp, double *F) {
+/* The full DAE at the reduced state y (and rates yp, if not NULL): its time reference and states
+ * set from d's, for a wrapper to evaluate it there. */
+static dae_t *to_full(dae_t *d, const double *y, const double *yp) {
   struct dae_planar *pl = d->pl;
   pl->full.tref = d->tref;
   expand(d, y, pl->y);
-  expand(d, yp, pl->yp);
-  int r = dae_residual(&pl->full, time, pl->y, pl->yp, pl->F);
+  if (yp) expand(d, yp, pl->yp);
+  return &pl->full;
+}
+
+int dae_planar_residual(dae_t *d, double time, const double *y, const double *yp, double *F) {
+  struct dae_planar *pl = d->pl;
+  int r = dae_residual(to_full(d, y, yp), time, pl->y, pl->yp, pl->F);
   gather(d, pl->F, F);
   return r;
 }
 
 void dae_planar_constraint_rows(dae_t *d, double time, const double *y, double *F) {
   struct dae_planar *pl = d->pl;
-  pl->full.tref = d->tref;
-  expand(d, y, pl->y);
-  dae_constraint_rows(&pl->full, time, pl->y, pl->F);
+  dae_constraint_rows(to_full(d, y, NULL), time, pl->y, pl->F);
   memcpy(F + d->il, pl->F + pl->full.il, sizeof(double) * (size_t)(d->n - d->il));
 }
 
@@ -212,10 +217,7 @@ phm_status dae_planar_pattern(dae_t *d, phm_error *err) {
 void dae_planar_jacobian_values(dae_t *d, double t, double cj, const double *y, const double *yp,
                                 double *val) {
   struct dae_planar *pl = d->pl;
-  pl->full.tref = d->tref;
-  expand(d, y, pl->y);
-  expand(d, yp, pl->yp);
-  dae_jacobian_values(&pl->full, t, cj, pl->y, pl->yp, pl->fval);
+  dae_jacobian_values(to_full(d, y, yp), t, cj, pl->y, pl->yp, pl->fval);
   for (int k = 0; k < d->nnz; k++) val[k] = pl->fval[pl->jmap[k]];
 }
 
@@ -225,10 +227,9 @@ phm_status dae_planar_consistent_ic(dae_t *d, double time, double *H, double *tw
                                     const double *xs, int check_x0, double *y, double *yp,
                                     phm_error *err) {
   struct dae_planar *pl = d->pl;
-  pl->full.tref = d->tref;
-  expand(d, y, pl->y);
-  memset(pl->yp, 0, sizeof(double) * (size_t)pl->full.n);
-  phm_status st = dae_consistent_ic(&pl->full, time, H, tw, NULL, xs, check_x0, pl->y, pl->yp, err);
+  dae_t *f = to_full(d, y, NULL);
+  memset(pl->yp, 0, sizeof(double) * (size_t)f->n);
+  phm_status st = dae_consistent_ic(f, time, H, tw, NULL, xs, check_x0, pl->y, pl->yp, err);
   if (st) return st;
   /* the base: the out-of-plane position as found; the out-of-plane quaternion components and
    * twist zero, as they are in exact arithmetic (the checks hold them to 1e-12; the values
@@ -248,10 +249,7 @@ phm_status dae_planar_consistent_ic(dae_t *d, double time, double *H, double *tw
 phm_status dae_planar_restart(dae_t *d, double t, double tpiece, double *nbp, double *y,
                               double *yp, phm_error *err) {
   struct dae_planar *pl = d->pl;
-  pl->full.tref = d->tref;
-  expand(d, y, pl->y);
-  expand(d, yp, pl->yp);
-  phm_status st = dae_restart_at_breakpoint(&pl->full, t, tpiece, nbp, pl->y, pl->yp, err);
+  phm_status st = dae_restart_at_breakpoint(to_full(d, y, yp), t, tpiece, nbp, pl->y, pl->yp, err);
   d->tref = pl->full.tref;
   if (st) return st;
   gather(d, pl->y, y);
@@ -263,8 +261,5 @@ phm_status dae_planar_restart(dae_t *d, double t, double tpiece, double *nbp, do
 phm_status dae_planar_emit_output(dae_t *d, const double *y, phm_sim_output *out, int iout,
                                   double E0[1], double t, const phm_sim_options *opt, int *stop,
                                   phm_error *err) {
-  struct dae_planar *pl = d->pl;
-  pl->full.tref = d->tref;
-  expand(d, y, pl->y);
-  return dae_emit_output(&pl->full, pl->y, out, iout, E0, t, opt, stop, err);
+  return dae_emit_output(to_full(d, y, NULL), d->pl->y, out, iout, E0, t, opt, stop, err);
 }

@@ -92,9 +92,7 @@ static int galpha_jacobian(dae_t *d, galpha_t *g, double t0, double h, SUNMatrix
   for (int j = 0; j < d->il; j++)
     for (sunindextype k = cp[j]; k < cp[j + 1]; k++)
       if (ri[k] < d->il) val[k] *= af;
-  if (A == Js)
-    return dae_jacobian_prune(d, Js) &&
-           SUNLinSol_KLUReInit(LS, Js, (sunindextype)d->nnz, SUNKLU_REINIT_PARTIAL) != PHM_SUN_SUCCESS;
+  if (A == Js) return phm_klu_prune(d, Js, LS);
   SUNMatZero(A);
   for (int j = 0; j < d->n; j++)
     for (sunindextype k = cp[j]; k < cp[j + 1]; k++) SM_ELEMENT_D(A, ri[k], j) = val[k];
@@ -332,8 +330,7 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
     }
     N_VConst(0.0, *vs[k]); /* a clone's data is uninitialized */
   }
-  Js = SUNSparseMatrix(n, n, d->nnz, CSC_MAT, ctx);
-  if (Js) phm_sparse_matrix_ops(Js);
+  Js = SUNSparseMatrix(n, n, d->nnz, CSC_MAT, ctx); /* never zeroed: no phm_sparse_matrix_ops */
   A = opt->linear_solver == 1 ? Js : SUNDenseMatrix(n, n, ctx);
   if (!Js || !A) {
     st = PHM_FAIL(err, PHM_ENOMEM, "out of memory (matrix)");
@@ -496,8 +493,8 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
          * of tests/test_generalized_alpha.py (3e9 rad/s^2 at the start) then took its first
          * step whole instead of halving it, 9.7e-6 m off IDA at h = 0.5 ms against 2.2e-6. */
         int lag = adaptive || g.euler; /* the ledger's corrections keep their lag (see above) */
-        if (!lag) dae_ledger_dpower(d, t + stage_af(&g) * h, Y, dY, stage_af(&g), dP);
-        double icj = g.euler ? h : g.gam * h / g.am; /* 1 / (af cj), this step's */
+        if (!lag) dae_ledger_dpower(d, t + g.af * h, Y, dY, g.af, dP); /* not Euler: af is g.af */
+        double icj = g.gam * h / g.am; /* 1 / (af cj), this step's (read only without the lag) */
         double sum = 0, suml = 0, rd = newton_tol * opt->rtol;
         for (int i = 0; i < d->il; i++) {
           int ledger = i >= d->ie;

@@ -34,10 +34,7 @@ static int ida_jac(sunrealtype t, sunrealtype cj, N_Vector yy, N_Vector yp, N_Ve
   int r = dae_jacobian(u->d, t, cj, N_VGetArrayPointer(yy), N_VGetArrayPointer(yp),
                        N_VGetArrayPointer(rr), J);
   if (r) return r;
-  if (dae_jacobian_prune(u->d, J) &&
-      SUNLinSol_KLUReInit(u->klu, J, (sunindextype)u->d->nnz, SUNKLU_REINIT_PARTIAL) != PHM_SUN_SUCCESS)
-    return -1;
-  return 0;
+  return phm_klu_prune(u->d, J, u->klu) ? -1 : 0;
 }
 
 /* IDA's last error message, quoted in the failure's phm_error (SUNDIALS prints nothing:

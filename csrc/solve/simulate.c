@@ -100,3 +100,8 @@ done:
   out->wall_time = now() - t_start;
   return st;
 }
+
+int phm_klu_prune(dae_t *d, SUNMatrix J, SUNLinearSolver LS) {
+  return dae_jacobian_prune(d, J) &&
+         SUNLinSol_KLUReInit(LS, J, (sunindextype)d->nnz, SUNKLU_REINIT_PARTIAL) != PHM_SUN_SUCCESS;
+}

@@ -17,6 +17,10 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
 phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vector yy,
                       N_Vector yp, const double *tout, int nout, double E0[1], double nbp,
                       phm_sim_output *out, phm_error *err);
+/* After a Jacobian into J, the matrix of the KLU solver LS: drop its entries zero in every call
+ * so far (dae_jacobian_prune) and, when the kept pattern grew, have KLU analyse it again. 0 on
+ * success, 1 if KLU could not. */
+int phm_klu_prune(dae_t *d, SUNMatrix J, SUNLinearSolver LS);
 
 /* ---------------------------------------------------------------- nvector_ops.c */
 /* Install phmech's compiled copies of the serial N_Vector operations IDA spends its time in on v
