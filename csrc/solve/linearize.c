@@ -25,11 +25,10 @@ void lin_total_force(lin_t *L, const double *H, double *f) {
   if (L->lam && m->ncons) phm_constraint_forces(m, H, L->time, L->tref, L->lam, f);
 }
 
-/* The slot of block (row carrier r, column carrier c) in the coupling graph's lists. */
-static int lin_slot(const lin_t *L, int r, int c) {
+int lin_slot(const lin_t *L, int r, int c) {
   for (int q = L->ptr[r]; q < L->ptr[r + 1]; q++)
     if (L->nbr[q] == c) return q;
-  return -1; /* not reached: an element's carriers are neighbours */
+  return -1;
 }
 
 /* K += dw/ddelta (6 x 6) - 1/2 ad*_(.) w: a carrier's own block of f_c(delta) =
@@ -135,13 +134,6 @@ void lin_free(lin_t *L) {
   free(L->Mb);
 }
 
-/* The slot of block (r, c) in the coupling graph (ptr, nbr), or -1. */
-static int graph_slot(const int *ptr, const int *nbr, int r, int c) {
-  for (int q = ptr[r]; q < ptr[r + 1]; q++)
-    if (nbr[q] == c) return q;
-  return -1;
-}
-
 /* The coupling graph of L's model and room for the force Jacobian blocks. */
 phm_status lin_graph(lin_t *L, phm_error *err) {
   const phm_model *m = L->m;
@@ -151,7 +143,7 @@ phm_status lin_graph(lin_t *L, phm_error *err) {
   L->Mb = calloc(36 * (size_t)L->ptr[m->nc] + 1, sizeof(double));
   if (!L->Kb || !L->Mb) return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
   for (int c = 0; c < m->nc; c++) {
-    int q = graph_slot(L->ptr, L->nbr, c, c);
+    int q = lin_slot(L, c, c);
     if (q < 0) return PHM_FAIL(err, PHM_EINVAL, "carrier graph: carrier %d has no diagonal slot", c);
     memcpy(L->Mb + 36 * (size_t)q, m->car[c].M, 36 * sizeof(double));
   }
@@ -161,7 +153,7 @@ phm_status lin_graph(lin_t *L, phm_error *err) {
     int ab[2] = {ca, cb};
     for (int bi = 0; bi < 2; bi++)
       for (int bj = 0; bj < 2; bj++) {
-        int q = graph_slot(L->ptr, L->nbr, ab[bi], ab[bj]);
+        int q = lin_slot(L, ab[bi], ab[bj]);
         if (q < 0) return PHM_FAIL(err, PHM_EINVAL, "carrier graph: mass coupling %d's carriers are not neighbours", k);
         for (int i = 0; i < 6; i++)
           for (int j = 0; j < 6; j++) L->Mb[36 * (size_t)q + 6 * i + j] += Mc[12 * (6 * bi + i) + 6 * bj + j];
@@ -311,7 +303,7 @@ phm_status lin_ldl_analyze(lin_ldl_t *F, const lin_t *L, const lin_kkt_t *S, phm
   memset(F, 0, sizeof *F);
   F->n = N;
   int *order = malloc(sizeof(int) * (size_t)(nc + 1)), *pos = malloc(sizeof(int) * (size_t)(nc + 1));
-  int *last = malloc(sizeof(int) * (size_t)(m->np + 1)), *head = malloc(sizeof(int) * (size_t)(nc + 1));
+  int *head = malloc(sizeof(int) * (size_t)(nc + 1));
   int *next = malloc(sizeof(int) * (size_t)(m->np + 1));
   F->P = malloc(sizeof(int) * (size_t)N);
   F->Pinv = malloc(sizeof(int) * (size_t)N);
@@ -323,7 +315,7 @@ phm_status lin_ldl_analyze(lin_ldl_t *F, const lin_t *L, const lin_kkt_t *S, phm
   F->D = malloc(sizeof(double) * (size_t)N);
   F->Y = calloc((size_t)N, sizeof(double));
   phm_status st = PHM_OK;
-  if (!order || !pos || !last || !head || !next || !F->P || !F->Pinv || !F->Lp || !F->Parent ||
+  if (!order || !pos || !head || !next || !F->P || !F->Pinv || !F->Lp || !F->Parent ||
       !F->Lnz || !F->Flag || !F->Pattern || !F->D || !F->Y) {
     st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
     goto done;
@@ -340,7 +332,6 @@ phm_status lin_ldl_analyze(lin_ldl_t *F, const lin_t *L, const lin_kkt_t *S, phm
   for (int ip = m->np - 1; ip >= 0; ip--) {
     int pa = m->pair[ip].a, pb = m->pair[ip].b;
     int c = pa < 0 ? pb : pb < 0 ? pa : pos[pa] > pos[pb] ? pa : pb;
-    last[ip] = c;
     next[ip] = head[c];
     head[c] = ip;
   }
@@ -365,7 +356,7 @@ phm_status lin_ldl_analyze(lin_ldl_t *F, const lin_t *L, const lin_kkt_t *S, phm
   F->cs = malloc(sizeof(double) * (size_t)N);
   if (!F->Li || !F->Lx || !F->Rj || !F->Rx || !F->Rp || !F->cs) st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
 done:
-  free(order); free(pos); free(last); free(head); free(next);
+  free(order); free(pos); free(head); free(next);
   return st;
 }
 

@@ -91,8 +91,7 @@ static phm_status sparse_init(sparse_t *P, const phm_model *m, lin_t *L, const d
   double trK = 0, trM = 0;
   for (int r = 0; r < nc; r++)
     for (int q = ptr[r]; q < ptr[r + 1]; q++) {
-      int c = nbr[q], qt = ptr[c];
-      while (nbr[qt] != r) qt++; /* slot (c, r): the graph is symmetric */
+      int c = nbr[q], qt = lin_slot(L, c, r); /* found: the graph is symmetric */
       for (int i = 0; i < 6; i++)
         for (int j = 0; j < 6; j++)
           Ksym[36 * (size_t)q + 6 * i + j] = 0.5 * (Kb[36 * (size_t)q + 6 * i + j] + Kb[36 * (size_t)qt + 6 * j + i]);
@@ -114,9 +113,7 @@ static phm_status sparse_init(sparse_t *P, const phm_model *m, lin_t *L, const d
   double s = trM > 0 && fabs(trK) > 0 ? fabs(trK) / trM : 1.0;
   int singular_mass = 0;
   for (int c = 0; c < nc; c++) {
-    int q = ptr[c];
-    while (nbr[q] != c) q++;
-    singular_mass |= phm_chol6(L->Mb + 36 * (size_t)q, 0.0, 0.0, Lm + 36 * (size_t)c);
+    singular_mass |= phm_chol6(L->Mb + 36 * (size_t)lin_slot(L, c, c), 0.0, 0.0, Lm + 36 * (size_t)c);
   }
   for (int ip = 0; ip < m->np && !singular_mass; ip++) {
     int cr[2] = {m->pair[ip].a, m->pair[ip].b};
@@ -135,9 +132,8 @@ static phm_status sparse_init(sparse_t *P, const phm_model *m, lin_t *L, const d
       for (int si = 0; si < 2; si++)
         for (int sj = 0; sj < 2; sj++) {
           if (cr[si] < 0 || cr[sj] < 0) continue;
-          int q = ptr[cr[si]];
-          while (q < ptr[cr[si] + 1] && nbr[q] != cr[sj]) q++;
-          if (q == ptr[cr[si] + 1]) continue; /* not reached: a pair's carriers are neighbours */
+          int q = lin_slot(L, cr[si], cr[sj]);
+          if (q < 0) continue; /* not reached: a pair's carriers are neighbours */
           for (int i = 0; i < 6; i++)
             for (int j = 0; j < 6; j++)
               P->Aug[36 * (size_t)q + 6 * i + j] += rho * g[6 * si + i] * g[6 * sj + j];
@@ -565,11 +561,14 @@ static phm_status sparse_path(lin_red_t *R, const phm_model *m, int nf, int b, i
   }
   for (int k = 0; k < 4 && found; k++) {
     double tau = -sqrt(lo * hi);
-    if (sparse_shift(&P, tau) || !(P.check < PHM_INERTIA_CHECK)) continue;
+    /* failed: lo and hi unchanged, the next tau the same, so the same failure */
+    if (sparse_shift(&P, tau) || !(P.check < PHM_INERTIA_CHECK)) break;
     if (P.below == 0) lo = tau;
     else hi = tau;
   }
-  if (!found || sparse_shift(&P, lo) || !(P.check < PHM_INERTIA_CHECK) || P.below != 0) {
+  /* (P holds lo's factorization already when the last shift tried was lo) */
+  if (!found || (P.sigma != lo && sparse_shift(&P, lo)) || !(P.check < PHM_INERTIA_CHECK) ||
+      P.below != 0) {
     st = PHM_FAIL(err, PHM_ESOLVER, "modes: the sparse path found %d eigenvalues below its shift "
                   "%.6g (rad/s)^2 and its iteration %d, and no lower shift with none below it "
                   "could be certified; the dense method may answer", below, sigma, nb);

@@ -42,6 +42,9 @@ typedef struct {
 } lin_t;
 
 phm_status lin_alloc(lin_t *L, const phm_model *m, phm_error *err);
+/* The slot of block (row carrier r, column carrier c) in L's coupling graph (lin_graph), or -1
+ * when they are not neighbours. */
+int lin_slot(const lin_t *L, int r, int c);
 void lin_free(lin_t *L);
 /* The coupling graph of L's model, room for the force Jacobian blocks and the mass blocks Mb
  * (filled: they are constant). */
