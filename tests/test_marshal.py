@@ -23,8 +23,11 @@ def described():
     m.add_wrench("w", b, (0, 0, 0, 1.0, 0, 0), law=ph.Sine(frequency=2.0))
     m.add_spring_damper("s", "ground", b, 100.0)
     state, _ = m._initial_state()
-    return _marshal.components(m._desc, state.poses, state.twists, state.x0, state.drop_masks,
-                               state.frames_a)
+    kw = _marshal.components(m._desc, state.poses, state.twists, state.x0, state.drop_masks,
+                             state.frames_a)
+    # writable copies of the arrays the description shares read-only (the tests break them)
+    return {kind: {c: np.array(v) if isinstance(v, np.ndarray) else v for c, v in d.items()}
+            if isinstance(d, dict) else d for kind, d in kw.items()}
 
 
 def test_a_valid_description_builds_a_model():
@@ -95,3 +98,27 @@ def test_core_validation_still_applies():
     kw["pairs"]["carriers"][1, 1] = 99   # no such carrier: refused by phm_model_create
     with pytest.raises(ph.ModelError, match="carrier"):
         _core.model_new(**kw)
+
+
+def test_the_description_columns_are_shared_read_only_and_dropped_on_a_change():
+    """_marshal.components makes the description's own columns once (ModelDescription.columns)
+    and hands them out read-only in new dicts and lists; adding a component drops them, so the
+    next model has it."""
+    m = ph.Mechanism(gravity=(0, 0, -9.81))
+    b = m.add_rigid_body("b", 1.0, np.eye(3))
+    m.add_pair("hinge", ph.Revolute("y"), m.ground, b)
+    state, _ = m._initial_state()
+    args = (m._desc, state.poses, state.twists, state.x0, state.drop_masks, state.frames_a)
+    first, second = _marshal.components(*args), _marshal.components(*args)
+    assert first["carriers"]["M"] is second["carriers"]["M"]
+    assert first["pairs"] is not second["pairs"] and first["pairs"]["law"] is not second["pairs"]["law"]
+    with pytest.raises(ValueError, match="read-only"):
+        first["carriers"]["mass"][0] = 2.0
+    del first["pairs"]["type"]
+    assert "type" in _marshal.components(*args)["pairs"]
+    m.add_rigid_body("c", 2.0, np.eye(3))
+    state, _ = m._initial_state()
+    third = _marshal.components(m._desc, state.poses, state.twists, state.x0, state.drop_masks,
+                                state.frames_a)
+    np.testing.assert_array_equal(third["carriers"]["mass"], [1.0, 2.0])
+    assert _core.model_sizes(_core.model_new(**third))[0] == 2

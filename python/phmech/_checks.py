@@ -132,17 +132,27 @@ def positive_definite(A: np.ndarray, cholesky: bool = False) -> bool:
 def not_rotation(R: np.ndarray) -> str:
     """Why the finite 3x3 ``R`` is not a rotation (orthonormal within 1e-6 with det +1, the
     core's test), or "" when it is one."""
-    big = np.max(np.abs(R)) > 2   # not a rotation (and R^T R could overflow)
-    if big:
-        return f"entries up to {np.max(np.abs(R)):.3g}"
-    err = float(np.max(np.abs(R.T @ R - np.eye(3))))
-    det = float(np.linalg.det(R))
+    (a, b, c), (d, e, f), (g, h, i) = R.tolist()   # plain floats: 3x3 numpy calls cost more
+    big = max(map(abs, (a, b, c, d, e, f, g, h, i)))
+    if big > 2:   # not a rotation (and R^T R could overflow)
+        return f"entries up to {big:.3g}"
+    cols = ((a, d, g), (b, e, h), (c, f, i))
+    err = max(abs(sum(x * y for x, y in zip(cols[j], cols[k])) - (j == k))
+              for j in range(3) for k in range(j, 3))
+    det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
     return "" if err <= 1e-6 and det > 0 else f"|R^T R - I| = {err:.2g}, det R = {det:.3g}"
+
+
+_EYE4 = np.eye(4)
+_EYE4.setflags(write=False)
 
 
 def rigid_pose(x, what: str) -> np.ndarray:
     """A rigid pose [[R, p], [0, 0, 0, 1]] (R orthonormal with det +1 within 1e-6, the core's
     test; p in m), or ModelError naming ``what``."""
+    if isinstance(x, np.ndarray) and x.shape == (4, 4) and x.dtype == np.float64 and \
+            np.array_equal(x, _EYE4):   # the frames phmech makes mostly are
+        return _EYE4.copy()
     H = array(what, x, (4, 4), "a finite 4x4 pose")
     why = not_rotation(H[:3, :3])
     if why:

@@ -113,22 +113,15 @@ def _rest_lengths(desc: ModelDescription, poses: np.ndarray) -> np.ndarray:
     return np.array(out, dtype=float)
 
 
-def components(desc: ModelDescription, poses: np.ndarray, twists: np.ndarray, x0: np.ndarray,
-               drop_masks: Optional[Sequence[int]] = None, frames_a: Optional[Sequence] = None,
-               extra_loads: Sequence[dict] = ()) -> dict:
-    """The arguments of ``_core.model_new`` for ``desc`` at initial ``poses`` (nc, 4, 4) and body
-    ``twists`` (nc, 6), with the pairs' joint coordinates ``x0`` (npairs, 6), their
-    redundant-row masks ``drop_masks`` (None: none dropped) and frame offsets on carrier a
-    ``frames_a`` (None: the rows' Ta; see topology.place_tree), and ``extra_loads`` (load rows)
-    after the description's own loads: one dict of columns per component kind, and gravity."""
-    car, el, pr, ac, sp = desc.carriers, desc.elements, desc.pairs, desc.actuators, desc.springs
-    loads = list(desc.loads) + list(extra_loads)
-    frames_a = [p["Ta"] for p in pr] if frames_a is None else frames_a
-    rest = _rest_lengths(desc, poses)
-    return dict(
-        carriers=dict(M=_column(car, "M", (6, 6)), mass=_column(car, "mass"),
-                      com=_column(car, "com", (3,)), H0=np.asarray(poses, dtype=float),
-                      t0=np.asarray(twists, dtype=float)),
+def _description_columns(desc: ModelDescription) -> dict:
+    """The columns of ``components`` that depend on the description alone (not on the initial
+    state nor on extra loads), made once per description (ModelDescription.columns, dropped by
+    ModelDescription.changed)."""
+    if desc.columns is not None:
+        return desc.columns
+    car, el, pr, ac, sp, ld = desc.carriers, desc.elements, desc.pairs, desc.actuators, desc.springs, desc.loads
+    desc.columns = dict(
+        carriers=dict(M=_column(car, "M", (6, 6)), mass=_column(car, "mass"), com=_column(car, "com", (3,))),
         elements=dict(h=_column(el, "h"), nodes=_ends(el), K=_column(el, "K", (6, 6)),
                       D=_column(el, "D", (6, 6)), eps_hat=_column(el, "eps", (6,)),
                       mass=np.array([_MASS_KINDS[e.get("mass", "lumped")] for e in el], dtype=float),
@@ -136,18 +129,12 @@ def components(desc: ModelDescription, poses: np.ndarray, twists: np.ndarray, x0
                                   dtype=float).reshape(-1, 6, 6),
                       Mc=np.array([e.get("Mc", np.zeros((12, 12))) for e in el],
                                   dtype=float).reshape(-1, 12, 12)),
-        pairs=dict(type=_column(pr, "type"), carriers=_ends(pr),
-                   Ta=np.array(frames_a, dtype=float).reshape(-1, 4, 4), Tb=_column(pr, "Tb", (4, 4)),
+        pairs=dict(type=_column(pr, "type"), carriers=_ends(pr), Tb=_column(pr, "Tb", (4, 4)),
                    driven=_column(pr, "driven"), axis=_column(pr, "axis", (6,)),
                    law=[_law(p["law"]) if p["driven"] else None for p in pr],
                    xlaws=[None if p.get("xlaws") is None else [_law(x) for x in p["xlaws"]] for p in pr],
-                   pitch=_column(pr, "pitch"), x0=np.asarray(x0, dtype=float).reshape(-1, 6),
-                   has_x0=_column(pr, "has_x0"),
-                   drop=np.zeros(len(pr)) if drop_masks is None else np.array(drop_masks, dtype=float)),
-        loads=dict(carrier=_column(loads, "carrier"), world=_column(loads, "world"),
-                   point=_column(loads, "point", (3,)), w=_column(loads, "w", (6,)),
-                   law=[_law(ld["law"]) for ld in loads],
-                   reaction=np.array([ld.get("reaction", -1) for ld in loads], dtype=float)),
+                   pitch=_column(pr, "pitch"), has_x0=_column(pr, "has_x0")),
+        loads=_load_columns(ld),
         actuators=dict(pair=_column(ac, "pair"),
                        kind=np.array([_ACTUATOR_KINDS[a["kind"]] for a in ac], dtype=float),
                        vec=_column(ac, "vec", (6,)), kp=_column(ac, "kp", (6,)),
@@ -155,11 +142,56 @@ def components(desc: ModelDescription, poses: np.ndarray, twists: np.ndarray, x0
                        law=[_law(a["law"]) for a in ac]),
         springs=dict(carriers=_ends(sp), pa=_column(sp, "pa", (3,)), pb=_column(sp, "pb", (3,)),
                      k=np.array([q["kcd"][0] for q in sp], dtype=float),
-                     c=np.array([q["kcd"][1] for q in sp], dtype=float), rest_length=rest),
-        gravity=np.asarray(desc.gravity, dtype=float),
+                     c=np.array([q["kcd"][1] for q in sp], dtype=float)),
         couplings=dict(Mc=np.array([c["Mc"] for c in desc.couplings], dtype=float).reshape(-1, 12, 12),
                        carriers=np.array([[c["a"], c["b"]] for c in desc.couplings],
                                          dtype=float).reshape(-1, 2)))
+    for kind in desc.columns.values():   # shared by every later call: nobody may write them
+        for v in kind.values():
+            if isinstance(v, np.ndarray):
+                v.setflags(write=False)
+    return desc.columns
+
+
+def _load_columns(loads: Sequence[dict]) -> dict:
+    """The load rows' columns of ``components``."""
+    return dict(carrier=_column(loads, "carrier"), world=_column(loads, "world"),
+                point=_column(loads, "point", (3,)), w=_column(loads, "w", (6,)),
+                law=[_law(ld["law"]) for ld in loads],
+                reaction=np.array([ld.get("reaction", -1) for ld in loads], dtype=float))
+
+
+def components(desc: ModelDescription, poses: np.ndarray, twists: np.ndarray, x0: np.ndarray,
+               drop_masks: Optional[Sequence[int]] = None, frames_a: Optional[Sequence] = None,
+               extra_loads: Sequence[dict] = ()) -> dict:
+    """The arguments of ``_core.model_new`` for ``desc`` at initial ``poses`` (nc, 4, 4) and body
+    ``twists`` (nc, 6), with the pairs' joint coordinates ``x0`` (npairs, 6), their
+    redundant-row masks ``drop_masks`` (None: none dropped) and frame offsets on carrier a
+    ``frames_a`` (None: the rows' Ta; see topology.place_tree), and ``extra_loads`` (load rows)
+    after the description's own loads: one dict of columns per component kind, and gravity.
+    The dicts and lists are new; the arrays of the description's own columns are shared between
+    calls (read-only)."""
+    cols = {kind: {key: list(v) if isinstance(v, list) else v for key, v in d.items()}
+            for kind, d in _description_columns(desc).items()}
+    pr = desc.pairs
+    frames_a = [p["Ta"] for p in pr] if frames_a is None else frames_a
+    loads = cols["loads"]
+    if extra_loads:
+        more = _load_columns(extra_loads)
+        loads = {k: (v + more[k]) if isinstance(v, list) else np.concatenate([v, more[k]])
+                 for k, v in loads.items()}
+    return dict(
+        carriers=dict(cols["carriers"], H0=np.asarray(poses, dtype=float),
+                      t0=np.asarray(twists, dtype=float)),
+        elements=cols["elements"],
+        pairs=dict(cols["pairs"], Ta=np.array(frames_a, dtype=float).reshape(-1, 4, 4),
+                   x0=np.asarray(x0, dtype=float).reshape(-1, 6),
+                   drop=np.zeros(len(pr)) if drop_masks is None else np.array(drop_masks, dtype=float)),
+        loads=loads,
+        actuators=cols["actuators"],
+        springs=dict(cols["springs"], rest_length=_rest_lengths(desc, poses)),
+        gravity=np.asarray(desc.gravity, dtype=float),
+        couplings=cols["couplings"])
 
 
 def core_model(desc: ModelDescription, poses: np.ndarray, twists: np.ndarray, x0: np.ndarray,

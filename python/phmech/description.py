@@ -55,6 +55,13 @@ class ModelDescription:
     given: dict = dataclasses.field(default_factory=dict)
     #: carriers whose twist the user gave (add_rigid_body(twist=))
     twist_given: set = dataclasses.field(default_factory=set)
+    #: the rows' columns for the core (phmech._marshal), made at the first analysis and kept
+    #: until the next change (``changed``)
+    columns: dict = dataclasses.field(default=None, compare=False, repr=False)
+
+    def changed(self) -> None:
+        """A component was (or is about to be) added: the columns made from the rows are stale."""
+        self.columns = None
 
     def carrier_name(self, c: int) -> str:
         """'the ground', "body 'b'" or "node k of link 'L'" for carrier index c."""

@@ -447,6 +447,8 @@ def _difference(a, b, path: str) -> Optional[str]:
         if type(a) is not type(b):
             return path
         for f in dataclasses.fields(a):
+            if not f.compare:   # a cache (ModelDescription.columns), not the model
+                continue
             w = _difference(getattr(a, f.name), getattr(b, f.name), f"{path}.{f.name}")
             if w:
                 return w

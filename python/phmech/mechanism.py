@@ -39,6 +39,7 @@ from .pairs import (Cylindrical, Fixed, Free, Helical, Planar, Prismatic, Revolu
                     Universal, _Pair)
 from .results import (ENERGY_NAMES, InitialAdjustment, InitialConfiguration, ModesResult, Momentum,
                       SimulationResult, StabilityWarning, StaticResult)
+from .section import BeamProperties
 from ._run import AccuracyWarning
 from .topology import InitialValueWarning, RedundantConstraintWarning
 
@@ -161,6 +162,7 @@ class Mechanism:
         self._check_name(name)
         self._names.add(name)
         self._state = None
+        self._desc.changed()
 
     @_recorded
     def add_flexible_link(self, name: str, length: float, properties, elements: Optional[int] = None,
@@ -257,9 +259,10 @@ class Mechanism:
         I = array("properties.inertia", getattr(properties, "inertia", None), (6, 6), mat6)
         Dp = getattr(properties, "damping", None)
         Dm = np.zeros((6, 6)) if Dp is None else array("properties.damping", Dp, (6, 6), mat6)
-        if not positive_definite(K):
+        # a BeamProperties checked both (and keeps them read-only): section._matrix6
+        if not isinstance(properties, BeamProperties) and not positive_definite(K):
             raise ModelError("properties.stiffness must be symmetric positive definite")
-        if not positive_definite(I):
+        if not isinstance(properties, BeamProperties) and not positive_definite(I):
             raise ModelError("properties.inertia (per unit length) must be symmetric positive definite")
         given = self._given_pose(pose, start, "start", f"link {name!r}")
         H = np.eye(4) if given is None else given

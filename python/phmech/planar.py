@@ -86,7 +86,7 @@ def check(comp: dict, poses, twists, G, layout, names, k: int) -> Optional[str]:
     ax = AXES[k]
     O = outplane(k)
     g = comp["gravity"]
-    if not _zero(g[k], g):
+    if abs(g[k]) > ZERO * max(abs(float(x)) for x in g):
         return f"gravity {tuple(g)} has a component along {ax}"
     car = comp["carriers"]
     H = np.asarray(poses, dtype=float).reshape(-1, 4, 4)
@@ -163,14 +163,19 @@ def check(comp: dict, poses, twists, G, layout, names, k: int) -> Optional[str]:
     return None
 
 
+@lru_cache(maxsize=64)
+def _inplane_columns(k: int, nc: int) -> np.ndarray:
+    """The columns of a constraint matrix over nc carriers' twists that are in-plane (bool)."""
+    return np.tile(np.isin(np.arange(6), inplane(k)), nc)
+
+
 def _row_parts(G, nc: int, k: int):
     """Per constraint row of G: (no in-plane component, no out-of-plane component), each zero
     up to ZERO times the row's largest entry."""
-    Gc = np.asarray(G, dtype=float).reshape(G.shape[0], nc, 6)
-    s = ZERO * np.abs(G).max(axis=1, initial=0.0)
-    no_in = np.all(np.abs(Gc[:, :, inplane(k)]).reshape(G.shape[0], -1) <= s[:, None], axis=1)
-    no_out = np.all(np.abs(Gc[:, :, outplane(k)]).reshape(G.shape[0], -1) <= s[:, None], axis=1)
-    return no_in, no_out
+    A = np.abs(np.asarray(G, dtype=float))
+    s = ZERO * A.max(axis=1, initial=0.0)[:, None]
+    cols = _inplane_columns(k, nc)
+    return np.all(A[:, cols] <= s, axis=1), np.all(A[:, ~cols] <= s, axis=1)
 
 
 def out_of_plane_rows(G, layout, nc: int, k: int) -> list:

@@ -465,7 +465,9 @@ def close_rates(desc: ModelDescription, model, H, T, tree_pairs, xref):
         return dict(zip(given.tolist(), (Jg @ t).tolist()))
 
     # the hard rows already hold: checked without forming the elements' (dense) Jacobian
-    miss = np.concatenate([rate_g - G @ t, _element_rates(desc, H, t)])
+    # (Je t is linear in t: zero for a scene at rest, without evaluating the elements)
+    Je_t = _element_rates(desc, H, t) if np.any(t) else np.zeros(6 * len(desc.elements))
+    miss = np.concatenate([rate_g - G @ t, Je_t])
     if (miss.size == 0 or np.max(np.abs(miss)) <= 1e-12 * scale) and \
             np.all(np.abs(Jg @ t - given_rate) <= 1e-12 * scale):
         return T, reached(t)
