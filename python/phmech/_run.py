@@ -296,13 +296,18 @@ def quality(energy: dict, band: float) -> dict:
     - ``numerical_dissipation`` [J]: minus the final ledger residual (energy the integrator
       removed; positive = lost), with ``numerical_dissipation_relative`` the same / energy_scale.
     """
-    kin, pot = energy["kinetic"], energy["elastic"] + energy["gravity"]
-    scale = float(np.max(np.abs(kin)) + np.ptp(pot) + np.max(np.abs(energy["supplied"]))
-                  + np.max(np.abs(energy["dissipated"]))) if len(kin) else 0.0
     led = energy["ledger"]
-    lmax = float(np.max(np.abs(led))) if len(led) else 0.0
-    size = float(np.max(sum(np.abs(energy[k]) for k in ("kinetic", "elastic", "gravity",
-                                                          "supplied", "dissipated")))) if len(kin) else 0.0
+    scale = lmax = size = 0.0
+    if len(led):
+        # columns kinetic, elastic, gravity, supplied, dissipated, ledger: one array, few calls
+        E = np.column_stack([energy[k] for k in ("kinetic", "elastic", "gravity", "supplied",
+                                                 "dissipated", "ledger")])
+        A = np.abs(E)
+        top = A.max(axis=0)
+        pot = E[:, 1] + E[:, 2]
+        scale = float(top[0] + (pot.max() - pot.min()) + top[3] + top[4])
+        lmax = float(top[5])
+        size = float(A[:, :5].sum(axis=1).max())
     moved = scale > max(STILL, ROUND_OFF * size)
     q = dict(band=band, energy_scale=scale, ledger_relative=lmax / scale if moved else 0.0,
              numerical_dissipation=float(-led[-1]) if len(led) else 0.0)

@@ -58,10 +58,13 @@ class ModelDescription:
     #: the rows' columns for the core (phmech._marshal), made at the first analysis and kept
     #: until the next change (``changed``)
     columns: dict = dataclasses.field(default=None, compare=False, repr=False)
+    #: mass_couplings(), kept as columns
+    _mass_couplings: dict = dataclasses.field(default=None, compare=False, repr=False)
 
     def changed(self) -> None:
-        """A component was (or is about to be) added: the columns made from the rows are stale."""
+        """A component was (or is about to be) added: what was made from the rows is stale."""
         self.columns = None
+        self._mass_couplings = None
 
     def carrier_name(self, c: int) -> str:
         """'the ground', "body 'b'" or "node k of link 'L'" for carrier index c."""
@@ -98,12 +101,17 @@ class ModelDescription:
         ``_couplings`` (ne, 12, 12) in their nodes' body twists, then the couplings without an
         element (a modal link's modes), from the core's kernel
         (phm_element_mass; what the simulation integrated), for a result's momentum."""
-        from . import _core
-        rows = [e for e in self.elements if e.get("mass", "lumped") != "lumped"] + self.couplings
-        return dict(_coupled_nodes=np.array([[e["a"], e["b"]] for e in rows], dtype=int).reshape(-1, 2),
-                    _couplings=np.array([e["Mc"] if e.get("mass", "given") == "given" else
-                                         _core.element_mass(e["h"], e["Ms"], e["eps"]) for e in rows],
-                                        dtype=float).reshape(-1, 12, 12))
+        if self._mass_couplings is None:
+            from . import _core
+            rows = [e for e in self.elements if e.get("mass", "lumped") != "lumped"] + self.couplings
+            cp = dict(_coupled_nodes=np.array([[e["a"], e["b"]] for e in rows], dtype=int).reshape(-1, 2),
+                      _couplings=np.array([e["Mc"] if e.get("mass", "given") == "given" else
+                                           _core.element_mass(e["h"], e["Ms"], e["eps"]) for e in rows],
+                                          dtype=float).reshape(-1, 12, 12))
+            for a in cp.values():   # shared by every result until the next change
+                a.setflags(write=False)
+            self._mass_couplings = cp
+        return dict(self._mass_couplings)
 
     def mass_times(self, v: np.ndarray) -> np.ndarray:
         """M v for tangent vectors v (..., ncarriers, 6) (body frames): every carrier's 6x6

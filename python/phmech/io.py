@@ -277,6 +277,11 @@ def recorded(method: Callable) -> Callable:
     ``save``), after a ``set`` entry if the mechanism's settings changed since the last call."""
     sig = inspect.signature(method)
     RECORDED.add(method.__name__)
+    # the call succeeded, so its arguments bind: by name, in the signature's order (cheaper
+    # than sig.bind, which a builder method with *args or **kwargs would need)
+    names = list(sig.parameters)[1:]
+    if any(p.kind in (p.VAR_POSITIONAL, p.VAR_KEYWORD) for p in sig.parameters.values()):
+        raise TypeError(f"@recorded {method.__name__}: *args and **kwargs are not supported")
 
     @functools.wraps(method)
     def wrapper(self, *args, **kwargs):
@@ -288,8 +293,10 @@ def recorded(method: Callable) -> Callable:
             if outer:
                 self._recording = False
         if outer:
-            bound = sig.bind(self, *args, **kwargs)
-            given = dict(list(bound.arguments.items())[1:])
+            given = dict(zip(names, args))
+            if kwargs:
+                given.update(kwargs)
+                given = {n: given[n] for n in names if n in given}
             _log(self, method.__name__, given)
         return out
 

@@ -99,27 +99,31 @@ def check(comp: dict, poses, twists, G, layout, names, k: int) -> Optional[str]:
     if not about_k.all():   # first and alone: it rejects the other axes of most planar scenes
         return f"carrier {int(np.flatnonzero(~about_k)[0])}'s initial rotation is not about {ax}"
     # the twists' scale: the scene's (a carrier at rest: round-off)
-    still = np.all(np.abs(T[:, O]) <= ZERO * (np.max(np.abs(T)) if T.size else 0.0), axis=1)
+    still = np.all(np.abs(T[:, O]) <= ZERO * np.max(np.abs(T)), axis=1) if T.any() else \
+        np.ones(nc, dtype=bool)
     com = np.asarray(car["com"], dtype=float).reshape(-1, 3)
     weightless = (np.asarray(car["mass"], dtype=float) <= 0) | (not np.any(g)) | _zero_each(com[:, k], com)
+    el, cp = comp["elements"], comp["couplings"]
+    eps = np.asarray(el["eps_hat"], dtype=float).reshape(-1, 6)
+    ne = len(eps)
+    # every 6x6 matrix in one test, and every 12x12 one: carriers' M, elements' K, D, Ms; Mc
+    inertia, K, D, Ms = np.split(_decoupled_each(np.concatenate(
+        [np.reshape(car["M"], (-1, 6, 6))] + [el[key] for key in ("K", "D", "Ms")]), k),
+        [nc, nc + ne, nc + 2 * ne])
+    element_mass, couplings = np.split(_decoupled_each(np.concatenate([el["Mc"], cp["Mc"]]), k, 2), [ne])
     why = _first([
         (still, lambda c: f"carrier {c}'s initial twist has out-of-plane components {T[c][O]}"),
-        (_decoupled_each(car["M"], k), lambda c: f"carrier {c}'s inertia couples in-plane and out-of-plane motion"),
+        (inertia, lambda c: f"carrier {c}'s inertia couples in-plane and out-of-plane motion"),
         (weightless, lambda c: f"carrier {c}'s centre of mass is off the plane (its weight would tilt it)")])
     if why:
         return why
-    el = comp["elements"]
-    eps = np.asarray(el["eps_hat"], dtype=float).reshape(-1, 6)
-    ne = len(eps)
-    sections = _decoupled_each(np.concatenate([el[key] for key in ("K", "D", "Ms")]), k).reshape(3, ne)
     why = _first([(ok, lambda e, key=key: f"element {e}'s {key} couples in-plane and out-of-plane strains")
-                  for ok, key in zip(sections, ("K", "D", "Ms"))] + [
-        (_decoupled_each(el["Mc"], k, 2), lambda e: f"element {e}'s consistent mass couples in-plane and out-of-plane motion"),
+                  for ok, key in zip((K, D, Ms), ("K", "D", "Ms"))] + [
+        (element_mass, lambda e: f"element {e}'s consistent mass couples in-plane and out-of-plane motion"),
         (_zero_each(eps[:, O], eps), lambda e: f"element {e}'s unstressed curvature is not about {ax}")])
     if why:
         return why
-    why = _first([(_decoupled_each(comp["couplings"]["Mc"], k, 2),
-                   lambda c: f"inertial coupling {c} couples in-plane and out-of-plane motion")])
+    why = _first([(couplings, lambda c: f"inertial coupling {c} couples in-plane and out-of-plane motion")])
     if why:
         return why
     ld = comp["loads"]
