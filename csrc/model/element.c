@@ -8,16 +8,37 @@
 #include "linalg.h"
 #include "pose.h"
 
+/* Hab = Ha^-1 Hb: R_a^T R_b, R_a^T p_b + (-R_a^T p_a), the arithmetic of phm_se3_inverse then
+ * phm_se3_compose (the same numbers) without their copies. Written as Ra^T (pb - pa) its
+ * position is 4x more accurate (measured on strains of 1e-6), yet that made IDA's every-state
+ * reference of the leaf spring crawl (30 -> 170 000 steps over 0.05 s, tests/test_scenes.py):
+ * IDA's Newton there is sensitive to the residual's round-off (docs/integrators.md, Limits), so
+ * this form is kept. */
+static void relative_pose(const double Ha[16], const double Hb[16], double Hab[16]) {
+  for (int i = 0; i < 3; i++) {
+    for (int j = 0; j < 3; j++)
+      Hab[4 * i + j] = Ha[i] * Hb[j] + Ha[4 + i] * Hb[4 + j] + Ha[8 + i] * Hb[8 + j];
+    double qa = -(Ha[i] * Ha[3] + Ha[4 + i] * Ha[7] + Ha[8 + i] * Ha[11]);
+    Hab[4 * i + 3] = (Ha[i] * Hb[3] + Ha[4 + i] * Hb[7] + Ha[8 + i] * Hb[11]) + qa;
+  }
+  Hab[12] = Hab[13] = Hab[14] = 0.0;
+  Hab[15] = 1.0;
+}
+
+double phm_element_energy(const phm_element_desc *e, const double Ha[16], const double Hb[16]) {
+  double Hab[16], X[6], sig[6], de[6];
+  relative_pose(Ha, Hb, Hab);
+  phm_se3_log(Hab, X); /* phm_se3_log_dexp_inv's X, without the blocks */
+  for (int i = 0; i < 6; i++) de[i] = X[i] / e->h - e->eps_hat[i];
+  phm_mv6(e->K, de, sig);
+  return 0.5 * e->h * phm_dot(de, sig, 6);
+}
+
 void phm_element_eval(const phm_element_desc *e, const double Ha[16], const double Hb[16],
                       const double ta[6], const double tb[6], double wa[6], double wb[6],
                       double *V, double *P, double *sigma) {
-  double Hai[16], Hab[16], X[6], A[9], L[9], sig[6], de[6];
-  /* Hab = Ha^-1 Hb. Written as Ra^T (pb - pa) its position is 4x more accurate (measured on
-   * strains of 1e-6), yet that made IDA's every-state reference of the leaf spring crawl (30 ->
-   * 170 000 steps over 0.05 s, tests/test_scenes.py): IDA's Newton there is sensitive to the
-   * residual's round-off (docs/integrators.md, Limits), so this form is kept. */
-  phm_se3_inverse(Ha, Hai);
-  phm_se3_compose(Hai, Hb, Hab);
+  double Hab[16], X[6], A[9], L[9], sig[6], de[6];
+  relative_pose(Ha, Hb, Hab);
   /* X = log(Hab); dexp_X^-1 = [[A, 0], [L, A]], dexp_{-X}^-1 = [[A^T, 0], [L^T, A^T]] */
   phm_se3_log_dexp_inv(Hab, X, A, L);
   for (int i = 0; i < 6; i++) de[i] = X[i] / e->h - e->eps_hat[i];
@@ -76,11 +97,10 @@ static void blocks6(const double A[9], const double L[9], int tr, double M[36]) 
 void phm_element_tangent(const phm_element_desc *e, const double Ha[16], const double Hb[16],
                          const double ta[6], const double tb[6], double wa[6], double wb[6],
                          double Kx[144], double Ct[144]) {
-  double Hai[16], Hab[16], X[6], Ab[9], Lb[9], A[36], B[36], sig[6], de[6];
+  double Hab[16], X[6], Ab[9], Lb[9], A[36], B[36], sig[6], de[6];
   double dAi[6][9], dL[6][9], JX[72], ed[6] = {0};
   int damp = ta && tb;
-  phm_se3_inverse(Ha, Hai);
-  phm_se3_compose(Hai, Hb, Hab);
+  relative_pose(Ha, Hb, Hab);
   phm_se3_log_dexp_inv(Hab, X, Ab, Lb);
   blocks6(Ab, Lb, 0, A);
   blocks6(Ab, Lb, 1, B);

@@ -25,9 +25,7 @@ void phm_model_energy(const phm_model *m, const double *H, const double *t, doub
     }
   for (int ie = 0; ie < m->ne; ie++) {
     const phm_element_desc *el = &m->el[ie];
-    double wa[6], wb[6], v;
-    phm_element_eval(el, H + 16 * el->a, H + 16 * el->b, NULL, NULL, wa, wb, &v, NULL, NULL);
-    Vel += v;
+    Vel += phm_element_energy(el, H + 16 * el->a, H + 16 * el->b);
   }
   for (int is = 0; is < m->ns; is++) {
     double v = 0;

@@ -164,6 +164,8 @@ void phm_constraint_forces(const phm_model *m, const double *H, double time, dou
 void phm_element_eval(const phm_element_desc *e, const double Ha[16], const double Hb[16],
                       const double ta[6], const double tb[6], double wa[6], double wb[6],
                       double *V, double *P, double *sigma);
+/* Its elastic energy alone (phm_element_eval's *V, the same number, without the wrenches). */
+double phm_element_energy(const phm_element_desc *e, const double Ha[16], const double Hb[16]);
 
 /* The element's wrenches (as phm_element_eval) and their tangent: Kx (12 x 12, row-major) =
  * d[wa; wb]/d[da; db] for the perturbations Ha exp(da), Hb exp(db) (elastic, geometric and, with

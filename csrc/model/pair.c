@@ -295,13 +295,25 @@ static void revolute_kin(const double h[16], const double *xref, double *g, doub
   }
 }
 
+/* The fixed row of the table without derivatives in closed form: g = log(h) (pair_kin's log_pq,
+ * the same numbers), W = I, Phi = 0 (no coordinates). pair_kin's switch also set up its dual
+ * numbers and an angle (atan2) the fixed pair does not read: a third of a clamped beam's pair. */
+static void fixed_kin(const double h[16], double *g, double *W, double *Phi) {
+  static const unsigned char Ip[36] = {1, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0,
+                                       0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1};
+  if (g) phm_se3_log(h, g);
+  if (W) unit_basis(W, Ip);
+  if (Phi) memset(Phi, 0, 36 * sizeof(double));
+}
+
 /* The kinematics of a type: its closed form where it has one (general = 0), else the table's
  * switch (pair_kin). DW, DPhi of a closed form with constant bases are zero-filled. */
 static void kin(int general, int type, double pitch, const double h[16], const double *xref,
                 double *g, double *W, double *Phi, double *x, double *Dg, double *DW, double *DPhi,
                 double *Dx) {
   int tan = Dg || DW || DPhi || Dx;
-  if (!general && type == PAIR_REVOLUTE) {
+  if (!general && !tan && type == PAIR_FIXED) fixed_kin(h, g, W, Phi);
+  else if (!general && type == PAIR_REVOLUTE) {
     revolute_kin(h, xref, g, W, Phi, x, Dg, Dx);
     if (DW) memset(DW, 0, 216 * sizeof(double));
     if (DPhi) memset(DPhi, 0, 216 * sizeof(double));
