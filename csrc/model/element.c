@@ -264,9 +264,18 @@ void phm_element_inertia(const double Mc[144], const double ta[6], const double 
   memcpy(t + 6, tb, 6 * sizeof(double));
   memcpy(td, dta, 6 * sizeof(double));
   memcpy(td + 6, dtb, 6 * sizeof(double));
+  /* the columns of the twists' nonzero entries only (a planar scene's out-of-plane components
+   * are zero: half of them). The same sums: a sum from +0 is never -0 in round-to-nearest, so
+   * adding a zero product (Mc finite) leaves it as it is. */
+  int nz[12], k = 0;
+  for (int j = 0; j < 12; j++)
+    if (t[j] != 0.0 || td[j] != 0.0) nz[k++] = j;
   for (int i = 0; i < 12; i++) {
     double s = 0, sd = 0;
-    for (int j = 0; j < 12; j++) s += Mc[12 * i + j] * t[j], sd += Mc[12 * i + j] * td[j];
+    for (int q = 0; q < k; q++) {
+      int j = nz[q];
+      s += Mc[12 * i + j] * t[j], sd += Mc[12 * i + j] * td[j];
+    }
     u[i] = s;
     f[i] = sd;
   }
@@ -298,7 +307,13 @@ double phm_element_kinetic(const double Mc[144], const double ta[6], const doubl
   double t[12], K = 0;
   memcpy(t, ta, 6 * sizeof(double));
   memcpy(t + 6, tb, 6 * sizeof(double));
-  for (int i = 0; i < 12; i++)
-    for (int j = 0; j < 12; j++) K += t[i] * Mc[12 * i + j] * t[j];
+  int nz[12], k = 0; /* the nonzero entries only: the same sum (phm_element_inertia) */
+  for (int j = 0; j < 12; j++)
+    if (t[j] != 0.0) nz[k++] = j;
+  for (int a = 0; a < k; a++)
+    for (int b = 0; b < k; b++) {
+      int i = nz[a], j = nz[b];
+      K += t[i] * Mc[12 * i + j] * t[j];
+    }
   return 0.5 * K;
 }

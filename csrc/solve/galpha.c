@@ -523,7 +523,8 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
           nrm0 = nrm_rate;
           if (nrm <= 0.033) { ok = 1; break; }
         } else {
-          double rate = nrm0 > 0 ? pow(nrm_rate / nrm0, 1.0 / it) : 0.0;
+          /* pow(x, 1) is x: the first contraction without the call */
+          double rate = nrm0 > 0 ? (it == 1 ? nrm_rate / nrm0 : pow(nrm_rate / nrm0, 1.0 / it)) : 0.0;
           if (rate > 0.9 && nrm_rate > 0.033) break; /* diverging (not round-off over round-off) */
           /* rate > 0.9 below that: the states are at round-off, the ledger's lag decides */
           int conv = rate <= 0.9 ? nrm * rate / (1.0 - rate) <= 0.33 : nrm <= 0.033;
