@@ -101,7 +101,8 @@ typedef struct {
 /* What phm_pair_evaluate fills besides the frames (h, AdBa), as bit flags. */
 enum {
   PHM_PAIR_ROWS = 1, /* the constraint rows g, Ga, Gb, vt, W                                    */
-  PHM_PAIR_JOINT = 2 /* the joint coordinates x, their effort basis Phi and rates xdot          */
+  PHM_PAIR_JOINT = 2, /* the joint coordinates x, their effort basis Phi and rates xdot         */
+  PHM_PAIR_NO_G = 4   /* with ROWS: not g (left as it was), unless the pair is driven by a motion */
 };
 
 /* Evaluate pair ip at carrier poses Ha, Hb (NULL = ground) and twists ta, tb (NULL = at rest) into

@@ -476,6 +476,7 @@ static void pair_rows(const phm_model *m, int ip, const double h[16], const doub
   double s = 0, ds = 0;
   if (pr->driven) s = phm_law_eval(&pr->law, time, tref, &ds, NULL);
   double gf[6], vf[6] = {0, 0, 0, 0, 0, 0};
+  double *gk = g ? gf : NULL; /* g not asked for: the kinematics below skips it where it can */
   if (pr->driven && g) {
     double xv[6], r[16], ri[16], E[16];
     for (int i = 0; i < 6; i++) xv[i] = s * pr->axis[i];
@@ -510,10 +511,10 @@ static void pair_rows(const phm_model *m, int ip, const double h[16], const doub
     if (Phi) memcpy(Phi, Pl, sizeof Pl);
     if (x) memcpy(x, xl, sizeof(double) * (size_t)(6 - mt));
   } else if (!m->pair_general && pr->type == PAIR_REVOLUTE) { /* constant bases: DW = DPhi = 0 */
-    revolute_kin(h, xref, gf, W, Phi, x, T ? T->Dg : NULL, NULL);
+    revolute_kin(h, xref, gk, W, Phi, x, T ? T->Dg : NULL, NULL);
     if (T) T->W0 = T->Phi0 = 1;
   } else {
-    kin(m->pair_general, pr->type, pr->pitch, h, xref, gf, W, Phi, x, T ? T->Dg : NULL,
+    kin(m->pair_general, pr->type, pr->pitch, h, xref, gk, W, Phi, x, T ? T->Dg : NULL,
         T ? T->DW : NULL, T ? T->DPhi : NULL, NULL);
   }
   if (T && !T->W0 && !m->pair_general) T->W0 = all_zero(T->DW, 216);
@@ -521,7 +522,7 @@ static void pair_rows(const phm_model *m, int ip, const double h[16], const doub
   if (!all && pr->drop) { /* the kept rows: sel increasing, so the forward copy is safe */
     const int *sel = m->pair_sel + 6 * ip;
     for (int r = 0; r < mc; r++) {
-      gf[r] = gf[sel[r]];
+      if (g) gf[r] = gf[sel[r]];
       vf[r] = vf[sel[r]];
       for (int i = 0; i < 6; i++) W[6 * i + r] = W[6 * i + sel[r]];
       if (T) memmove(T->Dg + 6 * r, T->Dg + 6 * sel[r], 6 * sizeof(double));
@@ -571,7 +572,8 @@ void phm_pair_evaluate(const phm_model *m, int ip, const double *Ha, const doubl
   if (!xref) xref = m->xref0 + m->pair_j[ip]; /* the rows need it too: helical, driven coordinates */
   phm_pair_frames(m, ip, Ha, Hb, pd->h, NULL, pd->AdBa);
   if (what & PHM_PAIR_ROWS) /* without Phi and x, a driven pair skips its second kinematics */
-    pair_rows(m, ip, pd->h, AdTbi, pd->AdBa, xref, time, tref, 0, pd->g, pd->Ga, pd->Gb, pd->vt,
+    pair_rows(m, ip, pd->h, AdTbi, pd->AdBa, xref, time, tref, 0,
+              (what & PHM_PAIR_NO_G) && !pr->driven ? NULL : pd->g, pd->Ga, pd->Gb, pd->vt,
               pd->W, joint ? pd->Phi : NULL, joint ? pd->x : NULL, NULL);
   else if (joint)
     phm_pair_kin(pr->type, pr->pitch, pd->h, xref, NULL, NULL, pd->Phi, pd->x);

@@ -54,11 +54,13 @@ static void galpha_stage(const dae_t *d, galpha_t *g, double h) {
   }
 }
 
-/* R = [differential rows at the stage; constraint rows at (t1, y1)]; Ra keeps the full stage
- * residual (the base of the finite-difference Jacobian). */
+/* R = [differential rows at the stage; constraint rows at (t1, y1)]; Ra: the stage residual's
+ * differential rows (its constraint rows, which nothing reads, are not evaluated: the pairs'
+ * position constraints are logs of relative poses). */
 static void galpha_residual(dae_t *d, galpha_t *g, double t0, double h) {
   double *Ra = N_VGetArrayPointer(g->Ra), *R = N_VGetArrayPointer(g->R);
-  dae_residual(d, t0 + stage_af(g) * h, N_VGetArrayPointer(g->ya), N_VGetArrayPointer(g->ypa), Ra);
+  dae_residual_rows(d, t0 + stage_af(g) * h, N_VGetArrayPointer(g->ya), N_VGetArrayPointer(g->ypa),
+                    Ra, 0);
   dae_constraint_rows(d, t0 + h, N_VGetArrayPointer(g->Y), R);
   memcpy(R, Ra, sizeof(double) * (size_t)d->il);
 }
