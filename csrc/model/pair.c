@@ -448,13 +448,14 @@ static int unit_col(const double B[36], int c) {
 }
 
 /* out (n x ncol, leading dimension ldo) = sign B^T A on the first n columns of the 6x6 basis B
- * (A: 6 x ncol, leading dimension lda). A unit column e_k of B gives A's row k: the sum over its
- * zeros is that row (an exact zero's sign aside), so the constant bases of most types cost a
- * copy. The sign is exact, so each entry is the sum it always was. */
-static void bt_mul(const double B[36], int n, const double *A, int lda, int ncol, double sign,
-                   double *out, int ldo) {
+ * (A: 6 x ncol, leading dimension lda), unit[r] = unit_col(B, r) (unit_cols). A unit column e_k
+ * of B gives A's row k: the sum over its zeros is that row (an exact zero's sign aside), so the
+ * constant bases of most types cost a copy. The sign is exact, so each entry is the sum it
+ * always was. */
+static void bt_mul_cols(const double B[36], const int *unit, int n, const double *A, int lda,
+                        int ncol, double sign, double *out, int ldo) {
   for (int r = 0; r < n; r++) {
-    int k = unit_col(B, r);
+    int k = unit[r];
     if (k >= 0) {
       for (int j = 0; j < ncol; j++) out[ldo * r + j] = sign * A[lda * k + j];
       continue;
@@ -465,6 +466,18 @@ static void bt_mul(const double B[36], int n, const double *A, int lda, int ncol
       out[ldo * r + j] = sign * s;
     }
   }
+}
+
+/* unit[r] = unit_col(B, r) for the first n columns of B, for bt_mul_cols. */
+static void unit_cols(const double B[36], int n, int *unit) {
+  for (int r = 0; r < n; r++) unit[r] = unit_col(B, r);
+}
+
+static void bt_mul(const double B[36], int n, const double *A, int lda, int ncol, double sign,
+                   double *out, int ldo) {
+  int unit[6];
+  unit_cols(B, n, unit);
+  bt_mul_cols(B, unit, n, A, lda, ncol, sign, out, ldo);
 }
 
 static void pair_rows(const phm_model *m, int ip, const double h[16], const double AdTbi[36],
@@ -534,8 +547,10 @@ static void pair_rows(const phm_model *m, int ip, const double h[16], const doub
   }
   if (g) memcpy(g, gf, sizeof(double) * (size_t)mc);
   /* G_b = W^T Ad_{Tb^-1},  G_a = -W^T Ad_{(H_b Tb)^-1 H_a} */
-  if (Gb) bt_mul(W, mc, AdTbi, 6, 6, 1.0, Gb, 6);
-  if (Ga) bt_mul(W, mc, AdBa, 6, 6, -1.0, Ga, 6);
+  int unit[6]; /* W's unit columns, once for both */
+  if (Ga || Gb) unit_cols(W, mc, unit);
+  if (Gb) bt_mul_cols(W, unit, mc, AdTbi, 6, 6, 1.0, Gb, 6);
+  if (Ga) bt_mul_cols(W, unit, mc, AdBa, 6, 6, -1.0, Ga, 6);
   if (vt) {
     for (int r = 0; r < mc; r++) {
       double acc = vf[r];
