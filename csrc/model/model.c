@@ -47,6 +47,7 @@ void phm_model_free(phm_model *m) {
   if (!m) return;
   free(m->car);
   free(m->el);
+  free(m->el_damped);
   free(m->mc_a);
   free(m->mc_b);
   free(m->mc);
@@ -256,6 +257,7 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   memcpy(m->gravity, d->gravity, sizeof m->gravity);
   m->car = malloc(sizeof *m->car * (size_t)m->nc);
   m->el = malloc(sizeof *m->el * (size_t)(m->ne + 1));
+  m->el_damped = calloc((size_t)(m->ne + 1), 1);
   m->pair = malloc(sizeof *m->pair * (size_t)(m->np + 1));
   m->pair_row = malloc(sizeof(int) * (size_t)(m->np + 1));
   m->pair_m = malloc(sizeof(int) * (size_t)(m->np + 1));
@@ -279,7 +281,7 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   size_t nnodes = 0, ndoubles = 0;
   int nbp = 0;
   phm_law **laws = malloc(sizeof(phm_law *) * (size_t)(nlaws + 1));
-  if (!m->car || !m->el || !m->pair || !m->pair_row || !m->pair_m || !m->load || !laws ||
+  if (!m->car || !m->el || !m->el_damped || !m->pair || !m->pair_row || !m->pair_m || !m->load || !laws ||
       !m->pair_j || !m->pair_k || !m->xref0 || !m->act || !m->spr || !m->pair_sel || !m->pair_rowf || !m->pair_AdTbi) {
     free(laws);
     phm_model_free(m);
@@ -287,6 +289,8 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   }
   memcpy(m->car, d->carriers, sizeof *m->car * (size_t)m->nc);
   if (m->ne) memcpy(m->el, d->elements, sizeof *m->el * (size_t)m->ne);
+  for (int i = 0; i < m->ne; i++)
+    for (int k = 0; k < 36; k++) m->el_damped[i] |= m->el[i].D[k] != 0.0;
   for (int i = 0; i < m->ne; i++) m->nmc += m->el[i].mass != PHM_MASS_LUMPED;
   m->nmc += d->ncouplings;
   m->mc_a = malloc(sizeof(int) * (size_t)(m->nmc + 1));

@@ -13,6 +13,7 @@ struct phm_model {
   int nc, ne, np, nl, ncons, na, ns, nj, nport;
   phm_carrier_desc *car;
   phm_element_desc *el;
+  unsigned char *el_damped; /* ne: the element's section damping D is not zero */
   phm_pair_desc *pair;
   int *pair_row;    /* first constraint row of each pair */
   int *pair_m;      /* constraint rows of each pair      */
