@@ -171,7 +171,7 @@ int dae_residual_rows(dae_t *d, double time, const double *y, const double *yp, 
   for (int k = 0; k < m->nmc; k++) { /* consistent element masses couple their nodes' balances */
     const int ca = m->mc_a[k], cb = m->mc_b[k];
     double f[12];
-    phm_element_inertia(m->mc + 144 * (size_t)k, D->tw + 6 * ca, D->tw + 6 * cb,
+    phm_element_inertia(m->mc + 144 * (size_t)k, m->mc_rows + 12 * (size_t)k, D->tw + 6 * ca, D->tw + 6 * cb,
                         yp + PHM_NSTATE * ca + 7, yp + PHM_NSTATE * cb + 7, 0.0, f, NULL);
     for (int i = 0; i < 6; i++) {
       F[PHM_NSTATE * ca + 7 + i] += f[i];

@@ -51,6 +51,7 @@ void phm_model_free(phm_model *m) {
   free(m->mc_a);
   free(m->mc_b);
   free(m->mc);
+  free(m->mc_rows);
   free(m->pair);
   free(m->pair_row);
   free(m->pair_m);
@@ -296,7 +297,8 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   m->mc_a = malloc(sizeof(int) * (size_t)(m->nmc + 1));
   m->mc_b = malloc(sizeof(int) * (size_t)(m->nmc + 1));
   m->mc = malloc(sizeof(double) * 144 * (size_t)(m->nmc + 1));
-  if (!m->mc_a || !m->mc_b || !m->mc) {
+  m->mc_rows = malloc(sizeof(unsigned short) * 12 * (size_t)(m->nmc + 1));
+  if (!m->mc_a || !m->mc_b || !m->mc || !m->mc_rows) {
     free(laws);
     phm_model_free(m);
     return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
@@ -316,6 +318,7 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
       m->mc_b[k] = d->couplings[i].b;
       memcpy(m->mc + 144 * (size_t)k, d->couplings[i].Mc, 144 * sizeof(double));
     }
+    for (k = 0; k < m->nmc; k++) phm_mass_rows(m->mc + 144 * (size_t)k, m->mc_rows + 12 * (size_t)k);
   }
   if (m->np) memcpy(m->pair, d->pairs, sizeof *m->pair * (size_t)m->np);
   for (int i = 0; i < m->np; i++) { /* constant: computed once, read by every pair evaluation */

@@ -40,6 +40,8 @@ struct phm_model {
                      * then the description's couplings without an element                */
   int *mc_a, *mc_b; /* nmc: the two carriers of each                                    */
   double *mc;       /* nmc x 144: their couplings Mc (phm_element_mass, or given), once  */
+  unsigned short *mc_rows; /* nmc x 12: row i's nonzero columns j of Mc (bit j); a straight
+                            * element's couple 40 of the 144 pairs of twist components       */
 };
 
 /* tref for the interval [t, ...): midpoint between t and the next breakpoint (or t + 1). */
@@ -179,12 +181,16 @@ void phm_element_tangent(const phm_element_desc *e, const double Ha[16], const d
 
 /* A mass coupling Mc (phm_element_mass) in the momentum balances of its element's nodes a, b:
  * f = [(Mc t')_a - ad*_{t_a} (Mc t)_a; (Mc t')_b - ad*_{t_b} (Mc t)_b] (12) at twists ta, tb and
- * their rates dta, dtb, and (Kt not NULL) Kt = df/d[ta; tb] + cj df/d[dta; dtb] (12 x 12). */
-void phm_element_inertia(const double Mc[144], const double ta[6], const double tb[6],
-                         const double dta[6], const double dtb[6], double cj, double f[12],
-                         double Kt[144]);
+ * their rates dta, dtb, and (Kt not NULL) Kt = df/d[ta; tb] + cj df/d[dta; dtb] (12 x 12).
+ * rows: Mc's nonzero pattern (phm_model.mc_rows; phm_mass_rows). */
+void phm_element_inertia(const double Mc[144], const unsigned short rows[12], const double ta[6],
+                         const double tb[6], const double dta[6], const double dtb[6], double cj,
+                         double f[12], double Kt[144]);
 /* Its kinetic energy 1/2 [ta; tb]^T Mc [ta; tb]. */
-double phm_element_kinetic(const double Mc[144], const double ta[6], const double tb[6]);
+double phm_element_kinetic(const double Mc[144], const unsigned short rows[12], const double ta[6],
+                           const double tb[6]);
+/* rows[i] = the columns j of row i where Mc is not zero, as bits. */
+void phm_mass_rows(const double Mc[144], unsigned short rows[12]);
 
 /* ---------------------------------------------------------------- applied wrenches (applied.c) */
 /* Applied wrenches (elastic + damping + gravity + springs + actuators + external x scale) on every
