@@ -8,21 +8,12 @@
 #include "linalg.h"
 #include "pose.h"
 
-/* Hab = Ha^-1 Hb: R_a^T R_b, R_a^T p_b + (-R_a^T p_a), the arithmetic of phm_se3_inverse then
- * phm_se3_compose (the same numbers) without their copies. Written as Ra^T (pb - pa) its
- * position is 4x more accurate (measured on strains of 1e-6), yet that made IDA's every-state
- * reference of the leaf spring crawl (30 -> 170 000 steps over 0.05 s, tests/test_scenes.py):
- * IDA's Newton there is sensitive to the residual's round-off (docs/integrators.md, Limits), so
- * this form is kept. */
+/* Hab = Ha^-1 Hb (phm_inv_compose). Written as Ra^T (pb - pa) its position is 4x more accurate
+ * (measured on strains of 1e-6), yet that made IDA's every-state reference of the leaf spring
+ * crawl (30 -> 170 000 steps over 0.05 s, tests/test_scenes.py): IDA's Newton there is sensitive
+ * to the residual's round-off (docs/integrators.md, Limits), so this form is kept. */
 static void relative_pose(const double Ha[16], const double Hb[16], double Hab[16]) {
-  for (int i = 0; i < 3; i++) {
-    for (int j = 0; j < 3; j++)
-      Hab[4 * i + j] = Ha[i] * Hb[j] + Ha[4 + i] * Hb[4 + j] + Ha[8 + i] * Hb[8 + j];
-    double qa = -(Ha[i] * Ha[3] + Ha[4 + i] * Ha[7] + Ha[8 + i] * Ha[11]);
-    Hab[4 * i + 3] = (Ha[i] * Hb[3] + Ha[4 + i] * Hb[7] + Ha[8 + i] * Hb[11]) + qa;
-  }
-  Hab[12] = Hab[13] = Hab[14] = 0.0;
-  Hab[15] = 1.0;
+  phm_inv_compose(Ha, Hb, Hab);
 }
 
 double phm_element_energy(const phm_element_desc *e, const double Ha[16], const double Hb[16]) {

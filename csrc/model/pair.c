@@ -346,18 +346,16 @@ static double col_dot(const double B[36], int c, const double v[6]) {
 }
 
 /* ---------------------------------------------------------------- pairs */
-/* Frame X = H T (H NULL: T) as rotation R (3x3 row-major) and origin p: phm_se3_compose's
- * arithmetic, inline. */
-static inline void frame_of(const double *H, const double T[16], double R[9], double p[3]) {
+/* Frame X = H T (H NULL: T), its first three rows: phm_se3_compose's arithmetic, inline. */
+static inline void frame_of(const double *H, const double T[16], double X[16]) {
   for (int i = 0; i < 3; i++) {
     if (!H) {
-      for (int j = 0; j < 3; j++) R[3 * i + j] = T[4 * i + j];
-      p[i] = T[4 * i + 3];
+      for (int j = 0; j < 4; j++) X[4 * i + j] = T[4 * i + j];
       continue;
     }
     for (int j = 0; j < 3; j++)
-      R[3 * i + j] = H[4 * i] * T[j] + H[4 * i + 1] * T[4 + j] + H[4 * i + 2] * T[8 + j];
-    p[i] = (H[4 * i] * T[3] + H[4 * i + 1] * T[7] + H[4 * i + 2] * T[11]) + H[4 * i + 3];
+      X[4 * i + j] = H[4 * i] * T[j] + H[4 * i + 1] * T[4 + j] + H[4 * i + 2] * T[8 + j];
+    X[4 * i + 3] = (H[4 * i] * T[3] + H[4 * i + 1] * T[7] + H[4 * i + 2] * T[11]) + H[4 * i + 3];
   }
 }
 
@@ -368,30 +366,23 @@ static inline void frame_of(const double *H, const double T[16], double R[9], do
 void phm_pair_frames(const phm_model *m, int ip, const double *Ha, const double *Hb, double h[16],
                      double AdTbi[36], double AdBa[36]) {
   const phm_pair_desc *pr = &m->pair[ip];
-  double RA[9], pA[3], RB[9], pB[3];
-  frame_of(Ha, pr->Ta, RA, pA);
-  frame_of(Hb, pr->Tb, RB, pB);
-  for (int i = 0; i < 3; i++) { /* h = A^-1 B: R_A^T R_B, R_A^T p_B + (-R_A^T p_A) */
-    for (int j = 0; j < 3; j++)
-      h[4 * i + j] = RA[i] * RB[j] + RA[3 + i] * RB[3 + j] + RA[6 + i] * RB[6 + j];
-    double qa = -(RA[i] * pA[0] + RA[3 + i] * pA[1] + RA[6 + i] * pA[2]);
-    h[4 * i + 3] = (RA[i] * pB[0] + RA[3 + i] * pB[1] + RA[6 + i] * pB[2]) + qa;
-  }
-  h[12] = h[13] = h[14] = 0.0;
-  h[15] = 1.0;
+  double A[16], B[16];
+  frame_of(Ha, pr->Ta, A);
+  frame_of(Hb, pr->Tb, B);
+  phm_inv_compose(A, B, h);
   if (AdTbi) memcpy(AdTbi, m->pair_AdTbi + 36 * ip, 36 * sizeof(double));
   if (!AdBa) return;
   double R[9], p[3]; /* B^-1 H_a (H_a NULL: B^-1) */
   for (int i = 0; i < 3; i++) {
-    double qb = -(RB[i] * pB[0] + RB[3 + i] * pB[1] + RB[6 + i] * pB[2]);
+    double qb = -(B[i] * B[3] + B[4 + i] * B[7] + B[8 + i] * B[11]);
     if (!Ha) {
-      for (int j = 0; j < 3; j++) R[3 * i + j] = RB[3 * j + i];
+      for (int j = 0; j < 3; j++) R[3 * i + j] = B[4 * j + i];
       p[i] = qb;
       continue;
     }
     for (int j = 0; j < 3; j++)
-      R[3 * i + j] = RB[i] * Ha[j] + RB[3 + i] * Ha[4 + j] + RB[6 + i] * Ha[8 + j];
-    p[i] = (RB[i] * Ha[3] + RB[3 + i] * Ha[7] + RB[6 + i] * Ha[11]) + qb;
+      R[3 * i + j] = B[i] * Ha[j] + B[4 + i] * Ha[4 + j] + B[8 + i] * Ha[8 + j];
+    p[i] = (B[i] * Ha[3] + B[4 + i] * Ha[7] + B[8 + i] * Ha[11]) + qb;
   }
   for (int i = 0; i < 3; i++) /* Ad = [R 0; hat(p) R, R] */
     for (int j = 0; j < 3; j++) {
