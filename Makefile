@@ -67,7 +67,7 @@ SAN_PRELOAD = $$(cc -print-file-name=libasan.so) $$(cc -print-file-name=libstdc+
 
 sanitize: sysdeps $(STAMP)
 	@test -f $(SAN_DIR)/build.ninja || $(VENV)/bin/meson setup $(SAN_DIR) --buildtype=debugoptimized \
-	  -Db_sanitize=address,undefined -Db_lundef=false -Dc_args=-fsanitize=float-cast-overflow \
+	  -Db_sanitize=address,undefined -Db_lundef=false -Db_lto=false -Dc_args=-fsanitize=float-cast-overflow \
 	  -Dc_link_args=-fsanitize=float-cast-overflow >/dev/null
 	$(VENV)/bin/meson compile -C $(SAN_DIR)
 	$(SAN_ENV) $(VENV)/bin/meson test -C $(SAN_DIR) --print-errorlogs

@@ -113,6 +113,11 @@ void dae_unpack(const phm_model *m, const double *y, double *H, double *tw);
 void dae_eval_pairs(dae_t *d, double time, const double *y, int what);
 /* F(time, y, y'); 0 on success. No allocation. */
 int dae_residual(dae_t *d, double time, const double *y, const double *yp, double *F);
+/* dae_residual, or without `crows` F but its constraint rows F[il..n) (left as they were, and
+ * so the pairs' g in d->data, except a driven pair's): the generalized-alpha's stage residual,
+ * whose constraint rows are taken at the step's end (dae_constraint_rows). */
+int dae_residual_rows(dae_t *d, double time, const double *y, const double *yp, double *F,
+                      int crows);
 /* The pairs' rows of F (joint-coordinate rates, velocity and position constraints) at the poses
  * and twists already unpacked into d->data (H, tw): evaluates every pair (dae_eval_pairs) and
  * accumulates G^T lambda and G^T mu per carrier into d->data.gl, gm. */
@@ -220,7 +225,8 @@ phm_status dae_planar_init(dae_t *d, const phm_model *m, int axis, phm_error *er
 dae_t *dae_full(dae_t *d);
 /* dae_carrier_states of a planar d (its kept states). */
 void dae_planar_carrier_states(const dae_t *d, dae_carrier_layout *L);
-int dae_planar_residual(dae_t *d, double time, const double *y, const double *yp, double *F);
+int dae_planar_residual(dae_t *d, double time, const double *y, const double *yp, double *F,
+                        int crows);
 void dae_planar_constraint_rows(dae_t *d, double time, const double *y, double *F);
 phm_status dae_planar_pattern(dae_t *d, phm_error *err);
 /* dae_jacobian_values for the reduced pattern: the full DAE's, gathered through the entry map. */

@@ -277,7 +277,8 @@ static void coupled_mass_mv(const phm_model *m, const double *x, double *y) {
   for (int k = 0; k < m->nmc; k++) {
     const int ca = m->mc_a[k], cb = m->mc_b[k];
     double f[12];
-    phm_element_inertia(m->mc + 144 * (size_t)k, zero, zero, x + 6 * ca, x + 6 * cb, 0.0, f, NULL);
+    phm_element_inertia(m->mc + 144 * (size_t)k, m->mc_rows + 12 * (size_t)k, zero, zero, x + 6 * ca,
+                        x + 6 * cb, 0.0, f, NULL);
     for (int i = 0; i < 6; i++) y[6 * ca + i] += f[i], y[6 * cb + i] += f[6 + i];
   }
 }
@@ -307,7 +308,8 @@ static phm_status accel_coupled(dae_t *d, double time, const double *H, const do
   for (int k = 0; k < m->nmc; k++) { /* b1 -= the couplings' terms at t' = 0: -ad*_t (Mc t) */
     const int ca = m->mc_a[k], cb = m->mc_b[k];
     double f[12];
-    phm_element_inertia(m->mc + 144 * (size_t)k, tw + 6 * ca, tw + 6 * cb, zero, zero, 0.0, f, NULL);
+    phm_element_inertia(m->mc + 144 * (size_t)k, m->mc_rows + 12 * (size_t)k, tw + 6 * ca, tw + 6 * cb,
+                        zero, zero, 0.0, f, NULL);
     for (int i = 0; i < 6; i++) acc[6 * ca + i] -= f[i], acc[6 * cb + i] -= f[6 + i];
   }
   memcpy(b1, acc, sizeof(double) * n6);

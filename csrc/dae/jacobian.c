@@ -327,7 +327,7 @@ static void jacobian_closed_form(dae_t *d, double time, double cj, const double 
   for (int k = 0; k < m->nmc; k++) { /* consistent masses: -Kt into the twists (a "wrench" -f) */
     const int ca = m->mc_a[k], cb = m->mc_b[k];
     double f[12], Kt[144];
-    phm_element_inertia(m->mc + 144 * (size_t)k, D->tw + 6 * ca, D->tw + 6 * cb,
+    phm_element_inertia(m->mc + 144 * (size_t)k, m->mc_rows + 12 * (size_t)k, D->tw + 6 * ca, D->tw + 6 * cb,
                         yp + PHM_NSTATE * ca + 7, yp + PHM_NSTATE * cb + 7, cj, f, Kt);
     for (int i = 0; i < 144; i++) Kt[i] = -Kt[i];
     add_wrench_tangent(&sink, ca, cb, f, Kzero, Kt);

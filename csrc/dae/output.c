@@ -61,8 +61,9 @@ static void record(dae_t *d, const double *y, phm_sim_output *out, int iout, dou
   if (out->lambda && m->ncons)
     memcpy(out->lambda + (size_t)iout * m->ncons, y + d->il, sizeof(double) * m->ncons);
   for (int i = d->im; i < d->n; i++) out->max_mu = fmax(out->max_mu, fabs(y[i]));
-  /* every pair once: joint coordinates and rates, constraint wrenches, the actuators' efforts */
-  dae_eval_pairs(d, time, y, PHM_PAIR_ROWS | PHM_PAIR_JOINT);
+  /* every pair once: joint coordinates and rates, constraint wrenches, the actuators' efforts
+   * (not the position constraints g, which nothing here reads) */
+  dae_eval_pairs(d, time, y, PHM_PAIR_ROWS | PHM_PAIR_JOINT | PHM_PAIR_NO_G);
   for (int ip = 0; ip < m->np; ip++) {
     const phm_pair_data *p = D->pair + ip;
     int j0 = m->pair_j[ip];

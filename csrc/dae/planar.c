@@ -155,9 +155,10 @@ static dae_t *to_full(dae_t *d, const double *y, const double *yp) {
   return &pl->full;
 }
 
-int dae_planar_residual(dae_t *d, double time, const double *y, const double *yp, double *F) {
+int dae_planar_residual(dae_t *d, double time, const double *y, const double *yp, double *F,
+                        int crows) {
   struct dae_planar *pl = d->pl;
-  int r = dae_residual(to_full(d, y, yp), time, pl->y, pl->yp, pl->F);
+  int r = dae_residual_rows(to_full(d, y, yp), time, pl->y, pl->yp, pl->F, crows);
   gather(d, pl->F, F);
   return r;
 }

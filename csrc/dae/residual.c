@@ -53,9 +53,10 @@ static void add_GT(const double *G, int mc, const double *lam, const double *mu,
 /* The pairs' rows; with `full` also the joint-coordinate rates and G^T lambda, G^T mu (see
  * dae_pair_rows and dae_constraint_rows). One body for both, so that the constraint rows of the
  * step's end are the very numbers of a full evaluation; `full` is tested once per pair. Without
- * `full`, a pair without kept rows (free) is not evaluated: it has no row to give. */
+ * `full`, a pair without kept rows (free) is not evaluated: it has no row to give. Without
+ * `crows` (with `full`), not the constraint rows F[il..n) either (nor g: dae_residual_rows). */
 static void rows_of_pairs(dae_t *d, double time, const double *y, const double *yp, double *F,
-                          int full) {
+                          int full, int crows) {
   /* ground's twist: G_r t sums both sides without a test per entry. Adding G * 0 = +-0 leaves
    * every sum as it was (up to the sign of an exact zero) */
   static const double zero6[6] = {0, 0, 0, 0, 0, 0};
@@ -70,7 +71,8 @@ static void rows_of_pairs(dae_t *d, double time, const double *y, const double *
     const phm_pair_data *p = D->pair + ip;
     int r0 = m->pair_row[ip], mc = m->pair_m[ip];
     if (!full && mc == 0) continue;
-    eval_pair(d, ip, time, y, full ? PHM_PAIR_ROWS | PHM_PAIR_JOINT : PHM_PAIR_ROWS);
+    eval_pair(d, ip, time, y,
+              full ? PHM_PAIR_ROWS | PHM_PAIR_JOINT | (crows ? 0 : PHM_PAIR_NO_G) : PHM_PAIR_ROWS);
     if (full) {
       int j0 = m->pair_j[ip], k = m->pair_k[ip];
       for (int c = 0; c < k; c++) F[d->ix + j0 + c] = yp[d->ix + j0 + c] - p->xdot[c];
@@ -79,6 +81,7 @@ static void rows_of_pairs(dae_t *d, double time, const double *y, const double *
       if (pr->a >= 0) add_GT(p->Ga, mc, lam, mu, D->gl + 6 * pr->a, D->gm + 6 * pr->a);
       if (pr->b >= 0) add_GT(p->Gb, mc, lam, mu, D->gl + 6 * pr->b, D->gm + 6 * pr->b);
     }
+    if (!crows) continue;
     const double *ta = pr->a >= 0 ? D->tw + 6 * pr->a : zero6;
     const double *tb = pr->b >= 0 ? D->tw + 6 * pr->b : zero6;
     for (int r = 0; r < mc; r++) {
@@ -97,7 +100,7 @@ static void rows_of_pairs(dae_t *d, double time, const double *y, const double *
  * coordinate rates (F[ix..ie)), velocity constraints (F[il..im)) and position constraints
  * (F[im..n)); accumulates G^T lambda and G^T mu per carrier into gl, gm. No allocation. */
 void dae_pair_rows(dae_t *d, double time, const double *y, const double *yp, double *F) {
-  rows_of_pairs(d, time, y, yp, F, 1);
+  rows_of_pairs(d, time, y, yp, F, 1, 1);
 }
 
 /* The constraint rows alone (F[il..n)): the generalized-alpha evaluates them at the step's end
@@ -112,19 +115,24 @@ void dae_constraint_rows(dae_t *d, double time, const double *y, double *F) {
   }
   const dae_ic_work *w = &d->data.ic;
   for (int k = 0; k < w->ncc; k++) unpack_carrier(y, w->clist[k], d->data.H, d->data.tw);
-  rows_of_pairs(d, time, y, NULL, F, 0);
+  rows_of_pairs(d, time, y, NULL, F, 0, 1);
 }
 
-/* The DAE residual; no allocation. The pairs are evaluated once (dae_pair_rows) and their
- * actuators read that evaluation. */
 int dae_residual(dae_t *d, double time, const double *y, const double *yp, double *F) {
-  if (d->pl) return dae_planar_residual(d, time, y, yp, F);
+  return dae_residual_rows(d, time, y, yp, F, 1);
+}
+
+/* The DAE residual; no allocation. The pairs are evaluated once (rows_of_pairs) and their
+ * actuators read that evaluation. */
+int dae_residual_rows(dae_t *d, double time, const double *y, const double *yp, double *F,
+                      int crows) {
+  if (d->pl) return dae_planar_residual(d, time, y, yp, F, crows);
   const phm_model *m = d->m;
   phm_data *D = &d->data;
   int nc = m->nc;
   dae_unpack(m, y, D->H, D->tw);
   double Pd = 0, Ps = 0;
-  dae_pair_rows(d, time, y, yp, F);
+  rows_of_pairs(d, time, y, yp, F, 1, crows);
   phm_applied_pairs(m, D->pair, D->H, D->tw, y + d->ix, time, d->tref, 1.0, D->wr, NULL, &Pd, &Ps,
                     D->pport, NULL);
   for (int c = 0; c < nc; c++) {
@@ -163,7 +171,7 @@ int dae_residual(dae_t *d, double time, const double *y, const double *yp, doubl
   for (int k = 0; k < m->nmc; k++) { /* consistent element masses couple their nodes' balances */
     const int ca = m->mc_a[k], cb = m->mc_b[k];
     double f[12];
-    phm_element_inertia(m->mc + 144 * (size_t)k, D->tw + 6 * ca, D->tw + 6 * cb,
+    phm_element_inertia(m->mc + 144 * (size_t)k, m->mc_rows + 12 * (size_t)k, D->tw + 6 * ca, D->tw + 6 * cb,
                         yp + PHM_NSTATE * ca + 7, yp + PHM_NSTATE * cb + 7, 0.0, f, NULL);
     for (int i = 0; i < 6; i++) {
       F[PHM_NSTATE * ca + 7 + i] += f[i];

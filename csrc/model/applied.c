@@ -210,8 +210,10 @@ void phm_applied_pairs(const phm_model *m, const phm_pair_data *pd, const double
   for (int ie = 0; ie < m->ne; ie++) {
     const phm_element_desc *e = &m->el[ie];
     double wa[6], wb[6], v, p;
-    phm_element_eval(e, H + 16 * e->a, H + 16 * e->b, tw ? tw + 6 * e->a : NULL,
-                     tw ? tw + 6 * e->b : NULL, wa, wb, &v, &p, NULL);
+    /* an undamped element's twists only make its (zero) viscous stress and power: not passed */
+    int tv = tw && m->el_damped[ie];
+    phm_element_eval(e, H + 16 * e->a, H + 16 * e->b, tv ? tw + 6 * e->a : NULL,
+                     tv ? tw + 6 * e->b : NULL, wa, wb, &v, &p, NULL);
     V += v;
     Pd += p;
     for (int i = 0; i < 6; i++) {

@@ -8,16 +8,28 @@
 #include "linalg.h"
 #include "pose.h"
 
+/* Hab = Ha^-1 Hb (phm_inv_compose). Written as Ra^T (pb - pa) its position is 4x more accurate
+ * (measured on strains of 1e-6), yet that made IDA's every-state reference of the leaf spring
+ * crawl (30 -> 170 000 steps over 0.05 s, tests/test_scenes.py): IDA's Newton there is sensitive
+ * to the residual's round-off (docs/integrators.md, Limits), so this form is kept. */
+static void relative_pose(const double Ha[16], const double Hb[16], double Hab[16]) {
+  phm_inv_compose(Ha, Hb, Hab);
+}
+
+double phm_element_energy(const phm_element_desc *e, const double Ha[16], const double Hb[16]) {
+  double Hab[16], X[6], sig[6], de[6];
+  relative_pose(Ha, Hb, Hab);
+  phm_se3_log(Hab, X); /* phm_se3_log_dexp_inv's X, without the blocks */
+  for (int i = 0; i < 6; i++) de[i] = X[i] / e->h - e->eps_hat[i];
+  phm_mv6(e->K, de, sig);
+  return 0.5 * e->h * phm_dot(de, sig, 6);
+}
+
 void phm_element_eval(const phm_element_desc *e, const double Ha[16], const double Hb[16],
                       const double ta[6], const double tb[6], double wa[6], double wb[6],
                       double *V, double *P, double *sigma) {
-  double Hai[16], Hab[16], X[6], A[9], L[9], sig[6], de[6];
-  /* Hab = Ha^-1 Hb. Written as Ra^T (pb - pa) its position is 4x more accurate (measured on
-   * strains of 1e-6), yet that made IDA's every-state reference of the leaf spring crawl (30 ->
-   * 170 000 steps over 0.05 s, tests/test_scenes.py): IDA's Newton there is sensitive to the
-   * residual's round-off (docs/integrators.md, Limits), so this form is kept. */
-  phm_se3_inverse(Ha, Hai);
-  phm_se3_compose(Hai, Hb, Hab);
+  double Hab[16], X[6], A[9], L[9], sig[6], de[6];
+  relative_pose(Ha, Hb, Hab);
   /* X = log(Hab); dexp_X^-1 = [[A, 0], [L, A]], dexp_{-X}^-1 = [[A^T, 0], [L^T, A^T]] */
   phm_se3_log_dexp_inv(Hab, X, A, L);
   for (int i = 0; i < 6; i++) de[i] = X[i] / e->h - e->eps_hat[i];
@@ -76,11 +88,10 @@ static void blocks6(const double A[9], const double L[9], int tr, double M[36]) 
 void phm_element_tangent(const phm_element_desc *e, const double Ha[16], const double Hb[16],
                          const double ta[6], const double tb[6], double wa[6], double wb[6],
                          double Kx[144], double Ct[144]) {
-  double Hai[16], Hab[16], X[6], Ab[9], Lb[9], A[36], B[36], sig[6], de[6];
+  double Hab[16], X[6], Ab[9], Lb[9], A[36], B[36], sig[6], de[6];
   double dAi[6][9], dL[6][9], JX[72], ed[6] = {0};
   int damp = ta && tb;
-  phm_se3_inverse(Ha, Hai);
-  phm_se3_compose(Hai, Hb, Hab);
+  relative_pose(Ha, Hb, Hab);
   phm_se3_log_dexp_inv(Hab, X, Ab, Lb);
   blocks6(Ab, Lb, 0, A);
   blocks6(Ab, Lb, 1, B);
@@ -236,17 +247,53 @@ void phm_element_mass(double h, const double Ms[36], const double eps_hat[6], do
  * coupling's terms in its nodes' momentum balances (the Euler-Poincare equations of the kinetic
  * energy 1/2 t^T Mc t, left-invariant on SE(3) x SE(3), whose power t . f is d/dt of that energy).
  * Kt (may be NULL) = df/dt + cj df/dt'. */
-void phm_element_inertia(const double Mc[144], const double ta[6], const double tb[6],
-                         const double dta[6], const double dtb[6], double cj, double f[12],
-                         double Kt[144]) {
+void phm_mass_rows(const double Mc[144], unsigned short rows[12]) {
+  for (int i = 0; i < 12; i++) {
+    rows[i] = 0;
+    for (int j = 0; j < 12; j++)
+      if (Mc[12 * i + j] != 0.0) rows[i] |= (unsigned short)(1u << j);
+  }
+}
+
+/* The lowest set bit of b != 0 (its index), and b without it. */
+static inline int pop_low(unsigned *b) {
+#if defined(__GNUC__)
+  int j = __builtin_ctz(*b);
+#else
+  int j = 0;
+  while (!(*b >> j & 1u)) j++;
+#endif
+  *b &= *b - 1u;
+  return j;
+}
+
+/* The bits j of the nonzero t[j] (12). */
+static inline unsigned nonzero_bits(const double t[12]) {
+  unsigned b = 0;
+  for (int j = 0; j < 12; j++) b |= (unsigned)(t[j] != 0.0) << j;
+  return b;
+}
+
+void phm_element_inertia(const double Mc[144], const unsigned short rows[12], const double ta[6],
+                         const double tb[6], const double dta[6], const double dtb[6], double cj,
+                         double f[12], double Kt[144]) {
   double t[12], td[12], u[12];
   memcpy(t, ta, 6 * sizeof(double));
   memcpy(t + 6, tb, 6 * sizeof(double));
   memcpy(td, dta, 6 * sizeof(double));
   memcpy(td + 6, dtb, 6 * sizeof(double));
+  /* Mc t and Mc t' over the products whose two factors are nonzero only: Mc's nonzeros (a
+   * straight element's: 40 of 144) in the columns of the twists' nonzero entries (a planar
+   * scene's out-of-plane components are zero) -- 20 of 144 for a planar straight element. The
+   * same sums: a sum from +0 is never -0 in round-to-nearest, so adding a zero product (of
+   * finite factors) leaves it as it is. */
+  unsigned tz = nonzero_bits(t) | nonzero_bits(td);
   for (int i = 0; i < 12; i++) {
     double s = 0, sd = 0;
-    for (int j = 0; j < 12; j++) s += Mc[12 * i + j] * t[j], sd += Mc[12 * i + j] * td[j];
+    for (unsigned b = rows[i] & tz; b;) {
+      int j = pop_low(&b);
+      s += Mc[12 * i + j] * t[j], sd += Mc[12 * i + j] * td[j];
+    }
     u[i] = s;
     f[i] = sd;
   }
@@ -274,11 +321,18 @@ void phm_element_inertia(const double Mc[144], const double ta[6], const double 
 }
 
 /* 1/2 t^T Mc t, t = [t_a; t_b]. */
-double phm_element_kinetic(const double Mc[144], const double ta[6], const double tb[6]) {
+double phm_element_kinetic(const double Mc[144], const unsigned short rows[12], const double ta[6],
+                           const double tb[6]) {
   double t[12], K = 0;
   memcpy(t, ta, 6 * sizeof(double));
   memcpy(t + 6, tb, 6 * sizeof(double));
-  for (int i = 0; i < 12; i++)
-    for (int j = 0; j < 12; j++) K += t[i] * Mc[12 * i + j] * t[j];
+  unsigned tz = nonzero_bits(t); /* the nonzero products only: the same sum (phm_element_inertia) */
+  for (unsigned a = tz; a;) {
+    int i = pop_low(&a);
+    for (unsigned b = rows[i] & tz; b;) {
+      int j = pop_low(&b);
+      K += t[i] * Mc[12 * i + j] * t[j];
+    }
+  }
   return 0.5 * K;
 }

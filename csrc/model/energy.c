@@ -21,13 +21,11 @@ void phm_model_energy(const phm_model *m, const double *H, const double *t, doub
   if (t)
     for (int k = 0; k < m->nmc; k++) {
       const int ca = m->mc_a[k], cb = m->mc_b[k];
-      K += phm_element_kinetic(m->mc + 144 * (size_t)k, t + 6 * ca, t + 6 * cb);
+      K += phm_element_kinetic(m->mc + 144 * (size_t)k, m->mc_rows + 12 * (size_t)k, t + 6 * ca, t + 6 * cb);
     }
   for (int ie = 0; ie < m->ne; ie++) {
     const phm_element_desc *el = &m->el[ie];
-    double wa[6], wb[6], v;
-    phm_element_eval(el, H + 16 * el->a, H + 16 * el->b, NULL, NULL, wa, wb, &v, NULL, NULL);
-    Vel += v;
+    Vel += phm_element_energy(el, H + 16 * el->a, H + 16 * el->b);
   }
   for (int is = 0; is < m->ns; is++) {
     double v = 0;

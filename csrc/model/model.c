@@ -47,9 +47,11 @@ void phm_model_free(phm_model *m) {
   if (!m) return;
   free(m->car);
   free(m->el);
+  free(m->el_damped);
   free(m->mc_a);
   free(m->mc_b);
   free(m->mc);
+  free(m->mc_rows);
   free(m->pair);
   free(m->pair_row);
   free(m->pair_m);
@@ -256,6 +258,7 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   memcpy(m->gravity, d->gravity, sizeof m->gravity);
   m->car = malloc(sizeof *m->car * (size_t)m->nc);
   m->el = malloc(sizeof *m->el * (size_t)(m->ne + 1));
+  m->el_damped = calloc((size_t)(m->ne + 1), 1);
   m->pair = malloc(sizeof *m->pair * (size_t)(m->np + 1));
   m->pair_row = malloc(sizeof(int) * (size_t)(m->np + 1));
   m->pair_m = malloc(sizeof(int) * (size_t)(m->np + 1));
@@ -279,7 +282,7 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   size_t nnodes = 0, ndoubles = 0;
   int nbp = 0;
   phm_law **laws = malloc(sizeof(phm_law *) * (size_t)(nlaws + 1));
-  if (!m->car || !m->el || !m->pair || !m->pair_row || !m->pair_m || !m->load || !laws ||
+  if (!m->car || !m->el || !m->el_damped || !m->pair || !m->pair_row || !m->pair_m || !m->load || !laws ||
       !m->pair_j || !m->pair_k || !m->xref0 || !m->act || !m->spr || !m->pair_sel || !m->pair_rowf || !m->pair_AdTbi) {
     free(laws);
     phm_model_free(m);
@@ -287,12 +290,15 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   }
   memcpy(m->car, d->carriers, sizeof *m->car * (size_t)m->nc);
   if (m->ne) memcpy(m->el, d->elements, sizeof *m->el * (size_t)m->ne);
+  for (int i = 0; i < m->ne; i++)
+    for (int k = 0; k < 36; k++) m->el_damped[i] |= m->el[i].D[k] != 0.0;
   for (int i = 0; i < m->ne; i++) m->nmc += m->el[i].mass != PHM_MASS_LUMPED;
   m->nmc += d->ncouplings;
   m->mc_a = malloc(sizeof(int) * (size_t)(m->nmc + 1));
   m->mc_b = malloc(sizeof(int) * (size_t)(m->nmc + 1));
   m->mc = malloc(sizeof(double) * 144 * (size_t)(m->nmc + 1));
-  if (!m->mc_a || !m->mc_b || !m->mc) {
+  m->mc_rows = malloc(sizeof(unsigned short) * 12 * (size_t)(m->nmc + 1));
+  if (!m->mc_a || !m->mc_b || !m->mc || !m->mc_rows) {
     free(laws);
     phm_model_free(m);
     return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
@@ -312,6 +318,7 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
       m->mc_b[k] = d->couplings[i].b;
       memcpy(m->mc + 144 * (size_t)k, d->couplings[i].Mc, 144 * sizeof(double));
     }
+    for (k = 0; k < m->nmc; k++) phm_mass_rows(m->mc + 144 * (size_t)k, m->mc_rows + 12 * (size_t)k);
   }
   if (m->np) memcpy(m->pair, d->pairs, sizeof *m->pair * (size_t)m->np);
   for (int i = 0; i < m->np; i++) { /* constant: computed once, read by every pair evaluation */

@@ -13,6 +13,7 @@ struct phm_model {
   int nc, ne, np, nl, ncons, na, ns, nj, nport;
   phm_carrier_desc *car;
   phm_element_desc *el;
+  unsigned char *el_damped; /* ne: the element's section damping D is not zero */
   phm_pair_desc *pair;
   int *pair_row;    /* first constraint row of each pair */
   int *pair_m;      /* constraint rows of each pair      */
@@ -39,6 +40,8 @@ struct phm_model {
                      * then the description's couplings without an element                */
   int *mc_a, *mc_b; /* nmc: the two carriers of each                                    */
   double *mc;       /* nmc x 144: their couplings Mc (phm_element_mass, or given), once  */
+  unsigned short *mc_rows; /* nmc x 12: row i's nonzero columns j of Mc (bit j); a straight
+                            * element's couple 40 of the 144 pairs of twist components       */
 };
 
 /* tref for the interval [t, ...): midpoint between t and the next breakpoint (or t + 1). */
@@ -101,7 +104,8 @@ typedef struct {
 /* What phm_pair_evaluate fills besides the frames (h, AdBa), as bit flags. */
 enum {
   PHM_PAIR_ROWS = 1, /* the constraint rows g, Ga, Gb, vt, W                                    */
-  PHM_PAIR_JOINT = 2 /* the joint coordinates x, their effort basis Phi and rates xdot          */
+  PHM_PAIR_JOINT = 2, /* the joint coordinates x, their effort basis Phi and rates xdot         */
+  PHM_PAIR_NO_G = 4   /* with ROWS: not g (left as it was), unless the pair is driven by a motion */
 };
 
 /* Evaluate pair ip at carrier poses Ha, Hb (NULL = ground) and twists ta, tb (NULL = at rest) into
@@ -164,6 +168,8 @@ void phm_constraint_forces(const phm_model *m, const double *H, double time, dou
 void phm_element_eval(const phm_element_desc *e, const double Ha[16], const double Hb[16],
                       const double ta[6], const double tb[6], double wa[6], double wb[6],
                       double *V, double *P, double *sigma);
+/* Its elastic energy alone (phm_element_eval's *V, the same number, without the wrenches). */
+double phm_element_energy(const phm_element_desc *e, const double Ha[16], const double Hb[16]);
 
 /* The element's wrenches (as phm_element_eval) and their tangent: Kx (12 x 12, row-major) =
  * d[wa; wb]/d[da; db] for the perturbations Ha exp(da), Hb exp(db) (elastic, geometric and, with
@@ -175,12 +181,16 @@ void phm_element_tangent(const phm_element_desc *e, const double Ha[16], const d
 
 /* A mass coupling Mc (phm_element_mass) in the momentum balances of its element's nodes a, b:
  * f = [(Mc t')_a - ad*_{t_a} (Mc t)_a; (Mc t')_b - ad*_{t_b} (Mc t)_b] (12) at twists ta, tb and
- * their rates dta, dtb, and (Kt not NULL) Kt = df/d[ta; tb] + cj df/d[dta; dtb] (12 x 12). */
-void phm_element_inertia(const double Mc[144], const double ta[6], const double tb[6],
-                         const double dta[6], const double dtb[6], double cj, double f[12],
-                         double Kt[144]);
+ * their rates dta, dtb, and (Kt not NULL) Kt = df/d[ta; tb] + cj df/d[dta; dtb] (12 x 12).
+ * rows: Mc's nonzero pattern (phm_model.mc_rows; phm_mass_rows). */
+void phm_element_inertia(const double Mc[144], const unsigned short rows[12], const double ta[6],
+                         const double tb[6], const double dta[6], const double dtb[6], double cj,
+                         double f[12], double Kt[144]);
 /* Its kinetic energy 1/2 [ta; tb]^T Mc [ta; tb]. */
-double phm_element_kinetic(const double Mc[144], const double ta[6], const double tb[6]);
+double phm_element_kinetic(const double Mc[144], const unsigned short rows[12], const double ta[6],
+                           const double tb[6]);
+/* rows[i] = the columns j of row i where Mc is not zero, as bits. */
+void phm_mass_rows(const double Mc[144], unsigned short rows[12]);
 
 /* ---------------------------------------------------------------- applied wrenches (applied.c) */
 /* Applied wrenches (elastic + damping + gravity + springs + actuators + external x scale) on every

@@ -295,13 +295,25 @@ static void revolute_kin(const double h[16], const double *xref, double *g, doub
   }
 }
 
+/* The fixed row of the table without derivatives in closed form: g = log(h) (pair_kin's log_pq,
+ * the same numbers), W = I, Phi = 0 (no coordinates). pair_kin's switch also set up its dual
+ * numbers and an angle (atan2) the fixed pair does not read: a third of a clamped beam's pair. */
+static void fixed_kin(const double h[16], double *g, double *W, double *Phi) {
+  static const unsigned char Ip[36] = {1, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0,
+                                       0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1};
+  if (g) phm_se3_log(h, g);
+  if (W) unit_basis(W, Ip);
+  if (Phi) memset(Phi, 0, 36 * sizeof(double));
+}
+
 /* The kinematics of a type: its closed form where it has one (general = 0), else the table's
  * switch (pair_kin). DW, DPhi of a closed form with constant bases are zero-filled. */
 static void kin(int general, int type, double pitch, const double h[16], const double *xref,
                 double *g, double *W, double *Phi, double *x, double *Dg, double *DW, double *DPhi,
                 double *Dx) {
   int tan = Dg || DW || DPhi || Dx;
-  if (!general && type == PAIR_REVOLUTE) {
+  if (!general && !tan && type == PAIR_FIXED) fixed_kin(h, g, W, Phi);
+  else if (!general && type == PAIR_REVOLUTE) {
     revolute_kin(h, xref, g, W, Phi, x, Dg, Dx);
     if (DW) memset(DW, 0, 216 * sizeof(double));
     if (DPhi) memset(DPhi, 0, 216 * sizeof(double));
@@ -334,18 +346,16 @@ static double col_dot(const double B[36], int c, const double v[6]) {
 }
 
 /* ---------------------------------------------------------------- pairs */
-/* Frame X = H T (H NULL: T) as rotation R (3x3 row-major) and origin p: phm_se3_compose's
- * arithmetic, inline. */
-static inline void frame_of(const double *H, const double T[16], double R[9], double p[3]) {
+/* Frame X = H T (H NULL: T), its first three rows: phm_se3_compose's arithmetic, inline. */
+static inline void frame_of(const double *H, const double T[16], double X[16]) {
   for (int i = 0; i < 3; i++) {
     if (!H) {
-      for (int j = 0; j < 3; j++) R[3 * i + j] = T[4 * i + j];
-      p[i] = T[4 * i + 3];
+      for (int j = 0; j < 4; j++) X[4 * i + j] = T[4 * i + j];
       continue;
     }
     for (int j = 0; j < 3; j++)
-      R[3 * i + j] = H[4 * i] * T[j] + H[4 * i + 1] * T[4 + j] + H[4 * i + 2] * T[8 + j];
-    p[i] = (H[4 * i] * T[3] + H[4 * i + 1] * T[7] + H[4 * i + 2] * T[11]) + H[4 * i + 3];
+      X[4 * i + j] = H[4 * i] * T[j] + H[4 * i + 1] * T[4 + j] + H[4 * i + 2] * T[8 + j];
+    X[4 * i + 3] = (H[4 * i] * T[3] + H[4 * i + 1] * T[7] + H[4 * i + 2] * T[11]) + H[4 * i + 3];
   }
 }
 
@@ -356,30 +366,23 @@ static inline void frame_of(const double *H, const double T[16], double R[9], do
 void phm_pair_frames(const phm_model *m, int ip, const double *Ha, const double *Hb, double h[16],
                      double AdTbi[36], double AdBa[36]) {
   const phm_pair_desc *pr = &m->pair[ip];
-  double RA[9], pA[3], RB[9], pB[3];
-  frame_of(Ha, pr->Ta, RA, pA);
-  frame_of(Hb, pr->Tb, RB, pB);
-  for (int i = 0; i < 3; i++) { /* h = A^-1 B: R_A^T R_B, R_A^T p_B + (-R_A^T p_A) */
-    for (int j = 0; j < 3; j++)
-      h[4 * i + j] = RA[i] * RB[j] + RA[3 + i] * RB[3 + j] + RA[6 + i] * RB[6 + j];
-    double qa = -(RA[i] * pA[0] + RA[3 + i] * pA[1] + RA[6 + i] * pA[2]);
-    h[4 * i + 3] = (RA[i] * pB[0] + RA[3 + i] * pB[1] + RA[6 + i] * pB[2]) + qa;
-  }
-  h[12] = h[13] = h[14] = 0.0;
-  h[15] = 1.0;
+  double A[16], B[16];
+  frame_of(Ha, pr->Ta, A);
+  frame_of(Hb, pr->Tb, B);
+  phm_inv_compose(A, B, h);
   if (AdTbi) memcpy(AdTbi, m->pair_AdTbi + 36 * ip, 36 * sizeof(double));
   if (!AdBa) return;
   double R[9], p[3]; /* B^-1 H_a (H_a NULL: B^-1) */
   for (int i = 0; i < 3; i++) {
-    double qb = -(RB[i] * pB[0] + RB[3 + i] * pB[1] + RB[6 + i] * pB[2]);
+    double qb = -(B[i] * B[3] + B[4 + i] * B[7] + B[8 + i] * B[11]);
     if (!Ha) {
-      for (int j = 0; j < 3; j++) R[3 * i + j] = RB[3 * j + i];
+      for (int j = 0; j < 3; j++) R[3 * i + j] = B[4 * j + i];
       p[i] = qb;
       continue;
     }
     for (int j = 0; j < 3; j++)
-      R[3 * i + j] = RB[i] * Ha[j] + RB[3 + i] * Ha[4 + j] + RB[6 + i] * Ha[8 + j];
-    p[i] = (RB[i] * Ha[3] + RB[3 + i] * Ha[7] + RB[6 + i] * Ha[11]) + qb;
+      R[3 * i + j] = B[i] * Ha[j] + B[4 + i] * Ha[4 + j] + B[8 + i] * Ha[8 + j];
+    p[i] = (B[i] * Ha[3] + B[4 + i] * Ha[7] + B[8 + i] * Ha[11]) + qb;
   }
   for (int i = 0; i < 3; i++) /* Ad = [R 0; hat(p) R, R] */
     for (int j = 0; j < 3; j++) {
@@ -436,13 +439,14 @@ static int unit_col(const double B[36], int c) {
 }
 
 /* out (n x ncol, leading dimension ldo) = sign B^T A on the first n columns of the 6x6 basis B
- * (A: 6 x ncol, leading dimension lda). A unit column e_k of B gives A's row k: the sum over its
- * zeros is that row (an exact zero's sign aside), so the constant bases of most types cost a
- * copy. The sign is exact, so each entry is the sum it always was. */
-static void bt_mul(const double B[36], int n, const double *A, int lda, int ncol, double sign,
-                   double *out, int ldo) {
+ * (A: 6 x ncol, leading dimension lda), unit[r] = unit_col(B, r) (unit_cols). A unit column e_k
+ * of B gives A's row k: the sum over its zeros is that row (an exact zero's sign aside), so the
+ * constant bases of most types cost a copy. The sign is exact, so each entry is the sum it
+ * always was. */
+static void bt_mul_cols(const double B[36], const int *unit, int n, const double *A, int lda,
+                        int ncol, double sign, double *out, int ldo) {
   for (int r = 0; r < n; r++) {
-    int k = unit_col(B, r);
+    int k = unit[r];
     if (k >= 0) {
       for (int j = 0; j < ncol; j++) out[ldo * r + j] = sign * A[lda * k + j];
       continue;
@@ -455,6 +459,18 @@ static void bt_mul(const double B[36], int n, const double *A, int lda, int ncol
   }
 }
 
+/* unit[r] = unit_col(B, r) for the first n columns of B, for bt_mul_cols. */
+static void unit_cols(const double B[36], int n, int *unit) {
+  for (int r = 0; r < n; r++) unit[r] = unit_col(B, r);
+}
+
+static void bt_mul(const double B[36], int n, const double *A, int lda, int ncol, double sign,
+                   double *out, int ldo) {
+  int unit[6];
+  unit_cols(B, n, unit);
+  bt_mul_cols(B, unit, n, A, lda, ncol, sign, out, ldo);
+}
+
 static void pair_rows(const phm_model *m, int ip, const double h[16], const double AdTbi[36],
                       const double AdBa[36], const double *xref, double time, double tref, int all,
                       double *g, double *Ga, double *Gb, double *vt, double W[36], double *Phi,
@@ -464,6 +480,7 @@ static void pair_rows(const phm_model *m, int ip, const double h[16], const doub
   double s = 0, ds = 0;
   if (pr->driven) s = phm_law_eval(&pr->law, time, tref, &ds, NULL);
   double gf[6], vf[6] = {0, 0, 0, 0, 0, 0};
+  double *gk = g ? gf : NULL; /* g not asked for: the kinematics below skips it where it can */
   if (pr->driven && g) {
     double xv[6], r[16], ri[16], E[16];
     for (int i = 0; i < 6; i++) xv[i] = s * pr->axis[i];
@@ -498,10 +515,10 @@ static void pair_rows(const phm_model *m, int ip, const double h[16], const doub
     if (Phi) memcpy(Phi, Pl, sizeof Pl);
     if (x) memcpy(x, xl, sizeof(double) * (size_t)(6 - mt));
   } else if (!m->pair_general && pr->type == PAIR_REVOLUTE) { /* constant bases: DW = DPhi = 0 */
-    revolute_kin(h, xref, gf, W, Phi, x, T ? T->Dg : NULL, NULL);
+    revolute_kin(h, xref, gk, W, Phi, x, T ? T->Dg : NULL, NULL);
     if (T) T->W0 = T->Phi0 = 1;
   } else {
-    kin(m->pair_general, pr->type, pr->pitch, h, xref, gf, W, Phi, x, T ? T->Dg : NULL,
+    kin(m->pair_general, pr->type, pr->pitch, h, xref, gk, W, Phi, x, T ? T->Dg : NULL,
         T ? T->DW : NULL, T ? T->DPhi : NULL, NULL);
   }
   if (T && !T->W0 && !m->pair_general) T->W0 = all_zero(T->DW, 216);
@@ -509,7 +526,7 @@ static void pair_rows(const phm_model *m, int ip, const double h[16], const doub
   if (!all && pr->drop) { /* the kept rows: sel increasing, so the forward copy is safe */
     const int *sel = m->pair_sel + 6 * ip;
     for (int r = 0; r < mc; r++) {
-      gf[r] = gf[sel[r]];
+      if (g) gf[r] = gf[sel[r]];
       vf[r] = vf[sel[r]];
       for (int i = 0; i < 6; i++) W[6 * i + r] = W[6 * i + sel[r]];
       if (T) memmove(T->Dg + 6 * r, T->Dg + 6 * sel[r], 6 * sizeof(double));
@@ -521,8 +538,10 @@ static void pair_rows(const phm_model *m, int ip, const double h[16], const doub
   }
   if (g) memcpy(g, gf, sizeof(double) * (size_t)mc);
   /* G_b = W^T Ad_{Tb^-1},  G_a = -W^T Ad_{(H_b Tb)^-1 H_a} */
-  if (Gb) bt_mul(W, mc, AdTbi, 6, 6, 1.0, Gb, 6);
-  if (Ga) bt_mul(W, mc, AdBa, 6, 6, -1.0, Ga, 6);
+  int unit[6]; /* W's unit columns, once for both */
+  if (Ga || Gb) unit_cols(W, mc, unit);
+  if (Gb) bt_mul_cols(W, unit, mc, AdTbi, 6, 6, 1.0, Gb, 6);
+  if (Ga) bt_mul_cols(W, unit, mc, AdBa, 6, 6, -1.0, Ga, 6);
   if (vt) {
     for (int r = 0; r < mc; r++) {
       double acc = vf[r];
@@ -559,7 +578,8 @@ void phm_pair_evaluate(const phm_model *m, int ip, const double *Ha, const doubl
   if (!xref) xref = m->xref0 + m->pair_j[ip]; /* the rows need it too: helical, driven coordinates */
   phm_pair_frames(m, ip, Ha, Hb, pd->h, NULL, pd->AdBa);
   if (what & PHM_PAIR_ROWS) /* without Phi and x, a driven pair skips its second kinematics */
-    pair_rows(m, ip, pd->h, AdTbi, pd->AdBa, xref, time, tref, 0, pd->g, pd->Ga, pd->Gb, pd->vt,
+    pair_rows(m, ip, pd->h, AdTbi, pd->AdBa, xref, time, tref, 0,
+              (what & PHM_PAIR_NO_G) && !pr->driven ? NULL : pd->g, pd->Ga, pd->Gb, pd->vt,
               pd->W, joint ? pd->Phi : NULL, joint ? pd->x : NULL, NULL);
   else if (joint)
     phm_pair_kin(pr->type, pr->pitch, pd->h, xref, NULL, NULL, pd->Phi, pd->x);

@@ -8,6 +8,18 @@ void phm_qp_to_H(const double q[4], const double p[3], double H[16]);
 void phm_H_to_qp(const double H[16], double q[4], double p[3]);
 void phm_retract(double H[16], const double delta[6]); /* H <- H exp(delta) */
 
+/* h = A^-1 B (A, B: their first three rows read): R_A^T R_B, R_A^T p_B + (-R_A^T p_A), the
+ * arithmetic of phm_se3_inverse then phm_se3_compose (the same numbers) without their copies. */
+static inline void phm_inv_compose(const double A[16], const double B[16], double h[16]) {
+  for (int i = 0; i < 3; i++) {
+    for (int j = 0; j < 3; j++) h[4 * i + j] = A[i] * B[j] + A[4 + i] * B[4 + j] + A[8 + i] * B[8 + j];
+    double qa = -(A[i] * A[3] + A[4 + i] * A[7] + A[8 + i] * A[11]);
+    h[4 * i + 3] = (A[i] * B[3] + A[4 + i] * B[7] + A[8 + i] * B[11]) + qa;
+  }
+  h[12] = h[13] = h[14] = 0.0;
+  h[15] = 1.0;
+}
+
 /* out = ad*_t mm = ad_t^T mm for a momentum mm = (L, P) and a twist t = (omega, v):
  * (-omega x L - v x P, -omega x P) (docs/method.md section 3.4): the gyroscopic term. */
 static inline void phm_ad_dual_apply(const double t[6], const double mm[6], double out[6]) {

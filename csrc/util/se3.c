@@ -258,8 +258,8 @@ void phm_se3_ad_dual(const double x[6], double a[36]) {
  *   Q = V/2 + c1 (WV + VW + WVW) + c2 (W^2 V + V W^2 - 3 WVW) + c3 (WVW^2 + W^2 VW),
  * c1 = (t - sin t)/t^3, c2 = (t^2/2 + cos t - 1)/t^4,
  * c3 = (c2 + 3 (t - sin t - t^3/6)/t^5)/2, each by its Taylor series for t < 0.1. */
-static void se3_dexp_Q(const double x[6], double Q[9]) {
-  double t = norm3(x), t2 = t * t, c1, c2, e;
+static void se3_dexp_Q_at(const double x[6], double t, double Q[9]) {
+  double t2 = t * t, c1, c2, e;
   if (t < 0.1) {
     c1 = 1.0 / 6.0 - t2 * (1.0 / 120.0 - t2 * (1.0 / 5040.0 - t2 * (1.0 / 362880.0 - t2 / 39916800.0)));
     c2 = 1.0 / 24.0 - t2 * (1.0 / 720.0 - t2 * (1.0 / 40320.0 - t2 * (1.0 / 3628800.0 - t2 / 479001600.0)));
@@ -290,6 +290,9 @@ static void se3_dexp_Q(const double x[6], double Q[9]) {
     }
 }
 
+/* (t = |omega|) */
+static void se3_dexp_Q(const double x[6], double Q[9]) { se3_dexp_Q_at(x, norm3(x), Q); }
+
 void phm_se3_dexp(const double x[6], double D[36]) {
   double A[9], Q[9];
   phm_so3_jac(x, A);
@@ -297,19 +300,20 @@ void phm_se3_dexp(const double x[6], double D[36]) {
   block_lower(A, Q, D);
 }
 
-/* The blocks of dexp_x^-1 = [[Ai, 0], [L, Ai]]: Ai = so3 jac_inv(omega), L = -Ai Q Ai. */
-static void se3_dexp_inv_blocks(const double x[6], const double Ai[9], double L[9]) {
+/* The blocks of dexp_x^-1 = [[Ai, 0], [L, Ai]]: Ai = so3 jac_inv(omega), L = -Ai Q Ai
+ * (t = |omega|). */
+static void se3_dexp_inv_blocks(const double x[6], double t, const double Ai[9], double L[9]) {
   double Q[9], T[9];
-  se3_dexp_Q(x, Q);
+  se3_dexp_Q_at(x, t, Q);
   mat3_mul(Ai, Q, T);
   mat3_mul(T, Ai, L);
   for (int i = 0; i < 9; i++) L[i] = -L[i];
 }
 
 void phm_se3_dexp_inv(const double x[6], double Di[36]) {
-  double Ai[9], L[9];
-  phm_so3_jac_inv(x, Ai);
-  se3_dexp_inv_blocks(x, Ai, L);
+  double Ai[9], L[9], t = norm3(x);
+  so3_poly(x, -0.5, so3_jac_inv_coeff(t), Ai); /* phm_so3_jac_inv, sharing |omega| */
+  se3_dexp_inv_blocks(x, t, Ai, L);
   block_lower(Ai, L, Di);
 }
 
@@ -321,9 +325,10 @@ void phm_se3_log_dexp_inv(const double H[16], double x[6], double Ai[9], double 
   double R[9], p[3];
   pose_split(H, R, p);
   phm_so3_log(R, x);
-  phm_so3_jac_inv(x, Ai);
+  double t = norm3(x);
+  so3_poly(x, -0.5, so3_jac_inv_coeff(t), Ai); /* phm_so3_jac_inv, sharing |omega| */
   mat3_vec(Ai, p, x + 3);
-  se3_dexp_inv_blocks(x, Ai, L);
+  se3_dexp_inv_blocks(x, t, Ai, L);
 }
 
 /* ---------------------------------------------------------------- quaternions */

@@ -99,7 +99,8 @@ class RunMonitor:
     # core -> Python: at each output
     def on_output(self, t: float, i: int) -> bool:
         self.t = t
-        self._maybe_print()
+        if self.progress:   # (tested here: a call less at every output of a run without a bar)
+            self._maybe_print()
         if self.checkpoint is not None:   # before the user's callback: it sees the file up to i
             self.checkpoint.output(i, self.steps, time.perf_counter() - self.wall0)
         if self.terminated:
