@@ -102,6 +102,27 @@ def test_sigterm_stops_the_run_and_returns_what_was_computed():
     assert signal.getsignal(signal.SIGTERM) == previous       # the handler is put back
 
 
+def test_sigterm_without_a_callback_stops_at_the_next_output():
+    """Without a callback, progress bar or checkpoint the core calls no Python at the outputs;
+    it reads the monitor's SIGTERM flag there itself, so the run still ends at the first output
+    after the signal (the monitor's own call comes only every ~100 steps: 0.1 s later here)."""
+    m = ph.Mechanism(gravity=(0, 0, -9.81))
+    bob = m.add_rigid_body("bob", 1.0, np.eye(3) * 1e-3, com=(0.5, 0, 0))
+    m.add_pair("j", ph.Revolute(axis="y"), m.ground, bob)
+    sent = []
+
+    def force(t):   # a time law the core calls back: the signal arrives at t = 50 ms
+        if t >= 0.05 and not sent:
+            sent.append(t)
+            os.kill(os.getpid(), signal.SIGTERM)
+        return 0.0
+
+    m.add_wrench("w", bob, (0, 0, 0, 1.0, 0, 0), law=ph.Function(force))
+    res = m.simulate(1.0, 1e-3, integrator="generalized-alpha", step=1e-3)
+    assert sent and res.interrupted
+    assert 0.05 <= res.t[-1] <= 0.0525, res.t[-1]
+
+
 def test_cost_warning_fires_when_a_run_resolves_megahertz_for_a_one_second_output():
     """IDA with every state in its error test, outputs every second: it follows the strip's
     axial and shear vibrations (steps of ~1e-8 s); the warning says so within ~1 s of CPU."""

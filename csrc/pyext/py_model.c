@@ -521,6 +521,19 @@ static int interrupt_cb(void *vctx, double t, int iout) {
   PyGILState_STATE g = PyGILState_Ensure();
   int stop = signal_pending(c);
   c->cb_stop = 0;
+  if (!stop && !c->cb && c->mon) {
+    /* no per-output callable (no progress bar, checkpoint or user callback): only the monitor's
+     * SIGTERM flag (_run.sigterm_as_interrupt), read here without a call into Python */
+    static PyObject *terminated = NULL;
+    if (!terminated) terminated = PyUnicode_InternFromString("terminated");
+    PyObject *f = terminated ? PyObject_GetAttr(c->mon, terminated) : NULL;
+    if (f) {
+      c->cb_stop = PyObject_IsTrue(f) == 1;
+      Py_DECREF(f);
+    } else {
+      PyErr_Clear();   /* a monitor without the flag: nothing to stop for */
+    }
+  }
   if (!stop && c->cb) {
     PyObject *a[3] = {NULL, PyFloat_FromDouble(t), PyLong_FromLong(iout)}, *r = NULL;
     if (a[1] && a[2]) r = PyObject_Vectorcall(c->cb, a + 1, 2 | PY_VECTORCALL_ARGUMENTS_OFFSET, NULL);

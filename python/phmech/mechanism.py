@@ -1094,7 +1094,7 @@ class Mechanism:
         monitor = _run.RunMonitor(t0, t1, band, integrator, progress, callback, checkpoint=saver)
         with _run.sigterm_as_interrupt(monitor):
             r = _core.model_simulate(sim_model, tout, rtol, atol, solvers[linear_solver], poses, twists,
-                                     monitor.on_output, float(max_step), int(max_order), rec,
+                                     monitor.per_output, float(max_step), int(max_order), rec,
                                      tests[error_test], integrators[integrator], float(step or 0.0),
                                      float(1.0 if rho_inf is None else rho_inf), adaptive=int(adaptive),
                                      band=float(band if adaptive else 0.0), monitor=monitor,
