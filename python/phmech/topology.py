@@ -235,7 +235,7 @@ def place_tree(desc: ModelDescription):
                 continue
             E = se3.exp((j - k) * h * eps)
             H[cj] = H[c] @ E
-            T[cj] = se3.Ad(se3.inverse(E)) @ T[c]
+            T[cj] = se3.Ad(se3.inverse(E)) @ T[c] if T[c].any() else 0.0   # (a link at rest)
             placed.add(cj)
             out.append(cj)
         return out
