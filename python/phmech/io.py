@@ -584,6 +584,10 @@ def simulation_dataset(res):
         data["couplings"] = (("coupled_element", "twist_row", "twist_col"), res._couplings,
                              dict(units="kg m^2, kg m, kg", long_name="consistent-mass couplings "
                                   "in the nodes' body twists (phm_element_mass)"))
+    if res._couplings is not None and len(res._couplings) and res._coupled_fields is not None:
+        data["coupled_fields"] = (("coupled_element", "field"), res._coupled_fields,
+                                  dict(units="m, kg/m, m", long_name="consistent elements' length, "
+                                       "section mass per length and centre of mass (zeros: none)"))
     kinds = list(res.energy)
     data["energy"] = (("time", "energy_kind"),
                       np.column_stack([res.energy[k] for k in kinds]) if kinds else np.zeros((nt, 0)),
@@ -728,7 +732,10 @@ def load_result(path):
         _inertia=a("inertia"), _mass=a("mass"), _com=a("com"), _bodies=bodies,
         _coupled_nodes=a("coupled_nodes").astype(int) if "coupled_nodes" in ds
         else np.zeros((0, 2), dtype=int),
-        _couplings=a("couplings") if "couplings" in ds else np.zeros((0, 12, 12)))
+        _couplings=a("couplings") if "couplings" in ds else np.zeros((0, 12, 12)),
+        # a file from before the fields (or without couplings): the masses on their carriers
+        _coupled_fields=a("coupled_fields") if "coupled_fields" in ds
+        else np.zeros((ds.sizes.get("coupled_element", 0), 5)))
 
 
 def simulation_dataframe(res):

@@ -168,7 +168,7 @@ class Mechanism:
                           band: Optional[float] = None,
                           frequency_tolerance: Optional[float] = None, *,
                           start=None, fidelity: str = "nonlinear",
-                          mass: str = "lumped", modes: Optional[int] = None) -> FlexibleLink:
+                          mass: str = "consistent", modes: Optional[int] = None) -> FlexibleLink:
         """A flexible link of ``length`` [m] along the local x axis of its start frame, placed by
         ``start`` (a frame: the link's start coincides with it, its axis along the frame's x,
         e.g. ``start=body.frame_at((0.3, 0, 0))``) or ``pose`` (4x4, the pose of its start; give

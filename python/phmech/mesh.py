@@ -47,7 +47,7 @@ class MeshChoice:
 
 
 def _free_frequencies(length: float, properties, elements: int, band: float, curvature,
-                      mass: str = "lumped") -> np.ndarray:
+                      mass: str = "consistent") -> np.ndarray:
     """Elastic free-free frequencies [Hz] of the link alone up to just above ``band``."""
     from .mechanism import Mechanism
     m = Mechanism()
@@ -63,7 +63,7 @@ def _free_frequencies(length: float, properties, elements: int, band: float, cur
 
 
 def choose_elements(length: float, properties, band: float, tolerance: float = 1e-3,
-                    max_elements: int = 256, curvature=None, mass: str = "lumped") -> MeshChoice:
+                    max_elements: int = 256, curvature=None, mass: str = "consistent") -> MeshChoice:
     """About the fewest elements for which every free-free mode of a flexible link up to ``band``
     [Hz] has an estimated relative frequency error within ``tolerance``: from 2 elements, each
     next count is the one the second-order error law predicts from the last estimate (5 % more),
