@@ -4,7 +4,7 @@ Model files
 -----------
 ``Mechanism.save(path)`` writes, and ``phmech.load(path)`` reads, a JSON document::
 
-    {"format": "phmech-model", "schema_version": 1, "phmech_version": "0.1.0",
+    {"format": "phmech-model", "schema_version": 2, "phmech_version": "0.1.0",
      "calls": [{"method": "set", "args": {"gravity": [0, 0, -9.81], "strict": false, ...}},
                {"method": "add_rigid_body", "args": {"name": "b", "mass": 1.0, ...}}, ...]}
 
@@ -81,8 +81,9 @@ __all__ = ["save", "load", "load_result", "register", "register_dataclass", "enc
            "RESULT_SCHEMA_VERSION"]
 
 FORMAT = "phmech-model"
-#: the model-file schema this phmech writes and the newest it reads
-SCHEMA_VERSION = 1
+#: the model-file schema this phmech writes and the newest it reads (2: a flexible link's default
+#: element mass is "consistent"; a version-1 file's links without mass= keep "lumped")
+SCHEMA_VERSION = 2
 RESULT_FORMAT = "phmech-result"
 #: the result-file schema this phmech writes and the newest it reads
 RESULT_SCHEMA_VERSION = 2   # 2: the element mass couplings (consistent and modal links)
@@ -366,7 +367,7 @@ def model_from_dict(doc: dict):
     calls = doc.get("calls")
     if not isinstance(calls, list):
         raise ModelError("phmech model: \"calls\" must be a list")
-    m = Mechanism()
+    m, version = Mechanism(), v
     for i, e in enumerate(calls):
         meth = e.get("method") if isinstance(e, dict) else None
         args = e.get("args") if isinstance(e, dict) else None
@@ -384,6 +385,8 @@ def model_from_dict(doc: dict):
             raise ModelError(f"phmech model: call {i}: unknown method {meth!r} (known: "
                              f"{', '.join(sorted(RECORDED))})")
         kwargs = {k: decode_value(v, m) for k, v in args.items()}
+        if version < 2 and meth == "add_flexible_link":
+            kwargs.setdefault("mass", "lumped")     # that file's default (SCHEMA_VERSION)
         try:
             getattr(m, meth)(**kwargs)
         except TypeError as e:   # an argument the method does not take
