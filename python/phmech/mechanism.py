@@ -236,7 +236,7 @@ class Mechanism:
         cantilever at N = 21: within 0.085 % on five modes where lumped is 0.69 % off; clamped at
         both ends 0.32 % against 0.39 %, free 0.44 % against 1.3 %), its energy balance stays
         exact and momentum is conserved; its inertia for a rigid turn about a point is the
-        continuum's plus rhoA L h^2/12 (lumped: h^2/6); a step costs up to 10-15 % more
+        continuum's plus rhoA L h^2/12 (lumped: h^2/6); a run costs 9-17 % more at equal N
         (docs/performance.md, "Consistent element mass"). ``centre_of_mass`` places its mass
         along the elements' fields (SimulationResult.centre_of_mass); gravity acts on the node
         masses, as with lumped mass."""
