@@ -253,7 +253,7 @@ class SimulationResult:
         body, a flexible link (all its nodes), a body's or link's name, or a list of these:
         ``Momentum(linear, angular)``, each (nt, 3), in kg m/s and kg m^2/s.
 
-        Each carrier (a rigid body, or a beam node with its lumped inertia) contributes its body
+        Each carrier (a rigid body, or a beam node with its own inertia) contributes its body
         momentum (L_b, P_b) = M t (plus, for the nodes of ``mass="consistent"`` elements, their
         share Mc [t_a; t_b] of the element's coupling, and likewise for a modal link's two
         carriers), M its 6x6 spatial inertia about the carrier frame (centre of
