@@ -6,8 +6,8 @@
    against the Timoshenko frequency equation (``phmech.timoshenko.frequencies``) vs number of
    first-order states and vs CPU time, for phmech ``se3`` (3-D), phmech ``mixed`` (planar, linear),
    Exudyn's 2-D and 3-D geometrically exact beams, its ANCF cable and MuJoCo's cable (the last two
-   against their own continuum models; benchmarks/peers.py); phmech ``se3`` with lumped (the
-   default) and with consistent element mass (``add_flexible_link(mass="consistent")``).
+   against their own continuum models; benchmarks/peers.py); phmech ``se3`` with lumped
+   (``mass="lumped"``) and with consistent element mass (the default).
 2. ``transient``: the Table I cantilever (``table1_properties(1.0)``) bent by a static tip force
    3 EI / (4 L^2) (tip ~ 0.24 L) and released at rest; tip (x, z) over ``T`` seconds sampled every
    5 ms; error = max over samples of |tip - reference| / L. Reference: phmech ``se3``, IDA at rtol 1e-10
@@ -204,7 +204,7 @@ def bench_modes(quick: bool) -> dict:
     ref = {"exudyn_ancf": peers.euler_bernoulli_frequencies(5), "mujoco_cable": peers.rayleigh_frequencies(5)}
     Ns = [3, 5, 9, 15, 21, 40, 80] if quick else [3, 5, 9, 15, 21, 40, 80, 160]
     reps = 1 if quick else 3   # (1 for N >= 80, see below)
-    fns = {"phmech_se3": (studies.se3_frequencies, lambda N: 12 * N),
+    fns = {"phmech_se3": (lambda N, n: studies.se3_frequencies(N, n, mass="lumped"), lambda N: 12 * N),
            "phmech_se3_consistent": (lambda N, n: studies.se3_frequencies(N, n, mass="consistent"),
                                      lambda N: 12 * N),
            "phmech_mixed": (studies.mixed_frequencies, lambda N: 4 * N),

@@ -135,9 +135,9 @@ def _weld(m, name, a_carrier, H_a, b_carrier, H_b, H_joint):
 def build(p: LeafSpringParams, elements: int = 10, beta: float = 1e-5, leaf_mass_scale: float = 1.0,
           axial_shear_scale: float = 1.0, body_rot_inertia_scale: float = 1.0,
           pulse: ph.Pulse | None = None, delta: float = 0.0, mounting: str = "clamp",
-          k_mount: float = K_MOUNT, mass: str = "lumped", fidelity: str = "nonlinear",
+          k_mount: float = K_MOUNT, mass: str = "consistent", fidelity: str = "nonlinear",
           band: float | None = None):
-    """The mechanism. ``mass``: the leaves' mass ("lumped" or "consistent"), ``fidelity`` the
+    """The mechanism. ``mass``: the leaves' mass ("consistent", the links' default, or "lumped"), ``fidelity`` the
     leaves' ("nonlinear", or "modal": each reduced onto its ends, with the fixed-interface modes
     ``band`` [Hz] chooses (None: none); see Mechanism.add_flexible_link). ``beta`` [s]: stiffness-proportional material damping D = beta K.
     ``leaf_mass_scale`` scales the leaves' inertia (tiny: massless leaves), ``axial_shear_scale``

@@ -201,13 +201,20 @@ def test_driven_angle_profile_as_a_table_adds_no_spurious_vibration():
     assert res.stats["nonlinear_conv_fails"] < 0.01 * res.stats["steps"]
 
 
-def test_a_scene_at_rest_reports_a_zero_ledger_ratio_not_a_ratio_of_round_offs():
+@pytest.mark.parametrize("mass", ["lumped", "consistent"])
+def test_a_scene_at_rest_reports_a_zero_ledger_ratio_not_a_ratio_of_round_offs(mass):
+    """Nothing moves but a start-up transient of the integrator, which it damps within 0.25 s:
+    measured energy scale 1.7e-19 J with lumped mass, 2.0e-18 J with consistent (twists up to
+    1e-8, 1.4e-8 rad/s, m/s; IDA: 1.8e-25 and 4.7e-25 J, the positions' round-off). The bound
+    on the scale is the lumped one's; both report no ledger ratio."""
     props = ph.BeamProperties.from_material(ph.Section.rectangle(0.02, 0.001), STEEL)
     m = ph.Mechanism()
-    leaf = m.add_flexible_link("leaf", 0.2, props, elements=10)
+    leaf = m.add_flexible_link("leaf", 0.2, props, elements=10, mass=mass)
     m.add_pair("clamp", ph.Fixed(), m.ground, leaf.start)
     res = m.simulate(0.1, 1e-3)
-    assert res.stats["energy_scale"] < 1e-18          # nothing moves (measured 1e-23 J)
+    if mass == "lumped":
+        assert res.stats["energy_scale"] < 1e-18      # nothing moves
+    assert res.stats["energy_scale"] < 1e-15 * 1e-2   # far below what the ledger judges (STILL)
     assert res.stats["ledger_relative"] == 0.0
     np.testing.assert_allclose(res.tip(leaf)[-1], [0.2, 0, 0], atol=1e-15)
 
@@ -216,10 +223,16 @@ def test_the_numerical_dissipation_comes_from_above_the_band():
     """The undamped cantilever + tip mass of benchmarks/scenes.py after its 2 ms impulse, 1 s
     with the defaults (band 500 Hz), split into its linearized modes (phmech.analysis.
     modal_energy). Independent check of the split first: the in-band modal energies add up to
-    the mechanical energy. Measured: the run loses 3.0e-7 J (ledger), of which the seven in-band
-    modes 3.0e-8 J (10 %; 5.5 Hz +1.3e-5, 48 Hz -7.2e-5, 149 Hz -1.8e-4, 309 Hz -8.4e-4 of
-    their energies) and the 53 modes above the band (up to 537 kHz) the rest. IDA at rtol 1e-9
-    holds the in-band modes to ~1e-4 (exchange through the small geometric nonlinearity)."""
+    the mechanical energy. Measured (consistent mass): the run loses 1.1e-7 J (ledger), of which
+    the seven in-band modes 6.9e-9 J (6.3 %; 5.5 Hz +6.3e-6, 48 Hz -2.5e-6, 146 Hz +7.3e-4,
+    298 Hz -6.6e-3 of their energies) and the 53 modes above the band (up to 417 kHz) the rest.
+    The 146 and 298 Hz modes are near a 2:1 internal resonance (ratio 0.981) and exchange energy
+    through the geometric nonlinearity, at a phase set by the integrator's period error: with
+    rho_inf = 1 (no numerical damping) 298 Hz still changes by -5.8e-3, with IDA at rtol 1e-9 by
+    +4.5e-4 (146 Hz: -4.4e-5); together they change by -1.5e-4. Their numerical damping alone,
+    small and linear (a 0.02 N pulse, step 1e-4 s), is the generalized-alpha's at h = 1e-4,
+    rho_inf 0.9: 5.1e-5 and 8.7e-4 over the run (measured 5.105e-5, 8.736e-4). With lumped mass
+    (149, 309 Hz, ratio 0.96) 309 Hz changed by -8.4e-4."""
     sc = next(s for s in scenes.SCENES if s.name.startswith("cantilever"))
     m, _ = sc.build()
     r = m.simulate(1.0, 1e-3)
@@ -232,9 +245,13 @@ def test_the_numerical_dissipation_comes_from_above_the_band():
     live = inb & (E[i0] > 1e-6 * mech[i0])
     change = (E[-1, live] - E[i0, live]) / E[i0, live]
     f = md.frequency[live]
-    assert list(np.round(f)) == [6, 48, 149, 309]
+    # the first four bending modes across the thin side: within 2 % of a converged mesh's
+    # (160 elements: 5.507, 47.55, 144.8, 292.8 Hz; measured 0.07, 0.54, 1.1, 1.9 % off)
+    np.testing.assert_allclose(f, [5.507, 47.55, 144.8, 292.8], rtol=0.02)
     assert np.all(np.abs(change[f < 100]) <= 2e-4)          # the motion a user watches
-    assert np.all(np.abs(change) <= 2e-3)                   # up to the band's top
+    assert np.all(np.abs(change[f < 200]) <= 2e-3)          # up to the resonant pair
+    pair = (E[-1, live][2:].sum() - E[i0, live][2:].sum()) / E[i0, live][2:].sum()
+    assert abs(pair) <= 2e-3                                # and the pair, to the band's top
     lost_in_band = E[i0, inb].sum() - E[-1, inb].sum()
     lost = mech[i0] - mech[-1]
     assert lost > 0 and lost_in_band <= 0.25 * lost

@@ -41,9 +41,11 @@ def test_rigid_link_pendulum_period(theta0):
 def test_stiff_nonlinear_link_tends_to_the_rigid_link():
     """The same pendulum (1 rad, half a period) with a nonlinear link whose bending stiffness
     EI is 1e4 times steel's (first flexible mode 1.2 kHz, against 0.8 Hz swinging) against
-    fidelity="rigid". What remains is the se3 chain's lumped node inertia (h/2 at the ends,
-    h inside: the trapezoid rule on rhoA s^2, I_O too large by 1/(2 N^2), the period by
-    1/(4 N^2)): measured max tip distance 0.028 L (N = 4) and 0.0072 L (N = 8), ratio 3.95.
+    fidelity="rigid". What remains is the se3 chain's inertia about the pivot, rhoA L h^2/12
+    too large with consistent mass (the default; test_nonlinear_period_is_the_chains_inertia_
+    period), I_O by 1/(4 N^2), the period by 1/(8 N^2): measured max tip distance 0.0142 L
+    (N = 4) and 0.0036 L (N = 8), ratio 3.97 (lumped mass, twice the excess: 0.028 L and
+    0.0072 L, ratio 3.95).
     Asserted: < 0.01 L at N = 8, and the second-order convergence (ratio 3..5) that says the
     difference is the discretization's, not the rigid model's."""
     stiff = stiffened("bending")
@@ -61,13 +63,17 @@ def test_stiff_nonlinear_link_tends_to_the_rigid_link():
     assert 3.0 < diff[4] / diff[8] < 5.0, diff
 
 
-def test_nonlinear_period_is_the_lumped_inertia_period():
+def test_nonlinear_period_is_the_chains_inertia_period():
     """Steel as it is (first flexible mode ~120 Hz): examples/fidelity.py's run. The rigid
-    link's period is exact (to 2e-5, measured 1.7e-6); the nonlinear link's is the compound
-    pendulum's with the chain's lumped inertia, I_O + rhoA L h^2/6 (the trapezoid rule on
-    rhoA s^2): sqrt(1 + rhoA L h^2 / (6 I_O)) - 1 = 1.550e-2 (N = 4), 3.897e-3 (N = 8), met to
-    2e-5 (measured 1.1e-6, 2.3e-6): what separates the two fidelities here is that inertia, not
-    the flexibility."""
+    link's period is exact (to 2e-5, measured 1.8e-6); the nonlinear link's is the compound
+    pendulum's with the chain's inertia about the pivot. Consistent mass (the default): its
+    elements' fields turn rigidly with the link, exact, but the blend's velocity difference
+    d = t_b - Ad_(R0^T) t_a (docs/method.md section 4.2, "Mass") compares the nodes' velocities
+    untransported, so a rigid turn omega has |d| = omega h per element, adding rhoA h^3/12 each:
+    I_O + rhoA L h^2/12, sqrt(1 + rhoA L h^2 / (12 I_O)) - 1 = 7.779e-3 (N = 4), 1.950e-3
+    (N = 8), met to 2e-5 (measured 7.4e-7, 1.8e-6). Lumped mass: I_O + rhoA L h^2/6 (the
+    trapezoid rule on rhoA s^2), 1.550e-2 and 3.897e-3 (measured to 1.1e-6, 2.3e-6). What
+    separates the two fidelities here is that inertia, not the flexibility."""
     from fidelity import run
     rows = run("none", 1.0, (4, 8))
     rhoA, rhoIy = PROPS.inertia[3, 3], PROPS.inertia[1, 1]
@@ -75,8 +81,8 @@ def test_nonlinear_period_is_the_lumped_inertia_period():
     assert rows[0]["fidelity"] == "rigid" and abs(rows[0]["period_error"]) < 2e-5
     for r in rows[1:]:
         h = L / r["elements"]
-        lumped = np.sqrt(1 + rhoA * L * h * h / (6 * I_O)) - 1
-        assert abs(r["period_error"] - lumped) < 2e-5, (r, lumped)
+        chain = np.sqrt(1 + rhoA * L * h * h / (12 * I_O)) - 1
+        assert abs(r["period_error"] - chain) < 2e-5, (r, chain)
         assert r["ledger_relative"] < 1e-3
 
 

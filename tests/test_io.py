@@ -269,3 +269,22 @@ def test_composed_laws_and_splines_round_trip_and_python_functions_are_refused(t
     with pytest.raises(ph.ModelError, match="add_pair\\('j'\\).*driven.*Python function"):
         f.save(tmp_path / "f.json")
     assert not (tmp_path / "f.json").exists()
+
+
+def test_a_version_1_files_links_keep_their_lumped_mass(tmp_path):
+    """Schema 2 changed the flexible links' default element mass to "consistent": a version-1
+    file's links without mass= load with lumped mass, the default they were saved under, and a
+    link that named its mass keeps it."""
+    m = ph.Mechanism()
+    a = m.add_flexible_link("a", 1.0, ph.table1_properties(), elements=6)
+    m.add_flexible_link("b", 1.0, ph.table1_properties(), elements=6, mass="consistent",
+                        pose=ph.se3.translation([0, 2.0, 0]))
+    m.add_pair("clamp", ph.Fixed(), m.ground, a.start)
+    m.save(tmp_path / "m.json")
+    doc = json.loads((tmp_path / "m.json").read_text())
+    assert doc["schema_version"] == 2
+    doc["schema_version"] = 1
+    (tmp_path / "v1.json").write_text(json.dumps(doc))
+    old, new = ph.load(tmp_path / "v1.json"), ph.load(tmp_path / "m.json")
+    assert [e["mass"] for e in old._el] == ["lumped"] * 6 + ["consistent"] * 6
+    assert [e["mass"] for e in new._el] == ["consistent"] * 12

@@ -100,16 +100,27 @@ class ModelDescription:
         """The consistent-mass elements' node carriers ``_coupled_nodes`` (ne, 2) and couplings
         ``_couplings`` (ne, 12, 12) in their nodes' body twists, then the couplings without an
         element (a modal link's modes), from the core's kernel
-        (phm_element_mass; what the simulation integrated), for a result's momentum."""
+        (phm_element_mass; what the simulation integrated), for a result's momentum; and
+        ``_coupled_fields`` (ne, 5): a consistent element's length h, section mass per length and
+        section centre of mass (3), whose constant-strain field places the element's mass for
+        ``centre_of_mass`` (zeros for a given coupling: its mass stays on its carriers). Made
+        once per description, read-only."""
         if self._mass_couplings is None:
             from . import _core
             rows = [e for e in self.elements if e.get("mass", "lumped") != "lumped"] + self.couplings
+            fields = np.zeros((len(rows), 5))
+            for row, e in zip(fields, rows):
+                if e.get("mass", "given") == "consistent":
+                    ms = e["Ms"][3, 3]
+                    C = e["Ms"][:3, 3:] / ms                     # hat(c) (add_rigid_body's layout)
+                    row[:] = e["h"], ms, C[2, 1], C[0, 2], C[1, 0]
             cp = dict(_coupled_nodes=np.array([[e["a"], e["b"]] for e in rows], dtype=int).reshape(-1, 2),
                       _couplings=np.array([e["Mc"] if e.get("mass", "given") == "given" else
                                            _core.element_mass(e["h"], e["Ms"], e["eps"]) for e in rows],
-                                          dtype=float).reshape(-1, 12, 12))
-            for a in cp.values():   # shared by every result until the next change
-                a.setflags(write=False)
+                                          dtype=float).reshape(-1, 12, 12),
+                      _coupled_fields=fields)
+            for arr in cp.values():   # shared by every result until the next change
+                arr.setflags(write=False)
             self._mass_couplings = cp
         return dict(self._mass_couplings)
 

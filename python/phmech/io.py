@@ -4,7 +4,7 @@ Model files
 -----------
 ``Mechanism.save(path)`` writes, and ``phmech.load(path)`` reads, a JSON document::
 
-    {"format": "phmech-model", "schema_version": 1, "phmech_version": "0.1.0",
+    {"format": "phmech-model", "schema_version": 2, "phmech_version": "0.1.0",
      "calls": [{"method": "set", "args": {"gravity": [0, 0, -9.81], "strict": false, ...}},
                {"method": "add_rigid_body", "args": {"name": "b", "mass": 1.0, ...}}, ...]}
 
@@ -81,8 +81,9 @@ __all__ = ["save", "load", "load_result", "register", "register_dataclass", "enc
            "RESULT_SCHEMA_VERSION"]
 
 FORMAT = "phmech-model"
-#: the model-file schema this phmech writes and the newest it reads
-SCHEMA_VERSION = 1
+#: the model-file schema this phmech writes and the newest it reads (2: a flexible link's default
+#: element mass is "consistent"; a version-1 file's links without mass= keep "lumped")
+SCHEMA_VERSION = 2
 RESULT_FORMAT = "phmech-result"
 #: the result-file schema this phmech writes and the newest it reads
 RESULT_SCHEMA_VERSION = 2   # 2: the element mass couplings (consistent and modal links)
@@ -373,7 +374,7 @@ def model_from_dict(doc: dict):
     calls = doc.get("calls")
     if not isinstance(calls, list):
         raise ModelError("phmech model: \"calls\" must be a list")
-    m = Mechanism()
+    m, version = Mechanism(), v
     for i, e in enumerate(calls):
         meth = e.get("method") if isinstance(e, dict) else None
         args = e.get("args") if isinstance(e, dict) else None
@@ -391,6 +392,8 @@ def model_from_dict(doc: dict):
             raise ModelError(f"phmech model: call {i}: unknown method {meth!r} (known: "
                              f"{', '.join(sorted(RECORDED))})")
         kwargs = {k: decode_value(v, m) for k, v in args.items()}
+        if version < 2 and meth == "add_flexible_link":
+            kwargs.setdefault("mass", "lumped")     # that file's default (SCHEMA_VERSION)
         try:
             getattr(m, meth)(**kwargs)
         except TypeError as e:   # an argument the method does not take
@@ -593,6 +596,10 @@ def simulation_dataset(res):
         data["couplings"] = (("coupled_element", "twist_row", "twist_col"), res._couplings,
                              dict(units="kg m^2, kg m, kg", long_name="consistent-mass couplings "
                                   "in the nodes' body twists (phm_element_mass)"))
+    if res._couplings is not None and len(res._couplings) and res._coupled_fields is not None:
+        data["coupled_fields"] = (("coupled_element", "field"), res._coupled_fields,
+                                  dict(units="m, kg/m, m", long_name="consistent elements' length, "
+                                       "section mass per length and centre of mass (zeros: none)"))
     kinds = list(res.energy)
     data["energy"] = (("time", "energy_kind"),
                       np.column_stack([res.energy[k] for k in kinds]) if kinds else np.zeros((nt, 0)),
@@ -737,7 +744,10 @@ def load_result(path):
         _inertia=a("inertia"), _mass=a("mass"), _com=a("com"), _bodies=bodies,
         _coupled_nodes=a("coupled_nodes").astype(int) if "coupled_nodes" in ds
         else np.zeros((0, 2), dtype=int),
-        _couplings=a("couplings") if "couplings" in ds else np.zeros((0, 12, 12)))
+        _couplings=a("couplings") if "couplings" in ds else np.zeros((0, 12, 12)),
+        # a file from before the fields (or without couplings): the masses on their carriers
+        _coupled_fields=a("coupled_fields") if "coupled_fields" in ds
+        else np.zeros((ds.sizes.get("coupled_element", 0), 5)))
 
 
 def simulation_dataframe(res):

@@ -16,6 +16,10 @@ from . import io, se3
 from ._core import ModelError
 from .frames import Body, FlexibleLink, Frame, carrier_name, frame_of, link_of
 
+#: 6-point Gauss-Legendre on [0, 1] (points, weights): a consistent element's mass along its
+#: field, as csrc/model/element.c integrates its kinetic energy
+_FIELD_GAUSS = tuple(a / 2 + b for a, b in zip(np.polynomial.legendre.leggauss(6), (0.5, 0.0)))
+
 __all__ = ["SimulationResult", "ModesResult", "StaticResult", "Momentum", "InitialAdjustment",
            "InitialConfiguration", "StabilityWarning"]
 
@@ -126,6 +130,9 @@ class SimulationResult:
     #: in the nodes' body twists (csrc/model/element.c, phm_element_mass; momentum adds them)
     _coupled_nodes: np.ndarray = None
     _couplings: np.ndarray = None
+    #: per coupling: a consistent element's h, section mass per length and centre of mass (3),
+    #: zeros for a given one (description.mass_couplings; centre_of_mass places its mass)
+    _coupled_fields: np.ndarray = None
 
     def _frame(self, x) -> Frame:
         """A body, frame, link end or body's name as a Frame of the simulated mechanism."""
@@ -246,7 +253,7 @@ class SimulationResult:
         body, a flexible link (all its nodes), a body's or link's name, or a list of these:
         ``Momentum(linear, angular)``, each (nt, 3), in kg m/s and kg m^2/s.
 
-        Each carrier (a rigid body, or a beam node with its lumped inertia) contributes its body
+        Each carrier (a rigid body, or a beam node with its own inertia) contributes its body
         momentum (L_b, P_b) = M t (plus, for the nodes of ``mass="consistent"`` elements, their
         share Mc [t_a; t_b] of the element's coupling, and likewise for a modal link's two
         carriers), M its 6x6 spatial inertia about the carrier frame (centre of
@@ -304,13 +311,34 @@ class SimulationResult:
         """World position of the centre of mass [m], (nt, 3), of the whole mechanism (``x``
         None) or of bodies/links (as in momentum): sum m_i (p_i + R_i c_i) / sum m_i over the
         carriers, c_i the centre of mass in carrier coordinates (the masses and centres of mass
-        gravity acts on). Needs the recorded poses of those carriers (see momentum)."""
+        gravity acts on), except that a ``mass="consistent"`` element's mass (its nodes' shares
+        h/2 each) lies along its constant-strain field H_a exp(xi X), X = log(H_a^-1 H_b), xi in
+        [0, 1], the helix whose kinetic energy its mass is (docs/method.md section 4.2, "Mass").
+        Its rate is then the linear momentum over the mass (``momentum``) exactly while each
+        element is at its unstressed shape; a deformed element's mass keeps the unstressed
+        shape's, which no position can match exactly (the momentum is not the rate of any
+        function of the configuration), so there the rate differs by a term proportional to the
+        deformation (measured: tests/test_momentum.py). Needs the recorded poses of those
+        carriers (see momentum)."""
         cars = self._mass_carriers(x, True, "centre_of_mass")
         cols = self._columns(cars)
         H = self.poses[:, cols]                                   # (nt, k, 4, 4)
         r = np.einsum("nkij,kj->nki", H[..., :3, :3], self._com[cars]) + H[..., :3, 3]
         m = self._mass[cars]
-        return np.einsum("k,nki->ni", m, r) / m.sum()
+        first = np.einsum("k,nki->ni", m, r)
+        col = dict(zip(cars, cols))
+        nodes = np.zeros((0, 2), int) if self._coupled_nodes is None else self._coupled_nodes
+        fields = np.zeros((len(nodes), 5)) if self._coupled_fields is None else self._coupled_fields
+        for (na, nb), (h, ms, *c) in zip(nodes, fields):
+            if h > 0 and na in col and nb in col:   # its mass from the nodes to its field
+                Ha, Hb = self.poses[:, col[na]], self.poses[:, col[nb]]
+                X = se3.log(se3.inverse(Ha) @ Hb)
+                ch = np.append(c, 1.0)
+                for xi, w in zip(*_FIELD_GAUSS):
+                    first += (w * ms * h) * (Ha @ se3.exp(xi * X) @ ch)[:, :3]
+                for Hk, k in ((Ha, na), (Hb, nb)):       # what the node carried of it
+                    first -= (0.5 * ms * h) * (Hk @ np.append(self._com[k], 1.0))[:, :3]
+        return first / m.sum()
 
     # ---------------------------------------------------------- export (phmech/io.py)
 

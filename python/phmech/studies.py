@@ -29,7 +29,7 @@ def mixed_frequencies(N: int, n: int = 5, beam: dict = TABLE1) -> np.ndarray:
 
 
 def se3_cantilever(N: int, properties: BeamProperties | None = None, length: float = 1.0,
-                   damping: np.ndarray | None = None, mass: str = "lumped") -> tuple[Mechanism, object]:
+                   damping: np.ndarray | None = None, mass: str = "consistent") -> tuple[Mechanism, object]:
     """A cantilever of the nonlinear ``se3`` link along x, clamped at its start to the ground.
 
     ``properties`` default to :func:`phmech.table1_properties` (bending in the x-z plane carries
@@ -46,7 +46,7 @@ def se3_cantilever(N: int, properties: BeamProperties | None = None, length: flo
     return m, link
 
 
-def se3_frequencies(N: int, n: int = 5, mass: str = "lumped") -> np.ndarray:
+def se3_frequencies(N: int, n: int = 5, mass: str = "consistent") -> np.ndarray:
     """First ``n`` cantilever frequencies [rad/s] of the ``se3`` link (Table I), N elements, with
     the element mass ``mass`` (``"lumped"`` or ``"consistent"``).
 

@@ -60,7 +60,8 @@ from ._core import ModelError
 __all__ = ["frequencies", "mode_shape", "cutoff_frequency", "BOUNDARY_CONDITIONS"]
 
 #: Accepted values of ``bc`` (``"free-clamped"`` is the same beam mirrored: same spectrum).
-BOUNDARY_CONDITIONS = ("clamped-free", "free-clamped", "clamped-clamped", "pinned-pinned")
+BOUNDARY_CONDITIONS = ("clamped-free", "free-clamped", "clamped-clamped", "pinned-pinned",
+                       "free-free")
 
 _ALIASES = {"free-clamped": "clamped-free"}
 _POINTS_PER_PI = 48          # grid nodes per pi of each wavenumber
@@ -145,6 +146,7 @@ _ROWS = {  # rows of _columns() imposed at (xi = 0, xi = 1)
     "clamped-free": ((0, 1), (2, 3)),
     "clamped-clamped": ((0, 1), (0, 1)),
     "pinned-pinned": ((0, 2), (0, 2)),
+    "free-free": ((2, 3), (2, 3)),
 }
 
 
@@ -267,8 +269,9 @@ def frequencies(n: int, L: float, EI: float, kGA: float, rhoA: float, rhoI: floa
     rhoI : float
         Rotary inertia per unit length (density times second moment of area) [kg m].
     bc : str
-        ``"clamped-free"`` (alias ``"free-clamped"``), ``"clamped-clamped"`` or
-        ``"pinned-pinned"``.
+        ``"clamped-free"`` (alias ``"free-clamped"``), ``"clamped-clamped"``,
+        ``"pinned-pinned"`` or ``"free-free"`` (its elastic modes: the two rigid-body ones, at
+        zero, are not counted).
 
     Returns
     -------

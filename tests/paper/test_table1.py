@@ -32,9 +32,20 @@ def test_se3_within_one_percent_at_21_elements():
 
 
 def test_se3_converges_at_second_order():
-    # Halving h divides the error by ~4; 1.8 < order < 2.3 over N = 20 -> 40.
-    e20 = np.abs(rel(studies.se3_frequencies(20)))
-    e40 = np.abs(rel(studies.se3_frequencies(40)))
+    """Halving h divides the error by ~4 once the mesh is fine enough. Consistent mass (the
+    default) has no interior h^2 error; the ends' (clamped raises, free lowers the frequencies)
+    nearly cancel on the cantilever, and modes 2-5 change sign between 10 and 20 elements, so the
+    order over N = 20 -> 40 is not yet the asymptotic one (measured 2.02, 1.63, 1.65, 1.72,
+    1.76); it is from N = 40 on: measured 2.005, 1.92, 1.92, 1.94, 1.95 over 40 -> 80 and
+    2.002, 1.981, 1.982, 1.985, 1.987 over 80 -> 160 (and 1.995 ... 2.003 over 160 -> 320; the
+    error times N^2 tends to 0.0026, 0.016, 0.087, 0.25, 0.45). Lumped mass: 1.8 < order < 2.3
+    over 20 -> 40 as well."""
+    e = {N: np.abs(rel(studies.se3_frequencies(N))) for N in (40, 80, 160)}
+    order = np.log2(e[40] / e[80])
+    assert np.all((order > 1.8) & (order < 2.3)), order
+    order = np.log2(e[80] / e[160])
+    assert np.all((order > 1.95) & (order < 2.05)), order
+    e20, e40 = (np.abs(rel(studies.se3_frequencies(N, mass="lumped"))) for N in (20, 40))
     order = np.log2(e20 / e40)
     assert np.all((order > 1.8) & (order < 2.3)), order
 
