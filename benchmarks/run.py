@@ -257,7 +257,7 @@ def bench_modes(quick: bool) -> dict:
                                                + str(ref["exudyn_ancf"].tolist()),
                                 "mujoco_cable": "Rayleigh beam (rotary inertia, no shear): "
                                                 + str(ref["mujoco_cable"].tolist())},
-               mass_note="phmech_se3: lumped element mass (the default); phmech_se3_consistent: "
+               mass_note="phmech_se3: lumped element mass (mass=\"lumped\"); phmech_se3_consistent (the default): "
                          "add_flexible_link(mass='consistent') (docs/mass_matrix_study.md, d6)",
                states_note="first-order states: se3 12 per free node (3-D), mixed 4N (planar), "
                            "Exudyn GE2D 6 per free node (planar), Exudyn GE3D 12 per free node (3-D), "
@@ -444,7 +444,8 @@ def bench_transient(quick: bool) -> dict:
     def front(pred):
         rs = [r for r in runs if pred(r) and "error" in r]
         return pareto([r["cpu_s"] for r in rs], [r["error"] for r in rs])
-    # phmech's best front over its default (lumped) mass, as in the earlier runs; consistent apart
+    # phmech's best front over its lumped mass (the default before session 12), as in the
+    # earlier runs; consistent (the default now) apart
     fph = front(lambda r: r["code"] == "phmech" and r["mass"] == "lumped")
     fph_c = front(lambda r: r["code"] == "phmech" and r["mass"] == "consistent"
                   and not r["variant"].endswith("-3d"))
@@ -496,8 +497,9 @@ def bench_transient(quick: bool) -> dict:
                consistent_over_lumped_same_grid_median=same_grid,
                cpu_ratio_phmech_best_over_peer=by_peer,
                ratio_note="cpu_ratio_at_equal_error* are phmech / Exudyn GE2D (ratio > 1: phmech slower); "
-                          "cpu_ratio_at_equal_error and pareto_phmech: phmech's lumped-mass routes (the default), "
-                          "*_consistent: its consistent-mass routes (variants *-consistent); "
+                          "cpu_ratio_at_equal_error and pareto_phmech: phmech's lumped-mass routes (mass='lumped'), "
+                          "*_consistent: its consistent-mass routes (the default mass; variants *-consistent); "
+                          "*_3d: every route that solved the 3-D DAE; "
                           "cpu_ratio_phmech_best_over_peer compares phmech's best lumped front with each other peer")
     write_json("bench_transient", out)
     plot_transient(out, t_ref, ref_tip)
