@@ -114,6 +114,23 @@ void phm_element_mass(double h, const double Ms[36], const double eps_hat[6], do
  * e[2] gravity, at poses H (nc x 16) and twists t (nc x 6). */
 void phm_model_energy(const phm_model *model, const double *H, const double *t, double e[3]);
 
+/* ---------------------------------------------------------------- planar scenes (csrc/model/planarity.c) */
+/* Is the scene planar about world axis k (0, 1, 2: the plane's normal) at its start? PHM_OK with
+ * why = "" when it is, drop (np, may be NULL) then its out-of-plane rows per pair (bits, as
+ * phm_planar_rows); else why = the first check that fails, in words (python/phmech/planar.py).
+ * PHM_EINVAL for a malformed scene (an index out of range). No allocation. */
+phm_status phm_planar_check_scene(const phm_planar_scene *scene, int k, int *drop,
+                                  char why[PHM_PLANAR_WHY], phm_error *err);
+/* drop (np): per pair, the bits of its rows without an in-plane component about axis k. */
+phm_status phm_planar_rows(const phm_planar_scene *scene, int k, int *drop, phm_error *err);
+/* The same for a model at poses H (nc x 16) and body twists t (nc x 6), its pairs' rows there
+ * (every row, dropped ones too; joint references x0, time 0), names: np pair names or NULL. The
+ * axes are tried in the order z, y, x: *axis = the first the scene is planar about, drop (np)
+ * its out-of-plane rows; or -1, with why[k] the first failing check about each axis k. */
+phm_status phm_planar_check(const phm_model *model, const double *H, const double *t,
+                            const char *const *names, int *axis, int *drop,
+                            char why[3][PHM_PLANAR_WHY], phm_error *err);
+
 /* ---------------------------------------------------------------- simulation (csrc/solve/simulate.c) */
 /* Integrate from tout[0] (initial poses/twists: poses0/twists0, or the model's H0/t0 if NULL)
  * after a consistent-initial-value projection, sampling at the increasing times tout[0..nout);

@@ -259,6 +259,35 @@ typedef struct {
 
 typedef struct phm_model phm_model;
 
+/* What the planar check reads of a scene (phm_planar_check_scene; phm_planar_check fills it from
+ * a model): is the motion confined to the plane normal to a world axis k (python/phmech/planar.py
+ * says what each check means)? Of the description structs only these fields are read: carriers'
+ * M, mass, com; elements' K, D, Ms, Mc, eps_hat; loads' w, point; springs' a, b, pa, pb; pairs'
+ * a, b, driven, xdriven (nonzero: some coordinate follows a law); actuators' pair. The constraint
+ * rows are given as blocks: row r is nblk blocks of 6 (the columns of carrier Gcar[r nblk + j],
+ * -1: an empty block; a carrier in at most one block of a row), G (nrow x nblk x 6). */
+typedef struct {
+  double gravity[3];
+  int nc;                          /* carriers                                              */
+  const double *H, *t;             /* nc x 16, nc x 6: the start poses and body twists      */
+  const phm_carrier_desc *car;     /* nc                                                    */
+  int ne;      const phm_element_desc *el;
+  int ncoup;   const double *coupling_Mc;       /* ncoup x 144: couplings without an element */
+  int nl;      const phm_load_desc *load;
+  int ns;      const phm_spring_desc *spr;
+  int na;      const phm_actuator_desc *act;
+  int np;      const phm_pair_desc *pair;
+  const int *pair_row, *pair_m, *pair_k; /* np each: every pair's first row, rows and joint
+                                          * coordinates among the constraint rows below     */
+  const char *const *names;        /* np pair names for the messages, or NULL ("pair 3")    */
+  int nrow, nblk;
+  const double *G;                 /* nrow x nblk x 6                                        */
+  const int *Gcar;                 /* nrow x nblk                                            */
+} phm_planar_scene;
+
+#define PHM_PLANAR_ZERO 1e-12 /* every planar check: zero up to this times its array's scale */
+#define PHM_PLANAR_WHY 512    /* the length of a planar check's message, with its '\0'     */
+
 
 typedef int (*phm_callback)(void *ctx, double t, int iout); /* non-zero return stops the run */
 /* Called during integration at least every PHM_MONITOR_STEPS steps (and at each output): time

@@ -142,6 +142,11 @@ void phm_pair_tangent(const phm_model *m, int ip, const double *Ha, const double
 void phm_pair_eval(const phm_model *m, int ip, const double *Ha, const double *Hb,
                    const double *xref, double time, double tref, double *g, double *Ga,
                    double *Gb, double *vt);
+/* The same for every row of the pair, dropped ones included (phm_pair_rows_full of them), with
+ * its whole constraint-wrench basis W (6 x 6, may be NULL). */
+void phm_pair_eval_full(const phm_model *m, int ip, const double *Ha, const double *Hb,
+                        const double *xref, double time, double tref, double *g, double *Ga,
+                        double *Gb, double W[36]);
 /* Joint coordinates x and rates xdot (k each; xdot needs ta/tb, NULL = at rest) of pair ip. */
 void phm_pair_joint(const phm_model *m, int ip, const double *Ha, const double *Hb,
                     const double *ta, const double *tb, const double *xref, double *x,

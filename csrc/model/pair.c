@@ -568,6 +568,12 @@ void phm_pair_eval(const phm_model *m, int ip, const double *Ha, const double *H
   pair_eval_rows(m, ip, Ha, Hb, xref, time, tref, g, Ga, Gb, vt, 0, NULL);
 }
 
+void phm_pair_eval_full(const phm_model *m, int ip, const double *Ha, const double *Hb,
+                        const double *xref, double time, double tref, double *g, double *Ga,
+                        double *Gb, double W[36]) {
+  pair_eval_rows(m, ip, Ha, Hb, xref, time, tref, g, Ga, Gb, NULL, 1, W);
+}
+
 void phm_pair_evaluate(const phm_model *m, int ip, const double *Ha, const double *Hb,
                        const double *ta, const double *tb, const double *xref, double time,
                        double tref, int what, phm_pair_data *pd) {
@@ -836,7 +842,7 @@ void phm_constraints_full(const phm_model *m, const double *H, const double *xs,
     const double *Ha = pr->a >= 0 ? H + 16 * pr->a : NULL, *Hb = pr->b >= 0 ? H + 16 * pr->b : NULL;
     const double *xr = xs ? xs + m->pair_j[ip] : NULL;
     double Ga[36], Gb[36], gl[6];
-    pair_eval_rows(m, ip, Ha, Hb, xr, time, tref, gl, Ga, Gb, NULL, 1, W ? W + 36 * ip : NULL);
+    phm_pair_eval_full(m, ip, Ha, Hb, xr, time, tref, gl, Ga, Gb, W ? W + 36 * ip : NULL);
     if (g) memcpy(g + r0, gl, sizeof(double) * (size_t)mc);
     if (G)
       for (int r = 0; r < mc; r++)

@@ -1140,26 +1140,18 @@ class Mechanism:
         state = self._state
         H = state.poses if poses is None else np.asarray(poses, dtype=float)
         T = state.twists if twists is None else np.asarray(twists, dtype=float)
-        comp = _marshal.components(self._desc, H, T, state.x0, state.drop_masks, state.frames_a)
-        layout = postprocess.full_layout(self._desc)
-        names = [p["name"] for p in self._desc.pairs]
-        nc = len(H)
-        if layout:   # every row, the dropped ones too
-            _, G, _ = _core.model_constraints_full(model, H, None, 0.0)
-        else:
-            G = np.zeros((0, 6 * nc))
-        why = {}
-        for k in (2, 1, 0):
-            why[k] = _planar.check(comp, H, T, G, layout, names, k)
-            if why[k] is None:
-                break
-        else:
+        # the checks and the out-of-plane rows (csrc/model/planarity.c, phmech.planar)
+        k, masks, why = _core.model_planar(model, H, T, [p["name"] for p in self._desc.pairs])
+        if k is None:
             if require:
                 raise ModelError("planar=True: the scene is not planar (" + "; ".join(
                     f"about {_planar.AXES[k]}: {why[k]}" for k in (2, 1, 0)) + ")")
             return None
-        masks = _planar.out_of_plane_rows(G, layout, nc, k)
-        if G.shape[0]:
+        # the in-plane rows redundant among the in-plane ones: only loop-closing pairs' rows can
+        # be (topology.redundant_rows: a tree's rows are independent)
+        if any(ip not in state.tree for ip in range(len(masks))):
+            layout = postprocess.full_layout(self._desc)
+            _, G, _ = _core.model_constraints_full(model, H, None, 0.0)
             keep = np.zeros(G.shape[0], dtype=bool)
             keep[postprocess.kept_rows(layout, masks)] = True
             red, _ = topology.redundant_rows(self._desc, G * keep[:, None], state.tree)
