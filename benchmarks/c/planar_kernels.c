@@ -108,12 +108,15 @@ int main(void) {
   unsigned short rows[12];
   phm_element_mass(e.h, e.Ms, e.eps_hat, Mc);
   phm_mass_rows(Mc, rows);
-  /* planar: poses from quaternions (q_w, 0, q_y, 0), in-plane positions and twists */
+  /* planar: poses from quaternions (q_w, 0, q_y, 0), in-plane positions and twists; the element
+   * turning by 0.2 rad (the trigonometric branch of the coefficients, from 0.1 rad) and by 0.05 */
   double qa[4] = {cos(0.1), 0, sin(0.1), 0}, qb[4] = {cos(0.2), 0, sin(0.2), 0};
+  double qc[4] = {cos(0.125), 0, sin(0.125), 0};
   double pa[3] = {0.5, 0.0, -0.05}, pb[3] = {0.82, 0.0, -0.13};
-  double Hpa[16], Hpb[16];
+  double Hpa[16], Hpb[16], Hpc[16];
   phm_qp_to_H(qa, pa, Hpa);
   phm_qp_to_H(qb, pb, Hpb);
+  phm_qp_to_H(qc, pb, Hpc);
   double pta[6] = {0, 0.7, 0, 0.1, 0, -0.3}, ptb[6] = {0, 1.1, 0, 0.2, 0, -0.5};
   double pdta[6] = {0, 3.0, 0, 0.4, 0, -1.3}, pdtb[6] = {0, 4.1, 0, 0.5, 0, -2.0};
   /* 3-D: a bent, twisted, moving element (benchmarks/c/element_kernel.c's) */
@@ -122,11 +125,13 @@ int main(void) {
   phm_se3_exp(xg, Hgb);
   double gta[6] = {1, -2, 0.5, 0.1, 0.2, -0.3}, gtb[6] = {-1, 1.5, 0.3, 0.2, -0.1, 0.4};
   double gdta[6] = {0.3, 0.2, -0.1, 0.5, 0.6, 0.1}, gdtb[6] = {-0.2, 0.1, 0.4, -0.3, 0.2, 0.7};
-  printf("%-24s %10s %10s   (ns per call, median of %d x %d)\n", "kernel", "planar", "3-D", REPS, CALLS);
+  printf("%-24s %11s %11s %11s   (ns per call, median of %d x %d)\n", "kernel", "planar 0.2", "planar 0.05",
+         "3-D", REPS, CALLS);
   for (int k = 0; k < NK; k++) {
     double tp = run(k, &e, Mc, rows, Hpa, Hpb, pta, ptb, pdta, pdtb);
+    double tq = run(k, &e, Mc, rows, Hpa, Hpc, pta, ptb, pdta, pdtb);
     double tg = run(k, &e, Mc, rows, Hga, Hgb, gta, gtb, gdta, gdtb);
-    printf("%-24s %10.1f %10.1f\n", kname[k], tp, tg);
+    printf("%-24s %11.1f %11.1f %11.1f\n", kname[k], tp, tq, tg);
   }
   return 0;
 }

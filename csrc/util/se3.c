@@ -142,7 +142,7 @@ static inline int rot_axis(const double R[9]) {
 /* phm_so3_log_general at R = rotation about e_k (rot_axis(R) == k): w = theta e_k. Returns 0
  * (w untouched) where the general path would take another axis from R's symmetric part (theta
  * = pi about another axis, or R not a rotation): the caller then takes the general path. */
-static int so3_log_axis(const double R[9], int k, double w[3]) {
+AXIS_INLINE int so3_log_axis(const double R[9], int k, double w[3]) {
   int i = (k + 1) % 3, j = (k + 2) % 3;
   double sk = 0.5 * (R[3 * j + i] - R[3 * i + j]); /* vee's component k, the others 0.5 (0 - 0) */
   double sn = fabs(sk); /* norm3 of (0, sk, 0): sqrt(sk * sk) is |sk| in binary floating point */
@@ -225,16 +225,18 @@ AXIS_INLINE void dexp_inv_L_axis(int k, const double Ai[9], const double Q[9], d
   }
 }
 
-/* phm_se3_log's v = jac_inv(w) p, at w = x[0..3) = theta e_k. */
-AXIS_INLINE void se3_log_axis_v(int k, double x[6], const double p[3]) {
+/* phm_se3_log at R = rotation about e_k (*ok = 0: the general path's turn, so3_log_axis). */
+AXIS_INLINE void se3_log_axis(int k, const double R[9], const double p[3], double x[6], int *ok) {
+  if (!(*ok = so3_log_axis(R, k, x))) return;
   double th = x[k], Ai[9];
   so3_poly_axis(k, th, -0.5, so3_jac_inv_coeff(fabs(th)), Ai);
   mat3_vec_axis(k, Ai, p, x + 3);
 }
 
-/* phm_se3_log_dexp_inv's v, Ai and L at w = x[0..3) = theta e_k. */
-AXIS_INLINE void se3_log_dexp_inv_axis(int k, double x[6], const double p[3], double Ai[9],
-                                       double L[9]) {
+/* phm_se3_log_dexp_inv at R = rotation about e_k (*ok = 0: the general path's turn). */
+AXIS_INLINE void se3_log_dexp_inv_axis(int k, const double R[9], const double p[3], double x[6],
+                                       double Ai[9], double L[9], int *ok) {
+  if (!(*ok = so3_log_axis(R, k, x))) return;
   double th = x[k], t = fabs(th), Q[9];
   so3_poly_axis(k, th, -0.5, so3_jac_inv_coeff(t), Ai);
   mat3_vec_axis(k, Ai, p, x + 3);
@@ -375,8 +377,9 @@ void phm_se3_log(const double H[16], double x[6]) {
   double R[9], p[3];
   pose_split(H, R, p);
   int k = rot_axis(R);
-  if (k >= 0 && so3_log_axis(R, k, x)) AXIS_CALL(k, se3_log_axis_v, x, p);
-  else se3_log_rp(R, p, x);
+  int ok = 0;
+  if (k >= 0) AXIS_CALL(k, se3_log_axis, R, p, x, &ok);
+  if (!ok) se3_log_rp(R, p, x);
 }
 
 void phm_se3_compose(const double A[16], const double B[16], double AB[16]) {
@@ -510,13 +513,37 @@ void phm_se3_log_dexp_inv(const double H[16], double x[6], double Ai[9], double 
   double R[9], p[3];
   pose_split(H, R, p);
   int k = rot_axis(R);
-  if (k >= 0 && so3_log_axis(R, k, x)) AXIS_CALL(k, se3_log_dexp_inv_axis, x, p, Ai, L);
-  else se3_log_dexp_inv_rp(R, p, x, Ai, L);
+  int ok = 0;
+  if (k >= 0) AXIS_CALL(k, se3_log_dexp_inv_axis, R, p, x, Ai, L, &ok);
+  if (!ok) se3_log_dexp_inv_rp(R, p, x, Ai, L);
 }
 
 /* ---------------------------------------------------------------- quaternions */
 
+/* phm_quat_to_rot at q = (q_w, q_k e_k) (k constant): the general path's arithmetic without its
+ * exact-zero terms (the same numbers), n2 > 0 and s = 2 / n2 given. */
+AXIS_INLINE void quat_to_rot_axis(int k, const double q[4], double s, double R[9]) {
+  int i = (k + 1) % 3, j = (k + 2) % 3;
+  double c = q[1 + k], wc = s * (q[0] * c);
+  R[3 * k + k] = 1.0;
+  R[3 * i + i] = R[3 * j + j] = 1.0 - s * (c * c);
+  R[3 * j + i] = wc;
+  R[3 * i + j] = -wc;
+  R[3 * i + k] = R[3 * k + i] = R[3 * j + k] = R[3 * k + j] = 0.0;
+}
+
 void phm_quat_to_rot(const double q[4], double R[9]) {
+  double n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+  /* a planar scene's quaternions turn about one axis: two vector components exactly zero */
+  int k = q[1] == 0.0 ? (q[2] == 0.0 ? 2 : q[3] == 0.0 ? 1 : -1) : q[2] == 0.0 && q[3] == 0.0 ? 0 : -1;
+  if (k >= 0 && n2 > 0.0) {
+    AXIS_CALL(k, quat_to_rot_axis, q, 2.0 / n2, R);
+    return;
+  }
+  phm_quat_to_rot_general(q, R);
+}
+
+void phm_quat_to_rot_general(const double q[4], double R[9]) {
   double n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
   if (!(n2 > 0.0)) { /* zero quaternion: identity (callers should reject it) */
     static const double I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};

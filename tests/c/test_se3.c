@@ -276,7 +276,8 @@ static void dexp_inv_partials_are_its_derivative(void) {
  * quaternions (q_w, q_k) (as a planar simulation makes them). The fast path must be taken
  * (phm_so3_axis) and agree to 1e-14 of the values' size; its arithmetic is the general path's
  * minus exact-zero terms, so it agrees to the last bit (checked too). A pose about no axis, or a
- * rotation by pi about another axis (R diagonal), takes the general path. */
+ * rotation by pi about another axis (R diagonal), takes the general path. Likewise
+ * phm_quat_to_rot at quaternions about a coordinate axis. */
 static void axis_fast_paths_match_the_general_paths(void) {
   int nbits = 0, ntot = 0;
   for (int it = 0; it < 3 * N; it++) {
@@ -333,6 +334,15 @@ static void axis_fast_paths_match_the_general_paths(void) {
     ntot++;
   }
   CHECK(nbits == ntot, "fast paths bit-identical to the general paths in %d of %d", nbits, ntot);
+  for (int it = 0; it < 3 * N; it++) { /* quaternions (q_w, q_k e_k), not normalized */
+    int k = it % 3;
+    double q[4] = {rand11(), 0, 0, 0}, R[9], Rg[9];
+    q[1 + k] = it % 5 == 0 ? 0.0 : it % 7 == 0 ? 1e-9 * rand11() : rand11();
+    phm_quat_to_rot(q, R);
+    phm_quat_to_rot_general(q, Rg);
+    check_worst("axis quat_to_rot = general (bit for bit)", maxdiff(9, R, Rg), 0.0);
+    CHECK(phm_so3_axis(R) >= 0, "quaternion about axis %d: R about an axis", k);
+  }
   for (int it = 0; it < N; it++) { /* no axis: the general path (and the same numbers) */
     double H[16], R[9], x[6], xg[6];
     rand_pose_class(it % 4, H);
