@@ -25,7 +25,7 @@ static int cmp(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
-enum { CALLS = 200000, REPS = 9, NK = 7 };
+enum { CALLS = 100000, REPS = 9, NK = 9 };
 static volatile double sink;
 
 /* called through volatile pointers: each kernel's own code, as the library's other files call it,
@@ -41,12 +41,18 @@ static double (*volatile element_energy)(const phm_element_desc *, const double 
 static void (*volatile element_inertia)(const double *, const unsigned short *, const double *,
                                         const double *, const double *, const double *, double,
                                         double *, double *) = phm_element_inertia;
+static void (*volatile element_tangent)(const phm_element_desc *, const double *, const double *,
+                                        const double *, const double *, double *, double *,
+                                        double *, double *) = phm_element_tangent;
+static void (*volatile dexp_inv_partials)(const double *, double (*)[9], double (*)[9]) =
+    phm_se3_dexp_inv_partials;
 static double (*volatile element_kinetic)(const double *, const unsigned short *, const double *,
                                           const double *) = phm_element_kinetic;
 
 static const char *kname[NK] = {"phm_so3_log", "phm_se3_log", "phm_se3_log_dexp_inv",
                                 "phm_element_eval", "phm_element_energy", "phm_element_inertia",
-                                "phm_element_kinetic"};
+                                "phm_element_kinetic", "phm_element_tangent",
+                                "phm_se3_dexp_inv_partials"};
 
 static double run(int k, const phm_element_desc *e, const double *Mc, const unsigned short *rows,
                   double Ha[16], const double Hb[16], const double ta[6], const double tb[6],
@@ -84,7 +90,19 @@ static double run(int k, const phm_element_desc *e, const double *Mc, const unsi
         element_inertia(Mc, rows, ta, tb, dta, dtb, 0.0, f, NULL);
         acc += f[3];
         break;
-      default: acc += element_kinetic(Mc, rows, ta, tb); break;
+      case 6: acc += element_kinetic(Mc, rows, ta, tb); break;
+      case 7: {
+        double Kx[144], Ct[144];
+        element_tangent(e, Ha, Hb, ta, tb, wa, wb, Kx, Ct);
+        acc += Kx[13] + Ct[7];
+      } break;
+      default: {
+        double dA[6][9], dL[6][9];
+        phm_inv_compose(Ha, Hb, Hab);
+        log_dexp_inv(Hab, x, A, L);
+        dexp_inv_partials(x, dA, dL);
+        acc += dA[1][3] + dL[4][5];
+      } break;
       }
     }
     t[r] = (now() - t0) / CALLS;
