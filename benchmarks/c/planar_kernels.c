@@ -25,7 +25,7 @@ static int cmp(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
-enum { CALLS = 100000, REPS = 9, NK = 9 };
+enum { CALLS = 100000, REPS = 9, NK = 10 };
 static volatile double sink;
 
 /* called through volatile pointers: each kernel's own code, as the library's other files call it,
@@ -46,13 +46,14 @@ static void (*volatile element_tangent)(const phm_element_desc *, const double *
                                         double *, double *) = phm_element_tangent;
 static void (*volatile dexp_inv_partials)(const double *, double (*)[9], double (*)[9]) =
     phm_se3_dexp_inv_partials;
+static void (*volatile quat_to_rot)(const double *, double *) = phm_quat_to_rot;
 static double (*volatile element_kinetic)(const double *, const unsigned short *, const double *,
                                           const double *) = phm_element_kinetic;
 
 static const char *kname[NK] = {"phm_so3_log", "phm_se3_log", "phm_se3_log_dexp_inv",
                                 "phm_element_eval", "phm_element_energy", "phm_element_inertia",
                                 "phm_element_kinetic", "phm_element_tangent",
-                                "phm_se3_dexp_inv_partials"};
+                                "phm_se3_dexp_inv_partials", "phm_quat_to_rot"};
 
 static double run(int k, const phm_element_desc *e, const double *Mc, const unsigned short *rows,
                   double Ha[16], const double Hb[16], const double ta[6], const double tb[6],
@@ -95,6 +96,13 @@ static double run(int k, const phm_element_desc *e, const double *Mc, const unsi
         double Kx[144], Ct[144];
         element_tangent(e, Ha, Hb, ta, tb, wa, wb, Kx, Ct);
         acc += Kx[13] + Ct[7];
+      } break;
+      case 9: { /* Hb's quaternion (phm_H_to_qp; planar: (q_w, 0, q_y, 0)) */
+        double q[4], p[3];
+        phm_H_to_qp(Hb, q, p);
+        q[0] += 1e-12 * (c & 1023);
+        quat_to_rot(q, R);
+        acc += R[2];
       } break;
       default: {
         double dA[6][9], dL[6][9];

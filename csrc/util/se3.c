@@ -264,7 +264,8 @@ void phm_so3_exp(const double w[3], double R[9]) {
   so3_poly(w, a, b, R);
 }
 
-void phm_so3_log_general(const double R[9], double w[3]) {
+/* The general SO(3) log (phm_so3_log_general; inlined into each caller). */
+static inline void so3_log_gen(const double R[9], double w[3]) {
   double s[3]; /* vee of the skew part = sin(theta) n */
   phm_so3_vee(R, s);
   double sn = norm3(s);
@@ -295,12 +296,14 @@ void phm_so3_log_general(const double R[9], double w[3]) {
   for (int i = 0; i < 3; i++) w[i] = sgn * theta * n[i] / nn;
 }
 
+void phm_so3_log_general(const double R[9], double w[3]) { so3_log_gen(R, w); }
+
 int phm_so3_axis(const double R[9]) { return rot_axis(R); }
 
 void phm_so3_log(const double R[9], double w[3]) {
   int k = rot_axis(R);
   if (k >= 0 && so3_log_axis(R, k, w)) return;
-  phm_so3_log_general(R, w);
+  so3_log_gen(R, w);
 }
 
 void phm_so3_jac(const double w[3], double A[9]) {
@@ -362,7 +365,7 @@ void phm_se3_exp(const double x[6], double H[16]) {
 /* phm_se3_log's general path, from H's rotation R and position p. */
 static void se3_log_rp(const double R[9], const double p[3], double x[6]) {
   double Ai[9];
-  phm_so3_log_general(R, x);
+  so3_log_gen(R, x);
   phm_so3_jac_inv(x, Ai);
   mat3_vec(Ai, p, x + 3);
 }
@@ -496,7 +499,7 @@ void phm_se3_dexp_inv(const double x[6], double Di[36]) {
 /* phm_se3_log_dexp_inv's general path, from H's rotation R and position p. */
 static void se3_log_dexp_inv_rp(const double R[9], const double p[3], double x[6], double Ai[9],
                                 double L[9]) {
-  phm_so3_log_general(R, x);
+  so3_log_gen(R, x);
   double t = norm3(x);
   so3_poly(x, -0.5, so3_jac_inv_coeff(t), Ai); /* phm_so3_jac_inv, sharing |omega| */
   mat3_vec(Ai, p, x + 3);
@@ -520,30 +523,8 @@ void phm_se3_log_dexp_inv(const double H[16], double x[6], double Ai[9], double 
 
 /* ---------------------------------------------------------------- quaternions */
 
-/* phm_quat_to_rot at q = (q_w, q_k e_k) (k constant): the general path's arithmetic without its
- * exact-zero terms (the same numbers), n2 > 0 and s = 2 / n2 given. */
-AXIS_INLINE void quat_to_rot_axis(int k, const double q[4], double s, double R[9]) {
-  int i = (k + 1) % 3, j = (k + 2) % 3;
-  double c = q[1 + k], wc = s * (q[0] * c);
-  R[3 * k + k] = 1.0;
-  R[3 * i + i] = R[3 * j + j] = 1.0 - s * (c * c);
-  R[3 * j + i] = wc;
-  R[3 * i + j] = -wc;
-  R[3 * i + k] = R[3 * k + i] = R[3 * j + k] = R[3 * k + j] = 0.0;
-}
-
-void phm_quat_to_rot(const double q[4], double R[9]) {
-  double n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
-  /* a planar scene's quaternions turn about one axis: two vector components exactly zero */
-  int k = q[1] == 0.0 ? (q[2] == 0.0 ? 2 : q[3] == 0.0 ? 1 : -1) : q[2] == 0.0 && q[3] == 0.0 ? 0 : -1;
-  if (k >= 0 && n2 > 0.0) {
-    AXIS_CALL(k, quat_to_rot_axis, q, 2.0 / n2, R);
-    return;
-  }
-  phm_quat_to_rot_general(q, R);
-}
-
-void phm_quat_to_rot_general(const double q[4], double R[9]) {
+/* The general quaternion -> rotation (phm_quat_to_rot_general; inlined into each caller). */
+static inline void quat_to_rot_gen(const double q[4], double R[9]) {
   double n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
   if (!(n2 > 0.0)) { /* zero quaternion: identity (callers should reject it) */
     static const double I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
@@ -562,6 +543,33 @@ void phm_quat_to_rot_general(const double q[4], double R[9]) {
   R[7] = s * (y * z + w * x);
   R[8] = 1.0 - s * (x * x + y * y);
 }
+
+/* phm_quat_to_rot at q = (q_w, q_k e_k) (k constant): the general path's arithmetic without its
+ * exact-zero terms (the same numbers), n2 > 0 and s = 2 / n2 given. */
+AXIS_INLINE void quat_to_rot_axis(int k, const double q[4], double s, double R[9]) {
+  int i = (k + 1) % 3, j = (k + 2) % 3;
+  double c = q[1 + k], wc = s * (q[0] * c);
+  R[3 * k + k] = 1.0;
+  R[3 * i + i] = R[3 * j + j] = 1.0 - s * (c * c);
+  R[3 * j + i] = wc;
+  R[3 * i + j] = -wc;
+  R[3 * i + k] = R[3 * k + i] = R[3 * j + k] = R[3 * k + j] = 0.0;
+}
+
+void phm_quat_to_rot(const double q[4], double R[9]) {
+  /* a planar scene's quaternions turn about one axis: two vector components exactly zero */
+  int k = q[1] == 0.0 ? (q[2] == 0.0 ? 2 : q[3] == 0.0 ? 1 : -1) : q[2] == 0.0 && q[3] == 0.0 ? 0 : -1;
+  if (k >= 0) {
+    double n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+    if (n2 > 0.0) {
+      AXIS_CALL(k, quat_to_rot_axis, q, 2.0 / n2, R);
+      return;
+    }
+  }
+  quat_to_rot_gen(q, R);
+}
+
+void phm_quat_to_rot_general(const double q[4], double R[9]) { quat_to_rot_gen(q, R); }
 
 void phm_quat_from_rot(const double R[9], double q[4]) {
   double tr = R[0] + R[4] + R[8];
