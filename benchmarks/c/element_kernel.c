@@ -4,25 +4,13 @@
  * tangent it replaced (12 pose and 12 twist perturbations, one element evaluation each). A bent,
  * twisted, moving element; median of 7 repetitions of 200 000 calls.
  *   meson compile -C build/check-release bench_element_kernel && build/check-release/bench_element_kernel */
-#define _POSIX_C_SOURCE 199309L /* clock_gettime */
+#include "bench_time.h"
+
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "model.h"
 #include "pose.h"
-
-static double now(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-static int cmp(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
 
 enum { CALLS = 200000, REPS = 7 };
 static volatile double sink;
@@ -45,7 +33,7 @@ int main(void) {
   for (int k = 0; k < 3; k++) {
     double t[REPS];
     for (int r = 0; r < REPS; r++) {
-      double t0 = now(), acc = 0;
+      double t0 = bench_now(), acc = 0;
       for (int c = 0; c < CALLS; c++) {
         double wa[6], wb[6], Kx[144], Ct[144];
         Ha[3] = 1e-9 * c; /* defeat hoisting */
@@ -68,11 +56,10 @@ int main(void) {
         }
         acc += wa[0] + wb[5];
       }
-      t[r] = (now() - t0) / CALLS;
+      t[r] = (bench_now() - t0) / CALLS;
       sink = acc;
     }
-    qsort(t, REPS, sizeof t[0], cmp);
-    printf("%-40s %8.1f ns per element\n", name[k], 1e9 * t[REPS / 2]);
+    printf("%-40s %8.1f ns per element\n", name[k], 1e9 * bench_median(t, REPS));
   }
   return 0;
 }

@@ -56,6 +56,15 @@ static inline long phm_first_nonfinite(const double *x, size_t n) {
 }
 static inline int phm_all_finite(const double *x, size_t n) { return phm_first_nonfinite(x, n) < 0; }
 
+/* The general paths of se3.c's logarithms and quaternion conversion, which take fast paths at
+ * rotations about a coordinate axis (a planar scene's: the same numbers; tests/c/test_se3.c
+ * compares the two). */
+void phm_so3_log_general(const double R[9], double w[3]);
+void phm_se3_log_general(const double H[16], double x[6]);
+void phm_se3_log_dexp_inv_general(const double H[16], double x[6], double Ai[9], double L[9]);
+int phm_so3_axis(const double R[9]); /* the axis k those take (R's row and column k are e_k), or -1 */
+void phm_quat_to_rot_general(const double q[4], double R[9]); /* and phm_quat_to_rot's */
+
 /* Cholesky factor L (lower, row-major) of the symmetric 6x6 A + shift I; 0 if every pivot is
  * above rtol times its diagonal entry of A (positive definite), 1 otherwise. */
 int phm_chol6(const double A[36], double shift, double rtol, double L[36]);

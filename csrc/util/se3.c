@@ -85,6 +85,165 @@ static void block_lower(const double D[9], const double L[9], double M[36]) {
   put_block(M, 1, 1, D);
 }
 
+/* The coefficients c1, c2, c3 of se3_dexp_Q_at (which states them) at t = |omega|. */
+static void se3_dexp_Q_coeffs(double t, double *c1, double *c2, double *c3) {
+  double t2 = t * t, e;
+  if (t < 0.1) {
+    *c1 = 1.0 / 6.0 - t2 * (1.0 / 120.0 - t2 * (1.0 / 5040.0 - t2 * (1.0 / 362880.0 - t2 / 39916800.0)));
+    *c2 = 1.0 / 24.0 - t2 * (1.0 / 720.0 - t2 * (1.0 / 40320.0 - t2 * (1.0 / 3628800.0 - t2 / 479001600.0)));
+    e = -1.0 / 120.0 + t2 * (1.0 / 5040.0 - t2 * (1.0 / 362880.0 - t2 * (1.0 / 39916800.0 - t2 / 6227020800.0)));
+  } else {
+    double s = sin(t), co = cos(t);
+    *c1 = (t - s) / (t2 * t);
+    *c2 = (0.5 * t2 + co - 1.0) / (t2 * t2);
+    e = (t - s - t2 * t / 6.0) / (t2 * t2 * t);
+  }
+  *c3 = 0.5 * (*c2 + 3.0 * e);
+}
+
+/* ---------------------------------------------------------------- rotations about a coordinate axis
+ * In a planar scene every relative rotation turns about the plane's normal, a coordinate axis
+ * e_k of the bodies' frames: R's row and column k are exactly e_k (their other entries exact
+ * zeros, as quaternions (q_w, 0, q_y, 0) and their products make them), and log R = theta e_k.
+ * The functions below are the general path's arithmetic on the entries that are not exactly
+ * zero -- the same products, summed in the same order, each sum dropping only exact-zero terms
+ * (which leave a sum as it is, up to the sign of a zero result) -- so they return the general
+ * path's numbers at a fraction of its cost (tests/c/test_se3.c compares the two). (i, j, k) is
+ * a cyclic order of the axes: hat(theta e_k) has -theta at (i, j) and theta at (j, i). */
+
+#if defined(__GNUC__)
+#define AXIS_INLINE static inline __attribute__((always_inline))
+#else
+#define AXIS_INLINE static inline
+#endif
+
+/* fn(k, ...) with k a constant 0, 1 or 2: each call its own specialization of the inlined fn. */
+#define AXIS_CALL(k, fn, ...)       \
+  do {                              \
+    switch (k) {                    \
+    case 0: fn(0, __VA_ARGS__); break; \
+    case 1: fn(1, __VA_ARGS__); break; \
+    default: fn(2, __VA_ARGS__); break; \
+    }                               \
+  } while (0)
+
+/* The axis k of a rotation matrix R (3x3) whose row and column k are e_k off the diagonal (exact
+ * zeros), -1 if none (two tests for a general R). */
+static inline int rot_axis(const double R[9]) {
+  if (R[1] == 0.0 && R[3] == 0.0) { /* z: R[5], R[7]; y: R[2]..; x: R[2], R[6] */
+    if (R[5] == 0.0 && R[7] == 0.0) return 1;
+    if (R[2] == 0.0 && R[6] == 0.0) return 0;
+    return -1;
+  }
+  if (R[2] == 0.0 && R[5] == 0.0 && R[6] == 0.0 && R[7] == 0.0) return 2;
+  return -1;
+}
+
+/* phm_so3_log_general at R = rotation about e_k (rot_axis(R) == k): w = theta e_k. Returns 0
+ * (w untouched) where the general path would take another axis from R's symmetric part (theta
+ * = pi about another axis, or R not a rotation): the caller then takes the general path. */
+AXIS_INLINE int so3_log_axis(const double R[9], int k, double w[3]) {
+  int i = (k + 1) % 3, j = (k + 2) % 3;
+  double sk = 0.5 * (R[3 * j + i] - R[3 * i + j]); /* vee's component k, the others 0.5 (0 - 0) */
+  double sn = fabs(sk); /* norm3 of (0, sk, 0): sqrt(sk * sk) is |sk| in binary floating point */
+  double c = 0.5 * (R[0] + R[4] + R[8] - 1.0);
+  double theta = atan2(sn, c);
+  if (c >= 0.0) {
+    double f = sn > 0.0 ? theta / sn : 1.0;
+    w[k] = f * sk;
+    w[i] = w[j] = 0.0;
+    return 1;
+  }
+  /* B = (R + R^T)/2 - c I: its diagonal R_aa - c; column k is (0, B_kk, 0) */
+  double B0 = R[0] - c, B4 = R[4] - c, B8 = R[8] - c;
+  int kk = 0;
+  double bk = B0;
+  if (B4 > bk) kk = 1, bk = B4;
+  if (B8 > bk) kk = 2, bk = B8;
+  if (kk != k || !(fabs(bk) > 0.0)) return 0;
+  double sgn = bk * sk < 0.0 ? -1.0 : 1.0;
+  w[k] = sgn * theta * bk / fabs(bk);
+  w[i] = w[j] = 0.0;
+  return 1;
+}
+
+/* Ai = so3_poly(theta e_k, alpha, beta): I + alpha W + beta (w w^T - theta^2 I). */
+AXIS_INLINE void so3_poly_axis(int k, double th, double alpha, double beta, double M[9]) {
+  int i = (k + 1) % 3, j = (k + 2) % 3;
+  double t2 = th * th;
+  M[3 * k + k] = 1.0;
+  M[3 * i + i] = M[3 * j + j] = 1.0 + -(beta * t2);
+  M[3 * i + j] = -(alpha * th); /* alpha W_ij = alpha (-theta) */
+  M[3 * j + i] = alpha * th;
+  M[3 * i + k] = M[3 * k + i] = M[3 * j + k] = M[3 * k + j] = 0.0;
+}
+
+/* y = M p for M = so3_poly_axis's (row k: p_k). */
+AXIS_INLINE void mat3_vec_axis(int k, const double M[9], const double p[3], double y[3]) {
+  int i = (k + 1) % 3, j = (k + 2) % 3;
+  double yi = i < j ? M[3 * i + i] * p[i] + M[3 * i + j] * p[j] : M[3 * i + j] * p[j] + M[3 * i + i] * p[i];
+  double yj = i < j ? M[3 * j + i] * p[i] + M[3 * j + j] * p[j] : M[3 * j + j] * p[j] + M[3 * j + i] * p[i];
+  y[i] = yi;
+  y[j] = yj;
+  y[k] = p[k];
+}
+
+/* se3_dexp_Q_at (which states Q) at x = (theta e_k, v), t = |theta|, entry by entry with s =
+ * theta v_k, u = w x v = (u_i, u_j, 0) = (-theta v_j, theta v_i, 0). */
+AXIS_INLINE void se3_dexp_Q_axis(int k, double th, double t, const double v[3], double Q[9]) {
+  int i = (k + 1) % 3, j = (k + 2) % 3;
+  double c1, c2, c3;
+  se3_dexp_Q_coeffs(t, &c1, &c2, &c3);
+  double t2 = t * t, s = th * v[k], ui = -(th * v[j]), uj = th * v[i], st = s * th;
+  double tii = 2.0 * c3 * s * t2;
+  Q[3 * k + k] = 0.0;
+  Q[3 * i + i] = Q[3 * j + j] = -(c1 * (2.0 * s)) + tii;
+  Q[3 * i + j] = (-(0.5 * v[k]) + c1 * st) + -(c2 * st);
+  Q[3 * j + i] = (0.5 * v[k] + -(c1 * st)) + c2 * st;
+  Q[3 * i + k] = (0.5 * v[j] + c1 * (v[i] * th)) + c2 * (ui * th);
+  Q[3 * k + i] = (-(0.5 * v[j]) + c1 * (th * v[i])) + c2 * -(th * ui);
+  Q[3 * j + k] = (-(0.5 * v[i]) + c1 * (v[j] * th)) + c2 * (uj * th);
+  Q[3 * k + j] = (0.5 * v[i] + c1 * (th * v[j])) + c2 * -(th * uj);
+}
+
+/* The sum a + b of a row-column product's two nonzero terms, in the general path's order. */
+#define SUM2(first_is_a, a, b) ((first_is_a) ? (a) + (b) : (b) + (a))
+
+/* L = -(Ai Q) Ai (se3_dexp_inv_blocks) for Ai = so3_poly_axis's. */
+AXIS_INLINE void dexp_inv_L_axis(int k, const double Ai[9], const double Q[9], double L[9]) {
+  int i = (k + 1) % 3, j = (k + 2) % 3, o = i < j;
+  double a = Ai[3 * i + i], bij = Ai[3 * i + j], bji = Ai[3 * j + i], T[9];
+  for (int c = 0; c < 3; c++) {
+    T[3 * i + c] = SUM2(o, a * Q[3 * i + c], bij * Q[3 * j + c]);
+    T[3 * j + c] = SUM2(o, bji * Q[3 * i + c], a * Q[3 * j + c]);
+    T[3 * k + c] = Q[3 * k + c];
+  }
+  for (int r = 0; r < 3; r++) {
+    L[3 * r + i] = -SUM2(o, T[3 * r + i] * a, T[3 * r + j] * bji);
+    L[3 * r + j] = -SUM2(o, T[3 * r + i] * bij, T[3 * r + j] * a);
+    L[3 * r + k] = -T[3 * r + k];
+  }
+}
+
+/* phm_se3_log at R = rotation about e_k (*ok = 0: the general path's turn, so3_log_axis). */
+AXIS_INLINE void se3_log_axis(int k, const double R[9], const double p[3], double x[6], int *ok) {
+  if (!(*ok = so3_log_axis(R, k, x))) return;
+  double th = x[k], Ai[9];
+  so3_poly_axis(k, th, -0.5, so3_jac_inv_coeff(fabs(th)), Ai);
+  mat3_vec_axis(k, Ai, p, x + 3);
+}
+
+/* phm_se3_log_dexp_inv at R = rotation about e_k (*ok = 0: the general path's turn). */
+AXIS_INLINE void se3_log_dexp_inv_axis(int k, const double R[9], const double p[3], double x[6],
+                                       double Ai[9], double L[9], int *ok) {
+  if (!(*ok = so3_log_axis(R, k, x))) return;
+  double th = x[k], t = fabs(th), Q[9];
+  so3_poly_axis(k, th, -0.5, so3_jac_inv_coeff(t), Ai);
+  mat3_vec_axis(k, Ai, p, x + 3);
+  se3_dexp_Q_axis(k, th, t, x + 3, Q);
+  dexp_inv_L_axis(k, Ai, Q, L);
+}
+
 /* ---------------------------------------------------------------- so(3) / SO(3) */
 
 void phm_so3_hat(const double w[3], double W[9]) {
@@ -105,7 +264,8 @@ void phm_so3_exp(const double w[3], double R[9]) {
   so3_poly(w, a, b, R);
 }
 
-void phm_so3_log(const double R[9], double w[3]) {
+/* The general SO(3) log (phm_so3_log_general; inlined into each caller). */
+static inline void so3_log_gen(const double R[9], double w[3]) {
   double s[3]; /* vee of the skew part = sin(theta) n */
   phm_so3_vee(R, s);
   double sn = norm3(s);
@@ -134,6 +294,16 @@ void phm_so3_log(const double R[9], double w[3]) {
   }
   double sgn = (n[0] * s[0] + n[1] * s[1] + n[2] * s[2]) < 0.0 ? -1.0 : 1.0;
   for (int i = 0; i < 3; i++) w[i] = sgn * theta * n[i] / nn;
+}
+
+void phm_so3_log_general(const double R[9], double w[3]) { so3_log_gen(R, w); }
+
+int phm_so3_axis(const double R[9]) { return rot_axis(R); }
+
+void phm_so3_log(const double R[9], double w[3]) {
+  int k = rot_axis(R);
+  if (k >= 0 && so3_log_axis(R, k, w)) return;
+  so3_log_gen(R, w);
 }
 
 void phm_so3_jac(const double w[3], double A[9]) {
@@ -192,12 +362,27 @@ void phm_se3_exp(const double x[6], double H[16]) {
   pose_join(R, p, H);
 }
 
-void phm_se3_log(const double H[16], double x[6]) {
-  double R[9], p[3], Ai[9];
-  pose_split(H, R, p);
-  phm_so3_log(R, x);
+/* phm_se3_log's general path, from H's rotation R and position p. */
+static void se3_log_rp(const double R[9], const double p[3], double x[6]) {
+  double Ai[9];
+  so3_log_gen(R, x);
   phm_so3_jac_inv(x, Ai);
   mat3_vec(Ai, p, x + 3);
+}
+
+void phm_se3_log_general(const double H[16], double x[6]) {
+  double R[9], p[3];
+  pose_split(H, R, p);
+  se3_log_rp(R, p, x);
+}
+
+void phm_se3_log(const double H[16], double x[6]) {
+  double R[9], p[3];
+  pose_split(H, R, p);
+  int k = rot_axis(R);
+  int ok = 0;
+  if (k >= 0) AXIS_CALL(k, se3_log_axis, R, p, x, &ok);
+  if (!ok) se3_log_rp(R, p, x);
 }
 
 void phm_se3_compose(const double A[16], const double B[16], double AB[16]) {
@@ -259,18 +444,8 @@ void phm_se3_ad_dual(const double x[6], double a[36]) {
  * c1 = (t - sin t)/t^3, c2 = (t^2/2 + cos t - 1)/t^4,
  * c3 = (c2 + 3 (t - sin t - t^3/6)/t^5)/2, each by its Taylor series for t < 0.1. */
 static void se3_dexp_Q_at(const double x[6], double t, double Q[9]) {
-  double t2 = t * t, c1, c2, e;
-  if (t < 0.1) {
-    c1 = 1.0 / 6.0 - t2 * (1.0 / 120.0 - t2 * (1.0 / 5040.0 - t2 * (1.0 / 362880.0 - t2 / 39916800.0)));
-    c2 = 1.0 / 24.0 - t2 * (1.0 / 720.0 - t2 * (1.0 / 40320.0 - t2 * (1.0 / 3628800.0 - t2 / 479001600.0)));
-    e = -1.0 / 120.0 + t2 * (1.0 / 5040.0 - t2 * (1.0 / 362880.0 - t2 * (1.0 / 39916800.0 - t2 / 6227020800.0)));
-  } else {
-    double s = sin(t), co = cos(t);
-    c1 = (t - s) / (t2 * t);
-    c2 = (0.5 * t2 + co - 1.0) / (t2 * t2);
-    e = (t - s - t2 * t / 6.0) / (t2 * t2 * t);
-  }
-  double c3 = 0.5 * (c2 + 3.0 * e);
+  double t2 = t * t, c1, c2, c3;
+  se3_dexp_Q_coeffs(t, &c1, &c2, &c3);
   /* the products of hats written out (hat(a) hat(b) = b a^T - (a.b) I, W w = 0): with s = w.v,
    * u = w x v: WV + VW + WVW = v w^T + w v^T - 2s I - s W; W^2 V + V W^2 - 3 WVW = u w^T - w u^T
    * + s W; WVW^2 + W^2 VW = -2s W^2 = -2s (w w^T - t^2 I). Seven 3x3 products were 10 % of a
@@ -321,19 +496,35 @@ void phm_se3_dexp_inv(const double x[6], double Di[36]) {
  * jac_inv(-w) = jac_inv(w)^T and Q(-x) = Q(x)^T (every term of Q is even in x and symmetric, or
  * odd and skew), dexp_{-x}^-1 = [[Ai^T, 0], [L^T, Ai^T]]: one evaluation serves both ends of a
  * beam element. */
-void phm_se3_log_dexp_inv(const double H[16], double x[6], double Ai[9], double L[9]) {
-  double R[9], p[3];
-  pose_split(H, R, p);
-  phm_so3_log(R, x);
+/* phm_se3_log_dexp_inv's general path, from H's rotation R and position p. */
+static void se3_log_dexp_inv_rp(const double R[9], const double p[3], double x[6], double Ai[9],
+                                double L[9]) {
+  so3_log_gen(R, x);
   double t = norm3(x);
   so3_poly(x, -0.5, so3_jac_inv_coeff(t), Ai); /* phm_so3_jac_inv, sharing |omega| */
   mat3_vec(Ai, p, x + 3);
   se3_dexp_inv_blocks(x, t, Ai, L);
 }
 
+void phm_se3_log_dexp_inv_general(const double H[16], double x[6], double Ai[9], double L[9]) {
+  double R[9], p[3];
+  pose_split(H, R, p);
+  se3_log_dexp_inv_rp(R, p, x, Ai, L);
+}
+
+void phm_se3_log_dexp_inv(const double H[16], double x[6], double Ai[9], double L[9]) {
+  double R[9], p[3];
+  pose_split(H, R, p);
+  int k = rot_axis(R);
+  int ok = 0;
+  if (k >= 0) AXIS_CALL(k, se3_log_dexp_inv_axis, R, p, x, Ai, L, &ok);
+  if (!ok) se3_log_dexp_inv_rp(R, p, x, Ai, L);
+}
+
 /* ---------------------------------------------------------------- quaternions */
 
-void phm_quat_to_rot(const double q[4], double R[9]) {
+/* The general quaternion -> rotation (phm_quat_to_rot_general; inlined into each caller). */
+static inline void quat_to_rot_gen(const double q[4], double R[9]) {
   double n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
   if (!(n2 > 0.0)) { /* zero quaternion: identity (callers should reject it) */
     static const double I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
@@ -352,6 +543,33 @@ void phm_quat_to_rot(const double q[4], double R[9]) {
   R[7] = s * (y * z + w * x);
   R[8] = 1.0 - s * (x * x + y * y);
 }
+
+/* phm_quat_to_rot at q = (q_w, q_k e_k) (k constant): the general path's arithmetic without its
+ * exact-zero terms (the same numbers), n2 > 0 and s = 2 / n2 given. */
+AXIS_INLINE void quat_to_rot_axis(int k, const double q[4], double s, double R[9]) {
+  int i = (k + 1) % 3, j = (k + 2) % 3;
+  double c = q[1 + k], wc = s * (q[0] * c);
+  R[3 * k + k] = 1.0;
+  R[3 * i + i] = R[3 * j + j] = 1.0 - s * (c * c);
+  R[3 * j + i] = wc;
+  R[3 * i + j] = -wc;
+  R[3 * i + k] = R[3 * k + i] = R[3 * j + k] = R[3 * k + j] = 0.0;
+}
+
+void phm_quat_to_rot(const double q[4], double R[9]) {
+  /* a planar scene's quaternions turn about one axis: two vector components exactly zero */
+  int k = q[1] == 0.0 ? (q[2] == 0.0 ? 2 : q[3] == 0.0 ? 1 : -1) : q[2] == 0.0 && q[3] == 0.0 ? 0 : -1;
+  if (k >= 0) {
+    double n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+    if (n2 > 0.0) {
+      AXIS_CALL(k, quat_to_rot_axis, q, 2.0 / n2, R);
+      return;
+    }
+  }
+  quat_to_rot_gen(q, R);
+}
+
+void phm_quat_to_rot_general(const double q[4], double R[9]) { quat_to_rot_gen(q, R); }
 
 void phm_quat_from_rot(const double R[9], double q[4]) {
   double tr = R[0] + R[4] + R[8];

@@ -3,6 +3,7 @@
  * finite differences, group identities. Each case draws N random elements, a quarter each with
  * rotation angles uniform, within 1e-8 of 0, within 1e-8 of pi, and tiny or exactly 0. */
 #include "check.h"
+#include "linalg.h"
 
 enum { N = 400 };
 
@@ -268,9 +269,104 @@ static void dexp_inv_partials_are_its_derivative(void) {
     }
 }
 
+/* The logarithms' fast paths at rotations about a coordinate axis (a planar scene's relative
+ * poses, csrc/util/se3.c) against their general paths: poses rotating about e_k by angles of
+ * every class of rand_angle (either sign; exactly pi on some), translations with and without a
+ * component along e_k, made directly (cos, sin and exact zeros) or as A^-1 B of two poses from
+ * quaternions (q_w, q_k) (as a planar simulation makes them). The fast path must be taken
+ * (phm_so3_axis) and agree to 1e-14 of the values' size; its arithmetic is the general path's
+ * minus exact-zero terms, so it agrees to the last bit (checked too). A pose about no axis, or a
+ * rotation by pi about another axis (R diagonal), takes the general path. Likewise
+ * phm_quat_to_rot at quaternions about a coordinate axis. */
+static void axis_fast_paths_match_the_general_paths(void) {
+  int nbits = 0, ntot = 0;
+  for (int it = 0; it < 3 * N; it++) {
+    int k = it % 3, i = (k + 1) % 3, j = (k + 2) % 3, quat = (it / 3) % 2;
+    double th = angle_incl_pi(it / 6) * (rand01() < 0.5 ? -1.0 : 1.0);
+    double H[16] = {0}, R[9];
+    if (!quat) {
+      double c = cos(th), s = sin(th);
+      H[5 * k] = 1.0;
+      H[5 * i] = H[5 * j] = c;
+      H[4 * j + i] = s;
+      H[4 * i + j] = -s;
+      for (int r = 0; r < 3; r++) H[4 * r + 3] = 2.0 * randn();
+      if (it % 4 == 1) H[4 * k + 3] = 0.0;
+      H[15] = 1.0;
+    } else {
+      double Ha[16] = {0}, Hb[16] = {0}, Hi[16], qa[4] = {0}, qb[4] = {0}, Ra[9], Rb[9];
+      double ta = CHECK_PI * rand11();
+      qa[0] = cos(0.5 * ta), qa[1 + k] = sin(0.5 * ta);
+      qb[0] = cos(0.5 * (ta + th)), qb[1 + k] = sin(0.5 * (ta + th));
+      phm_quat_to_rot(qa, Ra);
+      phm_quat_to_rot(qb, Rb);
+      double pk = it % 4 == 1 ? 0.0 : randn();
+      for (int r = 0; r < 3; r++) {
+        for (int c = 0; c < 3; c++) Ha[4 * r + c] = Ra[3 * r + c], Hb[4 * r + c] = Rb[3 * r + c];
+        Ha[4 * r + 3] = r == k ? 0.3 : randn();
+        Hb[4 * r + 3] = r == k ? 0.3 + pk : randn();
+      }
+      Ha[15] = Hb[15] = 1.0;
+      phm_se3_inverse(Ha, Hi);
+      phm_se3_compose(Hi, Hb, H);
+    }
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++) R[3 * r + c] = H[4 * r + c];
+    int diag = R[1] == 0.0 && R[2] == 0.0 && R[3] == 0.0 && R[5] == 0.0 && R[6] == 0.0 && R[7] == 0.0;
+    CHECK(phm_so3_axis(R) == k || (diag && phm_so3_axis(R) >= 0), "axis %d, angle %g: axis %d", k,
+          th, phm_so3_axis(R));
+    double w[3], wg[3], x[6], xg[6], y[6], yg[6], A[9], Ag[9], L[9], Lg[9];
+    phm_so3_log(R, w);
+    phm_so3_log_general(R, wg);
+    phm_se3_log(H, x);
+    phm_se3_log_general(H, xg);
+    phm_se3_log_dexp_inv(H, y, A, L);
+    phm_se3_log_dexp_inv_general(H, yg, Ag, Lg);
+    double sx = fmax(1.0, maxabs(6, xg)), sl = fmax(1.0, maxabs(9, Lg));
+    check_worst("axis so3_log = general", maxdiff(3, w, wg), 1e-14);
+    check_worst("axis se3_log = general", maxdiff(6, x, xg) / sx, 1e-14);
+    check_worst("axis log_dexp_inv x = general", maxdiff(6, y, yg) / sx, 1e-14);
+    check_worst("axis log_dexp_inv Ai = general", maxdiff(9, A, Ag), 1e-14);
+    check_worst("axis log_dexp_inv L = general", maxdiff(9, L, Lg) / sl, 1e-14);
+    double e = maxdiff(3, w, wg) + maxdiff(6, x, xg) + maxdiff(6, y, yg) + maxdiff(9, A, Ag) +
+               maxdiff(9, L, Lg);
+    nbits += e == 0.0;
+    ntot++;
+  }
+  CHECK(nbits == ntot, "fast paths bit-identical to the general paths in %d of %d", nbits, ntot);
+  for (int it = 0; it < 3 * N; it++) { /* quaternions (q_w, q_k e_k), not normalized */
+    int k = it % 3;
+    double q[4] = {rand11(), 0, 0, 0}, R[9], Rg[9];
+    q[1 + k] = it % 5 == 0 ? 0.0 : it % 7 == 0 ? 1e-9 * rand11() : rand11();
+    phm_quat_to_rot(q, R);
+    phm_quat_to_rot_general(q, Rg);
+    check_worst("axis quat_to_rot = general (bit for bit)", maxdiff(9, R, Rg), 0.0);
+    CHECK(phm_so3_axis(R) >= 0, "quaternion about axis %d: R about an axis", k);
+  }
+  for (int it = 0; it < N; it++) { /* no axis: the general path (and the same numbers) */
+    double H[16], R[9], x[6], xg[6];
+    rand_pose_class(it % 4, H);
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++) R[3 * r + c] = H[4 * r + c];
+    if (it % 4 != 3) CHECK(phm_so3_axis(R) < 0, "a general rotation has no axis (%d)", it);
+    phm_se3_log(H, x);
+    phm_se3_log_general(H, xg);
+    check_worst("3-D se3_log = general", maxdiff(6, x, xg), 0.0);
+  }
+  for (int k = 0; k < 3; k++) { /* pi about axis k: diagonal, so it is "about" every axis */
+    double R[9] = {-1, 0, 0, 0, -1, 0, 0, 0, -1}, w[3], wg[3];
+    R[4 * k] = 1.0;
+    phm_so3_log(R, w);
+    phm_so3_log_general(R, wg);
+    check_worst("pi about another axis = general", maxdiff(3, w, wg), 0.0);
+    check_worst("pi about another axis: |w| = pi", fabs(fabs(w[k]) - CHECK_PI), 0.0);
+  }
+}
+
 CHECK_MAIN(CHECK_CASE(hat_and_vee_are_inverse_and_hat_is_the_cross_product),
            CHECK_CASE(exp_matches_expm_and_log_inverts_it),
            CHECK_CASE(adjoints_are_group_and_algebra_representations),
            CHECK_CASE(dexp_is_the_derivative_of_exp),
            CHECK_CASE(quaternions_round_trip_and_match_axis_angle),
-           CHECK_CASE(dexp_inv_partials_are_its_derivative))
+           CHECK_CASE(dexp_inv_partials_are_its_derivative),
+           CHECK_CASE(axis_fast_paths_match_the_general_paths))
