@@ -107,13 +107,13 @@ class ModelDescription:
         once per description, read-only."""
         if self._mass_couplings is None:
             from . import _core
+            from .fidelity import mass_centre
             rows = [e for e in self.elements if e.get("mass", "lumped") != "lumped"] + self.couplings
             fields = np.zeros((len(rows), 5))
             for row, e in zip(fields, rows):
                 if e.get("mass", "given") == "consistent":
                     ms = e["Ms"][3, 3]
-                    C = e["Ms"][:3, 3:] / ms                     # hat(c) (add_rigid_body's layout)
-                    row[:] = e["h"], ms, C[2, 1], C[0, 2], C[1, 0]
+                    row[:] = e["h"], ms, *mass_centre(e["Ms"], ms)
             cp = dict(_coupled_nodes=np.array([[e["a"], e["b"]] for e in rows], dtype=int).reshape(-1, 2),
                       _couplings=np.array([e["Mc"] if e.get("mass", "given") == "given" else
                                            _core.element_mass(e["h"], e["Ms"], e["eps"]) for e in rows],

@@ -70,6 +70,13 @@ def _quadrature(L: float, eps: np.ndarray) -> tuple:
     return s, ws
 
 
+def mass_centre(M: np.ndarray, mass: float) -> np.ndarray:
+    """The centre of mass [m] of a 6x6 spatial inertia M ((omega, v) order) of ``mass`` [kg]:
+    M[:3, 3:] = mass hat(c) (add_rigid_body's layout), c from its skew part."""
+    C = np.asarray(M)[:3, 3:] / mass
+    return np.array([C[2, 1] - C[1, 2], C[0, 2] - C[2, 0], C[1, 0] - C[0, 1]]) / 2.0
+
+
 def rigid_link_inertia(L: float, inertia: np.ndarray, eps: np.ndarray) -> tuple:
     """The rigid link's spatial inertia M (6x6, about its start frame, (omega, v) order), mass
     [kg] and centre of mass [m, start-frame coordinates]: M = int_0^L Ad_{g(s)^-1}^T I Ad_{g(s)^-1}
@@ -81,9 +88,7 @@ def rigid_link_inertia(L: float, inertia: np.ndarray, eps: np.ndarray) -> tuple:
     M = np.einsum("n,nji,jk,nkl->il", w, A, inertia, A)
     M = 0.5 * (M + M.T)
     mass = float(np.trace(M[3:, 3:]) / 3.0)
-    C = M[:3, 3:] / mass                 # = hat(com) (add_rigid_body's layout)
-    com = np.array([C[2, 1] - C[1, 2], C[0, 2] - C[2, 0], C[1, 0] - C[0, 1]]) / 2.0
-    return M, mass, com
+    return M, mass, mass_centre(M, mass)
 
 
 def node_offsets(L: float, elements: int, eps: np.ndarray) -> np.ndarray:
@@ -265,10 +270,13 @@ def choose_modes(red: dict, band: float, tolerance: float) -> tuple:
 
 def _chain_weights(car: list, g: np.ndarray) -> np.ndarray:
     """The chain's weights under gravity g (its start frame's axes) as generalized forces on its
-    nodes' body perturbations, 6 per node: (0, m_k R_k^T g) at the unstressed shape."""
+    nodes' body perturbations, 6 per node: (c_k x f_k, f_k), f_k = m_k R_k^T g, at the
+    unstressed shape (c_k: the node's centre of mass, the section's)."""
     w = np.zeros(6 * len(car))
     for k, c in enumerate(car):
-        w[6 * k + 3:6 * k + 6] = c["mass"] * np.asarray(c["H0"])[:3, :3].T @ g
+        f = c["mass"] * np.asarray(c["H0"])[:3, :3].T @ g
+        w[6 * k:6 * k + 3] = np.cross(c["com"], f)
+        w[6 * k + 3:6 * k + 6] = f
     return w
 
 
@@ -323,7 +331,7 @@ def _gravity_points(m, T: np.ndarray, X0: np.ndarray) -> tuple:
     # minimize |A_a c_a - tau_a|^2 + |A_b c_b - tau_b|^2 subject to the centre of mass:
     # m_a c_a + m_b (R_b c_b + p_b) = sum_k m_k p_k
     mtot = sum(c["mass"] for c in car)
-    com = sum(c["mass"] * Hk[:3, 3] for c, Hk in zip(car, nodes)) / mtot
+    com = sum(c["mass"] * (Hk[:3, :3] @ c["com"] + Hk[:3, 3]) for c, Hk in zip(car, nodes)) / mtot
     A = np.zeros((18, 6))
     A[:9, :3], A[9:, 3:] = blocks
     b = np.concatenate(rhs)

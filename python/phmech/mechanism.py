@@ -15,6 +15,7 @@ Spring), frames (Frame, Body, FlexibleLink, rotation), results (SimulationResult
 """
 from __future__ import annotations
 
+import math
 import os
 import numbers
 import warnings
@@ -30,7 +31,7 @@ from .description import ModelDescription
 from .fidelity import (FIDELITIES, ModalChoice, choose_modes, distributed_resultant,
                        gravity_preload_sensitivity, interior_modes, modal_sliders,
                        modal_validity, node_offsets,
-                       reduction_error, rigid_link_inertia, static_reduction)
+                       mass_centre, reduction_error, rigid_link_inertia, static_reduction)
 from .frames import Body, FlexibleLink, Frame, frame_of, link_of, rotation
 from .graphs import Graphs, mechanism_graphs
 from .laws import (Constant, Cycloidal, Function, Linear, Motion, PiecewisePolynomial, Product,
@@ -322,10 +323,13 @@ class Mechanism:
             return self._add_modal_link(name, L, properties, N, eps, I, H0, given, choice, mass,
                                         modes, band, tol)
         first = self._start_link(name, eps)
+        # every node's share of the section, with the section's centre of mass (off the axis
+        # in an unsymmetric section): where gravity acts on it
+        com = mass_centre(I, float(I[3, 3]))
         for k in range(N + 1):
             share = h if 0 < k < N else h / 2
             Mk = I * share
-            self._car.append(dict(M=Mk, mass=float(Mk[3, 3]), com=np.zeros(3), H0=H0[k],
+            self._car.append(dict(M=Mk, mass=float(Mk[3, 3]), com=com.copy(), H0=H0[k],
                                   t0=np.zeros(6)))
         for k in range(N):
             self._el.append(dict(a=first + k, b=first + k + 1, h=h, K=K, D=Dm, eps=eps,
@@ -1507,8 +1511,14 @@ class Mechanism:
     def _lowest_omega(self, model, P, lam, time: float) -> float:
         """The lowest linearized frequency [rad/s] at poses P and multipliers lam, negative for a
         negative eigenvalue of the tangent stiffness; a value below round-off of the next mode's
-        (|omega_1|^2 < 1e-8 omega_2^2) counts as zero (a neutral mode)."""
-        om = _core.model_modes(model, min(2, 6 * len(self._car)), P, lam, time)[0]
+        (|omega_1|^2 < 1e-8 omega_2^2) counts as zero (a neutral mode); inf when nothing can
+        move (no degree of freedom: csrc/solve/modes.c refuses to count modes)."""
+        try:
+            om = _core.model_modes(model, min(2, 6 * len(self._car)), P, lam, time)[0]
+        except ModelError as e:
+            if "has no degree of freedom" in str(e):
+                return math.inf
+            raise
         if len(om) > 1 and om[0] < 0 and om[0] ** 2 < 1e-8 * om[1] ** 2:
             return 0.0
         return float(om[0])

@@ -441,7 +441,8 @@ class StaticResult:
     ``iterations``; ``loads``: the extra loads it was found under (``static(loads=...)``), which
     ``modes(at=...)`` linearizes with; ``steps``: the load steps used; ``stable``: whether the
     lowest linearized mode there is stable (None when not checked: ``check_stability=False``, or
-    loads without a potential: see Mechanism.static), and ``lowest_omega`` [rad/s] that mode's frequency (negative: unstable)."""
+    loads without a potential: see Mechanism.static), and ``lowest_omega`` [rad/s] that mode's
+    frequency (negative: unstable; inf for a mechanism that cannot move)."""
     poses: np.ndarray
     constraint_wrenches: np.ndarray
     iterations: int
