@@ -61,3 +61,27 @@ def test_callback_sees_every_output_once_in_order_and_its_exception_propagates()
 
         with pytest.raises(ValueError, match="stop here"):
             m.simulate(0.05, 0.005, integrator=integrator, callback=boom)
+
+
+def test_a_monitor_flag_without_a_truth_value_neither_stops_nor_breaks_the_run(monkeypatch):
+    """Without a per-output callback the core reads RunMonitor.terminated itself; a flag whose
+    truth cannot be taken is no request to stop (it was a SystemError: an exception left set)."""
+    from phmech import _run
+
+    class NoTruth:
+        def __bool__(self):
+            raise RuntimeError("no truth value")
+
+    init = _run.RunMonitor.__init__
+
+    def patched(self, *a, **k):
+        init(self, *a, **k)
+        self.terminated = NoTruth()
+
+    monkeypatch.setattr(_run.RunMonitor, "__init__", patched)
+    monkeypatch.setattr(_run.RunMonitor, "__call__", lambda self, t, steps, h: False)
+    m = ph.Mechanism(gravity=(0, -9.81, 0))
+    b = m.add_rigid_body("b", 1.0, np.eye(3) * 0.01, com=(0.1, 0, 0))
+    m.add_pair("k", ph.Revolute("z"), m.ground, b, x0=0.3)
+    res = m.simulate(0.05, 1e-2, integrator="generalized-alpha", step=1e-3)
+    assert len(res.t) == 6 and res.t[-1] == pytest.approx(0.05)   # ran to its end

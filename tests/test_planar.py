@@ -96,6 +96,20 @@ def test_a_pair_driven_or_actuated_out_of_the_plane_keeps_the_scene_3d(drive):
         m.simulate(0.2, 1e-2, planar=True)
 
 
+def test_a_long_non_ascii_pair_name_in_a_planar_check_message():
+    """The core cuts a name in a message at a byte count, which may split a UTF-8 character: it
+    becomes U+FFFD, not an error (it was a SystemError in every simulate of such a scene)."""
+    name = "a" + "\u00e9" * 200      # 401 bytes
+    m = ph.Mechanism()
+    b = m.add_rigid_body("b", 1.0, np.eye(3) * 0.01)
+    m.add_pair(name, ph.Revolute(axis="x"), m.ground, b, actuator=ph.Effort(ph.Constant(1.0)))
+    lk = m.add_flexible_link("l", 1.0, table1_properties(4.0), elements=3, start=b.frame)
+    m.add_pair("w", ph.Fixed(), b, lk.start)
+    assert m.simulate(0.02, 1e-2).stats["planar"] is None
+    with pytest.raises(ph.ModelError, match="'a\u00e9+.*is actuated or driven along an out-of-plane axis"):
+        m.simulate(0.02, 1e-2, planar=True)
+
+
 def _planar_about_z(n=3):
     """A synthetic scene (planar.check's arguments) planar about z: n carriers, n elements,
     n couplings, n loads, one pair row in-plane and one out-of-plane."""

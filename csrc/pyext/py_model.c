@@ -498,8 +498,13 @@ static int callable_says_stop(cb_ctx *c, PyObject *r) {
     c->failed = 1;
     return 1;
   }
-  int stop = PyObject_IsTrue(r) == 1;
+  int stop = PyObject_IsTrue(r);
   Py_DECREF(r);
+  if (stop < 0) {   /* an answer that is no truth value: the callable's error, raised after the run */
+    PyErr_Fetch(&c->et, &c->ev, &c->etb);
+    c->failed = 1;
+    return 1;
+  }
   return stop;
 }
 
@@ -530,8 +535,10 @@ static int interrupt_cb(void *vctx, double t, int iout) {
     if (!terminated) terminated = PyUnicode_InternFromString("terminated");
     PyObject *f = terminated ? PyObject_GetAttr(c->mon, terminated) : NULL;
     if (f) {
-      c->cb_stop = PyObject_IsTrue(f) == 1;
+      int set = PyObject_IsTrue(f);
       Py_DECREF(f);
+      if (set < 0) PyErr_Clear();   /* a flag that is no truth value: nothing to stop for */
+      c->cb_stop = set == 1;
     } else {
       PyErr_Clear();   /* a monitor without the flag: nothing to stop for */
     }
@@ -1129,8 +1136,10 @@ static int utf8_names(PyObject *names, npy_intp np_, const char ***out) {
   return 0;
 }
 
+/* A check's message (the core cuts long names at a byte count, which may split a UTF-8
+ * character: replaced, not an error), or None. */
 static PyObject *why_or_none(const char *why) {
-  return why[0] ? PyUnicode_FromString(why) : Py_NewRef(Py_None);
+  return why[0] ? PyUnicode_DecodeUTF8(why, (Py_ssize_t)strlen(why), "replace") : Py_NewRef(Py_None);
 }
 
 /* model_planar(model, poses (nc, 4, 4), twists (nc, 6), names) -> (axis, masks, why): the first
@@ -1244,10 +1253,12 @@ static PyArrayObject *planar_rows_of(PyObject *go, PyObject *layout, int nc, phm
   int *row = v ? v + nrow * nc : NULL, *mm = row ? row + np_ : NULL, *kk = mm ? mm + np_ : NULL;
   for (npy_intp ip = 0; v && ip < np_; ip++) {
     int j;
-    if (!PyArg_ParseTuple(PySequence_Fast_GET_ITEM(lay, ip), "iiii", &row[ip], &mm[ip], &j, &kk[ip])) {
+    PyObject *item = PySequence_Tuple(PySequence_Fast_GET_ITEM(lay, ip));   /* any 4-sequence */
+    if (!item || !PyArg_ParseTuple(item, "iiii", &row[ip], &mm[ip], &j, &kk[ip])) {
       PyMem_Free(v);
       v = NULL;
     }
+    Py_XDECREF(item);
   }
   Py_DECREF(lay);
   if (!v) {
