@@ -362,16 +362,19 @@ static void jacobian_pairs(dae_t *d, double time, double cj, const double *y, do
                      y + xj, time, d->tref, y + lj, y + mj, NULL, p, dg, dc, NULL, dxd, Kl,
                      Km, NULL);
     for (int c = 0; c < k; c++) add_block(d, val, xj + c, 1, xj + c, 1, &cj, 1);
+    /* each side's kin_rate, once: both loops below read it (nothing between changes y or H) */
+    double kin[2][7 * 6];
+    for (int r = 0; r < 2; r++)
+      if (ab[r] >= 0) kin_rate(d->kbody[ab[r]], y + PHM_NSTATE * ab[r], D->H + 16 * ab[r], kin[r]);
     for (int r = 0; r < 2; r++) { /* the multipliers' columns in carrier c_r's rows */
       int cr = ab[r];
       if (cr < 0) continue;
       const double *Gr = r ? p->Gb : p->Ga;
-      double kin[7 * 6], GT[7 * PHM_MAXCON], GL[6 * PHM_MAXCON]; /* kin G_r^T, -G_r^T */
-      kin_rate(d->kbody[cr], y + PHM_NSTATE * cr, D->H + 16 * cr, kin);
+      double GT[7 * PHM_MAXCON], GL[6 * PHM_MAXCON]; /* kin G_r^T, -G_r^T */
       for (int i = 0; i < 7; i++)
         for (int rr = 0; rr < mc; rr++) {
           double acc = 0;
-          for (int l = 0; l < 6; l++) acc += kin[6 * i + l] * Gr[6 * rr + l];
+          for (int l = 0; l < 6; l++) acc += kin[r][6 * i + l] * Gr[6 * rr + l];
           GT[mc * i + rr] = acc;
         }
       for (int i = 0; i < 6; i++)
@@ -389,20 +392,17 @@ static void jacobian_pairs(dae_t *d, double time, double cj, const double *y, do
       for (int r = 0; r < 2; r++) {
         int cr = ab[r];
         if (cr < 0) continue;
-        const double *Hr = D->H + 16 * cr;
         double Km_r[36], Kl_r[36];
         for (int i = 0; i < 6; i++)
           for (int j = 0; j < 6; j++) {
             Km_r[6 * i + j] = Km[12 * (6 * r + i) + 6 * s + j];
             Kl_r[6 * i + j] = Kl[12 * (6 * r + i) + 6 * s + j];
           }
-        double kin[7 * 6];
-        kin_rate(d->kbody[cr], y + PHM_NSTATE * cr, Hr, kin);
         double KK[PHM_NSTATE * 6]; /* rows of c_r against c_s's perturbation */
         for (int i = 0; i < 7; i++)
           for (int j = 0; j < 6; j++) {
             double acc = 0;
-            for (int l = 0; l < 6; l++) acc += kin[6 * i + l] * Km_r[6 * l + j];
+            for (int l = 0; l < 6; l++) acc += kin[r][6 * i + l] * Km_r[6 * l + j];
             KK[6 * i + j] = acc;
           }
         for (int i = 0; i < 6; i++)
