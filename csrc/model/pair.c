@@ -307,16 +307,20 @@ static void fixed_kin(const double h[16], double *g, double *W, double *Phi) {
 }
 
 /* The kinematics of a type: its closed form where it has one (general = 0), else the table's
- * switch (pair_kin). DW, DPhi of a closed form with constant bases are zero-filled. */
+ * switch (pair_kin). DW, DPhi of a closed form with constant bases are zero-filled, or, with
+ * constant (not NULL), left as they are and *constant = 1 (pair_rows: it skips them then). */
 static void kin(int general, int type, double pitch, const double h[16], const double *xref,
                 double *g, double *W, double *Phi, double *x, double *Dg, double *DW, double *DPhi,
-                double *Dx) {
+                double *Dx, int *constant) {
   int tan = Dg || DW || DPhi || Dx;
   if (!general && !tan && type == PAIR_FIXED) fixed_kin(h, g, W, Phi);
   else if (!general && type == PAIR_REVOLUTE) {
     revolute_kin(h, xref, g, W, Phi, x, Dg, Dx);
-    if (DW) memset(DW, 0, 216 * sizeof(double));
-    if (DPhi) memset(DPhi, 0, 216 * sizeof(double));
+    if (constant) *constant = 1;
+    else {
+      if (DW) memset(DW, 0, 216 * sizeof(double));
+      if (DPhi) memset(DPhi, 0, 216 * sizeof(double));
+    }
   } else if (tan) pair_kin(1, type, pitch, h, xref, g, W, Phi, x, Dg, DW, DPhi, Dx);
   else pair_kin(0, type, pitch, h, xref, g, W, Phi, x, NULL, NULL, NULL, NULL);
 }
@@ -324,18 +328,18 @@ static void kin(int general, int type, double pitch, const double h[16], const d
 void phm_pair_kin_tangent(int type, double pitch, const double h[16], const double *xref,
                           double *g, double *W, double *Phi, double *x, double *Dg, double *DW,
                           double *DPhi, double *Dx) {
-  kin(0, type, pitch, h, xref, g, W, Phi, x, Dg, DW, DPhi, Dx);
+  kin(0, type, pitch, h, xref, g, W, Phi, x, Dg, DW, DPhi, Dx, NULL);
 }
 
 void phm_pair_kin_general(int type, double pitch, const double h[16], const double *xref,
                           double *g, double *W, double *Phi, double *x, double *Dg, double *DW,
                           double *DPhi, double *Dx) {
-  kin(1, type, pitch, h, xref, g, W, Phi, x, Dg, DW, DPhi, Dx);
+  kin(1, type, pitch, h, xref, g, W, Phi, x, Dg, DW, DPhi, Dx, NULL);
 }
 
 void phm_pair_kin(int type, double pitch, const double h[16], const double *xref, double *g,
                   double *W, double *Phi, double *x) {
-  kin(0, type, pitch, h, xref, g, W, Phi, x, NULL, NULL, NULL, NULL);
+  kin(0, type, pitch, h, xref, g, W, Phi, x, NULL, NULL, NULL, NULL, NULL);
 }
 
 /* Column c of a 6x6 row-major basis dotted with v: a joint rate Phi_c^T t_rel. */
@@ -514,12 +518,11 @@ static void pair_rows(const phm_model *m, int ip, const double h[16], const doub
     }
     if (Phi) memcpy(Phi, Pl, sizeof Pl);
     if (x) memcpy(x, xl, sizeof(double) * (size_t)(6 - mt));
-  } else if (!m->pair_general && pr->type == PAIR_REVOLUTE) { /* constant bases: DW = DPhi = 0 */
-    revolute_kin(h, xref, gk, W, Phi, x, T ? T->Dg : NULL, NULL);
-    if (T) T->W0 = T->Phi0 = 1;
   } else {
+    int constant = 0; /* a closed form with constant bases (revolute): DW = DPhi = 0, not filled */
     kin(m->pair_general, pr->type, pr->pitch, h, xref, gk, W, Phi, x, T ? T->Dg : NULL,
-        T ? T->DW : NULL, T ? T->DPhi : NULL, NULL);
+        T ? T->DW : NULL, T ? T->DPhi : NULL, NULL, &constant);
+    if (T && constant) T->W0 = T->Phi0 = 1;
   }
   if (T && !T->W0 && !m->pair_general) T->W0 = all_zero(T->DW, 216);
   if (T && !T->Phi0 && !m->pair_general) T->Phi0 = all_zero(T->DPhi, 216);
