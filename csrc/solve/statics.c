@@ -411,11 +411,10 @@ phm_status phm_static_monitored(const phm_model *m, const double *poses, double 
       goto done;
     }
   }
-  if (!phm_all_finite(poses_out, 16 * (size_t)nc) || !phm_all_finite(lam, (size_t)nk)) {
-    st = PHM_FAIL(err, PHM_ESOLVER, "static equilibrium: non-finite poses or constraint "
-                       "wrenches: the model's numbers overflow double precision");
-    goto done;
-  }
+  /* Here the poses and multipliers are finite: s reaches 1 only through a newton() or ptc() that
+   * returned 0, and each of those is a newton() that found its state finite (a non-finite one is
+   * its failure: the state goes back); after it only the monitor runs, which is given neither
+   * poses_out nor lam. (A final check here, from before newton() had its own, could not fail.) */
 done:
   /* also after a failure: the last converged state, at load factor *reached */
   if (lam && lambda_out && nk) memcpy(lambda_out, lam, sizeof(double) * (size_t)nk);
