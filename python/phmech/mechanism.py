@@ -265,11 +265,11 @@ class Mechanism:
         I = array("properties.inertia", getattr(properties, "inertia", None), (6, 6), mat6)
         Dp = getattr(properties, "damping", None)
         Dm = np.zeros((6, 6)) if Dp is None else array("properties.damping", Dp, (6, 6), mat6)
-        # a BeamProperties checked both (and keeps them read-only): section._matrix6
-        if not isinstance(properties, BeamProperties) and not positive_definite(K):
-            raise ModelError("properties.stiffness must be symmetric positive definite")
-        if not isinstance(properties, BeamProperties) and not positive_definite(I):
-            raise ModelError("properties.inertia (per unit length) must be symmetric positive definite")
+        if not isinstance(properties, BeamProperties):   # (one checked both: section._matrix6)
+            if not positive_definite(K):
+                raise ModelError("properties.stiffness must be symmetric positive definite")
+            if not positive_definite(I):
+                raise ModelError("properties.inertia (per unit length) must be symmetric positive definite")
         given = self._given_pose(pose, start, "start", f"link {name!r}")
         H = np.eye(4) if given is None else given
         kap = np.zeros(3) if curvature is None else \

@@ -11,7 +11,7 @@ and driven pairs move in the plane; and every constraint row is either in-plane 
 (the latter are dropped). Then the out-of-plane states keep their initial values, and the core
 integrates only the in-plane ones (csrc/dae/planar.c).
 
-Every check is one of exact zeros, taken as zero up to 1e-12 of the scale of its array (the
+Every check is one of exact zeros, taken as zero up to 1e-12 (PHM_PLANAR_ZERO) of the scale of its array (the
 round-off of a static solution or a closed loop): of a twist, wrench, strain or point per item,
 of a matrix per matrix, of a constraint row per row.
 
@@ -26,17 +26,12 @@ import numpy as np
 
 from . import _core
 
-ZERO = 1e-12
 AXES = "xyz"
 
 
 def inplane(k: int) -> np.ndarray:
     """The in-plane components of a twist, wrench or strain (omega/kappa first) for normal k."""
     return np.array([k] + [3 + i for i in range(3) if i != k])
-
-
-def outplane(k: int) -> np.ndarray:
-    return np.array([i for i in range(3) if i != k] + [3 + k])
 
 
 def check(comp: dict, poses, twists, G, layout, names, k: int) -> Optional[str]:
