@@ -88,7 +88,9 @@ class Mechanism:
     flexible link added without ``elements=`` gets the number of elements that puts its modes up
     to ``band`` within ``frequency_tolerance`` of the converged ones (phmech.mesh.choose_elements;
     ``link.mesh`` says what was chosen and the estimated error). Without a band a link gets 10
-    elements. (The integrator's band, ``simulate(band=)``, is separate: what the steps resolve.)"""
+    elements. (The integrator's band, ``simulate(band=)``, is separate: what the steps resolve.)
+    That choice sizes each link free in space; :meth:`sized` sizes the finished mechanism by its
+    own modes (supports and couplings included)."""
 
     def __init__(self, gravity: Sequence[float] = (0.0, 0.0, 0.0), strict: bool = False,
                  band: Optional[float] = None, frequency_tolerance: float = 1e-3):
@@ -148,6 +150,17 @@ class Mechanism:
     _links = property(lambda self: self._desc.links)
     _bodies = property(lambda self: self._desc.bodies)
     _given = property(lambda self: self._desc.given)
+
+    @property
+    def links(self) -> dict:
+        """The flexible links by name (a copy of the table: a FlexibleLink per name), e.g. to
+        take a loaded or ``sized()`` mechanism's links: ``m.links["arm"].end``."""
+        return dict(self._desc.links)
+
+    @property
+    def bodies(self) -> dict:
+        """The rigid bodies by name (a copy of the table: a Body per name)."""
+        return dict(self._desc.bodies)
 
     # -------------------------------------------------------------- building
     def _check_name(self, name):
@@ -1328,6 +1341,35 @@ class Mechanism:
                       "carriers' modes next to the heaviest (their frequencies and shapes may be "
                       "wrong by orders of magnitude); give the light parts physical masses, or leave "
                       "them out", AccuracyWarning, stacklevel=3)
+
+    def sized(self, band: Optional[float] = None, tolerance: Optional[float] = None,
+              max_elements: int = 256) -> "Mechanism":
+        """A copy of this mechanism, rebuilt from its add_* calls (as save/load do), whose
+        nonlinear flexible links have the fewest elements with which ITS OWN modes up to ``band``
+        [Hz] are within ``tolerance`` (relative) of the converged ones: supports, bodies and
+        couplings included, which the per-link choice of ``Mechanism(band=...)`` cannot know
+        (it sizes each link free in space, the support with the largest error).
+
+        ``band`` and ``tolerance`` default to the Mechanism's ``band`` and
+        ``frequency_tolerance``. The links' counts grow together, in proportion to how many
+        wavelengths of the band each spans (phmech.mesh). A reference is refined (8, 16, 32, ...
+        elements on the widest link) until it settles within ``tolerance`` / 10; then meshes
+        from 1 element up are compared with it, and the first whose modes in the band are within
+        ``tolerance`` (its difference plus the reference's error) is kept: the choice is
+        measured, not predicted, and is the fewest on that path. Modes below 1e-3 of the band
+        (rigid motions) are not compared; modes are those of ``modes()`` (the initial
+        configuration). ``result.sizing`` (phmech.mesh.MechanismMeshChoice) says what was chosen
+        and the error bound. This mechanism is not changed: take the new one's links, bodies and
+        frames by name (``result.links["arm"]``). Raises ModelError when the mechanism cannot be
+        rebuilt from its calls (save() would refuse it too), a frame sits inside a link (another
+        mesh would move it) or ``max_elements`` are not enough."""
+        from .mesh import size_mechanism
+        band = self.band if band is None else band
+        if band is None:
+            raise ModelError("sized(): give band= (the highest frequency to resolve, Hz) or set "
+                             "Mechanism(band=...)")
+        tol = self.frequency_tolerance if tolerance is None else tolerance
+        return size_mechanism(self, band, tol, max_elements)[0]
 
     def modes(self, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0) -> ModesResult:
         """The ``n`` lowest linearized modes at the initial configuration, or at a static

@@ -22,6 +22,12 @@ error is about twice the cantilever's (25 and 78 elements; fewest on all three s
 76). A mechanism's modes couple links and bodies, and a link much shorter than the wavelengths
 of the band needs few elements whatever it carries. ``Mechanism(band=...,
 frequency_tolerance=...)`` applies it to every flexible link added without ``elements=``.
+
+A finished mechanism knows its supports: ``Mechanism.sized`` (size_mechanism below) measures the
+mechanism's own modes in the band on meshes from 1 element up against a refined reference of
+the same mechanism, and keeps the first mesh within the tolerance: the cantilever gets 7 and 9
+elements, the fewest (tests/test_mesh.py; docs/user_guide.md, "Choosing the number of elements
+and tolerances").
 """
 from __future__ import annotations
 
@@ -31,9 +37,10 @@ import math
 import numpy as np
 
 from ._checks import integer, real
+from . import _core
 from ._core import ModelError
 
-__all__ = ["MeshChoice", "choose_elements"]
+__all__ = ["MeshChoice", "choose_elements", "MechanismMeshChoice", "size_mechanism"]
 
 RIGID_MODES = 6   # a free link has six rigid-body modes (zero frequency), skipped
 
@@ -90,6 +97,18 @@ def _richardson(f1: np.ndarray, f2: np.ndarray, f4: np.ndarray) -> float:
     return float(np.max(np.where(d > 0, d / f2 * factor, 0.0)))
 
 
+def _request(band, tolerance, max_elements) -> tuple:
+    """(band [Hz], tolerance, max_elements) checked: ModelError unless band > 0, 0 < tolerance
+    < 1 and max_elements a positive integer."""
+    band = real("band", band)
+    tolerance = real("frequency tolerance", tolerance)
+    if not band > 0:
+        raise ModelError(f"band must be a frequency > 0 [Hz] (got {band!r})")
+    if not 0 < tolerance < 1:
+        raise ModelError(f"frequency tolerance must be in (0, 1) (got {tolerance!r})")
+    return band, tolerance, integer("max_elements", max_elements, 1)
+
+
 def choose_elements(length: float, properties, band: float, tolerance: float = 1e-3,
                     max_elements: int = 256, curvature=None, mass: str = "consistent") -> MeshChoice:
     """About the fewest elements for which every free-free mode of a flexible link up to ``band``
@@ -98,13 +117,7 @@ def choose_elements(length: float, properties, band: float, tolerance: float = 1
     and a count the law says could be smaller is tried once. ``properties``: as for
     ``Mechanism.add_flexible_link`` (and ``curvature``, ``mass``). Raises ModelError for a band or tolerance that is not
     positive and when ``max_elements`` are not enough."""
-    band = real("band", band)
-    tolerance = real("frequency tolerance", tolerance)
-    if not band > 0:
-        raise ModelError(f"band must be a frequency > 0 [Hz] (got {band!r})")
-    if not 0 < tolerance < 1:
-        raise ModelError(f"frequency tolerance must be in (0, 1) (got {tolerance!r})")
-    max_elements = integer("max_elements", max_elements, 1)
+    band, tolerance, max_elements = _request(band, tolerance, max_elements)
     N, last, best, tried, meshes = 2, None, None, set(), {}
 
     def free(n):
@@ -163,3 +176,209 @@ def choose_elements(length: float, properties, band: float, tolerance: float = 1
     raise ModelError(f"no mesh of at most {max_elements} elements resolves the modes up to "
                      f"{band:g} Hz within {tolerance:g}{msg}: raise max_elements, or ask for a "
                      f"lower band or a looser tolerance")
+
+
+# ------------------------------------------------------------------ a mechanism, sized as a whole
+@dataclasses.dataclass(frozen=True)
+class MechanismMeshChoice:
+    """What :meth:`Mechanism.sized` chose. ``elements``: per nonlinear link (by name), the chosen
+    count; ``band`` [Hz] and ``tolerance`` asked for; ``modes_in_band``: the mechanism's modes up
+    to the band that were compared (those below ``ZERO_MODE`` times the band, rigid motions, are
+    not: their relative error means nothing); ``estimated_error``: a bound on their largest
+    relative frequency error at the chosen meshes, the difference to the reference plus the
+    reference's own error; ``reference_elements`` and ``reference_error``: the meshes of the
+    reference and its error bound; ``frequencies`` [Hz]: the compared modes of the reference;
+    ``tried``: how many meshes were built."""
+    elements: dict
+    band: float
+    tolerance: float
+    modes_in_band: int
+    estimated_error: float
+    reference_elements: dict
+    reference_error: float
+    frequencies: tuple
+    tried: int
+
+    def __str__(self) -> str:
+        links = ", ".join(f"{k}: {v}" for k, v in self.elements.items())
+        return (f"elements {links}: {self.modes_in_band} modes up to {self.band:g} Hz within "
+                f"{self.estimated_error:.2g} (asked {self.tolerance:g}; reference "
+                f"{', '.join(f'{k}: {v}' for k, v in self.reference_elements.items())} elements)")
+
+
+#: modes below this fraction of the band are not compared (rigid motions, and the eigensolver's
+#: noise about zero: sqrt(eps) times the highest frequency of a free mesh)
+ZERO_MODE = 1e-3
+
+
+def _wavenumber_weight(length: float, properties, band: float) -> float:
+    """How many radians of the band's shortest wave a link spans: its length times the largest
+    wavenumber at 2 pi band over bending (k^4 = omega^2 rhoA / EI, each plane), axial, shear and
+    torsion waves (k = omega / c). Only the ratios between links use it: the link that spans most
+    gets the most elements."""
+    K = np.diag(np.asarray(properties.stiffness, dtype=float))   # torsion, bend y, bend z, axial, shear y, shear z
+    I = np.diag(np.asarray(properties.inertia, dtype=float))     # rotary (x, y, z), then mass per length
+    w, mu = 2 * np.pi * band, I[3]
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        k = [(w * w * mu / K[1]) ** 0.25, (w * w * mu / K[2]) ** 0.25, w * np.sqrt(mu / K[3]),
+             w * np.sqrt(mu / K[4]), w * np.sqrt(mu / K[5]), w * np.sqrt(I[0] / K[0])]
+    k = [x for x in k if np.isfinite(x) and x > 0]
+    return length * max(k) if k else length
+
+
+def _node_refs(x, found: list) -> None:
+    """Every {"link": name, "node": k} reference inside an encoded call (io.model_to_dict)."""
+    if isinstance(x, dict):
+        if set(x) == {"link", "node"}:
+            found.append(x)
+        for v in x.values():
+            _node_refs(v, found)
+    elif isinstance(x, list):
+        for v in x:
+            _node_refs(v, found)
+
+
+def size_mechanism(mech, band: float, tolerance: float, max_elements: int = 256):
+    """The mechanism ``mech`` rebuilt from its add_* calls (phmech.io) with the fewest elements
+    in its nonlinear links for which its own modes up to ``band`` [Hz] are within ``tolerance``
+    of the converged ones; returns (Mechanism, MechanismMeshChoice). See Mechanism.sized."""
+    import copy
+    import warnings
+    from . import io
+    band, tolerance, max_elements = _request(band, tolerance, max_elements)
+    try:
+        doc = io.model_to_dict(mech)
+    except ModelError as e:
+        raise ModelError(f"sized() rebuilds the mechanism from its add_* calls, and {e}") from None
+    calls = doc["calls"]
+    sized = {}   # call index -> link name, the nonlinear links
+    for i, c in enumerate(calls):
+        a = c["args"]
+        if c["method"] == "add_flexible_link" and a.get("fidelity", "nonlinear") == "nonlinear":
+            sized[i] = a["name"]
+    if not sized:
+        raise ModelError("sized(): the mechanism has no nonlinear flexible link to size")
+    old = {name: mech._links[name].elements for name in sized.values()}
+    refs = []
+    for c in calls:
+        _node_refs(c["args"], refs)
+    for r in refs:
+        if r["link"] in old and r["node"] not in (0, old[r["link"]]):
+            raise ModelError(f"sized(): a frame sits on node {r['node']} of link {r['link']!r}, "
+                             f"inside it; another mesh would move it (only its start and end "
+                             f"stay): give that link elements= yourself")
+    props = {name: io.decode_value(calls[i]["args"]["properties"]) for i, name in sized.items()}
+    weight = {name: _wavenumber_weight(float(calls[i]["args"]["length"]), props[name], band)
+              for i, name in sized.items()}
+    top = max(weight.values())
+
+    def elements(s: int) -> dict:
+        return {name: max(1, int(math.ceil(s * weight[name] / top - 1e-9))) for name in weight}
+
+    def build(counts: dict):
+        d = copy.deepcopy(doc)
+        for i, name in sized.items():
+            a = d["calls"][i]["args"]
+            a["elements"] = counts[name]
+            a.pop("band", None)
+            a.pop("frequency_tolerance", None)
+        found = []
+        for c in d["calls"]:
+            _node_refs(c["args"], found)
+        for r in found:
+            if r["link"] in counts and r["node"] == old[r["link"]]:
+                r["node"] = counts[r["link"]]
+        return io.model_from_dict(d)
+
+    tried = [0]
+
+    def frequencies(counts: dict, n_band=None):
+        """The mesh's modes [Hz] (those of Mechanism.modes, without its labels and its
+        equilibrium check): the lowest n_band, or (None) all up to just above the band."""
+        tried[0] += 1
+        m = build(counts)
+        model, poses, lam = m._linearization_point(None)
+        available = 6 * len(m._car)
+        n = min(available, 8 if n_band is None else n_band)
+        while True:
+            om, _, _, nf = _core.model_modes(model, n, poses, lam, 0.0)
+            f = om[:nf] / (2 * np.pi)
+            if n_band is not None or f.size == 0 or f[-1] > band or n >= available:
+                return f
+            n = min(available, 2 * n)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        # the reference: meshes 8, 16, 32, ... (the widest link's count, up to 8 max_elements:
+        # only the choice is bounded by max_elements) until a level differs
+        # from the one before by at most tolerance / 10, and by at most half of the difference
+        # before that (it converges, at least at first order); its error is then taken as that
+        # whole difference (2-3 times its second-order estimate, on the safe side)
+        levels, s, ref = [], 8, None
+        while s <= 8 * max_elements:   # the reference may exceed what is chosen
+            f = frequencies(elements(s))
+            levels.append((s, f))
+            keep = (np.abs(f) <= band) & (np.abs(f) >= ZERO_MODE * band)
+            k = int(np.count_nonzero(np.abs(f) <= band))
+            if not np.any(keep):
+                ref = (s, f, keep, 0.0)
+                break
+            if len(levels) >= 2 and levels[-2][1].size >= k:
+                f1 = levels[-2][1][:k]
+                d = np.max(np.abs(f[:k] - f1)[keep[:k]] / np.abs(f[:k][keep[:k]]))
+                dp = np.inf
+                if len(levels) >= 3 and levels[-3][1].size >= k:
+                    dp = np.max(np.abs(f1 - levels[-3][1][:k])[keep[:k]] / np.abs(f[:k][keep[:k]]))
+                if d <= tolerance / 10 and (d <= dp / 2 or d == 0):
+                    ref = (s, f, keep, float(d))
+                    break
+            s *= 2
+        if ref is None:
+            raise ModelError(f"sized(): the mechanism's modes up to {band:g} Hz do not settle "
+                             f"within {tolerance / 10:g} with up to {8 * max_elements} elements (8 max_elements) "
+                             f"per link: raise max_elements, or ask for a lower band or a looser "
+                             f"tolerance")
+        s_ref, f_ref, keep, ref_err = ref
+        n_all = int(np.count_nonzero(np.abs(f_ref) <= band))
+        chosen, seen = None, set()
+        for s in range(1, min(s_ref, max_elements) + 1):
+            counts = elements(s)
+            key = tuple(counts.values())
+            if key in seen:
+                continue
+            seen.add(key)
+            if s == s_ref:
+                chosen = (counts, ref_err)
+                break
+            try:
+                f = frequencies(counts, n_all)
+            except ModelError:
+                continue
+            if f.size < n_all:
+                continue
+            err = float(np.max(np.abs(f[keep[:n_all]] - f_ref[keep]) / np.abs(f_ref[keep]),
+                               initial=0.0))
+            if err + ref_err <= tolerance:
+                chosen = (counts, err + ref_err)
+                break
+    if chosen is None:
+        raise ModelError(f"sized(): no mesh of at most {max_elements} elements per link keeps the "
+                         f"mechanism's modes up to {band:g} Hz within {tolerance:g}: raise "
+                         f"max_elements, or ask for a lower band or a looser tolerance")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model, _, _ = mech._linearization_point(None)
+        equilibrium = mech._equilibrium_check(model, mech._state.poses, 0.0, False)
+    if not equilibrium:
+        warnings.warn("sized(): the initial configuration is not a static equilibrium, so the "
+                      "modes it sized for are eigenvalues of the tangent stiffness there "
+                      "(Mechanism.modes)", UserWarning, stacklevel=3)
+    counts, err = chosen
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        out = build(counts)
+    choice = MechanismMeshChoice(dict(counts), band, tolerance, int(np.count_nonzero(keep)),
+                                 float(err), elements(s_ref), ref_err,
+                                 tuple(float(x) for x in f_ref[keep]), tried[0])
+    out.sizing = choice
+    return out, choice
