@@ -183,3 +183,13 @@ def test_sized_refuses_what_it_cannot_rebuild_or_size():
         held(4, "clamped-free").sized(band=-1.0)
     with pytest.raises(ph.ModelError, match="tolerance must be"):
         held(4, "clamped-free").sized(band=BAND, tolerance=2.0)
+
+
+def test_sized_says_when_it_sized_the_tangent_of_a_configuration_that_is_not_at_rest():
+    """A flexible pendulum released horizontal under gravity: modes() there are the tangent's
+    eigenvalues, and sized() warns as modes() does (EquilibriumWarning)."""
+    m = ph.Mechanism(gravity=(0.0, 0.0, -9.81))
+    arm = m.add_flexible_link("arm", 1.0, ph.table1_properties(), elements=4)
+    m.add_pair("pivot", ph.Revolute("y"), m.ground, arm.start)
+    with pytest.warns(ph.EquilibriumWarning, match="not a static equilibrium"):
+        m.sized(band=BAND, tolerance=1e-2)

@@ -206,8 +206,8 @@ class MechanismMeshChoice:
                 f"{', '.join(f'{k}: {v}' for k, v in self.reference_elements.items())} elements)")
 
 
-#: modes below this fraction of the band are not compared (rigid motions, and the eigensolver's
-#: noise about zero: sqrt(eps) times the highest frequency of a free mesh)
+#: modes below this fraction of the band on the reference's coarsest mesh are rigid motions,
+#: not compared: as many are left out of every mesh
 ZERO_MODE = 1e-3
 
 
@@ -236,6 +236,13 @@ def _node_refs(x, found: list) -> None:
     elif isinstance(x, list):
         for v in x:
             _node_refs(v, found)
+
+
+def _without_smallest(f: np.ndarray, n: int) -> np.ndarray:
+    """``f`` without its ``n`` entries of smallest magnitude (the rigid motions' zero
+    frequencies, whose eigensolver noise, about sqrt(eps) times the mesh's highest frequency,
+    grows with the mesh), the others in their order."""
+    return np.delete(f, np.argsort(np.abs(f), kind="stable")[:n]) if n else f
 
 
 def size_mechanism(mech, band: float, tolerance: float, max_elements: int = 256):
@@ -292,6 +299,13 @@ def size_mechanism(mech, band: float, tolerance: float, max_elements: int = 256)
 
     tried = [0]
 
+    def equilibrium() -> bool:
+        """Whether the initial configuration is a static equilibrium (Mechanism.modes' check)."""
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            model, _, _ = mech._linearization_point(None)
+            return bool(mech._equilibrium_check(model, mech._state.poses, 0.0, False))
+
     def frequencies(counts: dict, n_band=None):
         """The mesh's modes [Hz] (those of Mechanism.modes, without its labels and its
         equilibrium check): the lowest n_band, or (None) all up to just above the band."""
@@ -314,32 +328,36 @@ def size_mechanism(mech, band: float, tolerance: float, max_elements: int = 256)
         # from the one before by at most tolerance / 10, and by at most half of the difference
         # before that (it converges, at least at first order); its error is then taken as that
         # whole difference (2-3 times its second-order estimate, on the safe side)
-        levels, s, ref = [], 8, None
+        levels, s, ref, zero = [], 8, None, None
         while s <= 8 * max_elements:   # the reference may exceed what is chosen
             f = frequencies(elements(s))
-            levels.append((s, f))
-            keep = (np.abs(f) <= band) & (np.abs(f) >= ZERO_MODE * band)
-            k = int(np.count_nonzero(np.abs(f) <= band))
-            if not np.any(keep):
-                ref = (s, f, keep, 0.0)
+            if zero is None:   # rigid motions: as many on every mesh, counted on the coarsest
+                zero = int(np.count_nonzero(np.abs(f) < ZERO_MODE * band))
+            e = _without_smallest(f, zero)
+            k = int(np.count_nonzero(e <= band))
+            levels.append(e)
+            if k == 0:
+                ref = (s, e[:0], 0.0)
                 break
-            if len(levels) >= 2 and levels[-2][1].size >= k:
-                f1 = levels[-2][1][:k]
-                d = np.max(np.abs(f[:k] - f1)[keep[:k]] / np.abs(f[:k][keep[:k]]))
+            if len(levels) >= 2 and levels[-2].size >= k:
+                d = np.max(np.abs(e[:k] - levels[-2][:k]) / np.abs(e[:k]))
                 dp = np.inf
-                if len(levels) >= 3 and levels[-3][1].size >= k:
-                    dp = np.max(np.abs(f1 - levels[-3][1][:k])[keep[:k]] / np.abs(f[:k][keep[:k]]))
+                if len(levels) >= 3 and levels[-3].size >= k:
+                    dp = np.max(np.abs(levels[-2][:k] - levels[-3][:k]) / np.abs(e[:k]))
                 if d <= tolerance / 10 and (d <= dp / 2 or d == 0):
-                    ref = (s, f, keep, float(d))
+                    ref = (s, e[:k], float(d))
                     break
             s *= 2
         if ref is None:
+            why = "" if equilibrium() else (
+                " (the initial configuration is not a static equilibrium: its modes are the "
+                "tangent's eigenvalues there, which need not converge like vibrations)")
             raise ModelError(f"sized(): the mechanism's modes up to {band:g} Hz do not settle "
-                             f"within {tolerance / 10:g} with up to {8 * max_elements} elements (8 max_elements) "
-                             f"per link: raise max_elements, or ask for a lower band or a looser "
-                             f"tolerance")
-        s_ref, f_ref, keep, ref_err = ref
-        n_all = int(np.count_nonzero(np.abs(f_ref) <= band))
+                             f"within {tolerance / 10:g} with up to {8 * max_elements} elements "
+                             f"(8 max_elements) per link{why}: raise max_elements, or ask for a "
+                             f"lower band or a looser tolerance")
+        s_ref, f_ref, ref_err = ref
+        k = f_ref.size
         chosen, seen = None, set()
         for s in range(1, min(s_ref, max_elements) + 1):
             counts = elements(s)
@@ -351,13 +369,13 @@ def size_mechanism(mech, band: float, tolerance: float, max_elements: int = 256)
                 chosen = (counts, ref_err)
                 break
             try:
-                f = frequencies(counts, n_all)
-            except ModelError:
+                f = frequencies(counts, zero + k)
+            except ModelError:   # too coarse to build or to have modes (no degree of freedom)
                 continue
-            if f.size < n_all:
+            e = _without_smallest(f, zero)
+            if e.size < k:
                 continue
-            err = float(np.max(np.abs(f[keep[:n_all]] - f_ref[keep]) / np.abs(f_ref[keep]),
-                               initial=0.0))
+            err = float(np.max(np.abs(e[:k] - f_ref) / np.abs(f_ref), initial=0.0))
             if err + ref_err <= tolerance:
                 chosen = (counts, err + ref_err)
                 break
@@ -365,20 +383,16 @@ def size_mechanism(mech, band: float, tolerance: float, max_elements: int = 256)
         raise ModelError(f"sized(): no mesh of at most {max_elements} elements per link keeps the "
                          f"mechanism's modes up to {band:g} Hz within {tolerance:g}: raise "
                          f"max_elements, or ask for a lower band or a looser tolerance")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        model, _, _ = mech._linearization_point(None)
-        equilibrium = mech._equilibrium_check(model, mech._state.poses, 0.0, False)
-    if not equilibrium:
+    if not equilibrium():
+        from .mechanism import EquilibriumWarning
         warnings.warn("sized(): the initial configuration is not a static equilibrium, so the "
                       "modes it sized for are eigenvalues of the tangent stiffness there "
-                      "(Mechanism.modes)", UserWarning, stacklevel=3)
+                      "(Mechanism.modes)", EquilibriumWarning, stacklevel=3)
     counts, err = chosen
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         out = build(counts)
-    choice = MechanismMeshChoice(dict(counts), band, tolerance, int(np.count_nonzero(keep)),
-                                 float(err), elements(s_ref), ref_err,
-                                 tuple(float(x) for x in f_ref[keep]), tried[0])
+    choice = MechanismMeshChoice(dict(counts), band, tolerance, k, float(err), elements(s_ref),
+                                 ref_err, tuple(float(x) for x in f_ref), tried[0])
     out.sizing = choice
     return out, choice
