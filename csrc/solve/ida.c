@@ -59,7 +59,7 @@ static void ida_err_message(void *ud, const char *function, const char *msg) {
   } while (0)
 
 /* IDA's absolute tolerance of state i: dae_state_atol, but none for the energy ledger's
- * integrals (1e300 J: weight 0). Nothing depends on them, and their Jacobian rows keep only the
+ * integrals (1e100 J: weight 0). Nothing depends on them, and their Jacobian rows keep only the
  * diagonal (csrc/dae/jacobian.c), so a Newton iteration corrects them one iteration late: in the
  * error and Newton tests they only measured that lag. With the closed-form Jacobian IDA's Newton
  * often stops after one iteration, and the lag then failed the error test at almost every step
@@ -72,8 +72,20 @@ static void ida_err_message(void *ud, const char *function, const char *msg) {
  * now takes 3559 steps with 119 failures, ledger 9.2e-10 (rtol 1e-8: 1935 steps, 20 failures,
  * 7.3e-9; measured 2026-11-27, not bisected: likely the rows of the carriers mu acts on, now in
  * their body frames, docs/integrators.md "IDA and mu"). */
+/* The ledger's "none": 1e100 J. Its weight 1/(rtol |E| + 1e100) squares to an exact 0 in every
+ * WRMS norm (energies far below 1e100 J), as 1e300's did. Not 1e300: the dense solver's
+ * difference-quotient Jacobian (IDA's own) perturbs state j by 1/w_j and its rate by cj times
+ * that, and 1e300 cj overflowed for cj > 1.8e8 (steps below ~5e-9 s at order 1): the ledger's
+ * columns were inf, its Newton corrections 0 (the integrals stood still) or the iterate NaN (a
+ * convergence failure). The Fig. 3 manipulator (examples/manipulator.py), whose first steps are
+ * ~1e-15 s (run_ida), closed its ledger over 2 ms with the dense LU to 9.2e-5 of its energy
+ * scale at rtol 1e-8 and 1.1e-3 at 1e-10 (KLU: 7.9e-10, 6.9e-11); now 6.7e-10 and 7.9e-11. And
+ * its dense run at rtol 1e-8 had got past t = 0 before run_ida's first-step retry only through
+ * such a NaN, which IDA counts as a convergence failure, not as one of its 10 error-test
+ * failures. 1e100 cj stays finite for any step IDA can take. */
+#define PHM_IDA_LEDGER_ATOL 1e100
 static double ida_atol(const dae_t *d, int i, double atol) {
-  return i >= d->ie && i < d->il ? 1e300 : dae_state_atol(d, i, atol);
+  return i >= d->ie && i < d->il ? PHM_IDA_LEDGER_ATOL : dae_state_atol(d, i, atol);
 }
 
 static void add_stats(void *mem, phm_sim_output *out, int use_klu) {
@@ -200,7 +212,7 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
    * omega'' ~ 3e19 rad/s^3 there, and the every-state error test on omega (atol 1e-10 rad/s)
    * admits h^2 omega'' / 2 only for h ~ 1e-15 s. (The dense solver got past t = 0 at rtol 1e-8
    * only through a NaN Newton iterate, which IDA counts as a convergence failure, not as one of
-   * the 10 error-test failures: it had an 11th attempt, at hmin, which passed.)
+   * the 10 error-test failures: it had an 11th attempt, at hmin, which passed; ida_atol.)
    * So when the error test fails 10 times before the first step, IDA is re-initialized from the
    * same consistent values with a first step of a quarter of the last one tried and no floor
    * but the round-off of t, once per (re)start: its 10 failures reach 1e-6 of that, and its
