@@ -82,7 +82,7 @@ static void ida_err_message(void *ud, const char *function, const char *msg) {
  * scale at rtol 1e-8 and 1.1e-3 at 1e-10 (KLU: 7.9e-10, 6.9e-11); now 6.7e-10 and 7.9e-11. And
  * its dense run at rtol 1e-8 had got past t = 0 before run_ida's first-step retry only through
  * such a NaN, which IDA counts as a convergence failure, not as one of its 10 error-test
- * failures. 1e100 cj stays finite for any step IDA can take. */
+ * failures. 1e100 cj stays finite for any cj below 1e200 (steps above ~1e-200 s). */
 #define PHM_IDA_LEDGER_ATOL 1e100
 static double ida_atol(const dae_t *d, int i, double atol) {
   return i >= d->ie && i < d->il ? PHM_IDA_LEDGER_ATOL : dae_state_atol(d, i, atol);
