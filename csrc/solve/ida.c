@@ -4,6 +4,7 @@
  * and the monitor. */
 #include "solve.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -58,7 +59,7 @@ static void ida_err_message(void *ud, const char *function, const char *msg) {
   } while (0)
 
 /* IDA's absolute tolerance of state i: dae_state_atol, but none for the energy ledger's
- * integrals (1e300 J: weight 0). Nothing depends on them, and their Jacobian rows keep only the
+ * integrals (1e100 J: weight 0). Nothing depends on them, and their Jacobian rows keep only the
  * diagonal (csrc/dae/jacobian.c), so a Newton iteration corrects them one iteration late: in the
  * error and Newton tests they only measured that lag. With the closed-form Jacobian IDA's Newton
  * often stops after one iteration, and the lag then failed the error test at almost every step
@@ -71,8 +72,20 @@ static void ida_err_message(void *ud, const char *function, const char *msg) {
  * now takes 3559 steps with 119 failures, ledger 9.2e-10 (rtol 1e-8: 1935 steps, 20 failures,
  * 7.3e-9; measured 2026-11-27, not bisected: likely the rows of the carriers mu acts on, now in
  * their body frames, docs/integrators.md "IDA and mu"). */
+/* The ledger's "none": 1e100 J. Its weight 1/(rtol |E| + 1e100) squares to an exact 0 in every
+ * WRMS norm (energies far below 1e100 J), as 1e300's did. Not 1e300: the dense solver's
+ * difference-quotient Jacobian (IDA's own) perturbs state j by 1/w_j and its rate by cj times
+ * that, and 1e300 cj overflowed for cj > 1.8e8 (steps below ~5e-9 s at order 1): the ledger's
+ * columns were inf, its Newton corrections 0 (the integrals stood still) or the iterate NaN (a
+ * convergence failure). The Fig. 3 manipulator (examples/manipulator.py), whose first steps are
+ * ~1e-15 s (run_ida), closed its ledger over 2 ms with the dense LU to 9.2e-5 of its energy
+ * scale at rtol 1e-8 and 1.1e-3 at 1e-10 (KLU: 7.9e-10, 6.9e-11); now 6.7e-10 and 7.9e-11. And
+ * its dense run at rtol 1e-8 had got past t = 0 before run_ida's first-step retry only through
+ * such a NaN, which IDA counts as a convergence failure, not as one of its 10 error-test
+ * failures. 1e100 cj stays finite for any cj below 1e200 (steps above ~1e-200 s). */
+#define PHM_IDA_LEDGER_ATOL 1e100
 static double ida_atol(const dae_t *d, int i, double atol) {
-  return i >= d->ie && i < d->il ? 1e300 : dae_state_atol(d, i, atol);
+  return i >= d->ie && i < d->il ? PHM_IDA_LEDGER_ATOL : dae_state_atol(d, i, atol);
 }
 
 static void add_stats(void *mem, phm_sim_output *out, int use_klu) {
@@ -100,7 +113,7 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
                    const double *tout, int nout, double E0[1], double nbp, phm_sim_output *out,
                    phm_error *err) {
   phm_status st = PHM_OK;
-  N_Vector id = NULL;
+  N_Vector id = NULL, ys = NULL, yps = NULL; /* ys, yps: the last (re)start's values */
   SUNMatrix A = NULL;
   SUNLinearSolver LS = NULL;
   void *mem = NULL;
@@ -184,8 +197,38 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
    * intact) so the monitor sees long output intervals; the per-interval limit is counted here */
   long max_steps = opt->max_steps > 0 ? opt->max_steps : 1000000L;
   IDACHK(IDASetMaxNumSteps(mem, opt->monitor ? PHM_MONITOR_STEPS : max_steps));
-  IDACHK(IDASetMinStep(mem, 1e-14 * fmax(1.0, tout[nout - 1] - tout[0])));
-  IDACHK(IDASetInitStep(mem, fmin(1e-8, 1e-3 * (tout[nout - 1] - tout[0]))));
+  const double hmin = 1e-14 * fmax(1.0, tout[nout - 1] - tout[0]);
+  const double h0 = fmin(1e-8, 1e-3 * (tout[nout - 1] - tout[0]));
+  IDACHK(IDASetMinStep(mem, hmin));
+  IDACHK(IDASetInitStep(mem, h0));
+  /* The first step from consistent values (the start, each breakpoint's restart) may need to be
+   * far shorter than h0 and hmin: IDA's 10 error-test failures (each cutting h by 4 at most)
+   * reach 4^-9 h0 = 3.8e-14 s, and hmin stops them at 1e-14 s. The Fig. 3 manipulator
+   * (examples/manipulator.py, consistent masses, material damping D = 5e-3 s K) needs ~6e-15 s at
+   * rtol 1e-8 and ~6e-16 s at 1e-10: its set-point step gives the links' nodes consistent
+   * accelerations of 1e8 .. 5e8 rad/s^2 (F3's first node: 24 N m on 6.8e-9 kg m^2 about z,
+   * shared through the consistent mass), which decay within ~15 ps (the elements' stiffest
+   * modes, shear with the nodes' rotation at ~2e6 rad/s, decay at beta omega^2 ~ 3e10 /s), so
+   * omega'' ~ 3e19 rad/s^3 there, and the every-state error test on omega (atol 1e-10 rad/s)
+   * admits h^2 omega'' / 2 only for h ~ 1e-15 s. (The dense solver got past t = 0 at rtol 1e-8
+   * only through a NaN Newton iterate, which IDA counts as a convergence failure, not as one of
+   * the 10 error-test failures: it had an 11th attempt, at hmin, which passed; ida_atol.)
+   * So when the error test fails 10 times before the first step, IDA is re-initialized from the
+   * same consistent values with a first step of a quarter of the last one tried and no floor
+   * but the round-off of t, once per (re)start: its 10 failures reach 1e-6 of that, and its
+   * first failure sizes the step from the error estimate. The floor and h0 come back once IDA's
+   * step has grown past hmin. Measured on that manipulator over 0.05 s (KLU): rtol 1e-8 1319
+   * steps, 0.04 s of CPU; 1e-10 6780 steps, 0.15 s (before: IDA_ERR_FAIL at t = 0, KLU and
+   * dense alike). */
+  ys = N_VClone(yy);
+  yps = N_VClone(yy);
+  if (!ys || !yps) {
+    st = PHM_FAIL(err, PHM_ENOMEM, "out of memory (N_Vector)");
+    goto done;
+  }
+  N_VScale(1.0, yy, ys);
+  N_VScale(1.0, yp, yps);
+  int retried = 0, relaxed = 0; /* the first step retried since the (re)start; floor lifted */
   if (opt->max_step > 0) IDACHK(IDASetMaxStep(mem, opt->max_step));
   if (opt->max_order > 0) IDACHK(IDASetMaxOrd(mem, opt->max_order < 5 ? opt->max_order : 5));
   if (opt->linear_solver == 1) {
@@ -249,6 +292,27 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
       if (isfinite(nbp)) IDACHK(IDASetStopTime(mem, nbp));
       double tret = t;
       int flag = IDASolve(mem, target, &tret, yy, yp, IDA_NORMAL);
+      long ns0 = -1;
+      if (flag == IDA_ERR_FAIL && IDAGetNumSteps(mem, &ns0) == 0 && ns0 == 0 && !retried) {
+        double hf = 0;
+        IDAGetCurrentStep(mem, &hf);
+        add_stats(mem, out, opt->linear_solver); /* IDAReInit zeroes IDA's counters */
+        N_VScale(1.0, ys, yy);
+        N_VScale(1.0, yps, yp);
+        IDACHK(IDASetInitStep(mem, 0.25 * hf));
+        IDACHK(IDASetMinStep(mem, 16 * DBL_EPSILON * fabs(t)));
+        IDACHK(IDAReInit(mem, t, yy, yp));
+        retried = relaxed = 1;
+        continue;
+      }
+      if (relaxed) {
+        double hc = 0;
+        if (IDAGetCurrentStep(mem, &hc) == 0 && fabs(hc) >= hmin) {
+          IDACHK(IDASetMinStep(mem, hmin));
+          IDACHK(IDASetInitStep(mem, h0));
+          relaxed = 0;
+        }
+      }
       if (flag == IDA_TOO_MUCH_WORK && opt->monitor && ++chunks * PHM_MONITOR_STEPS < max_steps) {
         long ns = 0;
         double hl = 0;
@@ -272,6 +336,13 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
         /* breakpoint: new piece of the laws, re-initialize from consistent values */
         add_stats(mem, out, opt->linear_solver);
         if ((st = dae_restart_at_breakpoint(d, t, t, &nbp, y, ypd, err))) goto done;
+        N_VScale(1.0, yy, ys);
+        N_VScale(1.0, yp, yps);
+        if (relaxed) {
+          IDACHK(IDASetMinStep(mem, hmin));
+          IDACHK(IDASetInitStep(mem, h0));
+        }
+        retried = relaxed = 0;
         IDACHK(IDAReInit(mem, t, yy, yp));
         if (t >= target) t = target;
       }
@@ -284,5 +355,7 @@ done:
   if (LS) SUNLinSolFree(LS);
   if (A) SUNMatDestroy(A);
   if (id) N_VDestroy(id);
+  if (ys) N_VDestroy(ys);
+  if (yps) N_VDestroy(yps);
   return st;
 }
