@@ -131,8 +131,44 @@ static void back_to_saved(const static_work_t *w, int nc, int nk, double *H, dou
   if (nk) memcpy(lam, w->lsave, sizeof(double) * (size_t)nk);
 }
 
+/* A tangent KLU finds exactly singular: some motion has no stiffness at all (a free body, a
+ * revolute without a load or spring: their blocks of df/ddelta are structurally zero). Where the
+ * loads have no part along such a motion the state may still be an equilibrium, one of many:
+ * solve instead with [df/ddelta - mu M, G^T; G, 0] (mu M: ptc's inertia term M/dtau with a
+ * pseudo time step dtau = 1/mu), mu = 1e-12 tr|K| / tr M (1 /s^2 without stiffness), far below
+ * the stiffness of any resisted motion, so that the step is Newton's there and M^-1 r / mu along
+ * the free motions. Returns 1 (x: that step) when the step is below tol -- the residual along
+ * the free motions is then below about mu m tol, and the state an equilibrium --, else 0, and the
+ * caller fails as it did before this fallback: it only turns failures into convergence where the
+ * state is already an equilibrium (tests/test_statics.py: a body held by nothing, a revolute
+ * and a free link without load). L->Kb is overwritten. */
+static int singular_converged(lin_t *L, lin_kkt_t *S, const double *Gp, const double *R,
+                              double *x, double tol) {
+  const phm_model *m = L->m;
+  int nc = m->nc, N = 6 * nc + m->ncons;
+  const int *ptr = L->ptr, *nbr = L->nbr;
+  double trK = 0, trM = 0;
+  for (int r = 0; r < nc; r++)
+    for (int q = ptr[r]; q < ptr[r + 1]; q++)
+      if (nbr[q] == r)
+        for (int i = 0; i < 6; i++) {
+          trK += fabs(L->Kb[36 * (size_t)q + 7 * i]);
+          trM += m->car[r].M[7 * i];
+        }
+  if (!(trM > 0)) return 0;
+  double mu = trK > 0 ? 1e-12 * trK / trM : 1.0;
+  for (int r = 0; r < nc; r++)
+    for (int q = ptr[r]; q < ptr[r + 1]; q++)
+      if (nbr[q] == r)
+        for (int i = 0; i < 36; i++) L->Kb[36 * (size_t)q + i] -= mu * m->car[r].M[i];
+  for (int i = 0; i < N; i++) x[i] = -R[i];
+  if (lin_kkt_factor(S, L->Kb, Gp) || lin_kkt_solve(S, x)) return 0;
+  return step_size(m, x, NULL) < tol;
+}
+
 /* Newton from (H, lam) at the load scale L->scale; 0 on convergence (H, lam updated, and *have
- * set: S holds a factorization made in this solve), 1 on failure (H, lam restored, *have 0). With
+ * set when S holds a tangent's factorization made in this solve: not after singular_converged),
+ * 1 on failure (H, lam restored, *have 0). With
  * *have on entry, the tangent predictor first: S's factorization (of the last load's solve) on
  * this load's residual, one step (for a load increment dF that is K^-1 dF). Then corrections at
  * each iterate: a new tangent [K G^T; G 0] (in closed form, csrc/solve/linearize.c) factored by
@@ -213,7 +249,12 @@ static int newton_steps(lin_t *L, lin_kkt_t *S, double *H, double *lam, double t
       lin_force_jacobian_blocks(L, H);
       if (nk) lin_constraint_blocks(L, H, w->Gp);
       for (int i = 0; i < N; i++) x[i] = -R[i];
-      if (lin_kkt_factor(S, L->Kb, w->Gp) || lin_kkt_solve(S, x)) break;
+      if (lin_kkt_factor(S, L->Kb, w->Gp)) {
+        if (!singular_converged(L, S, w->Gp, R, x, tol)) break;
+        take_step(m, w, H, lam, x, 1.0); /* S holds no tangent now: no predictor from it */
+        return 0;
+      }
+      if (lin_kkt_solve(S, x)) break;
       sn = step_size(m, x, &rot);
       if (!isfinite(sn)) break; /* diverging: let the caller cut the load step */
       age = 0;

@@ -1511,8 +1511,9 @@ class Mechanism:
     def _lowest_omega(self, model, P, lam, time: float) -> float:
         """The lowest linearized frequency [rad/s] at poses P and multipliers lam, negative for a
         negative eigenvalue of the tangent stiffness; a value below round-off of the next mode's
-        (|omega_1|^2 < 1e-8 omega_2^2) counts as zero (a neutral mode); inf when nothing can
-        move (no degree of freedom: csrc/solve/modes.c refuses to count modes)."""
+        (|omega_1|^2 < 1e-8 omega_2^2) counts as zero (a neutral mode), and so do negative values
+        below round-off of a higher mode (up to the 24th), or all below 1e-6 rad/s; inf when
+        nothing can move (no degree of freedom: csrc/solve/modes.c refuses to count modes)."""
         try:
             om = _core.model_modes(model, min(2, 6 * len(self._car)), P, lam, time)[0]
         except ModelError as e:
@@ -1521,5 +1522,16 @@ class Mechanism:
             raise
         if len(om) > 1 and om[0] < 0 and om[0] ** 2 < 1e-8 * om[1] ** 2:
             return 0.0
+        if om[0] < 0:
+            # several round-off zeros: the motions nothing resists of an equilibrium that is not
+            # unique (a free body or link, a revolute without load: 6, 6 and 1 of them, measured
+            # at -1e-8 .. -4e-3 rad/s). Zeros when a mode above them is 1e4 times higher (modes
+            # come in ascending omega^2: none below them), or when all are below 1e-6 rad/s
+            # (nothing to compare with; a time constant of 12 days)
+            om = _core.model_modes(model, min(24, 6 * len(self._car)), P, lam, time)[0]
+            if any(om[k] ** 2 > 1e8 * np.max(om[:k] ** 2) for k in range(1, len(om))):
+                return 0.0
+            if np.max(np.abs(om)) < 1e-6:
+                return 0.0
         return float(om[0])
 
