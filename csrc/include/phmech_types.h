@@ -179,6 +179,12 @@ typedef struct {
   int xdrivable;             /* bit c: joint coordinate c can follow a law (phm_pair_desc.xdriven):
                               * those whose rate xdot_c = Phi_c^T t_rel is dx_c/dt           */
   const char *doc;           /* one sentence for the docstring (x, xdot and their meaning)     */
+  int axes_a, axes_b;        /* bit c: the relative motion that moves joint coordinate c alone
+                              * (the twist psi_c with W^C^T psi_c = 0, Phi^T psi_c = e_c) has
+                              * a direction fixed in F_a (axes_a), in F_b (axes_b), at every
+                              * relative pose: with that frame on the ground, the work of a
+                              * dead load along it does not depend on the configuration
+                              * (phm_static_free, csrc/solve/static_free.c)                   */
 } phm_pair_type_info;
 
 /* A kinematic pair between frame Ta on carrier a and Tb on carrier b (-1 = ground). Frames

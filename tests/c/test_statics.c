@@ -2,9 +2,11 @@
  * cantilever rolled up into a full circle by an end moment (the exact solution has constant
  * strain, docs/method.md section 8), whose Newton iterations (tangents) the chain retraction, the
  * tangent predictor and the simplified corrections keep at about one per load step for any
- * number of elements and axial stiffness; and steps = 0, Newton at the full load from the start,
- * which leaves an equilibrium where it is. */
+ * number of elements and axial stiffness; steps = 0, Newton at the full load from the start,
+ * which leaves an equilibrium where it is; and the pair table's fixed axes, which the search
+ * for mechanisms without an equilibrium reads (csrc/solve/static_free.c). */
 #include "check.h"
+#include "model.h"
 
 /* A straight cantilever of n elements along x, clamped at node 0 (EI = 1, L = 1; axial, shear
  * and torsional stiffness `stiff` times EI/L^2, the second bending stiffness too, so that it
@@ -124,6 +126,77 @@ static void zero_steps_leave_an_equilibrium_in_place(void) {
   phm_model_free(m);
 }
 
-CHECK_MAIN(CHECK_CASE(rollup_takes_at_most_two_tangents_per_load_step),
+/* psi_c of a pair type at relative pose h: W^C^T psi = 0, Phi^T psi = e_c (Gaussian elimination
+ * with partial pivoting on [W^C Phi]^T, written out here apart from static_free.c's). */
+static void allowed_twist(int type, double pitch, const double h[16], int c, double psi[6]) {
+  double W[36], Phi[36], A[6][7];
+  int m = phm_pair_type(type)->m;
+  phm_pair_kin(type, pitch, h, NULL, NULL, W, Phi, NULL);
+  for (int i = 0; i < 6; i++) {
+    for (int q = 0; q < 6; q++) A[i][q] = i < m ? W[6 * q + i] : Phi[6 * q + i - m];
+    A[i][6] = i == m + c;
+  }
+  for (int k = 0; k < 6; k++) {
+    int p = k;
+    for (int i = k + 1; i < 6; i++)
+      if (fabs(A[i][k]) > fabs(A[p][k])) p = i;
+    for (int q = 0; q < 7; q++) {
+      double t = A[k][q];
+      A[k][q] = A[p][q];
+      A[p][q] = t;
+    }
+    for (int i = 0; i < 6; i++)
+      if (i != k) {
+        double f = A[i][k] / A[k][k];
+        for (int q = k; q < 7; q++) A[i][q] -= f * A[k][q];
+      }
+  }
+  for (int i = 0; i < 6; i++) psi[i] = A[i][6] / A[i][i];
+}
+
+/* The unit direction of a twist: its rotation axis, or its translation when it has none. */
+static void twist_direction(const double t[6], double d[3]) {
+  int rot = fabs(t[0]) + fabs(t[1]) + fabs(t[2]) > 1e-12;
+  const double *u = rot ? t : t + 3;
+  double n = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+  for (int i = 0; i < 3; i++) d[i] = u[i] / n;
+}
+
+/* The pair table's axes_a, axes_b (bit c: psi_c's direction fixed in F_a, in F_b at every
+ * relative pose), which let static_free.c count a dead load's work as the same everywhere: at
+ * random joint coordinates of every type, psi_c's direction in F_b (psi_c) and in F_a (Ad_h
+ * psi_c) against its direction at other random coordinates. */
+static void pair_table_axes_are_fixed(void) {
+  rand_seed(7);
+  for (int type = 0; type < phm_pair_type_count(); type++) {
+    const phm_pair_type_info *ti = phm_pair_type(type);
+    double pitch = strcmp(ti->name, "helical") == 0 ? 0.2 : 0.0, worst = 0;
+    for (int c = 0; c < 6 - ti->m; c++)
+      for (int side = 0; side < 2; side++) {
+        if (!((side ? ti->axes_b : ti->axes_a) >> c & 1)) continue;
+        double d0[3] = {0};
+        for (int trial = 0; trial < 20; trial++) {
+          double x[6], h[16], psi[6], Ad[36], t[6], d[3];
+          rand_joint_coordinates(type, 0, x);
+          phm_pair_type_pose(type, pitch, x, h);
+          allowed_twist(type, pitch, h, c, psi);
+          phm_se3_Ad(h, Ad);
+          for (int i = 0; i < 6; i++) {
+            t[i] = side ? psi[i] : 0.0;
+            for (int q = 0; !side && q < 6; q++) t[i] += Ad[6 * i + q] * psi[q];
+          }
+          twist_direction(t, d);
+          if (trial == 0) memcpy(d0, d, sizeof d);
+          for (int i = 0; i < 3; i++) worst = fmax(worst, fabs(d[i] - d0[i]));
+        }
+      }
+    char name[64];
+    snprintf(name, sizeof name, "%s: fixed directions", ti->name);
+    check(name, worst, 1e-12);
+  }
+}
+
+CHECK_MAIN(CHECK_CASE(pair_table_axes_are_fixed),
+           CHECK_CASE(rollup_takes_at_most_two_tangents_per_load_step),
            CHECK_CASE(tip_load_reuses_its_factorizations),
            CHECK_CASE(zero_steps_leave_an_equilibrium_in_place))
