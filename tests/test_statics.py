@@ -6,6 +6,8 @@ References (independent of phmech):
 - large load: the elastica (inextensible, shear-rigid Euler beam under a dead tip load), solved by
   shooting with scipy (solve_ivp + brentq).
 """
+import warnings
+
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
@@ -182,3 +184,29 @@ def test_a_failed_static_solve_carries_its_last_equilibrium():
     st = m2.static()
     # measured 1.4e-12 m (of a 100 m arch; 6.4e-10 m while ptc() restored newton()'s start, not its own)
     np.testing.assert_allclose(st.poses[:, :3, 3], part.poses[:, :3, 3], atol=1e-7)
+
+
+def test_free_motions_without_load_leave_an_equilibrium_in_place():
+    # a body held by nothing, a body on a revolute, a free strip: no load, so every pose is an
+    # equilibrium (not unique); static() returns the start, neutral (lowest_omega a round-off
+    # zero: 0, or 3e-6 rad/s for the link, whose first bending mode is 49 rad/s). Before, the
+    # exactly singular tangent failed Newton and static() raised; the stability check took the
+    # free link's six round-off zeros (-4e-3 rad/s) for an instability
+    def free_body(m):
+        m.add_rigid_body("box", 2.0, np.diag([1e-3, 1e-3, 1e-3]))
+
+    def revolute(m):
+        r = m.add_rigid_body("r", 1.0, np.diag([1e-3, 1e-3, 1e-3]), com=(0.1, 0, 0))
+        m.add_pair("p", ph.Revolute("z"), m.ground, r)
+
+    def free_link(m):
+        m.add_flexible_link("leaf", L, table1_properties(1.0), elements=10)
+
+    for build in (free_body, revolute, free_link):
+        m = ph.Mechanism()
+        build(m)
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            st = m.static()
+        np.testing.assert_allclose(st.poses, m.initial_configuration().poses, atol=1e-12)
+        assert st.stable is True and abs(st.lowest_omega) < 1e-4, build.__name__

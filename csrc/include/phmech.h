@@ -77,6 +77,7 @@ int phm_model_npairs(const phm_model *model);
 int phm_model_nelements(const phm_model *model);      /* se3 beam elements                       */
 int phm_model_njoints(const phm_model *model);        /* joint coordinates, all pairs (sum of k) */
 int phm_model_nports(const phm_model *model);         /* ports: actuators, loads, springs, in order */
+int phm_model_nloads(const phm_model *model);         /* applied wrenches and interactions       */
 void phm_model_pair_layout(const phm_model *model, int ip, int *row, int *m, int *joint, int *k); /* first row, rows, first joint coordinate, k of pair ip */
 /* Reset the initial poses H0 (nc x 16), twists t0 (nc x 6; NULL: keep), joint coordinates x0
  * (npairs x 6; NULL: keep; they become branch references only for pairs created with has_x0)
@@ -183,7 +184,9 @@ int phm_linear_port_columns(const phm_model *model, int nports, const phm_linear
  * steps (halved on failure) from the unloaded equilibrium nearest the start, or with steps = 0
  * at the full load directly from the start; Newton, sparse LU (KLU). poses: start (NULL: H0);
  * results in poses_out (nc x 16) and lambda_out (nconstraints); *iters = total Newton
- * iterations (tangents). */
+ * iterations (tangents). At Newton's first failure it asks phm_static_free whether the loads do
+ * work on a motion nothing resists: then no equilibrium exists, and it stops there with
+ * PHM_ESOLVER and a message naming the first such motion ("no static equilibrium: ..."). */
 phm_status phm_static(const phm_model *model, const double *poses, double time, int steps,
                       double tol, double *poses_out, double *lambda_out, int *iters,
                       phm_error *err);
@@ -195,5 +198,20 @@ phm_status phm_static_monitored(const phm_model *model, const double *poses, dou
                                 int steps, double tol, phm_monitor monitor, void *ctx,
                                 double *poses_out, double *lambda_out, int *iters,
                                 double *reached, phm_error *err);
+
+/* Motions nothing resists on which the loads (gravity, applied wrenches, effort actuators, at
+ * load factor 1 and `time`) do work at a rate independent of the configuration: each proves
+ * that the mechanism has no static equilibrium (docs/method.md section 7.3, "No equilibrium").
+ * Found from the mechanism's structure (a pair whose removal separates a part from the ground,
+ * or a part linked to the ground by nothing) and the kinds of its loads, and checked at the poses
+ * given (NULL: H0) with the model's own forces: the work rate equals the loads' generalized
+ * force there and at two poses along the motion, and the constraints still hold there. A
+ * mechanism for which none is found may still have no equilibrium (a closed loop driven round).
+ * Up to nmax motions into out, their number in *nfound; moving (may be NULL): nmax x nc bytes,
+ * 1 where the carrier moves in motion k (row k); load_work (may be NULL): nmax x nloads, each
+ * applied wrench's part of the force. Allocates; no output is touched beyond *nfound rows. */
+phm_status phm_static_free(const phm_model *model, const double *poses, double time, int nmax,
+                           phm_free_motion *out, unsigned char *moving, double *load_work,
+                           int *nfound, phm_error *err);
 
 #endif /* PHMECH_H */

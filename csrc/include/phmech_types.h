@@ -179,6 +179,12 @@ typedef struct {
   int xdrivable;             /* bit c: joint coordinate c can follow a law (phm_pair_desc.xdriven):
                               * those whose rate xdot_c = Phi_c^T t_rel is dx_c/dt           */
   const char *doc;           /* one sentence for the docstring (x, xdot and their meaning)     */
+  int axes_a, axes_b;        /* bit c: the relative motion that moves joint coordinate c alone
+                              * (the twist psi_c with W^C^T psi_c = 0, Phi^T psi_c = e_c) has
+                              * a direction fixed in F_a (axes_a), in F_b (axes_b), at every
+                              * relative pose: with that frame on the ground, the work of a
+                              * dead load along it does not depend on the configuration
+                              * (phm_static_free, csrc/solve/static_free.c)                   */
 } phm_pair_type_info;
 
 /* A kinematic pair between frame Ta on carrier a and Tb on carrier b (-1 = ground). Frames
@@ -386,6 +392,26 @@ typedef struct {
   int index;   /* pair, load or carrier index */
   double T[16]; /* PHM_PORT_FRAME: the frame's offset on its carrier (row-major 4x4) */
 } phm_linear_port;
+
+/* A motion of a mechanism that nothing resists and on which the loads do work at a rate that is
+ * the same in every configuration (phm_static_free, csrc/solve/static_free.c): then the
+ * mechanism has no static equilibrium under those loads. Either the side of a pair away from the
+ * ground moving along one of the pair's joint coordinates (pair >= 0), or a part held by nothing
+ * (no pair, element, spring or interaction links it to the ground: pair = -1) moving rigidly. */
+typedef struct {
+  int pair;         /* the pair, or -1: a part held by nothing                                */
+  int coord;        /* the joint coordinate it moves (pair >= 0), else -1                     */
+  int carrier;      /* a carrier of the moving part: the pair's carrier on that side, or the
+                     * part's first carrier                                                   */
+  double twist[6];  /* the motion per unit of the coordinate (per rad or m), a world twist
+                     * (omega, v) at the poses given                                          */
+  double force;     /* the generalized force along it at load factor 1 (the loads' work per
+                     * unit: N m per rad, N per m); never 0                                    */
+  double gravity;   /* its parts: gravity's, the pair's actuators' (both at load factor 1);
+                     * the applied wrenches' are load_work's (phm_static_free)               */
+  double effort;
+  double mass;      /* of the moving part, kg                                                 */
+} phm_free_motion;
 
 #define PHM_NENERGY 7 /* kinetic, elastic, gravity, dissipated, supplied, total, ledger residual */
 

@@ -383,6 +383,7 @@ int phm_model_npairs(const phm_model *m) { return m->np; }
 int phm_model_nelements(const phm_model *m) { return m->ne; }
 int phm_model_njoints(const phm_model *m) { return m->nj; }
 int phm_model_nports(const phm_model *m) { return m->nport; }
+int phm_model_nloads(const phm_model *m) { return m->nl; }
 void phm_model_pair_layout(const phm_model *m, int ip, int *row, int *mc, int *joint, int *k) {
   if (row) *row = m->pair_row[ip];
   if (mc) *mc = m->pair_m[ip];

@@ -19,28 +19,37 @@ enum {
 
 static const phm_pair_type_info pair_table[PAIR_NTYPES] = {
     {"fixed", 6, "", {0}, {"tau_x", "tau_y", "tau_z", "f_x", "f_y", "f_z"}, 1, 0,
-     "Fixed (welded) pair: 6 constraints, relative pose = identity (or the driven motion)."},
+     "Fixed (welded) pair: 6 constraints, relative pose = identity (or the driven motion).",
+     0, 0},
     {"revolute", 5, "axis=z", {"rad"}, {"tau_x", "tau_y", "f_x", "f_y", "f_z"}, 0, 1,
-     "Revolute pair about ``axis`` (of both pair frames); x = angle [rad], multi-turn."},
+     "Revolute pair about ``axis`` (of both pair frames); x = angle [rad], multi-turn.",
+     1, 1},
     {"prismatic", 5, "axis=z", {"m"}, {"tau_x", "tau_y", "tau_z", "f_x", "f_y"}, 0, 1,
-     "Prismatic pair along ``axis``; x = displacement [m]."},
+     "Prismatic pair along ``axis``; x = displacement [m].",
+     1, 1},
     {"helical", 5, "axis=z,pitch=0", {"rad"}, {"tau_x", "tau_y", "f_x", "f_y", "f_z-pitch*tau_z"}, 0, 1,
-     "Helical (screw) pair about ``axis``: translation = ``pitch`` [m/rad] x angle; x = angle."},
+     "Helical (screw) pair about ``axis``: translation = ``pitch`` [m/rad] x angle; x = angle.",
+     1, 1},
     {"cylindrical", 4, "axis=z", {"rad", "m"}, {"tau_x", "tau_y", "f_x", "f_y"}, 0, 3,
-     "Cylindrical pair along ``axis``; x = (angle [rad], displacement [m])."},
+     "Cylindrical pair along ``axis``; x = (angle [rad], displacement [m]).",
+     3, 3},
     {"universal", 4, "axis1=x,axis2=y", {"rad", "rad"}, {"tau_n", "f_x", "f_y", "f_z"}, 0, 3,
      "Universal (Cardan) pair: first axis ``axis1`` fixed in F_a, second ``axis2`` fixed in F_b "
      "(perpendicular when both frames coincide); x = (angle about axis1, angle about axis2) [rad], "
-     "h = Rx(x0) Ry(x1) in the pair frames (x = axis1, y = axis2; tau_n = axis1 x axis2)."},
+     "h = Rx(x0) Ry(x1) in the pair frames (x = axis1, y = axis2; tau_n = axis1 x axis2).",
+     1, 2},
     {"spherical", 3, "", {"rad", "rad", "rad"}, {"f_x", "f_y", "f_z"}, 0, 0,
      "Spherical (ball) pair; x = rotation vector of F_b in F_a [rad], xdot = angular velocity "
-     "(in F_b) -- a quasi-velocity, not dx/dt."},
+     "(in F_b) -- a quasi-velocity, not dx/dt.",
+     0, 7},
     {"planar", 3, "normal=z", {"rad", "m", "m"}, {"tau_x", "tau_y", "f_z"}, 0, 7,
      "Planar pair with plane ``normal``; x = (angle [rad], p_x, p_y [m]) with p the position of "
-     "F_b's origin in F_a (x, y of the frame whose z is the normal)."},
+     "F_b's origin in F_a (x, y of the frame whose z is the normal).",
+     7, 1},
     {"free", 0, "", {"rad", "rad", "rad", "m", "m", "m"}, {0}, 0, 0x38,
      "Free pair (no constraint): x = (rotation vector, position of F_b in F_a); xdot = (angular "
-     "velocity in F_b, dp/dt in F_a). Useful to measure or actuate a relative motion."},
+     "velocity in F_b, dp/dt in F_a). Useful to measure or actuate a relative motion.",
+     0x38, 7},
 };
 
 int phm_pair_type_count(void) { return PAIR_NTYPES; }

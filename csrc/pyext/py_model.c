@@ -910,6 +910,79 @@ static PyObject *py_model_static(PyObject *self, PyObject *args) {
   return res;
 }
 
+/* model_static_free(model, poses=None, time=0, nmax=8) -> [dict(pair, coord, carrier, twist (6,),
+ * force, gravity, effort, mass, moving (nc,) bool, load_work (nloads,)), ...]: the motions that
+ * nothing resists and on which the loads do work (phm_static_free); [] when none is found. */
+static PyObject *py_model_static_free(PyObject *self, PyObject *args) {
+  (void)self;
+  PyObject *cap, *po = Py_None;
+  double time = 0;
+  int nmax = 8;
+  if (!PyArg_ParseTuple(args, "O|Odi", &cap, &po, &time, &nmax)) return NULL;
+  phm_model *m = get_model(cap);
+  if (!m) return NULL;
+  if (nmax < 1 || nmax > 1000) {
+    PyErr_SetString(phm_py_ModelError, "model_static_free: nmax must be in [1, 1000]");
+    return NULL;
+  }
+  int nc = phm_model_ncarriers(m), nl = phm_model_nloads(m);
+  PyArrayObject *P = NULL;
+  if (po != Py_None) {
+    npy_intp tail[3] = {nc, 4, 4};
+    if (!(P = phm_py_double_array(po, "poses", tail, 3, 0))) return NULL;
+  }
+  phm_free_motion *fm = PyMem_Calloc((size_t)nmax, sizeof *fm);
+  unsigned char *mv = PyMem_Calloc((size_t)nmax * (size_t)nc + 1, 1);
+  double *lw = PyMem_Calloc((size_t)nmax * (size_t)nl + 1, sizeof(double));
+  PyObject *res = NULL;
+  if (!fm || !mv || !lw) {
+    PyErr_NoMemory();
+    goto done;
+  }
+  int n = 0;
+  phm_error err;
+  phm_status st;
+  Py_BEGIN_ALLOW_THREADS
+  st = phm_static_free(m, P ? PyArray_DATA(P) : NULL, time, nmax, fm, mv, lw, &n, &err);
+  Py_END_ALLOW_THREADS
+  if (model_law_error(cap)) goto done;
+  if (st) {
+    phm_py_raise(&err);
+    goto done;
+  }
+  if (!(res = PyList_New(n))) goto done;
+  for (int k = 0; k < n; k++) {
+    npy_intp d6[1] = {6}, dn[1] = {nc}, dl[1] = {nl};
+    PyArrayObject *tw = (PyArrayObject *)PyArray_SimpleNew(1, d6, NPY_DOUBLE);
+    PyArrayObject *mo = (PyArrayObject *)PyArray_SimpleNew(1, dn, NPY_BOOL);
+    PyArrayObject *lo = (PyArrayObject *)PyArray_SimpleNew(1, dl, NPY_DOUBLE);
+    PyObject *d = NULL;
+    if (tw && mo && lo) {
+      memcpy(PyArray_DATA(tw), fm[k].twist, sizeof fm[k].twist);
+      for (int c = 0; c < nc; c++) ((npy_bool *)PyArray_DATA(mo))[c] = mv[(size_t)k * nc + c] != 0;
+      if (nl) memcpy(PyArray_DATA(lo), lw + (size_t)k * nl, sizeof(double) * (size_t)nl);
+      d = Py_BuildValue("{s:i,s:i,s:i,s:O,s:d,s:d,s:d,s:d,s:O,s:O}", "pair", fm[k].pair, "coord",
+                        fm[k].coord, "carrier", fm[k].carrier, "twist", tw, "force", fm[k].force,
+                        "gravity", fm[k].gravity, "effort", fm[k].effort, "mass", fm[k].mass,
+                        "moving", mo, "load_work", lo);
+    }
+    Py_XDECREF(tw);
+    Py_XDECREF(mo);
+    Py_XDECREF(lo);
+    if (!d) {
+      Py_CLEAR(res);
+      goto done;
+    }
+    PyList_SET_ITEM(res, k, d);
+  }
+done:
+  PyMem_Free(fm);
+  PyMem_Free(mv);
+  PyMem_Free(lw);
+  Py_XDECREF(P);
+  return res;
+}
+
 /* model_set_initial(model, H0 (nc, 4, 4), t0 (nc, 6), x0 (npairs, 6), drop (npairs,)): the
  * initial state the loop closure found, set on the model it was found with (phm_model_set_initial;
  * the model is not rebuilt). */
@@ -1435,5 +1508,9 @@ PyMethodDef phm_py_model_methods[] = {
      "model_static(model, poses=None, time=0, steps=1, tol=1e-10, monitor=None) -> (poses, lambda, "
      "iterations); monitor(load factor, iterations, load step) after each load step, truthy to stop; "
      "steps=0: the full load at once from poses (no unloaded start)."},
+    {"model_static_free", py_model_static_free, METH_VARARGS,
+     "model_static_free(model, poses=None, time=0, nmax=8) -> list of dicts (pair, coord, carrier, "
+     "twist, force, gravity, effort, mass, moving, load_work): motions nothing resists on which the "
+     "loads do work (phm_static_free): each proves there is no static equilibrium."},
     {"model_sizes", py_model_sizes, METH_O, "model_sizes(model) -> (ncarriers, nconstraints, njoints, nports, [(row, m, joint, k) per pair])."},
     {NULL, NULL, 0, NULL}};

@@ -1,9 +1,11 @@
 /* statics.c -- static equilibrium: Newton on [df/ddelta G^T; G 0] with sparse LU (KLU), steps
  * retracted along the element chains, the factorization reused while it contracts, and load
- * stepping (halved on failure, grown back after fast convergence). */
+ * stepping (halved on failure, grown back after fast convergence); at Newton's first failure, the
+ * search for loads doing work on a motion nothing resists (static_free.c), which ends the solve. */
 #include "solve.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -131,8 +133,44 @@ static void back_to_saved(const static_work_t *w, int nc, int nk, double *H, dou
   if (nk) memcpy(lam, w->lsave, sizeof(double) * (size_t)nk);
 }
 
+/* A tangent KLU finds exactly singular: some motion has no stiffness at all (a free body, a
+ * revolute without a load or spring: their blocks of df/ddelta are structurally zero). Where the
+ * loads have no part along such a motion the state may still be an equilibrium, one of many:
+ * solve instead with [df/ddelta - mu M, G^T; G, 0] (mu M: ptc's inertia term M/dtau with a
+ * pseudo time step dtau = 1/mu), mu = 1e-12 tr|K| / tr M (1 /s^2 without stiffness), far below
+ * the stiffness of any resisted motion, so that the step is Newton's there and M^-1 r / mu along
+ * the free motions. Returns 1 (x: that step) when the step is below tol -- the residual along
+ * the free motions is then below about mu m tol, and the state an equilibrium --, else 0, and the
+ * caller fails as it did before this fallback: it only turns failures into convergence where the
+ * state is already an equilibrium (tests/test_statics.py: a body held by nothing, a revolute
+ * and a free link without load). L->Kb is overwritten. */
+static int singular_converged(lin_t *L, lin_kkt_t *S, const double *Gp, const double *R,
+                              double *x, double tol) {
+  const phm_model *m = L->m;
+  int nc = m->nc, N = 6 * nc + m->ncons;
+  const int *ptr = L->ptr, *nbr = L->nbr;
+  double trK = 0, trM = 0;
+  for (int r = 0; r < nc; r++)
+    for (int q = ptr[r]; q < ptr[r + 1]; q++)
+      if (nbr[q] == r)
+        for (int i = 0; i < 6; i++) {
+          trK += fabs(L->Kb[36 * (size_t)q + 7 * i]);
+          trM += m->car[r].M[7 * i];
+        }
+  if (!(trM > 0)) return 0;
+  double mu = trK > 0 ? 1e-12 * trK / trM : 1.0;
+  for (int r = 0; r < nc; r++)
+    for (int q = ptr[r]; q < ptr[r + 1]; q++)
+      if (nbr[q] == r)
+        for (int i = 0; i < 36; i++) L->Kb[36 * (size_t)q + i] -= mu * m->car[r].M[i];
+  for (int i = 0; i < N; i++) x[i] = -R[i];
+  if (lin_kkt_factor(S, L->Kb, Gp) || lin_kkt_solve(S, x)) return 0;
+  return step_size(m, x, NULL) < tol;
+}
+
 /* Newton from (H, lam) at the load scale L->scale; 0 on convergence (H, lam updated, and *have
- * set: S holds a factorization made in this solve), 1 on failure (H, lam restored, *have 0). With
+ * set when S holds a tangent's factorization made in this solve: not after singular_converged),
+ * 1 on failure (H, lam restored, *have 0). With
  * *have on entry, the tangent predictor first: S's factorization (of the last load's solve) on
  * this load's residual, one step (for a load increment dF that is K^-1 dF). Then corrections at
  * each iterate: a new tangent [K G^T; G 0] (in closed form, csrc/solve/linearize.c) factored by
@@ -213,7 +251,12 @@ static int newton_steps(lin_t *L, lin_kkt_t *S, double *H, double *lam, double t
       lin_force_jacobian_blocks(L, H);
       if (nk) lin_constraint_blocks(L, H, w->Gp);
       for (int i = 0; i < N; i++) x[i] = -R[i];
-      if (lin_kkt_factor(S, L->Kb, w->Gp) || lin_kkt_solve(S, x)) break;
+      if (lin_kkt_factor(S, L->Kb, w->Gp)) {
+        if (!singular_converged(L, S, w->Gp, R, x, tol)) break;
+        take_step(m, w, H, lam, x, 1.0); /* S holds no tangent now: no predictor from it */
+        return 0;
+      }
+      if (lin_kkt_solve(S, x)) break;
       sn = step_size(m, x, &rot);
       if (!isfinite(sn)) break; /* diverging: let the caller cut the load step */
       age = 0;
@@ -317,6 +360,38 @@ static int ptc(lin_t *L, lin_kkt_t *S, double *H, double *lam, double tol, int m
   return 1;
 }
 
+/* PHM_ESOLVER with a message when the loads do work on a motion nothing resists at poses H
+ * (phm_static_free, csrc/solve/static_free.c: then no equilibrium exists, and step halving and
+ * pseudo-transient continuation would only fail slowly), else PHM_OK (or PHM_ENOMEM). Called at
+ * Newton's first failure: a solve that converges never pays for it, and one that fails would
+ * fail anyway -- the motions are proved free from the structure, not guessed from a singular
+ * tangent, which a pendulum started horizontal also has. */
+static phm_status no_equilibrium(const phm_model *m, const double *H, double time, phm_error *err) {
+  phm_free_motion fm[4];
+  int n = 0;
+  phm_status st = phm_static_free(m, H, time, 4, fm, NULL, NULL, &n, err);
+  if (st || n == 0) return st;
+  const phm_free_motion *f = &fm[0];
+  int rot = f->twist[0] != 0 || f->twist[1] != 0 || f->twist[2] != 0;
+  const char *unit = rot ? "N m" : "N";
+  char what[160];
+  if (f->pair >= 0) {
+    const phm_pair_type_info *ti = phm_pair_type(m->pair[f->pair].type);
+    unit = ti && ti->units[f->coord] && strcmp(ti->units[f->coord], "m") == 0 ? "N" : "N m";
+    snprintf(what, sizeof what, "pair %d (%s), joint coordinate %d, moves the side of carrier %d "
+             "freely", f->pair, ti ? ti->name : "?", f->coord, f->carrier);
+  } else
+    snprintf(what, sizeof what, "carrier %d and what is linked to it, held by nothing, %s freely",
+             f->carrier, rot ? "turn" : "move");
+  return PHM_FAIL(err, PHM_ESOLVER, "no static equilibrium: the loads do work on a "
+                  "motion nothing resists: %s under a generalized force of %.6g %s (actuator "
+                  "effort %.6g, gravity %.6g, applied wrenches %.6g)%s. Hold it (%s) or "
+                  "simulate() instead", what, f->force, unit, f->effort, f->gravity,
+                  f->force - f->effort - f->gravity, n > 1 ? "; and other such motions" : "",
+                  f->pair >= 0 ? "a spring or a PD actuator on the pair, a driven coordinate, a "
+                  "Fixed pair" : "a pair or a spring to the ground");
+}
+
 phm_status phm_static(const phm_model *m, const double *poses, double time, int steps, double tol,
                       double *poses_out, double *lambda_out, int *iters, phm_error *err) {
   return phm_static_monitored(m, poses, time, steps, tol, NULL, NULL, poses_out, lambda_out, iters,
@@ -364,11 +439,13 @@ phm_status phm_static_monitored(const phm_model *m, const double *poses, double 
      * stepping, an unloaded state would be found first, and one full load step from there can
      * land on another branch than the start's, as from the post-buckled elastica's) */
     L.scale = 1.0;
-    if (newton(&L, &S, poses_out, lam, tol, 50, &w, &it, &have) &&
-        ptc(&L, &S, poses_out, lam, tol, 500, &w, &it)) {
-      st = PHM_FAIL(err, PHM_ESOLVER, "static equilibrium: Newton at the full load from the "
-                    "start failed, and pseudo-transient continuation too (%d iterations)", it);
-      goto done;
+    if (newton(&L, &S, poses_out, lam, tol, 50, &w, &it, &have)) {
+      if ((st = no_equilibrium(m, poses_out, time, err))) goto done;
+      if (ptc(&L, &S, poses_out, lam, tol, 500, &w, &it)) {
+        st = PHM_FAIL(err, PHM_ESOLVER, "static equilibrium: Newton at the full load from the "
+                      "start failed, and pseudo-transient continuation too (%d iterations)", it);
+        goto done;
+      }
     }
     s = 1.0;
   } else {
@@ -383,11 +460,13 @@ phm_status phm_static_monitored(const phm_model *m, const double *poses, double 
    * H exp(delta)) and doubled after one that took at most 4, up to 1/steps: `steps` bounds the
    * increment (a larger one can pass a bifurcation unseen) */
   double ds = steps ? 1.0 / steps : 1.0;
+  int failed = 0; /* Newton has failed in this solve: no_equilibrium has been asked */
   while (s < 1.0) {
     double snew = s + ds > 1.0 - 1e-12 ? 1.0 : s + ds; /* ten steps of 0.1 add up to 1 - 1e-16 */
     L.scale = snew;
     int it0 = it;
     if (newton(&L, &S, poses_out, lam, tol, 12, &w, &it, &have)) {
+      if (!failed++ && (st = no_equilibrium(m, poses_out, time, err))) goto done;
       ds *= 0.5;
       if (ds < 1e-4 / steps) {
         /* Newton cannot take even a tiny load step: its tangent is singular or misleading here

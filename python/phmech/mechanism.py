@@ -38,8 +38,8 @@ from .laws import (Constant, Cycloidal, Function, Linear, Motion, PiecewisePolyn
                    Pulse, Sine, Spline, Step, Sum, Table, _Law, checked_law, law_from_data)
 from .pairs import (Cylindrical, Fixed, Free, Helical, Planar, Prismatic, Revolute, Spherical,
                     Universal, _Pair)
-from .results import (ENERGY_NAMES, InitialAdjustment, InitialConfiguration, ModesResult, Momentum,
-                      SimulationResult, StabilityWarning, StaticResult)
+from .results import (ENERGY_NAMES, FreeMotion, InitialAdjustment, InitialConfiguration, ModesResult,
+                      Momentum, SimulationResult, StabilityWarning, StaticResult)
 from .section import BeamProperties
 from ._run import AccuracyWarning
 from .topology import InitialValueWarning, RedundantConstraintWarning
@@ -60,7 +60,7 @@ __all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "rotation", "Fixed", "R
            "Spline", "PiecewisePolynomial", "Sum", "Product", "Function", "law_from_data",
            "SimulationResult", "ModesResult", "StaticResult", "Graphs", "RedundantConstraintWarning",
            "InitialValueWarning", "InitialAdjustment", "InitialConfiguration", "Momentum",
-           "StabilityWarning", "AccuracyWarning", "EquilibriumWarning"]
+           "StabilityWarning", "AccuracyWarning", "EquilibriumWarning", "FreeMotion"]
 
 
 class EquilibriumWarning(UserWarning):
@@ -1489,7 +1489,15 @@ class Mechanism:
         None.
 
         ``progress``: a progress bar (tqdm, on stderr or in Jupyter) over the load factor, with
-        the Newton iterations so far. Ctrl-C stops the solve (KeyboardInterrupt)."""
+        the Newton iterations so far. Ctrl-C stops the solve (KeyboardInterrupt).
+
+        A failure raises SolverError with the last converged state in its ``result``. When the
+        loads do work on a motion that nothing resists (a revolute turned by a constant torque, a
+        slider pushed along its guide, a body held by nothing under gravity) no equilibrium
+        exists: the solve stops at Newton's first failure and the message names the pair or
+        part, what moves and the generalized force; the error's ``free_motions`` lists them
+        (FreeMotion; docs/method.md section 7.3, "No equilibrium"). A motion nothing resists on
+        which the loads do no work leaves the equilibrium not unique: one is returned."""
         extra = []
         if not isinstance(loads, (list, tuple)):
             raise ModelError(f"static loads: expected a list of (target, wrench, frame) tuples "
@@ -1524,7 +1532,9 @@ class Mechanism:
                 P, lam, it, reached = e.partial
                 e.result = StaticResult(P, lam, it, self._links, tuple(extra), steps=n_steps,
                                         load_factor=reached)
-                e.args = (f"{e.args[0]} (the last converged state, at load factor {reached:.6g}, "
+                e.free_motions = self._free_motions(model, P, time, extra)
+                msg = self._no_equilibrium(e.free_motions) if e.free_motions else e.args[0]
+                e.args = (f"{msg} (the last converged state, at load factor {reached:.6g}, "
                           f"is in this error's 'result' attribute)",)
                 raise
             finally:
@@ -1550,11 +1560,87 @@ class Mechanism:
                           f"by simulating with damping", StabilityWarning, stacklevel=2)
         return st
 
+    def _free_motions(self, model, P, time: float, extra: Sequence[dict]) -> list:
+        """The motions nothing resists on which the loads do work at poses P
+        (_core.model_static_free, csrc/solve/static_free.c), as FreeMotion rows named from the
+        description; [] when none is found."""
+        try:
+            raw = _core.model_static_free(model, P, time)
+        except (SolverError, ModelError):
+            return []
+        return [self._free_motion(r, extra) for r in raw]
+
+    def _free_motion(self, r: dict, extra: Sequence[dict]) -> FreeMotion:
+        """One row of _core.model_static_free as a FreeMotion, its sentence included."""
+        def axis(u):
+            u = u / np.linalg.norm(u)
+            for k, nm in enumerate("xyz"):
+                if abs(u[k]) > 1 - 1e-9:
+                    return nm if u[k] > 0 else "-" + nm
+            return "(" + ", ".join(f"{a:.3g}" for a in u) + ")"
+        moving = []
+        for c in np.flatnonzero(r["moving"]):
+            body = next((b.name for b in self._bodies.values() if b.carrier == c), None)
+            link = next((lk.name for lk in self._links.values()
+                         if c in lk.nodes or c in lk.sliders), None)
+            nm = f"body {body!r}" if body else f"link {link!r}" if link else f"carrier {c}"
+            if nm not in moving:
+                moving.append(nm)
+        om, v = r["twist"][:3], r["twist"][3:]
+        rot = bool(np.any(om != 0))
+        ip, j = r["pair"], r["coord"]
+        if ip >= 0:
+            e = self._pairs[ip]
+            unit = "N" if e["pair"]._type.units[j] == "m" else "N m"
+        else:
+            unit = "N m" if rot else "N"
+        sources = {}
+        if r["effort"] != 0:
+            acts = [a["name"] for a in self._acts if a["pair"] == ip]
+            sources["effort of actuator " + " and ".join(map(repr, acts))] = float(r["effort"])
+        if r["gravity"] != 0:
+            sources[f"gravity on {r['mass']:.4g} kg"] = float(r["gravity"])
+        names = [ld["name"] for ld in self._loads] + [f"static load {i}" for i in range(len(extra))]
+        for nm, wk in zip(names, r["load_work"]):
+            if wk != 0:   # a distributed load's nodes ("q[3]") as one
+                key = "wrench " + repr(nm.split("[")[0] if nm.endswith("]") else nm)
+                sources[key] = sources.get(key, 0.0) + float(wk)
+        parts = ", ".join(f"{k}: {w:.4g} {unit}" for k, w in sources.items())
+        F = r["force"]
+        if ip >= 0:
+            kind = type(e["pair"]).__name__.lower()
+            where = f"about {axis(om)}" if rot else f"along {axis(v)}"
+            coord = f", coordinate {j} {where}" if e["k"] > 1 else f" {where}"
+            text = (f"pair {e['name']!r} ({kind}{coord}) {'turns' if rot else 'slides'} freely "
+                    f"under {F:.4g} {unit} ({parts}), carrying {', '.join(moving)}")
+        else:
+            them = "it" if len(moving) == 1 else "them"
+            push = f"turn {them} about {axis(om)}" if rot else f"push {them} along {axis(v)}"
+            text = (f"{', '.join(moving)} {'is' if len(moving) == 1 else 'are'} held by nothing "
+                    f"(no pair, element, spring or interaction links {them} to the ground) and the "
+                    f"loads {push} with {F:.4g} {unit} ({parts})")
+        return FreeMotion(e["name"] if ip >= 0 else None, j if ip >= 0 else None, float(F), unit,
+                          sources, np.array(r["twist"]), tuple(moving), text)
+
+    @staticmethod
+    def _no_equilibrium(motions: Sequence[FreeMotion]) -> str:
+        """The SolverError message of a static solve under loads that do work on motions nothing
+        resists (Mechanism._free_motions)."""
+        hold = []
+        if any(f.pair is not None for f in motions):
+            hold.append("a spring or a PD actuator on the pair, a driven coordinate, a Fixed pair")
+        if any(f.pair is None for f in motions):
+            hold.append("a pair or a spring to the ground")
+        return ("no static equilibrium: the loads do work on a motion nothing resists: " +
+                "; ".join(f.text for f in motions) + f". Hold it ({'; '.join(hold)}) or simulate() "
+                "instead")
+
     def _lowest_omega(self, model, P, lam, time: float) -> float:
         """The lowest linearized frequency [rad/s] at poses P and multipliers lam, negative for a
         negative eigenvalue of the tangent stiffness; a value below round-off of the next mode's
-        (|omega_1|^2 < 1e-8 omega_2^2) counts as zero (a neutral mode); inf when nothing can
-        move (no degree of freedom: csrc/solve/modes.c refuses to count modes)."""
+        (|omega_1|^2 < 1e-8 omega_2^2) counts as zero (a neutral mode), and so do negative values
+        below round-off of a higher mode (up to the 24th), or all below 1e-6 rad/s; inf when
+        nothing can move (no degree of freedom: csrc/solve/modes.c refuses to count modes)."""
         try:
             om = _core.model_modes(model, min(2, 6 * len(self._car)), P, lam, time)[0]
         except ModelError as e:
@@ -1563,5 +1649,16 @@ class Mechanism:
             raise
         if len(om) > 1 and om[0] < 0 and om[0] ** 2 < 1e-8 * om[1] ** 2:
             return 0.0
+        if om[0] < 0:
+            # several round-off zeros: the motions nothing resists of an equilibrium that is not
+            # unique (a free body or link, a revolute without load: 6, 6 and 1 of them, measured
+            # at -1e-8 .. -4e-3 rad/s). Zeros when a mode above them is 1e4 times higher (modes
+            # come in ascending omega^2: none below them), or when all are below 1e-6 rad/s
+            # (nothing to compare with; a time constant of 12 days)
+            om = _core.model_modes(model, min(24, 6 * len(self._car)), P, lam, time)[0]
+            if any(om[k] ** 2 > 1e8 * np.max(om[:k] ** 2) for k in range(1, len(om))):
+                return 0.0
+            if np.max(np.abs(om)) < 1e-6:
+                return 0.0
         return float(om[0])
 

@@ -21,7 +21,7 @@ from .frames import Body, FlexibleLink, Frame, carrier_name, frame_of, link_of
 _FIELD_GAUSS = tuple(a / 2 + b for a, b in zip(np.polynomial.legendre.leggauss(6), (0.5, 0.0)))
 
 __all__ = ["SimulationResult", "ModesResult", "StaticResult", "Momentum", "InitialAdjustment",
-           "InitialConfiguration", "StabilityWarning"]
+           "InitialConfiguration", "StabilityWarning", "FreeMotion"]
 
 #: the energies of SimulationResult.energy, in the order the core writes them
 ENERGY_NAMES = ("kinetic", "elastic", "gravity", "dissipated", "supplied", "total", "ledger")
@@ -433,6 +433,29 @@ class ModesResult:
 class StabilityWarning(UserWarning):
     """A static equilibrium is unstable (its tangent stiffness has a negative eigenvalue), or a
     linearization cannot judge stability (follower loads)."""
+
+
+@dataclasses.dataclass(frozen=True)
+class FreeMotion:
+    """A motion that nothing resists and on which the loads do work at the same rate in every
+    configuration, so that no static equilibrium exists: ``Mechanism.static`` raises SolverError
+    with a list of them in its ``free_motions`` attribute (csrc/solve/static_free.c).
+
+    ``pair``: the pair whose joint ``coordinate`` moves the part on its side away from the
+    ground, or None for a part that nothing links to the ground (moving rigidly). ``force``: the
+    generalized force of the loads along it, per unit of the motion (``unit``: "N m" per rad,
+    "N" per m), at load factor 1; ``sources``: its parts, by what applies them (actuators,
+    gravity, wrenches). ``twist``: the motion per unit, a world twist (omega, v) at the state of
+    the error's ``result``. ``moving``: the bodies and links that move. ``text``: the sentence
+    of the error message."""
+    pair: Optional[str]
+    coordinate: Optional[int]
+    force: float
+    unit: str
+    sources: dict
+    twist: np.ndarray
+    moving: tuple
+    text: str
 
 
 @dataclasses.dataclass
