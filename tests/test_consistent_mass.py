@@ -61,6 +61,7 @@ def kicked_beam(mass):
     return m, beam
 
 
+@pytest.mark.filterwarnings("ignore::phmech.UnattachedWarning")   # free on purpose
 def test_a_free_beam_takes_the_impulse_and_conserves_momentum_and_energy():
     """IDA at rtol 1e-9 over the kick and 4 ms after: the linear momentum (with the couplings'
     share, SimulationResult.momentum) equals the impulse F T and then stays, the angular one
@@ -81,6 +82,7 @@ def test_a_free_beam_takes_the_impulse_and_conserves_momentum_and_energy():
     r._couplings = lumped_share
 
 
+@pytest.mark.filterwarnings("ignore::phmech.UnattachedWarning")   # free on purpose
 def test_with_the_default_integrator_momentum_is_conserved():
     """The defaults over 1 s (measured: P drift 8.7e-6, L about the origin 3.9e-6)."""
     m, beam = kicked_beam("consistent")
@@ -117,6 +119,7 @@ def test_save_and_load_keep_the_mass_model(tmp_path):
     np.testing.assert_array_equal(m.modes(3).omega, m2.modes(3).omega)
 
 
+@pytest.mark.filterwarnings("ignore::phmech.UnattachedWarning")   # free on purpose
 def test_a_result_file_keeps_the_couplings_for_momentum(tmp_path):
     m, beam = kicked_beam("consistent")
     r = m.simulate(0.004, 1e-3)

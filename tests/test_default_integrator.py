@@ -153,6 +153,7 @@ def test_progress_line_has_elapsed_eta_and_steps_per_second(capsys):
     assert re.search(r"\[\d\d:\d\d<\d\d:\d\d, \d+ steps, [0-9.e+]+/s", err)
 
 
+@pytest.mark.filterwarnings("ignore::phmech.UnattachedWarning")   # free on purpose
 def test_free_flying_beam_conserves_momentum_with_the_defaults():
     """No pair, no load: linear and angular momentum (about the world origin,
     SimulationResult.momentum) are conserved; the default run keeps them to 5.8e-7 and 1.8e-6 of

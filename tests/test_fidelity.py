@@ -106,6 +106,7 @@ def test_straight_rigid_link_mass_properties():
     ref = ph.Mechanism()
     b = ref.add_rigid_body("b", rhoA * L, J, com=(L / 2, 0, 0))
     np.testing.assert_allclose(Mb, ref._car[b.carrier]["M"], rtol=1e-13, atol=1e-16)
+    m.add_pair("float", ph.Free(), m.ground, lk.start)   # the rod flies freely, and says so
     res = m.simulate(0.01, 0.01)
     assert res.mass(lk) == pytest.approx(rhoA * L, rel=1e-14)
 
@@ -244,5 +245,6 @@ def test_fidelity_bad_input():
         m.add_pair("p", ph.Revolute(), lk.start, lk.end)
     with pytest.raises(ph.ModelError, match="same carrier, rigid link 'a'"):
         m.add_spring_damper("s", lk.start, lk.node(2), 10.0)
+    m.add_pair("float", ph.Free(), m.ground, lk.start)   # the link flies freely, and says so
     with pytest.raises(ph.ModelError, match="rigid .*no stress resultants"):
         m.stress_resultants(m.simulate(0.01, 0.01), "a")

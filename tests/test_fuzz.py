@@ -11,7 +11,8 @@ computes modes or statics. The property, for every call:
   failed ``add_*`` call leaves the mechanism as it was;
 - no other exception (no raw TypeError / IndexError / AttributeError / numpy error from the
   internals), no warning but phmech's own (CostWarning, RedundantConstraintWarning,
-  InitialValueWarning: a numpy RuntimeWarning would be an overflow passed on silently), no
+  InitialValueWarning, UnattachedWarning, ...: a numpy RuntimeWarning would be an overflow
+  passed on silently), no
   crash, no hang (every example runs under a time limit; a hung C loop ends the process with a
   traceback).
 
@@ -37,7 +38,8 @@ from phmech import se3
 
 DOCUMENTED = (ph.ModelError, ph.SolverError)
 DOCUMENTED_WARNINGS = (ph.CostWarning, ph.RedundantConstraintWarning, ph.InitialValueWarning,
-                       ph.StabilityWarning, ph.AccuracyWarning, ph.EquilibriumWarning)
+                       ph.StabilityWarning, ph.AccuracyWarning, ph.EquilibriumWarning,
+                       ph.UnattachedWarning)
 
 SCALE = float(os.environ.get("PHMECH_FUZZ_SCALE", "1"))
 #: seconds one example may take (a sanitizer build is several times slower: PHMECH_FUZZ_LIMIT)

@@ -116,7 +116,8 @@ def test_the_description_columns_are_shared_read_only_and_dropped_on_a_change():
         first["carriers"]["mass"][0] = 2.0
     del first["pairs"]["type"]
     assert "type" in _marshal.components(*args)["pairs"]
-    m.add_rigid_body("c", 2.0, np.eye(3))
+    c = m.add_rigid_body("c", 2.0, np.eye(3))
+    m.add_pair("float", ph.Free(), m.ground, c)   # c flies freely, and says so
     state, _ = m._initial_state()
     third = _marshal.components(m._desc, state.poses, state.twists, state.x0, state.drop_masks,
                                 state.frames_a)

@@ -26,10 +26,13 @@ def cantilever_error(N: int, mass: str = "consistent") -> float:
 
 
 def held(N: int, support: str, mass: str = "consistent") -> ph.Mechanism:
-    """The Table I link with ``N`` elements held as ``support``."""
+    """The Table I link with ``N`` elements held as ``support`` (free-free: by a Free pair, which
+    holds nothing and says so; its modes are those of the unattached link, bit for bit)."""
     m = ph.Mechanism()
     link = m.add_flexible_link("beam", 1.0, ph.table1_properties(), elements=N, mass=mass)
-    if support != "free-free":
+    if support == "free-free":
+        m.add_pair("start", ph.Free(), m.ground, link.start)
+    else:
         m.add_pair("start", ph.Fixed(), m.ground, link.start)
     if support == "clamped-clamped":
         m.add_pair("end", ph.Fixed(), m.ground.frame_at((1.0, 0.0, 0.0)), link.end)

@@ -87,6 +87,7 @@ def kicked_modal_strip():
 KICK_F, KICK_T = np.array([3.0, 25.0, 10.0]), 2e-3
 
 
+@pytest.mark.filterwarnings("ignore::phmech.UnattachedWarning")   # free on purpose
 def test_a_free_modal_link_takes_an_impulse_and_conserves_momentum():
     """IDA at rtol 1e-10: after the kick the linear momentum (the coupling's share included) is
     the impulse and the angular momentum stays, to 1e-10 (measured 1.3e-11 and 3.3e-12; the
@@ -104,6 +105,7 @@ def test_a_free_modal_link_takes_an_impulse_and_conserves_momentum():
     assert errors(1e-9)[0] >= 3 * fine[0]                 # it falls with the tolerance
 
 
+@pytest.mark.filterwarnings("ignore::phmech.UnattachedWarning")   # free on purpose
 def test_a_free_modal_link_conserves_energy_as_the_step_shrinks():
     """Its energy balance is exact in the model: the ledger of the generalized-alpha without
     numerical dissipation (rho_inf = 1) over 6 ms falls with the fixed step, 5.6e-10, 1.7e-11,
@@ -220,8 +222,9 @@ def test_a_modal_links_centre_of_mass_is_the_links():
     for fid, mass in (("modal", "consistent"), ("modal", "lumped"), ("nonlinear", "lumped"),
                       ("nonlinear", "consistent"), ("rigid", "consistent")):
         m = ph.Mechanism()
-        m.add_flexible_link("c", 1.0, props, elements=8, fidelity=fid, curvature=(0, 0, 2.0),
-                            mass=mass)
+        lk = m.add_flexible_link("c", 1.0, props, elements=8, fidelity=fid, curvature=(0, 0, 2.0),
+                                 mass=mass)
+        m.add_pair("float", ph.Free(), m.ground, lk.start)   # it flies freely, and says so
         r = m.simulate(0.002, 1e-3)
         out[fid, mass] = (r.centre_of_mass()[0], r.mass())
     for mass in ("consistent", "lumped"):
@@ -243,6 +246,7 @@ def test_a_modal_link_without_modes_and_with_its_own_modes_in_the_band_warns():
     assert lk.mesh is None and lk.reduced_from > 1
 
 
+@pytest.mark.filterwarnings("ignore::phmech.UnattachedWarning")   # free on purpose
 def test_a_result_file_keeps_the_modal_link(tmp_path):
     m = kicked_modal_strip()
     r = m.simulate(0.004, 1e-3)
@@ -253,6 +257,7 @@ def test_a_result_file_keeps_the_modal_link(tmp_path):
     np.testing.assert_array_equal(back.momentum(lk).linear, r.momentum(lk).linear)
 
 
+@pytest.mark.filterwarnings("ignore::phmech.UnattachedWarning")   # free on purpose
 def test_a_modal_link_reduced_from_a_consistent_chain_conserves_momentum():
     strip = ph.BeamProperties.from_material(ph.Section.rectangle(0.02, 0.002),
                                             ph.Material(E=210e9, nu=0.3, density=7850.0))

@@ -63,6 +63,7 @@ def test_initial_configuration_is_found_once_and_one_model_is_built_per_analysis
         np.testing.assert_array_equal(m.initial_configuration().poses, first.poses)
         # any add_* changes the description: the initial configuration is found again
         m.add_rigid_body("extra", 1.0, np.eye(3))
+        m.add_pair("float", ph.Free(), m.ground, "extra")   # it flies freely, and says so
         m.modes(2)
         assert counted == {"initial_state": 2, "model_new": 6}
     assert sorted(m.redundant_constraints) == [("k3", "f_z"), ("k3", "tau_x"), ("k3", "tau_y")]

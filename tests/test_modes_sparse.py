@@ -61,7 +61,8 @@ def test_sparse_keeps_second_order_convergence_on_fine_meshes():
 def test_free_beam_rigid_modes_and_repeated_frequencies():
     props = ph.BeamProperties.from_material(ph.Section.rectangle(0.01, 0.01), ph.Material(210e9, 0.3, 7850))
     m = ph.Mechanism()
-    m.add_flexible_link("b", 0.5, props, elements=40)
+    b = m.add_flexible_link("b", 0.5, props, elements=40)
+    m.add_pair("float", ph.Free(), m.ground, b.start)   # free: a Free pair holds nothing
     od = modes(m, 12, DENSE)[0]
     os_ = modes(m, 12, SPARSE)[0]
     # six rigid-body modes (zero up to the finite-difference stiffness's noise), then bending
@@ -268,7 +269,8 @@ def _count_scenes(rng):
             yield f"column {N} P {P}", m._build(st.loads), st.poses, st.constraint_wrenches
     props = ph.BeamProperties.from_material(ph.Section.rectangle(0.01, 0.01), ph.Material(210e9, 0.3, 7850))
     m = ph.Mechanism()
-    m.add_flexible_link("b", 0.5, props, elements=40)
+    b = m.add_flexible_link("b", 0.5, props, elements=40)
+    m.add_pair("float", ph.Free(), m.ground, b.start)   # free: a Free pair holds nothing
     yield "free beam", m._build(), None, None
 
 

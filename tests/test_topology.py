@@ -72,9 +72,11 @@ def test_given_poses_that_violate_a_pair_are_refused():
 
 
 def test_unconnected_body_is_free_and_falls():
+    """Allowed, and said (tests/test_unattached.py): a body no pair joins to the ground falls."""
     m = ph.Mechanism(gravity=(0, 0, -9.81))
     body(m, "free", pose=se3.translation([0, 0, 1]))
-    r = m.simulate(0.5, 0.05, integrator="ida")
+    with pytest.warns(ph.UnattachedWarning, match=r"bodies/links \['free'\] are not connected"):
+        r = m.simulate(0.5, 0.05, integrator="ida")
     np.testing.assert_allclose(r.poses[-1, 0, 2, 3], 1 - 0.5 * 9.81 * 0.25, rtol=1e-6)
 
 

@@ -55,6 +55,11 @@ class ModelDescription:
     given: dict = dataclasses.field(default_factory=dict)
     #: carriers whose twist the user gave (add_rigid_body(twist=))
     twist_given: set = dataclasses.field(default_factory=set)
+    #: carrier -> the Frame that add_flexible_link(start=) (the link's start carrier) or
+    #: add_rigid_body(at=) placed it at: where a forgotten pair most likely belongs
+    #: (topology.free_groups). A hint for messages, not the model: a model file may rebuild
+    #: the frame under another name, so it is left out of the comparison save makes (io.py)
+    placed_at: dict = dataclasses.field(default_factory=dict, compare=False)
     #: the rows' columns for the core (phmech._marshal), made at the first analysis and kept
     #: until the next change (``changed``)
     columns: dict = dataclasses.field(default=None, compare=False, repr=False)

@@ -18,6 +18,7 @@ from __future__ import annotations
 import math
 import os
 import numbers
+import sys
 import warnings
 from typing import Callable, Optional, Sequence, Union
 
@@ -42,7 +43,7 @@ from .results import (ENERGY_NAMES, FreeMotion, InitialAdjustment, InitialConfig
                       Momentum, SimulationResult, StabilityWarning, StaticResult)
 from .section import BeamProperties
 from ._run import AccuracyWarning
-from .topology import InitialValueWarning, RedundantConstraintWarning
+from .topology import InitialValueWarning, RedundantConstraintWarning, UnattachedWarning
 
 _recorded = io.recorded   # a builder call a model file replays (phmech/io.py)
 
@@ -60,12 +61,25 @@ __all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "rotation", "Fixed", "R
            "Spline", "PiecewisePolynomial", "Sum", "Product", "Function", "law_from_data",
            "SimulationResult", "ModesResult", "StaticResult", "Graphs", "RedundantConstraintWarning",
            "InitialValueWarning", "InitialAdjustment", "InitialConfiguration", "Momentum",
-           "StabilityWarning", "AccuracyWarning", "EquilibriumWarning", "FreeMotion"]
+           "StabilityWarning", "AccuracyWarning", "EquilibriumWarning", "FreeMotion",
+           "UnattachedWarning"]
 
 
 class EquilibriumWarning(UserWarning):
     """Mechanism.modes was asked for modes at a configuration that is not a static equilibrium:
     the values are then eigenvalues of the tangent there, not vibration frequencies."""
+
+
+def _outside_stacklevel() -> int:
+    """The ``stacklevel`` that makes a warning issued by this function's caller point at the
+    first frame outside phmech: the user's line (simulate, modes, ...), however deep inside
+    phmech it was found. (Python 3.12's ``skip_file_prefixes`` does this; pyproject.toml
+    supports 3.10.)"""
+    here = os.path.dirname(__file__)
+    frame, level = sys._getframe(1), 1
+    while frame is not None and os.path.dirname(frame.f_code.co_filename) == here:
+        frame, level = frame.f_back, level + 1
+    return level
 
 
 def _frame_of(x, mech: "Mechanism", what: str) -> Frame:
@@ -113,12 +127,16 @@ class Mechanism:
         self._state: Optional[topology.InitialState] = None
         self._warned = None
         self._warned_initial = None
+        self._warned_unattached = None
         #: (pair name, constraint direction) rows found redundant at the initial configuration and
         #: left out of the DAE (set when the core model is built: simulate, modes, static, ...)
         self.redundant_constraints: list = []
         #: InitialAdjustment rows: how far the loop closure moved each given x0 coordinate and
         #: each given pose (set when the core model is built, like redundant_constraints)
         self.initial_adjustments: list = []
+        #: the groups of bodies and links (tuples of names) that no pair or spring-damper joins
+        #: to the ground: they fly freely (set when the core model is built; UnattachedWarning)
+        self.unattached: list = []
         #: the builder calls made so far, as a model file holds them (phmech.io: save, load)
         self._calls: list = []
         self._last_settings = None
@@ -284,6 +302,7 @@ class Mechanism:
             if not positive_definite(I):
                 raise ModelError("properties.inertia (per unit length) must be symmetric positive definite")
         given = self._given_pose(pose, start, "start", f"link {name!r}")
+        placed = None if start is None else frame_of(start, self._desc, f"link {name!r}: start")
         H = np.eye(4) if given is None else given
         kap = np.zeros(3) if curvature is None else \
             array("curvature", curvature, (3,), "3 finite numbers [1/m] or None")
@@ -319,7 +338,7 @@ class Mechanism:
                 raise ModelError(f"link {name!r}: the rigid link's spatial inertia (length {L:g} m, "
                                  f"these properties) is not finite and positive definite in "
                                  f"double precision")
-            c = self._start_link(name, eps)
+            c = self._start_link(name, eps, placed)
             self._car.append(dict(M=M, mass=mass, com=com, H0=H0[0], t0=np.zeros(6)))
             if given is not None:
                 self._given[c] = np.array(H0[0])
@@ -334,8 +353,8 @@ class Mechanism:
             band = self.band if band is None else band
             tol = self.frequency_tolerance if frequency_tolerance is None else frequency_tolerance
             return self._add_modal_link(name, L, properties, N, eps, I, H0, given, choice, mass,
-                                        modes, band, tol)
-        first = self._start_link(name, eps)
+                                        modes, band, tol, placed)
+        first = self._start_link(name, eps, placed)
         # every node's share of the section, with the section's centre of mass (off the axis
         # in an unsymmetric section): where gravity acts on it
         com = mass_centre(I, float(I[3, 3]))
@@ -354,16 +373,19 @@ class Mechanism:
         self._links[name] = link
         return link
 
-    def _start_link(self, name: str, eps: np.ndarray) -> int:
-        """Claim a link's name and record where its elements start and its unstressed strain;
-        returns the index its first carrier will have."""
+    def _start_link(self, name: str, eps: np.ndarray, placed: Optional[Frame]) -> int:
+        """Claim a link's name and record where its elements start, its unstressed strain and
+        the frame ``start=`` placed it at (``placed``, or None); returns the index its first
+        carrier will have."""
         self._new_name(name)
         self._desc.first_element[name] = len(self._el)
         self._desc.link_strain[name] = eps
+        if placed is not None:
+            self._desc.placed_at[len(self._car)] = placed
         return len(self._car)
 
     def _add_modal_link(self, name, L, properties, N, eps, I, H0, given, choice, mass, modes,
-                        band, tol) -> FlexibleLink:
+                        band, tol, placed) -> FlexibleLink:
         """add_flexible_link(fidelity="modal"): two carriers (start, end) and one se3 element
         carrying the link's statically reduced stiffness, damping and mass (phmech.fidelity), and
         a slider per fixed-interface mode kept (modal_sliders)."""
@@ -413,7 +435,7 @@ class Mechanism:
                           f"and with its ends (correlation {sl['damping_coupling']:.2g}); a modal "
                           f"link keeps only each mode's own damping (exact for a damping "
                           f"proportional to the stiffness)", AccuracyWarning, stacklevel=3)
-        first = self._start_link(name, eps)
+        first = self._start_link(name, eps, placed)
         # gravity's point masses: the chain's weights condensed onto the ends (phmech.fidelity;
         # also what centre_of_mass() reads); the start's gives the sliders theirs
         (m_a, c_a, _), (m_b, c_b, _) = red["gravity"]
@@ -482,6 +504,7 @@ class Mechanism:
         c = array("com", com, (3,), "3 finite numbers [m]")
         tw = np.zeros(6) if twist is None else array("twist", twist, (6,), "6 finite numbers (omega [rad/s], v [m/s]) or None")
         given = self._given_pose(pose, at, "at", f"body {name!r}")
+        placed = None if at is None else frame_of(at, self._desc, f"body {name!r}: at")
         H0 = np.eye(4) if given is None else given
         C = np.array([[0, -c[2], c[1]], [c[2], 0, -c[0]], [-c[1], c[0], 0]])
         M = np.zeros((6, 6))
@@ -501,6 +524,8 @@ class Mechanism:
             self._given[b.carrier] = np.array(self._car[b.carrier]["H0"])
         if twist is not None:
             self._desc.twist_given.add(b.carrier)
+        if placed is not None:
+            self._desc.placed_at[b.carrier] = placed
         self._bodies[name] = b
         return b
 
@@ -849,10 +874,12 @@ class Mechanism:
         return self._state, model
 
     def _report(self, state: topology.InitialState) -> None:
-        """Publish the redundant rows and the adjustments of ``state``; warn about them (once per
-        distinct message) or raise ModelError with ``strict``."""
+        """Publish the redundant rows, the adjustments and the free groups of ``state``; warn
+        about them (once per distinct message) or raise ModelError with ``strict`` (moves only:
+        a free body may be meant)."""
         self.redundant_constraints = list(state.redundant)
         self.initial_adjustments = list(state.adjustments)
+        self._warn_unattached(state.unattached)
         moved = [a for a in state.adjustments if a.exceeds]
         if moved:
             msg = ("initial configuration: closing the loops moved given initial values beyond "
@@ -870,6 +897,16 @@ class Mechanism:
             warnings.warn(f"hyperconstrained mechanism: {len(dropped)} redundant constraint "
                           f"directions left out of the DAE (pair, direction in F_b): {dropped}",
                           RedundantConstraintWarning, stacklevel=3)
+
+    def _warn_unattached(self, groups: list) -> None:
+        """Publish the free groups (topology.FreeGroup rows) in ``unattached`` and warn about
+        them (UnattachedWarning, pointing at the caller outside phmech), once per distinct set
+        of groups."""
+        self.unattached = [g.names for g in groups]
+        if self.unattached and self._warned_unattached != self.unattached:
+            self._warned_unattached = self.unattached
+            warnings.warn(topology.unattached_message(self._desc, groups), UnattachedWarning,
+                          stacklevel=_outside_stacklevel())
 
     def _initial(self) -> tuple:
         """Copies of the initial poses, twists, the pairs' x0 rows and drop masks."""

@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 
 import numpy as np
 
@@ -67,14 +68,16 @@ class MeshChoice:
 def _free_frequencies(length: float, properties, elements: int, band: float, curvature,
                       mass: str = "consistent") -> np.ndarray:
     """Elastic free-free frequencies [Hz] of the link alone up to just above ``band``."""
-    from .mechanism import Mechanism
+    from .mechanism import Mechanism, UnattachedWarning
     m = Mechanism()
     m.add_flexible_link("link", length, properties, elements=elements, curvature=curvature,
                         mass=mass)
     available = 6 * (elements + 1)
     n = min(available, RIGID_MODES + 8)
     while True:
-        f = m.modes(n).frequency[RIGID_MODES:]
+        with warnings.catch_warnings():   # the link alone, free in space on purpose
+            warnings.simplefilter("ignore", UnattachedWarning)
+            f = m.modes(n).frequency[RIGID_MODES:]
         if f.size == 0 or f[-1] > band or n >= available:
             return f
         n = min(available, 2 * n)
@@ -250,8 +253,7 @@ def size_mechanism(mech, band: float, tolerance: float, max_elements: int = 256)
     in its nonlinear links for which its own modes up to ``band`` [Hz] are within ``tolerance``
     of the converged ones; returns (Mechanism, MechanismMeshChoice). See Mechanism.sized."""
     import copy
-    import warnings
-    from . import io
+    from . import io, topology
     band, tolerance, max_elements = _request(band, tolerance, max_elements)
     try:
         doc = io.model_to_dict(mech)
@@ -321,6 +323,9 @@ def size_mechanism(mech, band: float, tolerance: float, max_elements: int = 256)
                 return f
             n = min(available, 2 * n)
 
+    # mech's free groups are the user's to hear about, and mech warns only once: so here, before
+    # the silenced analyses of it and of its rebuilt copies
+    mech._warn_unattached(topology.free_groups(mech._desc, topology.place_tree(mech._desc)[0]))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         # the reference: meshes 8, 16, 32, ... (the widest link's count, up to 8 max_elements:

@@ -26,7 +26,9 @@ keeps the result until the next ``add_*`` call:
      POSE_TOL * L (m), L = length_scale(desc). Loop-closing pairs between two given poses are
      checked the same way.
    Carriers not connected to the ground keep their given poses (a free body is allowed; it may
-   also be tied to the ground with ``ph.Free()``).
+   also be tied to the ground with ``ph.Free()``). A group of carriers that no pair or
+   spring-damper joins to the ground (``free_groups``) is reported, since a forgotten pair leaves
+   one (Mechanism warns, UnattachedWarning, unless a ``ph.Free()`` pair says it is meant).
 2. **Loop closure.** Loop-closing pairs are then met by a Newton projection: all constraint rows
    g(H) = 0 and the links' unstressed shape are hard equations; the joint coordinates of the
    pairs are soft targets (those given through ``x0`` weigh 10^3 times more than the tree's
@@ -52,6 +54,7 @@ import numpy as np
 from . import _core, _marshal, se3
 from ._core import ModelError
 from .description import ModelDescription
+from .frames import Frame
 from .graphs import mechanism_graphs
 from .pairs import row_names
 from .results import InitialAdjustment
@@ -64,6 +67,14 @@ RANK_TOL = 1e-9      # relative to the largest singular value of G
 class RedundantConstraintWarning(UserWarning):
     """The mechanism is hyperconstrained: some constraint rows are dependent at the initial
     configuration and were left out of the DAE (see ``Mechanism.redundant_constraints``)."""
+
+
+class UnattachedWarning(UserWarning):
+    """Some bodies or links are not connected to the ground by any pair or spring-damper: they
+    fly freely (under gravity they fall), which is what a forgotten pair gives
+    (``start=``/``at=`` only place a link or body, they do not join it). Join an intended free
+    group to the ground with a ``ph.Free()`` pair (no constraint) to say so; see
+    ``Mechanism.unattached`` and docs/user_guide.md, "Initial configuration", "Free bodies"."""
 
 
 class InitialValueWarning(UserWarning):
@@ -80,7 +91,7 @@ class InitialState:
     redundant constraint rows; ``frames_a``, every pair's frame offset on a (a Fixed pair's weld
     orientation taken from the given poses); ``redundant``, the (pair name, direction) rows
     dropped; ``adjustments``, the InitialAdjustment rows; ``tree``, the pairs that are tree edges
-    (place_tree)."""
+    (place_tree); ``unattached``, the FreeGroup rows (free_groups)."""
     poses: np.ndarray
     twists: np.ndarray
     x0: np.ndarray
@@ -89,6 +100,7 @@ class InitialState:
     redundant: list
     adjustments: list
     tree: frozenset = frozenset()
+    unattached: list = dataclasses.field(default_factory=list)
 
 
 def pose_across(e: dict, x, xd, Ha, ta, forward: bool = True, Ta: Optional[np.ndarray] = None):
@@ -617,6 +629,103 @@ def initial_adjustments(desc: ModelDescription, H_tree, H, x, layout, rates) -> 
     return rows
 
 
+@dataclasses.dataclass(frozen=True)
+class FreeGroup:
+    """Bodies and links joined to one another (by pairs, links and spring-dampers) but not to
+    the ground: ``names``, in the order they were added; ``missing``, the likely missing pair
+    as (frame on the part joined to the ground, frame of this group, why: "start", "at" or
+    "coincide"), or None (free_groups)."""
+    names: tuple
+    missing: Optional[tuple] = None
+
+
+def free_groups(desc: ModelDescription, H) -> list:
+    """The groups of carriers that no chain of pairs, links (their elements) and spring-dampers
+    joins to the ground, as FreeGroup rows in the order added; ``H`` (nc, 4, 4): the tree's
+    poses (place_tree). A modal link's mode sliders are pairs on its start, so they go with it.
+    Loads and interactions join nothing: they are given wrenches.
+
+    A group's likely missing pair: the frame that ``start=`` or ``at=`` placed one of its links
+    or bodies at, when that frame is on the part joined to the ground (``desc.placed_at``); else
+    a frame of the joined part (a body frame, a link node, the ground's origin) whose origin
+    coincides with a body frame or a link end of the group, within POSE_TOL * length_scale (the
+    tolerance of the given poses against the pairs)."""
+    nc = len(desc.carriers)
+    root = list(range(nc + 1))   # union-find over the carriers: carrier c at c + 1, ground at 0
+
+    def find(i):
+        while root[i] != i:
+            root[i] = root[root[i]]
+            i = root[i]
+        return i
+
+    for row in (*desc.pairs, *desc.elements, *desc.springs):
+        root[find(row["a"] + 1)] = find(row["b"] + 1)
+
+    def joined(c):
+        return find(c + 1) == find(0)
+
+    owners = sorted(desc.groups(), key=lambda g: min(g[1]))   # (name, carriers), order added
+    parts: dict = {}
+    for name, cs in owners:
+        if not joined(cs[0]):
+            parts.setdefault(find(cs[0] + 1), []).append(name)
+    if not parts:
+        return []
+    # a body's frame, a link's start and end: the frames a pair most likely joins (the first is
+    # the one at= or start= placed)
+    ends = {b.name: [b.frame] for b in desc.bodies.values()}
+    ends.update({lk.name: [lk.start, lk.end] for lk in desc.links.values()})
+    anchors = [f for name, cs in owners if joined(cs[0])
+               for f in (ends[name] if name in desc.bodies else
+                         [desc.links[name].node(k) for k in range(len(desc.links[name].nodes))])]
+    anchors.append(Frame(-1, np.eye(4), "ground"))
+    tol = POSE_TOL * length_scale(desc)
+
+    def origin(f):
+        return f.T[:3, 3] if f.carrier < 0 else (H[f.carrier] @ f.T)[:3, 3]
+
+    out = []
+    for names in parts.values():
+        placed = ((desc.placed_at.get(ends[nm][0].carrier), ends[nm][0],
+                   "at" if nm in desc.bodies else "start") for nm in names)
+        missing = next((p for p in placed if p[0] is not None and joined(p[0].carrier)), None)
+        if missing is None:
+            mine = [f for nm in names for f in ends[nm]]
+            missing = next(((a, f, "coincide") for f in mine for a in anchors
+                            if np.linalg.norm(origin(f) - origin(a)) <= tol), None)
+        out.append(FreeGroup(tuple(names), missing))
+    return out
+
+
+def frame_words(desc: ModelDescription, f: Frame) -> str:
+    """A frame as a message names it: "the ground", "the ground at (0, 0, 1)", "'hub'",
+    "'hub' at (0.3, 0, 0)", "'arm'.start"; a frame the user named: "'elbow' (on body 'hub')"."""
+    owner = "ground" if f.carrier < 0 else \
+        next(nm for nm, cs in desc.groups() if f.carrier in cs)
+    name = f.name or ""
+    if name == owner or name.startswith((owner + " ", owner + ".")):
+        return ("the ground" if f.carrier < 0 else repr(owner)) + name[len(owner):]
+    return f"{name!r} (on {desc.carrier_name(f.carrier)})" if name else desc.carrier_name(f.carrier)
+
+
+def unattached_message(desc: ModelDescription, groups: list) -> str:
+    """The UnattachedWarning text for the FreeGroup rows ``groups``: who is free, how to say it
+    is meant (a Free pair), and the likely missing pairs."""
+    many = len(groups) > 1
+    text = (f"bodies/links {' and '.join(str(list(g.names)) for g in groups)} are not connected to "
+            f"the ground by any pair or spring-damper: they fly freely (under gravity they fall). "
+            f"If that is intended, join {'each group' if many else 'them'} to the ground with "
+            f"ph.Free() (no constraint) to say so; if not, add the missing pair")
+    why = {"start": "where start= placed it", "at": "where at= placed it",
+           "coincide": "which coincide"}
+    hints = [f"between {frame_words(desc, g.missing[0])} and {frame_words(desc, g.missing[1])}, "
+             f"{why[g.missing[2]]}" for g in groups if g.missing]
+    if hints:
+        text += ", likely one (a Fixed, a Revolute, ...) " + "; and one ".join(hints)
+    return text + "."
+
+
 def initial_state(desc: ModelDescription, extra_loads=()):
     """The three steps for ``desc``: returns (InitialState, model). Placing the tree needs no
     model; closing the loops and finding the redundant rows use a core model built at the
@@ -626,9 +735,10 @@ def initial_state(desc: ModelDescription, extra_loads=()):
     given poses violate a pair or a loop cannot close; floating-point overflow raises
     FloatingPointError (see Mechanism)."""
     H, T, tree, frames_a = place_tree(desc)
+    free = free_groups(desc, H)
     x0 = np.array([p["x0"] for p in desc.pairs]).reshape(-1, 6)
     if not desc.pairs:
-        return InitialState(H, T, x0, [], frames_a, [], [], frozenset(tree)), None
+        return InitialState(H, T, x0, [], frames_a, [], [], frozenset(tree), free), None
     model = _marshal.core_model(desc, H, T, x0, None, frames_a, extra_loads)
     H_tree = H.copy()
     H = close_loops(desc, model, H, tree, None)
@@ -643,5 +753,5 @@ def initial_state(desc: ModelDescription, extra_loads=()):
             x0[ip, :k] = x[j:j + k]
     _, G, _ = _core.model_constraints_full(model, H, None, 0.0)
     masks, dropped = redundant_rows(desc, G, tree)
-    state = InitialState(H, T, x0, masks, frames_a, dropped, adjustments, frozenset(tree))
+    state = InitialState(H, T, x0, masks, frames_a, dropped, adjustments, frozenset(tree), free)
     return state, _marshal.with_initial(model, desc, H_tree, H, T, x0, masks)
