@@ -55,6 +55,9 @@ def test_flexible_arm_names_the_motor_and_its_torque():
     np.testing.assert_allclose(e.result.poses, m.initial_configuration().poses, atol=1e-12)
 
 
+# bodies held by nothing are the point here (static() names them "held by nothing"); a
+# ph.Free() pair would turn that into a pair's motion (tested too)
+@pytest.mark.filterwarnings("ignore::phmech.UnattachedWarning")
 def test_free_body_and_free_link_under_gravity():
     m = ph.Mechanism(gravity=G)
     m.add_rigid_body("box", 2.0, J)
@@ -86,6 +89,9 @@ def test_slider_under_a_constant_force():
     assert f.force == pytest.approx(3.0, rel=1e-14) and f.unit == "N"
 
 
+# bodies held by nothing are the point here (static() names them "held by nothing"); a
+# ph.Free() pair would turn that into a pair's motion (tested too)
+@pytest.mark.filterwarnings("ignore::phmech.UnattachedWarning")
 def test_other_free_motions_and_their_forces():
     # a screw about z with pitch 0.01 m/rad: its nut's weight does m g p = -0.0981 N m per rad
     m = ph.Mechanism(gravity=G)
@@ -180,3 +186,14 @@ def test_no_claim_where_the_structure_does_not_prove_one(case):
         m.static()
     except ph.SolverError as e:
         assert e.free_motions == [] and "no static equilibrium" not in str(e)
+
+
+def test_a_free_pair_from_the_ground_is_named_as_the_motion():
+    """UnattachedWarning's advice for an intended free body is a ph.Free() pair: static() then
+    names that pair's coordinate along gravity, with the weight m g = 2 * 9.81 N."""
+    m = ph.Mechanism(gravity=(0.0, 0.0, -9.81))
+    box = m.add_rigid_body("box", 2.0, np.eye(3) * 1e-2)
+    m.add_pair("float", ph.Free(), m.ground, box)
+    with pytest.raises(ph.SolverError, match=r"pair 'float' \(free, coordinate 5 along z\)") as e:
+        m.static()
+    assert abs(abs(e.value.free_motions[0].force) - 2 * 9.81) < 1e-9

@@ -253,7 +253,7 @@ def size_mechanism(mech, band: float, tolerance: float, max_elements: int = 256)
     in its nonlinear links for which its own modes up to ``band`` [Hz] are within ``tolerance``
     of the converged ones; returns (Mechanism, MechanismMeshChoice). See Mechanism.sized."""
     import copy
-    from . import io, topology
+    from . import io
     band, tolerance, max_elements = _request(band, tolerance, max_elements)
     try:
         doc = io.model_to_dict(mech)
@@ -303,10 +303,7 @@ def size_mechanism(mech, band: float, tolerance: float, max_elements: int = 256)
 
     def equilibrium() -> bool:
         """Whether the initial configuration is a static equilibrium (Mechanism.modes' check)."""
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            model, _, _ = mech._linearization_point(None)
-            return bool(mech._equilibrium_check(model, mech._state.poses, 0.0, False))
+        return bool(mech._equilibrium_check(model0, mech._state.poses, 0.0, False))
 
     def frequencies(counts: dict, n_band=None):
         """The mesh's modes [Hz] (those of Mechanism.modes, without its labels and its
@@ -323,9 +320,10 @@ def size_mechanism(mech, band: float, tolerance: float, max_elements: int = 256)
                 return f
             n = min(available, 2 * n)
 
-    # mech's free groups are the user's to hear about, and mech warns only once: so here, before
-    # the silenced analyses of it and of its rebuilt copies
-    mech._warn_unattached(topology.free_groups(mech._desc, topology.place_tree(mech._desc)[0]))
+    # the user's mechanism, analysed as modes() would: its warnings (unattached bodies, moved
+    # initial values, redundant constraints, ...) are the user's to hear, and each comes once per
+    # mechanism, so before the silenced analyses of its rebuilt copies
+    model0, _, _ = mech._linearization_point(None)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         # the reference: meshes 8, 16, 32, ... (the widest link's count, up to 8 max_elements:
