@@ -127,6 +127,7 @@ validate: build
 	$(PY) benchmarks/validate_energy_drift.py
 	$(PY) benchmarks/all_state_reference.py
 	$(PY) benchmarks/hard_cases.py
+	$(PY) benchmarks/sizing.py
 
 # Work-precision benchmarks against Exudyn and MuJoCo (installed into .venv from
 # benchmarks/requirements.txt when missing); BENCH_ARGS=--quick for a short run (~4.5 min instead
