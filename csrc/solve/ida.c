@@ -1,7 +1,6 @@
 /* ida.c -- the IDA driver (SUNDIALS' variable-order BDF): tolerances per state, the linear
- * solver (dense with IDA's own difference quotients, or KLU with the closed-form Jacobian of
- * csrc/dae/jacobian.c), output times, breakpoints of the laws (restart from consistent values)
- * and the monitor. */
+ * solver (KLU or the dense LU, both with the closed-form Jacobian of csrc/dae/jacobian.c), output
+ * times, breakpoints of the laws (restart from consistent values) and the monitor. */
 #include "solve.h"
 
 #include <float.h>
@@ -11,10 +10,12 @@
 
 #include "phm_check.h"
 
-/* IDA's user data: the DAE, and the KLU solver (NULL: dense) whose factors the Jacobian resets. */
+/* IDA's user data: the DAE, and the KLU solver whose factors the Jacobian resets (KLU) or the
+ * sparse matrix the dense LU's Jacobian is evaluated into (dense). */
 typedef struct {
   dae_t *d;
   SUNLinearSolver klu;
+  SUNMatrix js;
 } ida_ud;
 
 static int ida_res(sunrealtype t, N_Vector yy, N_Vector yp, N_Vector rr, void *ud) {
@@ -36,6 +37,26 @@ static int ida_jac(sunrealtype t, sunrealtype cj, N_Vector yy, N_Vector yp, N_Ve
                        N_VGetArrayPointer(rr), J);
   if (r) return r;
   return phm_klu_prune(u->d, J, u->klu) ? -1 : 0;
+}
+
+/* The dense LU's Jacobian: the same closed form on the sparse pattern (into js, allocated with
+ * the solver), copied into the dense matrix J (dae_jacobian_to_dense; entries off the pattern 0).
+ * IDA's own difference quotients, which the dense LU used before, cost one residual per state
+ * for each Jacobian (the Fig. 3 manipulator of examples/manipulator.py, 426 states: 0.52 s of CPU
+ * over 0.05 s at rtol 1e-6, 23511 residuals, against KLU's 0.037 s and 760; docs/integrators.md,
+ * "The dense LU's Jacobian"), perturbed a state by 1/weight (the ledger's overflow,
+ * PHM_IDA_LEDGER_ATOL) and left the two solvers' iterations differing by the quotients' error.
+ * What still differs on purpose is KLU's: the pruned pattern and its pivoting (run_ida); the
+ * dense LU factors every entry, exact zeros included, with partial pivoting. */
+static int ida_jac_dense(sunrealtype t, sunrealtype cj, N_Vector yy, N_Vector yp, N_Vector rr,
+                         SUNMatrix J, void *ud, N_Vector t1, N_Vector t2, N_Vector t3) {
+  (void)t1; (void)t2; (void)t3;
+  ida_ud *u = ud;
+  int r = dae_jacobian(u->d, t, cj, N_VGetArrayPointer(yy), N_VGetArrayPointer(yp),
+                       N_VGetArrayPointer(rr), u->js);
+  if (r) return r;
+  dae_jacobian_to_dense(u->js, J);
+  return 0;
 }
 
 /* IDA's last error message, quoted in the failure's phm_error (SUNDIALS prints nothing:
@@ -74,7 +95,8 @@ static void ida_err_message(void *ud, const char *function, const char *msg) {
  * their body frames, docs/integrators.md "IDA and mu"). */
 /* The ledger's "none": 1e100 J. Its weight 1/(rtol |E| + 1e100) squares to an exact 0 in every
  * WRMS norm (energies far below 1e100 J), as 1e300's did. Not 1e300: the dense solver's
- * difference-quotient Jacobian (IDA's own) perturbs state j by 1/w_j and its rate by cj times
+ * difference-quotient Jacobian (IDA's own, which the dense LU used until it took the closed form,
+ * ida_jac_dense) perturbed state j by 1/w_j and its rate by cj times
  * that, and 1e300 cj overflowed for cj > 1.8e8 (steps below ~5e-9 s at order 1): the ledger's
  * columns were inf, its Newton corrections 0 (the integrals stood still) or the iterate NaN (a
  * convergence failure). The Fig. 3 manipulator (examples/manipulator.py), whose first steps are
@@ -88,13 +110,15 @@ static double ida_atol(const dae_t *d, int i, double atol) {
   return i >= d->ie && i < d->il ? PHM_IDA_LEDGER_ATOL : dae_state_atol(d, i, atol);
 }
 
-static void add_stats(void *mem, phm_sim_output *out, int use_klu) {
+static void add_stats(void *mem, phm_sim_output *out) {
   long a = 0;
   if (IDAGetNumSteps(mem, &a) == 0) out->nsteps += a;
   a = 0;
   if (IDAGetNumResEvals(mem, &a) == 0) out->nres += a;
   a = 0;
-  if (!use_klu && IDAGetNumLinResEvals(mem, &a) == 0) out->nres += a;
+  /* the residuals IDA's linear solver spends on difference quotients: none with ida_jac and
+   * ida_jac_dense (tests/test_solver_robustness.py holds the dense run's count to that) */
+  if (IDAGetNumLinResEvals(mem, &a) == 0) out->nres += a;
   a = 0;
   if (IDAGetNumJacEvals(mem, &a) == 0) out->njac += a;
   a = 0;
@@ -117,7 +141,7 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
   SUNMatrix A = NULL;
   SUNLinearSolver LS = NULL;
   void *mem = NULL;
-  ida_ud ud = {d, NULL};
+  ida_ud ud = {d, NULL, NULL};
   int stop;
   double t = tout[0];
   double *y = N_VGetArrayPointer(yy), *ypd = N_VGetArrayPointer(yp);
@@ -272,7 +296,8 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
     }
   } else {
     A = SUNDenseMatrix(d->n, d->n, ctx);
-    if (!A) {
+    ud.js = SUNSparseMatrix(d->n, d->n, d->nnz, CSC_MAT, ctx); /* never zeroed: dae_jacobian fills it */
+    if (!A || !ud.js) {
       st = PHM_FAIL(err, PHM_ENOMEM, "out of memory (dense matrix)");
       goto done;
     }
@@ -283,7 +308,7 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
     goto done;
   }
   IDACHK(IDASetLinearSolver(mem, LS, A));
-  if (opt->linear_solver == 1) IDACHK(IDASetJacFn(mem, ida_jac));
+  IDACHK(IDASetJacFn(mem, opt->linear_solver == 1 ? ida_jac : ida_jac_dense));
 
   for (int iout = 1; iout < nout; iout++) {
     double target = tout[iout];
@@ -296,7 +321,7 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
       if (flag == IDA_ERR_FAIL && IDAGetNumSteps(mem, &ns0) == 0 && ns0 == 0 && !retried) {
         double hf = 0;
         IDAGetCurrentStep(mem, &hf);
-        add_stats(mem, out, opt->linear_solver); /* IDAReInit zeroes IDA's counters */
+        add_stats(mem, out); /* IDAReInit zeroes IDA's counters */
         N_VScale(1.0, ys, yy);
         N_VScale(1.0, yps, yp);
         IDACHK(IDASetInitStep(mem, 0.25 * hf));
@@ -334,7 +359,7 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
       t = tret;
       if (flag == IDA_TSTOP_RETURN) {
         /* breakpoint: new piece of the laws, re-initialize from consistent values */
-        add_stats(mem, out, opt->linear_solver);
+        add_stats(mem, out);
         if ((st = dae_restart_at_breakpoint(d, t, t, &nbp, y, ypd, err))) goto done;
         N_VScale(1.0, yy, ys);
         N_VScale(1.0, yp, yps);
@@ -350,10 +375,11 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
     if ((st = dae_emit_output(d, y, out, iout, E0, t, opt, &stop, err)) || stop) goto done;
   }
 done:
-  if (mem) add_stats(mem, out, opt->linear_solver);
+  if (mem) add_stats(mem, out);
   if (mem) IDAFree(&mem);
   if (LS) SUNLinSolFree(LS);
   if (A) SUNMatDestroy(A);
+  if (ud.js) SUNMatDestroy(ud.js);
   if (id) N_VDestroy(id);
   if (ys) N_VDestroy(ys);
   if (yps) N_VDestroy(yps);
