@@ -42,12 +42,13 @@ static int ida_jac(sunrealtype t, sunrealtype cj, N_Vector yy, N_Vector yp, N_Ve
 /* The dense LU's Jacobian: the same closed form on the sparse pattern (into js, allocated with
  * the solver), copied into the dense matrix J (dae_jacobian_to_dense; entries off the pattern 0).
  * IDA's own difference quotients, which the dense LU used before, cost one residual per state
- * for each Jacobian (the Fig. 3 manipulator of examples/manipulator.py, 426 states: 0.52 s of CPU
- * over 0.05 s at rtol 1e-6, 23511 residuals, against KLU's 0.037 s and 760; docs/integrators.md,
- * "The dense LU's Jacobian"), perturbed a state by 1/weight (the ledger's overflow,
- * PHM_IDA_LEDGER_ATOL) and left the two solvers' iterations differing by the quotients' error.
- * What still differs on purpose is KLU's: the pruned pattern and its pivoting (run_ida); the
- * dense LU factors every entry, exact zeros included, with partial pivoting. */
+ * for each Jacobian and perturbed a state by 1/weight (the ledger's overflow,
+ * PHM_IDA_LEDGER_ATOL). The Fig. 3 manipulator of examples/manipulator.py (474 states, 0.05 s at
+ * rtol 1e-6): 23511 residuals and 0.52 s of CPU before, 760 and 0.35 s now, KLU 760 and 0.04 s --
+ * the rest is the dense LU's own factorizations and O(n^2) solves (docs/integrators.md, "IDA's
+ * linear solvers: one Jacobian"). What still differs on purpose is KLU's: the pruned pattern and
+ * its pivoting (run_ida); the dense LU factors every entry, exact zeros included, with partial
+ * pivoting. */
 static int ida_jac_dense(sunrealtype t, sunrealtype cj, N_Vector yy, N_Vector yp, N_Vector rr,
                          SUNMatrix J, void *ud, N_Vector t1, N_Vector t2, N_Vector t3) {
   (void)t1; (void)t2; (void)t3;
