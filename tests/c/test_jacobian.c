@@ -143,7 +143,8 @@ static void compare_dae(const char *name, builder *b, double tol, int planar) {
     dae_jacobian_to_dense(J, A);
     long differ = 0;
     for (int i = 0; i < n; i++)
-      for (int j = 0; j < n; j++) differ += memcmp(&SM_ELEMENT_D(A, i, j), &dense[(size_t)i * n + j], sizeof(double)) != 0;
+      for (int j = 0; j < n; j++)
+        differ += memcmp(&SM_ELEMENT_D(A, i, j), &dense[(size_t)i * n + j], sizeof(double)) != 0;
     CHECK(differ == 0, "%s: dae_jacobian_to_dense = the sparse Jacobian entry by entry, 0 off its "
           "pattern (%ld of %d x %d differ)", name, differ, n, n);
     double err = 0, big = 0;
