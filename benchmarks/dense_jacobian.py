@@ -11,7 +11,8 @@ median of --repeat runs, with OPENBLAS_NUM_THREADS=1.
                                                                [--json PATH]
 
 Agreement: the largest difference over the outputs of every carrier's position (m) and of the
-scene's band quantities relative to their scale (benchmarks/scenes.py).
+scene's band quantities relative to their scale (benchmarks/scenes.py). The runs before and
+after the dense LU took the closed-form Jacobian: benchmarks/results/dense_jacobian.json.
 """
 from __future__ import annotations
 
