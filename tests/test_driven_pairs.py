@@ -67,17 +67,9 @@ def test_driven_revolute_follows_its_law_with_the_analytic_torque(case, opts):
         lo, hi = np.minimum(al, np.roll(al, 1)), np.maximum(al, np.roll(al, 1))
         assert np.all((lam[1:] >= J * lo[1:] - 1e-4) & (lam[1:] <= J * hi[1:] + 1e-4))
     # energy ledger: the drive's work is the change of kinetic energy J w^2 / 2 (none at
-    # constant speed: the arm starts at the law's rate). IDA's ledger lags Newton by an iteration
-    # (its Jacobian rows hold only their diagonal, csrc/dae/jacobian.c), and in the transient of
-    # lambda after the restart at the spin-up's end (t = 1 s; 5.7e-4 N m, decaying within ~20
-    # ms) one-iteration steps leave the drive's power of the previous iterate in it: measured
-    # (spin-up) ledger 1.5e-5, supplied work 3.1e-5 of J w^2 / 2 off, the same with KLU and the
-    # dense LU. Before the dense LU (the auto choice for this one carrier) took the closed-form
-    # Jacobian, IDA's difference quotients held the ledger rows' full derivative: 8.9e-8 and
-    # 1.8e-7 (KLU then as now 1.5e-5; docs/integrators.md, "IDA's linear solvers: one Jacobian")
-    ledger, work = (1e-4, 1e-4) if opts else (1e-6, 1e-5)
-    assert r.stats["ledger_relative"] < ledger
-    assert abs(r.energy["supplied"][-1] - 0.5 * J * (w[-1] ** 2 - w[0] ** 2)) < work * 0.5 * J * w[-1] ** 2
+    # constant speed: the arm starts at the law's rate)
+    assert r.stats["ledger_relative"] < 1e-6
+    assert abs(r.energy["supplied"][-1] - 0.5 * J * (w[-1] ** 2 - w[0] ** 2)) < 1e-5 * 0.5 * J * w[-1] ** 2
 
 
 def test_driven_revolute_lifts_against_gravity_and_the_ledger_counts_its_work():
