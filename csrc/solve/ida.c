@@ -16,11 +16,77 @@ typedef struct {
   dae_t *d;
   SUNLinearSolver klu;
   SUNMatrix js;
+  /* for ledger_solve: the solver it wraps, the last residual's time and state (IDA's iterate,
+   * unchanged while the linear system of that iterate is solved), the cj of the matrix's ledger
+   * diagonal, and scratch for the powers' change (n >= il - ie entries) */
+  SUNLinearSolver inner;
+  double tres, cjac;
+  const double *yres;
+  N_Vector dP;
 } ida_ud;
 
 static int ida_res(sunrealtype t, N_Vector yy, N_Vector yp, N_Vector rr, void *ud) {
-  return dae_residual(((ida_ud *)ud)->d, t, N_VGetArrayPointer(yy), N_VGetArrayPointer(yp),
+  ida_ud *u = ud;
+  u->tres = t;
+  u->yres = N_VGetArrayPointer(yy);
+  return dae_residual(u->d, t, N_VGetArrayPointer(yy), N_VGetArrayPointer(yp),
                       N_VGetArrayPointer(rr));
+}
+
+/* The energy ledger's Newton rows, made exact. Their Jacobian rows hold only the diagonal cj
+ * (csrc/dae/jacobian.c): the full row is [-dP/dy, cj] (F_E = E' - P(y)), and nothing depends
+ * on E, so the full system's solution is the one solved, with x_E = (b_E + dP/dy x) / cj --
+ * the solved x_E plus the change of the powers along x over cj (dae_ledger_dpower, as the
+ * fixed-step generalized-alpha adds it, csrc/solve/galpha.c). Without it the integrals lag
+ * Newton by an iteration: IDA often takes one iteration per step, and the ledger then holds the
+ * predictor's powers (a driven revolute's spin-up, tests/test_driven_pairs.py, at rtol 1e-8:
+ * 1.5e-5 of its energy scale with KLU, 8.7e-8 with the correction). This wrapper solver adds
+ * that correction to the solver it wraps (KLU or the dense LU), whose set-up and factors it
+ * shares. Its content is run_ida's ida_ud and its scratch a SUNDIALS vector: nothing of
+ * phmech's own is allocated after the first output (tests/c/test_no_alloc.c). */
+static SUNLinearSolver_Type ledger_gettype(SUNLinearSolver S) {
+  (void)S;
+  return SUNLINEARSOLVER_DIRECT;
+}
+static int ledger_initialize(SUNLinearSolver S) {
+  return SUNLinSolInitialize(((ida_ud *)S->content)->inner);
+}
+static int ledger_setup(SUNLinearSolver S, SUNMatrix A) {
+  return SUNLinSolSetup(((ida_ud *)S->content)->inner, A);
+}
+static int ledger_solve(SUNLinearSolver S, SUNMatrix A, N_Vector x, N_Vector b, sunrealtype tol) {
+  ida_ud *u = S->content;
+  int r = SUNLinSolSolve(u->inner, A, x, b, tol);
+  dae_t *d = u->d;
+  if (r || !u->yres || !(u->cjac > 0) || d->il == d->ie) return r;
+  double *X = N_VGetArrayPointer(x), *dP = N_VGetArrayPointer(u->dP);
+  dae_ledger_dpower(d, u->tres, u->yres, X, 1.0, dP);
+  for (int i = d->ie; i < d->il; i++) X[i] += dP[i - d->ie] / u->cjac;
+  return 0;
+}
+static sunindextype ledger_lastflag(SUNLinearSolver S) {
+  return SUNLinSolLastFlag(((ida_ud *)S->content)->inner);
+}
+static int ledger_free(SUNLinearSolver S) {
+  if (S) {
+    S->content = NULL; /* run_ida's */
+    SUNLinSolFreeEmpty(S);
+  }
+  return 0;
+}
+
+/* A direct solver that is u->inner plus the ledger's correction (NULL: out of memory). */
+static SUNLinearSolver ledger_wrap(ida_ud *u, SUNContext ctx) {
+  SUNLinearSolver S = SUNLinSolNewEmpty(ctx);
+  if (!S) return NULL;
+  S->content = u;
+  S->ops->gettype = ledger_gettype;
+  S->ops->initialize = ledger_initialize;
+  S->ops->setup = ledger_setup;
+  S->ops->solve = ledger_solve;
+  S->ops->lastflag = ledger_lastflag;
+  S->ops->free = ledger_free;
+  return S;
 }
 
 /* The closed-form Jacobian for KLU without its exact zeros (dae_jacobian_prune): the block
@@ -33,6 +99,7 @@ static int ida_jac(sunrealtype t, sunrealtype cj, N_Vector yy, N_Vector yp, N_Ve
                    void *ud, N_Vector t1, N_Vector t2, N_Vector t3) {
   (void)t1; (void)t2; (void)t3;
   ida_ud *u = ud;
+  u->cjac = cj;
   int r = dae_jacobian(u->d, t, cj, N_VGetArrayPointer(yy), N_VGetArrayPointer(yp),
                        N_VGetArrayPointer(rr), J);
   if (r) return r;
@@ -49,12 +116,12 @@ static int ida_jac(sunrealtype t, sunrealtype cj, N_Vector yy, N_Vector yp, N_Ve
  * linear solvers: one Jacobian"). What still differs on purpose is KLU's: the pruned pattern and
  * its pivoting (run_ida); the dense LU factors every entry, exact zeros included, with partial
  * pivoting. The quotients held the ledger rows' full derivative, the closed form only their
- * diagonal (ida_atol): the dense runs' ledger now lags Newton as KLU's always did (a driven
- * revolute's spin-up in tests/test_driven_pairs.py: 8.9e-8 -> 1.5e-5 of its energy scale). */
+ * diagonal: ledger_solve completes them for both solvers. */
 static int ida_jac_dense(sunrealtype t, sunrealtype cj, N_Vector yy, N_Vector yp, N_Vector rr,
                          SUNMatrix J, void *ud, N_Vector t1, N_Vector t2, N_Vector t3) {
   (void)t1; (void)t2; (void)t3;
   ida_ud *u = ud;
+  u->cjac = cj;
   int r = dae_jacobian(u->d, t, cj, N_VGetArrayPointer(yy), N_VGetArrayPointer(yp),
                        N_VGetArrayPointer(rr), u->js);
   if (r) return r;
@@ -84,8 +151,8 @@ static void ida_err_message(void *ud, const char *function, const char *msg) {
 
 /* IDA's absolute tolerance of state i: dae_state_atol, but none for the energy ledger's
  * integrals (1e100 J: weight 0). Nothing depends on them, and their Jacobian rows keep only the
- * diagonal (csrc/dae/jacobian.c), so a Newton iteration corrects them one iteration late: in the
- * error and Newton tests they only measured that lag. With the closed-form Jacobian IDA's Newton
+ * diagonal (csrc/dae/jacobian.c), so a Newton iteration corrected them one iteration late (until
+ * ledger_solve): in the error and Newton tests they only measured that lag. With the closed-form Jacobian IDA's Newton
  * often stops after one iteration, and the lag then failed the error test at almost every step
  * (the PD arm of tests/test_arm.py at rtol 1e-8: 51733 error-test failures in 53583 steps; left
  * out, 21 in 2050, ledger residual 3.1e-9 of the energy scale; with the finite-difference
@@ -142,9 +209,9 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
   phm_status st = PHM_OK;
   N_Vector id = NULL, ys = NULL, yps = NULL; /* ys, yps: the last (re)start's values */
   SUNMatrix A = NULL;
-  SUNLinearSolver LS = NULL;
+  SUNLinearSolver LS = NULL, W = NULL; /* W: LS with the ledger's rows exact (ledger_wrap) */
   void *mem = NULL;
-  ida_ud ud = {d, NULL, NULL};
+  ida_ud ud = {d, NULL, NULL, NULL, 0.0, 0.0, NULL, NULL};
   int stop;
   double t = tout[0];
   double *y = N_VGetArrayPointer(yy), *ypd = N_VGetArrayPointer(yp);
@@ -310,7 +377,13 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
     st = PHM_FAIL(err, PHM_ESOLVER, "could not create the linear solver");
     goto done;
   }
-  IDACHK(IDASetLinearSolver(mem, LS, A));
+  ud.inner = LS;
+  ud.dP = N_VClone(yy);
+  if (!ud.dP || !(W = ledger_wrap(&ud, ctx))) {
+    st = PHM_FAIL(err, PHM_ENOMEM, "out of memory (linear solver)");
+    goto done;
+  }
+  IDACHK(IDASetLinearSolver(mem, W, A));
   IDACHK(IDASetJacFn(mem, opt->linear_solver == 1 ? ida_jac : ida_jac_dense));
 
   for (int iout = 1; iout < nout; iout++) {
@@ -380,6 +453,8 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
 done:
   if (mem) add_stats(mem, out);
   if (mem) IDAFree(&mem);
+  if (W) SUNLinSolFree(W);
+  if (ud.dP) N_VDestroy(ud.dP);
   if (LS) SUNLinSolFree(LS);
   if (A) SUNMatDestroy(A);
   if (ud.js) SUNMatDestroy(ud.js);
