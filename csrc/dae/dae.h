@@ -200,6 +200,11 @@ phm_status dae_jacobian_pattern(dae_t *d, phm_error *err);
  * the ledger rows' diagonal. r0 (the residual F(t, y, y')) is not read. 0 on success. */
 int dae_jacobian(dae_t *d, double t, double cj, const double *y, const double *yp,
                  const double *r0, SUNMatrix J);
+/* The dense matrix A (n x n, SUNDenseMatrix) = the sparse Js (CSC, dae_jacobian's): every entry
+ * outside Js's pattern zero, whatever A held. The dense LUs of both integrators take the
+ * closed-form Jacobian this way (csrc/solve/ida.c, galpha.c): one implementation of it, evaluated
+ * on the sparse pattern. No allocation. */
+void dae_jacobian_to_dense(SUNMatrix Js, SUNMatrix A);
 /* Drop the entries of J (CSC, on the pattern of dae_jacobian_pattern) that have been exactly
  * zero in every call so far, in place; returns 1 if the pattern kept grew (or this is the first
  * call), 0 if it is the same: a sparse LU analysed for that pattern can then be refactored,

@@ -457,6 +457,18 @@ int dae_jacobian(dae_t *d, double t, double cj, const double *y, const double *y
   return 0;
 }
 
+void dae_jacobian_to_dense(SUNMatrix Js, SUNMatrix A) {
+  sunindextype n = SUNSparseMatrix_Columns(Js), lda = SUNDenseMatrix_Rows(A);
+  const sunindextype *cp = SUNSparseMatrix_IndexPointers(Js), *ri = SUNSparseMatrix_IndexValues(Js);
+  const double *val = SUNSparseMatrix_Data(Js);
+  double *a = SUNDenseMatrix_Data(A); /* column-major, column j at a + lda j */
+  /* a memset, not SUNMatZero: Debian's SUNDIALS is built without optimization
+   * (csrc/solve/nvector_ops.c) */
+  memset(a, 0, sizeof(double) * (size_t)SUNDenseMatrix_LData(A));
+  for (sunindextype j = 0; j < n; j++)
+    for (sunindextype k = cp[j]; k < cp[j + 1]; k++) a[lda * j + ri[k]] = val[k];
+}
+
 /* The pattern above is made of whole blocks (a carrier's 13 states against each coupled
  * carrier's 13, a pair's multipliers against all of its carriers' states), and most of their
  * entries are zero: a carrier's kinematic rows hold nothing of another carrier but G^T mu's

@@ -332,7 +332,7 @@ enum { PHM_INTEGRATOR_IDA = 0, PHM_INTEGRATOR_GALPHA = 1 };
 
 typedef struct {
   double rtol, atol;      /* error tolerances (atol scalar); GALPHA fixed step: Newton's   */
-  int linear_solver;      /* 0 dense (IDA difference-quotient Jacobian), 1 KLU (closed form) */
+  int linear_solver;      /* 0 dense LU, 1 KLU (both with the closed-form Jacobian) */
   long max_steps;         /* per output interval (IDA and GALPHA); <= 0: 10^6               */
   double max_step;        /* <= 0: no limit                                                 */
   int max_order;          /* maximum BDF order 1..5; <= 0: 5                                */

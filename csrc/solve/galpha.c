@@ -96,9 +96,7 @@ static int galpha_jacobian(dae_t *d, galpha_t *g, double t0, double h, SUNMatrix
     for (sunindextype k = cp[j]; k < cp[j + 1]; k++)
       if (ri[k] < d->il) val[k] *= af;
   if (A == Js) return phm_klu_prune(d, Js, LS);
-  SUNMatZero(A);
-  for (int j = 0; j < d->n; j++)
-    for (sunindextype k = cp[j]; k < cp[j + 1]; k++) SM_ELEMENT_D(A, ri[k], j) = val[k];
+  dae_jacobian_to_dense(Js, A);
   return 0;
 }
 

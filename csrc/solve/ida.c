@@ -1,7 +1,6 @@
 /* ida.c -- the IDA driver (SUNDIALS' variable-order BDF): tolerances per state, the linear
- * solver (dense with IDA's own difference quotients, or KLU with the closed-form Jacobian of
- * csrc/dae/jacobian.c), output times, breakpoints of the laws (restart from consistent values)
- * and the monitor. */
+ * solver (KLU or the dense LU, both with the closed-form Jacobian of csrc/dae/jacobian.c), output
+ * times, breakpoints of the laws (restart from consistent values) and the monitor. */
 #include "solve.h"
 
 #include <float.h>
@@ -11,15 +10,83 @@
 
 #include "phm_check.h"
 
-/* IDA's user data: the DAE, and the KLU solver (NULL: dense) whose factors the Jacobian resets. */
+/* IDA's user data: the DAE, and the KLU solver whose factors the Jacobian resets (KLU) or the
+ * sparse matrix the dense LU's Jacobian is evaluated into (dense). */
 typedef struct {
   dae_t *d;
   SUNLinearSolver klu;
+  SUNMatrix js;
+  /* for ledger_solve: the solver it wraps, the last residual's time and state (IDA's iterate,
+   * unchanged while the linear system of that iterate is solved), the cj of the matrix's ledger
+   * diagonal, and scratch for the powers' change (n >= il - ie entries) */
+  SUNLinearSolver inner;
+  double tres, cjac;
+  const double *yres;
+  N_Vector dP;
 } ida_ud;
 
 static int ida_res(sunrealtype t, N_Vector yy, N_Vector yp, N_Vector rr, void *ud) {
-  return dae_residual(((ida_ud *)ud)->d, t, N_VGetArrayPointer(yy), N_VGetArrayPointer(yp),
+  ida_ud *u = ud;
+  u->tres = t;
+  u->yres = N_VGetArrayPointer(yy);
+  return dae_residual(u->d, t, N_VGetArrayPointer(yy), N_VGetArrayPointer(yp),
                       N_VGetArrayPointer(rr));
+}
+
+/* The energy ledger's Newton rows, made exact. Their Jacobian rows hold only the diagonal cj
+ * (csrc/dae/jacobian.c): the full row is [-dP/dy, cj] (F_E = E' - P(y)), and nothing depends
+ * on E, so the full system's solution is the one solved, with x_E = (b_E + dP/dy x) / cj --
+ * the solved x_E plus the change of the powers along x over cj (dae_ledger_dpower, as the
+ * fixed-step generalized-alpha adds it, csrc/solve/galpha.c). Without it the integrals lag
+ * Newton by an iteration: IDA often takes one iteration per step, and the ledger then holds the
+ * predictor's powers (a driven revolute's spin-up, tests/test_driven_pairs.py, at rtol 1e-8:
+ * 1.5e-5 of its energy scale with KLU, 8.7e-8 with the correction). This wrapper solver adds
+ * that correction to the solver it wraps (KLU or the dense LU), whose set-up and factors it
+ * shares. Its content is run_ida's ida_ud and its scratch a SUNDIALS vector: nothing of
+ * phmech's own is allocated after the first output (tests/c/test_no_alloc.c). */
+static SUNLinearSolver_Type ledger_gettype(SUNLinearSolver S) {
+  (void)S;
+  return SUNLINEARSOLVER_DIRECT;
+}
+static int ledger_initialize(SUNLinearSolver S) {
+  return SUNLinSolInitialize(((ida_ud *)S->content)->inner);
+}
+static int ledger_setup(SUNLinearSolver S, SUNMatrix A) {
+  return SUNLinSolSetup(((ida_ud *)S->content)->inner, A);
+}
+static int ledger_solve(SUNLinearSolver S, SUNMatrix A, N_Vector x, N_Vector b, sunrealtype tol) {
+  ida_ud *u = S->content;
+  int r = SUNLinSolSolve(u->inner, A, x, b, tol);
+  dae_t *d = u->d;
+  if (r || !u->yres || !(u->cjac > 0) || d->il == d->ie) return r;
+  double *X = N_VGetArrayPointer(x), *dP = N_VGetArrayPointer(u->dP);
+  dae_ledger_dpower(d, u->tres, u->yres, X, 1.0, dP);
+  for (int i = d->ie; i < d->il; i++) X[i] += dP[i - d->ie] / u->cjac;
+  return 0;
+}
+static sunindextype ledger_lastflag(SUNLinearSolver S) {
+  return SUNLinSolLastFlag(((ida_ud *)S->content)->inner);
+}
+static int ledger_free(SUNLinearSolver S) {
+  if (S) {
+    S->content = NULL; /* run_ida's */
+    SUNLinSolFreeEmpty(S);
+  }
+  return 0;
+}
+
+/* A direct solver that is u->inner plus the ledger's correction (NULL: out of memory). */
+static SUNLinearSolver ledger_wrap(ida_ud *u, SUNContext ctx) {
+  SUNLinearSolver S = SUNLinSolNewEmpty(ctx);
+  if (!S) return NULL;
+  S->content = u;
+  S->ops->gettype = ledger_gettype;
+  S->ops->initialize = ledger_initialize;
+  S->ops->setup = ledger_setup;
+  S->ops->solve = ledger_solve;
+  S->ops->lastflag = ledger_lastflag;
+  S->ops->free = ledger_free;
+  return S;
 }
 
 /* The closed-form Jacobian for KLU without its exact zeros (dae_jacobian_prune): the block
@@ -32,10 +99,34 @@ static int ida_jac(sunrealtype t, sunrealtype cj, N_Vector yy, N_Vector yp, N_Ve
                    void *ud, N_Vector t1, N_Vector t2, N_Vector t3) {
   (void)t1; (void)t2; (void)t3;
   ida_ud *u = ud;
+  u->cjac = cj;
   int r = dae_jacobian(u->d, t, cj, N_VGetArrayPointer(yy), N_VGetArrayPointer(yp),
                        N_VGetArrayPointer(rr), J);
   if (r) return r;
   return phm_klu_prune(u->d, J, u->klu) ? -1 : 0;
+}
+
+/* The dense LU's Jacobian: the same closed form on the sparse pattern (into js, allocated with
+ * the solver), copied into the dense matrix J (dae_jacobian_to_dense; entries off the pattern 0).
+ * IDA's own difference quotients, which the dense LU used before, cost one residual per state
+ * for each Jacobian and perturbed a state by 1/weight (the ledger's overflow,
+ * PHM_IDA_LEDGER_ATOL). The Fig. 3 manipulator of examples/manipulator.py (474 states, 0.05 s at
+ * rtol 1e-6): 23511 residuals and 0.52 s of CPU before, 760 and 0.35 s now, KLU 760 and 0.04 s --
+ * the rest is the dense LU's own factorizations and O(n^2) solves (docs/integrators.md, "IDA's
+ * linear solvers: one Jacobian"). What still differs on purpose is KLU's: the pruned pattern and
+ * its pivoting (run_ida); the dense LU factors every entry, exact zeros included, with partial
+ * pivoting. The quotients held the ledger rows' full derivative, the closed form only their
+ * diagonal: ledger_solve completes them for both solvers. */
+static int ida_jac_dense(sunrealtype t, sunrealtype cj, N_Vector yy, N_Vector yp, N_Vector rr,
+                         SUNMatrix J, void *ud, N_Vector t1, N_Vector t2, N_Vector t3) {
+  (void)t1; (void)t2; (void)t3;
+  ida_ud *u = ud;
+  u->cjac = cj;
+  int r = dae_jacobian(u->d, t, cj, N_VGetArrayPointer(yy), N_VGetArrayPointer(yp),
+                       N_VGetArrayPointer(rr), u->js);
+  if (r) return r;
+  dae_jacobian_to_dense(u->js, J);
+  return 0;
 }
 
 /* IDA's last error message, quoted in the failure's phm_error (SUNDIALS prints nothing:
@@ -60,8 +151,8 @@ static void ida_err_message(void *ud, const char *function, const char *msg) {
 
 /* IDA's absolute tolerance of state i: dae_state_atol, but none for the energy ledger's
  * integrals (1e100 J: weight 0). Nothing depends on them, and their Jacobian rows keep only the
- * diagonal (csrc/dae/jacobian.c), so a Newton iteration corrects them one iteration late: in the
- * error and Newton tests they only measured that lag. With the closed-form Jacobian IDA's Newton
+ * diagonal (csrc/dae/jacobian.c), so a Newton iteration corrected them one iteration late (until
+ * ledger_solve): in the error and Newton tests they only measured that lag. With the closed-form Jacobian IDA's Newton
  * often stops after one iteration, and the lag then failed the error test at almost every step
  * (the PD arm of tests/test_arm.py at rtol 1e-8: 51733 error-test failures in 53583 steps; left
  * out, 21 in 2050, ledger residual 3.1e-9 of the energy scale; with the finite-difference
@@ -74,7 +165,8 @@ static void ida_err_message(void *ud, const char *function, const char *msg) {
  * their body frames, docs/integrators.md "IDA and mu"). */
 /* The ledger's "none": 1e100 J. Its weight 1/(rtol |E| + 1e100) squares to an exact 0 in every
  * WRMS norm (energies far below 1e100 J), as 1e300's did. Not 1e300: the dense solver's
- * difference-quotient Jacobian (IDA's own) perturbs state j by 1/w_j and its rate by cj times
+ * difference-quotient Jacobian (IDA's own, which the dense LU used until it took the closed form,
+ * ida_jac_dense) perturbed state j by 1/w_j and its rate by cj times
  * that, and 1e300 cj overflowed for cj > 1.8e8 (steps below ~5e-9 s at order 1): the ledger's
  * columns were inf, its Newton corrections 0 (the integrals stood still) or the iterate NaN (a
  * convergence failure). The Fig. 3 manipulator (examples/manipulator.py), whose first steps are
@@ -88,13 +180,15 @@ static double ida_atol(const dae_t *d, int i, double atol) {
   return i >= d->ie && i < d->il ? PHM_IDA_LEDGER_ATOL : dae_state_atol(d, i, atol);
 }
 
-static void add_stats(void *mem, phm_sim_output *out, int use_klu) {
+static void add_stats(void *mem, phm_sim_output *out) {
   long a = 0;
   if (IDAGetNumSteps(mem, &a) == 0) out->nsteps += a;
   a = 0;
   if (IDAGetNumResEvals(mem, &a) == 0) out->nres += a;
   a = 0;
-  if (!use_klu && IDAGetNumLinResEvals(mem, &a) == 0) out->nres += a;
+  /* the residuals IDA's linear solver spends on difference quotients: none with ida_jac and
+   * ida_jac_dense (tests/test_solver_robustness.py holds the dense run's count to that) */
+  if (IDAGetNumLinResEvals(mem, &a) == 0) out->nres += a;
   a = 0;
   if (IDAGetNumJacEvals(mem, &a) == 0) out->njac += a;
   a = 0;
@@ -115,9 +209,9 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
   phm_status st = PHM_OK;
   N_Vector id = NULL, ys = NULL, yps = NULL; /* ys, yps: the last (re)start's values */
   SUNMatrix A = NULL;
-  SUNLinearSolver LS = NULL;
+  SUNLinearSolver LS = NULL, W = NULL; /* W: LS with the ledger's rows exact (ledger_wrap) */
   void *mem = NULL;
-  ida_ud ud = {d, NULL};
+  ida_ud ud = {d, NULL, NULL, NULL, 0.0, 0.0, NULL, NULL};
   int stop;
   double t = tout[0];
   double *y = N_VGetArrayPointer(yy), *ypd = N_VGetArrayPointer(yp);
@@ -272,7 +366,8 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
     }
   } else {
     A = SUNDenseMatrix(d->n, d->n, ctx);
-    if (!A) {
+    ud.js = SUNSparseMatrix(d->n, d->n, d->nnz, CSC_MAT, ctx); /* never zeroed: dae_jacobian fills it */
+    if (!A || !ud.js) {
       st = PHM_FAIL(err, PHM_ENOMEM, "out of memory (dense matrix)");
       goto done;
     }
@@ -282,8 +377,14 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
     st = PHM_FAIL(err, PHM_ESOLVER, "could not create the linear solver");
     goto done;
   }
-  IDACHK(IDASetLinearSolver(mem, LS, A));
-  if (opt->linear_solver == 1) IDACHK(IDASetJacFn(mem, ida_jac));
+  ud.inner = LS;
+  ud.dP = N_VClone(yy);
+  if (!ud.dP || !(W = ledger_wrap(&ud, ctx))) {
+    st = PHM_FAIL(err, PHM_ENOMEM, "out of memory (linear solver)");
+    goto done;
+  }
+  IDACHK(IDASetLinearSolver(mem, W, A));
+  IDACHK(IDASetJacFn(mem, opt->linear_solver == 1 ? ida_jac : ida_jac_dense));
 
   for (int iout = 1; iout < nout; iout++) {
     double target = tout[iout];
@@ -296,7 +397,7 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
       if (flag == IDA_ERR_FAIL && IDAGetNumSteps(mem, &ns0) == 0 && ns0 == 0 && !retried) {
         double hf = 0;
         IDAGetCurrentStep(mem, &hf);
-        add_stats(mem, out, opt->linear_solver); /* IDAReInit zeroes IDA's counters */
+        add_stats(mem, out); /* IDAReInit zeroes IDA's counters */
         N_VScale(1.0, ys, yy);
         N_VScale(1.0, yps, yp);
         IDACHK(IDASetInitStep(mem, 0.25 * hf));
@@ -334,7 +435,7 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
       t = tret;
       if (flag == IDA_TSTOP_RETURN) {
         /* breakpoint: new piece of the laws, re-initialize from consistent values */
-        add_stats(mem, out, opt->linear_solver);
+        add_stats(mem, out);
         if ((st = dae_restart_at_breakpoint(d, t, t, &nbp, y, ypd, err))) goto done;
         N_VScale(1.0, yy, ys);
         N_VScale(1.0, yp, yps);
@@ -350,10 +451,13 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
     if ((st = dae_emit_output(d, y, out, iout, E0, t, opt, &stop, err)) || stop) goto done;
   }
 done:
-  if (mem) add_stats(mem, out, opt->linear_solver);
+  if (mem) add_stats(mem, out);
   if (mem) IDAFree(&mem);
+  if (W) SUNLinSolFree(W);
+  if (ud.dP) N_VDestroy(ud.dP);
   if (LS) SUNLinSolFree(LS);
   if (A) SUNMatDestroy(A);
+  if (ud.js) SUNMatDestroy(ud.js);
   if (id) N_VDestroy(id);
   if (ys) N_VDestroy(ys);
   if (yps) N_VDestroy(yps);

@@ -49,17 +49,16 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
   out->nsteps = out->nres = out->njac = out->nniters = out->netf = out->nncf = out->nfloor = 0;
   out->err_est = out->max_mu = 0;
   phm_status st = PHM_OK;
-  /* set-up: the DAE's data and Jacobian pattern (the integrators' sparse Jacobian: every
-   * generalized-alpha run, IDA with KLU); nothing of phmech's allocates after it */
+  /* set-up: the DAE's data and Jacobian pattern (every integrator and linear solver evaluates
+   * the closed-form Jacobian on it; the dense LUs copy it into their matrix); nothing of
+   * phmech's allocates after it */
   dae_t d;
   if ((st = opt->planar ? dae_planar_init(&d, m, opt->planar - 1, err) : dae_init(&d, m, err))) return st;
   SUNContext ctx = NULL;
   N_Vector yy = NULL, yp = NULL;
   int nc = m->nc;
   double *H = dae_full(&d)->data.ic.H, *tw = dae_full(&d)->data.ic.tw;
-  if ((opt->integrator == PHM_INTEGRATOR_GALPHA || opt->linear_solver == 1) &&
-      (st = dae_jacobian_pattern(&d, err)))
-    goto done;
+  if ((st = dae_jacobian_pattern(&d, err))) goto done;
   for (int c = 0; c < nc; c++) {
     memcpy(H + 16 * c, poses0 ? poses0 + 16 * c : m->car[c].H0, 16 * sizeof(double));
     memcpy(tw + 6 * c, twists0 ? twists0 + 6 * c : m->car[c].t0, 6 * sizeof(double));

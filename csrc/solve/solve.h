@@ -10,7 +10,8 @@
 /* ---------------------------------------------------------------- integrators */
 /* Integrate from the consistent state in yy, yp at tout[0] (output 0 already emitted; E0 its
  * energy) to tout[nout - 1], emitting outputs 1..nout-1. d: set up with its Jacobian pattern
- * (dae_jacobian_pattern; IDA's dense solver needs none); nbp: the next breakpoint of the laws. */
+ * (dae_jacobian_pattern: both linear solvers of both integrators evaluate the closed-form
+ * Jacobian on it); nbp: the next breakpoint of the laws. */
 phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vector yy, N_Vector yp,
                    const double *tout, int nout, double E0[1], double nbp, phm_sim_output *out,
                    phm_error *err);

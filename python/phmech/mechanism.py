@@ -1034,7 +1034,8 @@ class Mechanism:
           the steps (IDA and adaptive generalized-alpha).
 
         ``linear_solver``: ``"auto"`` (KLU sparse for the generalized-alpha, and for IDA with 6
-        or more carriers, else dense), ``"dense"`` or ``"klu"``.
+        or more carriers, else dense), ``"dense"`` or ``"klu"``; both factor the same
+        closed-form Jacobian.
 
         ``planar``: when every carrier moves in one plane normal to a world axis (phmech.planar
         says what is checked, at the initial configuration), the integrator solves a DAE of the
@@ -1053,7 +1054,10 @@ class Mechanism:
             # the generalized-alpha's KLU matrix drops its exact zeros (dae_jacobian_prune): KLU
             # is then faster than the dense LU from one carrier on (measured 2026-11-27: a
             # pendulum 7.5 against 12.4 ms, the four-bar of benchmarks/scenes.py 51 against 94
-            # ms, a 3-carrier modal-link pendulum 0.19 against 0.52 s); IDA keeps its rule
+            # ms, a 3-carrier modal-link pendulum 0.19 against 0.52 s); IDA keeps its rule, though
+            # KLU was faster there too with both on the closed-form Jacobian (a pendulum 1.6
+            # against 2.3 ms, five bars 4.8 against 27.7 ms: docs/integrators.md, "IDA's linear
+            # solvers: one Jacobian"): a switch moves every small IDA run at the tolerance's level
             linear_solver = "klu" if integrator == "generalized-alpha" or len(self._car) >= 6 \
                 else "dense"
         if not isinstance(linear_solver, str) or linear_solver not in solvers:

@@ -9,7 +9,8 @@
  * in the body frames of the pairs' carriers (dae_body_kinematics, IDA's). Reference step 1e-6 (x
  * max(1, |y_j|)): truncation ~ 1e-12 and round-off ~ 1e-10 relative to entries of order 1..1e3, so
  * the closed form is held to 1e-7 relative. The constraint rows alone (dae_constraint_rows) are
- * held to the residual's bit for bit. */
+ * held to the residual's bit for bit, and the dense matrix the dense LUs take
+ * (dae_jacobian_to_dense) to the sparse one entry by entry. */
 #include "check.h"
 #include "dae.h"
 
@@ -98,7 +99,7 @@ static void compare_dae(const char *name, builder *b, double tol, int planar) {
     return;
   }
   int n = d.n;
-  SUNMatrix J = SUNSparseMatrix(n, n, d.nnz, CSC_MAT, ctx);
+  SUNMatrix J = SUNSparseMatrix(n, n, d.nnz, CSC_MAT, ctx), A = SUNDenseMatrix(n, n, ctx);
   double *y = malloc(sizeof(double) * (size_t)n * 6), *yp = y + n, *r0 = yp + n, *yy = r0 + n,
          *ypp = yy + n, *rp = ypp + n, *rm = malloc(sizeof(double) * (size_t)n);
   double *dense = calloc((size_t)n * n, sizeof(double));
@@ -135,6 +136,17 @@ static void compare_dae(const char *name, builder *b, double tol, int planar) {
     memset(dense, 0, sizeof(double) * (size_t)n * n);
     for (int j = 0; j < n; j++)
       for (sunindextype k = cp[j]; k < cp[j + 1]; k++) dense[(size_t)ri[k] * n + j] = val[k];
+    /* the dense LUs' matrix (IDA's and the generalized-alpha's): every entry the sparse one's,
+     * bit for bit, and 0 off its pattern, over whatever the matrix held before */
+    double *a = SUNDenseMatrix_Data(A);
+    for (long i = 0; i < (long)n * n; i++) a[i] = NAN;
+    dae_jacobian_to_dense(J, A);
+    long differ = 0;
+    for (int i = 0; i < n; i++)
+      for (int j = 0; j < n; j++)
+        differ += memcmp(&SM_ELEMENT_D(A, i, j), &dense[(size_t)i * n + j], sizeof(double)) != 0;
+    CHECK(differ == 0, "%s: dae_jacobian_to_dense = the sparse Jacobian entry by entry, 0 off its "
+          "pattern (%ld of %d x %d differ)", name, differ, n, n);
     double err = 0, big = 0;
     for (int j = 0; j < n; j++) {
       double h = 1e-6 * fmax(1.0, fabs(y[j]));
@@ -163,6 +175,7 @@ static void compare_dae(const char *name, builder *b, double tol, int planar) {
   free(rm);
   free(dense);
   SUNMatDestroy(J);
+  SUNMatDestroy(A);
   dae_free(&d);
   SUNContext_Free(&ctx);
   phm_model_free(m);
