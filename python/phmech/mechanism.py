@@ -434,7 +434,7 @@ class Mechanism:
             warnings.warn(f"link {name!r}: its section damping couples its modes with each other "
                           f"and with its ends (correlation {sl['damping_coupling']:.2g}); a modal "
                           f"link keeps only each mode's own damping (exact for a damping "
-                          f"proportional to the stiffness)", AccuracyWarning, stacklevel=3)
+                          f"proportional to the stiffness)", AccuracyWarning, stacklevel=_outside_stacklevel())
         first = self._start_link(name, eps, placed)
         # gravity's point masses: the chain's weights condensed onto the ends (phmech.fidelity;
         # also what centre_of_mass() reads); the start's gives the sliders theirs
@@ -480,7 +480,7 @@ class Mechanism:
                           f"(free-free) modes in the band {choice.band:g} Hz, from "
                           f"{choice.frequencies[0]:.4g} Hz: with modes=0 a modal link keeps only "
                           f"its static shapes, so it drops them; leave modes=None to have them "
-                          f"chosen from the band", AccuracyWarning, stacklevel=3)
+                          f"chosen from the band", AccuracyWarning, stacklevel=_outside_stacklevel())
         return link
 
     @_recorded
@@ -890,13 +890,13 @@ class Mechanism:
                 raise ModelError(msg + " (Mechanism(strict=True))")
             if self._warned_initial != msg:
                 self._warned_initial = msg
-                warnings.warn(msg, InitialValueWarning, stacklevel=3)
+                warnings.warn(msg, InitialValueWarning, stacklevel=_outside_stacklevel())
         dropped = state.redundant
         if dropped and self._warned != dropped:
             self._warned = list(dropped)
             warnings.warn(f"hyperconstrained mechanism: {len(dropped)} redundant constraint "
                           f"directions left out of the DAE (pair, direction in F_b): {dropped}",
-                          RedundantConstraintWarning, stacklevel=3)
+                          RedundantConstraintWarning, stacklevel=_outside_stacklevel())
 
     def _warn_unattached(self, groups: list) -> None:
         """Publish the free groups (topology.FreeGroup rows) in ``unattached`` and warn about
@@ -933,7 +933,7 @@ class Mechanism:
                                   f"condensed weight (a curved or pre-twisted link's is not that "
                                   f"of any point), which puts its end, held at its start, "
                                   f"{miss:.2g} off the full link's sag; use fidelity='nonlinear' "
-                                  f"for it if that matters", AccuracyWarning, stacklevel=3)
+                                  f"for it if that matters", AccuracyWarning, stacklevel=_outside_stacklevel())
             gmax = float(np.max(np.abs(self._desc.gravity)))   # |g| without overflowing
             g = gmax * float(np.linalg.norm(self._desc.gravity / gmax)) if self._modal_preload else 0.0
             for nm, entry in self._modal_preload.items():
@@ -945,7 +945,7 @@ class Mechanism:
                                   f"about {100 * entry[1] * g:.2g} % in the full link (geometric "
                                   f"stiffness), which a modal link leaves out (its gravity points "
                                   f"even shift it the other way); use fidelity='nonlinear' for it "
-                                  f"if it hangs or stands", AccuracyWarning, stacklevel=3)
+                                  f"if it hangs or stands", AccuracyWarning, stacklevel=_outside_stacklevel())
         state, model = self._initial_state(extra_loads)
         if model is None:
             model = _marshal.core_model(self._desc, state.poses, state.twists, state.x0,
@@ -1179,7 +1179,7 @@ class Mechanism:
                 if lk.fidelity == "modal":
                     T0 = se3.exp(lk.length * self._desc.link_unstressed_strain(lk))
                     for msg in modal_validity(result, lk, T0, self.frequency_tolerance):
-                        warnings.warn(msg, AccuracyWarning, stacklevel=2)
+                        warnings.warn(msg, AccuracyWarning, stacklevel=_outside_stacklevel())
         if r["error"]:
             t_last = f"{result.t[-1]:.6g} s" if len(result.t) else "the start"
             err = SolverError(f"{r['error']} (the trajectory up to {t_last} is in this error's "
@@ -1354,7 +1354,7 @@ class Mechanism:
                           "non-symmetric load stiffness, which the linearization (modes(), "
                           "linearize()) symmetrizes: it treats them as dead loads and cannot show "
                           "flutter; simulate to see how the mechanism moves under them",
-                          StabilityWarning, stacklevel=3)
+                          StabilityWarning, stacklevel=_outside_stacklevel())
         self._warn_unresolvable_masses()
         poses = None if at is None else self._start_poses(at, "at")
         lam = None if at is None else array("at.constraint_wrenches", at.constraint_wrenches,
@@ -1381,7 +1381,7 @@ class Mechanism:
                       f"{self.MASS_RATIO_RESOLVED:.2g}: double precision cannot resolve the lightest "
                       "carriers' modes next to the heaviest (their frequencies and shapes may be "
                       "wrong by orders of magnitude); give the light parts physical masses, or leave "
-                      "them out", AccuracyWarning, stacklevel=3)
+                      "them out", AccuracyWarning, stacklevel=_outside_stacklevel())
 
     def sized(self, band: Optional[float] = None, tolerance: Optional[float] = None,
               max_elements: int = 256) -> "Mechanism":
@@ -1439,7 +1439,7 @@ class Mechanism:
                           f"the values are the eigenvalues of the tangent stiffness there, not the "
                           f"frequencies of small vibrations about a rest state" + neg +
                           ". For vibrations about the equilibrium use modes(at=m.static(...)).",
-                          EquilibriumWarning, stacklevel=2)
+                          EquilibriumWarning, stacklevel=_outside_stacklevel())
         lab = analysis.label_modes(self._desc, where, om[:nf], sh[:nf])
         return ModesResult(om[:nf], om[:nf] / (2 * np.pi), ze[:nf], sh[:nf], poses=np.array(where),
                            equilibrium=bool(eq), _links=dict(self._links),
@@ -1598,7 +1598,7 @@ class Mechanism:
                           f"stiffness has a negative eigenvalue), also with {more} load steps. "
                           f"Under these loads the mechanism buckles or falls away from here; a "
                           f"stable equilibrium may be found from a perturbed start (start=) or "
-                          f"by simulating with damping", StabilityWarning, stacklevel=2)
+                          f"by simulating with damping", StabilityWarning, stacklevel=_outside_stacklevel())
         return st
 
     def _free_motions(self, model, P, time: float, extra: Sequence[dict]) -> list:
