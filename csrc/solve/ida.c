@@ -58,7 +58,7 @@ static int ledger_solve(SUNLinearSolver S, SUNMatrix A, N_Vector x, N_Vector b, 
   ida_ud *u = S->content;
   int r = SUNLinSolSolve(u->inner, A, x, b, tol);
   dae_t *d = u->d;
-  if (r || !u->yres || !(u->cjac > 0) || d->il == d->ie) return r;
+  if (r || !u->yres || !(u->cjac > 0)) return r; /* (no residual or Jacobian yet: none) */
   double *X = N_VGetArrayPointer(x), *dP = N_VGetArrayPointer(u->dP);
   dae_ledger_dpower(d, u->tres, u->yres, X, 1.0, dP);
   for (int i = d->ie; i < d->il; i++) X[i] += dP[i - d->ie] / u->cjac;

@@ -1619,14 +1619,10 @@ class Mechanism:
                 if abs(u[k]) > 1 - 1e-9:
                     return nm if u[k] > 0 else "-" + nm
             return "(" + ", ".join(f"{a:.3g}" for a in u) + ")"
-        moving = []
-        for c in np.flatnonzero(r["moving"]):
-            body = next((b.name for b in self._bodies.values() if b.carrier == c), None)
-            link = next((lk.name for lk in self._links.values()
-                         if c in lk.nodes or c in lk.sliders), None)
-            nm = f"body {body!r}" if body else f"link {link!r}" if link else f"carrier {c}"
-            if nm not in moving:
-                moving.append(nm)
+        # the bodies and links that move, in the order of their carriers
+        moving = [f"{'body' if nm in self._bodies else 'link'} {nm!r}"
+                  for nm, cs in sorted(self._desc.groups(), key=lambda g: min(g[1]))
+                  if r["moving"][cs].any()]
         om, v = r["twist"][:3], r["twist"][3:]
         rot = bool(np.any(om != 0))
         ip, j = r["pair"], r["coord"]
