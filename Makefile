@@ -47,7 +47,8 @@ ctest: sysdeps $(STAMP)
 pytest: build
 	$(PY) -m pytest -q tests
 
-test: ctest pytest sanitize
+# the docs too (Sphinx with warnings as errors), so that they cannot break unseen
+test: ctest pytest sanitize docs
 
 # AddressSanitizer + UndefinedBehaviorSanitizer (with float-cast-overflow): the core and the
 # extension built in build/sanitize (the .venv's phmech is not touched), the C unit tests, then
@@ -107,7 +108,7 @@ sundials7-check: sysdeps $(STAMP)
 
 # The HTML documentation in build/docs/html: the pages of docs/ and the API reference generated
 # from the docstrings of phmech.__all__ (Sphinx, autodoc, napoleon, myst-parser; docs/conf.py).
-# Its packages (docs/requirements.txt) go into .venv here only, not for `make test`. -W: a
+# Its packages (docs/requirements.txt) go into .venv (make docs, and so make test). -W: a
 # warning fails the build; -E: every page re-read, so a warning is never hidden by the cache.
 DOCS_STAMP := $(VENV)/.phmech-docs-deps
 

@@ -33,6 +33,9 @@ napoleon_numpy_docstring = True
 napoleon_google_docstring = False
 napoleon_use_rtype = False
 html_theme = "alabaster"
+# the user guide's code lines reach ~100 columns: a wider page, and no body width cap, so that
+# its code blocks are shown whole rather than clipped at alabaster's 800 px
+html_theme_options = {"page_width": "1240px", "body_max_width": "none"}
 html_title = f"phmech {release}"
 
 

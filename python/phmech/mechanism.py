@@ -1362,7 +1362,8 @@ class Mechanism:
         return model, poses, lam
 
     #: largest ratio of carrier masses whose modes a linearization resolves to 1e-3: the
-    #: eigensolvers' backward error eps |M| perturbs a carrier of mass m by eps m_max / m relative
+    #: eigensolvers' backward error (eps times the norm of M) perturbs a carrier of mass m by
+    #: eps m_max / m relative
     MASS_RATIO_RESOLVED = 1e-3 / np.finfo(float).eps
 
     def _warn_unresolvable_masses(self) -> None:
