@@ -8,7 +8,7 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.phmech-deps
 SOURCES := $(shell find csrc python -type f -name '*.[ch]' -o -type f -name '*.py') meson.build meson.options pyproject.toml
 
-.PHONY: all demo test ctest pytest sanitize sundials7-check build sysdeps validate bench docs clean info
+.PHONY: all demo test ctest pytest sanitize sundials7-check build sysdeps validate bench docs clean info wheel sdist
 
 all: build
 
@@ -119,6 +119,29 @@ $(DOCS_STAMP): docs/requirements.txt $(STAMP)
 docs: build $(DOCS_STAMP)
 	$(PY) -m sphinx -W --keep-going -E -b html docs build/docs/html
 	@echo "documentation: build/docs/html/index.html"
+
+# A self-contained binary wheel in dist/: phmech built as for .venv, then `auditwheel repair`
+# copies every shared library the extension needs beyond glibc (SUNDIALS IDA and its KLU solver,
+# KLU and the SuiteSparse parts it uses, LAPACK, BLAS, libgfortran, libquadmath) into
+# phmech.libs/ inside the wheel, under the most compatible manylinux tag this machine's glibc
+# allows (manylinux_2_34 on Debian 12). It installs with pip on a machine without the Debian
+# development packages (README.md); tests/test_wheel.py installs it into a fresh venv and checks.
+WHEEL_STAMP := $(VENV)/.phmech-wheel-deps
+
+$(WHEEL_STAMP): tools/requirements-wheel.txt $(STAMP)
+	$(PY) -m pip install -q -r tools/requirements-wheel.txt
+	@touch $@
+
+wheel: sysdeps $(WHEEL_STAMP)
+	@rm -rf build/wheel-raw && rm -f dist/phmech-*.whl
+	$(PY) -m pip wheel -q --no-build-isolation --no-deps -w build/wheel-raw -Cbuild-dir=build/wheel .
+	PATH="$(abspath $(VENV))/bin:$$PATH" $(VENV)/bin/auditwheel repair -w dist build/wheel-raw/phmech-*.whl
+	@ls -l dist/phmech-*.whl
+
+# The source distribution in dist/ (meson-python: the files git tracks).
+sdist: sysdeps $(WHEEL_STAMP)
+	@rm -f dist/phmech-*.tar.gz
+	$(PY) -m build --sdist --no-isolation --outdir dist .
 
 # Long validation studies (not part of `make test`); figures land in benchmarks/results/.
 # hard_cases.py: the long versions of tests/hard (docs/validation.md), ~5 min CPU.
