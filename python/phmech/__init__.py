@@ -20,10 +20,12 @@ from .io import load, load_result
 from .sweep import sweep
 from . import linear
 from .linear import LinearPortHamiltonian, Passivity
+from . import urdf
+from .urdf import URDFRobot, load_urdf
 
 __all__ = ["ModelError", "SolverError", "CostWarning", "info", "blas_threads", "__version__",
            "se3", "graphs", "mesh", "mixed", "timoshenko", "analysis", "load", "load_result",
-           "sweep", "linear", "LinearPortHamiltonian", "Passivity",
+           "sweep", "linear", "LinearPortHamiltonian", "Passivity", "urdf", "load_urdf", "URDFRobot",
            "Material", "Section", "BeamProperties", "table1_properties", *mechanism.__all__]
 
 

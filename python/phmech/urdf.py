@@ -1,0 +1,567 @@
+"""Robots from URDF: :func:`load_urdf` builds a :class:`phmech.Mechanism` from a URDF file with
+the public builder API (``add_rigid_body``, ``add_flexible_link``, ``add_pair``,
+``add_actuator``) and nothing else, so it is a leaf module: it imports the builder, and only
+``phmech/__init__.py`` imports it (for the export).
+
+Parser: ``yourdfpy`` (PyPI). Chosen over ``urdfdom-py`` because it is maintained (releases in
+2025-2026, against urdfdom-py's last in mid-2025 and a ROS-1-era code base), pure Python on lxml
+and NumPy, and parses a URDF into plain dataclasses (links with their inertial origin as a 4x4
+matrix and the 3x3 inertia, joints with origin, axis, limit, mimic and dynamics) without
+loading meshes or building a scene graph when asked not to (``load_meshes=False,
+build_scene_graph=False``), which is all an importer needs; its ``trimesh`` dependency is pure
+Python too. It checks none of the kinematic structure: this module does (missing links,
+several parents, loops, several roots, unknown joint types, missing or zero inertials), with a
+ModelError naming the element.
+
+Mapping (URDF -> phmech):
+
+- the root link (the one link that is no joint's child) and every link welded to it by
+  ``fixed`` joints are the ground (``base="fixed"``, the default), or one rigid body on a
+  ``Free`` pair to the ground (``base="floating"``);
+- every other group of links welded together by ``fixed`` joints is ONE rigid body named after
+  its top link (the child of the movable joint above it), its mass, centre of mass and inertia
+  the group's (each link's ``<inertial>``: mass, inertia about the inertial origin in the
+  axes of its rotation, turned into the body axes and moved by the parallel-axis theorem);
+  the body frame is the top link's URDF frame; ``URDFRobot.frames`` gives every link's frame;
+- movable joints become pairs named after them, between the parent link's joint frame (the
+  joint ``<origin>`` on the parent's body) and the child link's frame, the joint axis the
+  pair's axis: ``revolute`` and ``continuous`` -> ``Revolute``, ``prismatic`` ->
+  ``Prismatic``, ``floating`` -> ``Free`` (x = rotation vector, position), ``planar`` ->
+  ``Planar`` with the axis as its normal (x = angle, p_x, p_y in the joint frame whose z is the
+  axis); the joint coordinate is the URDF's q (same sign and zero);
+- ``<limit>``: position, velocity and effort limits are not enforced (phmech has no joint
+  stops): ``limits="warn"`` (default) warns once (AccuracyWarning) naming the limited joints,
+  ``"ignore"`` is silent, ``"error"`` refuses them; ``<mimic>``: no coupling between pairs
+  exists, ``mimic="error"`` (default) refuses, ``mimic="free"`` imports the joint as an
+  independent one; ``<dynamics damping>``: a PD actuator with kp = 0 and kd = damping
+  (``"<joint>.damping"``; ``joint_damping=False`` leaves it out), ``friction`` is not modelled
+  (warned);
+- ``flexible={"link": ...}``: that link becomes a flexible link (add_flexible_link) from its
+  URDF frame's origin straight to the origin of its one child joint, its own section inertia
+  replacing the URDF inertial. Its section axes: x along the link, y = normalised (e - (e.x)x)
+  with e the URDF link frame's x axis (its z axis when the link runs along x).
+
+Visual and collision meshes are not read (``phmech.plot`` draws links and bodies as it does for
+any mechanism).
+"""
+from __future__ import annotations
+
+import dataclasses
+import os
+import warnings
+from typing import Optional
+
+import numpy as np
+
+from ._core import ModelError
+from ._run import AccuracyWarning
+from .frames import FlexibleLink, Frame
+from .mechanism import Mechanism, _outside_stacklevel
+from .pairs import Fixed, Free, Planar, Prismatic, Revolute
+from .actuators import PD
+from .section import BeamProperties, Material, Section
+from . import se3
+
+__all__ = ["load_urdf", "URDFRobot", "URDFJoint"]
+
+#: URDF joint types and the phmech pair each becomes (None: welded, no pair)
+JOINT_TYPES = {"revolute": Revolute, "continuous": Revolute, "prismatic": Prismatic,
+               "fixed": None, "floating": Free, "planar": Planar}
+
+
+@dataclasses.dataclass(frozen=True)
+class URDFJoint:
+    """A movable URDF joint as imported: its ``type`` (URDF), the ``parent`` and ``child`` link,
+    its ``axis`` (joint frame), the number ``k`` of joint coordinates, its ``limit`` (lower,
+    upper [rad or m], velocity, effort; None if absent) and ``mimic`` (joint, multiplier,
+    offset; None if absent)."""
+    name: str
+    type: str
+    parent: str
+    child: str
+    axis: tuple
+    k: int
+    limit: Optional[tuple] = None
+    mimic: Optional[tuple] = None
+
+
+@dataclasses.dataclass
+class URDFRobot:
+    """What :func:`load_urdf` built: the ``mechanism``; the robot's ``name``; its movable
+    ``joints`` (name -> URDFJoint, in the tree's depth-first order, the order of
+    :meth:`joint_coordinates`); ``frames``: every link's URDF frame (name -> Frame, on the body,
+    flexible link or ground that carries it); ``bodies``: body name -> the links merged into it;
+    ``flexible``: link name -> FlexibleLink; ``replaced_mass``: link name -> (URDF mass, the
+    flexible link's mass) [kg]."""
+    mechanism: Mechanism
+    name: str
+    joints: dict
+    frames: dict
+    bodies: dict
+    flexible: dict
+    replaced_mass: dict
+
+    @property
+    def dof(self) -> int:
+        """The number of joint coordinates of the movable joints."""
+        return sum(j.k for j in self.joints.values())
+
+    def joint_coordinates(self, result) -> np.ndarray:
+        """The movable joints' coordinates x (nt, dof) of a SimulationResult, joint after joint
+        in the order of ``joints`` [rad or m]."""
+        return np.hstack([result.joint(n)["x"] for n in self.joints])
+
+    def joint_rates(self, result) -> np.ndarray:
+        """The movable joints' rates (nt, dof) of a SimulationResult, as joint_coordinates."""
+        return np.hstack([result.joint(n)["xdot"] for n in self.joints])
+
+
+def _parse(path):
+    """The yourdfpy Robot of the URDF file ``path`` (no meshes, no scene graph)."""
+    try:
+        import yourdfpy
+    except ImportError:   # a dependency of phmech (pyproject.toml): only a broken install lacks it
+        raise ModelError("load_urdf needs the package 'yourdfpy' (pip install yourdfpy)") from None
+    if not isinstance(path, (str, os.PathLike)):
+        raise ModelError(f"load_urdf: path must be a file name (got {type(path).__name__})")
+    if not os.path.isfile(path):
+        raise ModelError(f"load_urdf: no such file {os.fspath(path)!r}")
+    try:
+        u = yourdfpy.URDF.load(os.fspath(path), build_scene_graph=False, load_meshes=False,
+                               build_collision_scene_graph=False, load_collision_meshes=False)
+    except Exception as e:   # lxml's syntax errors, yourdfpy's own ValueErrors
+        raise ModelError(f"URDF {os.fspath(path)!r} cannot be parsed: {type(e).__name__}: {e}") from None
+    return u.robot
+
+
+def _float(v, what: str) -> float:
+    try:
+        x = float(v)
+    except (TypeError, ValueError):
+        raise ModelError(f"{what}: expected a number (got {v!r})") from None
+    if not np.isfinite(x):
+        raise ModelError(f"{what}: expected a finite number (got {v!r})")
+    return x
+
+
+def _origin(T, what: str) -> np.ndarray:
+    T = np.eye(4) if T is None else np.array(T, dtype=float)
+    if T.shape != (4, 4) or not np.all(np.isfinite(T)):
+        raise ModelError(f"{what}: <origin> is not a finite pose")
+    return T
+
+
+def _tree(robot, path) -> tuple:
+    """(root link, {link: [joints whose parent it is]}, {link: joint above it}) of the URDF,
+    checked: unique names, joints between existing links, one parent per link, one root, no
+    loop, known joint types."""
+    links = {}
+    for lk in robot.links:
+        if lk.name in links:
+            raise ModelError(f"URDF {path!r}: link {lk.name!r} is defined twice")
+        links[lk.name] = lk
+    if not links:
+        raise ModelError(f"URDF {path!r} has no link")
+    parent_of, children, names = {}, {n: [] for n in links}, set()
+    for j in robot.joints:
+        if j.name in names:
+            raise ModelError(f"URDF {path!r}: joint {j.name!r} is defined twice")
+        names.add(j.name)
+        if j.type not in JOINT_TYPES:
+            raise ModelError(f"URDF {path!r}: joint {j.name!r} has unknown type {j.type!r} "
+                             f"(URDF types: {', '.join(JOINT_TYPES)})")
+        for role, ln in (("parent", j.parent), ("child", j.child)):
+            if ln not in links:
+                raise ModelError(f"URDF {path!r}: joint {j.name!r} names {role} link {ln!r}, which "
+                                 f"is not a link of the file")
+        if j.child in parent_of:
+            raise ModelError(f"URDF {path!r}: link {j.child!r} is the child of two joints, "
+                             f"{parent_of[j.child].name!r} and {j.name!r}: a closed loop, which "
+                             f"URDF (a tree) cannot describe; build the loop-closing pair with "
+                             f"Mechanism.add_pair after the import")
+        parent_of[j.child] = j
+        children[j.parent].append(j)
+    roots = [n for n in links if n not in parent_of]
+    if len(roots) != 1:
+        if not roots:
+            raise ModelError(f"URDF {path!r}: every link is some joint's child: the joints form a "
+                             f"closed loop (no root link)")
+        raise ModelError(f"URDF {path!r}: {len(roots)} root links ({', '.join(map(repr, roots))}): "
+                         f"a robot has one; join them by a joint")
+    seen, stack = set(), [roots[0]]
+    while stack:
+        n = stack.pop()
+        seen.add(n)
+        stack.extend(j.child for j in children[n])
+    lost = [n for n in links if n not in seen]
+    if lost:
+        j = parent_of[lost[0]]
+        raise ModelError(f"URDF {path!r}: links {', '.join(map(repr, lost))} are not reached from "
+                         f"the root {roots[0]!r}: joint {j.name!r} closes a loop")
+    return roots[0], children, parent_of, links
+
+
+def _inertia(lk, path) -> tuple:
+    """(mass [kg], com (3,), inertia about the com (3, 3)) of link ``lk`` in its URDF frame,
+    or None without <inertial>."""
+    ine = lk.inertial
+    if ine is None:
+        return None
+    what = f"URDF {path!r}: link {lk.name!r} <inertial>"
+    m = _float(ine.mass if ine.mass is not None else 0.0, f"{what} mass")
+    if m < 0:
+        raise ModelError(f"{what}: negative mass {m:g} kg")
+    I = np.zeros((3, 3)) if ine.inertia is None else np.array(ine.inertia, dtype=float)
+    if I.shape != (3, 3) or not np.all(np.isfinite(I)):
+        raise ModelError(f"{what}: <inertia> is not 6 finite numbers")
+    T = _origin(ine.origin, what)
+    R = T[:3, :3]
+    return m, T[:3, 3].copy(), R @ I @ R.T
+
+
+def _merge(parts) -> tuple:
+    """(mass, com, inertia about com) of parts (mass, com, inertia about its com), all in one
+    frame (parallel-axis theorem)."""
+    M = sum(p[0] for p in parts)
+    if M <= 0:
+        return 0.0, np.zeros(3), np.zeros((3, 3))
+    c = sum(p[0] * p[1] for p in parts) / M
+    J = np.zeros((3, 3))
+    for m, ci, Ii in parts:
+        d = ci - c
+        J += Ii + m * (d @ d * np.eye(3) - np.outer(d, d))
+    return M, c, 0.5 * (J + J.T)
+
+
+def _joint_transform(jt: str, axis: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """The URDF joint motion (child frame in the joint frame) at coordinates x."""
+    if jt in ("revolute", "continuous"):
+        return se3.rotation(axis, float(x[0]))
+    if jt == "prismatic":
+        return se3.translation(axis * float(x[0]))
+    if jt == "fixed":
+        return np.eye(4)
+    if jt == "floating":
+        T = np.eye(4)
+        T[:3, :3] = se3.exp(np.concatenate([x[:3], np.zeros(3)]))[:3, :3]
+        T[:3, 3] = x[3:6]
+        return T
+    # planar: angle about the normal, p_x, p_y in the frame whose z is the normal
+    Q = np.eye(4)
+    Q[:3, :3] = _frame_with_z(axis)
+    return Q @ se3.translation([x[1], x[2], 0.0]) @ se3.rotation("z", float(x[0])) @ se3.inverse(Q)
+
+
+def _frame_with_z(z: np.ndarray) -> np.ndarray:
+    """The rotation whose z is the unit vector z that phmech's pairs use for an axis (so that a
+    planar joint's p_x, p_y here are the pair's): phmech.pairs' rule."""
+    h = np.array([1.0, 0, 0]) if abs(z[0]) < 0.9 else np.array([0, 1.0, 0])
+    xx = h - z * (h @ z)
+    xx /= np.linalg.norm(xx)
+    return np.column_stack([xx, np.cross(z, xx), z])
+
+
+def _beam_rotation(d: np.ndarray) -> np.ndarray:
+    """The start-frame rotation of a flexible link along d (link-frame coordinates): x along d,
+    y the link frame's x (z when d runs along x) made normal to it."""
+    x = d / np.linalg.norm(d)
+    e = np.array([1.0, 0, 0]) if abs(x[0]) < 0.9 else np.array([0, 0, 1.0])
+    y = e - x * (e @ x)
+    y /= np.linalg.norm(y)
+    return np.column_stack([x, y, np.cross(x, y)])
+
+
+def _beam_properties(spec, name: str) -> tuple:
+    """(BeamProperties, keyword arguments of add_flexible_link) from a ``flexible=`` entry."""
+    what = f"load_urdf: flexible[{name!r}]"
+    if isinstance(spec, BeamProperties):
+        return spec, {}
+    if isinstance(spec, tuple) and len(spec) == 2 and isinstance(spec[0], Section) \
+            and isinstance(spec[1], Material):
+        return BeamProperties.from_material(*spec), {}
+    if isinstance(spec, dict):
+        kw = dict(spec)
+        props = kw.pop("properties", None)
+        sec, mat = kw.pop("section", None), kw.pop("material", None)
+        if props is None:
+            if not isinstance(sec, Section) or not isinstance(mat, Material):
+                raise ModelError(f"{what}: a dict needs properties= (BeamProperties) or section= "
+                                 f"(Section) and material= (Material)")
+            props = BeamProperties.from_material(sec, mat)
+        bad = set(kw) - {"elements", "band", "frequency_tolerance", "fidelity", "mass", "modes"}
+        if bad:
+            raise ModelError(f"{what}: unknown keys {sorted(bad)} (add_flexible_link's elements, "
+                             f"band, frequency_tolerance, fidelity, mass, modes)")
+        return props, kw
+    raise ModelError(f"{what}: expected BeamProperties, (Section, Material) or a dict "
+                     f"(got {type(spec).__name__})")
+
+
+def _per_joint(values, joints: dict, what: str) -> dict:
+    """{joint: array (k,)} from a dict joint -> number or sequence (unknown names refused)."""
+    if values is None:
+        return {}
+    if not isinstance(values, dict):
+        raise ModelError(f"load_urdf: {what} must be a dict joint name -> value (got "
+                         f"{type(values).__name__})")
+    out = {}
+    for n, v in values.items():
+        if n not in joints:
+            raise ModelError(f"load_urdf: {what}: {n!r} is not a movable joint of the URDF "
+                             f"(movable joints: {', '.join(map(repr, joints)) or 'none'})")
+        x = np.atleast_1d(np.asarray(v, dtype=float))
+        if x.shape != (joints[n].k,) or not np.all(np.isfinite(x)):
+            raise ModelError(f"load_urdf: {what}[{n!r}]: expected {joints[n].k} finite number(s) "
+                             f"(got {v!r})")
+        out[n] = x
+    return out
+
+
+def load_urdf(path, flexible: Optional[dict] = None, *, gravity=(0.0, 0.0, -9.81),
+              base: str = "fixed", base_pose=None, q0: Optional[dict] = None,
+              qdot0: Optional[dict] = None, driven: Optional[dict] = None,
+              limits: str = "warn", mimic: str = "error", joint_damping: bool = True,
+              mechanism: Optional[Mechanism] = None) -> URDFRobot:
+    """A robot from the URDF file ``path`` as a phmech Mechanism (the module docstring of
+    phmech.urdf gives the mapping and docs/user_guide.md, "Robots from URDF", an example).
+
+    ``flexible``: link name -> its flexible replacement: a BeamProperties, a (Section,
+    Material) pair, or a dict of ``properties=`` (or ``section=`` and ``material=``) and
+    add_flexible_link's ``elements``, ``band``, ``frequency_tolerance``, ``fidelity``, ``mass``,
+    ``modes``. The link runs straight from its frame's origin to its one child joint's origin
+    and carries its own section inertia instead of the URDF inertial
+    (``URDFRobot.replaced_mass`` gives both masses).
+
+    ``gravity`` [m/s^2] (world axes; URDF's z is up). ``base``: ``"fixed"`` (the root link is
+    the ground) or ``"floating"`` (the root link's group is a body on a Free pair
+    ``"<root>.base"`` to the ground). ``base_pose``: the root link frame's world pose (4x4;
+    default identity). ``q0``, ``qdot0``: initial joint coordinates [rad, m] and rates by joint
+    name (a number, or k numbers for floating and planar joints); default 0. ``driven``: joint
+    name -> time law of its coordinate (add_pair(driven=)). ``limits``: ``"warn"``, ``"ignore"``
+    or ``"error"`` for joints with a ``<limit>`` (not enforced). ``mimic``: ``"error"`` or
+    ``"free"`` (an independent joint). ``joint_damping``: the ``<dynamics damping>`` of each
+    joint as a damper (PD with kp = 0) on its pair. ``mechanism``: add the robot to this
+    Mechanism (its gravity is then left as it is) instead of a new one.
+
+    Raises ModelError naming the element for a URDF phmech cannot build: a joint naming a
+    missing link, a link with two parents or a loop, several root links, an unknown joint type,
+    a moving link group without ``<inertial>`` or with zero mass, an inertia that is not
+    positive definite, a mimic joint (with ``mimic="error"``)."""
+    path = os.fspath(path) if isinstance(path, os.PathLike) else path
+    for nm, v, ok in (("base", base, ("fixed", "floating")), ("limits", limits, ("warn", "ignore", "error")),
+                      ("mimic", mimic, ("error", "free"))):
+        if not isinstance(v, str) or v not in ok:
+            raise ModelError(f"load_urdf: {nm} must be one of {', '.join(map(repr, ok))} (got {v!r})")
+    robot = _parse(path)
+    root, children, parent_of, links = _tree(robot, path)
+    flexible = {} if flexible is None else flexible
+    if not isinstance(flexible, dict):
+        raise ModelError(f"load_urdf: flexible must be a dict link name -> properties (got "
+                         f"{type(flexible).__name__})")
+    for n in flexible:
+        if n not in links:
+            raise ModelError(f"load_urdf: flexible: {n!r} is not a link of the URDF")
+        if n == root:
+            raise ModelError(f"load_urdf: flexible: {n!r} is the root link (the base)")
+
+    # the depth-first order of the joints, and each link's group: the top link of the group of
+    # links welded to it by fixed joints, and its pose in the top link's frame
+    order, top, T_in_top = [], {root: root}, {root: np.eye(4)}
+    stack = [root]
+    while stack:
+        n = stack.pop()
+        for j in reversed(children[n]):
+            stack.append(j.child)
+        for j in children[n]:
+            order.append(j)
+            T = _origin(j.origin, f"URDF {path!r}: joint {j.name!r}")
+            if j.type == "fixed" and j.parent not in flexible and j.child not in flexible:
+                top[j.child] = top[j.parent]
+                T_in_top[j.child] = T_in_top[j.parent] @ T
+            else:
+                top[j.child] = j.child
+                T_in_top[j.child] = np.eye(4)
+    groups = {}
+    for n in links:
+        groups.setdefault(top[n], []).append(n)
+
+    joints = {}
+    for j in order:
+        if j.type == "fixed" and top[j.child] == top[j.parent]:
+            continue
+        ax = np.array([1.0, 0, 0]) if j.axis is None else np.array(j.axis, dtype=float)
+        if ax.shape != (3,) or not np.all(np.isfinite(ax)) or not np.any(ax):
+            raise ModelError(f"URDF {path!r}: joint {j.name!r}: <axis> must be a non-zero 3-vector "
+                             f"(got {j.axis!r})")
+        ax = ax / np.linalg.norm(ax)
+        lim = None
+        if j.limit is not None and j.type not in ("continuous", "fixed", "floating", "planar"):
+            lim = tuple(None if v is None else _float(v, f"joint {j.name!r} <limit>")
+                        for v in (j.limit.lower, j.limit.upper, j.limit.velocity, j.limit.effort))
+        mim = None
+        if j.mimic is not None:
+            mim = (j.mimic.joint, _float(j.mimic.multiplier if j.mimic.multiplier is not None else 1.0,
+                                         f"joint {j.name!r} <mimic>"),
+                   _float(j.mimic.offset if j.mimic.offset is not None else 0.0, f"joint {j.name!r} <mimic>"))
+        k = {"floating": 6, "planar": 3, "fixed": 0}.get(j.type, 1)
+        joints[j.name] = URDFJoint(j.name, j.type, j.parent, j.child, tuple(ax), k, lim, mim)
+
+    mimics = [jn for jn, jj in joints.items() if jj.mimic is not None]
+    if mimics and mimic == "error":
+        jj = joints[mimics[0]]
+        raise ModelError(f"URDF {path!r}: joint {jj.name!r} mimics joint {jj.mimic[0]!r} (q = "
+                         f"{jj.mimic[1]:g} q_{jj.mimic[0]} + {jj.mimic[2]:g}); phmech has no coupling "
+                         f"between pairs: pass mimic='free' to import it (and "
+                         f"{len(mimics) - 1} other mimic joints) as an independent joint")
+    limited = [jn for jn, jj in joints.items() if jj.limit is not None and
+               (jj.limit[0] is not None or jj.limit[1] is not None) and jj.limit[0] != jj.limit[1]]
+    if limited and limits == "error":
+        lo, hi = joints[limited[0]].limit[:2]
+        raise ModelError(f"URDF {path!r}: joint {limited[0]!r} has position limits [{lo:g}, {hi:g}] "
+                         f"(and {len(limited) - 1} more joints have limits), which phmech does not "
+                         f"enforce; pass limits='warn' or 'ignore' to import them without")
+    q0s = _per_joint(q0, joints, "q0")
+    qd0s = _per_joint(qdot0, joints, "qdot0")
+    drv = {} if driven is None else dict(driven)
+    for n in drv:
+        if n not in joints:
+            raise ModelError(f"load_urdf: driven: {n!r} is not a movable joint of the URDF")
+
+    # the bodies' mass properties (the root group's only with a floating base)
+    mass_of = {}
+    for t, members in groups.items():
+        if t in flexible or (t == root and base == "fixed"):
+            continue
+        parts, missing = [], []
+        for n in members:
+            mi = _inertia(links[n], path)
+            if mi is None:
+                missing.append(n)
+                continue
+            T = T_in_top[n]
+            R = T[:3, :3]
+            parts.append((mi[0], R @ mi[1] + T[:3, 3], R @ mi[2] @ R.T))
+        M, c, J = _merge(parts)
+        what = f"URDF {path!r}: link {t!r}" + (f" (with the links welded to it: "
+                                               f"{', '.join(map(repr, members[1:]))})" if len(members) > 1 else "")
+        if M <= 0:
+            if missing and len(missing) == len(members):
+                raise ModelError(f"{what} has no <inertial>, but it moves (joint "
+                                 f"{parent_of[t].name!r} if t in parent_of else 'the floating base'): "
+                                 f"give it a mass and an inertia, or weld it to a massive link with a "
+                                 f"fixed joint")
+            raise ModelError(f"{what} has zero mass but it moves (joint "
+                             f"{parent_of[t].name if t in parent_of else 'the floating base'!r}): give "
+                             f"it a mass and an inertia, or weld it to a massive link with a fixed joint")
+        if np.min(np.linalg.eigvalsh(J)) <= 1e-12 * max(np.max(np.abs(J)), 1e-300):
+            raise ModelError(f"{what}: its inertia about the centre of mass (eigenvalues "
+                             f"{np.linalg.eigvalsh(J).tolist()} kg m^2) is not positive definite; a "
+                             f"rigid body needs one")
+        mass_of[t] = (M, c, J)
+
+    m = Mechanism(gravity=gravity) if mechanism is None else mechanism
+    if not isinstance(m, Mechanism):
+        raise ModelError(f"load_urdf: mechanism must be a phmech.Mechanism or None (got "
+                         f"{type(m).__name__})")
+    H_base = np.eye(4) if base_pose is None else np.array(base_pose, dtype=float)
+    frames = {}        # link -> Frame of its URDF frame
+    body_frame = {}    # group top -> the Frame of the top link's URDF frame
+    flex = {}
+    replaced = {}
+    if base == "fixed":
+        body_frame[root] = m.ground.frame_at(H_base[:3, 3], H_base[:3, :3], name=root)
+    else:
+        M, c, J = mass_of[root]
+        b = m.add_rigid_body(root, M, J, com=c, pose=H_base)
+        m.add_pair(f"{root}.base", Free(), m.ground.frame_at(H_base[:3, 3], H_base[:3, :3]), b)
+        body_frame[root] = b.frame
+    for n in groups[root]:
+        frames[n] = body_frame[root].frame_at(T_in_top[n][:3, 3], T_in_top[n][:3, :3], name=n)
+
+    flex_start = {}    # flexible link -> (rotation R0 of its start in the link frame, its end frame)
+    limited_info = []
+    friction = []
+    for j in order:
+        if j.name not in joints:
+            continue
+        jj = joints[j.name]
+        ptop = top[j.parent]
+        T = T_in_top[j.parent] @ _origin(j.origin, f"URDF {path!r}: joint {j.name!r}")
+        if j.parent in flexible:   # at the end of the flexible link, turned as the URDF says
+            R0, d = flex_start[j.parent]
+            jf = flex[j.parent].end.frame_at((0, 0, 0), R0.T @ T[:3, :3], name=f"{j.name}.parent")
+        else:
+            jf = body_frame[ptop].frame_at(T[:3, 3], T[:3, :3], name=f"{j.name}.parent")
+        x = q0s.get(j.name, np.zeros(jj.k))
+        ax = np.array(jj.axis)
+        if j.child in flexible:
+            props, kw = _beam_properties(flexible[j.child], j.child)
+            kids = children[j.child]
+            if len(kids) != 1:
+                raise ModelError(f"load_urdf: flexible link {j.child!r} has {len(kids)} child joints; "
+                                 f"a flexible link runs from its frame to the origin of its one child "
+                                 f"joint (weld other links to that child)")
+            d = _origin(kids[0].origin, f"URDF {path!r}: joint {kids[0].name!r}")[:3, 3]
+            L = float(np.linalg.norm(d))
+            if L <= 0:
+                raise ModelError(f"load_urdf: flexible link {j.child!r}: its child joint "
+                                 f"{kids[0].name!r} is at its origin (length 0)")
+            R0 = _beam_rotation(d)
+            Hj = m.world_pose(jf) @ _joint_transform(j.type, ax, x)
+            start = np.eye(4)
+            start[:3, :3] = R0
+            lk = m.add_flexible_link(j.child, L, props, pose=Hj @ start, **kw)
+            flex[j.child], flex_start[j.child] = lk, (R0, d)
+            child_frame = lk.start.frame_at((0, 0, 0), R0.T, name=j.child)
+            frames[j.child] = child_frame
+            um = _inertia(links[j.child], path)
+            rho_a = float(props.inertia[3, 3])
+            replaced[j.child] = (0.0 if um is None else um[0], rho_a * L)
+        else:
+            M, c, J = mass_of[j.child]
+            b = m.add_rigid_body(j.child, M, J, com=c)
+            child_frame = b.frame
+            body_frame[j.child] = b.frame
+            for n in groups[j.child]:
+                frames[n] = b.frame.frame_at(T_in_top[n][:3, 3], T_in_top[n][:3, :3], name=n)
+        pair = {"revolute": Revolute, "continuous": Revolute, "prismatic": Prismatic}.get(j.type)
+        if pair is not None:
+            pr = pair(axis=ax)
+        elif j.type == "planar":
+            pr = Planar(normal=ax)
+        elif j.type == "floating":
+            pr = Free()
+        else:   # a fixed joint onto or off a flexible link
+            pr = Fixed()
+        kw = {}
+        if jj.k:
+            kw = dict(x0=x, xdot0=qd0s.get(j.name, np.zeros(jj.k)))
+        if j.name in drv:
+            kw = dict(driven=drv[j.name])
+        m.add_pair(j.name, pr, jf, child_frame, **kw)
+        if jj.limit is not None and j.name in limited:
+            limited_info.append(f"{j.name} [{jj.limit[0]:g}, {jj.limit[1]:g}]")
+        dyn = j.dynamics
+        if dyn is not None and jj.k:
+            damping = 0.0 if dyn.damping is None else _float(dyn.damping, f"joint {j.name!r} <dynamics damping>")
+            fr = 0.0 if dyn.friction is None else _float(dyn.friction, f"joint {j.name!r} <dynamics friction>")
+            if damping < 0 or fr < 0:
+                raise ModelError(f"URDF {path!r}: joint {j.name!r}: <dynamics> damping and friction "
+                                 f"must be >= 0")
+            if damping > 0 and joint_damping:
+                m.add_actuator(f"{j.name}.damping", j.name, PD(kp=0.0, kd=damping))
+            if fr > 0:
+                friction.append(f"{j.name} ({fr:g})")
+    if limited_info and limits == "warn":
+        warnings.warn(f"URDF {path!r}: {len(limited_info)} joints have position limits phmech does "
+                      f"not enforce (no joint stops; velocity and effort limits neither): "
+                      f"{', '.join(limited_info)}; check result.joint(name)['x'] against them, or "
+                      f"pass limits='ignore' to silence this", AccuracyWarning,
+                      stacklevel=_outside_stacklevel())
+    if friction:
+        warnings.warn(f"URDF {path!r}: the <dynamics friction> of {len(friction)} joints is not "
+                      f"modelled (Coulomb friction; {', '.join(friction)} N m or N): the joints "
+                      f"move without it; add a PD damper (add_actuator) if a viscous substitute "
+                      f"will do", AccuracyWarning, stacklevel=_outside_stacklevel())
+    bodies = {t: tuple(groups[t]) for t in groups if t in body_frame and not (t == root and base == "fixed")}
+    return URDFRobot(m, robot.name, joints, frames, bodies, flex, replaced)
