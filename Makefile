@@ -145,13 +145,22 @@ sdist: sysdeps $(WHEEL_STAMP)
 
 # Long validation studies (not part of `make test`); figures land in benchmarks/results/.
 # hard_cases.py: the long versions of tests/hard (docs/validation.md), ~5 min CPU.
-validate: build
+# validate_urdf.py: UR5 and Panda against Pinocchio (tools/requirements-validate.txt: pin and
+# example-robot-data, the [validate] extra, installed into .venv here only), ~1 min CPU.
+VALIDATE_STAMP := $(VENV)/.phmech-validate-deps
+
+$(VALIDATE_STAMP): tools/requirements-validate.txt $(STAMP)
+	$(PY) -m pip install -q -r tools/requirements-validate.txt
+	@touch $@
+
+validate: build $(VALIDATE_STAMP)
 	@mkdir -p benchmarks/results
 	$(PY) examples/timoshenko_table.py --json --plot benchmarks/results/timoshenko_convergence.png > benchmarks/results/timoshenko_table.json
 	$(PY) benchmarks/validate_energy_drift.py
 	$(PY) benchmarks/all_state_reference.py
 	$(PY) benchmarks/hard_cases.py
 	$(PY) benchmarks/sizing.py
+	$(PY) benchmarks/validate_urdf.py
 
 # Work-precision benchmarks against Exudyn and MuJoCo (installed into .venv from
 # benchmarks/requirements.txt when missing); BENCH_ARGS=--quick for a short run (~4.5 min instead

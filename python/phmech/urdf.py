@@ -62,7 +62,7 @@ from .actuators import PD
 from .section import BeamProperties, Material, Section
 from . import se3
 
-__all__ = ["load_urdf", "URDFRobot", "URDFJoint"]
+__all__ = ["load_urdf", "URDFRobot", "URDFJoint", "inverse_dynamics", "forward_dynamics"]
 
 #: URDF joint types and the phmech pair each becomes (None: welded, no pair)
 JOINT_TYPES = {"revolute": Revolute, "continuous": Revolute, "prismatic": Prismatic,
@@ -565,3 +565,60 @@ def load_urdf(path, flexible: Optional[dict] = None, *, gravity=(0.0, 0.0, -9.81
                       f"will do", AccuracyWarning, stacklevel=_outside_stacklevel())
     bodies = {t: tuple(groups[t]) for t in groups if t in body_frame and not (t == root and base == "fixed")}
     return URDFRobot(m, robot.name, joints, frames, bodies, flex, replaced)
+
+
+def _driven_robot(path, q, qdot, qddot, kwargs: dict) -> tuple:
+    """(URDFRobot with every movable joint driven by q + qdot t + qddot t^2 / 2, its joint names);
+    ModelError for a joint that is not one drivable coordinate."""
+    from .laws import PiecewisePolynomial
+
+    for k in ("driven", "q0", "qdot0"):
+        if k in kwargs:
+            raise ModelError(f"inverse_dynamics: {k}= is set from q, qdot, qddot")
+    # the joint names first (a robot without drives), then the one with them
+    names = list(load_urdf(path, **{**kwargs, "limits": "ignore"}).joints)
+    q, qdot, qddot = (np.asarray(v, dtype=float).reshape(-1) for v in (q, qdot, qddot))
+    if not q.shape == qdot.shape == qddot.shape == (len(names),):
+        raise ModelError(f"inverse_dynamics: q, qdot and qddot need {len(names)} entries each "
+                         f"(the movable joints {names})")
+    laws = {n: PiecewisePolynomial([0.0, 1.0], [[qddot[i] / 2, qdot[i], q[i]]])
+            for i, n in enumerate(names)}
+    robot = load_urdf(path, driven=laws, **kwargs)
+    bad = [n for n, j in robot.joints.items() if j.k != 1]
+    if bad:
+        raise ModelError(f"inverse_dynamics: joints {bad} have several coordinates; only robots "
+                         f"of revolute, continuous and prismatic joints")
+    return robot, names
+
+
+def inverse_dynamics(path, q, qdot, qddot, **kwargs) -> np.ndarray:
+    """The joint efforts tau [N m or N] (one per movable joint, in ``URDFRobot.joints`` order)
+    that move the URDF robot at ``path`` with accelerations ``qddot`` at joint coordinates ``q``
+    and rates ``qdot`` (revolute, continuous and prismatic joints, fixed base): phmech's own
+    dynamics, read from the DAE's consistent initial values -- every joint driven by the law
+    q + qdot t + qddot t^2 / 2, the drives' multipliers at t = 0 solved at the acceleration
+    level (csrc/dae/initial.c). ``kwargs`` go to :func:`load_urdf` (gravity, mimic,
+    joint_damping, limits, flexible is refused)."""
+    if kwargs.get("flexible"):
+        raise ModelError("inverse_dynamics: a robot with flexible links has no joint-space "
+                         "dynamics of its joints alone")
+    robot, names = _driven_robot(path, q, qdot, qddot, kwargs)
+    # only the consistent initial values are needed: stop at the first output, t = 0
+    r = robot.mechanism.simulate(1e-6, 1e-6, integrator="ida", rtol=1e-10, callback=lambda t, i: True)
+    return np.array([r.joint(n)["lambda"][0, -1] for n in names])
+
+
+def forward_dynamics(path, q, qdot, tau, **kwargs) -> np.ndarray:
+    """The joint accelerations qddot (one per movable joint) of the URDF robot at ``path`` at
+    joint coordinates ``q`` and rates ``qdot`` under joint efforts ``tau``: phmech's dynamics
+    solved for them, through :func:`inverse_dynamics`, which is affine in qddot: its columns at
+    qddot = e_i less its value at 0 are the joint-space mass matrix M, qddot = M^-1 (tau - ID(0)),
+    then one correction qddot += M^-1 (tau - ID(qddot)) for round-off (n + 2 evaluations for n
+    joints). ``kwargs`` as inverse_dynamics."""
+    tau = np.asarray(tau, dtype=float).reshape(-1)
+    n = tau.size
+    z = np.zeros(n)
+    b = inverse_dynamics(path, q, qdot, z, **kwargs)
+    M = np.column_stack([inverse_dynamics(path, q, qdot, e, **kwargs) - b for e in np.eye(n)])
+    a = np.linalg.solve(M, tau - b)
+    return a + np.linalg.solve(M, tau - inverse_dynamics(path, q, qdot, a, **kwargs))
