@@ -126,6 +126,11 @@ def _parse(path):
         raise ModelError(f"load_urdf: path must be a file name (got {type(path).__name__})")
     if not os.path.isfile(path):
         raise ModelError(f"load_urdf: no such file {os.fspath(path)!r}")
+    from lxml import etree   # yourdfpy's XML library
+    try:   # strictly: yourdfpy falls back to a recovering parser that accepts a truncated file
+        etree.parse(os.fspath(path))
+    except etree.XMLSyntaxError as e:
+        raise ModelError(f"URDF {os.fspath(path)!r} cannot be parsed: {e}") from None
     try:
         u = yourdfpy.URDF.load(os.fspath(path), build_scene_graph=False, load_meshes=False,
                                build_collision_scene_graph=False, load_collision_meshes=False)
@@ -445,14 +450,15 @@ def load_urdf(path, flexible: Optional[dict] = None, *, gravity=(0.0, 0.0, -9.81
         what = f"URDF {path!r}: link {t!r}" + (f" (with the links welded to it: "
                                                f"{', '.join(map(repr, members[1:]))})" if len(members) > 1 else "")
         if M <= 0:
-            if missing and len(missing) == len(members):
-                raise ModelError(f"{what} has no <inertial>, but it moves (joint "
-                                 f"{parent_of[t].name!r} if t in parent_of else 'the floating base'): "
-                                 f"give it a mass and an inertia, or weld it to a massive link with a "
-                                 f"fixed joint")
-            raise ModelError(f"{what} has zero mass but it moves (joint "
-                             f"{parent_of[t].name if t in parent_of else 'the floating base'!r}): give "
-                             f"it a mass and an inertia, or weld it to a massive link with a fixed joint")
+            lack = "has no <inertial>" if len(missing) == len(members) else "has zero mass"
+            pj = parent_of.get(t)
+            if pj is not None and pj.type == "fixed":   # welded to a flexible link
+                raise ModelError(f"{what} {lack}, but it is a body of its own: joint {pj.name!r} "
+                                 f"welds it to flexible link {pj.parent!r}; give it a mass and an "
+                                 f"inertia")
+            mover = f"joint {pj.name!r}" if pj is not None else "the floating base"
+            raise ModelError(f"{what} {lack}, but it moves ({mover}): give it a mass and an "
+                             f"inertia, or weld it to a massive link with a fixed joint")
         if np.min(np.linalg.eigvalsh(J)) <= 1e-12 * max(np.max(np.abs(J)), 1e-300):
             raise ModelError(f"{what}: its inertia about the centre of mass (eigenvalues "
                              f"{np.linalg.eigvalsh(J).tolist()} kg m^2) is not positive definite; a "
