@@ -217,6 +217,66 @@ def test_ur5_with_a_flexible_forearm_runs_with_the_defaults():
                                    rigid.mechanism.world_pose(rigid.frames[link]), atol=1e-12)
 
 
+ONE_BODY = """<robot name="r">
+  <link name="base"/>
+  <joint name="j" type="{jtype}"><parent link="base"/><child link="b"/>
+    <origin xyz="0.1 0.2 0.3" rpy="0.2 0.1 -0.3"/><axis xyz="{axis}"/></joint>
+  <link name="b"><inertial><mass value="2"/>
+    <inertia ixx="0.01" iyy="0.02" izz="0.03" ixy="0" ixz="0" iyz="0"/></inertial></link>
+</robot>"""
+
+
+def test_floating_joint_falls_freely(tmp_path):
+    """A floating joint (Free pair: x = rotation vector, position in the joint frame): from a
+    given position and velocity the body falls as p0 + v t + g t^2 / 2 (in the joint frame),
+    turning at its constant angular velocity about its principal axis z."""
+    path = write(tmp_path, ONE_BODY.format(jtype="floating", axis="1 0 0"))
+    p0, v0, w = np.array([0.3, -0.2, 0.5]), np.array([1.0, 0.5, 2.0]), 3.0
+    robot = ph.load_urdf(path, q0={"j": [0, 0, 0, *p0]}, qdot0={"j": [0, 0, w, *v0]})
+    assert robot.joints["j"].k == 6
+    res = robot.mechanism.simulate(0.5, 0.05, integrator="ida", rtol=1e-10)
+    t = res.t[:, None]
+    Rj = (se3.rotation("z", -0.3) @ se3.rotation("y", 0.1) @ se3.rotation("x", 0.2))[:3, :3]
+    g = Rj.T @ np.array([0, 0, -9.81])            # gravity in the joint frame
+    x = res.joint("j")["x"]
+    np.testing.assert_allclose(x[:, 3:], p0 + v0 * t + 0.5 * g * t ** 2, atol=1e-8)
+    np.testing.assert_allclose(x[:, :3], np.column_stack([0 * t, 0 * t, w * t]), atol=1e-8)
+
+
+def test_planar_joint_moves_in_its_plane(tmp_path):
+    """A planar joint with normal z (Planar pair: x = angle, p_x, p_y), no gravity: the body
+    slides at its initial in-plane velocity and turns at its initial rate."""
+    path = write(tmp_path, ONE_BODY.format(jtype="planar", axis="0 0 1"))
+    robot = ph.load_urdf(path, q0={"j": [0.1, 0.2, -0.1]}, qdot0={"j": [1.5, 0.4, -0.3]},
+                         gravity=(0, 0, 0))
+    res = robot.mechanism.simulate(1.0, 0.1, integrator="ida", rtol=1e-10)
+    x, t = res.joint("j")["x"], res.t
+    # the body's centre of mass sits on the pair frames' origin: p moves in the joint frame at
+    # the initial velocity dp/dt expressed in F_a, whatever the rotation
+    np.testing.assert_allclose(x[:, 0], 0.1 + 1.5 * t, atol=1e-8)
+    np.testing.assert_allclose(x[:, 1], 0.2 + 0.4 * t, atol=1e-8)
+    np.testing.assert_allclose(x[:, 2], -0.1 - 0.3 * t, atol=1e-8)
+
+
+def test_floating_base_centre_of_mass_falls_as_a_point():
+    """The UR5 on a floating base, placed by base_pose, its joints moving: its centre of mass
+    falls exactly as a point mass, c0 + g t^2 / 2 (momentum: gravity is the only external
+    force)."""
+    H = se3.translation([1.0, 2.0, 3.0]) @ se3.rotation("x", 0.3)
+    robot = ph.load_urdf(os.path.join(DATA, "ur5_robot.urdf"), base="floating", base_pose=H,
+                         limits="ignore", qdot0={"elbow_joint": 2.0, "wrist_1_joint": -1.0})
+    m = robot.mechanism
+    np.testing.assert_allclose(m.world_pose(robot.frames["base_link"]), H, atol=1e-14)
+    # the root link (UR5's "world") and the links welded to it are the base body
+    assert robot.bodies["world"] == ("world", "base_link", "base")
+    res = m.simulate(0.3, 0.05, integrator="ida", rtol=1e-10)
+    c = res.centre_of_mass()
+    v0 = res.momentum().linear[0] / res.mass()
+    assert np.linalg.norm(v0) > 0.01          # the joints' motion moves the centre of mass
+    t = res.t[:, None]
+    np.testing.assert_allclose(c, c[0] + v0 * t + 0.5 * np.array([0, 0, -9.81]) * t ** 2, atol=1e-8)
+
+
 # ------------------------------------------------------------------ options and warnings
 def test_limits_warn_by_default_and_can_be_refused():
     path = os.path.join(DATA, "ur5_robot.urdf")

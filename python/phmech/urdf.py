@@ -387,7 +387,7 @@ def load_urdf(path, flexible: Optional[dict] = None, *, gravity=(0.0, 0.0, -9.81
                 top[j.child] = j.child
                 T_in_top[j.child] = np.eye(4)
     groups = {}
-    for n in links:
+    for n in top:   # depth-first: a group's top link first
         groups.setdefault(top[n], []).append(n)
 
     joints = {}
