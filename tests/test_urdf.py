@@ -226,6 +226,17 @@ ONE_BODY = """<robot name="r">
 </robot>"""
 
 
+def test_joints_in_depth_first_order(tmp_path):
+    """A branched tree: the joints depth-first from the root, in file order at each link (the
+    order Pinocchio numbers them: rA, AA1, rB)."""
+    link = '<inertial><mass value="1"/><inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial>'
+    joint = '<joint name="{}" type="continuous"><parent link="{}"/><child link="{}"/></joint>'
+    path = write(tmp_path, '<robot name="t"><link name="r"/>' + joint.format("rA", "r", "A") +
+                 joint.format("rB", "r", "B") + joint.format("AA1", "A", "A1") +
+                 "".join(f'<link name="{n}">{link}</link>' for n in ("A", "B", "A1")) + "</robot>")
+    assert list(ph.load_urdf(path).joints) == ["rA", "AA1", "rB"]
+
+
 def test_floating_joint_falls_freely(tmp_path):
     """A floating joint (Free pair: x = rotation vector, position in the joint frame): from a
     given position and velocity the body falls as p0 + v t + g t^2 / 2 (in the joint frame),

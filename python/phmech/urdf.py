@@ -89,7 +89,8 @@ class URDFJoint:
 class URDFRobot:
     """What :func:`load_urdf` built: the ``mechanism``; the robot's ``name``; its movable
     ``joints`` (name -> URDFJoint, in the tree's depth-first order, the order of
-    :meth:`joint_coordinates`); ``frames``: every link's URDF frame (name -> Frame, on the body,
+    :meth:`joint_coordinates` and of Pinocchio's joints; fixed joints at a flexible link's ends
+    are there too, with k = 0); ``frames``: every link's URDF frame (name -> Frame, on the body,
     flexible link or ground that carries it); ``bodies``: body name -> the links merged into it;
     ``flexible``: link name -> FlexibleLink; ``replaced_mass``: link name -> (URDF mass, the
     flexible link's mass) [kg]."""
@@ -371,21 +372,22 @@ def load_urdf(path, flexible: Optional[dict] = None, *, gravity=(0.0, 0.0, -9.81
 
     # the depth-first order of the joints, and each link's group: the top link of the group of
     # links welded to it by fixed joints, and its pose in the top link's frame
-    order, top, T_in_top = [], {root: root}, {root: np.eye(4)}
-    stack = [root]
+    order, top, T_in_top = [], {}, {}
+    stack = [(root, None)]
     while stack:
-        n = stack.pop()
-        for j in reversed(children[n]):
-            stack.append(j.child)
-        for j in children[n]:
+        n, j = stack.pop()
+        if j is None:
+            top[n], T_in_top[n] = n, np.eye(4)
+        else:
             order.append(j)
             T = _origin(j.origin, f"URDF {path!r}: joint {j.name!r}")
-            if j.type == "fixed" and j.parent not in flexible and j.child not in flexible:
-                top[j.child] = top[j.parent]
-                T_in_top[j.child] = T_in_top[j.parent] @ T
+            if j.type == "fixed" and j.parent not in flexible and n not in flexible:
+                top[n] = top[j.parent]
+                T_in_top[n] = T_in_top[j.parent] @ T
             else:
-                top[j.child] = j.child
-                T_in_top[j.child] = np.eye(4)
+                top[n] = n
+                T_in_top[n] = np.eye(4)
+        stack.extend((c.child, c) for c in reversed(children[n]))
     groups = {}
     for n in top:   # depth-first: a group's top link first
         groups.setdefault(top[n], []).append(n)
