@@ -3,15 +3,17 @@ the public builder API (``add_rigid_body``, ``add_flexible_link``, ``add_pair``,
 ``add_actuator``) and nothing else, so it is a leaf module: it imports the builder, and only
 ``phmech/__init__.py`` imports it (for the export).
 
-Parser: ``yourdfpy`` (PyPI). Chosen over ``urdfdom-py`` because it is maintained (releases in
-2025-2026, against urdfdom-py's last in mid-2025 and a ROS-1-era code base), pure Python on lxml
-and NumPy, and parses a URDF into plain dataclasses (links with their inertial origin as a 4x4
-matrix and the 3x3 inertia, joints with origin, axis, limit, mimic and dynamics) without
+Parser: ``yourdfpy`` (PyPI), chosen over ``urdfdom-py`` (the ROS ``urdf_parser_py``): both
+are maintained pure-Python parsers on lxml (yourdfpy's last release January 2026, urdfdom-py's
+June 2025), but yourdfpy hands over what an importer needs ready to use -- every ``<origin>``
+as a 4x4 matrix, the inertia as a 3x3 matrix, ``<limit>``, ``<mimic>`` and ``<dynamics>`` as
+dataclasses -- where urdfdom-py gives xyz/rpy lists to convert, and it reads a file without
 loading meshes or building a scene graph when asked not to (``load_meshes=False,
-build_scene_graph=False``), which is all an importer needs; its ``trimesh`` dependency is pure
-Python too. It checks none of the kinematic structure: this module does (missing links,
-several parents, loops, several roots, unknown joint types, missing or zero inertials), with a
-ModelError naming the element.
+build_scene_graph=False``); its own dependencies (trimesh, six) are pure Python. It checks
+none of the kinematic structure, and it recovers silently from malformed XML: this module
+parses strictly first and checks the structure itself (missing links, several parents, loops,
+several roots, unknown joint types, missing or zero inertials), with a ModelError naming the
+element.
 
 Mapping (URDF -> phmech):
 
