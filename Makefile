@@ -146,7 +146,7 @@ sdist: sysdeps $(WHEEL_STAMP)
 # Long validation studies (not part of `make test`); figures land in benchmarks/results/.
 # hard_cases.py: the long versions of tests/hard (docs/validation.md), ~5 min CPU.
 # validate_urdf.py: UR5 and Panda against Pinocchio (tools/requirements-validate.txt: pin and
-# example-robot-data, the [validate] extra, installed into .venv here only), ~1 min CPU.
+# example-robot-data, the [validate] extra, installed into .venv here only), ~11 s CPU.
 VALIDATE_STAMP := $(VENV)/.phmech-validate-deps
 
 $(VALIDATE_STAMP): tools/requirements-validate.txt $(STAMP)
