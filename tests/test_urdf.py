@@ -302,13 +302,24 @@ def test_the_imported_robot_saves_and_reloads_bit_identically(tmp_path):
 # ------------------------------------------------------------------ options and warnings
 def test_limits_warn_by_default_and_can_be_refused():
     path = os.path.join(DATA, "ur5_robot.urdf")
-    with pytest.warns(ph.AccuracyWarning, match=r"6 joints have position limits.*elbow_joint \[-3.14159, 3.14159\]"):
+    with pytest.warns(ph.AccuracyWarning, match=r"6 joints have position limits.*elbow_joint \[-3.14159, 3.14159\]") as w:
         ph.load_urdf(path)
+    assert w[0].filename == __file__            # the warning points at the user's line
     with pytest.raises(ph.ModelError, match="joint 'shoulder_pan_joint' has position limits"):
         ph.load_urdf(path, limits="error")
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         ph.load_urdf(path, limits="ignore")
+
+
+def test_joint_friction_is_warned_about(tmp_path):
+    text = two_link(joint_type="continuous").replace(
+        '<axis xyz="0 0 1"/></joint>', '<axis xyz="0 0 1"/><dynamics damping="0.5" friction="0.2"/></joint>')
+    with pytest.warns(ph.AccuracyWarning, match=r"friction> of 1 joints is not modelled.*j1 \(0.2\)"):
+        robot = ph.load_urdf(write(tmp_path, text), gravity=(0, 0, 0), qdot0={"j1": 1.0})
+    # the damping is there: -0.5 N m s/rad times the rate
+    res = robot.mechanism.simulate(0.01, 0.01)
+    assert res.joint("j1")["effort"][0, 0] == pytest.approx(-0.5, rel=1e-12)
 
 
 def test_mimic_joints_are_refused_unless_free():
