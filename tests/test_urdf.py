@@ -17,8 +17,6 @@ import pytest
 import phmech as ph
 from phmech import se3
 
-pytest.importorskip("yourdfpy")
-
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "urdf")
 EXAMPLES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples")
 ROBOTS = {"ur5": ("ur5_robot.urdf", {}), "panda": ("panda.urdf", {"mimic": "free"})}
