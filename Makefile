@@ -131,8 +131,9 @@ validate: build
 
 # Work-precision benchmarks against Exudyn, MuJoCo and PyElastica (pinned in
 # benchmarks/requirements.txt, installed into .venv here, not for `make test`);
-# BENCH_ARGS=--quick for a short run. Results: benchmarks/results/*.json and *.png; the tables of
-# docs/performance.md and docs/perf_*.md from them: $(PY) benchmarks/report.py.
+# BENCH_ARGS=--quick for a short run. Results: benchmarks/results/*.json and *.png; the last step
+# rewrites the marked tables of README.md, docs/performance.md and docs/perf_*.md from them
+# (benchmarks/report.py --write-docs; without the option it prints them).
 # A smoke of every script below (--smoke, seconds each) runs in `make test`
 # (tests/test_benchmarks_smoke.py; peers skipped there when not installed).
 BENCH_STAMP := $(VENV)/.phmech-bench-deps
@@ -148,7 +149,7 @@ bench: build $(BENCH_STAMP)
 	$(PY) benchmarks/bench_leaf_spring.py $(BENCH_ARGS)
 	$(PY) benchmarks/bench_modal.py $(BENCH_ARGS)
 	$(PY) benchmarks/mass_matrix_study.py $(BENCH_ARGS)
-	$(PY) benchmarks/report.py
+	$(PY) benchmarks/report.py --write-docs
 
 clean:
 	rm -rf build $(VENV)/.phmech-built

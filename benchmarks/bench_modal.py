@@ -34,7 +34,7 @@ sys.path.insert(0, HERE)
 
 import phmech as ph  # noqa: E402
 import leaf_spring as LS  # noqa: E402
-from run import RESULTS, write_json  # noqa: E402
+from run import RESULTS, machine, write_json  # noqa: E402
 
 F_REF = 3.3645021
 T_END, T_FFT, DT_OUT = 10.0, 2.0, 2e-3
@@ -120,7 +120,7 @@ def main(argv=None):
           f"{dw['thread_cpu_s'] * 1e3:.1f} ms (median of 5), error {dw['error']:.2e}", flush=True)
     write_json("bench_modal", dict(
         problem="leaf spring pulse response, 10 s: nonlinear against modal leaves",
-        f_ref_hz=F_REF, t_end_s=T_END, dt_out_s=DT_OUT, repeat=repeat, runs=runs,
+        f_ref_hz=F_REF, t_end_s=T_END, dt_out_s=DT_OUT, repeat=repeat, runs=runs, machine=machine(),
         done_when=dw))
     import matplotlib
     matplotlib.use("Agg")

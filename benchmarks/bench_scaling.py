@@ -269,6 +269,9 @@ def runner(code: str, size: int, setting: float):
         return lambda T: ex_chain(size, T, setting)
     if code == "chain-mujoco":
         return lambda T: mj_chain(size, T, setting)
+    if code.startswith("chain-mujoco-"):       # chain-mujoco-<integrator>[-<tag>]
+        integ = {"rk4": "RK4", "euler": "Euler", "implicitfast": "implicitfast"}[code.split("-")[2]]
+        return lambda T: mj_chain(size, T, setting, integ)
     raise ValueError(code)
 
 
@@ -401,7 +404,11 @@ def bench_chain(quick: bool, budget: float, runs, skipped, smoke: bool = False) 
     T = 0.1 if smoke else CHAIN_T
     cases = [("chain-phmech-default", 1e-4, T, ns), ("chain-phmech-klu", 1e-6, T, ns),
              ("chain-phmech-dense", 1e-6, T, ns),
-             ("chain-exudyn", EX_H_CHAIN, T, ns), ("chain-mujoco", MJ_DT, T, ns)]
+             ("chain-exudyn", EX_H_CHAIN, T, ns), ("chain-mujoco", MJ_DT, T, ns),
+             # MuJoCo's other integrators and steps: the table picks, per n, the cheapest that
+             # reaches phmech's error (docs/perf_scaling.md)
+             ("chain-mujoco-rk4-4ms", 4e-3, T, ns), ("chain-mujoco-euler", 1e-4, T, ns),
+             ("chain-mujoco-implicitfast", 1e-4, T, ns)]
     sweep(cases, budget, runs, skipped)
     cases = [c for c in cases if not CODES or c[0] in CODES]
     refs = {}
@@ -413,8 +420,10 @@ def bench_chain(quick: bool, budget: float, runs, skipped, smoke: bool = False) 
             d = np.linalg.norm(np.asarray(r["link_ends"]) - refs[r["size"]]["link_ends"], axis=1)
             r["error_m"] = float(np.max(d))
             r["end_link_error_m"] = float(d[-1])
-    settings = {c: dict(setting=s, T=T, meaning={"chain-exudyn": f"step size h [s], spectral radius {EX_RHO_CHAIN}", "chain-mujoco": "RK4 step [s]"}
-                        .get(c, "rtol")) for c, s, T, _ in cases}
+    settings = {c: dict(setting=s, T=T, meaning="rtol" if "phmech" in c else
+                        f"step size h [s], spectral radius {EX_RHO_CHAIN}" if c == "chain-exudyn" else
+                        "RK4 step [s]" if c == "chain-mujoco" else f"MuJoCo {c.split('-')[2]} step [s]")
+                for c, s, T, _ in cases}
     return settings, list(refs.values())
 
 
