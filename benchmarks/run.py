@@ -67,8 +67,11 @@ def ensure_peers() -> None:
 
 def have(module: str) -> bool:
     """True if ``module`` (a peer: "exudyn", "mujoco", "elastica") is installed; a benchmark skips
-    the points of a missing peer (so its smoke in tests/test_benchmarks_smoke.py runs without them)."""
+    the points of a missing peer (so its smoke in tests/test_benchmarks_smoke.py runs without them).
+    BENCH_WITHOUT="exudyn,mujoco,elastica" hides installed peers (to check that path)."""
     import importlib.util
+    if module in os.environ.get("BENCH_WITHOUT", "").split(","):
+        return False
     return importlib.util.find_spec(module) is not None
 
 
