@@ -20,7 +20,8 @@ peak memory against problem size, with fitted exponents.
    dense, rtol 1e-6), Exudyn (3-D rigid bodies with Euler parameters +
    revolute joints, redundant coordinates, generalized-alpha h = 1e-4, spectral radius 0.8,
    Newton tolerance 1e-10),
-   MuJoCo (hinge chain in minimal coordinates, RK4, dt = 1e-3). Accuracy: largest error over the
+   MuJoCo (hinge chain in minimal coordinates, RK4 at dt = 1e-3 and 4e-3, Euler and implicitfast
+   at 1e-4: docs/perf_scaling.md compares phmech with the cheapest one at or below its error). Accuracy: largest error over the
    links' free-end positions at T against MuJoCo RK4 with dt = 1e-5 (checked against phmech at
    rtol 1e-10 for n <= 10); for long chains the end link is still nearly in free fall at T.
 

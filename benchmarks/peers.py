@@ -21,6 +21,10 @@ the released cantilever of ``run.bench_transient``; ``tip`` is the in-plane tip 
 - ``mujoco_cable``: MuJoCo's ``composite type="cable"`` with the ``mujoco.elasticity.cable``
   plugin (discrete elastic rod: rigid segments joined by ball joints, bending/twist from relative
   rotations, inextensible, no shear). See :func:`mujoco_cable_xml` for the parameter mapping.
+- ``pyelastica``: PyElastica's ``CosseratRod`` (shear, extension, bending, twist; explicit
+  symplectic stepping) with the Table I section (:func:`pyelastica_rod`); the released
+  cantilever (:func:`pyelastica_transient`, from a damped relaxation: PyElastica has no static
+  solver) and the whipped rod (:func:`pyelastica_whip`).
 
 CPU time is ``time.process_time``.
 """

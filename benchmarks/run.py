@@ -1,6 +1,6 @@
 """Work-precision benchmarks of phmech against its peers (issue 6), same machine, same run.
 
-    python benchmarks/run.py [--quick] [--only modes transient]
+    python benchmarks/run.py [--quick | --smoke] [--only modes transient whip]
 
 1. ``modes``: first five cantilever frequencies of the paper's Table I beam: relative error
    against the Timoshenko frequency equation (``phmech.timoshenko.frequencies``) vs number of
@@ -14,17 +14,25 @@
    on N_ref/2 and N_ref elements, Richardson-extrapolated (second order in h); its self-convergence
    is stored. Sweeps: phmech N x rtol with IDA (every state in the error test; the configuration
    error test) and N x step with the fixed-step generalized-alpha integrator, the last two with
-   lumped and with consistent element mass; Exudyn's 2-D beam
-   N x step size (generalized-alpha, spectral radius 1 and 0.9), its 3-D beam and ANCF cable,
-   MuJoCo's cable.
+   lumped and with consistent element mass; Exudyn's 2-D beam N x step size (generalized-alpha,
+   spectral radius 1 and 0.9) and N x tolerance (DOPRI5, automatic step), each with its dense and
+   its sparse solver; its 3-D beam and ANCF cable; MuJoCo's cable (RK4, implicitfast, Euler);
+   PyElastica's Cosserat rod (position Verlet). ``cheapest_at_level``: per error level the
+   cheapest measured point of each code reaching it (benchmarks/report.py prints the table).
+3. ``whip``: the same rod straight at rest, its base driven transversally by a cycloidal stroke
+   (0.3 m in 0.15 s), tip over 0.5 s against phmech's IDA reference (rtol 1e-10, Richardson):
+   phmech (default integrator, IDA configuration test), Exudyn GE2D (base through an
+   offsetUserFunction), PyElastica (a driven-clamp constraint).
 
 Scaling with the number of elements and bodies: benchmarks/bench_scaling.py; the leaf-spring
 mechanism: benchmarks/bench_leaf_spring.py (all three run by ``make bench``).
 
 CPU time is ``time.process_time`` (median of 3 repetitions for the cheap eigenvalue points).
-Each benchmark writes ``benchmarks/results/<name>.json`` (machine, versions, every point) and a
-PNG work-precision plot. The peers are installed into .venv from benchmarks/requirements.txt when
-missing.
+Each benchmark writes ``benchmarks/results/<name>.json`` (machine, versions, command, date,
+every point) and a PNG work-precision plot (``BENCH_RESULTS``: another folder). The peers are
+installed into .venv from benchmarks/requirements.txt when missing (``BENCH_NO_INSTALL=1``: not;
+a missing peer's points are then skipped). ``--smoke``: one coarse point per code, seconds
+(tests/test_benchmarks_smoke.py).
 """
 from __future__ import annotations
 
