@@ -285,7 +285,7 @@ def point(code: str, size: int, T: float, setting: float) -> dict:
     w0 = time.time()
     rates, runs = [], 0
     while True:
-        c1, _, _ = run(T / 5)
+        c1, _, st5 = run(T / 5)
         cT, tip, stats = run(T)
         rates.append(max(cT - c1, 1e-9) / (0.8 * T))
         runs += 1
@@ -297,6 +297,7 @@ def point(code: str, size: int, T: float, setting: float) -> dict:
     extra = {} if tip.ndim == 1 else {"link_ends": tip.tolist()}
     tip = tip if tip.ndim == 1 else tip[-1]
     return dict(code=code, size=size, T=T, setting=setting, cpu_T_s=cT, cpu_per_sim_s=rate, **extra,
+                steps_T5=st5.get("steps"),
                 rate_repetitions=runs, setup_cpu_s=max(cT - rate * T, 0.0), tip_end=tip.tolist(),
                 maxrss_MB=ru.ru_maxrss / 1024.0, stats=stats)
 

@@ -17,8 +17,6 @@ import subprocess
 import sys
 from pathlib import Path
 
-import pytest
-
 ROOT = Path(__file__).resolve().parents[1]
 BENCH = ROOT / "benchmarks"
 
@@ -65,12 +63,11 @@ def test_bench_scaling(tmp_path):
     sc = load(tmp_path, "bench_scaling.json")
     codes = {r["code"] for r in sc["runs"]}
     assert {"phmech-default", "phmech-klu", "chain-phmech-default", "chain-phmech-klu"} <= codes, out
-    # the default integrator's band no longer follows T: the T run takes more steps than T/5's,
-    # so its rate is a positive number (it was 1e-9 / (0.8 T), a floor, when both took the same)
+    # the default integrator's band no longer follows T: the T run takes more steps than the T/5
+    # run (both took the same before, and the rate was a floor: 1e-9 / (0.8 T))
     for r in sc["runs"]:
         if r["code"] in ("phmech-default", "chain-phmech-default"):
-            assert r["stats"]["band"] == pytest.approx(1.0 / (2 * sc["dt_out"]["elements" if "chain" not in r["code"]
-                                                                                else "chain"]))
+            assert r["stats"]["steps"] > 2 * r["steps_T5"], r
     # every chain point is compared with the reference
     assert all("error_m" in r for r in sc["runs"] if r["code"].startswith("chain-"))
 
