@@ -220,10 +220,12 @@ def modal(results: str) -> list:
 
 
 def scenes(results: str) -> list:
+    # the newer of the full and the quick run, by the date each stores (none: before issue 31)
     d, path = load(results, "scenes.json")
     name = "scenes.py"
     dq, pq = load(results, "scenes_quick.json")
-    if dq is not None and (d is None or os.path.getmtime(pq) > os.path.getmtime(path)):
+    date = lambda x: (x or {}).get("machine", {}).get("date_utc", "")  # noqa: E731
+    if dq is not None and (d is None or date(dq) > date(d)):
         d, path, name = dq, pq, "scenes.py --quick"
     if d is None:
         return ["(no scenes.json)"]

@@ -445,7 +445,9 @@ def bench_transient(quick: bool, smoke: bool = False) -> dict:
     # Exudyn front is taken over all of them, so at each error level the faster one counts
     ex_N = [4] if smoke else [5, 10, 20, 40] if quick else [5, 10, 20, 40, 80]
     ex_h = [5e-3] if smoke else [5e-3, 1e-3, 2.5e-4] if quick else [5e-3, 2e-3, 1e-3, 5e-4, 2.5e-4, 1e-4]
-    ex_dopri = [1e-4] if smoke else [1e-3, 1e-4, 1e-5, 1e-6] if quick else [1e-3, 1e-4, 1e-5, 1e-6, 1e-7]
+    # DOPRI5 does not converge to the reference here (docs/performance.md) and costs 10-30 s per
+    # point at N = 80: its grid stops at N = 40 and rtol 1e-6
+    ex_dopri = [1e-4] if smoke else [1e-3, 1e-4, 1e-5, 1e-6]
 
     def exudyn_point(variant, N, h, rho, dopri5_rtol=None):
         for sparse in (False, True):
@@ -474,7 +476,7 @@ def bench_transient(quick: bool, smoke: bool = False) -> dict:
             exudyn_point("ge2d-galpha-rho1", N, h, 1.0)
             if h in (1e-3, 2.5e-4):
                 exudyn_point("ge2d-galpha-rho0.9", N, h, 0.9)
-        for tol in ex_dopri:
+        for tol in (ex_dopri if N <= 40 else []):
             exudyn_point("ge2d-dopri5", N, 1e-2, 1.0, tol)
 
     # more peers (benchmarks/peers.py): Exudyn's 3-D beam (like-for-like), its ANCF cable

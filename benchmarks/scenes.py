@@ -258,7 +258,10 @@ def main(argv=None):
     if options:
         return rows
     with open(path, "w") as f:
-        json.dump(dict(rtol=ph.mechanism.DEFAULT_RTOL, reference=REFERENCE, scenes=rows), f, indent=1)
+        sys.path.insert(0, HERE)
+        from run import machine
+        json.dump(dict(rtol=ph.mechanism.DEFAULT_RTOL, reference=REFERENCE, scenes=rows, machine=machine(),
+                       quick=a.quick, smoke=a.smoke), f, indent=1)
     print(f"results: {path}")
     return rows
 
