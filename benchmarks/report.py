@@ -59,7 +59,7 @@ def ratio(row: dict, a: str, b: str, key: str = "cpu_s") -> str:
     ca, cb = (row or {}).get(a), (row or {}).get(b)
     if not ca or not cb or key not in ca or key not in cb:
         return "--"
-    return f"{ca[key] / cb[key]:.2f}"
+    return f"{ca[key] / cb[key]:.2g}"
 
 
 def level_table(d: dict, cols: list, ratios: list, key: str) -> list:
@@ -247,7 +247,7 @@ def headline(results: str) -> list:
     m = d["machine"]
     def rr(doc, a, b, key, lev):
         return ratio(doc["cheapest_at_level"].get(lev), a, b, key)
-    parts = [f"Measured by `make bench{' BENCH_ARGS=--quick' if d.get('quick') else ''}` on {m.get('date_utc', '?')} UTC "
+    parts = [f"Measured by `python benchmarks/{m.get('command', 'run.py')}` on {m.get('date_utc', '?')} UTC "
              f"(a shared {m.get('cpus', '?')}-CPU machine; tables, commands and dates: `docs/performance.md`). "
              "CPU(phmech) / CPU(peer) at matched error, the cheapest measured point of each reaching the level: "
              "released cantilever against Exudyn's 2-D beam (its best of dense and sparse solvers, "
@@ -274,7 +274,8 @@ def headline(results: str) -> list:
     if sc is not None:
         bits = [f"n = {n}: {r:.2f} ({ph:.0e} m)" for n, r, ph, _ in chain_matched(sc)]
         if bits:
-            parts.append("a rigid chain's CPU per simulated second, phmech's default integrator over the cheapest "
+            parts.append(f"(`python benchmarks/{sc['machine'].get('command', 'bench_scaling.py')}`, "
+                         f"{sc['machine'].get('date_utc', '?')} UTC) a rigid chain's CPU per simulated second, phmech's default integrator over the cheapest "
                          "MuJoCo run (RK4, Euler, implicitfast at the steps of `docs/perf_scaling.md`) whose link-end "
                          "error is at or below phmech's (phmech's error in brackets): " + ", ".join(bits))
     return ["; ".join(parts) + "."]
