@@ -162,16 +162,27 @@ validate: build $(VALIDATE_STAMP)
 	$(PY) benchmarks/sizing.py
 	$(PY) benchmarks/validate_urdf.py
 
-# Work-precision benchmarks against Exudyn and MuJoCo (installed into .venv from
-# benchmarks/requirements.txt when missing); BENCH_ARGS=--quick for a short run (~4.5 min instead
-# of ~25 min on 2 cores). Results: benchmarks/results/*.json and *.png; summary: docs/performance.md.
-bench: build
+# Work-precision benchmarks against Exudyn, MuJoCo and PyElastica (pinned in
+# benchmarks/requirements.txt, installed into .venv here, not for `make test`);
+# BENCH_ARGS=--quick for a short run. Results: benchmarks/results/*.json and *.png; the last step
+# rewrites the marked tables of README.md, docs/performance.md and docs/perf_*.md from them
+# (benchmarks/report.py --write-docs; without the option it prints them).
+# A smoke of every script below (--smoke, seconds each) runs in `make test`
+# (tests/test_benchmarks_smoke.py; peers skipped there when not installed).
+BENCH_STAMP := $(VENV)/.phmech-bench-deps
+
+$(BENCH_STAMP): benchmarks/requirements.txt $(STAMP)
+	$(PY) -m pip install -q -r benchmarks/requirements.txt
+	@touch $@
+
+bench: build $(BENCH_STAMP)
 	$(PY) benchmarks/scenes.py $(BENCH_ARGS)
 	$(PY) benchmarks/run.py $(BENCH_ARGS)
 	$(PY) benchmarks/bench_scaling.py $(BENCH_ARGS)
 	$(PY) benchmarks/bench_leaf_spring.py $(BENCH_ARGS)
 	$(PY) benchmarks/bench_modal.py $(BENCH_ARGS)
-	$(PY) benchmarks/mass_matrix_study.py
+	$(PY) benchmarks/mass_matrix_study.py $(BENCH_ARGS)
+	$(PY) benchmarks/report.py --write-docs
 
 clean:
 	rm -rf build $(VENV)/.phmech-built

@@ -149,7 +149,8 @@ def fft_point(p, N: int, rtol: float, f_ref: float, f_modal_N: float, error_test
     sel = res.t >= T_FFT
     f = ph.analysis.dominant_frequency(res.t[sel], x[sel], fmin=lo, fmax=hi)
     c3 = time.process_time()
-    st = {k: (v if isinstance(v, (str, int)) else float(v)) for k, v in res.stats.items()}
+    # stats hold numbers, strings, bools and None (e.g. "planar" of an IDA run)
+    st = {k: (v if v is None or isinstance(v, (str, int)) else float(v)) for k, v in res.stats.items()}
     return dict(N=N, rtol=rtol, atol=rtol * 1e-2, **tag, impulse_Ns=impulse, f_fft=f,
                 rel_error=abs(f - f_ref) / f_ref, signed_rel_error=(f - f_ref) / f_ref,
                 f_modal_N=f_modal_N, rel_error_vs_modal_N=abs(f - f_modal_N) / f_modal_N,
@@ -288,6 +289,8 @@ def git_state() -> dict:
 def main(argv=None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="fewer points (< 3 min)")
+    ap.add_argument("--smoke", action="store_true",
+                    help="a few seconds: coarse meshes, 2.5 s simulated (tests/test_benchmarks_smoke.py)")
     ap.add_argument("--budget", type=float, default=1050.0,
                     help="full run: skip N = 40 points once this many CPU seconds are spent [s]")
     ap.add_argument("--replot", action="store_true",
@@ -303,7 +306,13 @@ def main(argv=None) -> dict:
     t_wall, t_cpu = time.time(), time.process_time()
     git_start = git_state()
     p = ls.default_params()
-    if a.quick:
+    global T_END, T_FFT
+    if a.smoke:
+        T_END, T_FFT = 2.5, 1.0
+        Ns_ref, Ns_check, Ns, rtols, Ns_extra = [4, 8, 16], [], [2], [1e-3], []
+        amp_check = dict(Ns=[2], rtol=1e-3)
+        steps = [2e-3]
+    elif a.quick:
         Ns_ref, Ns_check, Ns, rtols, Ns_extra = [20, 40, 80], [30, 60], [2, 5, 10], [1e-3, 1e-4, 1e-5], []
         amp_check = dict(Ns=[2], rtol=1e-5)
         steps = [2e-3, 5e-4]
@@ -398,7 +407,7 @@ def main(argv=None) -> dict:
 
     fft_routes = {r: dict(points=pts[r]) for r in routes}
     out = dict(
-        benchmark="bench_leaf_spring", quick=a.quick, machine=machine(), git=dict(start=git_start, end=git_state()),
+        benchmark="bench_leaf_spring", quick=a.quick, smoke=a.smoke, machine=machine(), git=dict(start=git_start, end=git_state()),
         setup=dict(model="examples/leaf_spring.py build(default_params(), elements=N, beta=1e-5, pulse)",
                    params=p.as_dict(), t_end_s=T_END, fft_window_s=[T_FFT, T_END], dt_out_s=DT_OUT,
                    impulse_Ns=IMPULSE, pulse_duration_s=DURATION, pulse_t0_s=T0, beta_s=BETA,

@@ -34,7 +34,7 @@ sys.path.insert(0, HERE)
 
 import phmech as ph  # noqa: E402
 import leaf_spring as LS  # noqa: E402
-from run import RESULTS, write_json  # noqa: E402
+from run import RESULTS, machine, write_json  # noqa: E402
 
 F_REF = 3.3645021
 T_END, T_FFT, DT_OUT = 10.0, 2.0, 2e-3
@@ -75,9 +75,9 @@ def route(fidelity: str, N: int, band, t_end: float) -> dict:
                 ledger_relative=float(r.stats["ledger_relative"]))
 
 
-def done_when(repeat: int = 5) -> dict:
+def done_when(repeat: int = 5, N: int = 64) -> dict:
     """Issue 13's leaf-spring case (module doc): thread CPU of simulate alone, median."""
-    m, h = build("modal+modes", 64)
+    m, h = build("modal+modes", N)
     modes = [lk.modal_choice.modes for lk in m._desc.links.values()]
     m.simulate(T_END, 1e-2, band=10.0)                       # warm-up (build, reduction)
     cpu = []
@@ -86,7 +86,7 @@ def done_when(repeat: int = 5) -> dict:
         r = m.simulate(T_END, 1e-2, band=10.0)
         cpu.append(time.thread_time() - t0)
     f, err = fft_error(r, h)
-    return dict(elements=64, modes_band_hz=MODES_BAND, modes_per_leaf=modes, dt_out_s=1e-2,
+    return dict(elements=N, modes_band_hz=MODES_BAND, modes_per_leaf=modes, dt_out_s=1e-2,
                 band_hz=10.0, thread_cpu_s=float(np.median(cpu)), thread_cpu_runs=cpu,
                 f_fft_hz=f, error=err, ledger_relative=float(r.stats["ledger_relative"]))
 
@@ -94,13 +94,18 @@ def done_when(repeat: int = 5) -> dict:
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="fewer meshes, one repetition")
+    ap.add_argument("--smoke", action="store_true",
+                    help="seconds: one coarse mesh per route, 4 s simulated (tests/test_benchmarks_smoke.py)")
     a = ap.parse_args(argv)
-    repeat = 1 if a.quick else 3
-    meshes = {"nonlinear": [10, 20, 40] if a.quick else [10, 20, 40, 64],
+    global T_END
+    repeat = 1 if a.quick or a.smoke else 3
+    if a.smoke:
+        T_END = 4.0
+    meshes = {"nonlinear": [4], "modal": [8], "modal+modes": [8]} if a.smoke else {"nonlinear": [10, 20, 40] if a.quick else [10, 20, 40, 64],
               "modal": [16, 64] if a.quick else [8, 16, 32, 64],
               "modal+modes": [16, 64] if a.quick else [8, 16, 32, 64]}
     runs = []
-    for band in (10.0, None):
+    for band in ((10.0,) if a.smoke else (10.0, None)):
         for fid, Ns in meshes.items():
             for N in Ns:
                 rs = [route(fid, N, band, T_END) for _ in range(repeat)]
@@ -109,13 +114,13 @@ def main(argv=None):
                 print(f"{fid:9s} N={N:3d} band={band}: CPU {best['cpu_s']:.3f} s, "
                       f"f {best['f_fft_hz']:.7f} Hz, error {best['error']:.2e}, "
                       f"{best['steps']} steps", flush=True)
-    dw = done_when()
+    dw = done_when(1, 8) if a.smoke else done_when()
     print(f"done-when case: modal leaves (64 elements, modes from {MODES_BAND:g} Hz: "
           f"{dw['modes_per_leaf']}), simulate(10, 1e-2, band=10): thread CPU "
           f"{dw['thread_cpu_s'] * 1e3:.1f} ms (median of 5), error {dw['error']:.2e}", flush=True)
     write_json("bench_modal", dict(
         problem="leaf spring pulse response, 10 s: nonlinear against modal leaves",
-        f_ref_hz=F_REF, t_end_s=T_END, dt_out_s=DT_OUT, repeat=repeat, runs=runs,
+        f_ref_hz=F_REF, t_end_s=T_END, dt_out_s=DT_OUT, repeat=repeat, runs=runs, machine=machine(),
         done_when=dw))
     import matplotlib
     matplotlib.use("Agg")

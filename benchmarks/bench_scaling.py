@@ -20,9 +20,14 @@ peak memory against problem size, with fitted exponents.
    dense, rtol 1e-6), Exudyn (3-D rigid bodies with Euler parameters +
    revolute joints, redundant coordinates, generalized-alpha h = 1e-4, spectral radius 0.8,
    Newton tolerance 1e-10),
-   MuJoCo (hinge chain in minimal coordinates, RK4, dt = 1e-3). Accuracy: largest error over the
+   MuJoCo (hinge chain in minimal coordinates, RK4 at dt = 1e-3 and 4e-3, Euler and implicitfast
+   at 1e-4: docs/perf_scaling.md compares phmech with the cheapest one at or below its error). Accuracy: largest error over the
    links' free-end positions at T against MuJoCo RK4 with dt = 1e-5 (checked against phmech at
    rtol 1e-10 for n <= 10); for long chains the end link is still nearly in free fall at T.
+
+The output period is fixed (ELEM_DT_OUT, CHAIN_DT_OUT) whatever T, so the default integrator's
+band (1 / (2 dt_out)) is the same for the T and the T/5 run (it was tied to T before: both runs
+then took the same steps and the rate was meaningless).
 
 CPU per simulated second = (cpu(T) - cpu(T/5)) / (0.8 T) (free of set-up cost), measured in a
 fresh subprocess per point (median over 3 repetitions where a run is cheap); peak RSS =
@@ -47,7 +52,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 from run import (EA1, F_TIP, RESULTS, TABLE1, ensure_peers, exudyn_beam,  # noqa: E402
-                 exudyn_settings, machine, phmech_cantilever, write_json)
+                 exudyn_settings, have, machine, phmech_cantilever, write_json)
 
 # chain of rigid links
 LINK_L, LINK_M, LINK_R = 0.1, 0.1, 0.005                       # [m], [kg], rod radius [m]
@@ -55,6 +60,10 @@ LINK_I = (0.5 * LINK_M * LINK_R ** 2, LINK_M * LINK_L ** 2 / 12, LINK_M * LINK_L
 G = 9.81
 CHAIN_T = 0.5
 ELEM_T = 0.1
+# output periods, the same for every T (the default integrator's band is 1/(2 dt_out): 200 Hz for
+# the beam, above its fifth bending mode; 25 Hz for the chain)
+ELEM_DT_OUT = 2.5e-3
+CHAIN_DT_OUT = 0.02
 EX_H_BEAM = 1e-3
 EX_H_CHAIN = 1e-4
 EX_RHO_CHAIN = 0.8     # with 1.0 Exudyn's Newton fails for n = 100 at t = 0.48 s (step size hits its minimum)
@@ -89,7 +98,7 @@ def ph_beam(N: int, T: float, rtol: float, solver: str, error_test: str | None =
         kw = dict(integrator="generalized-alpha", step=ga_step, rho_inf=1.0)
         rtol = 1e-6
     t0 = time.process_time()
-    r = m.simulate(T, T / 4, rtol=rtol, linear_solver=solver, **kw)
+    r = m.simulate(T, ELEM_DT_OUT, rtol=rtol, linear_solver=solver, **kw)
     c = time.process_time() - t0
     return c, r.tip(b)[-1, [0, 2]], dict(r.stats)
 
@@ -187,7 +196,7 @@ def ph_chain(n: int, T: float, rtol: float, solver: str, default: bool = False):
         prev = ph.Frame(b.carrier, se3.translation([LINK_L, 0, 0]))
         ends.append(prev)
     t0 = time.process_time()
-    r = m.simulate(T, T / 5, rtol=rtol, linear_solver=solver, **({} if default else dict(integrator="ida")))
+    r = m.simulate(T, CHAIN_DT_OUT, rtol=rtol, linear_solver=solver, **({} if default else dict(integrator="ida")))
     c = time.process_time() - t0
     return c, np.array([r.position(e)[-1, :2] for e in ends]), dict(r.stats)
 
@@ -261,19 +270,22 @@ def runner(code: str, size: int, setting: float):
         return lambda T: ex_chain(size, T, setting)
     if code == "chain-mujoco":
         return lambda T: mj_chain(size, T, setting)
+    if code.startswith("chain-mujoco-"):       # chain-mujoco-<integrator>[-<tag>]
+        integ = {"rk4": "RK4", "euler": "Euler", "implicitfast": "implicitfast"}[code.split("-")[2]]
+        return lambda T: mj_chain(size, T, setting, integ)
     raise ValueError(code)
 
 
 def point(code: str, size: int, T: float, setting: float) -> dict:
     """One point in this (fresh) process: rate from cpu(T) - cpu(T/5), median of up to 3."""
-    import exudyn  # noqa: F401 -- every point loads all codes: one RSS baseline
-    import mujoco  # noqa: F401
-    import phmech  # noqa: F401
+    import phmech  # noqa: F401 -- every point loads all codes: one RSS baseline
+    for peer in PEERS:
+        __import__(peer)
     run = runner(code, size, setting)
     w0 = time.time()
     rates, runs = [], 0
     while True:
-        c1, _, _ = run(T / 5)
+        c1, _, st5 = run(T / 5)
         cT, tip, stats = run(T)
         rates.append(max(cT - c1, 1e-9) / (0.8 * T))
         runs += 1
@@ -285,6 +297,7 @@ def point(code: str, size: int, T: float, setting: float) -> dict:
     extra = {} if tip.ndim == 1 else {"link_ends": tip.tolist()}
     tip = tip if tip.ndim == 1 else tip[-1]
     return dict(code=code, size=size, T=T, setting=setting, cpu_T_s=cT, cpu_per_sim_s=rate, **extra,
+                steps_T5=st5.get("steps"),
                 rate_repetitions=runs, setup_cpu_s=max(cT - rate * T, 0.0), tip_end=tip.tolist(),
                 maxrss_MB=ru.ru_maxrss / 1024.0, stats=stats)
 
@@ -293,9 +306,17 @@ def point(code: str, size: int, T: float, setting: float) -> dict:
 CODES = None     # --codes filter
 
 
+#: the peers installed (a missing one's series are skipped)
+PEERS = [p for p in ("exudyn", "mujoco") if have(p)]
+
+
 def sweep(cases, budget_s: float, runs: list, skipped: list) -> None:
     for code, setting, T, sizes in cases:
         if CODES and code not in CODES:
+            continue
+        peer = code.replace("chain-", "").split("-")[0]
+        if peer in ("exudyn", "mujoco") and peer not in PEERS:
+            print(f"  {code}: {peer} not installed, skipped", flush=True)
             continue
         last = None          # (size, wall)
         for s in sizes:
@@ -348,7 +369,13 @@ def fit(rs, baseline, lo):
 
 
 def chain_reference(n: int, T: float) -> dict:
-    """MuJoCo RK4 at dt 1e-5; for n <= 10 also phmech IDA (KLU) at rtol 1e-10 (cross-check)."""
+    """MuJoCo RK4 at dt 1e-5; for n <= 10 also phmech IDA (KLU) at rtol 1e-10 (cross-check).
+    Without MuJoCo: phmech IDA at rtol 1e-10."""
+    if "mujoco" not in PEERS:
+        c0 = time.process_time()
+        _, tp, _ = ph_chain(n, T, 1e-10, "klu")
+        return dict(size=n, link_ends=tp.tolist(), code="phmech IDA rtol 1e-10 (MuJoCo not installed)",
+                    cpu_s=time.process_time() - c0)
     c, ends, _ = mj_chain(n, T, MJ_DT_REF)
     ref = dict(size=n, link_ends=ends.tolist(), code="mujoco RK4 dt 1e-5", cpu_s=c)
     if n <= 10:
@@ -357,9 +384,9 @@ def chain_reference(n: int, T: float) -> dict:
     return ref
 
 
-def bench_elements(quick: bool, budget: float, runs, skipped) -> dict:
-    Ns = [10, 30, 100] if quick else [10, 30, 100, 300, 1000]
-    T = 0.05 if quick else ELEM_T
+def bench_elements(quick: bool, budget: float, runs, skipped, smoke: bool = False) -> dict:
+    Ns = [10] if smoke else [10, 30, 100] if quick else [10, 30, 100, 300, 1000]
+    T = 0.0125 if smoke else 0.05 if quick else ELEM_T
     cases = [("phmech-default", 1e-4, T, Ns), ("phmech-klu", 1e-4, T, Ns)]
     if has_error_test():
         cases.append(("phmech-klu-cfg", 1e-4, T, Ns))
@@ -374,12 +401,16 @@ def bench_elements(quick: bool, budget: float, runs, skipped) -> dict:
             for c, s, T, _ in cases}
 
 
-def bench_chain(quick: bool, budget: float, runs, skipped) -> tuple:
-    ns = [1, 3, 10, 30] if quick else [1, 3, 10, 30, 100]
-    T = CHAIN_T
+def bench_chain(quick: bool, budget: float, runs, skipped, smoke: bool = False) -> tuple:
+    ns = [3] if smoke else [1, 3, 10, 30] if quick else [1, 3, 10, 30, 100]
+    T = 0.1 if smoke else CHAIN_T
     cases = [("chain-phmech-default", 1e-4, T, ns), ("chain-phmech-klu", 1e-6, T, ns),
              ("chain-phmech-dense", 1e-6, T, ns),
-             ("chain-exudyn", EX_H_CHAIN, T, ns), ("chain-mujoco", MJ_DT, T, ns)]
+             ("chain-exudyn", EX_H_CHAIN, T, ns), ("chain-mujoco", MJ_DT, T, ns),
+             # MuJoCo's other integrators and steps: the table picks, per n, the cheapest that
+             # reaches phmech's error (docs/perf_scaling.md)
+             ("chain-mujoco-rk4-4ms", 4e-3, T, ns), ("chain-mujoco-euler", 1e-4, T, ns),
+             ("chain-mujoco-implicitfast", 1e-4, T, ns)]
     sweep(cases, budget, runs, skipped)
     cases = [c for c in cases if not CODES or c[0] in CODES]
     refs = {}
@@ -391,8 +422,10 @@ def bench_chain(quick: bool, budget: float, runs, skipped) -> tuple:
             d = np.linalg.norm(np.asarray(r["link_ends"]) - refs[r["size"]]["link_ends"], axis=1)
             r["error_m"] = float(np.max(d))
             r["end_link_error_m"] = float(d[-1])
-    settings = {c: dict(setting=s, T=T, meaning={"chain-exudyn": f"step size h [s], spectral radius {EX_RHO_CHAIN}", "chain-mujoco": "RK4 step [s]"}
-                        .get(c, "rtol")) for c, s, T, _ in cases}
+    settings = {c: dict(setting=s, T=T, meaning="rtol" if "phmech" in c else
+                        f"step size h [s], spectral radius {EX_RHO_CHAIN}" if c == "chain-exudyn" else
+                        "RK4 step [s]" if c == "chain-mujoco" else f"MuJoCo {c.split('-')[2]} step [s]")
+                for c, s, T, _ in cases}
     return settings, list(refs.values())
 
 
@@ -431,6 +464,8 @@ def main() -> None:
     ap.add_argument("--budget", type=float, default=300.0, help="wall-time cap per point [s]")
     ap.add_argument("--codes", nargs="+", help="run only these series (others kept from the existing JSON)")
     ap.add_argument("--point", nargs=4, help=argparse.SUPPRESS)
+    ap.add_argument("--smoke", action="store_true",
+                    help="seconds: one small size per series (tests/test_benchmarks_smoke.py)")
     a = ap.parse_args()
     ensure_peers()
     global CODES
@@ -440,17 +475,17 @@ def main() -> None:
         print(json.dumps(point(code, int(s), float(T), float(st))))
         return
     t0 = time.time()
-    base = subprocess.run([sys.executable, "-c", "import resource, numpy, phmech, exudyn, mujoco; "
+    base = subprocess.run([sys.executable, "-c", "import resource, numpy, phmech" + "".join(", " + p for p in PEERS) + "; "
                            "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss/1024)"],
                           capture_output=True, text=True, check=True)
     baseline = float(base.stdout.strip())
     runs, skipped, settings, refs = [], [], {}, []
     if "elements" in a.only:
         print("elements:", flush=True)
-        settings.update(bench_elements(a.quick, a.budget, runs, skipped))
+        settings.update(bench_elements(a.quick, a.budget, runs, skipped, a.smoke))
     if "chain" in a.only:
         print("chain:", flush=True)
-        s, refs = bench_chain(a.quick, a.budget, runs, skipped)
+        s, refs = bench_chain(a.quick, a.budget, runs, skipped, a.smoke)
         settings.update(s)
     old = os.path.join(RESULTS, "bench_scaling.json")
     if (set(a.only) != {"elements", "chain"} or a.codes) and os.path.exists(old):
@@ -469,14 +504,7 @@ def main() -> None:
         f = fit(rs, baseline, 30 if not code.startswith("chain-") else 10)
         if f:
             fits[code] = f
-    import mujoco
     info = machine()
-    info["mujoco"] = mujoco.__version__
-    try:
-        info["git_head"] = subprocess.run(["git", "-C", HERE, "rev-parse", "--short", "HEAD"], capture_output=True,
-                                          text=True).stdout.strip()
-    except OSError:
-        pass
     out = dict(
         elements_problem=f"Table I cantilever (table1_properties(1.0)) straight at rest, tip force {F_TIP:.1f} N "
                          "applied at t = 0; tip_end = tip (x, deflection) at T [m] (phmech (x, z), Exudyn (x, y))",
@@ -490,7 +518,8 @@ def main() -> None:
         note="RSS of a fresh interpreter per point that imported numpy, phmech, exudyn and mujoco (baseline); "
              "exponents by least squares in log-log for size >= 30 (elements) / >= 10 (chain)",
         chain_reference=refs, machine=info, runs=runs, skipped=skipped, fits=fits,
-        wall_s=time.time() - t0, quick=a.quick)
+        wall_s=time.time() - t0, quick=a.quick, smoke=a.smoke,
+        dt_out=dict(elements=ELEM_DT_OUT, chain=CHAIN_DT_OUT))
     write_json("bench_scaling", out)
     plot(out)
     print(f"fits: {json.dumps(fits, indent=1)}")

@@ -21,6 +21,10 @@ the released cantilever of ``run.bench_transient``; ``tip`` is the in-plane tip 
 - ``mujoco_cable``: MuJoCo's ``composite type="cable"`` with the ``mujoco.elasticity.cable``
   plugin (discrete elastic rod: rigid segments joined by ball joints, bending/twist from relative
   rotations, inextensible, no shear). See :func:`mujoco_cable_xml` for the parameter mapping.
+- ``pyelastica``: PyElastica's ``CosseratRod`` (shear, extension, bending, twist; explicit
+  symplectic stepping) with the Table I section (:func:`pyelastica_rod`); the released
+  cantilever (:func:`pyelastica_transient`, from a damped relaxation: PyElastica has no static
+  solver) and the whipped rod (:func:`pyelastica_whip`).
 
 CPU time is ``time.process_time``.
 """
@@ -141,7 +145,7 @@ def exudyn_ge3d_frequencies(N: int, n: int = 5) -> np.ndarray:
 
 
 def exudyn_release(mbs, ld, sens, h: float, T: float, rho: float, sparse: bool,
-                    newton_rtol: float | None = None):
+                    newton_rtol: float | None = None, dopri5_rtol: float | None = None):
     """Static solve under the tip load, copy it to the initial state, release, integrate.
     ``newton_rtol``: the time integrator's Newton tolerance (None: Exudyn's default 1e-8, as
     run.exudyn_transient; it caps the time accuracy near 1e-4 L, see docs/perf_peers.md)."""
@@ -168,8 +172,16 @@ def exudyn_release(mbs, ld, sens, h: float, T: float, rho: float, sparse: bool,
     ss.timeIntegration.endTime = T
     ss.timeIntegration.numberOfSteps = int(round(T / h))
     ss.timeIntegration.generalizedAlpha.spectralRadius = rho
+    kw = {}
+    if dopri5_rtol is not None:
+        # Exudyn's error-controlled step size (automaticStepSize) exists for its explicit
+        # integrators only (DOPRI5); h is then the largest step and the first guess
+        ss.timeIntegration.automaticStepSize = True
+        ss.timeIntegration.relativeTolerance = dopri5_rtol
+        ss.timeIntegration.absoluteTolerance = 1e-2 * dopri5_rtol
+        kw = dict(solverType=exu.DynamicSolverType.DOPRI5)
     t1 = time.process_time()
-    exudyn.solver.SolveDynamic(mbs, ss)
+    exudyn.solver.SolveDynamic(mbs, ss, **kw)
     t2 = time.process_time()
     d = np.asarray(mbs.GetSensorStoredData(sens))
     info = dict(steps=int(round(T / h)), sim_cpu_s=t2 - t1, static_ok=bool(ok), static_rtol=static_rtol)
@@ -588,3 +600,172 @@ def main() -> None:
 
 if __name__ == "__main__":
     main()
+
+
+# ------------------------------------------------------------------ PyElastica Cosserat rod
+def has_pyelastica() -> bool:
+    """True if PyElastica (import name ``elastica``) is installed."""
+    try:
+        import elastica  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+#: radius [m] of the solid circular section with Table I's I/A = rhoI/rhoA (I = pi r^4 / 4)
+EL_RADIUS = 2.0 * np.sqrt(TABLE1["rhoI"] / TABLE1["rhoA"])
+#: explicit step = EL_SAFETY * (L/N) / c, c = sqrt(EA / rhoA) the axial (= rotational) wave speed
+EL_SAFETY = 0.5
+
+
+def pyelastica_rod(N: int):
+    """PyElastica ``CosseratRod.straight_rod`` of N elements along x (normal y: bending in x-y) with
+    the Table I section: radius EL_RADIUS, density rhoA / A, Young's modulus EA1 / A (so EI and
+    EA are Table I's and ``table1_properties(1.0)``'s), and the shear matrix set to kGA in both
+    shear directions (PyElastica's default is 27/28 G A from a Poisson ratio). Returns the rod."""
+    import elastica as ea
+    A = np.pi * EL_RADIUS ** 2
+    rod = ea.CosseratRod.straight_rod(N, np.zeros(3), np.array([1.0, 0, 0]), np.array([0, 1.0, 0]),
+                                      TABLE1["L"], EL_RADIUS, TABLE1["rhoA"] / A, youngs_modulus=EA1 / A,
+                                      shear_modulus=TABLE1["kGA"] / A)
+    rod.shear_matrix[0, 0, :] = TABLE1["kGA"]
+    rod.shear_matrix[1, 1, :] = TABLE1["kGA"]
+    return rod
+
+
+def _pyelastica_sim(N: int, tip_force: float = 0.0, damping: float = 0.0, dt: float = 1e-3,
+                    base_motion=None):
+    """A simulator holding one clamped rod (``pyelastica_rod``): tip force -y, optional damping
+    (AnalyticalLinearDamper, [1/s]) and, with ``base_motion`` (a function t -> (y, vy) of the
+    clamped end), a driven base instead of the fixed one. Returns (sim, rod)."""
+    import elastica as ea
+
+    class Sim(ea.BaseSystemCollection, ea.Constraints, ea.Forcing, ea.Damping):
+        pass
+    sim = Sim()
+    rod = pyelastica_rod(N)
+    sim.append(rod)
+    if base_motion is None:
+        sim.constrain(rod).using(ea.OneEndFixedBC, constrained_position_idx=(0,), constrained_director_idx=(0,))
+    else:
+        class DrivenBase(ea.ConstraintBase):
+            """Clamp whose position follows base_motion(t) along y (directors fixed)."""
+
+            def __init__(self, fixed_position, fixed_directors, **kwargs):
+                super().__init__(**kwargs)
+                self.p0 = np.array(fixed_position, dtype=float).reshape(3).copy()
+                self.d0 = np.array(fixed_directors, dtype=float).reshape(3, 3).copy()
+
+            def constrain_values(self, system, time):
+                y, _ = base_motion(time)
+                system.position_collection[:, 0] = self.p0 + np.array([0.0, y, 0.0])
+                system.director_collection[..., 0] = self.d0
+
+            def constrain_rates(self, system, time):
+                _, vy = base_motion(time)
+                system.velocity_collection[:, 0] = (0.0, vy, 0.0)
+                system.omega_collection[:, 0] = 0.0
+        sim.constrain(rod).using(DrivenBase, constrained_position_idx=(0,), constrained_director_idx=(0,))
+    if tip_force:
+        sim.add_forcing_to(rod).using(ea.EndpointForces, np.zeros(3), np.array([0.0, -tip_force, 0.0]), 1e-9)
+    if damping:
+        sim.dampen(rod).using(ea.AnalyticalLinearDamper, uniform_damping_constant=damping, time_step=dt)
+    sim.finalize()
+    return sim, rod
+
+
+def pyelastica_step(N: int, safety: float = EL_SAFETY) -> float:
+    """The explicit step [s]: ``safety`` x element length / axial wave speed, rounded down to
+    divide DT_OUT."""
+    c = np.sqrt(EA1 / TABLE1["rhoA"])
+    h = safety * TABLE1["L"] / N / c
+    return DT_OUT / int(np.ceil(DT_OUT / h))
+
+
+def pyelastica_transient(N: int, h: float | None, T: float, stepper: str = "PositionVerlet",
+                         relax_s: float = 3.0):
+    """Released cantilever with PyElastica: the tip force F_TIP (-y) held while the rod relaxes
+    (AnalyticalLinearDamper, 20 /s, ``relax_s`` simulated seconds: PyElastica has no static
+    solver), the relaxed state copied into an undamped rod, released at rest and integrated with
+    the explicit symplectic ``stepper`` (PositionVerlet, PEFRL) at step h (None:
+    :func:`pyelastica_step`). The first call in a process compiles PyElastica's kernels (numba):
+    that compilation runs once beforehand on a 4-element rod and is not counted.
+    Returns (cpu_s of the integration, t, tip (nt, 2) = (x, y), info) -- cpu_s is the
+    integration's alone (the relaxation is a stand-in for a static solver; its CPU in info)."""
+    import elastica as ea
+    _pyelastica_warm()
+    h = pyelastica_step(N) if h is None else h
+    k = int(round(DT_OUT / h))
+    if abs(k * h - DT_OUT) > 1e-12:
+        raise ValueError(f"h = {h} must divide DT_OUT = {DT_OUT}")
+    t0 = time.process_time()
+    sim, rod = _pyelastica_sim(N, F_TIP, damping=20.0, dt=h)
+    st = getattr(ea, stepper)()
+    t = 0.0
+    for _ in range(int(round(relax_s / h))):
+        t = st.step(sim, t, h)
+    pos, dirs = rod.position_collection.copy(), rod.director_collection.copy()
+    resid = float(np.abs(rod.velocity_collection).max())
+    t1 = time.process_time()
+    sim, rod = _pyelastica_sim(N)
+    rod.position_collection[:] = pos
+    rod.director_collection[:] = dirs
+    rod.velocity_collection[:] = 0.0
+    rod.omega_collection[:] = 0.0
+    st = getattr(ea, stepper)()
+    nout = int(round(T / DT_OUT))
+    t2 = time.process_time()
+    tip, t = [rod.position_collection[:2, -1].copy()], 0.0
+    for _ in range(nout):
+        for _ in range(k):
+            t = st.step(sim, t, h)
+        tip.append(rod.position_collection[:2, -1].copy())
+    t3 = time.process_time()
+    tip = np.array(tip)
+    if not np.all(np.isfinite(tip)):
+        raise FloatingPointError(f"pyelastica N={N} h={h} {stepper}: unstable")
+    return t3 - t2, np.arange(nout + 1) * DT_OUT, tip, dict(
+        h=h, steps=k * nout, sim_cpu_s=t3 - t2, relax_cpu_s=t1 - t0, relax_s=relax_s,
+        relax_final_max_speed=resid, stepper=stepper)
+
+
+_EL_WARM = []
+
+
+def _pyelastica_warm() -> None:
+    """Compile PyElastica's numba kernels once per process (not counted in any CPU time)."""
+    if _EL_WARM or not has_pyelastica():
+        return
+    import elastica as ea
+    for damping, base in ((20.0, None), (0.0, None), (0.0, lambda t: (0.0, 0.0))):
+        sim, _ = _pyelastica_sim(4, F_TIP if damping else 0.0, damping, 1e-4, base)
+        for name in ("PositionVerlet", "PEFRL"):
+            st, t = getattr(ea, name)(), 0.0
+            for _ in range(3):
+                t = st.step(sim, t, 1e-4)
+    _EL_WARM.append(True)
+
+
+def pyelastica_whip(N: int, h: float | None, T: float, stepper: str = "PositionVerlet"):
+    """The rod whipped by its driven base (run.whip_base: the clamped end's y follows the
+    cycloidal stroke, its directors held) with PyElastica, straight at rest at t = 0.
+    Returns (cpu_s of the integration, t, tip (nt, 2) = (x, y), info)."""
+    import elastica as ea
+    from run import whip_base
+    _pyelastica_warm()
+    h = pyelastica_step(N) if h is None else h
+    k = int(round(DT_OUT / h))
+    sim, rod = _pyelastica_sim(N, base_motion=whip_base)
+    st = getattr(ea, stepper)()
+    nout = int(round(T / DT_OUT))
+    t0 = time.process_time()
+    tip, t = [rod.position_collection[:2, -1].copy()], 0.0
+    for _ in range(nout):
+        for _ in range(k):
+            t = st.step(sim, t, h)
+        tip.append(rod.position_collection[:2, -1].copy())
+    c = time.process_time() - t0
+    tip = np.array(tip)
+    if not np.all(np.isfinite(tip)):
+        raise FloatingPointError(f"pyelastica whip N={N} h={h}: unstable")
+    return c, np.arange(nout + 1) * DT_OUT, tip, dict(h=h, steps=k * nout, sim_cpu_s=c, stepper=stepper)

@@ -1,6 +1,6 @@
 """Work-precision benchmarks of phmech against its peers (issue 6), same machine, same run.
 
-    python benchmarks/run.py [--quick] [--only modes transient]
+    python benchmarks/run.py [--quick | --smoke] [--only modes transient whip]
 
 1. ``modes``: first five cantilever frequencies of the paper's Table I beam: relative error
    against the Timoshenko frequency equation (``phmech.timoshenko.frequencies``) vs number of
@@ -14,17 +14,25 @@
    on N_ref/2 and N_ref elements, Richardson-extrapolated (second order in h); its self-convergence
    is stored. Sweeps: phmech N x rtol with IDA (every state in the error test; the configuration
    error test) and N x step with the fixed-step generalized-alpha integrator, the last two with
-   lumped and with consistent element mass; Exudyn's 2-D beam
-   N x step size (generalized-alpha, spectral radius 1 and 0.9), its 3-D beam and ANCF cable,
-   MuJoCo's cable.
+   lumped and with consistent element mass; Exudyn's 2-D beam N x step size (generalized-alpha,
+   spectral radius 1 and 0.9) and N x tolerance (DOPRI5, automatic step), each with its dense and
+   its sparse solver; its 3-D beam and ANCF cable; MuJoCo's cable (RK4, implicitfast, Euler);
+   PyElastica's Cosserat rod (position Verlet). ``cheapest_at_level``: per error level the
+   cheapest measured point of each code reaching it (benchmarks/report.py prints the table).
+3. ``whip``: the same rod straight at rest, its base driven transversally by a cycloidal stroke
+   (0.3 m in 0.15 s), tip over 0.5 s against phmech's IDA reference (rtol 1e-10, Richardson):
+   phmech (default integrator, IDA configuration test), Exudyn GE2D (base through an
+   offsetUserFunction), PyElastica (a driven-clamp constraint).
 
 Scaling with the number of elements and bodies: benchmarks/bench_scaling.py; the leaf-spring
 mechanism: benchmarks/bench_leaf_spring.py (all three run by ``make bench``).
 
 CPU time is ``time.process_time`` (median of 3 repetitions for the cheap eigenvalue points).
-Each benchmark writes ``benchmarks/results/<name>.json`` (machine, versions, every point) and a
-PNG work-precision plot. The peers are installed into .venv from benchmarks/requirements.txt when
-missing.
+Each benchmark writes ``benchmarks/results/<name>.json`` (machine, versions, command, date,
+every point) and a PNG work-precision plot (``BENCH_RESULTS``: another folder). The peers are
+installed into .venv from benchmarks/requirements.txt when missing (``BENCH_NO_INSTALL=1``: not;
+a missing peer's points are then skipped). ``--smoke``: one coarse point per code, seconds
+(tests/test_benchmarks_smoke.py).
 """
 from __future__ import annotations
 
@@ -39,7 +47,9 @@ import time
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-RESULTS = os.path.join(HERE, "results")
+# BENCH_RESULTS: another folder for the JSON and PNG (tests/test_benchmarks_smoke.py writes there,
+# so a smoke run never overwrites the stored results)
+RESULTS = os.environ.get("BENCH_RESULTS") or os.path.join(HERE, "results")
 TABLE1 = dict(L=1.0, rhoA=873.0, rhoI=2.1797, EI=5143.0, kGA=656625.0)
 EA1 = TABLE1["EI"] * TABLE1["rhoA"] / TABLE1["rhoI"]      # axial stiffness of table1_properties(1.0)
 F_TIP = 0.25 * 3 * TABLE1["EI"]                             # static tip force [N] (as validate_energy_drift)
@@ -48,27 +58,49 @@ DT_OUT = 0.005                                              # tip sampling perio
 
 # ------------------------------------------------------------------ environment
 def ensure_peers() -> None:
-    """Install the peers (benchmarks/requirements.txt: Exudyn, MuJoCo) into this venv if missing."""
+    """Install the peers (benchmarks/requirements.txt: Exudyn, MuJoCo, PyElastica) into this venv
+    if missing (BENCH_NO_INSTALL=1: never; a script then fails on a missing Exudyn or MuJoCo
+    and skips a missing PyElastica)."""
+    if os.environ.get("BENCH_NO_INSTALL"):
+        return
     try:
         import exudyn  # noqa: F401
         import mujoco  # noqa: F401
+        import elastica  # noqa: F401
     except ImportError:
         req = os.path.join(HERE, "requirements.txt")
         print(f"installing {req} into {sys.prefix}", flush=True)
         subprocess.check_call([sys.executable, "-m", "pip", "install", "-q", "-r", req])
 
 
+def have(module: str) -> bool:
+    """True if ``module`` (a peer: "exudyn", "mujoco", "elastica") is installed; a benchmark skips
+    the points of a missing peer (so its smoke in tests/test_benchmarks_smoke.py runs without them).
+    BENCH_WITHOUT="exudyn,mujoco,elastica" hides installed peers (to check that path)."""
+    import importlib.util
+    if module in os.environ.get("BENCH_WITHOUT", "").split(","):
+        return False
+    return importlib.util.find_spec(module) is not None
+
+
 def machine() -> dict:
-    import exudyn
     import phmech
+    from importlib.metadata import PackageNotFoundError, version
     info = {"platform": platform.platform(), "processor": platform.processor(),
             "cpus": os.cpu_count(), "python": platform.python_version(),
-            "numpy": np.__version__, "phmech": phmech.__version__, "exudyn": exudyn.__version__,
-            "blas_threads": phmech.blas_threads()}
+            "numpy": np.__version__, "phmech": phmech.__version__,
+            "blas_threads": phmech.blas_threads(),
+            "date_utc": time.strftime("%Y-%m-%d %H:%M", time.gmtime()),
+            "command": " ".join([os.path.basename(sys.argv[0])] + sys.argv[1:])}
+    for dist in ("exudyn", "mujoco", "pyelastica", "numba"):
+        try:
+            info[dist] = version(dist)
+        except PackageNotFoundError:
+            info[dist] = None
     try:
-        import mujoco
-        info["mujoco"] = mujoco.__version__
-    except ImportError:
+        info["git_head"] = subprocess.run(["git", "-C", HERE, "rev-parse", "--short", "HEAD"],
+                                          capture_output=True, text=True).stdout.strip()
+    except OSError:
         pass
     try:
         with open("/proc/cpuinfo") as f:
@@ -196,13 +228,13 @@ def exudyn_frequencies(N: int, n: int = 5) -> np.ndarray:
     return om[:n]
 
 
-def bench_modes(quick: bool) -> dict:
+def bench_modes(quick: bool, smoke: bool = False) -> dict:
     from phmech import studies
     import peers
     exact = studies.exact_frequencies(5)
     # peers without shear are measured against their own continuum model (peers.py)
     ref = {"exudyn_ancf": peers.euler_bernoulli_frequencies(5), "mujoco_cable": peers.rayleigh_frequencies(5)}
-    Ns = [3, 5, 9, 15, 21, 40, 80] if quick else [3, 5, 9, 15, 21, 40, 80, 160]
+    Ns = [3, 5] if smoke else [3, 5, 9, 15, 21, 40, 80] if quick else [3, 5, 9, 15, 21, 40, 80, 160]
     reps = 1 if quick else 3   # (1 for N >= 80, see below)
     fns = {"phmech_se3": (lambda N, n: studies.se3_frequencies(N, n, mass="lumped"), lambda N: 12 * N),
            "phmech_se3_consistent": (lambda N, n: studies.se3_frequencies(N, n, mass="consistent"),
@@ -212,6 +244,7 @@ def bench_modes(quick: bool) -> dict:
            "exudyn_ge3d": (peers.exudyn_ge3d_frequencies, lambda N: 12 * N),
            "exudyn_ancf": (peers.exudyn_ancf_frequencies, lambda N: 8 * N),
            "mujoco_cable": (peers.mujoco_cable_frequencies, lambda N: 6 * N)}
+    fns = {nm: v for nm, v in fns.items() if have(nm.split("_")[0]) or nm.startswith("phmech")}
     runs = {nm: [] for nm in fns}
     for N in Ns:
         for name, (fn, states) in fns.items():
@@ -233,6 +266,7 @@ def bench_modes(quick: bool) -> dict:
     # consistent mass: the max error over modes 1-5 is not monotone in N (modes 3-5 go from above
     # the exact value on coarse meshes to below it on fine ones, so one coarse mesh can sit near
     # that crossing); its front is also given over the meshes from which the error only decreases
+    fronts = {nm: fronts.get(nm, []) for nm in ("exudyn_ge2d", "exudyn_ge3d", "exudyn_ancf", "mujoco_cable")} | fronts
     rs_c = runs["phmech_se3_consistent"]
     e_c = [r["max_abs_rel_error"] or np.inf for r in rs_c]
     tail = next(i for i in range(len(e_c)) if all(a > b for a, b in zip(e_c[i:], e_c[i + 1:])))
@@ -244,12 +278,7 @@ def bench_modes(quick: bool) -> dict:
             a, b = cpu_at_error(fronts["phmech_se3"], e), cpu_at_error(fronts[peer], e)
             r[f"{e:.0e}"] = None if a is None or b is None else dict(phmech_cpu_s=a, peer_cpu_s=b, ratio=a / b)
         return r
-    import mujoco
-    def at_most(f):
-        """Levels above a front's least accurate point: that point's CPU bounds the ratio."""
-        return {f"{e:.0e}": dict(phmech_cpu_s=f[0][0], phmech_error=f[0][1],
-                                 exudyn_cpu_s=cpu_at_error(fex, e), ratio_at_most=f[0][0] / cpu_at_error(fex, e))
-                for e in levels if f and e > f[0][1] and cpu_at_error(fex, e) is not None}
+    mj_version = machine()["mujoco"]
     out = dict(problem="Table I cantilever, first five frequencies", exact_rad_s=exact.tolist(),
                error="max over modes 1..5 of |omega_h - omega| / omega",
                error_reference={"default": "Timoshenko (exact_rad_s)",
@@ -266,7 +295,7 @@ def bench_modes(quick: bool) -> dict:
                            "ComputeODE2Eigenvalues dense, clamp by constrainedCoordinates",
                peers_note="see benchmarks/peers.py and docs/perf_peers.md: exudyn_ge3d = ObjectBeamGeometricallyExact "
                           "(Rxyz nodes, table1_properties(1e4) section); exudyn_ancf = ObjectANCFCable2D (EA x1e4); "
-                          "mujoco_cable = MuJoCo " + mujoco.__version__ + " composite cable + elasticity.cable plugin, "
+                          "mujoco_cable = MuJoCo " + str(mj_version) + " composite cable + elasticity.cable plugin, "
                           "frequencies by linearization (mj_fullM, central differences of qfrc_passive in Python, "
                           "in-plane dofs), so its CPU time is of that script, not of a MuJoCo modal solver",
                machine=machine(), runs=runs,
@@ -323,12 +352,16 @@ def phmech_transient(N: int, rtol: float, solver: str, T: float, mass: str = "lu
     return t2 - t0, t2 - t1, r.t, tip, dict(r.stats)
 
 
-def exudyn_transient(N: int, h: float, T: float, rho: float, sparse: bool = False):
-    """Exudyn GE2D released cantilever: (cpu_s incl. build and static, simulation cpu_s, t, tip, stats)."""
+def exudyn_transient(N: int, h: float, T: float, rho: float, sparse: bool = False,
+                     dopri5_rtol: float | None = None):
+    """Exudyn GE2D released cantilever: (cpu_s incl. build and static, simulation cpu_s, t, tip, stats).
+    ``sparse``: Exudyn's EigenSparse linear solver (else its dense one); ``dopri5_rtol``: DOPRI5
+    with Exudyn's error-controlled step size at this tolerance (``h`` the largest step) instead of
+    the fixed-step generalized-alpha (spectral radius ``rho``)."""
     from peers import exudyn_release
     t0 = time.process_time()
     _, mbs, ld, sens = exudyn_beam(N, tip_force=F_TIP)
-    d, stats = exudyn_release(mbs, ld, sens, h, T, rho, sparse)
+    d, stats = exudyn_release(mbs, ld, sens, h, T, rho, sparse, dopri5_rtol=dopri5_rtol)
     return time.process_time() - t0, stats["sim_cpu_s"], d[:, 0], d[:, 1:3], stats
 
 
@@ -338,9 +371,9 @@ def tip_error(t, tip, ref_t, ref_tip):
     return float(np.max(np.hypot(x - ref_tip[:, 0], z - ref_tip[:, 1])) / TABLE1["L"])
 
 
-def bench_transient(quick: bool) -> dict:
-    T = 0.5 if quick else 1.0
-    Nref = 40 if quick else 80
+def bench_transient(quick: bool, smoke: bool = False) -> dict:
+    T = 0.1 if smoke else 0.5 if quick else 1.0
+    Nref = 8 if smoke else 40 if quick else 80
     rref = 1e-10
     print(f"transient: reference phmech se3 N={Nref // 2},{Nref} IDA rtol {rref:g} over {T} s ...", flush=True)
     # IDA with every state in its error test: rtol then bounds the time error (the default
@@ -363,7 +396,12 @@ def bench_transient(quick: bool) -> dict:
     print(f"  self-convergence: {selfconv}", flush=True)
 
     runs = []
-    ph_N = [5, 10, 20] if quick else [5, 10, 20, 40]
+    ph_N = [4] if smoke else [5, 10, 20] if quick else [5, 10, 20, 40]
+    rtols_all = [1e-4] if smoke else [1e-3, 1e-4, 1e-6, 1e-8]
+    rtols_cfg = [1e-4] if smoke else [1e-3, 1e-4, 1e-5, 1e-6]
+    ga_N = [3] if smoke else [3, 4] + ph_N + ([] if quick else [80])
+    ga_h = [1e-2] if smoke else [1e-2, 5e-3, 2e-3, 1e-3, 5e-4]
+    ga_rtol = [1e-4] if smoke else [1e-4, 1e-6]
 
     def phmech_point(variant, N, rtol, solver="klu", mass="lumped", **options):
         c, cs, t, tip, stats = phmech_transient(N, rtol, solver, T, mass, **options)
@@ -376,7 +414,7 @@ def bench_transient(quick: bool) -> dict:
 
     # IDA, every state in the error test (its default)
     for N in ph_N:
-        for rtol in [1e-3, 1e-4, 1e-6, 1e-8]:
+        for rtol in rtols_all:
             for solver in (["klu", "dense"] if N <= 10 and rtol == 1e-6 else ["klu"]):
                 phmech_point(f"se3-ida-{solver}", N, rtol, solver, integrator="ida")
     # phmech's two best routes (the next two) also with consistent element mass, on the same
@@ -384,60 +422,102 @@ def bench_transient(quick: bool) -> dict:
     masses = (("lumped", ""), ("consistent", "-consistent"))
     # IDA, twists out of the error test (BDF order <= 2)
     for N in ph_N:
-        for rtol in [1e-3, 1e-4, 1e-5, 1e-6]:
+        for rtol in rtols_cfg:
             for mass, suffix in masses:
                 phmech_point("se3-ida-config" + suffix, N, rtol, mass=mass, error_test="configuration",
                              integrator="ida")
     # fixed-step generalized-alpha (rho_inf 0.9, as Exudyn's default); rtol = Newton tolerance
     # (steps land on the outputs: h = 10 ms runs 5 ms steps). From N = 3: with consistent mass 3
     # elements are within 1e-2 L (9.2e-3)
-    for N in [3, 4] + ph_N + ([] if quick else [80]):
-        for h in [1e-2, 5e-3, 2e-3, 1e-3, 5e-4]:
-            for rtol in [1e-4, 1e-6]:
+    for N in ga_N:
+        for h in ga_h:
+            for rtol in ga_rtol:
                 for mass, suffix in masses:
                     phmech_point("se3-galpha" + suffix, N, rtol, mass=mass, integrator="generalized-alpha",
                                  step=h, rho_inf=0.9)
                 # the same consistent route in the 3-D model (planar=False), issue 12's measure
                 phmech_point("se3-galpha-consistent-3d", N, rtol, mass="consistent",
                              integrator="generalized-alpha", step=h, rho_inf=0.9, planar=False)
-    ex_N = [5, 10, 20, 40] if quick else [5, 10, 20, 40, 80]
-    ex_h = [5e-3, 1e-3, 2.5e-4] if quick else [5e-3, 2e-3, 1e-3, 5e-4, 2.5e-4, 1e-4]
-    for rho in (1.0, 0.9):
-        for N in ex_N:
-            for h in ex_h:
-                if rho == 0.9 and h not in (1e-3, 2.5e-4):
-                    continue
-                reps = []
-                for _ in range(1 if quick or N * T / h > 2e5 else 3):
-                    reps.append(exudyn_transient(N, h, T, rho))
-                c = float(np.median([r[0] for r in reps]))
-                _, cs, t, tip, stats = reps[0]
-                tip = tip.copy()
-                tip[:, 1] = tip[:, 1]        # Exudyn's y is phmech's z (both downward negative)
-                e = tip_error(t, tip, t_ref, ref_tip)
-                runs.append(dict(code="exudyn", variant=f"ge2d-galpha-rho{rho:g}", N=N, h=h, cpu_s=c,
-                                 sim_cpu_s=float(np.median([r[1] for r in reps])), error=e, stats=stats))
-                print(f"  exudyn rho={rho:g} N={N:3d} h={h:.1e}: err {e:.2e}, CPU {c:.3f} s", flush=True)
+    # Exudyn GE2D at its best documented settings: fixed-step generalized-alpha (spectral radius 1
+    # and its default 0.9) and DOPRI5 with its error-controlled step size (Exudyn's only adaptive
+    # stepping: automaticStepSize works for its explicit integrators), each with its dense and
+    # its sparse (EigenSparse) linear solver, the two back to back (the same machine load); the
+    # Exudyn front is taken over all of them, so at each error level the faster one counts
+    ex_N = [4] if smoke else [5, 10, 20, 40] if quick else [5, 10, 20, 40, 80]
+    ex_h = [5e-3] if smoke else [5e-3, 1e-3, 2.5e-4] if quick else [5e-3, 2e-3, 1e-3, 5e-4, 2.5e-4, 1e-4]
+    # DOPRI5 does not converge to the reference here (docs/performance.md) and costs 10-30 s per
+    # point at N = 80: its grid stops at N = 40 and rtol 1e-6
+    ex_dopri = [1e-4] if smoke else [1e-3, 1e-4, 1e-5, 1e-6]
+
+    def exudyn_point(variant, N, h, rho, dopri5_rtol=None):
+        for sparse in (False, True):
+            reps = []
+            for _ in range(1 if quick or smoke or N * T / h > 2e5 else 3):
+                try:
+                    reps.append(exudyn_transient(N, h, T, rho, sparse, dopri5_rtol))
+                except Exception as e:  # noqa: BLE001 -- a failed point is a result too
+                    runs.append(dict(code="exudyn", variant=f"{variant}-{'sparse' if sparse else 'dense'}",
+                                     N=N, h=h, rtol=dopri5_rtol, failed=f"{type(e).__name__}: {e}"))
+                    print(f"  exudyn {variant} N={N:3d} h={h:.1e}: FAILED ({e})", flush=True)
+                    break
+            if not reps:
+                continue
+            c = float(np.median([r[0] for r in reps]))
+            _, cs, t, tip, stats = reps[0]
+            e = tip_error(t, tip, t_ref, ref_tip)       # Exudyn's y is phmech's z (both downward negative)
+            v = f"{variant}-{'sparse' if sparse else 'dense'}"
+            runs.append(dict(code="exudyn", variant=v, N=N, h=h, rtol=dopri5_rtol, cpu_s=c,
+                             sim_cpu_s=float(np.median([r[1] for r in reps])), error=e, stats=stats))
+            print(f"  exudyn {v:28s} N={N:3d} h={h:.1e} {'' if dopri5_rtol is None else f'rtol {dopri5_rtol:.0e}'}: "
+                  f"err {e:.2e}, CPU {c:.3f} s", flush=True)
+
+    for N in (ex_N if have("exudyn") else []):
+        for h in ex_h:
+            exudyn_point("ge2d-galpha-rho1", N, h, 1.0)
+            if h in (1e-3, 2.5e-4):
+                exudyn_point("ge2d-galpha-rho0.9", N, h, 0.9)
+        for tol in (ex_dopri if N <= 40 else []):
+            exudyn_point("ge2d-dopri5", N, 1e-2, 1.0, tol)
 
     # more peers (benchmarks/peers.py): Exudyn's 3-D beam (like-for-like), its ANCF cable
-    # (Euler-Bernoulli) and MuJoCo's cable (Rayleigh, inextensible): the last two converge to
-    # other beam models, so their error against this reference stops at the model difference
+    # (Euler-Bernoulli), MuJoCo's cable (Rayleigh, inextensible: each of its integrators, the
+    # front over them picks the fastest at each error level) and PyElastica's Cosserat rod
+    # (explicit position Verlet; shear, extension, rotary inertia as phmech's beam): the ANCF
+    # cable and MuJoCo converge to other beam models, so their error against this reference
+    # stops at the model difference
     import peers
-    peer_grid = [("exudyn", "ge3d-galpha-rho1", peers.exudyn_ge3d_transient,
-                  [5, 10, 20, 40] if quick else [5, 10, 20, 40, 80], [5e-3, 1e-3] if quick else [5e-3, 2e-3, 1e-3, 5e-4]),
-                 ("exudyn", "ancf-galpha-rho1", peers.exudyn_ancf_transient, [5, 10, 20], [5e-3, 1e-3]),
-                 ("mujoco", "cable-rk4", peers.mujoco_cable_transient, [5, 10, 20], [5e-4] if quick else [1e-3, 5e-4])]
+    mj = ([("mujoco", f"cable-{i.lower()}", lambda N, h, T, i=i: peers.mujoco_cable_transient(N, h, T, integrator=i),
+            [5, 10, 20], hs) for i, hs in (("RK4", [5e-4] if quick else [1e-3, 5e-4]),
+                                            ("implicitfast", [2.5e-4, 1e-4] if quick else [5e-4, 2.5e-4, 1e-4]),
+                                            ("Euler", [1e-4, 5e-5]))])
+    # PyElastica converges at first order in N here (its static tip: module doc of peers.py), so
+    # its meshes go further than the others'
+    el = [("pyelastica", "cosserat-verlet", peers.pyelastica_transient,
+           [5, 10, 20, 40, 80, 160] if quick else [5, 10, 20, 40, 80, 160, 320], [None])]
+    peer_grid = ([("exudyn", "ge3d-galpha-rho1", peers.exudyn_ge3d_transient,
+                   [5, 10, 20, 40] if quick else [5, 10, 20, 40, 80],
+                   [5e-3, 1e-3] if quick else [5e-3, 2e-3, 1e-3, 5e-4]),
+                  ("exudyn", "ancf-galpha-rho1", peers.exudyn_ancf_transient, [5, 10, 20], [5e-3, 1e-3])] + mj + el)
+    if smoke:
+        peer_grid = [("exudyn", "ge3d-galpha-rho1", peers.exudyn_ge3d_transient, [4], [5e-3]),
+                     ("mujoco", "cable-rk4", peers.mujoco_cable_transient, [4], [1e-3]),
+                     ("pyelastica", "cosserat-verlet", peers.pyelastica_transient, [4], [None])]
     for code, variant, fn, Ns, hs in peer_grid:
+        if not have({"pyelastica": "elastica"}.get(code, code)):
+            print(f"  {code} not installed: skipped", flush=True)
+            continue
         for N in Ns:
             for h in hs:
                 try:
                     c, t, tip, info = fn(N, h, T)
                 except Exception as e:  # noqa: BLE001 -- a failed point is a result too
                     runs.append(dict(code=code, variant=variant, N=N, h=h, failed=f"{type(e).__name__}: {e}"))
-                    print(f"  {code} {variant} N={N:3d} h={h:.1e}: FAILED ({e})", flush=True)
+                    print(f"  {code} {variant} N={N:3d} h={h}: FAILED ({e})", flush=True)
                     continue
                 e = tip_error(t, tip, t_ref, ref_tip)
+                h = info.get("h", h)
                 runs.append(dict(code=code, variant=variant, N=N, h=h, cpu_s=c, error=e,
+                                 sim_cpu_s=info.get("sim_cpu_s"),
                                  stats={k: v for k, v in info.items() if isinstance(v, (int, float, str))}))
                 print(f"  {code} {variant} N={N:3d} h={h:.1e}: err {e:.2e}, CPU {c:.3f} s", flush=True)
 
@@ -468,11 +548,13 @@ def bench_transient(quick: bool) -> dict:
                             pairs=len(pairs))
     by_peer = {f"{code}-{variant}": ratios(fph, front(lambda r, v=variant: r["variant"] == v), levels)
                for code, variant, *_ in peer_grid}
+    by_peer["mujoco-cable-best"] = ratios(fph, front(lambda r: r["code"] == "mujoco"), levels)
     def at_most(f):
         """Levels above a front's least accurate point: that point's CPU bounds the ratio."""
         return {f"{e:.0e}": dict(phmech_cpu_s=f[0][0], phmech_error=f[0][1],
                                  exudyn_cpu_s=cpu_at_error(fex, e), ratio_at_most=f[0][0] / cpu_at_error(fex, e))
                 for e in levels if f and e > f[0][1] and cpu_at_error(fex, e) is not None}
+    table = level_table(runs, TRANSIENT_GROUPS, [1e-2, 3e-3, 1e-3, 3e-4])
     out = dict(problem=f"Table I cantilever (table1_properties(1.0)) released from static tip force "
                        f"{F_TIP:.1f} N; tip (x,z) every {DT_OUT} s over {T} s",
                error="max_t |tip - tip_ref| / L",
@@ -496,6 +578,17 @@ def bench_transient(quick: bool) -> dict:
                cpu_ratio_at_equal_error_by_phmech_variant=by_variant,
                consistent_over_lumped_same_grid_median=same_grid,
                cpu_ratio_phmech_best_over_peer=by_peer,
+               # the headline table (benchmarks/report.py prints it): per error level the cheapest
+               # measured point of each group that reaches it, by total CPU and by integration CPU
+               cheapest_at_level=table,
+               cheapest_note="cheapest measured point with error <= level (no interpolation); groups: "
+                             + "; ".join(f"{k}: {v[1]}" for k, v in TRANSIENT_GROUPS.items())
+                             + ". Totals: phmech and Exudyn include build and the static solution (a Newton "
+                               "solve in both); MuJoCo's total includes this script's Python Newton statics "
+                               "and PyElastica's is its integration only (it has no static solver: the initial "
+                               "state comes from a damped relaxation whose CPU is in the run's stats), so "
+                               "compare those two on integration CPU (sim_cpu_s).",
+               smoke=smoke, quick=quick,
                ratio_note="cpu_ratio_at_equal_error* are phmech / Exudyn GE2D (ratio > 1: phmech slower); "
                           "cpu_ratio_at_equal_error and pareto_phmech: phmech's lumped-mass routes (mass='lumped'), "
                           "*_consistent: its consistent-mass routes (the default mass; variants *-consistent); "
@@ -503,6 +596,164 @@ def bench_transient(quick: bool) -> dict:
                           "cpu_ratio_phmech_best_over_peer compares phmech's best lumped front with each other peer")
     write_json("bench_transient", out)
     plot_transient(out, t_ref, ref_tip)
+    return out
+
+
+#: the groups of the transient's level table: name -> (predicate on a run, description)
+TRANSIENT_GROUPS = {
+    "phmech": (lambda r: r["code"] == "phmech", "every phmech route (IDA, IDA configuration test, "
+               "generalized-alpha; lumped and consistent mass; in-plane and 3-D)"),
+    "phmech-3d": (lambda r: r["code"] == "phmech" and r["stats"].get("planar") is None,
+                  "phmech routes that solved the 3-D DAE"),
+    "exudyn-ge2d": (lambda r: r["code"] == "exudyn" and r["variant"].startswith("ge2d"),
+                    "Exudyn GE2D, its best of generalized-alpha (rho 1, 0.9) and DOPRI5 with automatic step, "
+                    "dense or sparse solver"),
+    "exudyn-ge2d-dense": (lambda r: r["code"] == "exudyn" and r["variant"].startswith("ge2d")
+                          and r["variant"].endswith("-dense"), "Exudyn GE2D, dense solver only"),
+    "exudyn-ge2d-sparse": (lambda r: r["code"] == "exudyn" and r["variant"].startswith("ge2d")
+                           and r["variant"].endswith("-sparse"), "Exudyn GE2D, sparse solver only"),
+    "exudyn-ge3d": (lambda r: r["code"] == "exudyn" and r["variant"].startswith("ge3d"),
+                    "Exudyn 3-D geometrically exact beam (Rxyz nodes), generalized-alpha"),
+    "mujoco-cable": (lambda r: r["code"] == "mujoco", "MuJoCo cable, its fastest of RK4, implicitfast, Euler "
+                     "(a Rayleigh beam: stops at the model difference)"),
+    "pyelastica": (lambda r: r["code"] == "pyelastica", "PyElastica Cosserat rod, position Verlet at half "
+                   "its stability-limit step"),
+}
+
+
+def level_table(runs, groups, levels) -> dict:
+    """Per level (key f"{e:.0e}") and group: the cheapest measured point with error <= level, by
+    total CPU (``cpu_s``) and by integration CPU (``sim_cpu_s``), with its setting."""
+    out = {}
+    for e in levels:
+        row = {}
+        for g, (pred, _) in groups.items():
+            ok = [r for r in runs if "error" in r and r["error"] <= e and pred(r)]
+            cell = {}
+            for key in ("cpu_s", "sim_cpu_s"):
+                ok_k = [r for r in ok if r.get(key) is not None]
+                if ok_k:
+                    b = min(ok_k, key=lambda r: r[key])
+                    cell[key] = b[key]
+                    cell[key + "_point"] = {k: b.get(k) for k in ("variant", "N", "h", "rtol", "step", "mass", "error")
+                                            if b.get(k) is not None}
+            row[g] = cell or None
+        out[f"{e:.0e}"] = row
+    return out
+
+
+# ------------------------------------------------------------------ 3. whip (driven base)
+WHIP_A, WHIP_D = 0.3, 0.15     # base stroke [m] along the transverse axis and its duration [s]
+
+
+def whip_base(t: float) -> tuple:
+    """The base's transverse position and speed: phmech's Cycloidal(WHIP_A, 0, WHIP_D) (C2)."""
+    u = min(max(t / WHIP_D, 0.0), 1.0)
+    return (WHIP_A * (u - np.sin(2 * np.pi * u) / (2 * np.pi)),
+            WHIP_A / WHIP_D * (1 - np.cos(2 * np.pi * u)) if t < WHIP_D else 0.0)
+
+
+def phmech_whip(N: int, rtol: float, T: float, mass: str = "consistent", **options):
+    """Table I rod, straight at rest, its base driven along z (phmech's transverse axis of the
+    cantilever's bending) by a Prismatic pair with the Cycloidal stroke: (cpu_s, sim_cpu_s, t,
+    tip (x, z), stats)."""
+    import phmech as ph
+    from phmech.section import table1_properties
+    t0 = time.process_time()
+    m = ph.Mechanism()
+    b = m.add_flexible_link("b", TABLE1["L"], table1_properties(1.0), elements=N, mass=mass)
+    m.add_pair("base", ph.Prismatic("z"), m.ground, b.start, driven=ph.Cycloidal(WHIP_A, 0.0, WHIP_D))
+    t1 = time.process_time()
+    r = m.simulate(T, DT_OUT, rtol=rtol, linear_solver="klu", **options)
+    t2 = time.process_time()
+    return t2 - t0, t2 - t1, r.t, r.tip(b)[:, [0, 2]], dict(r.stats)
+
+
+def exudyn_whip(N: int, h: float, T: float, rho: float = 1.0, sparse: bool = False):
+    """Exudyn GE2D rod, its first node's x and rotation held by CoordinateConstraints and its y
+    driven through an offsetUserFunction (a Python function per evaluation: Exudyn's documented
+    way to prescribe a coordinate): (cpu_s, sim_cpu_s, t, tip (x, y), stats)."""
+    import exudyn as exu
+    import exudyn.solver
+    from exudyn.itemInterface import CoordinateConstraint, MarkerNodeCoordinate, NodePointGround
+    t0 = time.process_time()
+    SC, mbs, _, sens = exudyn_beam(N, clamp=False)
+    first = 0
+    gnd = mbs.AddNode(NodePointGround(referenceCoordinates=[0, 0, 0]))
+    mg = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=gnd, coordinate=0))
+    for c in range(3):
+        mc = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=first, coordinate=c))
+        kw = dict(offsetUserFunction=lambda mbs_, t, item, off: whip_base(t)[0]) if c == 1 else {}
+        mbs.AddObject(CoordinateConstraint(markerNumbers=[mg, mc], **kw))
+    mbs.Assemble()
+    ss = exudyn_settings(sparse)
+    ss.timeIntegration.endTime = T
+    ss.timeIntegration.numberOfSteps = int(round(T / h))
+    ss.timeIntegration.generalizedAlpha.spectralRadius = rho
+    t1 = time.process_time()
+    exudyn.solver.SolveDynamic(mbs, ss)
+    t2 = time.process_time()
+    d = np.asarray(mbs.GetSensorStoredData(sens))
+    return t2 - t0, t2 - t1, d[:, 0], d[:, 1:3].copy(), dict(steps=int(round(T / h)))
+
+
+def bench_whip(quick: bool, smoke: bool = False) -> dict:
+    """The rod whipped by its driven base: phmech, Exudyn GE2D, PyElastica at matched error
+    against phmech's IDA reference (rtol 1e-10, N_ref/2 and N_ref, Richardson)."""
+    import peers
+    T = 0.1 if smoke else 0.5
+    Nref = 8 if smoke else 40 if quick else 80
+    print(f"whip: reference phmech se3 N={Nref // 2},{Nref} IDA rtol 1e-10 over {T} s ...", flush=True)
+    ref = {}
+    for N in (Nref // 2, Nref):
+        c, _, t, tip, st = phmech_whip(N, 1e-10, T, integrator="ida")
+        ref[N] = (t, tip, c)
+        print(f"  N={N}: CPU {c:.1f} s, {st['steps']} steps", flush=True)
+    t_ref = ref[Nref][0]
+    ref_tip = ref[Nref][1] + (ref[Nref][1] - ref[Nref // 2][1]) / 3.0
+    selfconv = dict(space_N_half_vs_N=tip_error(ref[Nref // 2][0], ref[Nref // 2][1], t_ref, ref[Nref][1]),
+                    richardson_correction=tip_error(t_ref, ref[Nref][1], t_ref, ref_tip))
+    runs = []
+
+    def add(code, variant, N, c, cs, t, tip, **kw):
+        e = tip_error(t, tip, t_ref, ref_tip)
+        runs.append(dict(code=code, variant=variant, N=N, cpu_s=c, sim_cpu_s=cs, error=e, **kw))
+        print(f"  {code} {variant:26s} N={N:3d} {kw}: err {e:.2e}, CPU {c:.3f} s", flush=True)
+
+    Ns = [4] if smoke else [5, 10, 20] if quick else [5, 10, 20, 40]
+    for N in Ns:
+        for rtol in ([1e-4] if smoke else [1e-3, 1e-4, 1e-5, 1e-6]):
+            c, cs, t, tip, st = phmech_whip(N, rtol, T)
+            add("phmech", "se3-default-consistent", N, c, cs, t, tip, rtol=rtol, steps=st["steps"])
+            c, cs, t, tip, st = phmech_whip(N, rtol, T, integrator="ida", error_test="configuration")
+            add("phmech", "se3-ida-config-consistent", N, c, cs, t, tip, rtol=rtol, steps=st["steps"])
+        if have("exudyn"):
+            for h in ([5e-3] if smoke else [5e-3, 1e-3, 2.5e-4]):
+                for sparse in (False, True):
+                    try:
+                        c, cs, t, tip, st = exudyn_whip(N, h, T, 1.0, sparse)
+                    except Exception as ex:  # noqa: BLE001 -- a failed point is a result too
+                        runs.append(dict(code="exudyn", N=N, h=h, failed=f"{type(ex).__name__}: {ex}"))
+                        continue
+                    add("exudyn", f"ge2d-galpha-rho1-{'sparse' if sparse else 'dense'}", N, c, cs, t, tip, h=h)
+    if have("elastica"):
+        for N in ([4] if smoke else [5, 10, 20, 40, 80, 160] if quick else [5, 10, 20, 40, 80, 160, 320]):
+            c, t, tip, info = peers.pyelastica_whip(N, None, T)
+            add("pyelastica", "cosserat-verlet", N, c, c, t, tip, h=info["h"], steps=info["steps"])
+    groups = {k: v for k, v in TRANSIENT_GROUPS.items()
+              if k in ("phmech", "exudyn-ge2d", "exudyn-ge2d-dense", "exudyn-ge2d-sparse", "pyelastica")}
+    out = dict(problem=f"Table I rod (table1_properties(1.0)) straight at rest, base driven transversally by a "
+                       f"cycloidal stroke of {WHIP_A} m over {WHIP_D} s (clamped orientation); tip every {DT_OUT} s "
+                       f"over {T} s",
+               error="max_t |tip - tip_ref| / L",
+               reference=dict(code="phmech se3 KLU, IDA, every state in the error test", N=[Nref // 2, Nref],
+                              rtol=1e-10, extrapolation="Richardson (order 2)", cpu_s=[ref[Nref // 2][2], ref[Nref][2]],
+                              self_convergence=selfconv),
+               machine=machine(), runs=runs, cheapest_at_level=level_table(runs, groups, [1e-2, 3e-3, 1e-3, 3e-4]),
+               cheapest_note="cheapest measured point with error <= level; PyElastica's cpu_s is its integration "
+                             "(it starts at rest: nothing else to count)",
+               smoke=smoke, quick=quick)
+    write_json("bench_whip", out)
     return out
 
 
@@ -537,14 +788,19 @@ def plot_transient(out, t_ref, ref_tip):
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="fewer points, shorter transient (~ a few minutes)")
-    ap.add_argument("--only", nargs="+", choices=["modes", "transient"], default=["modes", "transient"])
+    ap.add_argument("--only", nargs="+", choices=["modes", "transient", "whip"],
+                    default=["modes", "transient", "whip"])
+    ap.add_argument("--smoke", action="store_true",
+                    help="seconds: one coarse point per code, 0.1 s simulated (tests/test_benchmarks_smoke.py)")
     a = ap.parse_args()
     ensure_peers()
     t0 = time.time()
     if "modes" in a.only:
-        bench_modes(a.quick)
+        bench_modes(a.quick, a.smoke)
     if "transient" in a.only:
-        bench_transient(a.quick)
+        bench_transient(a.quick or a.smoke, a.smoke)
+    if "whip" in a.only:
+        bench_whip(a.quick or a.smoke, a.smoke)
     print(f"benchmarks done in {time.time() - t0:.0f} s wall", flush=True)
 
 

@@ -234,10 +234,14 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="the short horizons of tests/test_scenes.py")
     ap.add_argument("--only", nargs="*", default=None)
+    ap.add_argument("--smoke", action="store_true",
+                    help="the first scene only, its short horizon (tests/test_benchmarks_smoke.py)")
     ap.add_argument("--options", default="", help="simulate options to try, e.g. 'rho_inf=0.6'")
     a = ap.parse_args(argv)
     options = eval(f"dict({a.options})")
     rows = []
+    if a.smoke:
+        a.quick, a.only = True, [SCENES[0].name]
     for sc in SCENES:
         if a.only and sc.name not in a.only:
             continue
@@ -248,12 +252,16 @@ def main(argv=None):
         print(f"{sc.name:34s} t {r['t_end']:5.1f} s  CPU {r['cpu_s']:6.2f} s ({r['cpu_per_s']:.2f} s/s)  "
               f"steps {r['steps']:6d}  err/scale {r['error']:.1e}{fe}  ledger {r['ledger_relative']:.1e}  "
               f"(ref CPU {r['reference_cpu_s']:.1f} s)", flush=True)
-    os.makedirs(os.path.join(HERE, "results"), exist_ok=True)
-    path = os.path.join(HERE, "results", "scenes_quick.json" if a.quick else "scenes.json")
+    res = os.environ.get("BENCH_RESULTS") or os.path.join(HERE, "results")
+    os.makedirs(res, exist_ok=True)
+    path = os.path.join(res, "scenes_quick.json" if a.quick else "scenes.json")
     if options:
         return rows
     with open(path, "w") as f:
-        json.dump(dict(rtol=ph.mechanism.DEFAULT_RTOL, reference=REFERENCE, scenes=rows), f, indent=1)
+        sys.path.insert(0, HERE)
+        from run import machine
+        json.dump(dict(rtol=ph.mechanism.DEFAULT_RTOL, reference=REFERENCE, scenes=rows, machine=machine(),
+                       quick=a.quick, smoke=a.smoke), f, indent=1)
     print(f"results: {path}")
     return rows
 
