@@ -168,3 +168,14 @@ def test_bad_arguments_are_named(tmp_path):
         ph.export_fmu(m2, tmp_path / "b.fmu")
     assert ph.export_fmu(m2, tmp_path / "b.fmu", inputs=["motor"]).is_file()
     assert not (tmp_path / "a.fmu").exists()
+
+
+def test_example_runs_quick():
+    examples = Path(__file__).resolve().parents[1] / "examples"
+    out = subprocess.run([sys.executable, str(examples / "fmu_export.py"), "--quick", "--json"],
+                         capture_output=True, text=True, check=True, cwd=examples).stdout
+    import json
+    d = json.loads(out)
+    assert d["validation_problems"] == []
+    assert d["max_diff_hub_rad"] < 1e-6 and d["max_diff_tip_z_m"] < 1e-6
+    assert abs(d["hub_final_rad"]) > 0.1
