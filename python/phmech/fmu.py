@@ -316,7 +316,8 @@ def export_fmu(mechanism, path, inputs: Sequence[str] = (), outputs: Optional[Se
     fixed step; else adaptive, which needs ``band`` [Hz]), as ``simulate()`` reads these
     arguments. ``start_time``, ``stop_time`` and ``step_size`` [s] go into the model
     description's DefaultExperiment. ``model_name`` (default: the file's stem) names the model;
-    its modelIdentifier is that name with every character outside [A-Za-z0-9_] replaced by "_".
+    its modelIdentifier is that name with every character other than ASCII letters, digits and
+    "_" replaced by "_".
 
     ModelError for an unknown input or output name, an input that is not an Effort actuator or
     a wrench, and a model the FMU cannot carry: a time law given as a Python function
