@@ -106,6 +106,25 @@ def test_flexible_arm_through_fmpy_equals_simulate(tmp_path):
     assert np.max(np.abs(r["tip.p[3]"] - s.position("tip")[:, 2])) < 1e-6
 
 
+def test_wrench_amplitude_input_equals_simulate(tmp_path):
+    """A wrench's amplitude as the input: a world force (0, 0, 2 N) times the input on the
+    forearm's centre of mass, from 0 to 1 at T_STEP; the motor's own law (zero torque) stays."""
+    def arm(law):
+        m = rigid_arm(ph.Constant(0.0))
+        m.add_wrench("push", "fore", (0, 0, 0, 0, 0, 2.0), law=law, point=(0.2, 0, 0))
+        return m
+    path = ph.export_fmu(arm(ph.Constant(1.0)), tmp_path / "push.fmu", inputs=["push"],
+                         outputs=["elbow"], rtol=1e-10)
+    u = np.array([(0.0, 0.0), (T_STEP, 0.0), (T_STEP, 1.0), (0.5, 1.0)],
+                 dtype=[("time", float), ("push", float)])
+    r = fmpy.simulate_fmu(str(path), stop_time=0.5, output_interval=0.01, input=u)
+    s = arm(ph.Step(T_STEP, 1.0)).simulate(0.5, 0.01, integrator="ida", rtol=1e-10)
+    free = rigid_arm(ph.Constant(0.0)).simulate(0.5, 0.01, integrator="ida", rtol=1e-10)
+    x = s.joint("elbow")["x"][:, 0]
+    assert np.max(np.abs(x - free.joint("elbow")["x"][:, 0])) > 1e-3   # the push shows
+    assert np.max(np.abs(r["elbow.x"] - x)) < 1e-6
+
+
 def test_model_description_validates(rigid_fmu):
     assert validate_fmu(str(rigid_fmu)) == []
     md = fmpy.read_model_description(str(rigid_fmu))
