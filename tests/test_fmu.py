@@ -189,6 +189,18 @@ def test_bad_arguments_are_named(tmp_path):
     assert not (tmp_path / "a.fmu").exists()
 
 
+def test_ida_on_flexible_links_warns_of_its_cost(tmp_path):
+    with pytest.warns(ph.CostWarning, match="restarts IDA.*3 elements.*generalized-alpha") as w:
+        ph.export_fmu(flexible_arm(), tmp_path / "f.fmu", inputs=["motor"])
+    assert w[0].filename == __file__                       # the user's line
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        ph.export_fmu(flexible_arm(), tmp_path / "f.fmu", inputs=["motor"],
+                      integrator="generalized-alpha", step=1e-4)
+        ph.export_fmu(rigid_arm(), tmp_path / "r.fmu", inputs=["motor"])
+
+
 def test_example_runs_quick():
     examples = Path(__file__).resolve().parents[1] / "examples"
     out = subprocess.run([sys.executable, str(examples / "fmu_export.py"), "--quick", "--json"],
