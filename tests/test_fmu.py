@@ -238,3 +238,33 @@ def test_example_runs_quick():
     assert d["validation_problems"] == []
     assert d["max_diff_hub_rad"] < 1e-6 and d["max_diff_tip_z_m"] < 1e-6
     assert abs(d["hub_final_rad"]) > 0.1
+
+
+def test_outputs_in_initialization_mode_and_reset(rigid_fmu, tmp_path):
+    """The outputs are those of the initial state from fmi2EnterInitializationMode on; after
+    fmi2Reset the FMU starts again from it (FMPy's low-level FMU2Slave)."""
+    from fmpy import extract, read_model_description
+    from fmpy.fmi2 import FMU2Slave
+    md = read_model_description(str(rigid_fmu))
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    f = FMU2Slave(guid=md.guid, unzipDirectory=extract(str(rigid_fmu), str(tmp_path / "x")),
+                  modelIdentifier=md.coSimulation.modelIdentifier, instanceName="arm")
+    f.instantiate()
+    f.setupExperiment(startTime=0.0)
+    f.enterInitializationMode()
+    ask = [vr["fore.p[1]"], vr["fore.p[3]"], vr["energy.gravity"], vr["shoulder.x"]]
+    assert np.allclose(f.getReal(ask), [0.5, 0.0, 0.0, 0.0], atol=1e-12)   # the given pose
+    f.exitInitializationMode()
+    f.doStep(0.0, 0.1)
+    moved = f.getReal(ask)
+    s = rigid_arm(ph.Constant(0.0)).simulate(0.1, 0.1, integrator="ida", rtol=1e-10)
+    assert abs(moved[3] - s.joint("shoulder")["x"][-1, 0]) < 1e-6 and moved[2] < -0.01
+    f.reset()
+    f.setupExperiment(startTime=0.0)
+    f.enterInitializationMode()
+    f.exitInitializationMode()
+    assert np.allclose(f.getReal(ask), [0.5, 0.0, 0.0, 0.0], atol=1e-12)
+    f.doStep(0.0, 0.1)
+    assert np.allclose(f.getReal(ask), moved, rtol=0, atol=1e-12)       # the same run again
+    f.terminate()
+    f.freeInstance()

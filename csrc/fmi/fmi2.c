@@ -62,7 +62,8 @@ typedef struct {
   double *H, *T, *x, *xd; /* state at time t: poses, twists, joints, rates */
   double *x0;         /* npairs x 6 branch references */
   double t, tstart;
-  int initialized;
+  int initialized;    /* fmi2ExitInitializationMode done: steps allowed */
+  int outputs_ready;  /* y holds the outputs of the state at t */
 } fmu;
 
 /* ------------------------------------------------------------------ logging */
@@ -604,13 +605,22 @@ fmi2Status fmi2SetupExperiment(fmi2Component comp, fmi2Boolean tolDefined, fmi2R
   return fmi2OK;
 }
 
-fmi2Status fmi2EnterInitializationMode(fmi2Component comp) { return comp ? fmi2OK : fmi2Error; }
+/* The outputs at the start are those of the consistent initial state (they do not depend on the
+ * inputs): computed here already, so that an importer may read them in initialization mode. */
+fmi2Status fmi2EnterInitializationMode(fmi2Component comp) {
+  fmu *c = comp;
+  if (!c) return fmi2Error;
+  fmi2Status st = advance(c, c->t);
+  c->initialized = 0;
+  c->outputs_ready = st == fmi2OK;
+  return st;
+}
 
 fmi2Status fmi2ExitInitializationMode(fmi2Component comp) {
   fmu *c = comp;
   if (!c) return fmi2Error;
   fmi2Status st = advance(c, c->t); /* the consistent initial state and its outputs */
-  c->initialized = st == fmi2OK;
+  c->initialized = c->outputs_ready = st == fmi2OK;
   return st;
 }
 
@@ -629,7 +639,7 @@ fmi2Status fmi2Reset(fmi2Component comp) {
   const record *in = find(c, "inputs");
   for (int i = 0; i < c->nin; i++) c->u[i] = in->v[3 * i + 2];
   c->t = c->tstart;
-  c->initialized = 0;
+  c->initialized = c->outputs_ready = 0;
   return fmi2OK;
 }
 
@@ -637,10 +647,12 @@ fmi2Status fmi2Reset(fmi2Component comp) {
 fmi2Status fmi2GetReal(fmi2Component comp, const fmi2ValueReference vr[], size_t n, fmi2Real value[]) {
   fmu *c = comp;
   if (!c) return fmi2Error;
-  if (!c->initialized && n) compute_outputs(c);
   for (size_t i = 0; i < n; i++) {
     if (vr[i] < (unsigned)c->nin) value[i] = c->u[vr[i]];
-    else if (vr[i] < (unsigned)(c->nin + c->nout)) value[i] = c->y[vr[i] - c->nin];
+    else if (vr[i] < (unsigned)(c->nin + c->nout) && !c->outputs_ready) {
+      logf_(c, fmi2Error, "fmi2GetReal: the outputs are known from fmi2EnterInitializationMode on");
+      return fmi2Error;
+    } else if (vr[i] < (unsigned)(c->nin + c->nout)) value[i] = c->y[vr[i] - c->nin];
     else {
       logf_(c, fmi2Error, "fmi2GetReal: unknown value reference %u", vr[i]);
       return fmi2Error;
