@@ -268,3 +268,19 @@ def test_outputs_in_initialization_mode_and_reset(rigid_fmu, tmp_path):
     assert np.allclose(f.getReal(ask), moved, rtol=0, atol=1e-12)       # the same run again
     f.terminate()
     f.freeInstance()
+
+
+def test_a_column_the_wrapper_does_not_read_is_refused(tmp_path, monkeypatch):
+    """If phmech's model gains a column (python/phmech/_marshal.py), export_fmu refuses to write
+    an FMU whose wrapper would silently leave it out."""
+    from phmech import _marshal
+    real = _marshal.components
+
+    def more(*a, **k):
+        c = real(*a, **k)
+        c["elements"]["new_field"] = np.zeros(len(c["elements"]["h"]))
+        return c
+    monkeypatch.setattr(_marshal, "components", more)
+    with pytest.raises(ph.ModelError, match=r"elements columns \['new_field'\].*csrc/fmi/fmi2.c"):
+        ph.export_fmu(flexible_arm(), tmp_path / "n.fmu", inputs=["motor"],
+                      integrator="generalized-alpha", step=1e-4)

@@ -80,6 +80,18 @@ def _law_numbers(law, what: str) -> list:
     return out
 
 
+#: the columns of _marshal.components that csrc/fmi/fmi2.c (build_desc) reads, per component
+#: kind: a column phmech adds later must be read there too (export_fmu refuses it until then)
+_READ = {"carriers": {"M", "mass", "com", "H0", "t0"},
+         "elements": {"h", "nodes", "K", "D", "eps_hat", "mass", "Ms", "Mc"},
+         "pairs": {"type", "carriers", "Ta", "Tb", "driven", "axis", "law", "xlaws", "pitch", "x0",
+                   "has_x0", "drop"},
+         "loads": {"carrier", "world", "point", "w", "law", "reaction"},
+         "actuators": {"pair", "kind", "vec", "kp", "kd", "x_set", "law"},
+         "springs": {"carriers", "pa", "pb", "k", "c", "rest_length"},
+         "couplings": {"Mc", "carriers"}}
+
+
 def _records(comp: dict, names: dict, input_rows: set) -> list:
     """(key, array) records of the components of ``_marshal.components``; ``names``: kind ->
     component names for messages; ``input_rows``: (kind, index) whose law an input replaces."""
@@ -88,6 +100,11 @@ def _records(comp: dict, names: dict, input_rows: set) -> list:
     sizes = []
     for kind in kinds:
         cols = comp[kind]
+        unread = set(cols) - _READ[kind]
+        if unread or set(comp) - set(kinds) - {"gravity"}:
+            raise ModelError(f"export_fmu: the model has {kind} columns {sorted(unread)} (or components "
+                             f"{sorted(set(comp) - set(kinds) - {'gravity'})}) that the FMU wrapper "
+                             f"csrc/fmi/fmi2.c does not read: it must learn them first")
         first = next(iter(cols.values()))
         sizes.append(len(first))
         for key, v in cols.items():
