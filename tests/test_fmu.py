@@ -280,7 +280,8 @@ def test_a_column_the_wrapper_does_not_read_is_refused(tmp_path, monkeypatch):
         c = real(*a, **k)
         c["elements"]["new_field"] = np.zeros(len(c["elements"]["h"]))
         return c
-    monkeypatch.setattr(_marshal, "components", more)
+    import types
+    monkeypatch.setattr(ph.fmu, "_marshal", types.SimpleNamespace(components=more))
     with pytest.raises(ph.ModelError, match=r"elements columns \['new_field'\].*csrc/fmi/fmi2.c"):
         ph.export_fmu(flexible_arm(), tmp_path / "n.fmu", inputs=["motor"],
                       integrator="generalized-alpha", step=1e-4)
