@@ -1,6 +1,7 @@
-"""Mechanisms as FMUs: ``export_fmu`` writes an FMI 2.0 co-simulation FMU for Linux x86-64.
+"""Mechanisms as FMUs: ``export_fmu`` writes an FMI 2.0 (or 3.0) co-simulation FMU for Linux x86-64.
 
-The FMU holds ``modelDescription.xml``; ``binaries/linux64/<modelIdentifier>.so``, phmech's C
+The FMU holds ``modelDescription.xml``; ``binaries/linux64/<modelIdentifier>.so`` (FMI 3.0:
+``binaries/x86_64-linux/``), phmech's C
 core with an FMI wrapper (csrc/fmi/fmi2.c, built by meson as ``phmech_fmi2.so`` beside this
 module) and, beside it, the shared libraries it loads that are not part of glibc (SUNDIALS,
 KLU/SuiteSparse, LAPACK/BLAS, the Fortran runtime), found with ``ldd`` and reached through the
@@ -310,12 +311,51 @@ def _xml(model_name: str, ident: str, guid: str, ins: list, outs: list, opts: di
     return "\n".join(lines)
 
 
+def _xml3(model_name: str, ident: str, guid: str, ins: list, outs: list, opts: dict,
+          description: str, start_time: float, stop_time: float, step_size: float) -> str:
+    """The FMI 3.0 model description of the same variables (all Float64)."""
+    two = _xml(model_name, ident, guid, ins, outs, opts, description, start_time, stop_time, step_size)
+    head = two.split("<CoSimulation", 1)[0].replace('fmiVersion="2.0"', 'fmiVersion="3.0"')
+    head = head.replace(f'guid="{guid}"', f'instantiationToken="{guid}"')
+    head = head.replace(' numberOfEventIndicators="0"', "")
+    units = two.split("<UnitDefinitions>", 1)[1].split("</UnitDefinitions>", 1)[0]
+    lines = [head.rstrip(),
+             f'  <CoSimulation modelIdentifier="{ident}" canHandleVariableCommunicationStepSize="true"'
+             f' canGetAndSetFMUState="false" canSerializeFMUState="false"'
+             f' providesDirectionalDerivatives="false" providesAdjointDerivatives="false"'
+             f' providesIntermediateUpdate="false" hasEventMode="false"/>',
+             "  <UnitDefinitions>" + units + '  <Unit name="s"><BaseUnit s="1"/></Unit>\n'
+             "  </UnitDefinitions>",
+             f'  <DefaultExperiment startTime="{start_time!r}" stopTime="{stop_time!r}"'
+             f' stepSize="{step_size!r}" tolerance="{opts["rtol"]!r}"/>',
+             "  <ModelVariables>"]
+    vr = 0
+    for name, _, _, doc, unit in ins:
+        u = f' unit="{unit}"' if unit else ""
+        lines.append(f'    <Float64 name={quoteattr(name)} valueReference="{vr}" causality="input"'
+                     f' variability="continuous" description={quoteattr(doc)} start="0.0"{u}/>')
+        vr += 1
+    for name, *_, unit, doc in outs:
+        lines.append(f'    <Float64 name={quoteattr(name)} valueReference="{vr}" causality="output"'
+                     f' variability="continuous" initial="calculated" description={quoteattr(doc)}'
+                     f' unit="{unit}"/>')
+        vr += 1
+    lines.append(f'    <Float64 name="time" valueReference="{vr}" causality="independent"'
+                 f' variability="continuous" description="simulated time" unit="s"/>')
+    refs = range(len(ins), len(ins) + len(outs))
+    lines += ["  </ModelVariables>", "  <ModelStructure>"]
+    lines += [f'    <Output valueReference="{r}"/>' for r in refs]
+    lines += [f'    <InitialUnknown valueReference="{r}"/>' for r in refs]
+    lines += ["  </ModelStructure>", "</fmiModelDescription>", ""]
+    return "\n".join(lines)
+
+
 def export_fmu(mechanism, path, inputs: Sequence[str] = (), outputs: Optional[Sequence] = None, *,
                model_name: Optional[str] = None, integrator: str = "ida",
                rtol: Optional[float] = None, atol: Optional[float] = None,
                step: Optional[float] = None, rho_inf: Optional[float] = None,
                band: Optional[float] = None, start_time: float = 0.0, stop_time: float = 1.0,
-               step_size: float = 1e-3, description: str = "") -> Path:
+               step_size: float = 1e-3, description: str = "", fmi_version: str = "2.0") -> Path:
     """Write ``mechanism`` as an FMI 2.0 co-simulation FMU for Linux x86-64 to ``path`` (a
     ``.fmu`` file) and return its path.
 
@@ -341,7 +381,9 @@ def export_fmu(mechanism, path, inputs: Sequence[str] = (), outputs: Optional[Se
     ModelError for an unknown input or output name, an input that is not an Effort actuator or
     a wrench, and a model the FMU cannot carry: a time law given as a Python function
     (phmech.Function) anywhere but on an input. The 3-D DAE is integrated (no planar reduction);
-    FMI 3.0, model exchange, FMU state get/set and directional derivatives are not provided.
+    ``fmi_version``: "2.0" (default) or "3.0" (the same wrapper's fmi3* functions, co-simulation
+    without event mode; binaries in ``binaries/x86_64-linux/``). Model exchange, FMU state
+    get/set, clocks and directional derivatives are not provided.
     CostWarning for IDA on a mechanism with flexible links (its restart at every communication
     step is slow there: use the fixed-step generalized-alpha)."""
     from .mechanism import Mechanism
@@ -356,6 +398,8 @@ def export_fmu(mechanism, path, inputs: Sequence[str] = (), outputs: Optional[Se
         ident = "m_" + ident
     if not (step_size > 0 and stop_time > start_time):
         raise ModelError("export_fmu: step_size must be > 0 and stop_time > start_time")
+    if fmi_version not in ("2.0", "3.0"):
+        raise ModelError(f"export_fmu: fmi_version must be '2.0' or '3.0' (got {fmi_version!r})")
     lib = Path(__file__).with_name(_WRAPPER)
     if not lib.exists():
         raise ModelError(f"export_fmu: the FMI wrapper {lib} is missing from this phmech installation "
@@ -394,10 +438,11 @@ def export_fmu(mechanism, path, inputs: Sequence[str] = (), outputs: Optional[Se
     guid = "{" + str(uuid.uuid4()) + "}"
     with tempfile.TemporaryDirectory() as tmp:
         root = Path(tmp)
-        (root / "binaries" / "linux64").mkdir(parents=True)
+        platform = "linux64" if fmi_version == "2.0" else "x86_64-linux"
+        (root / "binaries" / platform).mkdir(parents=True)
         (root / "resources").mkdir()
         (root / "documentation").mkdir()
-        so = root / "binaries" / "linux64" / f"{ident}.so"
+        so = root / "binaries" / platform / f"{ident}.so"
         shutil.copy2(lib, so)
         bundled = _bundle(lib, so.parent)
         pe = _patchelf()
@@ -407,10 +452,10 @@ def export_fmu(mechanism, path, inputs: Sequence[str] = (), outputs: Optional[Se
                 subprocess.run([pe, "--force-rpath", "--set-rpath", "$ORIGIN", str(f)], check=True)
         _write_records(root / "resources" / "model.phm", records)
         (root / "modelDescription.xml").write_text(
-            _xml(name, ident, guid, ins, outs, opts, description or f"{name} (phmech {__version__})",
+            (_xml if fmi_version == "2.0" else _xml3)(name, ident, guid, ins, outs, opts, description or f"{name} (phmech {__version__})",
                  float(start_time), float(stop_time), float(step_size)), encoding="utf-8")
         (root / "documentation" / "index.txt").write_text(
-            f"{name}: a phmech {__version__} mechanism as an FMI 2.0 co-simulation FMU (Linux x86-64).\n"
+            f"{name}: a phmech {__version__} mechanism as an FMI {fmi_version} co-simulation FMU (Linux x86-64).\n"
             f"Integrator: {opts['integrator']}, rtol {opts['rtol']:g}, atol {opts['atol']:g}; inputs "
             f"held over each communication step. Bundled libraries: {', '.join(bundled) or 'none'}.\n"
             f"FMI headers: Modelica Association, 2-clause BSD licence.\n", encoding="utf-8")
