@@ -22,10 +22,13 @@ from . import linear
 from .linear import LinearPortHamiltonian, Passivity
 from . import urdf
 from .urdf import URDFRobot, load_urdf
+from . import fmu
+from .fmu import export_fmu
 
 __all__ = ["ModelError", "SolverError", "CostWarning", "info", "blas_threads", "__version__",
            "se3", "graphs", "mesh", "mixed", "timoshenko", "analysis", "load", "load_result",
            "sweep", "linear", "LinearPortHamiltonian", "Passivity", "urdf", "load_urdf", "URDFRobot",
+           "fmu", "export_fmu",
            "Material", "Section", "BeamProperties", "table1_properties", *mechanism.__all__]
 
 
