@@ -1424,6 +1424,7 @@ class Mechanism:
         negative ones shown as negative frequencies."""
         n = integer("n", n, 1)
         time = real("time", time)
+        self._check_linearization_time("modes", time, at)
         model, poses, lam = self._linearization_point(at)
         # at most 6 per carrier exist: asking for more allocates no more than that
         om, ze, sh, nf = _core.model_modes(model, min(n, 6 * len(self._car)), poses, lam, time)
@@ -1504,9 +1505,54 @@ class Mechanism:
         from . import linear
 
         time = real("time", time)
+        self._check_linearization_time("linearize", time, at)
         model, poses, lam = self._linearization_point(at)
-        return linear.build(_core, model, self._desc, list(inputs) if not isinstance(inputs, str)
-                            else [inputs], outputs, poses, lam, time)
+        lin = linear.build(_core, model, self._desc, list(inputs) if not isinstance(inputs, str)
+                           else [inputs], outputs, poses, lam, time)
+        where = self._state.poses if poses is None else poses
+        eq = self._equilibrium_check(model, where, time, at is not None)
+        if not eq:
+            warnings.warn(f"linearize: the configuration is not a static equilibrium "
+                          f"({eq.reason}): the model's stiffness K is the tangent there and "
+                          f"its state x = 0 is not a rest state (the loads' unbalanced "
+                          f"generalized forces are left out), so its responses are not small "
+                          f"motions about the mechanism's rest. Linearize about an equilibrium: "
+                          f"linearize(at=m.static(...))",
+                          EquilibriumWarning, stacklevel=_outside_stacklevel())
+        return lin
+
+    def _check_linearization_time(self, what: str, time: float,
+                                  at: Optional[StaticResult]) -> None:
+        """ModelError when ``time`` asks a linearization about the initial configuration
+        (``at`` None) at a time where a driven pair's law has moved on: the initial
+        configuration holds the driven coordinates at s(0) with rate s'(0), and the linearization
+        has no way to know where the rest of the mechanism is at s(time) (nor does it include
+        the motion's rate). A driven law's value or rate at ``time`` differing from t = 0's by
+        more than 1e-9 (relative, 1e-12 absolute) is refused, naming the pair, the values and
+        the remedy (the law advanced to that time: ``law.shifted(-time)``)."""
+        if time == 0.0 or at is not None:
+            return
+        for e in self._pairs:
+            laws = [(None, e["law"])] if e["law"] is not None else \
+                list(enumerate(e["xlaws"] or []))
+            for c, lw in laws:
+                if lw is None:
+                    continue
+                (s0, v0, _), (s1, v1, _) = lw.derivatives(np.array([0.0, time]))
+                if abs(s1 - s0) > 1e-9 * max(abs(s0), abs(s1)) + 1e-12 or \
+                        abs(v1 - v0) > 1e-9 * max(abs(v0), abs(v1)) + 1e-12:
+                    unit = "" if c is None else " " + e["pair"]._units[c]
+                    coord = "its motion" if c is None else f"coordinate {c}"
+                    raise ModelError(
+                        f"{what}(time={time:g}): pair {e['name']!r} is driven, and its law moves "
+                        f"{coord} from s(0) = {s0:.6g}{unit} (rate {v0:.6g}{unit}/s) to "
+                        f"s({time:g}) = {s1:.6g}{unit} (rate {v1:.6g}{unit}/s), but {what} works "
+                        f"about the initial configuration, where the pair is at s(0): it would "
+                        f"return the t = 0 figures. For the configuration of that time drive the "
+                        f"pair with the law advanced to it, driven=law.shifted({-time:g}) "
+                        f"(s(t + {time:g})), and call {what} at time 0; a linearization is about "
+                        f"rest: the driven motion's rate (and the centrifugal stiffening of a "
+                        f"spin) is not in it, simulate() has it")
 
     def static(self, loads: Sequence = (), steps: int = 10, time: float = 0.0,
                tol: float = 1e-10, start: Optional[StaticResult] = None,
