@@ -25,7 +25,9 @@ from typing import Callable, Optional, Sequence, Union
 import numpy as np
 
 from . import _core, _marshal, _run, analysis, io, planar as _planar, postprocess, se3, topology
-from ._checks import array, choice, integer, per_coordinate, positive, positive_definite, real, rigid_pose
+from ._checks import (ANGLE_SLIP, STRAIN_WARN, array, choice, fibre_strain, inertia_triangle,
+                      integer, per_coordinate, positive, positive_definite, real, rigid_pose,
+                      section_slips)
 from ._core import ModelError, SolverError
 from .actuators import PD, Effort, Spring, actuator_row
 from .description import ModelDescription
@@ -42,7 +44,7 @@ from .pairs import (Cylindrical, Fixed, Free, Helical, Planar, Prismatic, Revolu
 from .results import (ENERGY_NAMES, FreeMotion, InitialAdjustment, InitialConfiguration, ModesResult,
                       Momentum, SimulationResult, StabilityWarning, StaticResult)
 from .section import BeamProperties
-from ._run import AccuracyWarning
+from ._run import AccuracyWarning, PlausibilityWarning
 from .topology import InitialValueWarning, RedundantConstraintWarning, UnattachedWarning
 
 _recorded = io.recorded   # a builder call a model file replays (phmech/io.py)
@@ -61,7 +63,7 @@ __all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "rotation", "Fixed", "R
            "Spline", "PiecewisePolynomial", "Sum", "Product", "Function", "law_from_data",
            "SimulationResult", "ModesResult", "StaticResult", "Graphs", "RedundantConstraintWarning",
            "InitialValueWarning", "InitialAdjustment", "InitialConfiguration", "Momentum",
-           "StabilityWarning", "AccuracyWarning", "EquilibriumWarning", "FreeMotion",
+           "StabilityWarning", "AccuracyWarning", "PlausibilityWarning", "EquilibriumWarning", "FreeMotion",
            "UnattachedWarning"]
 
 
@@ -301,6 +303,8 @@ class Mechanism:
                 raise ModelError("properties.stiffness must be symmetric positive definite")
             if not positive_definite(I):
                 raise ModelError("properties.inertia (per unit length) must be symmetric positive definite")
+        for msg in section_slips(f"link {name!r}", K, I, L):
+            warnings.warn(msg, PlausibilityWarning, stacklevel=_outside_stacklevel())
         given = self._given_pose(pose, start, "start", f"link {name!r}")
         placed = None if start is None else frame_of(start, self._desc, f"link {name!r}: start")
         H = np.eye(4) if given is None else given
@@ -501,6 +505,7 @@ class Mechanism:
         J = array("inertia", inertia, (3, 3), spd)
         if not positive_definite(J):
             raise ModelError(f"inertia: expected {spd}")
+        inertia_triangle(f"body {name!r}", J)
         c = array("com", com, (3,), "3 finite numbers [m]")
         tw = np.zeros(6) if twist is None else array("twist", twist, (6,), "6 finite numbers (omega [rad/s], v [m/s]) or None")
         given = self._given_pose(pose, at, "at", f"body {name!r}")
@@ -613,6 +618,13 @@ class Mechanism:
             if k == 0:
                 raise ModelError(f"pair {name!r}: a fixed pair has no joint coordinates (x0)")
             xv[:k] = per_coordinate(x0, k, f"pair {name!r}: x0")
+            for c in range(k):
+                if pair._units[c] == "rad" and abs(xv[c]) > ANGLE_SLIP:
+                    warnings.warn(f"pair {name!r}: x0[{c}] = {xv[c]:g} rad is "
+                                  f"{abs(xv[c]) / (2 * np.pi):.3g} turns (more than one, "
+                                  f"{ANGLE_SLIP:.4g} rad): an angle in degrees? {xv[c]:g} degrees "
+                                  f"is {np.radians(xv[c]):.4g} rad (np.radians)",
+                                  PlausibilityWarning, stacklevel=_outside_stacklevel())
         xd = None if xdot0 is None else per_coordinate(xdot0, k, f"pair {name!r}: xdot0")
         if xdot0 is not None and k == 0:
             raise ModelError(f"pair {name!r}: a fixed pair has no joint rates (xdot0)")
@@ -1175,6 +1187,7 @@ class Mechanism:
                 unsaved = f"; the checkpoint could not be written: {e}"
         if not r["error"]:
             _run.warn_if_inaccurate(result.stats)
+            self._warn_implausible_strain(result, model)
             for lk in self._links.values():
                 if lk.fidelity == "modal":
                     T0 = se3.exp(lk.length * self._desc.link_unstressed_strain(lk))
@@ -1322,6 +1335,36 @@ class Mechanism:
         if not out:
             raise ModelError("record: nothing to record")
         return out
+
+    def _warn_implausible_strain(self, result: SimulationResult, model) -> None:
+        """PlausibilityWarning, once per run, when a nonlinear flexible link's largest fibre
+        strain over the run (phmech._checks.fibre_strain of its stress resultants, all outputs,
+        one core call per 256 outputs for every link at once) exceeds STRAIN_WARN (1 %): naming
+        the link, the strain, where and when, and the stress it means in steel. Runs with
+        ``record=`` (not every carrier stored) are not checked."""
+        links = [lk for lk in self._links.values() if lk.fidelity == "nonlinear"]
+        if not links or result.carriers is not None or not len(result.t):
+            return
+        worst = (0.0, None, 0, 0)   # strain, link, output, element
+        for t0 in range(0, len(result.t), 256):
+            t1 = min(len(result.t), t0 + 256)
+            S = _core.model_stress_resultants(model, result.poses[t0:t1], result.twists[t0:t1])
+            for lk in links:
+                first = self._desc.first_element[lk.name]
+                eps = fibre_strain(S[:, first:first + lk.elements], self._el[first]["K"])
+                i = int(np.argmax(eps))
+                if eps.flat[i] > worst[0]:
+                    worst = (float(eps.flat[i]), lk, t0 + i // lk.elements, i % lk.elements)
+        strain, lk, it, el = worst
+        if strain > STRAIN_WARN:
+            warnings.warn(f"simulate: link {lk.name!r} strains {100 * strain:.3g} % at its "
+                          f"fibres (element {el}, t = {result.t[it]:.4g} s; axial plus bending, "
+                          f"extreme fibre at sqrt(3 EI/EA)), above {100 * STRAIN_WARN:g} %: a "
+                          f"stress of {strain * 210:.3g} GPa in steel, beyond the elastic limit of "
+                          f"metals (0.1-1 %) and the small strains its linear elastic section is "
+                          f"meant for. Check the units of its properties (E in Pa, sections in m), "
+                          f"the loads, and whether the part would break or yield",
+                          PlausibilityWarning, stacklevel=_outside_stacklevel())
 
     def stress_resultants(self, result: SimulationResult, link: Union[str, FlexibleLink]) -> np.ndarray:
         """Section stress resultants of each element of ``link`` along a simulation, shape
