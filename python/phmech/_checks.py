@@ -186,48 +186,62 @@ def inertia_triangle(what: str, J: np.ndarray) -> None:
             f"mass, in the body's axes)")
 
 
-#: speed of sound sqrt(EA / rhoA) [m/s] outside which a link's section looks like a unit slip:
-#: engineering solids lie between ~30 m/s (soft rubber) and ~18 km/s (diamond); E in GPa
-#: (E = 210 for steel) gives 0.16 m/s, a density in g/cm^3 (7.85) 1.6e5 m/s
-WAVE_SPEED_RANGE = (1.0, 3.0e4)
-#: a section whose radius of gyration sqrt(EI / EA) exceeds the link's length is no beam (a
-#: 20 x 2 mm strip given in mm: 5.8 m on a 0.3 m link)
+#: speed of sound sqrt(EA / rhoA) [m/s] below which a link's section looks like a unit slip:
+#: engineering solids are above ~30 m/s (soft rubber); E in GPa (E = 210 for steel) gives
+#: 0.16 m/s. (No upper bound: a link stiffened on purpose to approach the rigid limit, E x 1e4,
+#: has 5e5 m/s; a density in g/cm^3 is caught by Material)
+WAVE_SPEED_MIN = 1.0
+#: a section whose radius of gyration sqrt(rhoI / rhoA) (of its mass: a stiffened section's
+#: EI/EA would not tell) exceeds the link's length is no beam (a 20 x 2 mm strip given in mm:
+#: 5.8 m on a 0.3 m link)
 GYRATION_PER_LENGTH = 1.0
 #: Young's modulus [Pa] and density [kg/m^3] below which a Material looks like a unit slip
 #: (GPa or MPa; g/cm^3): the softest rubbers are ~1e5-1e6 Pa, the lightest foams ~30 kg/m^3
 E_SLIP, DENSITY_SLIP = 1.0e5, 30.0
 #: a revolute-type coordinate's x0 [rad] beyond which it looks like degrees: one turn
 ANGLE_SLIP = 2.0 * math.pi
-#: the largest fibre strain of a flexible link over a run above which it warns: 1 %, a stress
-#: of E/100, beyond the elastic limit of metals (0.1-1 %) and the small strains the linear
-#: section law is meant for (a steel coupler at 2.5 GPa strains 1.2 %)
-STRAIN_WARN = 1.0e-2
+#: the largest fibre strain of a flexible link over a run above which it warns, by the link's
+#: speed of sound sqrt(EA / rhoA): at or above STIFF_SOLID [m/s] (metals, ceramics, wood, fibre
+#: composites: steel 5100, aluminium 5100, CFRP ~9000, wood ~4000) 1 %, a stress of E/100,
+#: beyond their elastic limits (0.1-1 %; a steel coupler at 2.5 GPa strains 1.2 %); below it
+#: (polymers ~1000-2000 m/s, elastomers ~30-100) SOFT_STRAIN_WARN, 10 %, beyond the small
+#: strains a linear elastic section law is meant for (the Table I beam, E/rho = 2360 m^2/s^2 --
+#: 49 m/s, a rubber -- bends to 7.7 % in tests/test_beam_dynamics.py)
+STIFF_SOLID = 2500.0
+STRAIN_WARN, SOFT_STRAIN_WARN = 1.0e-2, 1.0e-1
+
+
+def strain_bound(K: np.ndarray, I: np.ndarray) -> tuple:
+    """(bound, what) for a link of section stiffness ``K`` and inertia ``I``: the fibre strain
+    above which a run warns and the class of material its speed of sound sqrt(EA / rhoA)
+    suggests."""
+    c = math.sqrt(K[3, 3] / I[3, 3])
+    if c >= STIFF_SOLID:
+        return STRAIN_WARN, (f"its speed of sound {c:.3g} m/s is a metal's, a ceramic's or a "
+                             f"composite's, whose elastic limits are 0.1-1 %")
+    return SOFT_STRAIN_WARN, (f"its speed of sound {c:.3g} m/s is a polymer's or an "
+                              f"elastomer's; a linear elastic section law is meant for small "
+                              f"strains")
 
 
 def section_slips(what: str, K: np.ndarray, I: np.ndarray, length: float) -> list:
     """Messages (empty when plausible) for a link's section stiffness ``K`` and inertia ``I``
-    (6x6, strain order) that look like a unit slip: a speed of sound sqrt(EA/rhoA) outside
-    WAVE_SPEED_RANGE, or a radius of gyration sqrt(EI/EA) beyond GYRATION_PER_LENGTH times the
-    ``length`` [m]."""
+    (6x6, strain order) that look like a unit slip: a speed of sound sqrt(EA/rhoA) below
+    WAVE_SPEED_MIN, or a radius of gyration sqrt(rhoI/rhoA) beyond GYRATION_PER_LENGTH times
+    the ``length`` [m]."""
     EA, rhoA = K[3, 3], I[3, 3]
     c = math.sqrt(EA / rhoA)
-    r = math.sqrt(max(K[1, 1], K[2, 2]) / EA)
+    r = math.sqrt(max(I[1, 1], I[2, 2]) / rhoA)
     out = []
-    lo, hi = WAVE_SPEED_RANGE
-    if c < lo:
+    if c < WAVE_SPEED_MIN:
         out.append(f"{what}: its speed of sound sqrt(EA / rhoA) is {c:.3g} m/s (EA {EA:.3g} N, "
-                   f"rhoA {rhoA:.3g} kg/m), below the {lo:g} m/s of any engineering solid (steel "
-                   f"5100 m/s, rubber ~30): Young's modulus given in GPa or MPa? (steel: "
-                   f"E=210e9 Pa, not 210)")
-    elif c > hi:
-        out.append(f"{what}: its speed of sound sqrt(EA / rhoA) is {c:.3g} m/s (EA {EA:.3g} N, "
-                   f"rhoA {rhoA:.3g} kg/m), above the {hi:g} m/s of any engineering solid "
-                   f"(diamond ~18000 m/s): density given in g/cm^3? (steel: density=7850 kg/m^3, "
-                   f"not 7.85)")
+                   f"rhoA {rhoA:.3g} kg/m), below the {WAVE_SPEED_MIN:g} m/s of any engineering "
+                   f"solid (steel 5100 m/s, rubber ~30): Young's modulus given in GPa or MPa? "
+                   f"(steel: E=210e9 Pa, not 210)")
     if r > GYRATION_PER_LENGTH * length:
-        out.append(f"{what}: its section's radius of gyration sqrt(EI / EA) is {r:.3g} m, more "
-                   f"than its length {length:.3g} m: no beam; section dimensions given in mm? "
-                   f"(20 x 2 mm is Section.rectangle(0.02, 0.002))")
+        out.append(f"{what}: its section's radius of gyration sqrt(rhoI / rhoA) is {r:.3g} m, "
+                   f"more than its length {length:.3g} m: no beam; section dimensions given in "
+                   f"mm? (20 x 2 mm is Section.rectangle(0.02, 0.002))")
     return out
 
 
