@@ -32,8 +32,9 @@ class Passivity:
     passivity needs -- when Q_min >= -Q_RESOLVED = -1000 eps: LAPACK's eigenvalues are exact to
     about eps times the largest, so a zero eigenvalue (a motion nothing resists, a pendulum's
     stiffness linearized where gravity has no restoring moment) reads anywhere within a few eps
-    of 0 (-8.9e-18 measured), and a flexible link's blocks are legitimately ill-conditioned
-    (Q_min ~ 1e-10 for the leaf spring); it is positive definite (``Q_definite``) when Q_min >
+    of 0 (issue 27 reported -8.9e-18; the horizontal pendulum gives 0.0; both read not passive
+    before), and a flexible link's blocks are legitimately ill-conditioned (Q_min ~ 1e-10 for
+    the leaf spring); it is positive definite (``Q_definite``) when Q_min >
     Q_RESOLVED. ``collocation`` = max|C - B^T Q| / max|B^T Q| (0 when the
     outputs are the inputs' power conjugates; nan otherwise), ``D_min`` the smallest eigenvalue of
     D + D^T (0 here), ``tol`` and the verdict ``passive`` (Q positive semidefinite within

@@ -50,10 +50,10 @@ def test_linearize_at_equilibrium_does_not_warn_and_is_passive():
 
 
 def test_passivity_judges_round_off_as_zero():
-    """The issue's figure: off equilibrium the horizontal pendulum's K is a round-off zero
-    (Q_min = -8.9e-18 measured) and passive read False; Q >= 0 within round-off is passive (the
-    energy x^T Q x / 2 is >= 0), only not definite. A real negative stiffness (the inverted
-    pendulum) stays not passive."""
+    """Off equilibrium the horizontal pendulum's K is zero (Q_min = 0.0 here; the issue's scene
+    gave a round-off -8.9e-18) and passive read False (it needed Q_min > 1000 eps); Q >= 0
+    within round-off is passive (the energy x^T Q x / 2 is >= 0), only not definite. A real
+    negative stiffness (the inverted pendulum) stays not passive."""
     m = pendulum()
     with pytest.warns(ph.EquilibriumWarning):
         chk = m.linearize(inputs=["pivot"]).passivity()
