@@ -281,14 +281,21 @@ def test_a_large_load_from_t0_with_a_coarse_output_interval_runs():
     iteration, once read as divergence in Newton's rate (csrc/solve/galpha.c) and failed it at
     every step size (it stopped at t = 0 "even with step 2.44e-05 s"). Measured now: 45 steps,
     the tip at t = 1 s 2.6e-3 m from the same run at dt_out = 0.01 s, ledger 1.2e-3 (a 2 Hz band
-    barely holds the 1.3 Hz first mode; the finer run's is 1.6e-6)."""
+    barely holds the 1.3 Hz first mode; the finer run's is 1.6e-6). Against the energy held and
+    exchanged (phmech._run.quality) the coarse run's ledger is 4.4e-3 (6.7 J of 1520 J), above
+    LEDGER_WARN (4e-3): it warns, and says to use a smaller dt_out or a higher band; its tip is
+    2.6e-3 m, 1 % of its deflection, off the finer run's."""
     from phmech.studies import TABLE1, se3_cantilever
     tips, runs = {}, {}
     for dt in (0.25, 0.01):
         m, b = se3_cantilever(10, ph.table1_properties(1.0))
         m.add_wrench("tip", b.end, (0, 0, 0, 0, 0, -0.25 * 3 * TABLE1["EI"]))
-        runs[dt] = m.simulate(1.0, dt)
+        if dt == 0.25:
+            with pytest.warns(ph.AccuracyWarning, match="use a smaller dt_out or a higher band="):
+                runs[dt] = m.simulate(1.0, dt)
+        else:
+            runs[dt] = m.simulate(1.0, dt)
         tips[dt] = runs[dt].tip(b)[-1]
     assert np.linalg.norm(tips[0.25] - tips[0.01]) <= 5e-3
-    assert runs[0.25].stats["ledger_relative"] <= 1e-2        # no AccuracyWarning
+    assert 4e-3 < runs[0.25].stats["ledger_relative"] <= 1e-2
     assert runs[0.01].stats["ledger_relative"] <= 1e-5

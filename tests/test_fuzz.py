@@ -39,7 +39,7 @@ from phmech import se3
 DOCUMENTED = (ph.ModelError, ph.SolverError)
 DOCUMENTED_WARNINGS = (ph.CostWarning, ph.RedundantConstraintWarning, ph.InitialValueWarning,
                        ph.StabilityWarning, ph.AccuracyWarning, ph.EquilibriumWarning,
-                       ph.UnattachedWarning)
+                       ph.UnattachedWarning, ph.PlausibilityWarning)
 
 SCALE = float(os.environ.get("PHMECH_FUZZ_SCALE", "1"))
 #: seconds one example may take (a sanitizer build is several times slower: PHMECH_FUZZ_LIMIT)

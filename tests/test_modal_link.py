@@ -36,8 +36,10 @@ def test_leaf_spring_with_modal_leaves_has_the_full_leaves_frequency():
 def test_leaf_spring_transient_with_modal_leaves_rings_at_f_ref():
     """10 s of the pulse response (examples/leaf_spring.py's pulse, beta = 1e-5) with the
     integrator's band at 10 Hz: the FFT frequency of the stage's x after 2 s is within 0.1 % of
-    f_ref (measured -2.7e-5, in 0.13 s of CPU) and the energy ledger closes to 1e-4 of the
-    supplied energy (measured 3.3e-5)."""
+    f_ref (measured -2.7e-5, in 0.13 s of CPU) and the energy ledger closes to 3e-4 of the
+    energy held and exchanged (measured 1.0e-4; the same residual read 3.3e-5 of the former
+    energy scale, a sum three times larger, against a bound of 1e-4: the bound in joules is
+    unchanged)."""
     p = LS.default_params()
     m, h = LS.build(p, elements=64, beta=1e-5, fidelity="modal",
                     pulse=ph.Pulse(t0=0.1, duration=0.01, value=5.0))
@@ -46,7 +48,7 @@ def test_leaf_spring_transient_with_modal_leaves_rings_at_f_ref():
     sel = r.t >= 2.0
     f = ph.analysis.dominant_frequency(r.t[sel], x[sel] - x[0], fmin=1.0, fmax=10.0)
     assert abs(f / F_REF - 1) <= 1e-3
-    assert r.stats["ledger_relative"] <= 1e-4
+    assert r.stats["ledger_relative"] <= 3e-4
 
 
 def cantilever(fidelity, load):

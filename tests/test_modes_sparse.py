@@ -246,7 +246,9 @@ def _count_scenes(rng):
         for g in ((9.81, 0, 0), (-9.81, 0, 0), tuple(9.81 * rng.normal(size=3))):
             m, prev = ph.Mechanism(gravity=g), None
             for i in range(n):
-                J = masses[i] * np.diag([1e-3, lens[i] ** 2 / 12, lens[i] ** 2 / 12])
+                # a rod of radius L/20 (an axial moment of 1e-3 m^2 per kg, as before, broke
+                # the triangle inequality of bodies shorter than 0.11 m: refused now)
+                J = masses[i] * np.diag([lens[i] ** 2 / 800, lens[i] ** 2 / 12, lens[i] ** 2 / 12])
                 b = m.add_rigid_body(f"b{i}", masses[i], J, com=(lens[i] / 2, 0, 0))
                 a = m.ground if prev is None else ph.Frame(prev.carrier, se3.translation([lens[i - 1], 0, 0]))
                 m.add_pair(f"p{i}", ph.Revolute(axes[i]), a, b)

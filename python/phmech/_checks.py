@@ -162,3 +162,109 @@ def rigid_pose(x, what: str) -> np.ndarray:
         raise ModelError(f"{what}: expected a rigid 4x4 pose, but its last row is {H[3].tolist()}, "
                          f"not [0, 0, 0, 1]")
     return H
+
+
+# -- plausibility: what no physical part can be (ModelError) and what looks like a unit slip or
+# -- an implausible run (PlausibilityWarning, phmech._run; docs/user_guide.md "Plausibility checks")
+
+#: relative slack of the triangle inequality of principal moments of inertia: a thin plate
+#: meets it with equality (J3 = J1 + J2), which round-off may tip either way
+TRIANGLE_SLACK = 1e-9
+
+
+def inertia_triangle(what: str, J: np.ndarray) -> None:
+    """ModelError when the principal moments J1 <= J2 <= J3 of the symmetric positive definite
+    rotational inertia ``J`` [kg m^2] (about the centre of mass) violate J1 + J2 >= J3: no
+    distribution of positive mass has them (J1 + J2 - J3 = 2 int m x3^2 >= 0)."""
+    j = np.linalg.eigvalsh(0.5 * (J + J.T))
+    if j[0] + j[1] < j[2] * (1.0 - TRIANGLE_SLACK):
+        raise ModelError(
+            f"{what}: inertia principal moments {j[0]:.4g}, {j[1]:.4g}, {j[2]:.4g} kg m^2 violate "
+            f"the triangle inequality J1 + J2 >= J3 ({j[0]:.4g} + {j[1]:.4g} = {j[0] + j[1]:.4g} "
+            f"< {j[2]:.4g}), which every body of positive mass meets: no physical body has this "
+            f"inertia (check the diagonal's order and units, and that it is about the centre of "
+            f"mass, in the body's axes)")
+
+
+#: speed of sound sqrt(EA / rhoA) [m/s] below which a link's section looks like a unit slip:
+#: engineering solids are above ~30 m/s (soft rubber); E in GPa (E = 210 for steel) gives
+#: 0.16 m/s. (No upper bound: a link stiffened on purpose to approach the rigid limit, E x 1e4,
+#: has 5e5 m/s; a density in g/cm^3 is caught by Material)
+WAVE_SPEED_MIN = 1.0
+#: a section whose radius of gyration sqrt(rhoI / rhoA) (of its mass: a stiffened section's
+#: EI/EA would not tell) exceeds the link's length is no beam (a 20 x 2 mm strip given in mm:
+#: 5.8 m on a 0.3 m link)
+GYRATION_PER_LENGTH = 1.0
+#: Young's modulus [Pa] and density [kg/m^3] below which a Material looks like a unit slip
+#: (GPa or MPa; g/cm^3): the softest rubbers are ~1e5-1e6 Pa, the lightest foams ~30 kg/m^3
+E_SLIP, DENSITY_SLIP = 1.0e5, 30.0
+#: a revolute-type coordinate's x0 [rad] beyond which it looks like degrees: one turn
+ANGLE_SLIP = 2.0 * math.pi
+#: the largest fibre strain of a flexible link over a run above which it warns, by the link's
+#: speed of sound sqrt(EA / rhoA): at or above STIFF_SOLID [m/s] (metals, ceramics, wood, fibre
+#: composites: steel 5100, aluminium 5100, CFRP ~9000, wood ~4000) 1 %, a stress of E/100,
+#: beyond their elastic limits (0.1-1 %; a steel coupler at 2.5 GPa strains 1.2 %); below it
+#: (polymers ~1000-2000 m/s, elastomers ~30-100) SOFT_STRAIN_WARN, 10 %, beyond the small
+#: strains a linear elastic section law is meant for (the Table I beam, E/rho = 2360 m^2/s^2 --
+#: 49 m/s, a rubber -- bends to 7.7 % in tests/test_beam_dynamics.py)
+STIFF_SOLID = 2500.0
+STRAIN_WARN, SOFT_STRAIN_WARN = 1.0e-2, 1.0e-1
+
+
+def strain_bound(K: np.ndarray, I: np.ndarray) -> tuple:
+    """(bound, what) for a link of section stiffness ``K`` and inertia ``I``: the fibre strain
+    above which a run warns and the class of material its speed of sound sqrt(EA / rhoA)
+    suggests."""
+    c = math.sqrt(K[3, 3] / I[3, 3])
+    if c >= STIFF_SOLID:
+        return STRAIN_WARN, (f"its speed of sound {c:.3g} m/s is a metal's, a ceramic's or a "
+                             f"composite's, whose elastic limits are 0.1-1 %")
+    return SOFT_STRAIN_WARN, (f"its speed of sound {c:.3g} m/s is a polymer's or an "
+                              f"elastomer's; a linear elastic section law is meant for small "
+                              f"strains")
+
+
+def section_slips(what: str, K: np.ndarray, I: np.ndarray, length: float) -> list:
+    """Messages (empty when plausible) for a link's section stiffness ``K`` and inertia ``I``
+    (6x6, strain order) that look like a unit slip: a speed of sound sqrt(EA/rhoA) below
+    WAVE_SPEED_MIN, or a radius of gyration sqrt(rhoI/rhoA) beyond GYRATION_PER_LENGTH times
+    the ``length`` [m]."""
+    EA, rhoA = K[3, 3], I[3, 3]
+    c = math.sqrt(EA / rhoA)
+    r = math.sqrt(max(I[1, 1], I[2, 2]) / rhoA)
+    out = []
+    if c < WAVE_SPEED_MIN:
+        out.append(f"{what}: its speed of sound sqrt(EA / rhoA) is {c:.3g} m/s (EA {EA:.3g} N, "
+                   f"rhoA {rhoA:.3g} kg/m), below the {WAVE_SPEED_MIN:g} m/s of any engineering "
+                   f"solid (steel 5100 m/s, rubber ~30): Young's modulus given in GPa or MPa? "
+                   f"(steel: E=210e9 Pa, not 210)")
+    if r > GYRATION_PER_LENGTH * length:
+        out.append(f"{what}: its section's radius of gyration sqrt(rhoI / rhoA) is {r:.3g} m, "
+                   f"more than its length {length:.3g} m: no beam; section dimensions given in "
+                   f"mm? (20 x 2 mm is Section.rectangle(0.02, 0.002))")
+    return out
+
+
+def material_slips(E: float, density: float) -> list:
+    """Messages for a Material whose Young's modulus [Pa] or density [kg/m^3] looks like a unit
+    slip (below E_SLIP, DENSITY_SLIP)."""
+    out = []
+    if E < E_SLIP:
+        out.append(f"Material: E = {E:.4g} Pa is softer than the softest rubber (~1e5-1e6 Pa): "
+                   f"given in GPa or MPa? Steel is E=210e9 (Pa)")
+    if density < DENSITY_SLIP:
+        out.append(f"Material: density = {density:.4g} kg/m^3 is lighter than solid foams "
+                   f"(~{DENSITY_SLIP:g} kg/m^3 and up): given in g/cm^3? Steel is density=7850 "
+                   f"(kg/m^3)")
+    return out
+
+
+def fibre_strain(sigma: np.ndarray, K: np.ndarray) -> np.ndarray:
+    """The largest fibre strain of each of the section stress resultants ``sigma`` (..., 6)
+    (strain order) of a section of diagonal stiffness ``K``: |N| / EA + |M_y| c_z / EI_y +
+    |M_z| c_y / EI_z with the extreme fibre at c = sqrt(3 EI / EA) (a rectangle's exactly; a
+    circle's 2 r, a thin tube's 1.4 r: within 15 %). Vectorized; no copy of ``sigma``."""
+    EA = K[3, 3]
+    return (np.abs(sigma[..., 3]) / EA
+            + np.abs(sigma[..., 1]) * (math.sqrt(3.0 / (K[1, 1] * EA)))
+            + np.abs(sigma[..., 2]) * (math.sqrt(3.0 / (K[2, 2] * EA))))

@@ -14,7 +14,8 @@ from ._core import ModelError
 
 __all__ = ["LinearPortHamiltonian", "Passivity"]
 
-#: the smallest relative eigenvalue of Q's blocks that counts as positive (Passivity.Q_min)
+#: the round-off of Q's blocks' relative eigenvalues (Passivity.Q_min): above it positive, within
+#: +-Q_RESOLVED zero
 Q_RESOLVED = 1e3 * np.finfo(float).eps
 #: csrc/include/phmech_types.h, PHM_MODES_RESOLVED: the modes the shift-inverted pencil resolves
 MODES_RESOLVED = 1e-6
@@ -27,11 +28,17 @@ class Passivity:
     over its largest magnitude (>= -tol: R positive semidefinite), ``Q_min`` = the smallest
     eigenvalue over the largest of the stiffness block K and of the inverse-mass block M^-1 of Q,
     the smaller of the two (the blocks carry different units, so each is measured against
-    itself; Q is positive definite when Q_min > Q_RESOLVED = 1000 eps: LAPACK's eigenvalues are
-    exact to about eps times the largest, and a flexible link's blocks are legitimately
-    ill-conditioned, Q_min ~ 1e-10 for the leaf spring), ``collocation`` = max|C - B^T Q| / max|B^T Q| (0 when the
+    itself). Q counts as positive semidefinite -- the energy H = x^T Q x / 2 >= 0, which
+    passivity needs -- when Q_min >= -Q_RESOLVED = -1000 eps: LAPACK's eigenvalues are exact to
+    about eps times the largest, so a zero eigenvalue (a motion nothing resists, a pendulum's
+    stiffness linearized where gravity has no restoring moment) reads anywhere within a few eps
+    of 0 (issue 27 reported -8.9e-18; the horizontal pendulum gives 0.0; both read not passive
+    before), and a flexible link's blocks are legitimately ill-conditioned (Q_min ~ 1e-10 for
+    the leaf spring); it is positive definite (``Q_definite``) when Q_min >
+    Q_RESOLVED. ``collocation`` = max|C - B^T Q| / max|B^T Q| (0 when the
     outputs are the inputs' power conjugates; nan otherwise), ``D_min`` the smallest eigenvalue of
-    D + D^T (0 here), ``tol`` and the verdict ``passive``."""
+    D + D^T (0 here), ``tol`` and the verdict ``passive`` (Q positive semidefinite within
+    round-off and the other figures within ``tol``)."""
     J_skew: float
     R_min: float
     Q_min: float
@@ -39,6 +46,7 @@ class Passivity:
     D_min: float
     tol: float
     passive: bool
+    Q_definite: bool = False
 
 
 @dataclasses.dataclass(frozen=True)
@@ -131,8 +139,9 @@ class LinearPortHamiltonian:
         return np.sign(lam) * np.sqrt(np.abs(lam)) / (2 * np.pi)
 
     def passivity(self, tol: float = 1e-9) -> Passivity:
-        """Check J = -J^T, R >= 0, Q > 0 (and, for collocated outputs, C = B^T Q, D + D^T >= 0)
-        within the relative tolerance ``tol``; returns the numbers (Passivity)."""
+        """Check J = -J^T, R >= 0, Q >= 0 (and, for collocated outputs, C = B^T Q, D + D^T >= 0)
+        within the relative tolerance ``tol`` (Q within round-off, Q_RESOLVED, relative to each
+        block's largest eigenvalue); returns the numbers (Passivity)."""
         J, R = self.J, self.R
         js = float(np.abs(J + J.T).max() / np.abs(J).max())
         er = np.linalg.eigvalsh(R)
@@ -147,9 +156,9 @@ class LinearPortHamiltonian:
         else:
             col = float("nan")
         dmin = float(np.linalg.eigvalsh(self.D + self.D.T).min()) if self.D.size else 0.0
-        ok = js <= tol and rmin >= -tol and qmin > Q_RESOLVED and dmin >= -tol and \
+        ok = js <= tol and rmin >= -tol and qmin >= -Q_RESOLVED and dmin >= -tol and \
             (not self.collocated or col <= tol)
-        return Passivity(js, rmin, qmin, col, dmin, tol, bool(ok))
+        return Passivity(js, rmin, qmin, col, dmin, tol, bool(ok), bool(qmin > Q_RESOLVED))
 
     def displacement(self, x) -> np.ndarray:
         """The carriers' tangent displacements (nc, 6) (omega, v in body axes: H = H0 exp(xi))

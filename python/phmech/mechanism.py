@@ -25,7 +25,9 @@ from typing import Callable, Optional, Sequence, Union
 import numpy as np
 
 from . import _core, _marshal, _run, analysis, io, planar as _planar, postprocess, se3, topology
-from ._checks import array, choice, integer, per_coordinate, positive, positive_definite, real, rigid_pose
+from ._checks import (ANGLE_SLIP, array, choice, fibre_strain, inertia_triangle,
+                      integer, per_coordinate, positive, positive_definite, real, rigid_pose,
+                      section_slips, strain_bound)
 from ._core import ModelError, SolverError
 from .actuators import PD, Effort, Spring, actuator_row
 from .description import ModelDescription
@@ -42,7 +44,7 @@ from .pairs import (Cylindrical, Fixed, Free, Helical, Planar, Prismatic, Revolu
 from .results import (ENERGY_NAMES, FreeMotion, InitialAdjustment, InitialConfiguration, ModesResult,
                       Momentum, SimulationResult, StabilityWarning, StaticResult)
 from .section import BeamProperties
-from ._run import AccuracyWarning
+from ._run import AccuracyWarning, PlausibilityWarning
 from .topology import InitialValueWarning, RedundantConstraintWarning, UnattachedWarning
 
 _recorded = io.recorded   # a builder call a model file replays (phmech/io.py)
@@ -61,7 +63,7 @@ __all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "rotation", "Fixed", "R
            "Spline", "PiecewisePolynomial", "Sum", "Product", "Function", "law_from_data",
            "SimulationResult", "ModesResult", "StaticResult", "Graphs", "RedundantConstraintWarning",
            "InitialValueWarning", "InitialAdjustment", "InitialConfiguration", "Momentum",
-           "StabilityWarning", "AccuracyWarning", "EquilibriumWarning", "FreeMotion",
+           "StabilityWarning", "AccuracyWarning", "PlausibilityWarning", "EquilibriumWarning", "FreeMotion",
            "UnattachedWarning"]
 
 
@@ -80,6 +82,13 @@ def _outside_stacklevel() -> int:
     while frame is not None and os.path.dirname(frame.f_code.co_filename) == here:
         frame, level = frame.f_back, level + 1
     return level
+
+
+def _warn_plausibility(messages: Sequence[str]) -> None:
+    """Each message (phmech._checks: a value that looks like a unit slip) as a
+    PlausibilityWarning at the user's line."""
+    for msg in messages:
+        warnings.warn(msg, PlausibilityWarning, stacklevel=_outside_stacklevel())
 
 
 def _frame_of(x, mech: "Mechanism", what: str) -> Frame:
@@ -301,6 +310,7 @@ class Mechanism:
                 raise ModelError("properties.stiffness must be symmetric positive definite")
             if not positive_definite(I):
                 raise ModelError("properties.inertia (per unit length) must be symmetric positive definite")
+        slips = section_slips(f"link {name!r}", K, I, L)   # warned once the link is added
         given = self._given_pose(pose, start, "start", f"link {name!r}")
         placed = None if start is None else frame_of(start, self._desc, f"link {name!r}: start")
         H = np.eye(4) if given is None else given
@@ -345,6 +355,7 @@ class Mechanism:
             link = FlexibleLink(name, L, N, [c] * (N + 1), choice, fidelity="rigid",
                                 offsets=node_offsets(L, N, eps))
             self._links[name] = link
+            _warn_plausibility(slips)
             return link
         if modes is not None and fidelity != "modal":
             raise ModelError(f"link {name!r}: modes= is for fidelity='modal' links (this one is "
@@ -352,8 +363,10 @@ class Mechanism:
         if fidelity == "modal":
             band = self.band if band is None else band
             tol = self.frequency_tolerance if frequency_tolerance is None else frequency_tolerance
-            return self._add_modal_link(name, L, properties, N, eps, I, H0, given, choice, mass,
+            link = self._add_modal_link(name, L, properties, N, eps, I, H0, given, choice, mass,
                                         modes, band, tol, placed)
+            _warn_plausibility(slips)
+            return link
         first = self._start_link(name, eps, placed)
         # every node's share of the section, with the section's centre of mass (off the axis
         # in an unsymmetric section): where gravity acts on it
@@ -371,6 +384,7 @@ class Mechanism:
                 self._given[first + k] = np.array(self._car[first + k]["H0"])
         link = FlexibleLink(name, L, N, list(range(first, first + N + 1)), choice)
         self._links[name] = link
+        _warn_plausibility(slips)
         return link
 
     def _start_link(self, name: str, eps: np.ndarray, placed: Optional[Frame]) -> int:
@@ -501,6 +515,7 @@ class Mechanism:
         J = array("inertia", inertia, (3, 3), spd)
         if not positive_definite(J):
             raise ModelError(f"inertia: expected {spd}")
+        inertia_triangle(f"body {name!r}", J)
         c = array("com", com, (3,), "3 finite numbers [m]")
         tw = np.zeros(6) if twist is None else array("twist", twist, (6,), "6 finite numbers (omega [rad/s], v [m/s]) or None")
         given = self._given_pose(pose, at, "at", f"body {name!r}")
@@ -613,6 +628,12 @@ class Mechanism:
             if k == 0:
                 raise ModelError(f"pair {name!r}: a fixed pair has no joint coordinates (x0)")
             xv[:k] = per_coordinate(x0, k, f"pair {name!r}: x0")
+        # warned once the pair is added
+        slips = [f"pair {name!r}: x0[{c}] = {xv[c]:g} rad is {abs(xv[c]) / (2 * np.pi):.3g} "
+                 f"turns (more than one, {ANGLE_SLIP:.4g} rad): an angle in degrees? {xv[c]:g} "
+                 f"degrees is {np.radians(xv[c]):.4g} rad (np.radians)"
+                 for c in range(k) if x0 is not None and pair._units[c] == "rad"
+                 and abs(xv[c]) > ANGLE_SLIP]
         xd = None if xdot0 is None else per_coordinate(xdot0, k, f"pair {name!r}: xdot0")
         if xdot0 is not None and k == 0:
             raise ModelError(f"pair {name!r}: a fixed pair has no joint rates (xdot0)")
@@ -653,6 +674,7 @@ class Mechanism:
             self._car[entry["b"]]["H0"], self._car[entry["b"]]["t0"] = place
         if act is not None:
             self._acts.append(act)
+        _warn_plausibility(slips)
 
     @staticmethod
     def _joint_laws(name: str, pair, driven) -> list:
@@ -1175,6 +1197,7 @@ class Mechanism:
                 unsaved = f"; the checkpoint could not be written: {e}"
         if not r["error"]:
             _run.warn_if_inaccurate(result.stats)
+            self._warn_implausible_strain(result, model)
             for lk in self._links.values():
                 if lk.fidelity == "modal":
                     T0 = se3.exp(lk.length * self._desc.link_unstressed_strain(lk))
@@ -1323,6 +1346,55 @@ class Mechanism:
             raise ModelError("record: nothing to record")
         return out
 
+    def _warn_implausible_strain(self, result: SimulationResult, model) -> None:
+        """PlausibilityWarning, once per run, when a nonlinear flexible link's largest fibre
+        strain over the run (phmech._checks.fibre_strain of its stress resultants, all outputs,
+        one core call per 256 outputs for every link at once; skipped when the run's elastic
+        energy is too small for any element to reach its bound) exceeds its bound
+        (phmech._checks.strain_bound: 1 % for a metal-like speed of sound, 10 % below), naming
+        the link, the strain, where and when. Runs with ``record=`` (not every carrier stored)
+        are not checked."""
+        links = [lk for lk in self._links.values() if lk.fidelity == "nonlinear"]
+        if not links or result.carriers is not None or not len(result.t):
+            return
+        # an element of length h whose fibre strain is e stores at least EA h e^2 / 14 (the
+        # least of (EA e_a^2 + EI_y k_y^2 + EI_z k_z^2) h / 2 with e_a + c_z k_y + c_y k_z = e,
+        # c = sqrt(3 EI/EA), for a diagonal section stiffness): when the run's whole elastic
+        # energy stays below that for every link, no element reached its bound, and the
+        # stress resultants are not needed (most runs: no cost)
+        elastic = float(np.max(result.energy["elastic"]))
+        rows = []
+        for lk in links:
+            first = self._desc.first_element[lk.name]
+            el = self._el[first]
+            K = el["K"]
+            bound, why = strain_bound(K, el["Ms"])
+            diagonal = not np.any(K - np.diag(np.diagonal(K)))
+            need = K[3, 3] * el["h"] * bound ** 2 / 14 if diagonal else 0.0
+            rows.append((lk, first, K, bound, why, need))
+        if elastic < min(r[5] for r in rows):
+            return
+        worst = (0.0, None, 0, 0, 0.0)   # strain / bound, row, output, element, strain
+        for t0 in range(0, len(result.t), 256):
+            t1 = min(len(result.t), t0 + 256)
+            S = _core.model_stress_resultants(model, result.poses[t0:t1], result.twists[t0:t1])
+            for row in rows:
+                lk, first, K, bound = row[:4]
+                eps = fibre_strain(S[:, first:first + lk.elements], K)
+                i = int(np.argmax(eps))
+                if eps.flat[i] / bound > worst[0]:
+                    worst = (float(eps.flat[i]) / bound, row, t0 + i // lk.elements,
+                             i % lk.elements, float(eps.flat[i]))
+        ratio, row, it, el, strain = worst
+        if ratio > 1.0:
+            lk, _, _, bound, why, _ = row
+            warnings.warn(f"simulate: link {lk.name!r} strains {100 * strain:.3g} % at its "
+                          f"fibres (element {el}, t = {result.t[it]:.4g} s; axial plus bending, "
+                          f"extreme fibre at sqrt(3 EI/EA)), above {100 * bound:g} %: {why}. "
+                          f"Check the units of its properties (E in Pa, sections in m) and the "
+                          f"loads, and whether the part would yield or break",
+                          PlausibilityWarning, stacklevel=_outside_stacklevel())
+
     def stress_resultants(self, result: SimulationResult, link: Union[str, FlexibleLink]) -> np.ndarray:
         """Section stress resultants of each element of ``link`` along a simulation, shape
         (nt, elements, 6), in the strain order (torsion, bending y, bending z [N m], axial,
@@ -1422,9 +1494,15 @@ class Mechanism:
         energy shares and participations; phmech.analysis.label_modes, ModesResult). When the
         configuration is not a static equilibrium (a static solve from it moves it), an
         EquilibriumWarning says so: the values are then eigenvalues of the tangent stiffness,
-        negative ones shown as negative frequencies."""
+        negative ones shown as negative frequencies.
+
+        ``time`` [s]: the loads act as at that time. When a driven pair's law has moved by then
+        (its value or rate differs from t = 0's) a ModelError names the pair and the values:
+        the initial configuration holds it at s(0), and modes there would be the t = 0 ones
+        (drive it with ``law.shifted(-time)`` and call modes() at time 0 instead)."""
         n = integer("n", n, 1)
         time = real("time", time)
+        self._check_linearization_time("modes", time, at)
         model, poses, lam = self._linearization_point(at)
         # at most 6 per carrier exist: asking for more allocates no more than that
         om, ze, sh, nf = _core.model_modes(model, min(n, 6 * len(self._car)), poses, lam, time)
@@ -1501,13 +1579,60 @@ class Mechanism:
         its wrench, the frame's body twist (omega, v); y^T u is the power supplied), or port
         names as for inputs (their power-conjugate velocities). The inputs perturb the loads
         acting at ``time`` (whose stiffness, e.g. of a world-fixed force on a rotating body, is
-        in K)."""
+        in K); a driven pair whose law has moved by ``time`` is refused as in :meth:`modes`.
+        About a configuration that is not a static equilibrium an EquilibriumWarning says so,
+        as :meth:`modes` does: K is the tangent there and x = 0 is no rest state."""
         from . import linear
 
         time = real("time", time)
+        self._check_linearization_time("linearize", time, at)
         model, poses, lam = self._linearization_point(at)
-        return linear.build(_core, model, self._desc, list(inputs) if not isinstance(inputs, str)
-                            else [inputs], outputs, poses, lam, time)
+        lin = linear.build(_core, model, self._desc, list(inputs) if not isinstance(inputs, str)
+                           else [inputs], outputs, poses, lam, time)
+        where = self._state.poses if poses is None else poses
+        eq = self._equilibrium_check(model, where, time, at is not None)
+        if not eq:
+            warnings.warn(f"linearize: the configuration is not a static equilibrium "
+                          f"({eq.reason}): the model's stiffness K is the tangent there and "
+                          f"its state x = 0 is not a rest state (the loads' unbalanced "
+                          f"generalized forces are left out), so its responses are not small "
+                          f"motions about the mechanism's rest. Linearize about an equilibrium: "
+                          f"linearize(at=m.static(...))",
+                          EquilibriumWarning, stacklevel=_outside_stacklevel())
+        return lin
+
+    def _check_linearization_time(self, what: str, time: float,
+                                  at: Optional[StaticResult]) -> None:
+        """ModelError when ``time`` asks a linearization about the initial configuration
+        (``at`` None) at a time where a driven pair's law has moved on: the initial
+        configuration holds the driven coordinates at s(0) with rate s'(0), and the linearization
+        has no way to know where the rest of the mechanism is at s(time) (nor does it include
+        the motion's rate). A driven law's value or rate at ``time`` differing from t = 0's by
+        more than 1e-9 (relative, 1e-12 absolute) is refused, naming the pair, the values and
+        the remedy (the law advanced to that time: ``law.shifted(-time)``)."""
+        if time == 0.0 or at is not None:
+            return
+        for e in self._pairs:
+            laws = [(None, e["law"])] if e["law"] is not None else \
+                list(enumerate(e["xlaws"] or []))
+            for c, lw in laws:
+                if lw is None:
+                    continue
+                (s0, v0, _), (s1, v1, _) = lw.derivatives(np.array([0.0, time]))
+                if abs(s1 - s0) > 1e-9 * max(abs(s0), abs(s1)) + 1e-12 or \
+                        abs(v1 - v0) > 1e-9 * max(abs(v0), abs(v1)) + 1e-12:
+                    unit = "" if c is None else " " + e["pair"]._units[c]
+                    coord = "its motion" if c is None else f"coordinate {c}"
+                    raise ModelError(
+                        f"{what}(time={time:g}): pair {e['name']!r} is driven, and its law moves "
+                        f"{coord} from s(0) = {s0:.6g}{unit} (rate {v0:.6g}{unit}/s) to "
+                        f"s({time:g}) = {s1:.6g}{unit} (rate {v1:.6g}{unit}/s), but {what} works "
+                        f"about the initial configuration, where the pair is at s(0): it would "
+                        f"return the t = 0 figures. For the configuration of that time drive the "
+                        f"pair with the law advanced to it, driven=law.shifted({-time:g}) "
+                        f"(s(t + {time:g})), and call {what} at time 0; a linearization is about "
+                        f"rest: the driven motion's rate (and the centrifugal stiffening of a "
+                        f"spin) is not in it, simulate() has it")
 
     def static(self, loads: Sequence = (), steps: int = 10, time: float = 0.0,
                tol: float = 1e-10, start: Optional[StaticResult] = None,

@@ -12,12 +12,13 @@ SI units throughout: lengths [m], moduli [Pa], density [kg/m^3].
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 from typing import Optional
 
 import numpy as np
 
-from ._checks import array, positive, real
+from ._checks import array, material_slips, positive, real
 from ._core import ModelError
 
 __all__ = ["Material", "Section", "BeamProperties", "table1_properties", "TABLE1"]
@@ -56,6 +57,9 @@ class Material:
         object.__setattr__(self, "nu", nu)
         G = self.E / (2.0 * (1.0 + nu)) if self.G is None else positive("G", self.G)
         object.__setattr__(self, "G", G)
+        from ._run import PlausibilityWarning
+        for msg in material_slips(self.E, self.density):   # __post_init__, __init__, the caller
+            warnings.warn(msg, PlausibilityWarning, stacklevel=3)
 
 
 # ----------------------------------------------------------------------------------------------

@@ -1,0 +1,115 @@
+"""Trap suite, issue 27 item 7: analyses in their domain. ``linearize()`` about a configuration
+that is not an equilibrium warns as ``modes()`` does; the passivity check tells round-off from
+a negative stiffness; ``modes(time=)`` / ``linearize(time=)`` on a mechanism whose driven pair
+has moved on by then refuses with the pair and its values instead of returning the t = 0
+figures."""
+import warnings
+
+import numpy as np
+import pytest
+
+import phmech as ph
+from phmech import se3
+
+G, L, MASS = 9.81, 1.0, 1.0
+
+
+def pendulum():
+    """A point-like 1 kg bob on a 1 m arm about y, starting horizontal (gravity -z): not an
+    equilibrium; its linearized stiffness there is zero (gravity has no restoring moment)."""
+    m = ph.Mechanism(gravity=(0, 0, -G))
+    b = m.add_rigid_body("bob", MASS, np.eye(3) * 1e-4, com=(L, 0, 0))
+    m.add_pair("pivot", ph.Revolute(axis="y"), m.ground, b)
+    return m
+
+
+def test_linearize_off_equilibrium_warns_as_modes_does():
+    m = pendulum()
+    with pytest.warns(ph.EquilibriumWarning, match=r"linearize: the configuration is not a "
+                      r"static equilibrium \(a static solve from it moves body 'bob' by .* m and "
+                      r"1.57 rad\).*linearize\(at=m.static"):   # to hanging: pi/2
+        lin = m.linearize(inputs=["pivot"])
+    with pytest.warns(ph.EquilibriumWarning, match="modes: the configuration is not"):
+        m.modes(1)
+    # horizontal: gravity's moment m g L cos(theta) has zero derivative -> K = 0 (exactly, up
+    # to round-off of the gravity stiffness), M = m L^2 + J_yy
+    assert abs(lin.stiffness[0, 0]) <= 1e-12 * MASS * G * L
+    assert lin.mass[0, 0] == pytest.approx(MASS * L ** 2 + 1e-4, rel=1e-12)
+
+
+def test_linearize_at_equilibrium_does_not_warn_and_is_passive():
+    m = pendulum()
+    st = m.static()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ph.EquilibriumWarning)
+        lin = m.linearize(at=st, inputs=["pivot"])
+    # hanging: K = m g L (independent closed form), omega^2 = K / M
+    assert lin.stiffness[0, 0] == pytest.approx(MASS * G * L, rel=1e-9)
+    chk = lin.passivity()
+    assert chk.passive and chk.Q_definite
+
+
+def test_passivity_judges_round_off_as_zero():
+    """Off equilibrium the horizontal pendulum's K is zero (Q_min = 0.0 here; the issue's scene
+    gave a round-off -8.9e-18) and passive read False (it needed Q_min > 1000 eps); Q >= 0
+    within round-off is passive (the energy x^T Q x / 2 is >= 0), only not definite. A real
+    negative stiffness (the inverted pendulum) stays not passive."""
+    m = pendulum()
+    with pytest.warns(ph.EquilibriumWarning):
+        chk = m.linearize(inputs=["pivot"]).passivity()
+    assert abs(chk.Q_min) <= ph.linear.Q_RESOLVED
+    assert chk.passive and not chk.Q_definite
+    inv = ph.Mechanism(gravity=(0, 0, -G))
+    b = inv.add_rigid_body("bob", MASS, np.eye(3) * 1e-4, com=(L, 0, 0))
+    inv.add_pair("pivot", ph.Revolute(axis="y"), inv.ground, b, x0=-np.pi / 2)   # bob on top
+    lin = inv.linearize(at=inv.static(check_stability=False), inputs=["pivot"])
+    chk = lin.passivity()
+    # K = -m g L: relative eigenvalue -1 of the K block
+    assert lin.stiffness[0, 0] == pytest.approx(-MASS * G * L, rel=1e-9)
+    assert chk.Q_min == pytest.approx(-1.0, rel=1e-9) and not chk.passive
+
+
+#: the spin-up: angle 2.5 t^2 up to 2 s (speed 5 t), then 10 + 10 (t - 2) rad
+SPIN_UP = ph.PiecewisePolynomial([0.0, 2.0, 100.0], [[2.5, 0.0, 0.0], [0.0, 10.0, 10.0]])
+
+
+def spin_up(law=SPIN_UP):
+    """A hub driven by ``law`` (default the spin-up: speed ramping to 10 rad/s over 2 s, then
+    constant) with a steel strip clamped to it, no gravity."""
+    m = ph.Mechanism()
+    hub = m.add_rigid_body("hub", 1.0, np.diag([1e-3, 1e-3, 1e-3]))
+    m.add_pair("motor", ph.Revolute("z"), m.ground, hub, driven=law)
+    props = ph.BeamProperties.from_material(ph.Section.rectangle(0.004, 0.02),
+                                            ph.Material(E=210e9, nu=0.3, density=7850.0))
+    arm = m.add_flexible_link("arm", 0.5, props, elements=4)
+    m.add_pair("root", ph.Fixed(), hub, arm.start)
+    return m, law
+
+
+def test_modes_at_a_time_the_driven_pair_has_moved_refuses():
+    m, law = spin_up()
+    s4, v4, _ = law.derivatives(4.0)
+    assert s4 == pytest.approx(30.0) and v4 == pytest.approx(10.0)   # 10 + 10 (4 - 2) rad
+    for call in (lambda: m.modes(3, time=4.0), lambda: m.linearize(inputs=["motor"], time=4.0)):
+        with pytest.raises(ph.ModelError, match=r"time=4\): pair 'motor' is driven, and its law "
+                           r"moves coordinate 0 from s\(0\) = 0 rad \(rate 0 rad/s\) to s\(4\) = "
+                           r"30 rad \(rate 10 rad/s\)"):
+            call()
+    # at t = 0 (and at times where the law has not moved) the analyses run as before
+    f0 = m.modes(3).frequency
+    assert np.all(np.isfinite(f0))
+
+
+def test_modes_at_time_with_the_law_advanced_to_it():
+    """The remedy the message gives: the law advanced to that time, law.shifted(-4), puts the
+    initial configuration where the driven pair is at t = 4 (30 rad), and modes() runs there.
+    The strip clamped to the hub (no gravity) has the same frequencies wherever the hub stands:
+    they agree with t = 0's to 1e-9."""
+    m, law = spin_up()
+    f0 = m.modes(3).frequency
+    m4, _ = spin_up(SPIN_UP.shifted(-4.0))
+    modes4 = m4.modes(3)
+    hub = m4.bodies["hub"].carrier
+    ang = np.arctan2(modes4.poses[hub][1, 0], modes4.poses[hub][0, 0])
+    assert ang == pytest.approx(np.mod(30.0 + np.pi, 2 * np.pi) - np.pi, abs=1e-9)
+    np.testing.assert_allclose(modes4.frequency, f0, rtol=1e-9)
