@@ -85,6 +85,7 @@ typedef struct {
                           * carrier when planar): the dropped states have no error, and
                           * counted as a 3-D solve counts them the norms, and so the steps
                           * and Newton's tests, are the 3-D solve's (n and 0 in 3-D) */
+  double lscale;         /* the mechanism's size [m] (dae_length_scale): the constraint tolerance */
   double tref;           /* reference time of the laws' current piece (phm_model_tref) */
   unsigned char *kbody;  /* nc: carrier c's kinematic rows in its body frame (1) or in the
                           * world's (0): dae_body_kinematics (a full DAE's; NULL when planar) */
@@ -159,6 +160,19 @@ double dae_state_atol(const dae_t *d, int i, double atol);
 /* State i is a carrier's twist component. */
 int dae_is_twist(const dae_t *d, int i);
 
+/* ---------------------------------------------------------------- watch.c */
+/* The pairs' position residuals are held within DAE_CONSTRAINT_TOL (rad) and DAE_CONSTRAINT_TOL
+ * times the mechanism's size (m), or atol if larger (python/phmech/topology.py's POSE_TOL, the
+ * tolerance the initial configuration is placed to). */
+#define DAE_CONSTRAINT_TOL 1e-6
+/* The mechanism's size [m] from its carriers' initial origins and pair frames (1 if none). */
+double dae_length_scale(const phm_model *m);
+/* After each accepted step of an integrator (state y at time t, d's layout): every pair's
+ * position residual, its redundant (dropped) rows included, against the tolerance above;
+ * PHM_ESOLVER naming the pair (its index), the row, the residual and the time when one is
+ * beyond it. No allocation. */
+phm_status dae_step_accepted(dae_t *d, double t, const double *y, double atol, phm_error *err);
+
 /* ---------------------------------------------------------------- initial.c */
 /* Project poses H and twists tw onto the constraints (minimum-norm corrections), then solve the
  * acceleration level for t' and lambda; writes y and y' (all but the ledger values in y). qprev:
@@ -228,6 +242,8 @@ phm_status dae_planar_init(dae_t *d, const phm_model *m, int axis, phm_error *er
 /* The full DAE behind d (d itself when it is not planar): its data holds the poses and twists
  * of the carriers (d->data of a planar d is empty). */
 dae_t *dae_full(dae_t *d);
+/* The full DAE's state of the reduced y (expanded into the planar data's buffer). */
+const double *dae_planar_state(dae_t *d, const double *y);
 /* dae_carrier_states of a planar d (its kept states). */
 void dae_planar_carrier_states(const dae_t *d, dae_carrier_layout *L);
 int dae_planar_residual(dae_t *d, double time, const double *y, const double *yp, double *F,

@@ -270,6 +270,7 @@ static phm_status ic_alloc(dae_t *d, phm_error *err) {
 phm_status dae_init(dae_t *d, const phm_model *m, phm_error *err) {
   memset(d, 0, sizeof *d);
   d->m = m;
+  d->lscale = dae_length_scale(m);
   d->ns = PHM_NSTATE;
   d->nt0 = 7;
   d->ix = PHM_NSTATE * m->nc;
