@@ -193,11 +193,14 @@ phm_status dae_regularization(dae_t *d, phm_error *err);
 void dae_regularization_scale(dae_t *d, double rtol, int per_step);
 /* The mechanism's size [m] from its carriers' initial origins and pair frames (1 if none). */
 double dae_length_scale(const phm_model *m);
-/* After each accepted step of an integrator (state y at time t, d's layout): every pair's
- * position residual, its redundant (dropped) rows included, against the tolerance above;
- * PHM_ESOLVER naming the pair (its index), the row, the residual and the time when one is
- * beyond it. No allocation. */
-phm_status dae_step_accepted(dae_t *d, double t, const double *y, double atol, phm_error *err);
+/* After each accepted step of an integrator (state y at time t, d's layout; output: t is an
+ * output time): the position residual of every row of the pairs with rows dropped as redundant
+ * (the DAE does not hold those) and, at outputs, of every pair's rows (the held rows are
+ * Newton's, within its tolerance at every step), against the tolerance above; PHM_ESOLVER
+ * naming the pair (its index), the row, the residual and the time when one is beyond it. Moves
+ * the proximal reference lambda_ref. No allocation. */
+phm_status dae_step_accepted(dae_t *d, double t, const double *y, double atol, int output,
+                             phm_error *err);
 
 /* ---------------------------------------------------------------- initial.c */
 /* Project poses H and twists tw onto the constraints (minimum-norm corrections), then solve the

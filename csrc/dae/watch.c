@@ -156,7 +156,8 @@ double dae_length_scale(const phm_model *m) {
   return L > 0 && isfinite(L) ? L : 1.0;
 }
 
-phm_status dae_step_accepted(dae_t *d, double t, const double *y, double atol, phm_error *err) {
+phm_status dae_step_accepted(dae_t *d, double t, const double *y, double atol, int output,
+                              phm_error *err) {
   dae_t *f = dae_full(d);
   const phm_model *m = f->m;
   if (d->pl) y = dae_planar_state(d, y);
@@ -165,7 +166,7 @@ phm_status dae_step_accepted(dae_t *d, double t, const double *y, double atol, p
   for (int ip = 0; ip < m->np; ip++) {
     const phm_pair_desc *pr = &m->pair[ip];
     int mc = phm_pair_rows_full(pr);
-    if (mc == 0) continue;
+    if (mc == 0 || (!output && !pr->drop)) continue; /* held rows: Newton's, checked at outputs */
     double Ha[16], Hb[16], g[PHM_MAXCON], W[36];
     if (pr->a >= 0) phm_qp_to_H(y + PHM_NSTATE * pr->a, y + PHM_NSTATE * pr->a + 4, Ha);
     if (pr->b >= 0) phm_qp_to_H(y + PHM_NSTATE * pr->b, y + PHM_NSTATE * pr->b + 4, Hb);
