@@ -65,9 +65,10 @@ typedef struct {
   double *eff;           /* nj: actuator efforts summed per joint coordinate (outputs)          */
   double *rtmp;          /* n: scratch rows (the pairs' rows dae_jacobian evaluates)           */
   double *dtw;           /* nc x 6: a change of the twists (dae_ledger_dpower)                 */
-  double *lref;          /* ncons: the multipliers lambda of the last accepted step, and    */
-  double *lreg, *mreg;   /* ncons: each velocity and position row's compliance: the
-                          * regularization of the constraint rows of the pairs in a loop
+  double *lref;          /* ncons: the multipliers lambda of the last accepted step
+                          * (dae_step_accepted; dae_consistent_ic's at a (re)start)          */
+  double *lreg, *mreg;   /* ncons: each velocity and position row's compliance, the
+                          * regularization of the rows of the pairs on a loop
                           * (dae_regularization, docs/method.md section 6.2); 0 elsewhere    */
   double *gwork;         /* nc x 33 + the ledger's il - ie: the generalized-alpha's scratch
                           * (csrc/solve/galpha.c: co-rotation, ledger corrections), here so
