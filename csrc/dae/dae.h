@@ -65,6 +65,11 @@ typedef struct {
   double *eff;           /* nj: actuator efforts summed per joint coordinate (outputs)          */
   double *rtmp;          /* n: scratch rows (the pairs' rows dae_jacobian evaluates)           */
   double *dtw;           /* nc x 6: a change of the twists (dae_ledger_dpower)                 */
+  double *lref;          /* ncons: the multipliers lambda of the last accepted step
+                          * (dae_step_accepted; dae_consistent_ic's at a (re)start)          */
+  double *lreg, *mreg;   /* ncons: each velocity and position row's compliance, the
+                          * regularization of the rows of the pairs on a loop
+                          * (dae_regularization, docs/method.md section 6.2); 0 elsewhere    */
   double *gwork;         /* nc x 33 + the ledger's il - ie: the generalized-alpha's scratch
                           * (csrc/solve/galpha.c: co-rotation, ledger corrections), here so
                           * that nothing allocates after the set-up                           */
@@ -85,6 +90,8 @@ typedef struct {
                           * carrier when planar): the dropped states have no error, and
                           * counted as a 3-D solve counts them the norms, and so the steps
                           * and Newton's tests, are the 3-D solve's (n and 0 in 3-D) */
+  double lscale;         /* the mechanism's size [m] (dae_length_scale): the constraint tolerance */
+  double reg;            /* the regularization's factor (dae_regularization_scale): 1 by default */
   double tref;           /* reference time of the laws' current piece (phm_model_tref) */
   unsigned char *kbody;  /* nc: carrier c's kinematic rows in its body frame (1) or in the
                           * world's (0): dae_body_kinematics (a full DAE's; NULL when planar) */
@@ -159,6 +166,43 @@ double dae_state_atol(const dae_t *d, int i, double atol);
 /* State i is a carrier's twist component. */
 int dae_is_twist(const dae_t *d, int i);
 
+/* ---------------------------------------------------------------- watch.c */
+/* The pairs' position residuals are held within DAE_CONSTRAINT_TOL (rad) and DAE_CONSTRAINT_TOL
+ * times the mechanism's size (m), or atol if larger (python/phmech/topology.py's POSE_TOL, the
+ * tolerance the initial configuration is placed to). */
+#define DAE_CONSTRAINT_TOL 1e-6
+/* The regularization of the constraint rows (docs/method.md section 6.2, "Singular
+ * configurations"): the velocity row r reads G_r t - v_t,r + c_r (lambda_r - lambda_ref,r) with
+ * lambda_ref the multipliers of the last accepted step (dae_step_accepted) and the compliance
+ * c_r = DAE_REG_TIME (G M^-1 G^T)_rr at the initial configuration (so c_r (lambda_r - lambda_ref)
+ * is the change of velocity DAE_REG_TIME of the multiplier's change gives); the position row
+ * reads g_r + DAE_REG_TIME mu_r. Without it the Newton matrix is singular where the rows become
+ * dependent (a parallelogram's flat positions), and there the discrete equations have no
+ * solution at all: the constraint's second-order residual in the self-stress direction has no
+ * unknown to move it (G^T mu and G^T lambda vanish in it). */
+#define DAE_REG_TIME 1e-9
+/* d->data.lreg, mreg: for the rows of the pairs on a loop of the graph of carriers, ground and
+ * pairs with constraint rows (only there can rows become dependent: an open chain's rows are
+ * independent in every configuration, and left as they were), from the carriers' inertias and
+ * the pairs' G at the initial poses; 0 for the others. Set-up only (allocates). */
+phm_status dae_regularization(dae_t *d, phm_error *err);
+/* The regularization for a run at relative tolerance rtol: scaled by min(1, rtol / 1e-8) when
+ * lambda_ref follows every step (per_step: the generalized-alpha), min(1, rtol / 1e-6) when it
+ * follows the outputs only (IDA, whose steps are internal), so that what it leaves in the
+ * constraint rows (c (lambda - lambda_ref), DAE_REG_TIME mu) and the work it does shrink with
+ * the tolerance asked. */
+void dae_regularization_scale(dae_t *d, double rtol, int per_step);
+/* The mechanism's size [m] from its carriers' initial origins and pair frames (1 if none). */
+double dae_length_scale(const phm_model *m);
+/* After each accepted step of an integrator (state y at time t, d's layout; output: t is an
+ * output time): the position residual of every row of the pairs with rows dropped as redundant
+ * (the DAE does not hold those) and, at outputs, of every pair's rows (the held rows are
+ * Newton's, within its tolerance at every step), against the tolerance above; PHM_ESOLVER
+ * naming the pair (its index), the row, the residual and the time when one is beyond it. Moves
+ * the proximal reference lambda_ref. No allocation. */
+phm_status dae_step_accepted(dae_t *d, double t, const double *y, double atol, int output,
+                             phm_error *err);
+
 /* ---------------------------------------------------------------- initial.c */
 /* Project poses H and twists tw onto the constraints (minimum-norm corrections), then solve the
  * acceleration level for t' and lambda; writes y and y' (all but the ledger values in y). qprev:
@@ -228,6 +272,8 @@ phm_status dae_planar_init(dae_t *d, const phm_model *m, int axis, phm_error *er
 /* The full DAE behind d (d itself when it is not planar): its data holds the poses and twists
  * of the carriers (d->data of a planar d is empty). */
 dae_t *dae_full(dae_t *d);
+/* The full DAE's state of the reduced y (expanded into the planar data's buffer). */
+const double *dae_planar_state(dae_t *d, const double *y);
 /* dae_carrier_states of a planar d (its kept states). */
 void dae_planar_carrier_states(const dae_t *d, dae_carrier_layout *L);
 int dae_planar_residual(dae_t *d, double time, const double *y, const double *yp, double *F,

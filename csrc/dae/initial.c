@@ -413,7 +413,7 @@ phm_status dae_consistent_ic(dae_t *d, double time, double *H, double *tw, const
     memcpy(ypc + 7, acc + 6 * c, 6 * sizeof(double));
   }
   for (int r = 0; r < nk; r++) {
-    y[d->il + r] = lam[r];
+    y[d->il + r] = d->data.lref[r] = lam[r];
     y[d->im + r] = 0;
     yp[d->il + r] = yp[d->im + r] = 0;
   }

@@ -16,10 +16,10 @@
 /* The rows of a column of block b, ascending, into rows (NULL: only count them): the states of
  * the blocks coupled to b (nb: b's coupling-graph neighbours sorted ascending, nnb of them). A
  * carrier's states come first (they precede the joint coordinates), then the pairs' joint
- * coordinates, multipliers lambda and mu, each range in pair order. A pair without joint
- * coordinates leaves itself out: its rows are constraints, which its own multipliers do not
- * enter. */
-static int block_rows(const dae_t *d, int b, const int *nb, int nnb, sunindextype *rows) {
+ * coordinates, multipliers lambda and mu, each range in pair order. A pair's own rows hold its
+ * multipliers' diagonal (the regularization, dae_regularization), with or without joint
+ * coordinates. */
+static int block_rows(const dae_t *d, const int *nb, int nnb, sunindextype *rows) {
   const phm_model *m = d->m;
   int nc = m->nc, cnt = 0, q = 0;
   for (; q < nnb && nb[q] < nc; q++) {
@@ -31,7 +31,6 @@ static int block_rows(const dae_t *d, int b, const int *nb, int nnb, sunindextyp
   for (int part = 0; part < 3; part++)
     for (q = q0; q < nnb; q++) {
       int ip = nb[q] - nc, first, len;
-      if (nb[q] == b && m->pair_k[ip] == 0) continue;
       if (part == 0) first = d->ix + m->pair_j[ip], len = m->pair_k[ip];
       else first = (part == 1 ? d->il : d->im) + m->pair_row[ip], len = m->pair_m[ip];
       if (rows)
@@ -80,7 +79,7 @@ phm_status dae_jacobian_pattern(dae_t *d, phm_error *err) {
   long nnz = 0;
   for (int j = 0; j < n; j++) {
     int bj = blk[j];
-    nnz += bj < 0 ? 1 : block_rows(d, bj, srt + ptr[bj], ptr[bj + 1] - ptr[bj], NULL);
+    nnz += bj < 0 ? 1 : block_rows(d, srt + ptr[bj], ptr[bj + 1] - ptr[bj], NULL);
   }
   if (nnz > 2147483647L) {
     st = PHM_FAIL(err, PHM_EINVAL, "the Jacobian has %ld nonzeros, more than KLU's int indices hold", nnz);
@@ -95,7 +94,7 @@ phm_status dae_jacobian_pattern(dae_t *d, phm_error *err) {
     d->colptr[j] = k;
     int bj = blk[j];
     if (bj < 0) d->rowind[k++] = j;
-    else k += block_rows(d, bj, srt + ptr[bj], ptr[bj + 1] - ptr[bj], d->rowind + k);
+    else k += block_rows(d, srt + ptr[bj], ptr[bj + 1] - ptr[bj], d->rowind + k);
   }
   d->colptr[n] = k;
   goto done;
@@ -362,6 +361,12 @@ static void jacobian_pairs(dae_t *d, double time, double cj, const double *y, do
                      y + xj, time, d->tref, y + lj, y + mj, NULL, p, dg, dc, NULL, dxd, Kl,
                      Km, NULL);
     for (int c = 0; c < k; c++) add_block(d, val, xj + c, 1, xj + c, 1, &cj, 1);
+    /* the regularization's diagonal (dae_regularization) */
+    for (int c = 0; c < mc; c++) {
+      double lr = d->reg * D->lreg[r0 + c], mr = d->reg * D->mreg[r0 + c];
+      add_block(d, val, lj + c, 1, lj + c, 1, &lr, 1);
+      add_block(d, val, mj + c, 1, mj + c, 1, &mr, 1);
+    }
     /* each side's kin_rate, once: both loops below read it (nothing between changes y or H) */
     double kin[2][7 * 6];
     for (int r = 0; r < 2; r++)

@@ -155,6 +155,11 @@ static dae_t *to_full(dae_t *d, const double *y, const double *yp) {
   return &pl->full;
 }
 
+const double *dae_planar_state(dae_t *d, const double *y) {
+  to_full(d, y, NULL);
+  return d->pl->y;
+}
+
 int dae_planar_residual(dae_t *d, double time, const double *y, const double *yp, double *F,
                         int crows) {
   struct dae_planar *pl = d->pl;

@@ -90,8 +90,10 @@ static void rows_of_pairs(dae_t *d, double time, const double *y, const double *
         c += p->Ga[6 * r + j] * ta[j];
         c += p->Gb[6 * r + j] * tb[j];
       }
-      F[d->il + r0 + r] = c;       /* velocity constraint -> lambda */
-      F[d->im + r0 + r] = p->g[r]; /* position constraint -> mu     */
+      /* velocity constraint -> lambda, position constraint -> mu; both regularized
+       * (dae_regularization: a proximal term in lambda, a compliance in mu) */
+      F[d->il + r0 + r] = c + d->reg * D->lreg[r0 + r] * (y[d->il + r0 + r] - D->lref[r0 + r]);
+      F[d->im + r0 + r] = p->g[r] + d->reg * D->mreg[r0 + r] * y[d->im + r0 + r];
     }
   }
 }
@@ -188,7 +190,7 @@ void dae_free(dae_t *d) {
   dae_planar_free(d);
   phm_data *D = &d->data;
   dae_ic_work *w = &D->ic;
-  void *bufs[] = {D->H, D->tw, D->pair, D->wr, D->gl, D->gm, D->pport, D->eff, D->rtmp, D->dtw, D->gwork, w->cmap, w->clist, w->H, w->tw, w->qprev, w->Lc, w->lcfail, w->b1c, w->cg, w->acc, w->G,
+  void *bufs[] = {D->H, D->tw, D->pair, D->wr, D->gl, D->gm, D->pport, D->eff, D->rtmp, D->dtw, D->lref, D->lreg, D->mreg, D->gwork, w->cmap, w->clist, w->H, w->tw, w->qprev, w->Lc, w->lcfail, w->b1c, w->cg, w->acc, w->G,
                   w->X, w->A, w->b, w->g, w->vt, w->c1, w->lam, w->Hp, w->res, d->colptr,
                   d->rowind, d->nzkeep, d->kbody};
   for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) free(bufs[i]);
@@ -270,6 +272,8 @@ static phm_status ic_alloc(dae_t *d, phm_error *err) {
 phm_status dae_init(dae_t *d, const phm_model *m, phm_error *err) {
   memset(d, 0, sizeof *d);
   d->m = m;
+  d->reg = 1.0;
+  d->lscale = dae_length_scale(m);
   d->ns = PHM_NSTATE;
   d->nt0 = 7;
   d->ix = PHM_NSTATE * m->nc;
@@ -290,14 +294,18 @@ phm_status dae_init(dae_t *d, const phm_model *m, phm_error *err) {
   D->eff = malloc(sizeof(double) * (size_t)(m->nj + 1));
   D->rtmp = malloc(sizeof(double) * n);
   D->dtw = calloc(6 * nc + 1, sizeof(double));
+  D->lref = calloc((size_t)m->ncons + 1, sizeof(double));
+  D->lreg = calloc((size_t)m->ncons + 1, sizeof(double));
+  D->mreg = calloc((size_t)m->ncons + 1, sizeof(double));
   D->gwork = calloc(33 * nc + (size_t)(d->il - d->ie) + 1, sizeof(double));
   d->kbody = calloc(nc + 1, 1);
   phm_status st = PHM_OK;
   if (!D->H || !D->tw || !D->pair || !D->wr || !D->gl || !D->gm || !D->pport || !D->eff ||
-      !D->rtmp || !D->dtw || !D->gwork || !d->kbody)
+      !D->rtmp || !D->dtw || !D->lref || !D->lreg || !D->mreg || !D->gwork || !d->kbody)
     st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
   else
     st = ic_alloc(d, err);
+  if (!st) st = dae_regularization(d, err);
   if (st) dae_free(d);
   return st;
 }

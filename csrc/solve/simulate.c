@@ -59,6 +59,8 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
   int nc = m->nc;
   double *H = dae_full(&d)->data.ic.H, *tw = dae_full(&d)->data.ic.tw;
   if ((st = dae_jacobian_pattern(&d, err))) goto done;
+  /* the constraint rows' regularization (csrc/dae/watch.c) */
+  dae_regularization_scale(&d, opt->rtol, opt->integrator == PHM_INTEGRATOR_GALPHA);
   for (int c = 0; c < nc; c++) {
     memcpy(H + 16 * c, poses0 ? poses0 + 16 * c : m->car[c].H0, 16 * sizeof(double));
     memcpy(tw + 6 * c, twists0 ? twists0 + 6 * c : m->car[c].t0, 6 * sizeof(double));

@@ -45,7 +45,7 @@ from .results import (ENERGY_NAMES, FreeMotion, InitialAdjustment, InitialConfig
                       Momentum, SimulationResult, StabilityWarning, StaticResult)
 from .section import BeamProperties
 from ._run import AccuracyWarning, PlausibilityWarning
-from .topology import InitialValueWarning, RedundantConstraintWarning, UnattachedWarning
+from .topology import ConstraintError, InitialValueWarning, RedundantConstraintWarning, UnattachedWarning
 
 _recorded = io.recorded   # a builder call a model file replays (phmech/io.py)
 
@@ -61,7 +61,7 @@ __all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "rotation", "Fixed", "R
            "Helical", "Cylindrical", "Universal", "Spherical", "Planar", "Free", "Effort", "PD",
            "Spring", "Motion", "Constant", "Step", "Pulse", "Sine", "Table", "Cycloidal", "Linear",
            "Spline", "PiecewisePolynomial", "Sum", "Product", "Function", "law_from_data",
-           "SimulationResult", "ModesResult", "StaticResult", "Graphs", "RedundantConstraintWarning",
+           "SimulationResult", "ModesResult", "StaticResult", "Graphs", "RedundantConstraintWarning", "ConstraintError",
            "InitialValueWarning", "InitialAdjustment", "InitialConfiguration", "Momentum",
            "StabilityWarning", "AccuracyWarning", "PlausibilityWarning", "EquilibriumWarning", "FreeMotion",
            "UnattachedWarning"]
@@ -1205,8 +1205,9 @@ class Mechanism:
                         warnings.warn(msg, AccuracyWarning, stacklevel=_outside_stacklevel())
         if r["error"]:
             t_last = f"{result.t[-1]:.6g} s" if len(result.t) else "the start"
-            err = SolverError(f"{r['error']} (the trajectory up to {t_last} is in this error's "
-                              f"'result' attribute{unsaved})")
+            err = topology.constraint_error(self._desc, r["error"]) or SolverError(r["error"])
+            err.args = (f"{err.args[0]} (the trajectory up to {t_last} is in this error's "
+                        f"'result' attribute{unsaved})",)
             err.result = result
             raise err
         return result

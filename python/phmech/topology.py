@@ -46,6 +46,7 @@ keeps the result until the next ``add_*`` call:
 from __future__ import annotations
 
 import dataclasses
+import re
 from collections import deque
 from typing import Optional
 
@@ -67,6 +68,57 @@ RANK_TOL = 1e-9      # relative to the largest singular value of G
 class RedundantConstraintWarning(UserWarning):
     """The mechanism is hyperconstrained: some constraint rows are dependent at the initial
     configuration and were left out of the DAE (see ``Mechanism.redundant_constraints``)."""
+
+
+class ConstraintError(_core.SolverError):
+    """A pair came apart during a simulation: the position residual of one of its constraint
+    rows went beyond the tolerance the integrators hold every pair to (``CONSTRAINT_TOL`` rad,
+    ``CONSTRAINT_TOL`` times the mechanism's size in m, or ``atol`` if larger; checked after
+    every step of the generalized-alpha, at every output of IDA; docs/user_guide.md,
+    "Constraints"). Typically a row left out as redundant at the initial configuration that is
+    no longer redundant (a spatial loop whose axes were dependent only there). Attributes:
+    ``pair`` (name), ``direction`` (the row's constraint-wrench direction in the pair's frame
+    F_b), ``redundant`` (the row was left out at the start), ``residual`` and ``tolerance`` (m or
+    rad, ``unit``), ``time`` [s], ``result`` (the trajectory up to the last output before)."""
+    pair: str
+    direction: str
+    redundant: bool
+    residual: float
+    tolerance: float
+    unit: str
+    time: float
+
+
+#: the pairs' position tolerance during a simulation (csrc/dae/dae.h, DAE_CONSTRAINT_TOL): rad,
+#: and m times the mechanism's size (csrc/dae/watch.c, dae_length_scale)
+CONSTRAINT_TOL = 1e-6
+
+_OPENED = re.compile(r"constraint opened: pair #(\d+) row (\d+) \((redundant at the start, not held|held)\): "
+                     r"position residual (\S+) (m|rad) above the tolerance (\S+) (?:m|rad) at t = (\S+) s")
+
+
+def constraint_error(desc: ModelDescription, message: str) -> Optional[ConstraintError]:
+    """The ConstraintError of a core failure message that reports an opened pair (csrc/dae/watch.c),
+    with the pair and its row named; None for any other message."""
+    mt = _OPENED.search(message)
+    if mt is None:
+        return None
+    ip, r = int(mt.group(1)), int(mt.group(2))
+    e = desc.pairs[ip]
+    names = row_names(e)
+    direction = names[r] if r < len(names) else f"row {r}"
+    redundant = mt.group(3).startswith("redundant")
+    res, unit, tol, t = float(mt.group(4)), mt.group(5), float(mt.group(6)), float(mt.group(7))
+    why = ("left out as redundant at the initial configuration, it is not redundant here: the "
+           "mechanism cannot move as its pairs say (remove the over-constraint, e.g. a spherical or "
+           "cylindrical pair instead of a revolute, or make a link flexible)" if redundant else
+           "a row the integrator holds: the step could not keep it (tighten rtol/atol, or look for "
+           "a singular configuration)")
+    err = ConstraintError(f"pair '{e['name']}' came apart at t = {t:.6g} s: its {direction} "
+                          f"constraint is off by {res:.3g} {unit}, tolerance {tol:.3g} {unit}; {why}")
+    err.pair, err.direction, err.redundant = e["name"], direction, redundant
+    err.residual, err.tolerance, err.unit, err.time = res, tol, unit, t
+    return err
 
 
 class UnattachedWarning(UserWarning):

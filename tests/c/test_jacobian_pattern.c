@@ -49,7 +49,7 @@ static int reference_pattern(const dae_t *d, pattern *p) {
   }
   for (int ip = 0; ip < m->np; ip++) {
     int a = m->pair[ip].a, b = m->pair[ip].b, q = nc + ip;
-    if (m->pair_k[ip] > 0) adj[(size_t)q * nb + q] = 1; /* joint coordinates: own rate */
+    adj[(size_t)q * nb + q] = 1; /* joint coordinates' own rate, the multipliers' regularization */
     if (a >= 0 && b >= 0) adj[(size_t)a * nb + b] = adj[(size_t)b * nb + a] = 1;
     if (a >= 0) adj[(size_t)a * nb + q] = adj[(size_t)q * nb + a] = 1;
     if (b >= 0) adj[(size_t)b * nb + q] = adj[(size_t)q * nb + b] = 1;

@@ -20,12 +20,14 @@ def outcome(name: str) -> S.Outcome:
     return o
 
 
-FOUR_BAR = ("measured: with the defaults the N = 2 four-bar (A02) stops at t = 0.714 s, the "
-            "first singular configuration (all rods horizontal): 'generalized-alpha: Newton failed "
-            "... even with step 4.36e-06 s'; up to there B0 is within 5.5e-5 m of the exact "
-            "motion. Whether it passes depends on where the steps land: a build of 2026-11-25 "
-            "passed it and stopped at the second (crank at -pi, t = 1.228 s); IDA (rtol 1e-8) "
-            "fails at 0.713 s. Strict: a build that passes must say so here")
+FOUR_BAR = ("measured: with the defaults the N = 2 four-bar (A02) runs through its singular "
+            "configurations (all rods horizontal, every 0.5-1.4 s; it stopped at the first, t = "
+            "0.714 s, before the constraint rows of loops were regularized, csrc/dae/watch.c) to "
+            "t_end = 10 s, but B0 ends 1.84e-3 m off the exact motion (limit 1e-3 m; 7.2e-5 m "
+            "over the first 2 s). The deviation is the default integrator's phase error at dt_out "
+            "0.05 s (steps up to 1/(12 band) = 8 ms): with a fixed step of 0.2 ms it is 1.7e-4 m "
+            "over 20 s, 7.7e-4 m at 1 ms, and rtol does not tighten it (issue 27, item 1). "
+            "Strict: a build that passes must say so here")
 
 
 @pytest.mark.parametrize("name", [
@@ -36,9 +38,12 @@ def test_reference(name):
     assert o.passed, o.row()
 
 
-def test_four_bar_is_right_until_the_singular_configuration():
+def test_four_bar_runs_through_its_singular_configurations():
+    # the whole run (10 s, about 11 flat positions) with the defaults, no failure; within the
+    # benchmark's 1e-3 m of the exact motion over the first two (measured 7.2e-5 m)
     o = outcome("four_bar")
-    assert o.extra["reached"] > 0.5 and o.extra["deviation_until_stop"] <= 1e-3
+    assert o.extra["reached"] == o.extra["t_end"] and not o.extra["failure"]
+    assert o.extra["deviation_2s"] <= 1e-3
 
 
 LEDGER = {
