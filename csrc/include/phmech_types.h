@@ -325,6 +325,11 @@ enum { PHM_ERRTEST_ALL = 0, PHM_ERRTEST_CONFIGURATION = 1 };
  * band <= 0: no window (max_step only). */
 #define PHM_BAND_STEPS 20
 #define PHM_BAND_MAX_STEPS 12
+/* The error estimate's low-pass corner, in bands (galpha_error in csrc/solve/galpha.c), and
+ * how far below the band's floor 1/(PHM_BAND_STEPS band) a step above the tolerance is
+ * refined before it is accepted above it (nfloor). */
+#define PHM_FILTER_BAND 1.0
+#define PHM_REFINE_MAX 1000.0
 /* Variable step: Newton's relative tolerance on the differential states is min(rtol, this)
  * (the energy ledger needs it; measurements in csrc/solve/galpha.c, run_galpha). */
 #define PHM_NEWTON_RTOL 1e-7
@@ -431,7 +436,14 @@ typedef struct {
                     * loads: int w.t; springs: minus the dissipated energy)              */
   int nout_done;   /* outputs filled                                    */
   long nsteps, nres, njac, nniters, netf, nncf; /* integrator statistics (IDA or GALPHA) */
-  long nfloor;     /* adaptive GALPHA: steps accepted at the band floor above the tolerance */
+  long nfloor;     /* adaptive GALPHA: steps accepted above the tolerance (at the refinement's
+                    * limit, 1/(PHM_REFINE_MAX PHM_BAND_STEPS band))                  */
+  double err_ratio, t_err_ratio; /* adaptive GALPHA: the largest error estimate of an accepted
+                    * step over its tolerance (per unit step: <= 1 keeps the contract) and
+                    * the time that step ended [s]                                      */
+  double min_step; /* adaptive GALPHA: the shortest step taken [s]                      */
+  long nnoise;     /* adaptive GALPHA: steps accepted with an estimate above the tolerance
+                    * per unit step but at the level of Newton's noise (galpha.c)         */
   double err_est;  /* adaptive GALPHA: sum over steps of the max-norm local error estimate of
                     * the configuration (m, rad-like units): a bound of the global error
                     * without error propagation                                       */
