@@ -20,6 +20,11 @@ from ._core import ModelError
 #: largest step (csrc/include/phmech_types.h, PHM_BAND_STEPS and PHM_BAND_MAX_STEPS)
 BAND_STEPS = 20
 BAND_MAX_STEPS = 12
+#: how far below the band's floor a step above the tolerance is refined (PHM_REFINE_MAX)
+REFINE_MAX = 1000.0
+#: the default band is at least this many hertz per second of run: 1/(2 dt_out) alone let a
+#: long dt_out set the accuracy (a pendulum run over 1 s with dt_out = 2 s, band 0.25 Hz)
+BAND_PER_SPAN = 50.0
 
 
 class CostWarning(UserWarning):
@@ -29,9 +34,10 @@ class CostWarning(UserWarning):
 
 
 class AccuracyWarning(UserWarning):
-    """A finished simulation's energy ledger (E - E0 - supplied + dissipated) drifted by more
-    than ``LEDGER_WARN`` of its energy scale: the integrator created or destroyed that much
-    energy, so the trajectory itself is doubtful."""
+    """A finished simulation is not within its tolerance: its energy ledger (E - E0 - supplied
+    + dissipated) drifted by more than ``LEDGER_WARN`` of its energy scale (the integrator
+    created or destroyed that much energy), or its error estimate stayed above the tolerance
+    (warn_if_above_tolerance)."""
 
 
 #: ledger residual / energy scale above which a run warns (AccuracyWarning); undamped scenes of
@@ -60,6 +66,25 @@ def warn_if_inaccurate(stats: dict, stacklevel: int = 3) -> None:
             f"({stats['energy_scale']:.3g} J): the integrator did not conserve energy to "
             f"{LEDGER_WARN:g}, so the trajectory is doubtful; {advice}", AccuracyWarning,
             stacklevel=stacklevel)
+
+
+def warn_if_above_tolerance(stats: dict, stacklevel: int = 3) -> None:
+    """AccuracyWarning when the adaptive generalized-alpha accepted steps whose error estimate
+    stayed above the tolerance at the refinement's limit (``stats['floor_steps']`` > 0: a step
+    1/(REFINE_MAX BAND_STEPS band) long), naming the estimate reached, the tolerance asked, when,
+    and the remedy (docs/user_guide.md, "Accuracy contract")."""
+    n = stats.get("floor_steps") or 0
+    if not (stats.get("adaptive") and stats.get("integrator") == "generalized-alpha" and n > 0):
+        return
+    warnings.warn(
+        f"simulate: {n} of {stats['steps']} steps kept an error estimate above the tolerance "
+        f"(rtol {stats['rtol']:.3g}, atol {stats['atol']:.3g}) at the shortest step allowed, "
+        f"{stats['min_step']:.3g} s (1/{REFINE_MAX:.0f} of the {stats['band']:.4g} Hz band's "
+        f"floor): the largest reached {stats['error_ratio']:.3g} times the tolerance, at "
+        f"t = {stats['error_ratio_time']:.6g} s, so the result is not within rtol there. A "
+        f"higher band= lowers that limit (and resolves more of the motion instead of damping "
+        f"it); integrator='ida' controls every state's error", AccuracyWarning,
+        stacklevel=stacklevel)
 
 
 def band_floor(band: float) -> float:

@@ -1066,7 +1066,10 @@ class Mechanism:
         if not isinstance(integrator, str) or integrator not in integrators:
             raise ModelError(f"unknown integrator {integrator!r} (available: {', '.join(map(repr, integrators))})")
         adaptive = integrator == "generalized-alpha" and step is None
-        band = 0.5 / dt if band is None else positive("band", band)
+        band_given = band is not None
+        # the default band: what the outputs can show, but never below BAND_PER_SPAN / span
+        # (docs/user_guide.md, "Accuracy contract"): outputs are samples, not steps
+        band = max(0.5 / dt, _run.BAND_PER_SPAN / (t1 - t0)) if band is None else positive("band", band)
         if integrator == "generalized-alpha":
             if step is not None:
                 step = positive("step", step)
@@ -1175,6 +1178,7 @@ class Mechanism:
                 unsaved = f"; the checkpoint could not be written: {e}"
         if not r["error"]:
             _run.warn_if_inaccurate(result.stats)
+            _run.warn_if_above_tolerance(result.stats)
             for lk in self._links.values():
                 if lk.fidelity == "modal":
                     T0 = se3.exp(lk.length * self._desc.link_unstressed_strain(lk))
@@ -1182,8 +1186,17 @@ class Mechanism:
                         warnings.warn(msg, AccuracyWarning, stacklevel=_outside_stacklevel())
         if r["error"]:
             t_last = f"{result.t[-1]:.6g} s" if len(result.t) else "the start"
+            why = ""   # the output interval bounds the steps: say so
+            if integrator == "ida":
+                why = (f"; IDA takes at most {MAX_STEPS:.0e} steps between two outputs (dt_out = "
+                       f"{dt:g} s): a smaller dt_out, a looser rtol or error_test='configuration' "
+                       f"for flexible links") if "TOO_MUCH_WORK" in r["error"] else ""
+            elif adaptive:
+                why = (f"; the steps were at most {1.0 / (_run.BAND_MAX_STEPS * band):.3g} s, from "
+                       f"the {band:.4g} Hz band (" + ("band=" if band_given else
+                       f"1/(2 dt_out), dt_out = {dt:g} s") + "): a higher band= shortens them")
             err = SolverError(f"{r['error']} (the trajectory up to {t_last} is in this error's "
-                              f"'result' attribute{unsaved})")
+                              f"'result' attribute{unsaved}{why})")
             err.result = result
             raise err
         return result
