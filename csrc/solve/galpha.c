@@ -1,5 +1,5 @@
 /* galpha.c -- the generalized-alpha integrator (the default), with step-size control from a
- * configuration error estimate inside the band window (phm_sim_options in
+ * configuration error estimate, refined below the band's floor when it asks (phm_sim_options in
  * csrc/include/phmech_types.h; measurements in docs/integrators.md). */
 #include "solve.h"
 

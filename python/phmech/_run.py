@@ -159,8 +159,11 @@ class RunMonitor:
             advice = ("The default integrator (integrator='generalized-alpha' without step=) damps "
                       "vibrations above the band instead of resolving them."
                       if self.integrator == "ida" else
-                      "Vibrations above the band are being resolved because of the options given "
-                      "(a tight rtol/atol, a small max_step or step, or a large band=).")
+                      "The error estimate asks for steps below the band's floor to keep rtol "
+                      "(motion faster than the band, or a tight rtol/atol), or the options given "
+                      "ask for them (a small max_step or step, a large band=): a looser rtol, or "
+                      "a band= that covers the motion, costs less (docs/user_guide.md, "
+                      "\"Accuracy contract\").")
             warnings.warn(
                 f"simulate: the mean step so far is {mean_h:.2g} s, {floor / mean_h:.0f}x smaller "
                 f"than the {floor:.2g} s that the {self.band:.4g} Hz band needs: the integrator is "

@@ -966,15 +966,26 @@ class Mechanism:
         """Integrate from ``t_start`` to ``t_end`` [s], sampling every ``dt_out`` [s].
 
         The defaults are meant to be right and fast; ``simulate(t_end, dt_out)`` is the intended
-        call. The default integrator is the generalized-alpha method with step-size control: its
-        local error estimate covers the configuration (poses, joint coordinates) and its steps
-        resolve the frequency ``band`` [Hz] (default: 1/(2 dt_out), the highest frequency the
-        output can show); vibrations above the band (the axial and shear modes of a flexible
-        link's mesh, kHz to MHz) are damped by the method's numerical dissipation instead of being
-        resolved (spectral radius at infinity ``rho_inf`` = 0.9 by default), so no step goes
-        below 1/(20 band) for accuracy's sake. ``rtol`` (default 1e-4)
-        and ``atol`` [m, rad; default rtol * 1e-2] are its local error tolerances. Pass a larger
-        ``band=`` to see faster vibrations than dt_out shows, or a smaller one to save time.
+        call. The default integrator is the generalized-alpha method with step-size control.
+        What it promises (docs/user_guide.md, "Accuracy contract"):
+
+        - ``rtol`` (default 1e-4) and ``atol`` [m, rad; default rtol * 1e-2]: the configuration
+          (carrier positions and quaternions, joint coordinates) is kept within
+          ``rtol |y| + atol`` per coordinate, in the RMS norm over the coordinates: every
+          accepted step's local error estimate times the number of such steps in the run is at
+          most that tolerance (a step above it is redone shorter, down to 1/1000 of the band's
+          floor 1/(20 band)). A run that could not keep it warns (``phmech.AccuracyWarning``:
+          the estimate reached, the tolerance, when, the remedy).
+        - ``dt_out`` [s]: the output times. The steps land on them (no interpolation); it does
+          not set the accuracy.
+        - ``band`` [Hz] (default 1/(2 dt_out), at least 50 / (t_end - t_start)): the steps are at
+          most 1/(12 band). With flexible links, the error estimate sees the motion through a
+          low-pass filter at the band: the mesh's vibrations above it (axial, shear and high
+          bending modes, kHz to MHz) are damped by the method's numerical dissipation
+          (spectral radius at infinity ``rho_inf`` = 0.9 by default) instead of resolved, and
+          their effect on the in-band motion is outside the estimate; pass a larger ``band=``
+          to resolve them. Rigid mechanisms: the estimate sees every motion.
+
         docs/integrators.md says what the default does, what it was measured against, and when
         to change it.
 
@@ -1001,10 +1012,16 @@ class Mechanism:
 
         ``result.stats`` reports what the run cost and how good it is: steps, evaluations
         (``residual_evals``, ``jacobian_evals``: iteration-matrix refreshes, ``nonlinear_iters``:
-        Newton iterations, ``newton_iters_per_step``), wall time, ``band`` [Hz], ``error_estimate`` (adaptive generalized-alpha: the sum of the local
-        error estimates of the configuration, a bound without error propagation), ``floor_steps``
-        (steps accepted at the band's smallest step with their estimate above the tolerance:
-        motion above the band), ``energy_scale`` [J], ``ledger_relative`` (the largest absolute
+        Newton iterations, ``newton_iters_per_step``), wall time, ``band`` [Hz]; adaptive
+        generalized-alpha only: ``error_estimate`` (the sum of the local error estimates of the
+        configuration, max norm: a bound without error propagation), ``error_ratio`` (the
+        largest local estimate of an accepted step over its tolerance, per unit step: <= 1
+        keeps the contract) and ``error_ratio_time`` [s] (when that step ended), ``floor_steps``
+        (steps accepted above the tolerance at the refinement's limit; > 0 warns),
+        ``noise_steps`` (steps accepted above the tolerance per unit step where a shorter step
+        did not lower the estimate, in a rigid mechanism, or the estimate was within Newton's
+        tolerance: docs/user_guide.md, "Accuracy contract"), ``min_step`` [s] (the shortest
+        step); and ``energy_scale`` [J], ``ledger_relative`` (the largest absolute
         energy ledger residual / energy_scale), ``numerical_dissipation`` [J] (energy the
         integrator removed, from the ledger) and ``max_mu`` (the largest multiplier of the
         position constraints at the outputs, a velocity correction [m/s, rad/s] that is zero for
@@ -1263,8 +1280,9 @@ class Mechanism:
         if "nonlinear_iters" in stats:
             stats["newton_iters_per_step"] = stats["nonlinear_iters"] / max(1, stats["steps"])
         if not stats["adaptive"]:
-            stats.pop("error_estimate", None)
-            stats.pop("floor_steps", None)
+            for k in ("error_estimate", "floor_steps", "error_ratio", "error_ratio_time",
+                      "noise_steps", "min_step"):
+                stats.pop(k, None)
         return SimulationResult(t=tout[:k], poses=r["poses"][:k], twists=r["twists"][:k],
                                 constraint_wrenches=lam, energy=energy, stats=stats,
                                 interrupted=interrupted, _links=dict(self._links),
