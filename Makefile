@@ -121,6 +121,7 @@ docs: build $(DOCS_STAMP)
 
 # Long validation studies (not part of `make test`); figures land in benchmarks/results/.
 # hard_cases.py: the long versions of tests/hard (docs/validation.md), ~5 min CPU.
+# integrator_contract.py: the long versions of tests/accuracy/test_integrator_contract.py.
 validate: build
 	@mkdir -p benchmarks/results
 	$(PY) examples/timoshenko_table.py --json --plot benchmarks/results/timoshenko_convergence.png > benchmarks/results/timoshenko_table.json
@@ -128,6 +129,7 @@ validate: build
 	$(PY) benchmarks/all_state_reference.py
 	$(PY) benchmarks/hard_cases.py
 	$(PY) benchmarks/sizing.py
+	$(PY) benchmarks/integrator_contract.py
 
 # Work-precision benchmarks against Exudyn and MuJoCo (installed into .venv from
 # benchmarks/requirements.txt when missing); BENCH_ARGS=--quick for a short run (~4.5 min instead
