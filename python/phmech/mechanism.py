@@ -1280,9 +1280,9 @@ class Mechanism:
         if "nonlinear_iters" in stats:
             stats["newton_iters_per_step"] = stats["nonlinear_iters"] / max(1, stats["steps"])
         if not stats["adaptive"]:
-            for k in ("error_estimate", "floor_steps", "error_ratio", "error_ratio_time",
-                      "noise_steps", "min_step"):
-                stats.pop(k, None)
+            for key in ("error_estimate", "floor_steps", "error_ratio", "error_ratio_time",
+                        "noise_steps", "min_step"):
+                stats.pop(key, None)
         return SimulationResult(t=tout[:k], poses=r["poses"][:k], twists=r["twists"][:k],
                                 constraint_wrenches=lam, energy=energy, stats=stats,
                                 interrupted=interrupted, _links=dict(self._links),
