@@ -107,16 +107,16 @@ def chain_runs():
 
 def test_chain_of_100_within_tolerance(chain_runs):
     """simulate(0.5, 0.05): on main 9.4e-4 m off (98 of 100 steps at the band's floor above
-    their estimate). Reference IDA at rtol 1e-10 (every state in its error test). Measured:
-    2.0e-8 m (rtol 1e-4), 9.2e-9 m (1e-6)."""
+    their estimate). Reference IDA at rtol 1e-10 (every state in its error test; 2.6e-11 m from
+    IDA at 1e-11). Measured: 4.8e-7 m (rtol 1e-4), 1.3e-7 m (1e-6) on the link ends."""
     for rtol, (err, stats, w) in chain_runs.items():
         assert not w
         assert stats["floor_steps"] == 0 and stats["error_ratio"] <= 1.0
         assert err <= rtol * 10.0 + rtol / 100   # rtol |y| + atol, |y| <= 10 m (the chain's length)
 
 
-@pytest.mark.xfail(strict=True, reason="issue 27: rtol 1e-4 -> 1e-6 gains 2.2x here, not 30x: "
-                   "the default run is already 2e-8 m off, near Newton's noise (docs/integrators.md)")
+@pytest.mark.xfail(strict=True, reason="issue 27: rtol 1e-4 -> 1e-6 gains 3.8x here, not 30x: "
+                   "at 1e-6 the estimate reads Newton's noise (docs/integrators.md)")
 def test_chain_of_100_rtol_convergence(chain_runs):
     assert chain_runs[1e-6][0] * 30 <= chain_runs[1e-4][0]
 
