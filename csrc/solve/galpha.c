@@ -613,7 +613,12 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
          * local estimate below GALPHA_NOISE newton_tol is that noise, not the step's error, and
          * no shorter step lowers it (per unit step it grows as 1/h): such a step is accepted and
          * counted (nnoise). Measured on a rigid pendulum over 1 s (rtol 1e-4, span/h up to
-         * 5000): without this rule six steps went to the refinement's limit at t = 0.07 s. */
+         * 5000): six steps went to the refinement's limit at t = 0.07 s, four with this rule
+         * (the rule below took the rest). It is also what keeps the flexible scenes' cost: at
+         * rtol 1e-4 over 2 s the arm + strip accepted 18 098 of 25 194 steps by it, and without
+         * it the scenes of benchmarks/scenes.py took 1.0-8.3x main's CPU (the cantilever + tip
+         * mass 8.3x); the price, at rtol 1e-6 the arm + strip's tip 3.5e-7 m off over 0.5 s
+         * against 8.7e-8 without it (docs/integrators.md, "Not reached: the 30x"). */
         int noise = errn > 0 && errn <= GALPHA_NOISE * newton_tol;
         if (errn > 0) errn *= span / h;
         if (noise && errn > 1.0) {
@@ -627,10 +632,9 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
          * what the filter lets through above the band. Accepted and counted (nnoise): refining
          * on down to the limit would not change it. Measured on a rigid pendulum (rtol 1e-4,
          * steps grown from 1 ms to 17 ms): errn 2.2, 3.1, 3.2, 2.7, 2.3, 2.0 at steps halved
-         * each time from 6 ms to 0.2 ms, the refinement's limit. Not where the estimate is
-         * filtered (flexible links): there the rule took the steps the filter's leak of
-         * above-band content asked for as history too, and the arm + strip's tip error went
-         * from 2.3e-6 at rtol 1e-4 only to 3.5e-7 at 1e-6 (8.4e-8 without the rule). */
+         * each time from 6 ms to 0.2 ms, the refinement's limit. Rigid mechanisms only: where
+         * the estimate is filtered, what the filter lets through above the band would pass for
+         * history too (the arm + strip ran the same with and without the rule). */
         if (errn > 1.0 && !filtered && etry > 0 && h < 0.6 * htry && errn > 0.5 * etry) {
           out->nnoise++;
           errn = 1.0;
