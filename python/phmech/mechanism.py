@@ -1206,8 +1206,9 @@ class Mechanism:
             why = ""   # the output interval bounds the steps: say so
             if integrator == "ida":
                 why = (f"; IDA takes at most {MAX_STEPS:.0e} steps between two outputs (dt_out = "
-                       f"{dt:g} s): a smaller dt_out, a looser rtol or error_test='configuration' "
-                       f"for flexible links") if "TOO_MUCH_WORK" in r["error"] else ""
+                       f"{dt:g} s): a smaller dt_out, or a looser rtol" +
+                       (", or error_test='configuration' for flexible links"
+                        if error_test == "all" else "")) if "TOO_MUCH_WORK" in r["error"] else ""
             elif adaptive:
                 why = (f"; the steps were at most {1.0 / (_run.BAND_MAX_STEPS * band):.3g} s, from "
                        f"the {band:.4g} Hz band (" + ("band=" if band_given else
