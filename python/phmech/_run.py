@@ -79,11 +79,12 @@ def warn_if_above_tolerance(stats: dict, stacklevel: int = 3) -> None:
     warnings.warn(
         f"simulate: {n} of {stats['steps']} steps kept an error estimate above the tolerance "
         f"(rtol {stats['rtol']:.3g}, atol {stats['atol']:.3g}) at the shortest step allowed, "
-        f"{stats['min_step']:.3g} s (1/{REFINE_MAX:.0f} of the {stats['band']:.4g} Hz band's "
-        f"floor): the largest reached {stats['error_ratio']:.3g} times the tolerance, at "
-        f"t = {stats['error_ratio_time']:.6g} s, so the result is not within rtol there. A "
-        f"higher band= lowers that limit (and resolves more of the motion instead of damping "
-        f"it); integrator='ida' controls every state's error", AccuracyWarning,
+        f"{band_floor(stats['band']) / REFINE_MAX:.3g} s (1/{REFINE_MAX:.0f} of the "
+        f"{stats['band']:.4g} Hz band's floor): the largest reached {stats['error_ratio']:.3g} "
+        f"times the tolerance, at t = {stats['error_ratio_time']:.6g} s, so the result is not "
+        f"within rtol there. A higher band= lowers that limit (and resolves more of the motion "
+        f"instead of damping it), a looser rtol asks less; integrator='ida' controls every "
+        f"state's error", AccuracyWarning,
         stacklevel=stacklevel)
 
 
