@@ -153,6 +153,7 @@ $(VALIDATE_STAMP): tools/requirements-validate.txt $(STAMP)
 	$(PY) -m pip install -q -r tools/requirements-validate.txt
 	@touch $@
 
+# integrator_contract.py: the long versions of tests/accuracy/test_integrator_contract.py.
 validate: build $(VALIDATE_STAMP)
 	@mkdir -p benchmarks/results
 	$(PY) examples/timoshenko_table.py --json --plot benchmarks/results/timoshenko_convergence.png > benchmarks/results/timoshenko_table.json
@@ -161,6 +162,7 @@ validate: build $(VALIDATE_STAMP)
 	$(PY) benchmarks/hard_cases.py
 	$(PY) benchmarks/sizing.py
 	$(PY) benchmarks/validate_urdf.py
+	$(PY) benchmarks/integrator_contract.py
 
 # Work-precision benchmarks against Exudyn, MuJoCo and PyElastica (pinned in
 # benchmarks/requirements.txt, installed into .venv here, not for `make test`);

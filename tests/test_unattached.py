@@ -99,8 +99,7 @@ def test_the_warning_comes_once_per_mechanism_not_per_call():
 def test_a_free_pair_says_a_body_is_meant_to_fly_and_changes_nothing():
     """A Free pair from the ground: no warning, and the same motion. Measured: a tumbling rigid
     body (omega 3.7 rad/s off its principal axes, 1 s) bit for bit with the default integrator;
-    the falling arm and tip of the newcomer's scene within 8.5e-11 m over 2 s (its error against
-    a refined run is far larger). Cost (docs/user_guide.md): +7-10 % of CPU on flexible scenes,
+    the falling arm and tip of the newcomer's scene within the default tolerance over 2 s. Cost (docs/user_guide.md): +7-10 % of CPU on flexible scenes,
     1.6-2x on a lone rigid body."""
     J = np.array([[0.05, 0.004, -0.002], [0.004, 0.08, 0.003], [-0.002, 0.003, 0.11]])
     H0 = se3.translation([0.3, 0.1, -0.2]) @ se3.rotation("z", 0.5) @ se3.rotation("x", 0.2)
@@ -124,7 +123,13 @@ def test_a_free_pair_says_a_body_is_meant_to_fly_and_changes_nothing():
         warnings.simplefilter("always")
         floated = m.simulate(2.0, 1e-3)
     assert not unattached_warnings(caught)
-    np.testing.assert_allclose(floated.poses, alone.poses, rtol=0, atol=1e-9)
+    # since issue 27 the steps follow the error estimate, in which the Free pair's joint
+    # coordinates count: the two runs take other steps (33 888 and 37 328) and agree within the
+    # default tolerance (rtol 1e-4 |y| + atol 1e-6) of each other, not bit for bit (before: both
+    # at the band's floor, 8.5e-11 m). Measured: 1.7e-7 m in the positions (falling 19.6 m),
+    # 3.8e-6 in the rotation matrices' entries
+    np.testing.assert_allclose(floated.poses[:, :, :3, 3], alone.poses[:, :, :3, 3], rtol=1e-4, atol=1e-6)
+    np.testing.assert_allclose(floated.poses[:, :, :3, :3], alone.poses[:, :, :3, :3], rtol=0, atol=1e-4)
 
 
 def test_a_spring_damper_holds_a_body_an_interaction_does_not():

@@ -313,18 +313,24 @@ enum { PHM_ERRTEST_ALL = 0, PHM_ERRTEST_CONFIGURATION = 1 };
  * < 1 damps what the step does not resolve); second order, the constraints hold at every step.
  * Fixed step (`adaptive` 0): step `step`, rtol/atol are its Newton tolerances, no error estimate.
  * Variable step (`adaptive` 1): `step` is the first step (<= 0: chosen from the band). The steps
- * resolve the band (band [Hz], the highest frequency to resolve): between PHM_BAND_MAX_STEPS and
- * PHM_BAND_STEPS steps per period of the band's highest frequency, i.e. in [1/(PHM_BAND_STEPS
- * band), 1/(PHM_BAND_MAX_STEPS band)] (and <= max_step). Within that window the local error
- * estimate of the configuration (poses, joint coordinates; h^3 y'''/12 from the third
- * difference of the poses) is kept below rtol |y| + atol: a step above it is redone shorter,
- * and one that the estimate allows to be 1.25x longer grows (<= 1.5x). At the window's floor a
- * step is accepted even above the tolerance (counted in nfloor): what lies above the band is
- * damped by rho_inf instead of resolved. Steps land on the output times and the laws'
- * breakpoints (shortened evenly). docs/integrators.md gives the measurements behind the window.
- * band <= 0: no window (max_step only). */
+ * resolve the band (band [Hz], the highest frequency to resolve): at least PHM_BAND_MAX_STEPS
+ * steps per period of the band's highest frequency, i.e. h <= 1/(PHM_BAND_MAX_STEPS band) (and
+ * <= max_step), the first step 1/(PHM_BAND_STEPS band) (or 1e-3 of the span if shorter). The
+ * local error estimate of the configuration (poses, joint coordinates; h^3 y'''/12 from the
+ * third difference of the poses, seen through a low-pass filter at PHM_FILTER_BAND band when
+ * the model has beam elements), per unit step, is kept below rtol |y| + atol: a step above it
+ * is redone shorter, down to 1/(PHM_REFINE_MAX PHM_BAND_STEPS band), and one that the estimate
+ * allows to be 1.25x longer grows (<= 1.5x). At that limit a step is accepted above the
+ * tolerance (counted in nfloor; simulate warns). What lies above the band is damped by rho_inf
+ * instead of resolved. Steps land on the output times and the laws' breakpoints (shortened
+ * evenly). docs/integrators.md gives the measurements. band <= 0: no window (max_step only). */
 #define PHM_BAND_STEPS 20
 #define PHM_BAND_MAX_STEPS 12
+/* The error estimate's low-pass corner, in bands (galpha_error in csrc/solve/galpha.c), and
+ * how far below the band's floor 1/(PHM_BAND_STEPS band) a step above the tolerance is
+ * refined before it is accepted above it (nfloor). */
+#define PHM_FILTER_BAND 1.0
+#define PHM_REFINE_MAX 1000.0
 /* Variable step: Newton's relative tolerance on the differential states is min(rtol, this)
  * (the energy ledger needs it; measurements in csrc/solve/galpha.c, run_galpha). */
 #define PHM_NEWTON_RTOL 1e-7
@@ -431,7 +437,14 @@ typedef struct {
                     * loads: int w.t; springs: minus the dissipated energy)              */
   int nout_done;   /* outputs filled                                    */
   long nsteps, nres, njac, nniters, netf, nncf; /* integrator statistics (IDA or GALPHA) */
-  long nfloor;     /* adaptive GALPHA: steps accepted at the band floor above the tolerance */
+  long nfloor;     /* adaptive GALPHA: steps accepted above the tolerance (at the refinement's
+                    * limit, 1/(PHM_REFINE_MAX PHM_BAND_STEPS band))                  */
+  double err_ratio, t_err_ratio; /* adaptive GALPHA: the largest error estimate of an accepted
+                    * step over its tolerance (per unit step: <= 1 keeps the contract) and
+                    * the time that step ended [s]                                      */
+  double min_step; /* adaptive GALPHA: the shortest step taken [s]                      */
+  long nnoise;     /* adaptive GALPHA: steps accepted with an estimate above the tolerance
+                    * per unit step but at the level of Newton's noise (galpha.c)         */
   double err_est;  /* adaptive GALPHA: sum over steps of the max-norm local error estimate of
                     * the configuration (m, rad-like units): a bound of the global error
                     * without error propagation                                       */

@@ -20,6 +20,11 @@ from ._core import ModelError
 #: largest step (csrc/include/phmech_types.h, PHM_BAND_STEPS and PHM_BAND_MAX_STEPS)
 BAND_STEPS = 20
 BAND_MAX_STEPS = 12
+#: how far below the band's floor a step above the tolerance is refined (PHM_REFINE_MAX)
+REFINE_MAX = 1000.0
+#: the default band is at least this many hertz per second of run: 1/(2 dt_out) alone let a
+#: long dt_out set the accuracy (a pendulum run over 1 s with dt_out = 2 s, band 0.25 Hz)
+BAND_PER_SPAN = 50.0
 
 
 class CostWarning(UserWarning):
@@ -32,8 +37,9 @@ class AccuracyWarning(UserWarning):
     """A result is less accurate than phmech's contract: a finished simulation's energy ledger
     (E - E0 - supplied + dissipated) drifted by more than ``LEDGER_WARN`` of the energy the run
     moved and exchanged (the integrator created or destroyed that much energy, so the trajectory
-    itself is doubtful), or an analysis whose figures double precision or the model cannot
-    resolve. The message gives the measured figure, the bound and the remedy."""
+    itself is doubtful), its error estimate stayed above the tolerance (warn_if_above_tolerance),
+    or an analysis whose figures double precision or the model cannot resolve. The message gives
+    the measured figure, the bound and the remedy."""
 
 
 class PlausibilityWarning(UserWarning):
@@ -79,6 +85,26 @@ def warn_if_inaccurate(stats: dict, stacklevel: int = 3) -> None:
             f"above the bound {LEDGER_WARN:g}: "
             f"the integrator created or destroyed that much energy, so the trajectory is "
             f"doubtful; {advice}", AccuracyWarning, stacklevel=stacklevel)
+
+
+def warn_if_above_tolerance(stats: dict, stacklevel: int = 3) -> None:
+    """AccuracyWarning when the adaptive generalized-alpha accepted steps whose error estimate
+    stayed above the tolerance at the refinement's limit (``stats['floor_steps']`` > 0: a step
+    1/(REFINE_MAX BAND_STEPS band) long), naming the estimate reached, the tolerance asked, when,
+    and the remedy (docs/user_guide.md, "Accuracy contract")."""
+    n = stats.get("floor_steps") or 0
+    if not (stats.get("adaptive") and stats.get("integrator") == "generalized-alpha" and n > 0):
+        return
+    warnings.warn(
+        f"simulate: {n} of {stats['steps']} steps kept an error estimate above the tolerance "
+        f"(rtol {stats['rtol']:.3g}, atol {stats['atol']:.3g}) at the shortest step allowed, "
+        f"{band_floor(stats['band']) / REFINE_MAX:.3g} s (1/{REFINE_MAX:.0f} of the "
+        f"{stats['band']:.4g} Hz band's floor): the largest reached {stats['error_ratio']:.3g} "
+        f"times the tolerance, at t = {stats['error_ratio_time']:.6g} s, so the result is not "
+        f"within rtol there. A higher band= lowers that limit (and resolves more of the motion "
+        f"instead of damping it), a looser rtol asks less; integrator='ida' controls every "
+        f"state's error", AccuracyWarning,
+        stacklevel=stacklevel)
 
 
 def band_floor(band: float) -> float:
@@ -153,8 +179,11 @@ class RunMonitor:
             advice = ("The default integrator (integrator='generalized-alpha' without step=) damps "
                       "vibrations above the band instead of resolving them."
                       if self.integrator == "ida" else
-                      "Vibrations above the band are being resolved because of the options given "
-                      "(a tight rtol/atol, a small max_step or step, or a large band=).")
+                      "The error estimate asks for steps below the band's floor to keep rtol "
+                      "(motion faster than the band, or a tight rtol/atol), or the options given "
+                      "ask for them (a small max_step or step, a large band=): a looser rtol, or "
+                      "a band= that covers the motion, costs less (docs/user_guide.md, "
+                      "\"Accuracy contract\").")
             warnings.warn(
                 f"simulate: the mean step so far is {mean_h:.2g} s, {floor / mean_h:.0f}x smaller "
                 f"than the {floor:.2g} s that the {self.band:.4g} Hz band needs: the integrator is "

@@ -988,15 +988,26 @@ class Mechanism:
         """Integrate from ``t_start`` to ``t_end`` [s], sampling every ``dt_out`` [s].
 
         The defaults are meant to be right and fast; ``simulate(t_end, dt_out)`` is the intended
-        call. The default integrator is the generalized-alpha method with step-size control: its
-        local error estimate covers the configuration (poses, joint coordinates) and its steps
-        resolve the frequency ``band`` [Hz] (default: 1/(2 dt_out), the highest frequency the
-        output can show); vibrations above the band (the axial and shear modes of a flexible
-        link's mesh, kHz to MHz) are damped by the method's numerical dissipation instead of being
-        resolved (spectral radius at infinity ``rho_inf`` = 0.9 by default), so no step goes
-        below 1/(20 band) for accuracy's sake. ``rtol`` (default 1e-4)
-        and ``atol`` [m, rad; default rtol * 1e-2] are its local error tolerances. Pass a larger
-        ``band=`` to see faster vibrations than dt_out shows, or a smaller one to save time.
+        call. The default integrator is the generalized-alpha method with step-size control.
+        What it promises (docs/user_guide.md, "Accuracy contract"):
+
+        - ``rtol`` (default 1e-4) and ``atol`` [m, rad; default rtol * 1e-2]: the configuration
+          (carrier positions and quaternions, joint coordinates) is kept within
+          ``rtol |y| + atol`` per coordinate, in the RMS norm over the coordinates: every
+          accepted step's local error estimate times the number of such steps in the run is at
+          most that tolerance (a step above it is redone shorter, down to 1/1000 of the band's
+          floor 1/(20 band)). A run that could not keep it warns (``phmech.AccuracyWarning``:
+          the estimate reached, the tolerance, when, the remedy).
+        - ``dt_out`` [s]: the output times. The steps land on them (no interpolation); it does
+          not set the accuracy.
+        - ``band`` [Hz] (default 1/(2 dt_out), at least 50 / (t_end - t_start)): the steps are at
+          most 1/(12 band). With flexible links, the error estimate sees the motion through a
+          low-pass filter at the band: the mesh's vibrations above it (axial, shear and high
+          bending modes, kHz to MHz) are damped by the method's numerical dissipation
+          (spectral radius at infinity ``rho_inf`` = 0.9 by default) instead of resolved, and
+          their effect on the in-band motion is outside the estimate; pass a larger ``band=``
+          to resolve them. Rigid mechanisms: the estimate sees every motion.
+
         docs/integrators.md says what the default does, what it was measured against, and when
         to change it.
 
@@ -1023,10 +1034,16 @@ class Mechanism:
 
         ``result.stats`` reports what the run cost and how good it is: steps, evaluations
         (``residual_evals``, ``jacobian_evals``: iteration-matrix refreshes, ``nonlinear_iters``:
-        Newton iterations, ``newton_iters_per_step``), wall time, ``band`` [Hz], ``error_estimate`` (adaptive generalized-alpha: the sum of the local
-        error estimates of the configuration, a bound without error propagation), ``floor_steps``
-        (steps accepted at the band's smallest step with their estimate above the tolerance:
-        motion above the band), ``energy_scale`` [J], ``ledger_relative`` (the largest absolute
+        Newton iterations, ``newton_iters_per_step``), wall time, ``band`` [Hz]; adaptive
+        generalized-alpha only: ``error_estimate`` (the sum of the local error estimates of the
+        configuration, max norm: a bound without error propagation), ``error_ratio`` (the
+        largest local estimate of an accepted step over its tolerance, per unit step: <= 1
+        keeps the contract) and ``error_ratio_time`` [s] (when that step ended), ``floor_steps``
+        (steps accepted above the tolerance at the refinement's limit; > 0 warns),
+        ``noise_steps`` (steps accepted above the tolerance per unit step where a shorter step
+        did not lower the estimate, in a rigid mechanism, or the estimate was within Newton's
+        tolerance: docs/user_guide.md, "Accuracy contract"), ``min_step`` [s] (the shortest
+        step); and ``energy_scale`` [J], ``ledger_relative`` (the largest absolute
         energy ledger residual / energy_scale), ``numerical_dissipation`` [J] (energy the
         integrator removed, from the ledger) and ``max_mu`` (the largest multiplier of the
         position constraints at the outputs, a velocity correction [m/s, rad/s] that is zero for
@@ -1088,7 +1105,10 @@ class Mechanism:
         if not isinstance(integrator, str) or integrator not in integrators:
             raise ModelError(f"unknown integrator {integrator!r} (available: {', '.join(map(repr, integrators))})")
         adaptive = integrator == "generalized-alpha" and step is None
-        band = 0.5 / dt if band is None else positive("band", band)
+        band_given = band is not None
+        # the default band: what the outputs can show, but never below BAND_PER_SPAN / span
+        # (docs/user_guide.md, "Accuracy contract"): outputs are samples, not steps
+        band = max(0.5 / dt, _run.BAND_PER_SPAN / (t1 - t0)) if band is None else positive("band", band)
         if integrator == "generalized-alpha":
             if step is not None:
                 step = positive("step", step)
@@ -1198,6 +1218,7 @@ class Mechanism:
         if not r["error"]:
             _run.warn_if_inaccurate(result.stats)
             self._warn_implausible_strain(result, model)
+            _run.warn_if_above_tolerance(result.stats)
             for lk in self._links.values():
                 if lk.fidelity == "modal":
                     T0 = se3.exp(lk.length * self._desc.link_unstressed_strain(lk))
@@ -1205,9 +1226,19 @@ class Mechanism:
                         warnings.warn(msg, AccuracyWarning, stacklevel=_outside_stacklevel())
         if r["error"]:
             t_last = f"{result.t[-1]:.6g} s" if len(result.t) else "the start"
+            why = ""   # the output interval bounds the steps: say so
+            if integrator == "ida":
+                why = (f"; IDA takes at most {MAX_STEPS:.0e} steps between two outputs (dt_out = "
+                       f"{dt:g} s): a smaller dt_out, or a looser rtol" +
+                       (", or error_test='configuration' for flexible links"
+                        if error_test == "all" else "")) if "TOO_MUCH_WORK" in r["error"] else ""
+            elif adaptive:
+                why = (f"; the steps were at most {1.0 / (_run.BAND_MAX_STEPS * band):.3g} s, from "
+                       f"the {band:.4g} Hz band (" + ("band=" if band_given else
+                       f"1/(2 dt_out), dt_out = {dt:g} s") + "): a higher band= shortens them")
             err = topology.constraint_error(self._desc, r["error"]) or SolverError(r["error"])
             err.args = (f"{err.args[0]} (the trajectory up to {t_last} is in this error's "
-                        f"'result' attribute{unsaved})",)
+                        f"'result' attribute{unsaved}{why})",)
             err.result = result
             raise err
         return result
@@ -1274,8 +1305,9 @@ class Mechanism:
         if "nonlinear_iters" in stats:
             stats["newton_iters_per_step"] = stats["nonlinear_iters"] / max(1, stats["steps"])
         if not stats["adaptive"]:
-            stats.pop("error_estimate", None)
-            stats.pop("floor_steps", None)
+            for key in ("error_estimate", "floor_steps", "error_ratio", "error_ratio_time",
+                        "noise_steps", "min_step"):
+                stats.pop(key, None)
         return SimulationResult(t=tout[:k], poses=r["poses"][:k], twists=r["twists"][:k],
                                 constraint_wrenches=lam, energy=energy, stats=stats,
                                 interrupted=interrupted, _links=dict(self._links),

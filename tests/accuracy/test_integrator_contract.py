@@ -1,0 +1,178 @@
+"""The default integrator's accuracy contract (docs/user_guide.md, "Accuracy contract"; issue 27,
+measured items 1 and 2): each scene against an independent reference, within the contract's
+tolerance, or the warning with its figures. Short horizons here; the long versions in
+benchmarks/integrator_contract.py (`make validate`)."""
+import warnings
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+import phmech as ph
+from phmech import se3
+
+STEEL = ph.Material(E=210e9, nu=0.3, density=7850.0)
+RTOL = 1e-4   # the default rtol; atol = rtol / 100
+
+
+def arm_strip():
+    """The README's second scene: a rigid arm and a steel strip (8 elements) on revolutes."""
+    props = ph.BeamProperties.from_material(ph.Section.strip(width=0.02, thickness=0.001), STEEL)
+    m = ph.Mechanism(gravity=(0, 0, -9.81))
+    arm = m.add_rigid_body("arm", 1.0, np.diag([1e-4, 0.0075, 0.0075]), com=(0.15, 0, 0))
+    m.add_pair("shoulder", ph.Revolute(axis="y"), m.ground.frame_at((0, 0, 1.0)), arm)
+    elbow = arm.frame_at((0.3, 0, 0))
+    strip = m.add_flexible_link("strip", 0.3, props, elements=8, start=elbow)
+    m.add_pair("elbow", ph.Revolute(axis="y"), elbow, strip.start)
+    return m, strip
+
+
+def chain(n=100, L=0.1, mass=0.1):
+    """tests/test_large_chain.py's chain of rigid links on revolutes about z, straight at rest."""
+    m = ph.Mechanism(gravity=(0, -9.81, 0))
+    prev, ends = ph.Frame(-1, np.eye(4)), []
+    for i in range(n):
+        b = m.add_rigid_body(f"l{i}", mass, np.diag([1e-6, mass * L**2 / 12, mass * L**2 / 12]),
+                             com=(L / 2, 0, 0))
+        m.add_pair(f"k{i}", ph.Revolute("z"), prev, b, x0=0.0)
+        prev = ph.Frame(b.carrier, se3.translation([L, 0, 0]))
+        ends.append(prev)
+    return m, ends
+
+
+def run(m, *args, **kw):
+    with warnings.catch_warnings(record=True) as w:
+        warnings.simplefilter("always")
+        r = m.simulate(*args, **kw)
+    return r, [x for x in w if issubclass(x.category, ph.AccuracyWarning)]
+
+
+def test_rigid_pendulum_with_dt_out_beyond_t_end():
+    """simulate(1.0, 2.0): on main x(1) = 1.642 rad against 1.815 (the steps were the 0.25 Hz
+    band's). Exact: SciPy at rtol 1e-12. Measured: 7.0e-7 rad off."""
+    L, M = 1.0, 1.0
+    m = ph.Mechanism(gravity=(0, 0, -9.81))
+    b = m.add_rigid_body("rod", M, np.diag([1e-4, M * L**2 / 12, M * L**2 / 12]), com=(L / 2, 0, 0))
+    m.add_pair("pivot", ph.Revolute(axis="y"), m.ground, b)
+    r, w = run(m, 1.0, 2.0)
+    Ip = M * L**2 / 3
+    sol = solve_ivp(lambda t, s: [s[1], M * 9.81 * L / 2 * np.cos(s[0]) / Ip], (0, 1), [0, 0],
+                    rtol=1e-12, atol=1e-12)
+    x, xr = r.joint("pivot")["x"][-1, 0], sol.y[0, -1]
+    assert not w
+    assert abs(x - xr) <= RTOL * abs(xr) + RTOL / 100
+
+
+def test_spinning_body_24_hz():
+    """A free rigid body spinning at 24 Hz about an axis 3 degrees off its smallest principal
+    axis, simulate(2, 1e-2) (band 50 Hz): on main 0.145 rad off after 2 s, no warning. Exact:
+    the Euler equations and R' = R [w] with SciPy's DOP853 at rtol 1e-12. The contract's figure
+    on the orientation: each quaternion component within rtol |q| + atol, so the angle within
+    2 sqrt(3) (rtol + atol) = 3.5e-4 rad. Measured: 2.9e-4 rad, no warning."""
+    J = np.diag([2e-3, 3e-3, 4e-3])
+    w0 = 2 * np.pi * 24 * np.array([1.0, 0.0, 0.05]) / np.linalg.norm([1.0, 0.0, 0.05])
+    m = ph.Mechanism(gravity=(0, 0, 0))
+    b = m.add_rigid_body("rotor", 1.0, J)
+    m.add_pair("free", ph.Free(), m.ground, b, xdot0=np.concatenate([w0, np.zeros(3)]))
+    r, w = run(m, 2.0, 1e-2)
+
+    def f(t, s):
+        R, om = s[:9].reshape(3, 3), s[9:]
+        W = np.array([[0, -om[2], om[1]], [om[2], 0, -om[0]], [-om[1], om[0], 0]])
+        return np.concatenate([(R @ W).ravel(), np.linalg.solve(J, -np.cross(om, J @ om))])
+
+    sol = solve_ivp(f, (0, 2), np.concatenate([np.eye(3).ravel(), w0]), rtol=1e-12, atol=1e-12,
+                    t_eval=r.t, method="DOP853")
+    Rr = sol.y[:9].T.reshape(-1, 3, 3)
+    R = r.poses[:, b.carrier, :3, :3]
+    ang = max(np.arccos(np.clip((np.trace(a.T @ c) - 1) / 2, -1, 1)) for a, c in zip(R, Rr))
+    tol = 2 * np.sqrt(3) * (RTOL + RTOL / 100)
+    if w:   # or it says so, with the figure
+        assert "times the tolerance" in str(w[0].message)
+    else:
+        assert ang <= tol, ang
+
+
+@pytest.fixture(scope="module")
+def chain_runs():
+    m, ends = chain()
+    tip = lambda r: np.concatenate([r.position(e)[:, :2] for e in ends], axis=1)
+    ref = tip(m.simulate(0.5, 0.05, integrator="ida", rtol=1e-10, atol=1e-12))
+    out = {}
+    for rtol in (1e-4, 1e-6):
+        r, w = run(m, 0.5, 0.05, rtol=rtol)
+        out[rtol] = (np.abs(tip(r) - ref).max(), r.stats, w)
+    return out
+
+
+def test_chain_of_100_within_tolerance(chain_runs):
+    """simulate(0.5, 0.05): on main 9.4e-4 m off (98 of 100 steps at the band's floor above
+    their estimate). Reference IDA at rtol 1e-10 (every state in its error test; 2.6e-11 m from
+    IDA at 1e-11). Measured: 4.8e-7 m (rtol 1e-4), 1.3e-7 m (1e-6) on the link ends."""
+    for rtol, (err, stats, w) in chain_runs.items():
+        assert not w
+        assert stats["floor_steps"] == 0 and stats["error_ratio"] <= 1.0
+        assert err <= rtol * 10.0 + rtol / 100   # rtol |y| + atol, |y| <= 10 m (the chain's length)
+
+
+@pytest.mark.xfail(strict=True, reason="issue 27: rtol 1e-4 -> 1e-6 gains 3.8x here, not 30x: "
+                   "at 1e-6 the estimate reads Newton's noise (docs/integrators.md)")
+def test_chain_of_100_rtol_convergence(chain_runs):
+    assert chain_runs[1e-6][0] * 30 <= chain_runs[1e-4][0]
+
+
+@pytest.fixture(scope="module")
+def arm_strip_runs():
+    m, strip = arm_strip()
+    q = lambda r: np.column_stack([r.joint("shoulder")["x"][:, 0], r.tip(strip)[:, [0, 2]]])
+    # the reference: the default integrator with a 20 kHz band (steps of 2.5 us, resolving the
+    # strip's modes to 20 kHz) at rtol 1e-8; it agrees with IDA (configuration test, rtol 1e-9)
+    # to 1.4e-8 rad and 2.4e-7 m over 0.5 s, and with a 5 kHz band to 3.4e-9 rad and 1.0e-7 m
+    ref = q(m.simulate(0.5, 1e-3, band=2e4, rtol=1e-8))
+    out = {}
+    for rtol in (1e-4, 1e-6):
+        r, w = run(m, 0.5, 1e-3, rtol=rtol)
+        out[rtol] = (np.abs(q(r) - ref).max(axis=0), r.stats, w)
+    return out
+
+
+def test_arm_strip_within_tolerance(arm_strip_runs):
+    """On main rtol 1e-4 and 1e-6 gave the same run (4974 and 4998 of 5000 steps at the floor).
+    Measured: shoulder 8.3e-7 rad, tip 2.3e-6 m (1e-4); 4.1e-8 rad, 3.5e-7 m (1e-6)."""
+    e4, s4, w4 = arm_strip_runs[1e-4]
+    e6, s6, w6 = arm_strip_runs[1e-6]
+    assert not w4 and not w6
+    assert s4["floor_steps"] == 0 and s6["floor_steps"] == 0
+    assert e4[0] <= RTOL * np.pi + RTOL / 100 and max(e4[1:]) <= RTOL * 0.6 + RTOL / 100
+    assert e6[0] < e4[0] / 10   # tightening tightens (20x measured on the shoulder)
+
+
+@pytest.mark.xfail(strict=True, reason="issue 27: rtol 1e-4 -> 1e-6 gains 6.6x on the tip here, "
+                   "not 30x (20x on the shoulder): docs/integrators.md, 'The error estimate'")
+def test_arm_strip_rtol_convergence(arm_strip_runs):
+    assert max(arm_strip_runs[1e-6][0][1:]) * 30 <= max(arm_strip_runs[1e-4][0][1:])
+
+
+def test_arm_strip_with_dt_out_beyond_t_end():
+    """On main: "Newton failed at t = 0.2796 s" without a word about dt_out. Now the default band
+    is at least 50 / span (100 Hz here): the run agrees with dt_out = 1 ms's at t_end."""
+    m, strip = arm_strip()
+    r, w = run(m, 0.5, 1.0)
+    r2, _ = run(m, 0.5, 1e-3)
+    assert r.stats["band"] == pytest.approx(100.0)
+    assert abs(r.joint("shoulder")["x"][-1, 0] - r2.joint("shoulder")["x"][-1, 0]) <= RTOL * np.pi
+
+
+def test_a_run_that_cannot_keep_its_tolerance_says_so():
+    """A band of 0.01 Hz puts the refinement's limit at 5 ms (1/1000 of its 50 s floor), too long
+    for rtol 1e-8 on a swinging rod: the steps there are counted and the AccuracyWarning names
+    the figures (measured: 197 of 201 steps, 7.1e4 times the tolerance at t = 0.0109 s)."""
+    m = ph.Mechanism(gravity=(0, 0, -9.81))
+    b = m.add_rigid_body("rod", 1.0, np.diag([1e-4, 1 / 12, 1 / 12]), com=(0.5, 0, 0))
+    m.add_pair("pivot", ph.Revolute(axis="y"), m.ground, b)
+    with pytest.warns(ph.AccuracyWarning, match=r"steps kept an error estimate above the tolerance "
+                      r"\(rtol 1e-08, atol 1e-10\) at the shortest step allowed, 0.005 s .* the "
+                      r"largest reached [\d.e+]+ times the tolerance, at t = [\d.]+ s") as w:
+        r = m.simulate(1.0, 0.1, band=0.01, rtol=1e-8)
+    assert w[0].filename == __file__   # the user's line
+    assert r.stats["floor_steps"] > 0 and r.stats["error_ratio"] > 1.0
