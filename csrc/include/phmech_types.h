@@ -143,6 +143,8 @@ typedef struct {
                       * read when mass = PHM_MASS_CONSISTENT                               */
   double Mc[144];    /* mass = PHM_MASS_GIVEN: the coupling itself (symmetric; the nodes'
                       * inertias plus it must be positive definite)                       */
+  int shared;        /* bit 0: node a, bit 1: node b is shared with another element of the
+                      * same link (an interior element: 3; read when mass = CONSISTENT)   */
 } phm_element_desc;
 
 /* How an element's own kinetic energy reaches its nodes (docs/method.md section 4.2, "Mass").

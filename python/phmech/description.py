@@ -121,7 +121,7 @@ class ModelDescription:
                     row[:] = e["h"], ms, *mass_centre(e["Ms"], ms)
             cp = dict(_coupled_nodes=np.array([[e["a"], e["b"]] for e in rows], dtype=int).reshape(-1, 2),
                       _couplings=np.array([e["Mc"] if e.get("mass", "given") == "given" else
-                                           _core.element_mass(e["h"], e["Ms"], e["eps"]) for e in rows],
+                                           _core.element_mass(e["h"], e["Ms"], e["eps"], e.get("shared", 0)) for e in rows],
                                           dtype=float).reshape(-1, 12, 12),
                       _coupled_fields=fields)
             for arr in cp.values():   # shared by every result until the next change

@@ -365,7 +365,7 @@ class Mechanism:
                                   t0=np.zeros(6)))
         for k in range(N):
             self._el.append(dict(a=first + k, b=first + k + 1, h=h, K=K, D=Dm, eps=eps,
-                                 mass=mass, Ms=I))
+                                 mass=mass, Ms=I, shared=(k > 0) | (k < N - 1) << 1))
         if given is not None:
             for k in range(N + 1):
                 self._given[first + k] = np.array(self._car[first + k]["H0"])

@@ -209,7 +209,7 @@ static void consistent_mass_is_the_helix_energy_and_its_gyroscopic_terms_do_no_w
     rand_element(&e);
     rand_spd6(e.Ms, 1.0);
     double Mc[144], X[6], E[16], AdE[36], ta[6], tb[6], t[12];
-    phm_element_mass(e.h, e.Ms, e.eps_hat, Mc);
+    phm_element_mass(e.h, e.Ms, e.eps_hat, e.shared, Mc);
     double asym = 0;
     for (int i = 0; i < 12; i++)
       for (int j = 0; j < 12; j++) asym = fmax(asym, fabs(Mc[12 * i + j] - Mc[12 * j + i]));
@@ -278,7 +278,7 @@ static void consistent_mass_is_the_helix_energy_and_its_gyroscopic_terms_do_no_w
      * product summed (a planar twist: zero out-of-plane components; a straight element's Mc) */
     double Ms0[36] = {0}, eps0[6] = {0, 0, 0, 1, 0, 0}, Mc0[144];
     for (int i = 0; i < 6; i++) Ms0[7 * i] = 1.0 + rand11() * 0.5;
-    phm_element_mass(e.h, Ms0, eps0, Mc0);
+    phm_element_mass(e.h, Ms0, eps0, e.shared, Mc0);
     phm_mass_rows(Mc0, rows);
     int nnz = 0;
     for (int i = 0; i < 12; i++)
