@@ -67,17 +67,30 @@ class MeshChoice:
 
 def _free_frequencies(length: float, properties, elements: int, band: float, curvature,
                       mass: str = "consistent") -> np.ndarray:
-    """Elastic free-free frequencies [Hz] of the link alone up to just above ``band``."""
+    """Elastic frequencies [Hz] of the link alone up to just above ``band``: free-free with
+    lumped mass, clamped at both ends with consistent mass (the support with the largest error
+    of each, module docstring)."""
     from .mechanism import Mechanism, UnattachedWarning
+    from . import se3
+    from .pairs import Fixed
     m = Mechanism()
-    m.add_flexible_link("link", length, properties, elements=elements, curvature=curvature,
-                        mass=mass)
+    link = m.add_flexible_link("link", length, properties, elements=elements, curvature=curvature,
+                               mass=mass)
+    skip = RIGID_MODES
     available = 6 * (elements + 1)
-    n = min(available, RIGID_MODES + 8)
+    if mass == "consistent":
+        if elements < 2:
+            return np.zeros(0)   # nothing moves between two clamps
+        kap = np.zeros(3) if curvature is None else np.asarray(curvature, float)
+        end = se3.exp(length * np.concatenate([kap, [1.0, 0.0, 0.0]]))
+        m.add_pair("clamp", Fixed(), m.ground, link.start)
+        m.add_pair("clamp end", Fixed(), m.ground.frame_at(end[:3, 3], end[:3, :3]), link.end)
+        skip, available = 0, 6 * (elements - 1)
+    n = min(available, skip + 8)
     while True:
         with warnings.catch_warnings():   # the link alone, free in space on purpose
             warnings.simplefilter("ignore", UnattachedWarning)
-            f = m.modes(n).frequency[RIGID_MODES:]
+            f = m.modes(n).frequency[skip:]
         if f.size == 0 or f[-1] > band or n >= available:
             return f
         n = min(available, 2 * n)
@@ -170,7 +183,8 @@ def choose_elements(length: float, properties, band: float, tolerance: float = 1
             # second order: the error falls like 1/N^2, so fewer might do; try that once
             N = int(math.ceil(N * math.sqrt(err / tolerance) * 1.02))
         else:   # aim 5 % beyond the count the error law predicts
-            N = max(N + 1, int(math.ceil(N * math.sqrt(err / tolerance) * 1.05)))
+            # (at most 8 times: a mesh of 2 elements clamped at both ends is far from its law)
+            N = max(N + 1, min(8 * N, int(math.ceil(N * math.sqrt(err / tolerance) * 1.05))))
             if best is not None and N >= best.elements:
                 break
     if best is not None:
