@@ -227,7 +227,8 @@ void phm_element_mass(double h, const double Ms[36], const double eps_hat[6], in
     add_gram(Mc, T, Ms, h * GAUSS_W[g]);
   }
   double T[72] = {0};
-  if ((shared & 3) == 3) {
+  int straight = X[0] == 0.0 && X[1] == 0.0 && X[2] == 0.0;
+  if ((shared & 3) == 3 && straight) {
     /* An interior element (both nodes shared with the link's neighbouring elements):
      * + (h/12) d^T Ms d, d = t_b - Ad_{R0^T} t_a (t_a's components in b's axes, R0 the rotation
      * of exp(X)): half the difference of lumped and consistent on the velocity difference, which
@@ -258,7 +259,10 @@ void phm_element_mass(double h, const double Ms[36], const double eps_hat[6], in
         Mc[12 * (6 + i) + 9 + j] -= gij, Mc[12 * (9 + j) + 6 + i] -= gij;
       }
   } else {
-    /* An element at a link's end: the g terms' ends would sit on its end node, whose cross term
+    /* An element at a link's end, or a curved one (for a curved element no node form g can do
+     * the above: a ring turning about its axis has the same twist at every node, so g(t_b) -
+     * g(t_a) = 0 while (h/12)|d|^2 > 0). At a link's end the g terms' ends would sit on its end
+     * node, whose cross term
      * omega-v they double (not positive definite for a thin section); instead the same blend on
      * the velocity difference transported to the element's middle, d = Ad_{E/2} t_b -
      * Ad_{E/2}^-1 t_a (E/2 = exp(X/2)): zero on every rigid motion, symmetric in a and b, and

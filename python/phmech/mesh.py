@@ -12,7 +12,9 @@ h^2 dispersion error and a straight link carries its exact rigid-body inertia; i
 comes from the ends, almost all from a clamped end (the constant-strain element's stiffness
 there): Table I link, band 300 rad/s, 21 elements, against the exact Timoshenko values of
 phmech.timoshenko: clamped-clamped +0.20 ... +0.32 %, free-free +0.001 ... +0.07 %, the
-cantilever +0.05 ... +0.17 %. So a consistent link is estimated clamped at both ends. With lumped
+cantilever +0.05 ... +0.17 %. On coarse meshes, though, the free link's error is the larger (the interior's higher-order
+terms), so a consistent link is estimated both free and clamped at both ends, and gets the larger
+of the two counts. With lumped
 mass the interior error dominates and the free link's error is about twice the cantilever's: it
 is estimated free. (Before the consistent mass was made exact for rigid motions its free end
 lowered the frequencies by about what a clamped end raised them, and the free link was the
@@ -63,10 +65,9 @@ class MeshChoice:
 
 
 def _free_frequencies(length: float, properties, elements: int, band: float, curvature,
-                      mass: str = "consistent") -> np.ndarray:
-    """Elastic frequencies [Hz] of the link alone up to just above ``band``: free-free with
-    lumped mass, clamped at both ends with consistent mass (the support with the largest error
-    of each, module docstring)."""
+                      mass: str = "consistent", clamped: bool = False) -> np.ndarray:
+    """Elastic frequencies [Hz] of the link alone up to just above ``band``: free-free, or
+    (``clamped``) clamped at both ends."""
     from .mechanism import Mechanism, UnattachedWarning
     from . import se3
     from .pairs import Fixed
@@ -75,7 +76,7 @@ def _free_frequencies(length: float, properties, elements: int, band: float, cur
                                mass=mass)
     skip = RIGID_MODES
     available = 6 * (elements + 1)
-    if mass == "consistent":
+    if clamped:
         if elements < 2:
             return np.zeros(0)   # nothing moves between two clamps
         kap = np.zeros(3) if curvature is None else np.asarray(curvature, float)
@@ -125,18 +126,30 @@ def _request(band, tolerance, max_elements) -> tuple:
 def choose_elements(length: float, properties, band: float, tolerance: float = 1e-3,
                     max_elements: int = 256, curvature=None, mass: str = "consistent") -> MeshChoice:
     """About the fewest elements for which every mode of a flexible link up to ``band`` [Hz],
-    clamped at both ends with consistent mass and free with lumped mass (module docstring), has
-    an estimated relative frequency error within ``tolerance``: from 2 elements, each
+    free and (with consistent mass) clamped at both ends, has an estimated relative frequency
+    error within ``tolerance`` (module docstring: a consistent link's largest error is the free
+    link's on coarse meshes, the clamped one's on fine ones): the larger of the two choices.
+    ``properties``: as for ``Mechanism.add_flexible_link`` (and ``curvature``, ``mass``).
+    Raises ModelError for a band or tolerance that is not positive and when ``max_elements``
+    are not enough."""
+    free = _choose(length, properties, band, tolerance, max_elements, curvature, mass, False)
+    if mass != "consistent":
+        return free
+    held = _choose(length, properties, band, tolerance, max_elements, curvature, mass, True)
+    return held if held.elements > free.elements else free
+
+
+def _choose(length: float, properties, band: float, tolerance: float, max_elements: int,
+            curvature, mass: str, clamped: bool) -> MeshChoice:
+    """choose_elements on one support (free, or ``clamped`` at both ends): from 2 elements, each
     next count is the one the second-order error law predicts from the last estimate (5 % more),
-    and a count the law says could be smaller is tried once. ``properties``: as for
-    ``Mechanism.add_flexible_link`` (and ``curvature``, ``mass``). Raises ModelError for a band or tolerance that is not
-    positive and when ``max_elements`` are not enough."""
+    and a count the law says could be smaller is tried once."""
     band, tolerance, max_elements = _request(band, tolerance, max_elements)
     N, last, best, tried, meshes = 2, None, None, set(), {}
 
     def free(n):
         if n not in meshes:
-            meshes[n] = _free_frequencies(length, properties, n, band, curvature, mass)
+            meshes[n] = _free_frequencies(length, properties, n, band, curvature, mass, clamped)
         return meshes[n]
 
     while N <= max_elements and N not in tried:

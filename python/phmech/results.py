@@ -330,7 +330,7 @@ class SimulationResult:
         first = np.einsum("k,nki->ni", m, r)
         col = dict(zip(cars, cols))
         nodes = np.zeros((0, 2), int) if self._coupled_nodes is None else self._coupled_nodes
-        fields = np.zeros((len(nodes), 5)) if self._coupled_fields is None else self._coupled_fields
+        fields = np.zeros((len(nodes), 6)) if self._coupled_fields is None else self._coupled_fields
         for (na, nb), row in zip(nodes, fields):
             h, ms, c = row[0], row[1], row[2:5]
             if h > 0 and na in col and nb in col:   # its mass from the nodes to its field
