@@ -26,9 +26,6 @@ def table1_cantilever(N, mass):
     return m, link
 
 
-@pytest.mark.xfail(strict=True, reason="0.17 % since the consistent mass is exact for rigid motions: "
-                   "the 0.085 % was the clamped end's error cancelled by the free end's extra "
-                   "rigid inertia (tests/accuracy/test_rigid_inertia.py)")
 def test_table1_at_21_elements_is_within_0_1_percent_on_five_modes():
     """docs/mass_matrix_study.md predicts +0.001 -0.003 -0.015 -0.045 -0.085 % for the linear
     element with this mass (d6); the nonlinear link linearized at its unstressed shape gives
@@ -97,9 +94,6 @@ def test_with_the_default_integrator_momentum_is_conserved():
     assert drift(L) <= 3e-5
 
 
-@pytest.mark.xfail(strict=True, reason="7.8e-3 against lumped's 5.4e-3 since the consistent mass "
-                   "is exact for rigid motions: the cantilever's N = 10 error is now its clamped "
-                   "end's (+0.2 ... +0.9 % on five modes)")
 def test_transient_is_closer_to_the_converged_response_than_lumped():
     """A clamped Table I beam released straight under gravity oscillates about its sag; tip
     height over 0.1 s against lumped N = 80 (itself 9.6e-5 of the tip's range from lumped

@@ -107,10 +107,8 @@ void phm_model_joints(const phm_model *model, const double *H, const double *xs,
 void phm_model_stress_resultants(const phm_model *model, const double *H, const double *t, double *sigma);
 /* The mass coupling Mc (12 x 12, row-major, symmetric) a PHM_MASS_CONSISTENT element of length h,
  * section inertia Ms (per unit length) and unstressed strain eps_hat adds in the body twists
- * (t_a, t_b) of its nodes (phmech_types.h, phm_element_mass_kind): kinetic energy 1/2 t^T Mc t.
- * shared: phm_element_desc.shared (bit 0: node a, bit 1: node b shared with the link's next
- * element); with the nodes' h/2 Ms each, a straight link's rigid motions carry its exact inertia. */
-void phm_element_mass(double h, const double Ms[36], const double eps_hat[6], int shared, double Mc[144]);
+ * (t_a, t_b) of its nodes (phmech_types.h, phm_element_mass_kind): kinetic energy 1/2 t^T Mc t. */
+void phm_element_mass(double h, const double Ms[36], const double eps_hat[6], double Mc[144]);
 
 /* ---------------------------------------------------------------- energy (csrc/model/energy.c) */
 /* e[0] kinetic, e[1] elastic (elements and point-to-point springs; joint springs are ports),

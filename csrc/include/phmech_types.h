@@ -143,17 +143,14 @@ typedef struct {
                       * read when mass = PHM_MASS_CONSISTENT                               */
   double Mc[144];    /* mass = PHM_MASS_GIVEN: the coupling itself (symmetric; the nodes'
                       * inertias plus it must be positive definite)                       */
-  int shared;        /* bit 0: node a, bit 1: node b is shared with another element of the
-                      * same link (an interior element: 3; read when mass = CONSISTENT)   */
 } phm_element_desc;
 
 /* How an element's own kinetic energy reaches its nodes (docs/method.md section 4.2, "Mass").
  * LUMPED: the nodes' inertias carry it -- the builder gives each node h/2 Ms per adjacent element.
  * CONSISTENT: the nodes still carry h/2 Ms each, and the element adds the coupling
- * Mc = M_helix + B - diag(h/2 Ms, h/2 Ms) (phm_element_mass) in the body twists of its two nodes:
- * the kinetic energy of its constant-strain (helix) field at the unstressed shape, blended half-way
- * with the lumped one (B), written so that a straight link's rigid motions carry its exact
- * inertia (B depends on `shared`). Constant in the body twists, so the energy balance stays
+ * Mc = M_helix + (h/12) d^T Ms d - diag(h/2 Ms, h/2 Ms) (phm_element_mass) in the body twists of
+ * its two nodes: the kinetic energy of its constant-strain (helix) field at the unstressed shape,
+ * blended half-way with the lumped one. Constant in the body twists, so the energy balance stays
  * exact; its linearization has no leading dispersion error (docs/mass_matrix_study.md). */
 /* GIVEN: the coupling Mc of the description (a reduced link's condensed mass, whose nodes are
  * interface frames: python/phmech/fidelity.py). */

@@ -202,11 +202,8 @@ static void add_gram(double Mc[144], const double T[72], const double Ms[36], do
  * dexp_{-X}^-1 t_b - dexp_X^-1 t_a, t(xi) = Ad_{exp(-xi X)} t_a + xi dexp_{-xi X} X'. At the
  * unstressed shape X = h eps_hat this is constant; for a straight element it interpolates the
  * rotations linearly and the displacements with the cubic term (h/2) xi (1 - xi) of the rotations'
- * difference (docs/mass_matrix_study.md, "d4 helix"). Its kinetic energy is the continuum's for
- * every rigid motion (t_b = Ad_{exp(-X)} t_a makes t(xi) the rigid field). Then the blend (below),
- * written so that it adds nothing to a rigid motion either (docs/method.md section 4.2, "Mass"). */
-void phm_element_mass(double h, const double Ms[36], const double eps_hat[6], int shared,
-                      double Mc[144]) {
+ * difference (docs/mass_matrix_study.md, "d4 helix"). */
+void phm_element_mass(double h, const double Ms[36], const double eps_hat[6], double Mc[144]) {
   double X[6], mX[6], Dp[36], Dm[36];
   for (int i = 0; i < 6; i++) X[i] = h * eps_hat[i], mX[i] = -X[i];
   phm_se3_dexp_inv(X, Dp);
@@ -226,62 +223,18 @@ void phm_element_mass(double h, const double Ms[36], const double eps_hat[6], in
       }
     add_gram(Mc, T, Ms, h * GAUSS_W[g]);
   }
-  double T[72] = {0};
-  int straight = X[0] == 0.0 && X[1] == 0.0 && X[2] == 0.0;
-  if ((shared & 3) == 3 && straight) {
-    /* An interior element (both nodes shared with the link's neighbouring elements):
-     * + (h/12) d^T Ms d, d = t_b - Ad_{R0^T} t_a (t_a's components in b's axes, R0 the rotation
-     * of exp(X)): half the difference of lumped and consistent on the velocity difference, which
-     * cancels the helix's leading dispersion error (docs/mass_matrix_study.md, "d6"). It leaves
-     * the translation untransported, so for a rigid motion d = (0, omega x c) (c = h e_x, the
-     * straight element's chord) and it would add (h/12) |omega x c|^2_Ms. Hence
-     * - (g(t_b) - g(t_a)), g(t) = (h/12) omega . (c x Ms_vv v): on a straight element's rigid
-     * motions exactly that (Ad^T G Ad - G = Q), so the two vanish together on every rigid motion,
-     * while along the chain the g terms telescope: its interior keeps d6's dispersion. */
-    double E0[16], C[9];
-    phm_se3_exp(X, E0);
-    for (int i = 0; i < 3; i++)
-      for (int j = 0; j < 3; j++) {
-        double r = E0[4 * j + i]; /* R0^T */
-        T[12 * i + j] = T[12 * (3 + i) + 3 + j] = -r;
-      }
-    for (int i = 0; i < 6; i++) T[12 * i + 6 + i] = 1.0;
-    add_gram(Mc, T, Ms, h / 12.0);
-    for (int j = 0; j < 3; j++) { /* C = (h/12) hat(c) Ms_vv, hat(c) = h [[0,0,0],[0,0,-1],[0,1,0]] */
-      C[j] = 0.0;
-      C[3 + j] = -h * h / 12.0 * Ms[6 * 5 + 3 + j];
-      C[6 + j] = h * h / 12.0 * Ms[6 * 4 + 3 + j];
+  /* + (h/12) d^T Ms d, d = t_b - Ad_{R0^T} t_a (t_a's components in b's axes, R0 the rotation
+   * of exp(X)): half the difference of lumped and consistent on the transported velocity
+   * difference, which cancels the helix's leading dispersion error; - the nodes' h/2 Ms */
+  double E0[16], T[72] = {0};
+  phm_se3_exp(X, E0);
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) {
+      double r = E0[4 * j + i]; /* R0^T */
+      T[12 * i + j] = T[12 * (3 + i) + 3 + j] = -r;
     }
-    for (int i = 0; i < 3; i++)
-      for (int j = 0; j < 3; j++) {
-        double gij = 0.5 * C[3 * i + j]; /* G = [[0, C/2], [C^T/2, 0]]: g(t) = t^T G t */
-        Mc[12 * i + 3 + j] += gij, Mc[12 * (3 + j) + i] += gij;
-        Mc[12 * (6 + i) + 9 + j] -= gij, Mc[12 * (9 + j) + 6 + i] -= gij;
-      }
-  } else {
-    /* An element at a link's end, or a curved one (for a curved element no node form g can do
-     * the above: a ring turning about its axis has the same twist at every node, so g(t_b) -
-     * g(t_a) = 0 while (h/12)|d|^2 > 0). At a link's end the g terms' ends would sit on its end
-     * node, whose cross term
-     * omega-v they double (not positive definite for a thin section); instead the same blend on
-     * the velocity difference transported to the element's middle, d = Ad_{E/2} t_b -
-     * Ad_{E/2}^-1 t_a (E/2 = exp(X/2)): zero on every rigid motion, symmetric in a and b, and
-     * positive semidefinite. Its dispersion differs from d6's in this one element only. */
-    double Y[6], Eh[16], Ehi[16], Ap[36], Am[36];
-    for (int i = 0; i < 6; i++) Y[i] = 0.5 * X[i];
-    phm_se3_exp(Y, Eh);
-    for (int i = 0; i < 6; i++) Y[i] = -0.5 * X[i];
-    phm_se3_exp(Y, Ehi);
-    phm_se3_Ad(Eh, Ap);
-    phm_se3_Ad(Ehi, Am);
-    for (int i = 0; i < 6; i++)
-      for (int j = 0; j < 6; j++) {
-        T[12 * i + j] = -Am[6 * i + j];
-        T[12 * i + 6 + j] = Ap[6 * i + j];
-      }
-    add_gram(Mc, T, Ms, h / 12.0);
-  }
-  /* - the nodes' h/2 Ms (they carry the lumped share) */
+  for (int i = 0; i < 6; i++) T[12 * i + 6 + i] = 1.0;
+  add_gram(Mc, T, Ms, h / 12.0);
   for (int i = 0; i < 6; i++)
     for (int j = 0; j < 6; j++) {
       Mc[12 * i + j] -= 0.5 * h * Ms[6 * i + j];

@@ -311,7 +311,7 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
         m->mc_a[k] = e->a;
         m->mc_b[k] = e->b;
         if (e->mass == PHM_MASS_GIVEN) memcpy(m->mc + 144 * (size_t)k++, e->Mc, 144 * sizeof(double));
-        else phm_element_mass(e->h, e->Ms, e->eps_hat, e->shared, m->mc + 144 * (size_t)k++);
+        else phm_element_mass(e->h, e->Ms, e->eps_hat, m->mc + 144 * (size_t)k++);
       }
     for (int i = 0; i < d->ncouplings; i++, k++) {
       m->mc_a[k] = d->couplings[i].a;

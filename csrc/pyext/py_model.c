@@ -104,7 +104,6 @@ static const column element_columns[] = {
     INDEX("mass", "element mass kinds", phm_element_desc, mass, "mass kind of element"),
     MATRIX("Ms", "element section inertias", phm_element_desc, Ms, 6, 6),
     MATRIX("Mc", "element mass couplings", phm_element_desc, Mc, 12, 12),
-    INDEX("shared", "element shared nodes", phm_element_desc, shared, "shared nodes of element"),
 };
 static const column pair_columns[] = {
     INDEX("type", "pair types", phm_pair_desc, type, "pair type of pair"),
@@ -1155,14 +1154,13 @@ done:
   return res;
 }
 
-/* element_mass(h, Ms (6, 6), eps_hat (6,), shared=0) -> Mc (12, 12) (phm_element_mass). */
+/* element_mass(h, Ms (6, 6), eps_hat (6,)) -> Mc (12, 12) (phm_element_mass). */
 static PyObject *py_element_mass(PyObject *self, PyObject *args) {
   (void)self;
   double h;
-  int shared = 0;
   PyObject *mo, *eo, *res = NULL;
   PyArrayObject *Ms = NULL, *eps = NULL, *out = NULL;
-  if (!PyArg_ParseTuple(args, "dOO|i", &h, &mo, &eo, &shared)) return NULL;
+  if (!PyArg_ParseTuple(args, "dOO", &h, &mo, &eo)) return NULL;
   npy_intp t66[2] = {6, 6}, t6[1] = {6}, dims[2] = {12, 12};
   if (!(Ms = phm_py_double_array(mo, "Ms", t66, 2, 1))) goto done;
   if (!(eps = phm_py_double_array(eo, "eps_hat", t6, 1, 1))) goto done;
@@ -1171,7 +1169,7 @@ static PyObject *py_element_mass(PyObject *self, PyObject *args) {
     goto done;
   }
   if (!(out = (PyArrayObject *)PyArray_SimpleNew(2, dims, NPY_DOUBLE))) goto done;
-  phm_element_mass(h, PyArray_DATA(Ms), PyArray_DATA(eps), shared & 3, PyArray_DATA(out));
+  phm_element_mass(h, PyArray_DATA(Ms), PyArray_DATA(eps), PyArray_DATA(out));
   res = (PyObject *)out;
   out = NULL;
 done:
@@ -1467,7 +1465,7 @@ PyMethodDef phm_py_model_methods[] = {
      "planar_rows(G (rows, 6 nc), layout, nc, k) -> [mask per pair]: the rows without an in-plane "
      "component about axis k (phm_planar_rows)."},
     {"element_mass", py_element_mass, METH_VARARGS,
-     "element_mass(h, Ms (6, 6), eps_hat (6,), shared=0) -> Mc (12, 12): the mass coupling a consistent-mass "
+     "element_mass(h, Ms (6, 6), eps_hat (6,)) -> Mc (12, 12): the mass coupling a consistent-mass "
      "element adds in its nodes' body twists (csrc/model/element.c, phm_element_mass)."},
     {"law_eval", py_law_eval, METH_VARARGS,
      "law_eval(law, times) -> (n, 3) array of s, s', s'' (csrc/util/law.c) of a law tuple "

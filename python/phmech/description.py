@@ -106,24 +106,22 @@ class ModelDescription:
         ``_couplings`` (ne, 12, 12) in their nodes' body twists, then the couplings without an
         element (a modal link's modes), from the core's kernel
         (phm_element_mass; what the simulation integrated), for a result's momentum; and
-        ``_coupled_fields`` (ne, 6): a consistent element's length h, section mass per length,
+        ``_coupled_fields`` (ne, 5): a consistent element's length h, section mass per length and
         section centre of mass (3), whose constant-strain field places the element's mass for
-        ``centre_of_mass`` (zeros for a given coupling: its mass stays on its carriers), and 1
-        for a straight interior element (both nodes shared: its mass's g terms, phm_element_mass). Made
+        ``centre_of_mass`` (zeros for a given coupling: its mass stays on its carriers). Made
         once per description, read-only."""
         if self._mass_couplings is None:
             from . import _core
             from .fidelity import mass_centre
             rows = [e for e in self.elements if e.get("mass", "lumped") != "lumped"] + self.couplings
-            fields = np.zeros((len(rows), 6))
+            fields = np.zeros((len(rows), 5))
             for row, e in zip(fields, rows):
                 if e.get("mass", "given") == "consistent":
                     ms = e["Ms"][3, 3]
-                    row[:] = (e["h"], ms, *mass_centre(e["Ms"], ms),
-                              e.get("shared", 0) == 3 and not np.any(e["eps"][:3]))
+                    row[:] = e["h"], ms, *mass_centre(e["Ms"], ms)
             cp = dict(_coupled_nodes=np.array([[e["a"], e["b"]] for e in rows], dtype=int).reshape(-1, 2),
                       _couplings=np.array([e["Mc"] if e.get("mass", "given") == "given" else
-                                           _core.element_mass(e["h"], e["Ms"], e["eps"], e.get("shared", 0)) for e in rows],
+                                           _core.element_mass(e["h"], e["Ms"], e["eps"]) for e in rows],
                                           dtype=float).reshape(-1, 12, 12),
                       _coupled_fields=fields)
             for arr in cp.values():   # shared by every result until the next change

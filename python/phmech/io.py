@@ -747,7 +747,7 @@ def load_result(path):
         _couplings=a("couplings") if "couplings" in ds else np.zeros((0, 12, 12)),
         # a file from before the fields (or without couplings): the masses on their carriers
         _coupled_fields=a("coupled_fields") if "coupled_fields" in ds
-        else np.zeros((ds.sizes.get("coupled_element", 0), 6)))
+        else np.zeros((ds.sizes.get("coupled_element", 0), 5)))
 
 
 def simulation_dataframe(res):

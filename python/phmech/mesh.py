@@ -2,24 +2,25 @@
 a band are within a tolerance of the converged ones.
 
 The se3 element converges at second order in the element length (docs/mass_matrix_study.md). The
-error is measured on the link alone: the frequencies of N, 2N and 4N elements give each mode's
-error at N by Richardson extrapolation, e_N = (f_N - f_2N) / f_2N rho / (rho - 1) with the
-observed ratio rho of successive differences, at most 4 (second order; _richardson), and N grows
-until every mode in the band is within the tolerance.
+error is measured on the link alone, free in space: the frequencies of N, 2N and 4N elements give
+each mode's error at N by Richardson extrapolation, e_N = (f_N - f_2N) / f_2N rho / (rho - 1) with
+the observed ratio rho of successive differences, at most 4 (second order; _richardson), and N
+grows until every mode in the band is within the tolerance.
 
-Which support. With the consistent element mass (the default) the interior of the link has no
-h^2 dispersion error and a straight link carries its exact rigid-body inertia; its h^2 error
-comes from the ends, almost all from a clamped end (the constant-strain element's stiffness
-there): Table I link, band 300 rad/s, 21 elements, against the exact Timoshenko values of
-phmech.timoshenko: clamped-clamped +0.20 ... +0.32 %, free-free +0.001 ... +0.07 %, the
-cantilever +0.05 ... +0.17 %. On coarse meshes, though, the free link's error is the larger (the interior's higher-order
-terms), so a consistent link is estimated both free and clamped at both ends, and gets the larger
-of the two counts. With lumped
-mass the interior error dominates and the free link's error is about twice the cantilever's: it
-is estimated free. (Before the consistent mass was made exact for rigid motions its free end
-lowered the frequencies by about what a clamped end raised them, and the free link was the
-estimate for both.) A mechanism's modes couple links and bodies, and a link much shorter than
-the wavelengths of the band needs few elements whatever it carries. ``Mechanism(band=...,
+Why the free link. With the consistent element mass (the default) the interior of the link has no
+h^2 dispersion error; its h^2 error comes from the ends, and with the sign of their support: a
+clamped end raises the frequencies, a free end lowers them, by about the same amount (Table I
+link, band 300 rad/s, 21 elements, against the exact Timoshenko values of phmech.timoshenko:
+clamped-clamped +0.26 ... +0.32 %, free-free -0.29 ... -0.44 %, and the cantilever, one end of
+each, within 0.085 % because they nearly cancel; its error is not even monotone in N). The free
+link has the largest error of the three and converges cleanly, towards order 2 from below (the
+estimate above is 0.2 ... 3.3 % over its true error from 6 elements on), and its choice is about
+the fewest that meets the tolerance on all three supports (15 elements for 1e-2, 46 for 1e-3;
+the fewest: 14 and 45; tests/test_mesh.py). Estimating on the cantilever would pick 7 and 9, where the clamped-clamped
+link is 3.8e-2 and 2.0e-2 off. With lumped mass the interior error dominates and the free link's
+error is about twice the cantilever's (25 and 78 elements; fewest on all three supports 24 and
+76). A mechanism's modes couple links and bodies, and a link much shorter than the wavelengths
+of the band needs few elements whatever it carries. ``Mechanism(band=...,
 frequency_tolerance=...)`` applies it to every flexible link added without ``elements=``.
 
 A finished mechanism knows its supports: ``Mechanism.sized`` (size_mechanism below) measures the
@@ -65,30 +66,18 @@ class MeshChoice:
 
 
 def _free_frequencies(length: float, properties, elements: int, band: float, curvature,
-                      mass: str = "consistent", clamped: bool = False) -> np.ndarray:
-    """Elastic frequencies [Hz] of the link alone up to just above ``band``: free-free, or
-    (``clamped``) clamped at both ends."""
+                      mass: str = "consistent") -> np.ndarray:
+    """Elastic free-free frequencies [Hz] of the link alone up to just above ``band``."""
     from .mechanism import Mechanism, UnattachedWarning
-    from . import se3
-    from .pairs import Fixed
     m = Mechanism()
-    link = m.add_flexible_link("link", length, properties, elements=elements, curvature=curvature,
-                               mass=mass)
-    skip = RIGID_MODES
+    m.add_flexible_link("link", length, properties, elements=elements, curvature=curvature,
+                        mass=mass)
     available = 6 * (elements + 1)
-    if clamped:
-        if elements < 2:
-            return np.zeros(0)   # nothing moves between two clamps
-        kap = np.zeros(3) if curvature is None else np.asarray(curvature, float)
-        end = se3.exp(length * np.concatenate([kap, [1.0, 0.0, 0.0]]))
-        m.add_pair("clamp", Fixed(), m.ground, link.start)
-        m.add_pair("clamp end", Fixed(), m.ground.frame_at(end[:3, 3], end[:3, :3]), link.end)
-        skip, available = 0, 6 * (elements - 1)
-    n = min(available, skip + 8)
+    n = min(available, RIGID_MODES + 8)
     while True:
         with warnings.catch_warnings():   # the link alone, free in space on purpose
             warnings.simplefilter("ignore", UnattachedWarning)
-            f = m.modes(n).frequency[skip:]
+            f = m.modes(n).frequency[RIGID_MODES:]
         if f.size == 0 or f[-1] > band or n >= available:
             return f
         n = min(available, 2 * n)
@@ -125,31 +114,18 @@ def _request(band, tolerance, max_elements) -> tuple:
 
 def choose_elements(length: float, properties, band: float, tolerance: float = 1e-3,
                     max_elements: int = 256, curvature=None, mass: str = "consistent") -> MeshChoice:
-    """About the fewest elements for which every mode of a flexible link up to ``band`` [Hz],
-    free and (with consistent mass) clamped at both ends, has an estimated relative frequency
-    error within ``tolerance`` (module docstring: a consistent link's largest error is the free
-    link's on coarse meshes, the clamped one's on fine ones): the larger of the two choices.
-    ``properties``: as for ``Mechanism.add_flexible_link`` (and ``curvature``, ``mass``).
-    Raises ModelError for a band or tolerance that is not positive and when ``max_elements``
-    are not enough."""
-    free = _choose(length, properties, band, tolerance, max_elements, curvature, mass, False)
-    if mass != "consistent":
-        return free
-    held = _choose(length, properties, band, tolerance, max_elements, curvature, mass, True)
-    return held if held.elements > free.elements else free
-
-
-def _choose(length: float, properties, band: float, tolerance: float, max_elements: int,
-            curvature, mass: str, clamped: bool) -> MeshChoice:
-    """choose_elements on one support (free, or ``clamped`` at both ends): from 2 elements, each
+    """About the fewest elements for which every free-free mode of a flexible link up to ``band``
+    [Hz] has an estimated relative frequency error within ``tolerance``: from 2 elements, each
     next count is the one the second-order error law predicts from the last estimate (5 % more),
-    and a count the law says could be smaller is tried once."""
+    and a count the law says could be smaller is tried once. ``properties``: as for
+    ``Mechanism.add_flexible_link`` (and ``curvature``, ``mass``). Raises ModelError for a band or tolerance that is not
+    positive and when ``max_elements`` are not enough."""
     band, tolerance, max_elements = _request(band, tolerance, max_elements)
     N, last, best, tried, meshes = 2, None, None, set(), {}
 
     def free(n):
         if n not in meshes:
-            meshes[n] = _free_frequencies(length, properties, n, band, curvature, mass, clamped)
+            meshes[n] = _free_frequencies(length, properties, n, band, curvature, mass)
         return meshes[n]
 
     while N <= max_elements and N not in tried:
@@ -194,8 +170,7 @@ def _choose(length: float, properties, band: float, tolerance: float, max_elemen
             # second order: the error falls like 1/N^2, so fewer might do; try that once
             N = int(math.ceil(N * math.sqrt(err / tolerance) * 1.02))
         else:   # aim 5 % beyond the count the error law predicts
-            # (at most 8 times: a mesh of 2 elements clamped at both ends is far from its law)
-            N = max(N + 1, min(8 * N, int(math.ceil(N * math.sqrt(err / tolerance) * 1.05))))
+            N = max(N + 1, int(math.ceil(N * math.sqrt(err / tolerance) * 1.05)))
             if best is not None and N >= best.elements:
                 break
     if best is not None:

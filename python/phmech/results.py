@@ -130,8 +130,8 @@ class SimulationResult:
     #: in the nodes' body twists (csrc/model/element.c, phm_element_mass; momentum adds them)
     _coupled_nodes: np.ndarray = None
     _couplings: np.ndarray = None
-    #: per coupling: a consistent element's h, section mass per length, centre of mass (3) and 1
-    #: if interior, zeros for a given one (description.mass_couplings; centre_of_mass places its mass)
+    #: per coupling: a consistent element's h, section mass per length and centre of mass (3),
+    #: zeros for a given one (description.mass_couplings; centre_of_mass places its mass)
     _coupled_fields: np.ndarray = None
 
     def _frame(self, x) -> Frame:
@@ -313,9 +313,7 @@ class SimulationResult:
         carriers, c_i the centre of mass in carrier coordinates (the masses and centres of mass
         gravity acts on), except that a ``mass="consistent"`` element's mass (its nodes' shares
         h/2 each) lies along its constant-strain field H_a exp(xi X), X = log(H_a^-1 H_b), xi in
-        [0, 1], the helix whose kinetic energy its mass is (docs/method.md section 4.2, "Mass"),
-        and an interior element adds (h^2 rhoA/24) (R_a e_x - R_b e_x), the position whose rate
-        is the linear momentum of its blend's g terms (zero while its nodes' axes are parallel).
+        [0, 1], the helix whose kinetic energy its mass is (docs/method.md section 4.2, "Mass").
         Its rate is then the linear momentum over the mass (``momentum``) exactly while each
         element is at its unstressed shape; a deformed element's mass keeps the unstressed
         shape's, which no position can match exactly (the momentum is not the rate of any
@@ -330,14 +328,10 @@ class SimulationResult:
         first = np.einsum("k,nki->ni", m, r)
         col = dict(zip(cars, cols))
         nodes = np.zeros((0, 2), int) if self._coupled_nodes is None else self._coupled_nodes
-        fields = np.zeros((len(nodes), 6)) if self._coupled_fields is None else self._coupled_fields
-        for (na, nb), row in zip(nodes, fields):
-            h, ms, c = row[0], row[1], row[2:5]
+        fields = np.zeros((len(nodes), 5)) if self._coupled_fields is None else self._coupled_fields
+        for (na, nb), (h, ms, *c) in zip(nodes, fields):
             if h > 0 and na in col and nb in col:   # its mass from the nodes to its field
                 Ha, Hb = self.poses[:, col[na]], self.poses[:, col[nb]]
-                if len(row) > 5 and row[5]:   # an interior element's g terms carry the linear
-                    # momentum (h^2 rhoA/24) d/dt (R_a e_x - R_b e_x) (phm_element_mass)
-                    first += (h * h * ms / 24.0) * (Ha[:, :3, 0] - Hb[:, :3, 0])
                 X = se3.log(se3.inverse(Ha) @ Hb)
                 ch = np.append(c, 1.0)
                 for xi, w in zip(*_FIELD_GAUSS):
