@@ -280,8 +280,6 @@ static int build_desc(fmu *c, char *msg, size_t nmsg) {
     for (int i = 0; i < n[1]; i++) el[i].mass = to_i(v[i]);
   REALS("elements", "Ms", n[1], 36, el[i].Ms)
   REALS("elements", "Mc", n[1], 144, el[i].Mc)
-  if ((v = col(c, "elements", "shared", n[1], 1, &ok)))
-    for (int i = 0; i < n[1]; i++) el[i].shared = to_i(v[i]);
   if ((v = col(c, "pairs", "type", n[2], 1, &ok)))
     for (int i = 0; i < n[2]; i++) pr[i].type = to_i(v[i]);
   if ((v = col(c, "pairs", "carriers", n[2], 2, &ok)))

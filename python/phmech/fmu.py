@@ -84,7 +84,7 @@ def _law_numbers(law, what: str) -> list:
 #: the columns of _marshal.components that csrc/fmi/fmi2.c (build_desc) reads, per component
 #: kind: a column phmech adds later must be read there too (export_fmu refuses it until then)
 _READ = {"carriers": {"M", "mass", "com", "H0", "t0"},
-         "elements": {"h", "nodes", "K", "D", "eps_hat", "mass", "Ms", "Mc", "shared"},
+         "elements": {"h", "nodes", "K", "D", "eps_hat", "mass", "Ms", "Mc"},
          "pairs": {"type", "carriers", "Ta", "Tb", "driven", "axis", "law", "xlaws", "pitch", "x0",
                    "has_x0", "drop"},
          "loads": {"carrier", "world", "point", "w", "law", "reaction"},
