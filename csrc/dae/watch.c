@@ -156,13 +156,13 @@ double dae_length_scale(const phm_model *m) {
   return L > 0 && isfinite(L) ? L : 1.0;
 }
 
-phm_status dae_step_accepted(dae_t *d, double t, const double *y, double atol, int output,
-                              phm_error *err) {
+phm_status dae_step_accepted(dae_t *d, double t, const double *y, double rel, double atol,
+                              int output, phm_error *err) {
   dae_t *f = dae_full(d);
   const phm_model *m = f->m;
   if (d->pl) y = dae_planar_state(d, y);
   memcpy(f->data.lref, y + f->il, sizeof(double) * (size_t)m->ncons);
-  double tol_m = fmax(DAE_CONSTRAINT_TOL * f->lscale, atol), tol_r = fmax(DAE_CONSTRAINT_TOL, atol);
+  double tol_m = fmax(rel * f->lscale, atol), tol_r = fmax(rel, atol);
   for (int ip = 0; ip < m->np; ip++) {
     const phm_pair_desc *pr = &m->pair[ip];
     int mc = phm_pair_rows_full(pr);

@@ -668,7 +668,7 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
     double t1 = fabs(target - (t + h)) < 1e-9 * h ? target : t + h;
     out->nsteps++;
     out->last_step = h;
-    if ((st = dae_step_accepted(d, t1, Y, opt->atol, t1 == tout[iout], err))) goto done; /* watch.c */
+    if ((st = dae_step_accepted(d, t1, Y, DAE_CONSTRAINT_TOL, opt->atol, t1 == tout[iout], err))) goto done; /* watch.c */
     if (adaptive) {
       /* next proposal, with a dead band against chattering (every change of h costs Newton
        * iterations with the iteration matrix of another h, and measured on the double pendulum

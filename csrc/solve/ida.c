@@ -448,7 +448,7 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
         if (t >= target) t = target;
       }
     }
-    if ((st = dae_step_accepted(d, t, y, opt->atol, 1, err))) goto done; /* IDA: at the outputs */
+    if ((st = dae_step_accepted(d, t, y, fmax(DAE_CONSTRAINT_TOL, opt->rtol), opt->atol, 1, err))) goto done; /* IDA: at the outputs */
     if ((st = dae_emit_output(d, y, out, iout, E0, t, opt, &stop, err)) || stop) goto done;
   }
 done:

@@ -73,7 +73,8 @@ class RedundantConstraintWarning(UserWarning):
 class ConstraintError(_core.SolverError):
     """A pair came apart during a simulation: the position residual of one of its constraint
     rows went beyond the tolerance the integrators hold every pair to (``CONSTRAINT_TOL`` rad,
-    ``CONSTRAINT_TOL`` times the mechanism's size in m, or ``atol`` if larger; checked after
+    ``CONSTRAINT_TOL`` times the mechanism's size in m -- with IDA its ``rtol`` where larger --
+    or ``atol`` if larger; checked after
     every step of the generalized-alpha, at every output of IDA; docs/user_guide.md,
     "Constraints"). Typically a row left out as redundant at the initial configuration that is
     no longer redundant (a spatial loop whose axes were dependent only there). Attributes:
