@@ -1235,7 +1235,8 @@ class Mechanism:
             elif adaptive:
                 why = (f"; the steps were at most {1.0 / (_run.BAND_MAX_STEPS * band):.3g} s, from "
                        f"the {band:.4g} Hz band (" + ("band=" if band_given else
-                       f"1/(2 dt_out), dt_out = {dt:g} s") + "): a higher band= shortens them")
+                       f"1/(2 dt_out), dt_out = {dt:g} s" if 0.5 / dt >= band else
+                       f"{_run.BAND_PER_SPAN:g} / span, the default's floor") + "): a higher band= shortens them")
             err = topology.constraint_error(self._desc, r["error"]) or SolverError(r["error"])
             err.args = (f"{err.args[0]} (the trajectory up to {t_last} is in this error's "
                         f"'result' attribute{unsaved}{why})",)

@@ -72,11 +72,10 @@ class RedundantConstraintWarning(UserWarning):
 
 class ConstraintError(_core.SolverError):
     """A pair came apart during a simulation: the position residual of one of its constraint
-    rows went beyond the tolerance the integrators hold every pair to (``CONSTRAINT_TOL`` rad,
-    ``CONSTRAINT_TOL`` times the mechanism's size in m -- with IDA its ``rtol`` where larger --
-    or ``atol`` if larger; checked after
-    every step of the generalized-alpha, at every output of IDA; docs/user_guide.md,
-    "Constraints"). Typically a row left out as redundant at the initial configuration that is
+    rows went beyond the tolerance the integrators hold every pair to (``CONSTRAINT_TOL`` rad and
+    ``CONSTRAINT_TOL`` times the mechanism's size in m, with IDA its ``rtol`` where that is
+    larger, or ``atol`` if larger still; checked after every step of the generalized-alpha, at
+    every output of IDA; docs/user_guide.md, "Constraints"). Typically a row left out as redundant at the initial configuration that is
     no longer redundant (a spatial loop whose axes were dependent only there). Attributes:
     ``pair`` (name), ``direction`` (the row's constraint-wrench direction in the pair's frame
     F_b), ``redundant`` (the row was left out at the start), ``residual`` and ``tolerance`` (m or
