@@ -448,6 +448,10 @@ typedef struct {
   double err_est;  /* adaptive GALPHA: sum over steps of the max-norm local error estimate of
                     * the configuration (m, rad-like units): a bound of the global error
                     * without error propagation                                       */
+  double err_sum;  /* adaptive GALPHA: sum over steps of the local error estimate in tolerances
+                    * (WRMS, weights rtol |y| + atol): the accumulated error without error
+                    * propagation, <= 1 when the contract holds (Newton's noise-accepted
+                    * steps included: a systematic Newton error adds up step after step) */
   double last_step; int last_order;             /* last step [s] and order (BDF order; GALPHA: 2) */
   double max_mu;   /* the largest |mu| at the outputs (the position constraints' multipliers,
                     * docs/method.md section 6.2: 0 for the exact solution, rad/s and m/s) */

@@ -677,7 +677,7 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
     goto fail;
   }
   res = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:i,s:i,s:s,"
-                      "s:{s:l,s:l,s:l,s:l,s:l,s:l,s:d,s:d,s:i,s:l,s:d,s:d,s:d,s:d,s:d,s:l}}", "t", tout,
+                      "s:{s:l,s:l,s:l,s:l,s:l,s:l,s:d,s:d,s:i,s:l,s:d,s:d,s:d,s:d,s:d,s:d,s:l}}", "t", tout,
                       "poses", poses, "twists", tw, "lambda", lam, "energy", en, "joints", jx,
                       "jrates", jv, "efforts", ju, "pair_wrenches", pw, "ports", po_, "nout", out.nout_done,
                       "interrupted", st == PHM_EINTERRUPT, "error", failed ? err.msg : "",
@@ -685,7 +685,7 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
                       "residual_evals", out.nres, "jacobian_evals", out.njac, "nonlinear_iters",
                       out.nniters, "error_test_fails", out.netf, "nonlinear_conv_fails", out.nncf,
                       "wall_time", out.wall_time, "last_step", out.last_step, "last_order", out.last_order,
-                      "floor_steps", out.nfloor, "error_estimate", out.err_est, "max_mu", out.max_mu,
+                      "floor_steps", out.nfloor, "error_estimate", out.err_est, "error_sum", out.err_sum, "max_mu", out.max_mu,
                       "error_ratio", out.err_ratio, "error_ratio_time", out.t_err_ratio,
                       "min_step", out.min_step, "noise_steps", out.nnoise);
 fail:

@@ -1042,8 +1042,10 @@ class Mechanism:
         (steps accepted above the tolerance at the refinement's limit; > 0 warns),
         ``noise_steps`` (steps accepted above the tolerance per unit step where a shorter step
         did not lower the estimate, in a rigid mechanism, or the estimate was within Newton's
-        tolerance: docs/user_guide.md, "Accuracy contract"), ``min_step`` [s] (the shortest
-        step); and ``energy_scale`` [J], ``ledger_relative`` (the largest absolute
+        tolerance: docs/user_guide.md, "Accuracy contract"), ``error_sum`` (the accepted steps'
+        local estimates summed, in tolerances: above 1 the errors of the noise-accepted steps
+        may have added up beyond rtol, and an AccuracyWarning says so), ``min_step`` [s] (the
+        shortest step); and ``energy_scale`` [J], ``ledger_relative`` (the largest absolute
         energy ledger residual / energy_scale), ``numerical_dissipation`` [J] (energy the
         integrator removed, from the ledger) and ``max_mu`` (the largest multiplier of the
         position constraints at the outputs, a velocity correction [m/s, rad/s] that is zero for
@@ -1306,7 +1308,7 @@ class Mechanism:
         if "nonlinear_iters" in stats:
             stats["newton_iters_per_step"] = stats["nonlinear_iters"] / max(1, stats["steps"])
         if not stats["adaptive"]:
-            for key in ("error_estimate", "floor_steps", "error_ratio", "error_ratio_time",
+            for key in ("error_estimate", "error_sum", "floor_steps", "error_ratio", "error_ratio_time",
                         "noise_steps", "min_step"):
                 stats.pop(key, None)
         return SimulationResult(t=tout[:k], poses=r["poses"][:k], twists=r["twists"][:k],

@@ -47,6 +47,18 @@ def run(m, *args, **kw):
     return r, [x for x in w if issubclass(x.category, ph.AccuracyWarning)]
 
 
+def assert_warned_iff_noise_adds_up(stats, w, rtol):
+    """The default rtol keeps the contract's sum (stats['error_sum'] <= 1) and warns of nothing;
+    at rtol 1e-6 nearly every step is accepted at Newton's noise level (a relative 1e-7) and
+    their estimates add up beyond the tolerance (measured: chain 14.8, arm + strip 13.0): the
+    run says so (issue 27, open: the error itself is not yet controlled there)."""
+    if rtol >= 1e-4:
+        assert stats["error_sum"] <= 1.0 and not w
+    else:
+        assert (stats["error_sum"] > 1.0) == bool(w)
+        assert all("add up to" in str(x.message) for x in w)
+
+
 def test_rigid_pendulum_with_dt_out_beyond_t_end():
     """simulate(1.0, 2.0): on main x(1) = 1.642 rad against 1.815 (the steps were the 0.25 Hz
     band's). Exact: SciPy at rtol 1e-12. Measured: 7.0e-7 rad off."""
@@ -110,7 +122,7 @@ def test_chain_of_100_within_tolerance(chain_runs):
     their estimate). Reference IDA at rtol 1e-10 (every state in its error test; 2.6e-11 m from
     IDA at 1e-11). Measured: 4.8e-7 m (rtol 1e-4), 1.3e-7 m (1e-6) on the link ends."""
     for rtol, (err, stats, w) in chain_runs.items():
-        assert not w
+        assert_warned_iff_noise_adds_up(stats, w, rtol)
         assert stats["floor_steps"] == 0 and stats["error_ratio"] <= 1.0
         assert err <= rtol * 10.0 + rtol / 100   # rtol |y| + atol, |y| <= 10 m (the chain's length)
 
@@ -141,7 +153,8 @@ def test_arm_strip_within_tolerance(arm_strip_runs):
     Measured: shoulder 8.3e-7 rad, tip 2.3e-6 m (1e-4); 4.1e-8 rad, 3.5e-7 m (1e-6)."""
     e4, s4, w4 = arm_strip_runs[1e-4]
     e6, s6, w6 = arm_strip_runs[1e-6]
-    assert not w4 and not w6
+    assert_warned_iff_noise_adds_up(s4, w4, 1e-4)
+    assert_warned_iff_noise_adds_up(s6, w6, 1e-6)
     assert s4["floor_steps"] == 0 and s6["floor_steps"] == 0
     assert e4[0] <= RTOL * np.pi + RTOL / 100 and max(e4[1:]) <= RTOL * 0.6 + RTOL / 100
     assert e6[0] < e4[0] / 10   # tightening tightens (20x measured on the shoulder)
@@ -176,3 +189,33 @@ def test_a_run_that_cannot_keep_its_tolerance_says_so():
         r = m.simulate(1.0, 0.1, band=0.01, rtol=1e-8)
     assert w[0].filename == __file__   # the user's line
     assert r.stats["floor_steps"] > 0 and r.stats["error_ratio"] > 1.0
+
+
+def compound_pendulum(amp):
+    """A rod (1 kg, 0.5 m) hinged at one end about y, released at ``amp`` [rad]; its exact motion
+    by SciPy's DOP853 at rtol 1e-12."""
+    M, L, g = 1.0, 0.5, 9.81
+    m = ph.Mechanism(gravity=(0, 0, -g))
+    b = m.add_rigid_body("rod", M, np.diag([M * L**2 / 12, M * L**2 / 12, 1e-6]), com=(0, 0, -L / 2))
+    m.add_pair("hinge", ph.Revolute(axis="y"), m.ground, b, x0=amp)
+    Ip = M * L**2 / 3
+    exact = lambda t: solve_ivp(lambda _, s: [s[1], -M * g * L / 2 * np.sin(s[0]) / Ip], (0, t[-1]),
+                                [amp, 0], t_eval=t, rtol=1e-12, atol=1e-14, method="DOP853").y[0]
+    return m, exact
+
+
+def test_accumulated_newton_noise_is_warned():
+    """At rtol 1e-6 the generalized-alpha accepts most steps at the level of Newton's convergence
+    tolerance (a relative 1e-7, PHM_NEWTON_RTOL), whose systematic error adds up over the 1e4
+    steps: the pendulum ends 47x rtol off (measured 2.5e-5 rad at 30 deg over 5 s; error_sum
+    17.3). Not yet fixed (issue 27): it must at least say so. At the default rtol 1e-4 the sum
+    stays below 1 (0.64) and nothing is warned."""
+    amp = np.radians(30.0)
+    m, exact = compound_pendulum(amp)
+    r, w = run(m, 5.0, 0.05, rtol=1e-6)
+    err = np.abs(r.joint("hinge")["x"][:, 0] - exact(r.t)).max()
+    assert err > 10 * 1e-6 * amp          # the defect the warning is for (fails once it is fixed)
+    assert r.stats["error_sum"] > 1.0
+    assert w and "add up to" in str(w[0].message) and "integrator='ida'" in str(w[0].message)
+    r4, w4 = run(m, 5.0, 0.05)
+    assert r4.stats["error_sum"] < 1.0 and not w4
