@@ -560,6 +560,17 @@ static int progress_cb(void *vctx, double t, int iout) {
   return ((cb_ctx *)vctx)->cb_stop;
 }
 
+/* {"t": tout, then each result array under its name (the result-field table,
+ * csrc/util/codes.c)}: a new dict, or NULL with an exception set. */
+static PyObject *result_arrays(PyArrayObject *tout, PyArrayObject *const ra[PHM_NRESULT_FIELDS]) {
+  const phm_code_table *f = phm_code_table_named("result_fields");
+  PyObject *d = PyDict_New();
+  if (d && PyDict_SetItemString(d, "t", (PyObject *)tout) < 0) Py_CLEAR(d);
+  for (int i = 0; d && i < f->nrows; i++)
+    if (PyDict_SetItemString(d, f->rows[i].name, (PyObject *)ra[f->rows[i].value]) < 0) Py_CLEAR(d);
+  return d;
+}
+
 static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw) {
   (void)self;
   static char *kwl[] = {"model", "tout", "rtol", "atol", "linear_solver", "poses", "twists",
@@ -621,43 +632,47 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
       }
     }
   }
-  npy_intp dp[4] = {nout, nrec, 4, 4}, dt[3] = {nout, nrec, 6}, dl[2] = {nout, nk}, de[2] = {nout, PHM_NENERGY};
-  npy_intp dj[2] = {nout, nj}, dw[3] = {nout, npr, 6}, dq[2] = {nout, npt};
-  PyArrayObject *jx = (PyArrayObject *)PyArray_ZEROS(2, dj, NPY_DOUBLE, 0);
-  PyArrayObject *jv = (PyArrayObject *)PyArray_ZEROS(2, dj, NPY_DOUBLE, 0);
-  PyArrayObject *ju = (PyArrayObject *)PyArray_ZEROS(2, dj, NPY_DOUBLE, 0);
-  PyArrayObject *pw = (PyArrayObject *)PyArray_ZEROS(3, dw, NPY_DOUBLE, 0);
-  PyArrayObject *po_ = (PyArrayObject *)PyArray_ZEROS(2, dq, NPY_DOUBLE, 0);
-  PyArrayObject *poses = (PyArrayObject *)PyArray_ZEROS(4, dp, NPY_DOUBLE, 0);
-  PyArrayObject *tw = (PyArrayObject *)PyArray_ZEROS(3, dt, NPY_DOUBLE, 0);
-  PyArrayObject *lam = (PyArrayObject *)PyArray_ZEROS(2, dl, NPY_DOUBLE, 0);
-  PyArrayObject *en = (PyArrayObject *)PyArray_ZEROS(2, de, NPY_DOUBLE, 0);
-  if (!poses || !tw || !lam || !en || !jx || !jv || !ju || !pw || !po_) goto fail;
+  /* the result arrays, in the result-field table's order (csrc/util/codes.c) */
+  npy_intp dims[PHM_NRESULT_FIELDS][4] = {
+      [PHM_RESULT_POSES] = {nout, nrec, 4, 4}, [PHM_RESULT_TWISTS] = {nout, nrec, 6},
+      [PHM_RESULT_LAMBDA] = {nout, nk},        [PHM_RESULT_ENERGY] = {nout, PHM_NENERGY},
+      [PHM_RESULT_JOINTS] = {nout, nj},        [PHM_RESULT_JRATES] = {nout, nj},
+      [PHM_RESULT_EFFORTS] = {nout, nj},       [PHM_RESULT_PAIR_WRENCHES] = {nout, npr, 6},
+      [PHM_RESULT_PORTS] = {nout, npt}};
+  static const int ndims[PHM_NRESULT_FIELDS] = {[PHM_RESULT_POSES] = 4, [PHM_RESULT_TWISTS] = 3,
+                                                [PHM_RESULT_LAMBDA] = 2, [PHM_RESULT_ENERGY] = 2,
+                                                [PHM_RESULT_JOINTS] = 2, [PHM_RESULT_JRATES] = 2,
+                                                [PHM_RESULT_EFFORTS] = 2, [PHM_RESULT_PAIR_WRENCHES] = 3,
+                                                [PHM_RESULT_PORTS] = 2};
+  PyArrayObject *ra[PHM_NRESULT_FIELDS] = {NULL};
+  for (int i = 0; i < PHM_NRESULT_FIELDS; i++)
+    if (!(ra[i] = (PyArrayObject *)PyArray_ZEROS(ndims[i], dims[i], NPY_DOUBLE, 0))) goto fail;
   if (arr != Py_None) { /* the arrays the run fills, output by output (a checkpoint reads the
                          * first i + 1 of them at output i: dae_emit_output stores before it calls) */
-    PyObject *r = PyObject_CallFunction(arr, "({s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O})", "t", tout,
-                                        "poses", poses, "twists", tw, "lambda", lam, "energy", en,
-                                        "joints", jx, "jrates", jv, "efforts", ju, "pair_wrenches",
-                                        pw, "ports", po_);
+    PyObject *d = result_arrays(tout, ra), *r = d ? PyObject_CallFunctionObjArgs(arr, d, NULL) : NULL;
+    Py_XDECREF(d);
     if (!r) goto fail;
     Py_DECREF(r);
   }
   cb_ctx c = {cb == Py_None ? NULL : cb, 0, 0, NULL, NULL, NULL, mon == Py_None ? NULL : mon, 0};
-  phm_sim_options opt = {rtol, atol, solver, 0, max_step, max_order, error_test, interrupt_cb, progress_cb, &c,
-                         integrator, step, rho_inf, adaptive, band, monitor_cb, planar};
+  phm_sim_options opt = {.rtol = rtol, .atol = atol, .linear_solver = solver, .max_steps = 0,
+                         .max_step = max_step, .max_order = max_order, .error_test = error_test,
+                         .interrupt = interrupt_cb, .progress = progress_cb, .ctx = &c,
+                         .integrator = integrator, .step = step, .rho_inf = rho_inf,
+                         .adaptive = adaptive, .band = band, .monitor = monitor_cb, .planar = planar};
   phm_sim_output out;
   memset(&out, 0, sizeof out);
   out.record = R ? (const int *)PyArray_DATA(R) : NULL;
   out.nrecord = (int)nrec;
-  out.poses = PyArray_DATA(poses);
-  out.twists = PyArray_DATA(tw);
-  out.lambda = PyArray_DATA(lam);
-  out.energy = PyArray_DATA(en);
-  out.joints = PyArray_DATA(jx);
-  out.jrates = PyArray_DATA(jv);
-  out.efforts = PyArray_DATA(ju);
-  out.pwrench = PyArray_DATA(pw);
-  out.ports = PyArray_DATA(po_);
+  out.poses = PyArray_DATA(ra[PHM_RESULT_POSES]);
+  out.twists = PyArray_DATA(ra[PHM_RESULT_TWISTS]);
+  out.lambda = PyArray_DATA(ra[PHM_RESULT_LAMBDA]);
+  out.energy = PyArray_DATA(ra[PHM_RESULT_ENERGY]);
+  out.joints = PyArray_DATA(ra[PHM_RESULT_JOINTS]);
+  out.jrates = PyArray_DATA(ra[PHM_RESULT_JRATES]);
+  out.efforts = PyArray_DATA(ra[PHM_RESULT_EFFORTS]);
+  out.pwrench = PyArray_DATA(ra[PHM_RESULT_PAIR_WRENCHES]);
+  out.ports = PyArray_DATA(ra[PHM_RESULT_PORTS]);
   phm_error err;
   phm_status st;
   Py_BEGIN_ALLOW_THREADS
@@ -676,10 +691,10 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
     phm_py_raise(&err);
     goto fail;
   }
-  res = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:i,s:i,s:s,"
-                      "s:{s:l,s:l,s:l,s:l,s:l,s:l,s:d,s:d,s:i,s:l,s:d,s:d,s:d,s:d,s:d,s:l}}", "t", tout,
-                      "poses", poses, "twists", tw, "lambda", lam, "energy", en, "joints", jx,
-                      "jrates", jv, "efforts", ju, "pair_wrenches", pw, "ports", po_, "nout", out.nout_done,
+  res = result_arrays(tout, ra);
+  PyObject *rest = res ? Py_BuildValue("{s:i,s:i,s:s,"
+                      "s:{s:l,s:l,s:l,s:l,s:l,s:l,s:d,s:d,s:i,s:l,s:d,s:d,s:d,s:d,s:d,s:l}}",
+                      "nout", out.nout_done,
                       "interrupted", st == PHM_EINTERRUPT, "error", failed ? err.msg : "",
                       "stats", "steps", out.nsteps,
                       "residual_evals", out.nres, "jacobian_evals", out.njac, "nonlinear_iters",
@@ -687,17 +702,11 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
                       "wall_time", out.wall_time, "last_step", out.last_step, "last_order", out.last_order,
                       "floor_steps", out.nfloor, "error_estimate", out.err_est, "max_mu", out.max_mu,
                       "error_ratio", out.err_ratio, "error_ratio_time", out.t_err_ratio,
-                      "min_step", out.min_step, "noise_steps", out.nnoise);
+                      "min_step", out.min_step, "noise_steps", out.nnoise) : NULL;
+  if (!rest || PyDict_Update(res, rest) < 0) Py_CLEAR(res);
+  Py_XDECREF(rest);
 fail:
-  Py_XDECREF(jx);
-  Py_XDECREF(jv);
-  Py_XDECREF(ju);
-  Py_XDECREF(pw);
-  Py_XDECREF(po_);
-  Py_XDECREF(poses);
-  Py_XDECREF(tw);
-  Py_XDECREF(lam);
-  Py_XDECREF(en);
+  for (int i = 0; i < PHM_NRESULT_FIELDS; i++) Py_XDECREF(ra[i]);
 fail0:
   Py_DECREF(tout);
   Py_XDECREF(P);

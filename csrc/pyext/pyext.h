@@ -36,5 +36,6 @@ extern PyMethodDef phm_py_se3_methods[];
 extern PyMethodDef phm_py_mixed_methods[];
 extern PyMethodDef phm_py_model_methods[];
 extern PyMethodDef phm_py_pair_methods[];
+extern PyMethodDef phm_py_codes_methods[];
 
 #endif
