@@ -19,7 +19,7 @@ static const phm_code actuator_kinds[] = {{"effort", PHM_ACT_EFFORT}, {"pd", PHM
 static const phm_code mass_kinds[] = {
     {"lumped", PHM_MASS_LUMPED}, {"consistent", PHM_MASS_CONSISTENT}, {"given", PHM_MASS_GIVEN}};
 /* The arrays of a simulation's result, in phm_sim_output's order; the value is the position
- * (csrc/pyext/py_model.c allocates and names them from this table). */
+ * (csrc/pyext/py_simulate.c allocates and names them from this table). */
 static const phm_code result_fields[] = {
     {"poses", PHM_RESULT_POSES},     {"twists", PHM_RESULT_TWISTS},   {"lambda", PHM_RESULT_LAMBDA},
     {"energy", PHM_RESULT_ENERGY},   {"joints", PHM_RESULT_JOINTS},   {"jrates", PHM_RESULT_JRATES},
