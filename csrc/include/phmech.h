@@ -52,6 +52,11 @@ double phm_law_eval(const phm_law *law, double t, double tref, double *ds, doubl
  * before evaluating it (phm_model_create checks every law of a description). */
 phm_status phm_law_check(const phm_law *law, const char *what, int idx, phm_error *err);
 
+/* ---------------------------------------------------------------- code tables (csrc/util/codes.c) */
+int phm_code_table_count(void);                                  /* number of code tables          */
+const phm_code_table *phm_code_table_at(int i);                  /* table i; NULL if out of range   */
+const phm_code_table *phm_code_table_named(const char *name);    /* by name ("law_kinds"); NULL if unknown */
+
 /* ---------------------------------------------------------------- mixed finite element (csrc/model/mixed.c) */
 phm_status phm_mixed_check(const phm_mixed_beam *beam, phm_error *err);                  /* finite, positive, N in range, alpha in [0, 1) */
 phm_status phm_mixed_bc_from_name(const char *name, phm_mixed_bc *bc, phm_error *err);   /* "clamped-free", "clamped-clamped", "pinned-pinned", "clamped-pinned" */

@@ -458,4 +458,27 @@ typedef struct {
   double wall_time;                             /* seconds             */
 } phm_sim_output;
 
+/* The arrays of a simulation's result (phm_sim_output's arrays, in its order), by position in
+ * the result-field table (csrc/util/codes.c names them). */
+enum {
+  PHM_RESULT_POSES = 0, PHM_RESULT_TWISTS = 1, PHM_RESULT_LAMBDA = 2, PHM_RESULT_ENERGY = 3,
+  PHM_RESULT_JOINTS = 4, PHM_RESULT_JRATES = 5, PHM_RESULT_EFFORTS = 6,
+  PHM_RESULT_PAIR_WRENCHES = 7, PHM_RESULT_PORTS = 8, PHM_NRESULT_FIELDS = 9
+};
+
+/* ---------------------------------------------------------------- code tables (csrc/util/codes.c) */
+/* One named value of an enum (name lower case, as the enum's). */
+typedef struct {
+  const char *name;
+  int value;
+} phm_code;
+
+/* A named table of codes: "law_kinds", "integrators", "actuator_kinds", "mass_kinds",
+ * "result_fields" (the pair types: phm_pair_type). */
+typedef struct {
+  const char *name;
+  const phm_code *rows;
+  int nrows;
+} phm_code_table;
+
 #endif /* PHMECH_TYPES_H */

@@ -134,10 +134,13 @@ static int coupled_mass_spd(int a, int b, const double Mc[144], const phm_carrie
   return 1;
 }
 
-phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error *err) {
-  phm_error_clear(err);
-  if (!d || !out) return PHM_FAIL(err, PHM_EINVAL, "phm_model_create: NULL argument");
-  *out = NULL;
+/* ---------------------------------------------------------------- phm_model_create, by stage
+ * validate the description (its counts, the masses, the pairs, the forces), allocate the model,
+ * copy the components, compute the mass couplings, copy the laws and their breakpoints, lay out
+ * the pairs' rows. Each check refuses with the first failure, in this order. */
+
+/* The counts and arrays of the description, and gravity. */
+static phm_status validate_counts(const phm_model_desc *d, phm_error *err) {
   if (d->ncarriers < 1) return PHM_FAIL(err, PHM_EINVAL, "model has no carrier (body or beam node)");
   PHM_CHECK(d->carriers && (d->nelements <= 0 || d->elements) && (d->npairs <= 0 || d->pairs) &&
                 (d->nloads <= 0 || d->loads) && (d->nactuators <= 0 || d->actuators) &&
@@ -146,6 +149,11 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   if (d->nelements < 0 || d->npairs < 0 || d->nloads < 0 || d->ncouplings < 0)
     return PHM_FAIL(err, PHM_EINVAL, "negative element, pair, load or coupling count");
   if (!phm_all_finite(d->gravity, 3)) return PHM_FAIL(err, PHM_EINVAL, "gravity has a non-finite entry");
+  return PHM_OK;
+}
+
+/* Carriers, elements and couplings: finite, in range, their inertias positive definite. */
+static phm_status validate_masses(const phm_model_desc *d, phm_error *err) {
   phm_status st;
   for (int i = 0; i < d->ncarriers; i++) {
     const phm_carrier_desc *c = &d->carriers[i];
@@ -186,6 +194,12 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
     if (!coupled_mass_spd(c->a, c->b, c->Mc, d->carriers))
       return PHM_FAIL(err, PHM_EINVAL, "coupling %d: its carriers' inertias plus the coupling are not positive definite", i);
   }
+  return PHM_OK;
+}
+
+/* Pairs: type, carriers, frames, the motion or joint laws that drive them, drop masks. */
+static phm_status validate_pairs(const phm_model_desc *d, phm_error *err) {
+  phm_status st;
   for (int i = 0; i < d->npairs; i++) {
     const phm_pair_desc *p = &d->pairs[i];
     if (p->type < 0 || p->type >= phm_pair_type_count()) return PHM_FAIL(err, PHM_EINVAL, "pair %d: unknown pair type %d", i, p->type);
@@ -215,6 +229,12 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
     if (p->has_x0 && !phm_all_finite(p->x0, 6 - phm_pair_type(p->type)->m))
       return PHM_FAIL(err, PHM_EINVAL, "pair %d: non-finite initial joint coordinates", i);
   }
+  return PHM_OK;
+}
+
+/* Actuators, springs and loads. */
+static phm_status validate_forces(const phm_model_desc *d, phm_error *err) {
+  phm_status st;
   if (d->nactuators < 0 || d->nsprings < 0) return PHM_FAIL(err, PHM_EINVAL, "negative actuator or spring count");
   for (int i = 0; i < d->nactuators; i++) {
     const phm_actuator_desc *a = &d->actuators[i];
@@ -246,9 +266,14 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
     if (!phm_all_finite(l->w, 6) || !phm_all_finite(l->point, 3)) return PHM_FAIL(err, PHM_EINVAL, "load %d: non-finite wrench or point", i);
     if ((st = phm_law_check(&l->law, "load", i, err))) return st;
   }
+  return PHM_OK;
+}
 
+/* The model's arrays for the components of a valid description (not filled), or NULL when out of
+ * memory. */
+static phm_model *model_alloc(const phm_model_desc *d) {
   phm_model *m = calloc(1, sizeof *m);
-  if (!m) return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+  if (!m) return NULL;
   m->nc = d->ncarriers;
   m->ne = d->nelements;
   m->np = d->npairs;
@@ -271,6 +296,63 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   m->pair_AdTbi = malloc(sizeof(double) * (size_t)(36 * m->np + 1));
   m->act = malloc(sizeof *m->act * (size_t)(m->na + 1));
   m->spr = malloc(sizeof *m->spr * (size_t)(m->ns + 1));
+  if (!m->car || !m->el || !m->el_damped || !m->pair || !m->pair_row || !m->pair_m || !m->load ||
+      !m->pair_j || !m->pair_k || !m->xref0 || !m->act || !m->spr || !m->pair_sel || !m->pair_rowf || !m->pair_AdTbi) {
+    phm_model_free(m);
+    return NULL;
+  }
+  return m;
+}
+
+/* The components copied from the description, with what is constant in them (damped elements,
+ * the pairs' Ad_{Tb^-1}). */
+static void copy_components(phm_model *m, const phm_model_desc *d) {
+  memcpy(m->car, d->carriers, sizeof *m->car * (size_t)m->nc);
+  if (m->ne) memcpy(m->el, d->elements, sizeof *m->el * (size_t)m->ne);
+  for (int i = 0; i < m->ne; i++)
+    for (int k = 0; k < 36; k++) m->el_damped[i] |= m->el[i].D[k] != 0.0;
+  if (m->np) memcpy(m->pair, d->pairs, sizeof *m->pair * (size_t)m->np);
+  for (int i = 0; i < m->np; i++) { /* constant: computed once, read by every pair evaluation */
+    double Tbi[16];
+    phm_se3_inverse(m->pair[i].Tb, Tbi);
+    phm_se3_Ad(Tbi, m->pair_AdTbi + 36 * i);
+  }
+  if (m->nl) memcpy(m->load, d->loads, sizeof *m->load * (size_t)m->nl);
+  if (m->na) memcpy(m->act, d->actuators, sizeof *m->act * (size_t)m->na);
+  if (m->ns) memcpy(m->spr, d->springs, sizeof *m->spr * (size_t)m->ns);
+}
+
+/* The mass couplings: consistent and given element masses, then the couplings; 0, or -1 when out
+ * of memory. */
+static int mass_couplings(phm_model *m, const phm_model_desc *d) {
+  for (int i = 0; i < m->ne; i++) m->nmc += m->el[i].mass != PHM_MASS_LUMPED;
+  m->nmc += d->ncouplings;
+  m->mc_a = malloc(sizeof(int) * (size_t)(m->nmc + 1));
+  m->mc_b = malloc(sizeof(int) * (size_t)(m->nmc + 1));
+  m->mc = malloc(sizeof(double) * 144 * (size_t)(m->nmc + 1));
+  m->mc_rows = malloc(sizeof(unsigned short) * 12 * (size_t)(m->nmc + 1));
+  if (!m->mc_a || !m->mc_b || !m->mc || !m->mc_rows) return -1;
+  int k = 0;
+  for (int i = 0; i < m->ne; i++)
+    if (m->el[i].mass != PHM_MASS_LUMPED) {
+      const phm_element_desc *e = &m->el[i];
+      m->mc_a[k] = e->a;
+      m->mc_b[k] = e->b;
+      if (e->mass == PHM_MASS_GIVEN) memcpy(m->mc + 144 * (size_t)k++, e->Mc, 144 * sizeof(double));
+      else phm_element_mass(e->h, e->Ms, e->eps_hat, m->mc + 144 * (size_t)k++);
+    }
+  for (int i = 0; i < d->ncouplings; i++, k++) {
+    m->mc_a[k] = d->couplings[i].a;
+    m->mc_b[k] = d->couplings[i].b;
+    memcpy(m->mc + 144 * (size_t)k, d->couplings[i].Mc, 144 * sizeof(double));
+  }
+  for (k = 0; k < m->nmc; k++) phm_mass_rows(m->mc + 144 * (size_t)k, m->mc_rows + 12 * (size_t)k);
+  return 0;
+}
+
+/* The laws: each copied with its nodes and tables into two arrays the model owns, and the sorted
+ * breakpoints of them all (each once); 0, or -1 when out of memory. */
+static int copy_laws(phm_model *m, const phm_model_desc *d) {
   /* every law the model keeps, to count and copy them in one loop */
   int nlaws = 0;
   for (int i = 0; i < m->na; i++) nlaws += d->actuators[i].kind != PHM_ACT_SPRING;
@@ -282,54 +364,7 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   size_t nnodes = 0, ndoubles = 0;
   int nbp = 0;
   phm_law **laws = malloc(sizeof(phm_law *) * (size_t)(nlaws + 1));
-  if (!m->car || !m->el || !m->el_damped || !m->pair || !m->pair_row || !m->pair_m || !m->load || !laws ||
-      !m->pair_j || !m->pair_k || !m->xref0 || !m->act || !m->spr || !m->pair_sel || !m->pair_rowf || !m->pair_AdTbi) {
-    free(laws);
-    phm_model_free(m);
-    return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
-  }
-  memcpy(m->car, d->carriers, sizeof *m->car * (size_t)m->nc);
-  if (m->ne) memcpy(m->el, d->elements, sizeof *m->el * (size_t)m->ne);
-  for (int i = 0; i < m->ne; i++)
-    for (int k = 0; k < 36; k++) m->el_damped[i] |= m->el[i].D[k] != 0.0;
-  for (int i = 0; i < m->ne; i++) m->nmc += m->el[i].mass != PHM_MASS_LUMPED;
-  m->nmc += d->ncouplings;
-  m->mc_a = malloc(sizeof(int) * (size_t)(m->nmc + 1));
-  m->mc_b = malloc(sizeof(int) * (size_t)(m->nmc + 1));
-  m->mc = malloc(sizeof(double) * 144 * (size_t)(m->nmc + 1));
-  m->mc_rows = malloc(sizeof(unsigned short) * 12 * (size_t)(m->nmc + 1));
-  if (!m->mc_a || !m->mc_b || !m->mc || !m->mc_rows) {
-    free(laws);
-    phm_model_free(m);
-    return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
-  }
-  {
-    int k = 0;
-    for (int i = 0; i < m->ne; i++)
-      if (m->el[i].mass != PHM_MASS_LUMPED) {
-        const phm_element_desc *e = &m->el[i];
-        m->mc_a[k] = e->a;
-        m->mc_b[k] = e->b;
-        if (e->mass == PHM_MASS_GIVEN) memcpy(m->mc + 144 * (size_t)k++, e->Mc, 144 * sizeof(double));
-        else phm_element_mass(e->h, e->Ms, e->eps_hat, m->mc + 144 * (size_t)k++);
-      }
-    for (int i = 0; i < d->ncouplings; i++, k++) {
-      m->mc_a[k] = d->couplings[i].a;
-      m->mc_b[k] = d->couplings[i].b;
-      memcpy(m->mc + 144 * (size_t)k, d->couplings[i].Mc, 144 * sizeof(double));
-    }
-    for (k = 0; k < m->nmc; k++) phm_mass_rows(m->mc + 144 * (size_t)k, m->mc_rows + 12 * (size_t)k);
-  }
-  if (m->np) memcpy(m->pair, d->pairs, sizeof *m->pair * (size_t)m->np);
-  for (int i = 0; i < m->np; i++) { /* constant: computed once, read by every pair evaluation */
-    double Tbi[16];
-    phm_se3_inverse(m->pair[i].Tb, Tbi);
-    phm_se3_Ad(Tbi, m->pair_AdTbi + 36 * i);
-  }
-  if (m->nl) memcpy(m->load, d->loads, sizeof *m->load * (size_t)m->nl);
-  if (m->na) memcpy(m->act, d->actuators, sizeof *m->act * (size_t)m->na);
-  if (m->ns) memcpy(m->spr, d->springs, sizeof *m->spr * (size_t)m->ns);
-  /* the laws: each copied with its nodes and tables into two arrays the model owns */
+  if (!laws) return -1;
   nlaws = 0;
   for (int i = 0; i < m->na; i++) {
     if (m->act[i].kind == PHM_ACT_SPRING) memset(&m->act[i].law, 0, sizeof(phm_law));
@@ -354,14 +389,11 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   m->bp = malloc(sizeof(double) * (size_t)(nbp + 1));
   if (!m->lawnodes || !m->tables || !m->bp) {
     free(laws);
-    phm_model_free(m);
-    return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+    return -1;
   }
   phm_law *np_ = m->lawnodes;
   double *tp = m->tables;
   for (int i = 0; i < nlaws; i++) phm_law_copy(laws[i], &np_, &tp);
-  pair_layout(m);
-  m->nport = m->na + m->nl + m->ns;
   nbp = 0;
   for (int i = 0; i < nlaws; i++) nbp += phm_law_breakpoints(laws[i], m->bp + nbp);
   free(laws);
@@ -370,6 +402,26 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   for (int i = 0; i < nbp; i++)
     if (k == 0 || m->bp[i] > m->bp[k - 1]) m->bp[k++] = m->bp[i];
   m->nbp = k;
+  return 0;
+}
+
+phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error *err) {
+  phm_error_clear(err);
+  if (!d || !out) return PHM_FAIL(err, PHM_EINVAL, "phm_model_create: NULL argument");
+  *out = NULL;
+  phm_status st;
+  if ((st = validate_counts(d, err)) || (st = validate_masses(d, err)) || (st = validate_pairs(d, err)) ||
+      (st = validate_forces(d, err)))
+    return st;
+  phm_model *m = model_alloc(d);
+  if (!m) return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+  copy_components(m, d);
+  if (mass_couplings(m, d) || copy_laws(m, d)) {
+    phm_model_free(m);
+    return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+  }
+  pair_layout(m);
+  m->nport = m->na + m->nl + m->ns;
   double lref = 0;
   for (int i = 0; i < m->ne; i++) lref = fmax(lref, m->el[i].h);
   m->lref = lref > 0 ? lref : 1.0;

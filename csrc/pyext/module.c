@@ -163,7 +163,9 @@ static PyMethodDef module_methods[] = {
     {NULL, NULL, 0, NULL}};
 
 static PyMethodDef *all_tables[] = {module_methods, phm_py_se3_methods, phm_py_mixed_methods,
-                                    phm_py_model_methods, phm_py_pair_methods};
+                                    phm_py_model_methods, phm_py_law_methods, phm_py_simulate_methods,
+                                    phm_py_analysis_methods, phm_py_planar_methods, phm_py_pair_methods,
+                                    phm_py_codes_methods};
 
 static struct PyModuleDef core_module = {PyModuleDef_HEAD_INIT, "phmech._core",
                                          "phmech C core (SE(3) algebra, components, DAE, IDA).", -1,

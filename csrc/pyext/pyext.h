@@ -34,7 +34,12 @@ PyArrayObject *phm_py_double_array(PyObject *obj, const char *what, const npy_in
 /* Method tables of the binding files. */
 extern PyMethodDef phm_py_se3_methods[];
 extern PyMethodDef phm_py_mixed_methods[];
-extern PyMethodDef phm_py_model_methods[];
+extern PyMethodDef phm_py_model_methods[];    /* py_model.c: model_new and its queries */
+extern PyMethodDef phm_py_law_methods[];      /* py_laws.c */
+extern PyMethodDef phm_py_simulate_methods[]; /* py_simulate.c */
+extern PyMethodDef phm_py_analysis_methods[]; /* py_analyses.c: modes, linear model, statics */
+extern PyMethodDef phm_py_planar_methods[];   /* py_planar.c */
 extern PyMethodDef phm_py_pair_methods[];
+extern PyMethodDef phm_py_codes_methods[];
 
 #endif

@@ -49,7 +49,7 @@ def _leaf(law: _Law) -> tuple:
     """The core's tuple of a leaf law (not a Sum or Product)."""
     if isinstance(law, Spline):
         law = law.piecewise()
-    if isinstance(law, Function):   # the core calls back (csrc/pyext/py_model.c, law_callback)
+    if isinstance(law, Function):   # the core calls back (csrc/pyext/py_laws.c, law_callback)
         bp = np.asarray(law.breakpoints, dtype=float) if law.breakpoints else None
         return (_CALLBACK, *_NO, bp, 0, None, _FunctionCall(law))
     kind, fields = _LAWS[type(law)]
@@ -73,7 +73,7 @@ def _postfix(law: _Law, out: list) -> None:
 
 def _law(law: Optional[_Law]) -> Optional[tuple]:
     """The core's law tuple (kind, amplitude, t0, duration, frequency, phase, offset, data,
-    order, nodes, fn) (csrc/pyext/py_model.c, parse_law) of a checked law (laws.checked_law),
+    order, nodes, fn) (csrc/pyext/py_laws.c, phm_py_parse_law) of a checked law (laws.checked_law),
     or None: a leaf's own, or for a Sum or Product an expression (kind EXPR) whose nodes are
     the leaves and operators in postfix order."""
     if law is None:

@@ -165,7 +165,7 @@ class RunMonitor:
     def per_output(self):
         """``on_output`` when an output has something to do in Python (a progress bar, a
         checkpoint, the user's callback), else None: the core then reads ``terminated`` itself
-        at each output (csrc/pyext/py_model.c, interrupt_cb), without a call."""
+        at each output (csrc/pyext/py_run.c, phm_py_interrupt_cb), without a call."""
         return self.on_output if self.progress or self.checkpoint is not None or \
             self.user is not None else None
 

@@ -614,7 +614,7 @@ class Function(_Law):
 
 
 class _FunctionCall:
-    """What the core calls for a Function law (csrc/pyext/py_model.c, law_callback):
+    """What the core calls for a Function law (csrc/pyext/py_laws.c, law_callback):
     ``(t, nder) -> (s, s', s'')``, or None when the function failed, the ModelError then kept in
     ``error`` (the binding raises it when the core returns; later calls fail at once)."""
 
