@@ -28,11 +28,12 @@ static int block_rows(const dae_t *d, const int *nb, int nnb, sunindextype *rows
     cnt += PHM_NSTATE;
   }
   int q0 = q;
-  for (int part = 0; part < 3; part++)
+  for (int part = 0; part < 4; part++) /* joints, components' states, lambda, mu */
     for (q = q0; q < nnb; q++) {
       int ip = nb[q] - nc, first, len;
       if (part == 0) first = d->ix + m->pair_j[ip], len = m->pair_k[ip];
-      else first = (part == 1 ? d->il : d->im) + m->pair_row[ip], len = m->pair_m[ip];
+      else if (part == 1) first = d->iz + m->pair_z[ip], len = m->pair_nz[ip];
+      else first = (part == 2 ? d->il : d->im) + m->pair_row[ip], len = m->pair_m[ip];
       if (rows)
         for (int i = 0; i < len; i++) rows[cnt + i] = first + i;
       cnt += len;
@@ -73,6 +74,7 @@ phm_status dae_jacobian_pattern(dae_t *d, phm_error *err) {
   for (int i = 0; i < d->ix; i++) blk[i] = i / PHM_NSTATE;
   for (int ip = 0; ip < m->np; ip++) {
     for (int c = 0; c < m->pair_k[ip]; c++) blk[d->ix + m->pair_j[ip] + c] = nc + ip;
+    for (int c = 0; c < m->pair_nz[ip]; c++) blk[d->iz + m->pair_z[ip] + c] = nc + ip;
     for (int r = 0; r < m->pair_m[ip]; r++)
       blk[d->il + m->pair_row[ip] + r] = blk[d->im + m->pair_row[ip] + r] = nc + ip;
   }
@@ -248,6 +250,42 @@ static void add_wrench_tangent(void *ctx, int ca, int cb, const double w[12], co
   }
 }
 
+/* The components' part (phm_component_tangent; docs/method.md section 4.11): their wrenches in
+ * the carriers' states (as an actuator's) and in their own states z (-Kz into the momentum rows),
+ * and their rows z' - f: cj - df/dz on z, -df/d pose through the chart, -df/d t in the twists. */
+static void jacobian_components(dae_t *d, double time, double cj, const double *y, double *val,
+                                dae_sink *sink) {
+  const phm_model *m = d->m;
+  const phm_data *D = &d->data;
+  for (int ic = 0; ic < m->ncomp; ic++) {
+    const phm_pair_desc *pr = &m->pair[m->comp[ic].pair];
+    int nzc = phm_component_nstates(&m->comp[ic]), zc = d->iz + m->comp_z[ic], ab[2] = {pr->a, pr->b};
+    double w[12], Kx[144], Kt[144], Kz[12 * PHM_COMP_MAXZ], Fx[12 * PHM_COMP_MAXZ];
+    double Ft[12 * PHM_COMP_MAXZ], Fz[PHM_COMP_MAXZ * PHM_COMP_MAXZ];
+    phm_component_tangent(m, ic, D->pair, D->H, D->tw, y + d->ix, y + d->iz, time, d->tref, w, Kx,
+                          Kt, Kz, Fx, Ft, Fz);
+    add_wrench_tangent(sink, pr->a, pr->b, w, Kx, Kt);
+    if (nzc == 0) continue;
+    for (int i = 0; i < nzc * nzc; i++) Fz[i] = -Fz[i];
+    for (int i = 0; i < nzc; i++) Fz[nzc * i + i] += cj;
+    add_block(d, val, zc, nzc, zc, nzc, Fz, nzc);
+    for (int s = 0; s < 2; s++) {
+      int cs = ab[s];
+      if (cs < 0) continue;
+      double mz[6 * PHM_COMP_MAXZ], E[12], blk[PHM_COMP_MAXZ * 7], ft[PHM_COMP_MAXZ * 6];
+      for (int i = 0; i < 6; i++)
+        for (int j = 0; j < nzc; j++) mz[nzc * i + j] = -Kz[nzc * (6 * s + i) + j];
+      add_block(d, val, PHM_NSTATE * cs + 7, 6, zc, nzc, mz, nzc);
+      quat_chart(y + PHM_NSTATE * cs, E);
+      to_chart(Fx + 6 * s, 12, nzc, E, D->H + 16 * cs, -1.0, blk, 7);
+      add_block(d, val, zc, nzc, PHM_NSTATE * cs, 7, blk, 7);
+      for (int i = 0; i < nzc; i++)
+        for (int j = 0; j < 6; j++) ft[6 * i + j] = -Ft[12 * i + 6 * s + j];
+      add_block(d, val, zc, nzc, PHM_NSTATE * cs + 7, 6, ft, 6);
+    }
+  }
+}
+
 /* The closed-form part of the Jacobian at (y, y') (the poses, twists, pairs and G^T mu in
  * d->data): each carrier's kinematic rows q' = 1/2 q (x) (0, w + dw), p' = R (v + dv) ((dw, dv) =
  * G^T mu; or in its body frame, body_kinematics_block) and momentum rows M t' - ad*_t M t -
@@ -334,6 +372,7 @@ static void jacobian_closed_form(dae_t *d, double time, double cj, const double 
   /* actuators, loads, springs: at the pairs' evaluation of this state (dae_pair_rows) */
   phm_applied_tangent(m, D->pair, D->H, D->tw, y + d->ix, time, d->tref, 1.0, add_wrench_tangent,
                       &sink);
+  jacobian_components(d, time, cj, y, val, &sink);
 }
 
 /* The pairs' part of the Jacobian in closed form (phm_pair_tangent; docs/method.md sections 4.3,
