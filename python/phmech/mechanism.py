@@ -751,6 +751,20 @@ class Mechanism:
         self._acts.append(act)
 
     @_recorded
+    def add_component(self, name: str, pair: str, component) -> None:
+        """A component with internal states (``phmech.components``: ViscousFriction,
+        CoulombFriction, StribeckFriction, LuGreFriction, DCMotor) named ``name`` on the revolute
+        or prismatic pair named ``pair``; its states are in ``res.components[name]``."""
+        from .components import component_row
+        if not isinstance(pair, str):
+            raise ModelError(f"component {name!r}: pair must be given by its name (got {pair!r})")
+        e = self._pair_entry(pair)
+        self._check_name(name)
+        row = component_row(name, e, self._pairs.index(e), component)
+        self._new_name(name)
+        self._desc.components.append(row)
+
+    @_recorded
     def add_spring_damper(self, name: str, a, b, k: float, c: float = 0.0,
                           rest_length: Optional[float] = None, point_a=(0.0, 0.0, 0.0),
                           point_b=(0.0, 0.0, 0.0)) -> None:
@@ -1323,7 +1337,18 @@ class Mechanism:
                                 _mass=np.array([c["mass"] for c in self._car], dtype=float),
                                 _com=np.array([c["com"] for c in self._car], dtype=float),
                                 _bodies=dict(self._bodies),
+                                components=self._component_states(r["components"][:k]),
                                 **self._desc.mass_couplings())
+
+    def _component_states(self, zs: np.ndarray) -> dict:
+        """name -> {state name: its values over the outputs} of every component with internal
+        states (python/phmech/components.py), from the core's state array ``zs`` (nout, nz)."""
+        from .components import STATE_NAMES, state_layout
+        rows = self._desc.components
+        lay = state_layout(rows)
+        return {r["name"]: {sn: zs[:, lay[r["name"]][0] + j].copy()
+                            for j, sn in enumerate(STATE_NAMES[r["kind"]][:r["nstates"]])}
+                for r in rows if r["nstates"]}
 
     def _check_outputs(self, span: float, record) -> None:
         """ModelError when (t_end - t_start) / dt_out output times would take more than half the
