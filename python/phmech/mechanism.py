@@ -750,6 +750,15 @@ class Mechanism:
         self._new_name(name)
         self._acts.append(act)
 
+    def _no_components(self, what: str) -> None:
+        """ModelError: the analyses (modes, linearize, static) do not yet include the components
+        with internal states, which only simulate integrates (issue 29, item 6)."""
+        if self._desc.components:
+            names = ", ".join(repr(r["name"]) for r in self._desc.components)
+            raise ModelError(f"{what}: the components {names} (friction, motors) are not part of "
+                             f"the linearized and static analyses yet; only simulate() includes "
+                             f"them")
+
     @_recorded
     def add_component(self, name: str, pair: str, component) -> None:
         """A component with internal states (``phmech.components``: ViscousFriction,
@@ -1561,6 +1570,7 @@ class Mechanism:
         (its value or rate differs from t = 0's) a ModelError names the pair and the values:
         the initial configuration holds it at s(0), and modes there would be the t = 0 ones
         (drive it with ``law.shifted(-time)`` and call modes() at time 0 instead)."""
+        self._no_components("modes")
         n = integer("n", n, 1)
         time = real("time", time)
         self._check_linearization_time("modes", time, at)
@@ -1643,6 +1653,7 @@ class Mechanism:
         in K); a driven pair whose law has moved by ``time`` is refused as in :meth:`modes`.
         About a configuration that is not a static equilibrium an EquilibriumWarning says so,
         as :meth:`modes` does: K is the tangent there and x = 0 is no rest state."""
+        self._no_components("linearize")
         from . import linear
 
         time = real("time", time)
@@ -1726,6 +1737,7 @@ class Mechanism:
         part, what moves and the generalized force; the error's ``free_motions`` lists them
         (FreeMotion; docs/method.md section 7.3, "No equilibrium"). A motion nothing resists on
         which the loads do no work leaves the equilibrium not unique: one is returned."""
+        self._no_components("static")
         extra = []
         if not isinstance(loads, (list, tuple)):
             raise ModelError(f"static loads: expected a list of (target, wrench, frame) tuples "
