@@ -172,3 +172,13 @@ def test_bad_components_are_named():
     m2.add_component("d", "hub", ph.ViscousFriction(1.0))
     with pytest.raises(ph.ModelError, match="modes: the components 'd'"):
         m2.modes()
+
+
+def test_components_are_saved_in_model_files(tmp_path):
+    m = _stick_slip()
+    path = tmp_path / "stick_slip.json"
+    m.save(path)
+    again = ph.load(path)
+    a = m.simulate(8.0, 0.01, integrator="ida", rtol=1e-8)
+    b = again.simulate(8.0, 0.01, integrator="ida", rtol=1e-8)
+    assert np.array_equal(a.components["friction"]["z"], b.components["friction"]["z"])

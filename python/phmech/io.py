@@ -72,7 +72,7 @@ from typing import Any, Callable, Optional
 
 import numpy as np
 
-from . import actuators, laws, pairs, section
+from . import actuators, components, laws, pairs, section
 from ._core import ModelError
 from .frames import Body, FlexibleLink, Frame
 
@@ -257,8 +257,9 @@ register(FlexibleLink, "FlexibleLink", *_named("flexible link", "_links"))
 for _cls in (laws.Constant, laws.Step, laws.Pulse, laws.Sine, laws.Table, laws.Cycloidal,
              laws.Linear, laws.PiecewisePolynomial, laws.Spline, laws.Sum, laws.Product,
              laws.Motion, actuators.Effort, actuators.PD, actuators.Spring, section.Material,
-             section.Section, section.BeamProperties,
-             *(getattr(pairs, t.name) for t in pairs.PAIR_TYPES)):
+             section.Section, section.BeamProperties, components.ViscousFriction,
+             components.CoulombFriction, components.StribeckFriction, components.LuGreFriction,
+             components.DCMotor, *(getattr(pairs, t.name) for t in pairs.PAIR_TYPES)):
     register_dataclass(_cls)
 
 
