@@ -265,13 +265,16 @@ typedef struct {
  *                                                                       par: s0, s1, s2, Fc, Fs, vs
  *   MOTOR    (1: i, or 0 with a current input) L i' = V(t) - R i - k n v, u = eta n k i
  *                                                                       par: L, R, k, n, eta, J
+ *   LINEAR   (nx: xc) a linear controller on the measurement y = (x - r(t), v):
+ *                     xc' = A xc + B y, u = C xc + D y      par: A (nx x nx), B (nx x 2), C (nx), D (2)
  * with v = xdot_c and g(v) = Fc + (Fs - Fc) exp(-(v/vs)^2). A motor's rotor inertia J enters as
- * the reflected inertia J n^2 on the joint (a kinetic coupling, phm_model_create). */
+ * the reflected inertia J n^2 on the joint (a kinetic coupling, phm_model_create). A linear
+ * controller is a source: its power u v is supplied (as an actuator's). */
 typedef enum {
   PHM_COMP_VISCOUS = 0, PHM_COMP_COULOMB = 1, PHM_COMP_STRIBECK = 2, PHM_COMP_LUGRE = 3,
-  PHM_COMP_MOTOR = 4, PHM_NCOMP_KINDS = 5
+  PHM_COMP_MOTOR = 4, PHM_COMP_LINEAR = 5, PHM_NCOMP_KINDS = 6
 } phm_component_kind;
-#define PHM_COMP_NPAR 8 /* parameters per component                                        */
+#define PHM_COMP_NPAR 32 /* parameters per component                                       */
 #define PHM_COMP_MAXZ 4 /* internal states per component, at most                          */
 
 typedef struct {
@@ -279,7 +282,8 @@ typedef struct {
   int pair, coord;   /* the pair and its joint coordinate                                 */
   double par[PHM_COMP_NPAR];
   int input;         /* MOTOR: 0 the law is the voltage V(t) [V], 1 the current i(t) [A]  */
-  phm_law law;       /* MOTOR: its input; unused otherwise                                */
+  int nx;            /* LINEAR: its states (0 .. PHM_COMP_MAXZ)                            */
+  phm_law law;       /* MOTOR: its input; LINEAR: the reference r(t); unused otherwise    */
   double z0[PHM_COMP_MAXZ]; /* initial internal states                                    */
 } phm_component_desc;
 

@@ -18,11 +18,12 @@
 
 static const char *const kind_name[PHM_NCOMP_KINDS] = {"viscous friction", "Coulomb friction",
                                                         "Stribeck friction", "LuGre friction",
-                                                        "DC motor"};
+                                                        "DC motor", "linear controller"};
 
 int phm_component_nstates(const phm_component_desc *c) {
   if (c->kind == PHM_COMP_LUGRE) return 1;
   if (c->kind == PHM_COMP_MOTOR) return c->input == 0 ? 1 : 0;
+  if (c->kind == PHM_COMP_LINEAR) return c->nx;
   return 0;
 }
 
@@ -56,6 +57,9 @@ phm_status phm_components_validate(const phm_model_desc *d, phm_error *err) {
     case PHM_COMP_LUGRE:
       ok = par_ok(p[0], 0, 1) && par_ok(p[1], 0, 0) && par_ok(p[2], 0, 0) && par_ok(p[3], 0, 1) &&
            par_ok(p[4], 0, 1) && par_ok(p[5], 0, 1);
+      break;
+    case PHM_COMP_LINEAR:
+      ok = c->nx >= 0 && c->nx <= PHM_COMP_MAXZ && phm_all_finite(p, PHM_COMP_NPAR);
       break;
     case PHM_COMP_MOTOR:
       ok = (c->input == 0 || c->input == 1) && par_ok(p[0], 0, c->input == 0) && par_ok(p[1], 0, 0) &&
@@ -217,6 +221,28 @@ void phm_component_eval(const phm_component_desc *c, double x, double v, const d
     e->V = 0.5 * L * i * i;
     e->Ps = V * i;
     e->Pd = R * i * i + (1 - eta) * n * k * i * v; /* copper, and the gear's loss */
+    break;
+  }
+  case PHM_COMP_LINEAR: { /* xc' = A xc + B y, u = C xc + D y, y = (x - r(t), v) */
+    int nx = c->nx;
+    const double *A = p, *B = p + nx * nx, *C = B + 2 * nx, *D = C + nx;
+    double r = phm_law_eval(&c->law, time, tref, NULL, NULL), y0 = x - r;
+    for (int i = 0; i < nx; i++) {
+      double f = B[2 * i] * y0 + B[2 * i + 1] * v;
+      for (int j = 0; j < nx; j++) {
+        f += A[nx * i + j] * z[j];
+        e->df_z[PHM_COMP_MAXZ * i + j] = A[nx * i + j];
+      }
+      e->f[i] = f;
+      e->df_x[i] = B[2 * i];
+      e->df_v[i] = B[2 * i + 1];
+      e->du_z[i] = C[i];
+    }
+    e->u = D[0] * y0 + D[1] * v;
+    for (int i = 0; i < nx; i++) e->u += C[i] * z[i];
+    e->du_x = D[0];
+    e->du_v = D[1];
+    e->Ps = e->u * v; /* a source, as an actuator: its power is supplied */
     break;
   }
   }

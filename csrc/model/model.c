@@ -368,7 +368,8 @@ static int copy_laws(phm_model *m, const phm_model_desc *d) {
     for (int c = 0; c < 6; c++) nlaws += d->pairs[i].xdriven >> c & 1;
   }
   nlaws += m->nl;
-  for (int i = 0; i < m->ncomp; i++) nlaws += m->comp[i].kind == PHM_COMP_MOTOR;
+  for (int i = 0; i < m->ncomp; i++)
+    nlaws += m->comp[i].kind == PHM_COMP_MOTOR || m->comp[i].kind == PHM_COMP_LINEAR;
   size_t nnodes = 0, ndoubles = 0;
   int nbp = 0;
   phm_law **laws = malloc(sizeof(phm_law *) * (size_t)(nlaws + 1));
@@ -389,7 +390,8 @@ static int copy_laws(phm_model *m, const phm_model_desc *d) {
   }
   for (int i = 0; i < m->nl; i++) laws[nlaws++] = &m->load[i].law;
   for (int i = 0; i < m->ncomp; i++) {
-    if (m->comp[i].kind == PHM_COMP_MOTOR) laws[nlaws++] = &m->comp[i].law;
+    if (m->comp[i].kind == PHM_COMP_MOTOR || m->comp[i].kind == PHM_COMP_LINEAR)
+      laws[nlaws++] = &m->comp[i].law;
     else memset(&m->comp[i].law, 0, sizeof(phm_law));
   }
   for (int i = 0; i < nlaws; i++) {

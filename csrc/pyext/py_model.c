@@ -105,6 +105,7 @@ static const column component_columns[] = {
     INDEX("coord", "component coordinates", phm_component_desc, coord, "coordinate of component"),
     VECTOR("par", "component parameters", phm_component_desc, par, PHM_COMP_NPAR),
     INDEX("input", "component inputs", phm_component_desc, input, "input of component"),
+    INDEX("nx", "component state counts", phm_component_desc, nx, "state count of component"),
     VECTOR("z0", "component initial states", phm_component_desc, z0, PHM_COMP_MAXZ),
     LAW("law", "component laws", phm_component_desc, law, "component law", LAW_OR_NONE),
 };

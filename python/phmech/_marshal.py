@@ -156,9 +156,11 @@ def _description_columns(desc: ModelDescription) -> dict:
 
 def _component_columns(rows: Sequence[dict]) -> dict:
     """The component rows' columns of ``components`` (python/phmech/components.py)."""
+    from .components import MAXZ, NPAR
     return dict(kind=np.array([r["code"] for r in rows], dtype=float), pair=_column(rows, "pair"),
-                coord=_column(rows, "coord"), par=_column(rows, "par", (8,)),
-                input=_column(rows, "input"), z0=_column(rows, "z0", (4,)),
+                coord=_column(rows, "coord"), par=_column(rows, "par", (NPAR,)),
+                input=_column(rows, "input"), nx=_column(rows, "nstates"),
+                z0=_column(rows, "z0", (MAXZ,)),
                 law=[_law(r["law"]) for r in rows])
 
 

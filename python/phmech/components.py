@@ -23,7 +23,11 @@ Friction laws (v the joint rate, g(v) = Fc + (Fs - Fc) exp(-(v/vs)^2) the Stribe
 ``DCMotor(L, R, k, J, ratio, efficiency, voltage=law | current=law)``: armature
 L i' = V(t) - R i - k n v, joint effort u = efficiency n k i, rotor inertia J reflected to the
 joint as J n^2 (n the gear ratio, motor speed n v); storage L i^2 / 2, supplied power V i,
-dissipated R i^2 + (1 - efficiency) n k i v (copper and gear losses)."""
+dissipated R i^2 + (1 - efficiency) n k i v (copper and gear losses).
+
+``LinearController(A, B, C, D, reference)``: a linear state-space controller on the coordinate's
+error and rate, its states in the DAE (a compiled route for feedback: no Python call per
+residual)."""
 from __future__ import annotations
 
 import dataclasses
@@ -36,12 +40,12 @@ from ._core import ModelError
 from .laws import checked_law
 
 __all__ = ["ViscousFriction", "CoulombFriction", "StribeckFriction", "LuGreFriction", "DCMotor",
-           "component_row", "STATE_NAMES"]
+           "LinearController", "component_row"]
 
 #: the core's component kinds (csrc/include/phmech_types.h, phm_component_kind)
-_KINDS = {"viscous": 0, "coulomb": 1, "stribeck": 2, "lugre": 3, "motor": 4}
-#: names of each kind's internal states (a current-driven motor has none)
-STATE_NAMES = {"viscous": (), "coulomb": (), "stribeck": (), "lugre": ("z",), "motor": ("i",)}
+_KINDS = {"viscous": 0, "coulomb": 1, "stribeck": 2, "lugre": 3, "motor": 4, "linear": 5}
+#: parameters and internal states per component, at most (PHM_COMP_NPAR, PHM_COMP_MAXZ)
+NPAR, MAXZ = 32, 4
 
 
 @dataclasses.dataclass(frozen=True)
@@ -102,6 +106,44 @@ class DCMotor:
     i0: float = 0.0
 
 
+@dataclasses.dataclass(frozen=True)
+class LinearController:
+    """A linear state-space controller on the pair's coordinate, its states xc (at most 4) in
+    the DAE: with the measurement y = (x - reference(t), v) (the coordinate's error [m or rad]
+    and its rate),
+
+        xc' = A xc + B y,     u = C xc + D y       (u: the effort on the coordinate, N or N m).
+
+    A (n, n), B (n, 2), C (n,), D (2,); n = 0 (A, B, C empty) is a static gain, e.g. a PD
+    D = (-kp, -kd); an integral action is a state xc' = x - r with C = -ki. ``reference``: a
+    law or a number [m or rad]; ``x0``: the initial states (zeros). The controller is a source:
+    its power u v is supplied energy (as an actuator's), and its states store none."""
+    A: object = ()
+    B: object = ()
+    C: object = ()
+    D: object = (0.0, 0.0)
+    reference: object = 0.0
+    x0: object = None
+
+
+def _matrix(what: str, v, shape: tuple) -> np.ndarray:
+    """``v`` as a finite float array of ``shape``; ModelError naming ``what`` otherwise."""
+    try:
+        a = np.asarray(v, dtype=float)
+    except (TypeError, ValueError):
+        raise ModelError(f"{what}: expected numbers of shape {shape}") from None
+    if a.size == 0 and 0 in shape:
+        return a.reshape(shape)
+    if a.shape != shape:
+        try:
+            a = a.reshape(shape)
+        except ValueError:
+            raise ModelError(f"{what}: expected shape {shape}, got {np.shape(v)}") from None
+    if not np.all(np.isfinite(a)):
+        raise ModelError(f"{what}: not finite")
+    return a
+
+
 def _params(what: str, comp, names: tuple) -> list:
     """The named parameters of ``comp`` as floats; ModelError naming a missing one."""
     out = []
@@ -116,13 +158,30 @@ def _params(what: str, comp, names: tuple) -> list:
 def component_row(name: str, pair_row: dict, index: int, comp) -> dict:
     """The description row of component ``comp`` named ``name`` on the pair row ``pair_row`` (at
     position ``index`` among the pairs), validated (ModelError naming the component otherwise):
-    kind, pair, coord, par (8), input, z0 (4), law, nstates."""
+    kind, pair, coord, par (NPAR), input, z0 (MAXZ), law, nstates, states (their names)."""
     what = f"component {name!r}"
     tname = type(pair_row["pair"]).__name__.lower()
     if tname not in ("revolute", "prismatic"):
         raise ModelError(f"{what}: friction and motors act on revolute and prismatic pairs only "
                          f"(pair {pair_row['name']!r} is {type(pair_row['pair']).__name__})")
-    par, z0, law, inp = np.zeros(8), np.zeros(4), None, 0
+    par, z0, law, inp, states = np.zeros(NPAR), np.zeros(MAXZ), None, 0, ()
+    if isinstance(comp, LinearController):
+        A = np.asarray(comp.A, dtype=float) if np.size(comp.A) else np.zeros((0, 0))
+        n = int(round(np.sqrt(A.size)))
+        if n > MAXZ:
+            raise ModelError(f"{what}: {n} controller states, at most {MAXZ}")
+        A = _matrix(f"{what}: A", comp.A, (n, n))
+        B = _matrix(f"{what}: B", comp.B, (n, 2))
+        C = _matrix(f"{what}: C", comp.C, (n,))
+        D = _matrix(f"{what}: D", comp.D, (2,))
+        p = [*A.ravel(), *B.ravel(), *C, *D]
+        par[:len(p)] = p
+        if comp.x0 is not None:
+            z0[:n] = _matrix(f"{what}: x0", comp.x0, (n,))
+        law = checked_law(comp.reference, f"{what}: reference", numbers_too=True)
+        states = tuple(f"x{j}" for j in range(n))
+        return dict(name=name, kind="linear", code=_KINDS["linear"], pair=index, coord=0,
+                    par=par, input=0, z0=z0, law=law, nstates=n, states=states)
     if isinstance(comp, ViscousFriction):
         kind, p = "viscous", _params(what, comp, ("c",))
         ok = p[0] >= 0
@@ -149,14 +208,14 @@ def component_row(name: str, pair_row: dict, index: int, comp) -> dict:
         z0[0] = real(f"{what}: i0", comp.i0)
     else:
         raise ModelError(f"{what}: expected ViscousFriction, CoulombFriction, StribeckFriction, "
-                         f"LuGreFriction or DCMotor (got {type(comp).__name__})")
+                         f"LuGreFriction, DCMotor or LinearController (got {type(comp).__name__})")
     if not ok:
         raise ModelError(f"{what}: a parameter is out of range ({kind}: {p}; see "
                          f"phmech.components for each one's range)")
     par[:len(p)] = p
-    nstates = 0 if (kind == "motor" and inp == 1) else len(STATE_NAMES[kind])
+    states = {"lugre": ("z",), "motor": ("i",) if inp == 0 else ()}.get(kind, ())
     return dict(name=name, kind=kind, code=_KINDS[kind], pair=index, coord=0, par=par,
-                input=inp, z0=z0, law=law, nstates=nstates)
+                input=inp, z0=z0, law=law, nstates=len(states), states=states)
 
 
 def state_layout(rows: list) -> dict:

@@ -259,7 +259,7 @@ for _cls in (laws.Constant, laws.Step, laws.Pulse, laws.Sine, laws.Table, laws.C
              laws.Motion, actuators.Effort, actuators.PD, actuators.Spring, section.Material,
              section.Section, section.BeamProperties, components.ViscousFriction,
              components.CoulombFriction, components.StribeckFriction, components.LuGreFriction,
-             components.DCMotor, *(getattr(pairs, t.name) for t in pairs.PAIR_TYPES)):
+             components.DCMotor, components.LinearController, *(getattr(pairs, t.name) for t in pairs.PAIR_TYPES)):
     register_dataclass(_cls)
 
 

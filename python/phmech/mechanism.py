@@ -762,7 +762,8 @@ class Mechanism:
     @_recorded
     def add_component(self, name: str, pair: str, component) -> None:
         """A component with internal states (``phmech.components``: ViscousFriction,
-        CoulombFriction, StribeckFriction, LuGreFriction, DCMotor) named ``name`` on the revolute
+        CoulombFriction, StribeckFriction, LuGreFriction, DCMotor, LinearController) named
+        ``name`` on the revolute
         or prismatic pair named ``pair``; its states are in ``res.components[name]``."""
         from .components import component_row
         if not isinstance(pair, str):
@@ -1352,11 +1353,11 @@ class Mechanism:
     def _component_states(self, zs: np.ndarray) -> dict:
         """name -> {state name: its values over the outputs} of every component with internal
         states (python/phmech/components.py), from the core's state array ``zs`` (nout, nz)."""
-        from .components import STATE_NAMES, state_layout
+        from .components import state_layout
         rows = self._desc.components
         lay = state_layout(rows)
         return {r["name"]: {sn: zs[:, lay[r["name"]][0] + j].copy()
-                            for j, sn in enumerate(STATE_NAMES[r["kind"]][:r["nstates"]])}
+                            for j, sn in enumerate(r["states"])}
                 for r in rows if r["nstates"]}
 
     def _check_outputs(self, span: float, record) -> None:

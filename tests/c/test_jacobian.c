@@ -23,7 +23,7 @@ typedef struct {
   phm_load_desc load[1];
   phm_spring_desc spr[1];
   phm_actuator_desc act[2];
-  phm_component_desc comp[6];
+  phm_component_desc comp[7];
   phm_model_desc d;
 } builder;
 
@@ -334,9 +334,13 @@ static void components_are_closed_form(void) {
   b.comp[3] = (phm_component_desc){.kind = PHM_COMP_COULOMB, .pair = 1, .par = {0.7, 0.5}};
   b.comp[4] = (phm_component_desc){.kind = PHM_COMP_VISCOUS, .pair = 1, .par = {0.3}};
   b.comp[5] = (phm_component_desc){.kind = PHM_COMP_MOTOR, .pair = 1, .input = 1, .par = {0.5, 2, 0.3, 4, 0.9, 0}, .law = volt};
-  b.d.ncomponents = 6;
+  /* a linear controller with two states: A (2 x 2), B (2 x 2), C (2), D (2), a sine reference */
+  b.comp[6] = (phm_component_desc){.kind = PHM_COMP_LINEAR, .pair = 1, .nx = 2, .law = volt,
+                                   .par = {-1, 0.5, -0.3, -2, 1, 0.2, 3, -0.4, -5, 0.7, -20, -3}};
+  b.d.ncomponents = 7;
   b.d.components = b.comp;
-  compare("J = central FD: LuGre, motors (voltage with J, current), Stribeck, Coulomb, viscous", &b, 1e-7);
+  compare("J = central FD: LuGre, motors (voltage with J, current), Stribeck, Coulomb, viscous, "
+          "a linear controller", &b, 1e-7);
   b.pair[0].type = pair_code("revolute");
   b.comp[0].pair = b.comp[1].pair = 0;
   compare("J = central FD: LuGre and a motor with J on a revolute to the ground, the rest between two", &b, 1e-7);
