@@ -182,6 +182,9 @@ def test_components_are_saved_in_model_files(tmp_path):
     a = m.simulate(8.0, 0.01, integrator="ida", rtol=1e-8)
     b = again.simulate(8.0, 0.01, integrator="ida", rtol=1e-8)
     assert np.array_equal(a.components["friction"]["z"], b.components["friction"]["z"])
+    a.to_netcdf(tmp_path / "run.nc")             # results keep the states too
+    back = ph.load_result(tmp_path / "run.nc")
+    assert np.array_equal(back.components["friction"]["z"], a.components["friction"]["z"])
 
 
 def test_linear_controller_closed_loop_poles_match_scipy():

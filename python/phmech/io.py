@@ -614,6 +614,12 @@ def simulation_dataset(res):
         "model_carrier": ("model_carrier", np.arange(ncar)),
         "model_carrier_name": ("model_carrier", names),
     }
+    states = [(n, q) for n, d in res.components.items() for q in d]
+    if states:   # the components' internal states (python/phmech/components.py), when any
+        data["component_states"] = (("time", "component_state"),
+                                    np.column_stack([res.components[n][q] for n, q in states]),
+                                    dict(long_name="components' internal states (A, m, rad, ...)"))
+        coords["component_state"] = ("component_state", [f"{n}.{q}" for n, q in states])
     meta = dict(stats=encode_value(dict(res.stats)), interrupted=bool(res.interrupted),
                 recorded=res.carriers is not None,
                 pairs=encode_value(res._pairs), redundant=encode_value(res.redundant_constraints),
@@ -748,7 +754,19 @@ def load_result(path):
         _couplings=a("couplings") if "couplings" in ds else np.zeros((0, 12, 12)),
         # a file from before the fields (or without couplings): the masses on their carriers
         _coupled_fields=a("coupled_fields") if "coupled_fields" in ds
-        else np.zeros((ds.sizes.get("coupled_element", 0), 5)))
+        else np.zeros((ds.sizes.get("coupled_element", 0), 5)),
+        components=_component_states(ds))
+
+
+def _component_states(ds) -> dict:
+    """name -> {state: values} of a dataset's component states (none in older files)."""
+    out: dict = {}
+    if "component_states" in ds:
+        zs = np.asarray(ds["component_states"].values)
+        for j, label in enumerate(ds["component_state"].values):
+            n, q = str(label).rsplit(".", 1)
+            out.setdefault(n, {})[q] = zs[:, j].copy()
+    return out
 
 
 def simulation_dataframe(res):
