@@ -250,38 +250,58 @@ static void add_wrench_tangent(void *ctx, int ca, int cb, const double w[12], co
   }
 }
 
-/* The components' part (phm_component_tangent; docs/method.md section 4.11): their wrenches in
- * the carriers' states (as an actuator's) and in their own states z (-Kz into the momentum rows),
- * and their rows z' - f: cj - df/dz on z, -df/d pose through the chart, -df/d t in the twists. */
+/* The components' part (phm_component_tangent; docs/method.md section 4.11): their wrenches B u
+ * at fixed u (as an actuator's, -Ku), u's change with the measured pair's carriers (the rows of
+ * the driven pair's carriers: -B gq through the chart, -B gt in the twists) and with their own
+ * states z (-B du/dz), and their rows z' - f: cj - df/dz on z, -df/d pose through the chart,
+ * -df/dt in the twists of the measured pair's carriers. */
 static void jacobian_components(dae_t *d, double time, double cj, const double *y, double *val,
                                 dae_sink *sink) {
   const phm_model *m = d->m;
   const phm_data *D = &d->data;
   for (int ic = 0; ic < m->ncomp; ic++) {
-    const phm_pair_desc *pr = &m->pair[m->comp[ic].pair];
-    int nzc = phm_component_nstates(&m->comp[ic]), zc = d->iz + m->comp_z[ic], ab[2] = {pr->a, pr->b};
-    double w[12], Kx[144], Kt[144], Kz[12 * PHM_COMP_MAXZ], Fx[12 * PHM_COMP_MAXZ];
+    const phm_component_desc *c = &m->comp[ic];
+    const phm_pair_desc *pr = &m->pair[c->pair];
+    int sp = c->kind == PHM_COMP_LINEAR && c->spair >= 0 ? c->spair : c->pair;
+    int nzc = phm_component_nstates(c), zc = d->iz + m->comp_z[ic];
+    int ab[2] = {pr->a, pr->b}, cs[2] = {m->pair[sp].a, m->pair[sp].b};
+    double w[12], Ku[144], B[12], gq[12], gt[12], Kz[12 * PHM_COMP_MAXZ], Fx[12 * PHM_COMP_MAXZ];
     double Ft[12 * PHM_COMP_MAXZ], Fz[PHM_COMP_MAXZ * PHM_COMP_MAXZ];
-    phm_component_tangent(m, ic, D->pair, D->H, D->tw, y + d->ix, y + d->iz, time, d->tref, w, Kx,
-                          Kt, Kz, Fx, Ft, Fz);
-    add_wrench_tangent(sink, pr->a, pr->b, w, Kx, Kt);
+    phm_component_tangent(m, ic, D->pair, D->H, D->tw, y + d->ix, y + d->iz, time, d->tref, w, Ku,
+                          B, gq, gt, Kz, Fx, Ft, Fz);
+    add_wrench_tangent(sink, pr->a, pr->b, w, Ku, NULL);
+    for (int s = 0; s < 2; s++) { /* the measured carrier c_s's states */
+      if (cs[s] < 0) continue;
+      double E[12];
+      quat_chart(y + PHM_NSTATE * cs[s], E);
+      for (int r = 0; r < 2; r++) { /* in the momentum rows of the driven carrier c_r */
+        if (ab[r] < 0) continue;
+        double K[36], blk[6 * PHM_NSTATE];
+        for (int i = 0; i < 6; i++)
+          for (int j = 0; j < 6; j++) K[6 * i + j] = B[6 * r + i] * gq[6 * s + j];
+        to_chart(K, 6, 6, E, D->H + 16 * cs[s], -1.0, blk, PHM_NSTATE);
+        for (int i = 0; i < 6; i++)
+          for (int j = 0; j < 6; j++) blk[PHM_NSTATE * i + 7 + j] = -B[6 * r + i] * gt[6 * s + j];
+        add_block(d, val, PHM_NSTATE * ab[r] + 7, 6, PHM_NSTATE * cs[s], PHM_NSTATE, blk, PHM_NSTATE);
+      }
+      if (nzc == 0) continue;
+      double blk[PHM_COMP_MAXZ * 7], ft[PHM_COMP_MAXZ * 6];
+      to_chart(Fx + 6 * s, 12, nzc, E, D->H + 16 * cs[s], -1.0, blk, 7);
+      add_block(d, val, zc, nzc, PHM_NSTATE * cs[s], 7, blk, 7);
+      for (int i = 0; i < nzc; i++)
+        for (int j = 0; j < 6; j++) ft[6 * i + j] = -Ft[12 * i + 6 * s + j];
+      add_block(d, val, zc, nzc, PHM_NSTATE * cs[s] + 7, 6, ft, 6);
+    }
     if (nzc == 0) continue;
     for (int i = 0; i < nzc * nzc; i++) Fz[i] = -Fz[i];
     for (int i = 0; i < nzc; i++) Fz[nzc * i + i] += cj;
     add_block(d, val, zc, nzc, zc, nzc, Fz, nzc);
-    for (int s = 0; s < 2; s++) {
-      int cs = ab[s];
-      if (cs < 0) continue;
-      double mz[6 * PHM_COMP_MAXZ], E[12], blk[PHM_COMP_MAXZ * 7], ft[PHM_COMP_MAXZ * 6];
+    for (int r = 0; r < 2; r++) { /* the driven carriers' momentum rows in z's columns */
+      if (ab[r] < 0) continue;
+      double mz[6 * PHM_COMP_MAXZ];
       for (int i = 0; i < 6; i++)
-        for (int j = 0; j < nzc; j++) mz[nzc * i + j] = -Kz[nzc * (6 * s + i) + j];
-      add_block(d, val, PHM_NSTATE * cs + 7, 6, zc, nzc, mz, nzc);
-      quat_chart(y + PHM_NSTATE * cs, E);
-      to_chart(Fx + 6 * s, 12, nzc, E, D->H + 16 * cs, -1.0, blk, 7);
-      add_block(d, val, zc, nzc, PHM_NSTATE * cs, 7, blk, 7);
-      for (int i = 0; i < nzc; i++)
-        for (int j = 0; j < 6; j++) ft[6 * i + j] = -Ft[12 * i + 6 * s + j];
-      add_block(d, val, zc, nzc, PHM_NSTATE * cs + 7, 6, ft, 6);
+        for (int j = 0; j < nzc; j++) mz[nzc * i + j] = -Kz[nzc * (6 * r + i) + j];
+      add_block(d, val, PHM_NSTATE * ab[r] + 7, 6, zc, nzc, mz, nzc);
     }
   }
 }

@@ -265,7 +265,8 @@ typedef struct {
  *                                                                       par: s0, s1, s2, Fc, Fs, vs
  *   MOTOR    (1: i, or 0 with a current input) L i' = V(t) - R i - k n v, u = eta n k i
  *                                                                       par: L, R, k, n, eta, J
- *   LINEAR   (nx: xc) a linear controller on the measurement y = (x - r(t), v):
+ *   LINEAR   (nx: xc) a linear controller on the measurement y = (x - r(t), v) of its own
+ *            coordinate or of coordinate scoord of pair spair (any type):
  *                     xc' = A xc + B y, u = C xc + D y      par: A (nx x nx), B (nx x 2), C (nx), D (2)
  * with v = xdot_c and g(v) = Fc + (Fs - Fc) exp(-(v/vs)^2). A motor's rotor inertia J enters as
  * the reflected inertia J n^2 on the joint (a kinetic coupling, phm_model_create). A linear
@@ -283,6 +284,7 @@ typedef struct {
   double par[PHM_COMP_NPAR];
   int input;         /* MOTOR: 0 the law is the voltage V(t) [V], 1 the current i(t) [A]  */
   int nx;            /* LINEAR: its states (0 .. PHM_COMP_MAXZ)                            */
+  int spair, scoord; /* LINEAR: the pair and coordinate it measures (spair -1: its own)    */
   phm_law law;       /* MOTOR: its input; LINEAR: the reference r(t); unused otherwise    */
   double z0[PHM_COMP_MAXZ]; /* initial internal states                                    */
 } phm_component_desc;

@@ -60,6 +60,12 @@ phm_status phm_components_validate(const phm_model_desc *d, phm_error *err) {
       break;
     case PHM_COMP_LINEAR:
       ok = c->nx >= 0 && c->nx <= PHM_COMP_MAXZ && phm_all_finite(p, PHM_COMP_NPAR);
+      if (c->spair >= 0) {
+        PHM_CHECK(c->spair < d->npairs, err, PHM_EINVAL, "component %d (%s): sensor pair %d out of range", i, kn, c->spair);
+        int ks = 6 - phm_pair_type(d->pairs[c->spair].type)->m;
+        PHM_CHECK(c->scoord >= 0 && c->scoord < ks, err, PHM_EINVAL,
+                  "component %d (%s): sensor coordinate %d of a pair with %d", i, kn, c->scoord, ks);
+      }
       break;
     case PHM_COMP_MOTOR:
       ok = (c->input == 0 || c->input == 1) && par_ok(p[0], 0, c->input == 0) && par_ok(p[1], 0, 0) &&
@@ -155,6 +161,26 @@ int phm_components_copy(phm_model *m, const phm_model_desc *d) {
   return 0;
 }
 
+int phm_components_sensor_edges(const phm_model *m, int *ea, int *eb, int pairs) {
+  int k = 0;
+  for (int i = 0; i < m->ncomp; i++) {
+    const phm_component_desc *c = &m->comp[i];
+    if (c->kind != PHM_COMP_LINEAR || c->spair < 0 || c->spair == c->pair) continue;
+    const phm_pair_desc *pa = &m->pair[c->pair], *ps = &m->pair[c->spair];
+    int ca[2] = {pa->a, pa->b}, cs[2] = {ps->a, ps->b};
+    for (int r = 0; r < 2; r++)
+      for (int s = 0; s < 2; s++) { /* the driven carriers' forces move with the sensed ones */
+        if (ea) { ea[k] = ca[r]; eb[k] = cs[s]; }
+        k++;
+      }
+    for (int s = 0; pairs && s < 2; s++) { /* the states (the driven pair's vertex) too */
+      if (ea) { ea[k] = m->nc + c->pair; eb[k] = cs[s]; }
+      k++;
+    }
+  }
+  return k;
+}
+
 /* g(v) = Fc + (Fs - Fc) exp(-(v/vs)^2) and its derivative */
 static double stribeck(double Fc, double Fs, double vs, double v, double *dg) {
   double r = v / vs, e = exp(-r * r);
@@ -241,8 +267,7 @@ void phm_component_eval(const phm_component_desc *c, double x, double v, const d
     e->u = D[0] * y0 + D[1] * v;
     for (int i = 0; i < nx; i++) e->u += C[i] * z[i];
     e->du_x = D[0];
-    e->du_v = D[1];
-    e->Ps = e->u * v; /* a source, as an actuator: its power is supplied */
+    e->du_v = D[1]; /* its power, u times the driven rate, is phm_components_apply's */
     break;
   }
   }
@@ -264,16 +289,27 @@ static const double *comp_states(const phm_model *m, int ic, const double *z) {
   return z ? z + m->comp_z[ic] : m->comp[ic].z0;
 }
 
+/* The pair and coordinate a component measures: its sensor's (LINEAR with spair >= 0), else its
+ * own. */
+static void sensor_of(const phm_component_desc *c, int *ip, int *cc) {
+  int own = c->kind != PHM_COMP_LINEAR || c->spair < 0;
+  *ip = own ? c->pair : c->spair;
+  *cc = own ? c->coord : c->scoord;
+}
+
 void phm_components_apply(const phm_model *m, const phm_pair_data *pd, const double *H,
                           const double *tw, const double *xs, const double *z, const double *zp,
                           double time, double tref, double *wr, double *effort, double *Fz,
                           double *V, double *Pd, double *Ps) {
   for (int ic = 0; ic < m->ncomp; ic++) {
     const phm_component_desc *c = &m->comp[ic];
-    phm_pair_data own;
+    int sp, sc;
+    sensor_of(c, &sp, &sc);
+    phm_pair_data own, sown;
     const phm_pair_data *p = pair_at(m, c->pair, pd, H, tw, xs, time, tref, &own);
+    const phm_pair_data *ps = sp == c->pair ? p : pair_at(m, sp, pd, H, tw, xs, time, tref, &sown);
     phm_comp_eval e;
-    phm_component_eval(c, p->x[c->coord], p->xdot[c->coord], comp_states(m, ic, z), time, tref, &e);
+    phm_component_eval(c, ps->x[sc], ps->xdot[sc], comp_states(m, ic, z), time, tref, &e);
     double u[6] = {0};
     u[c->coord] = e.u;
     if (wr) phm_pair_effort_wrench(m, c->pair, p, u, wr);
@@ -283,53 +319,69 @@ void phm_components_apply(const phm_model *m, const phm_pair_data *pd, const dou
       for (int j = 0; j < nzc; j++) Fz[z0 + j] = zp[z0 + j] - e.f[j];
     if (V) *V += e.V;
     if (Pd) *Pd += e.Pd;
-    if (Ps) *Ps += e.Ps;
+    /* a controller's power is its effort's on the pair it drives (a source, as an actuator) */
+    if (Ps) *Ps += c->kind == PHM_COMP_LINEAR ? e.u * p->xdot[c->coord] : e.Ps;
   }
+}
+
+/* B = [-AdBa^T Phi_c; AdTbi^T Phi_c] (12) of pair ip's coordinate cc at its evaluation t: the
+ * wrenches of a unit effort on (a, b), and the coordinate's rate in [ta; tb] (B^T). */
+static void effort_rows(const phm_model *m, int ip, int cc, const phm_pair_data *t, double B[12]) {
+  const double *AdTbi = m->pair_AdTbi + 36 * ip;
+  for (int i = 0; i < 6; i++) {
+    double sa = 0, sb = 0;
+    for (int l = 0; l < 6; l++) {
+      sa += t->AdBa[6 * l + i] * t->Phi[6 * l + cc];
+      sb += AdTbi[6 * l + i] * t->Phi[6 * l + cc];
+    }
+    B[i] = -sa;
+    B[6 + i] = sb;
+  }
+}
+
+/* Pair ip's tangent at the state (poses, twists, branch references xs) with efforts u: its
+ * evaluation with derivatives *t, dx and dxd (k x 12) and Ku (12 x 12; u may be NULL). */
+static void pair_tangent_at(const phm_model *m, int ip, const double *H, const double *tw,
+                            const double *xs, double time, double tref, const double *u,
+                            phm_pair_data *t, double dx[72], double dxd[72], double Ku[144]) {
+  const phm_pair_desc *pr = &m->pair[ip];
+  phm_pair_tangent(m, ip, pr->a >= 0 ? H + 16 * pr->a : NULL, pr->b >= 0 ? H + 16 * pr->b : NULL,
+                   (tw && pr->a >= 0) ? tw + 6 * pr->a : NULL, (tw && pr->b >= 0) ? tw + 6 * pr->b : NULL,
+                   xs ? xs + m->pair_j[ip] : NULL, time, tref, NULL, NULL, u, t, NULL, NULL, dx, dxd,
+                   NULL, NULL, u ? Ku : NULL);
 }
 
 void phm_component_tangent(const phm_model *m, int ic, const phm_pair_data *pd, const double *H,
                            const double *tw, const double *xs, const double *z, double time,
-                           double tref, double w[12], double Kx[144], double Kt[144], double *Kz,
-                           double *Fx, double *Ft, double *Fz) {
+                           double tref, double w[12], double Ku[144], double B[12], double gq[12],
+                           double gt[12], double *Kz, double *Fx, double *Ft, double *Fz) {
   const phm_component_desc *c = &m->comp[ic];
-  int ip = c->pair, cc = c->coord, k = m->pair_k[ip], nzc = phm_component_nstates(c);
-  const phm_pair_desc *pr = &m->pair[ip];
-  const double *Ha = pr->a >= 0 ? H + 16 * pr->a : NULL, *Hb = pr->b >= 0 ? H + 16 * pr->b : NULL;
-  const double *ta = (tw && pr->a >= 0) ? tw + 6 * pr->a : NULL;
-  const double *tb = (tw && pr->b >= 0) ? tw + 6 * pr->b : NULL;
-  const double *xr = xs ? xs + m->pair_j[ip] : NULL;
-  phm_pair_data own;
+  int ip = c->pair, nzc = phm_component_nstates(c), sp, sc;
+  sensor_of(c, &sp, &sc);
+  phm_pair_data own, sown;
   const phm_pair_data *p = pair_at(m, ip, pd, H, tw, xs, time, tref, &own);
+  const phm_pair_data *ps = sp == ip ? p : pair_at(m, sp, pd, H, tw, xs, time, tref, &sown);
   phm_comp_eval e;
-  phm_component_eval(c, p->x[cc], p->xdot[cc], comp_states(m, ic, z), time, tref, &e);
-  double u[6] = {0}, dx[72], dxd[72], Ku[144], B[12], pt[12];
-  u[cc] = e.u;
-  phm_pair_data t;
-  phm_pair_tangent(m, ip, Ha, Hb, ta, tb, xr, time, tref, NULL, NULL, u, &t, NULL, NULL, dx, dxd,
-                   NULL, NULL, Ku);
-  const double *AdTbi = m->pair_AdTbi + 36 * ip;
-  for (int i = 0; i < 6; i++) { /* B = [-AdBa^T Phi_c; AdTbi^T Phi_c]; pt = dv/d[ta; tb] = B^T */
-    double sa = 0, sb = 0;
-    for (int l = 0; l < 6; l++) {
-      sa += t.AdBa[6 * l + i] * t.Phi[6 * l + cc];
-      sb += AdTbi[6 * l + i] * t.Phi[6 * l + cc];
-    }
-    B[i] = pt[i] = -sa;
-    B[6 + i] = pt[6 + i] = sb;
-  }
-  (void)k;
+  phm_component_eval(c, ps->x[sc], ps->xdot[sc], comp_states(m, ic, z), time, tref, &e);
+  double u[6] = {0}, dx[72], dxd[72], Bs[12];
+  u[c->coord] = e.u;
+  phm_pair_data t, ts;
+  pair_tangent_at(m, ip, H, tw, xs, time, tref, u, &t, dx, dxd, Ku);
+  effort_rows(m, ip, c->coord, &t, B);
+  if (sp != ip) pair_tangent_at(m, sp, H, tw, xs, time, tref, NULL, &ts, dx, dxd, NULL);
+  effort_rows(m, sp, sc, sp != ip ? &ts : &t, Bs); /* the measured rate: Bs^T [ta; tb] */
   for (int i = 0; i < 12; i++) {
     w[i] = B[i] * e.u;
-    for (int j = 0; j < 12; j++) {
-      Kx[12 * i + j] = Ku[12 * i + j] + B[i] * (e.du_x * dx[12 * cc + j] + e.du_v * dxd[12 * cc + j]);
-      Kt[12 * i + j] = B[i] * e.du_v * pt[j];
-    }
     for (int j = 0; j < nzc; j++) Kz[nzc * i + j] = B[i] * e.du_z[j];
+  }
+  for (int j = 0; j < 12; j++) { /* du in the sensor pair's [da; db] and [ta; tb] */
+    gq[j] = e.du_x * dx[12 * sc + j] + e.du_v * dxd[12 * sc + j];
+    gt[j] = e.du_v * Bs[j];
   }
   for (int r = 0; r < nzc; r++) {
     for (int j = 0; j < 12; j++) {
-      Fx[12 * r + j] = e.df_x[r] * dx[12 * cc + j] + e.df_v[r] * dxd[12 * cc + j];
-      Ft[12 * r + j] = e.df_v[r] * pt[j];
+      Fx[12 * r + j] = e.df_x[r] * dx[12 * sc + j] + e.df_v[r] * dxd[12 * sc + j];
+      Ft[12 * r + j] = e.df_v[r] * Bs[j];
     }
     for (int j = 0; j < nzc; j++) Fz[nzc * r + j] = e.df_z[PHM_COMP_MAXZ * r + j];
   }

@@ -294,13 +294,19 @@ void phm_components_apply(const phm_model *m, const phm_pair_data *pd, const dou
                           double time, double tref, double *wr, double *effort, double *Fz,
                           double *V, double *Pd, double *Ps);
 /* Component ic's closed-form tangent at pair evaluation pd and states z: its wrenches w (12: on
- * the pair's a, b), Kx = dw/d[da; db], Kt = dw/d[ta; tb] (12 x 12), Kz = dw/dz (12 x nzc,
- * row-major), and of its rates f: Fx = df/d[da; db], Ft = df/d[ta; tb] (nzc x 12), Fz = df/dz
- * (nzc x nzc). No allocation. */
+ * its pair's a, b) = B u, Ku = dw/d[da; db] at fixed u (12 x 12), B (12), and u's derivatives in
+ * the measured pair's carriers (its own, or a controller's sensor pair): gq = du/d[da; db], gt =
+ * du/d[ta; tb] (12 each), Kz = dw/dz (12 x nzc, row-major); of its rates f, in the measured
+ * pair's carriers: Fx = df/d[da; db], Ft = df/d[ta; tb] (nzc x 12), and Fz = df/dz (nzc x nzc).
+ * No allocation. */
 void phm_component_tangent(const phm_model *m, int ic, const phm_pair_data *pd, const double *H,
                            const double *tw, const double *xs, const double *z, double time,
-                           double tref, double w[12], double Kx[144], double Kt[144], double *Kz,
-                           double *Fx, double *Ft, double *Fz);
+                           double tref, double w[12], double Ku[144], double B[12], double gq[12],
+                           double gt[12], double *Kz, double *Fx, double *Ft, double *Fz);
+/* The coupling-graph edges (ea[k], eb[k]) of the controllers that measure another pair than
+ * they drive: the driven pair's carriers with the sensed pair's, and (pairs != 0) the driven
+ * pair's vertex (nc + pair) with the sensed carriers; their count (ea NULL: only counted). */
+int phm_components_sensor_edges(const phm_model *m, int *ea, int *eb, int pairs);
 
 /* ---------------------------------------------------------------- coupling graph (graph.c) */
 /* The coupling graph (CSR) of the model's carriers and, with pairs != 0, of its pairs too:

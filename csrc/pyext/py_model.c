@@ -106,6 +106,8 @@ static const column component_columns[] = {
     VECTOR("par", "component parameters", phm_component_desc, par, PHM_COMP_NPAR),
     INDEX("input", "component inputs", phm_component_desc, input, "input of component"),
     INDEX("nx", "component state counts", phm_component_desc, nx, "state count of component"),
+    INDEX("spair", "component sensor pairs", phm_component_desc, spair, "sensor pair of component"),
+    INDEX("scoord", "component sensor coordinates", phm_component_desc, scoord, "sensor coordinate of component"),
     VECTOR("z0", "component initial states", phm_component_desc, z0, PHM_COMP_MAXZ),
     LAW("law", "component laws", phm_component_desc, law, "component law", LAW_OR_NONE),
 };

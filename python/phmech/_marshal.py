@@ -160,6 +160,7 @@ def _component_columns(rows: Sequence[dict]) -> dict:
     return dict(kind=np.array([r["code"] for r in rows], dtype=float), pair=_column(rows, "pair"),
                 coord=_column(rows, "coord"), par=_column(rows, "par", (NPAR,)),
                 input=_column(rows, "input"), nx=_column(rows, "nstates"),
+                spair=_column(rows, "spair"), scoord=_column(rows, "scoord"),
                 z0=_column(rows, "z0", (MAXZ,)),
                 law=[_law(r["law"]) for r in rows])
 

@@ -117,13 +117,17 @@ class LinearController:
     A (n, n), B (n, 2), C (n,), D (2,); n = 0 (A, B, C empty) is a static gain, e.g. a PD
     D = (-kp, -kd); an integral action is a state xc' = x - r with C = -ki. ``reference``: a
     law or a number [m or rad]; ``x0``: the initial states (zeros). The controller is a source:
-    its power u v is supplied energy (as an actuator's), and its states store none."""
+    its power u v is supplied energy (as an actuator's), and its states store none.
+    ``sensor``: the name of another pair (of any type) whose coordinate ``sensor_coordinate``
+    it measures instead of its own (non-collocated feedback; None: the pair it drives)."""
     A: object = ()
     B: object = ()
     C: object = ()
     D: object = (0.0, 0.0)
     reference: object = 0.0
     x0: object = None
+    sensor: Optional[str] = None
+    sensor_coordinate: int = 0
 
 
 def _matrix(what: str, v, shape: tuple) -> np.ndarray:
@@ -155,10 +159,13 @@ def _params(what: str, comp, names: tuple) -> list:
     return out
 
 
-def component_row(name: str, pair_row: dict, index: int, comp) -> dict:
+def component_row(name: str, pair_row: dict, index: int, comp,
+                  sensor: Optional[tuple] = None) -> dict:
     """The description row of component ``comp`` named ``name`` on the pair row ``pair_row`` (at
     position ``index`` among the pairs), validated (ModelError naming the component otherwise):
-    kind, pair, coord, par (NPAR), input, z0 (MAXZ), law, nstates, states (their names)."""
+    kind, pair, coord, par (NPAR), input, z0 (MAXZ), law, nstates, states (their names), spair,
+    scoord. ``sensor``: (index, k) of a LinearController's sensor pair (add_component finds it
+    by name), None for its own."""
     what = f"component {name!r}"
     tname = type(pair_row["pair"]).__name__.lower()
     if tname not in ("revolute", "prismatic"):
@@ -180,8 +187,16 @@ def component_row(name: str, pair_row: dict, index: int, comp) -> dict:
             z0[:n] = _matrix(f"{what}: x0", comp.x0, (n,))
         law = checked_law(comp.reference, f"{what}: reference", numbers_too=True)
         states = tuple(f"x{j}" for j in range(n))
+        spair, scoord = -1, 0
+        if comp.sensor is not None:
+            spair, ks = sensor
+            scoord = comp.sensor_coordinate
+            if not isinstance(scoord, (int, np.integer)) or not 0 <= scoord < ks:
+                raise ModelError(f"{what}: sensor_coordinate {scoord!r} is not one of the sensor "
+                                 f"pair's {ks} coordinates")
         return dict(name=name, kind="linear", code=_KINDS["linear"], pair=index, coord=0,
-                    par=par, input=0, z0=z0, law=law, nstates=n, states=states)
+                    par=par, input=0, z0=z0, law=law, nstates=n, states=states,
+                    spair=spair, scoord=int(scoord))
     if isinstance(comp, ViscousFriction):
         kind, p = "viscous", _params(what, comp, ("c",))
         ok = p[0] >= 0
@@ -215,7 +230,7 @@ def component_row(name: str, pair_row: dict, index: int, comp) -> dict:
     par[:len(p)] = p
     states = {"lugre": ("z",), "motor": ("i",) if inp == 0 else ()}.get(kind, ())
     return dict(name=name, kind=kind, code=_KINDS[kind], pair=index, coord=0, par=par,
-                input=inp, z0=z0, law=law, nstates=len(states), states=states)
+                input=inp, z0=z0, law=law, nstates=len(states), states=states, spair=-1, scoord=0)
 
 
 def state_layout(rows: list) -> dict:

@@ -770,7 +770,11 @@ class Mechanism:
             raise ModelError(f"component {name!r}: pair must be given by its name (got {pair!r})")
         e = self._pair_entry(pair)
         self._check_name(name)
-        row = component_row(name, e, self._pairs.index(e), component)
+        sensor = getattr(component, "sensor", None)
+        if sensor is not None:   # a controller measuring another pair
+            se = self._pair_entry(sensor)
+            sensor = (self._pairs.index(se), se["k"])
+        row = component_row(name, e, self._pairs.index(e), component, sensor)
         self._new_name(name)
         self._desc.components.append(row)
 

@@ -337,13 +337,16 @@ static void components_are_closed_form(void) {
   /* a linear controller with two states: A (2 x 2), B (2 x 2), C (2), D (2), a sine reference */
   b.comp[6] = (phm_component_desc){.kind = PHM_COMP_LINEAR, .pair = 1, .nx = 2, .law = volt,
                                    .par = {-1, 0.5, -0.3, -2, 1, 0.2, 3, -0.4, -5, 0.7, -20, -3}};
+  for (int i = 0; i < 7; i++) b.comp[i].spair = -1; /* each measures its own pair */
   b.d.ncomponents = 7;
   b.d.components = b.comp;
   compare("J = central FD: LuGre, motors (voltage with J, current), Stribeck, Coulomb, viscous, "
           "a linear controller", &b, 1e-7);
   b.pair[0].type = pair_code("revolute");
   b.comp[0].pair = b.comp[1].pair = 0;
-  compare("J = central FD: LuGre and a motor with J on a revolute to the ground, the rest between two", &b, 1e-7);
+  b.comp[6].spair = 0; /* the controller on the revolute 3-4 measures the one to the ground */
+  compare("J = central FD: LuGre and a motor with J on a revolute to the ground, the rest between "
+          "two, a controller measuring the other pair", &b, 1e-7);
   b.d.ncomponents = 0;
 }
 
