@@ -1,6 +1,7 @@
 /* component.c -- components with internal states on a pair's joint coordinate (docs/method.md
- * section 4.11): friction (viscous, regularized Coulomb, Stribeck, LuGre with its bristle state)
- * and the DC motor with gearbox (its current a state). Each is a port-Hamiltonian system whose
+ * section 4.11): friction (viscous, regularized Coulomb, Stribeck, LuGre with its bristle state),
+ * the DC motor with gearbox (its current a state) and the linear state-space controller (its
+ * states; it may measure another pair than it drives). Each is a port-Hamiltonian system whose
  * mechanical port is (u, v = xdot_c) of one coordinate; its internal states z are integrated by
  * the DAE after the joint coordinates (csrc/dae/dae.h). Here: validation and copy (grouped by
  * pair, so that each pair's states are consecutive), the motors' reflected inertia, the

@@ -13,11 +13,11 @@ Friction laws (v the joint rate, g(v) = Fc + (Fs - Fc) exp(-(v/vs)^2) the Stribe
 
 - ``ViscousFriction(c)``: u = -c v;
 - ``CoulombFriction(Fc, v_reg)``: u = -Fc tanh(v / v_reg), Coulomb's law regularized over
-  v_reg (stateless; sticking is a slow creep at |v| << v_reg: use ``LuGreFriction`` for true
+  v_reg (stateless; sticking is a slow creep at abs(v) << v_reg: use ``LuGreFriction`` for true
   stiction, whose bristles hold the load without creep);
 - ``StribeckFriction(Fc, Fs, vs, viscous, v_reg)``: u = -g(v) tanh(v / v_reg) - viscous v;
 - ``LuGreFriction(sigma0, sigma1, sigma2, Fc, Fs, vs)``: the dynamic model of Canudas de Wit,
-  Olsson, Astrom and Lischinsky (IEEE TAC 40(3), 1995): z' = v - sigma0 |v| z / g(v),
+  Olsson, Astrom and Lischinsky (IEEE TAC 40(3), 1995): z' = v - sigma0 abs(v) z / g(v),
   u = -(sigma0 z + sigma1 z' + sigma2 v), storage sigma0 z^2 / 2.
 
 ``DCMotor(L, R, k, J, ratio, efficiency, voltage=law | current=law)``: armature
@@ -75,7 +75,7 @@ class StribeckFriction:
 @dataclasses.dataclass(frozen=True)
 class LuGreFriction:
     """LuGre friction (Canudas de Wit et al. 1995) with its bristle deflection z [m or rad] as a
-    state: z' = v - sigma0 |v| z / g(v), u = -(sigma0 z + sigma1 z' + sigma2 v). sigma0
+    state: z' = v - sigma0 abs(v) z / g(v), u = -(sigma0 z + sigma1 z' + sigma2 v). sigma0
     [N/m] > 0 bristle stiffness, sigma1 [N s/m] >= 0 bristle damping, sigma2 [N s/m] >= 0
     viscous, Fc <= Fs [N] Coulomb and static levels, vs [m/s] > 0 Stribeck speed; z0 the
     initial deflection."""
