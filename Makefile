@@ -61,7 +61,8 @@ SAN_TESTS := tests/test_fuzz.py tests/test_fuzz_findings.py tests/test_error_mes
              tests/test_se3.py tests/test_mixed.py tests/test_pairs.py tests/test_statics.py \
              tests/test_solver_robustness.py tests/test_rigid_body.py tests/test_beam_dynamics.py \
              tests/test_marshal.py tests/test_model_setup.py tests/test_progress.py tests/test_laws.py \
-             tests/test_driven_pairs.py tests/test_modes_sparse.py tests/test_ida_linear_solvers.py
+             tests/test_driven_pairs.py tests/test_modes_sparse.py tests/test_ida_linear_solvers.py \
+             tests/test_components.py
 SAN_ENV    = ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 \
              UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 PYTHONMALLOC=malloc
 SAN_PRELOAD = $$(cc -print-file-name=libasan.so) $$(cc -print-file-name=libstdc++.so)

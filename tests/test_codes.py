@@ -13,7 +13,7 @@ from test_marshal import described
 
 def test_codes_has_every_table():
     codes = _core.codes()
-    assert set(codes) == {"pair_types", "law_kinds", "integrators", "actuator_kinds",
+    assert set(codes) == {"pair_types", "law_kinds", "integrators", "actuator_kinds", "component_kinds",
                           "mass_kinds", "result_fields"}
     for name, table in codes.items():
         names = table if name == "result_fields" else list(table)

@@ -1,7 +1,8 @@
 /* dae.h -- the stabilized index-2 DAE of a model (docs/method.md section 6) and its data.
  * State layout y (n entries): per carrier (q[4], p[3], t[6]) (PHM_NSTATE each); then the joint
  * coordinates (nj, integrated from their rates; they select the branch of multi-turn angles);
- * then the energy ledger integrals (dissipated, supplied, one per port); then lambda (ncons);
+ * then the components' internal states (nz: LuGre bristles, motor currents, grouped by pair,
+ * csrc/model/component.c); then the energy ledger integrals (dissipated, supplied, one per port); then lambda (ncons);
  * then mu (ncons). Residual F(t, y, y') = 0 (residual.c), consistent initial values
  * (initial.c), the sparsity pattern and the Jacobian (jacobian.c, in closed form), the outputs
  * (output.c).
@@ -81,7 +82,8 @@ struct dae_planar; /* planar.c */
 
 typedef struct {
   const phm_model *m;
-  int n, ix, ie, il, im; /* sizes and offsets of the state blocks */
+  int n, ix, iz, ie, il, im; /* sizes and offsets of the state blocks (iz: the components'
+                              * internal states, docs/method.md section 4.11) */
   int ns, nt0;           /* states per carrier (PHM_NSTATE, or PHM_NSTATE_PLANAR) and the first
                           * of its twist components among them */
   struct dae_planar *pl; /* non-NULL: the in-plane reduction of pl's full DAE (planar.c) */

@@ -380,6 +380,14 @@ phm_status dae_consistent_ic(dae_t *d, double time, double *H, double *tw, const
   }
   /* acceleration level: [M -G^T; G 0] [t'; lambda] = [b1; b2], b1 = ad^T M t + w, b2 = -dc/dt */
   phm_applied(m, H, tw, xs, time, d->tref, 1.0, d->data.wr, NULL, NULL, NULL, NULL, NULL);
+  /* the components' internal states: the model's z0 at the start, carried over at a restart */
+  const double *zs = qprev ? qprev + d->iz : NULL;
+  if (m->ncomp)
+    phm_components_apply(m, NULL, H, tw, xs, zs, NULL, time, d->tref, d->data.wr, NULL, NULL,
+                         NULL, NULL, NULL);
+  for (int ic = 0; ic < m->ncomp; ic++)
+    for (int j = 0; j < phm_component_nstates(&m->comp[ic]); j++)
+      y[d->iz + m->comp_z[ic] + j] = zs ? zs[m->comp_z[ic] + j] : m->comp[ic].z0[j];
   int spd = 1;
   for (int c = 0; c < nc; c++) {
     const double *M = m->car[c].M;

@@ -28,11 +28,12 @@ static int block_rows(const dae_t *d, const int *nb, int nnb, sunindextype *rows
     cnt += PHM_NSTATE;
   }
   int q0 = q;
-  for (int part = 0; part < 3; part++)
+  for (int part = 0; part < 4; part++) /* joints, components' states, lambda, mu */
     for (q = q0; q < nnb; q++) {
       int ip = nb[q] - nc, first, len;
       if (part == 0) first = d->ix + m->pair_j[ip], len = m->pair_k[ip];
-      else first = (part == 1 ? d->il : d->im) + m->pair_row[ip], len = m->pair_m[ip];
+      else if (part == 1) first = d->iz + m->pair_z[ip], len = m->pair_nz[ip];
+      else first = (part == 2 ? d->il : d->im) + m->pair_row[ip], len = m->pair_m[ip];
       if (rows)
         for (int i = 0; i < len; i++) rows[cnt + i] = first + i;
       cnt += len;
@@ -73,6 +74,7 @@ phm_status dae_jacobian_pattern(dae_t *d, phm_error *err) {
   for (int i = 0; i < d->ix; i++) blk[i] = i / PHM_NSTATE;
   for (int ip = 0; ip < m->np; ip++) {
     for (int c = 0; c < m->pair_k[ip]; c++) blk[d->ix + m->pair_j[ip] + c] = nc + ip;
+    for (int c = 0; c < m->pair_nz[ip]; c++) blk[d->iz + m->pair_z[ip] + c] = nc + ip;
     for (int r = 0; r < m->pair_m[ip]; r++)
       blk[d->il + m->pair_row[ip] + r] = blk[d->im + m->pair_row[ip] + r] = nc + ip;
   }
@@ -248,6 +250,62 @@ static void add_wrench_tangent(void *ctx, int ca, int cb, const double w[12], co
   }
 }
 
+/* The components' part (phm_component_tangent; docs/method.md section 4.11): their wrenches B u
+ * at fixed u (as an actuator's, -Ku), u's change with the measured pair's carriers (the rows of
+ * the driven pair's carriers: -B gq through the chart, -B gt in the twists) and with their own
+ * states z (-B du/dz), and their rows z' - f: cj - df/dz on z, -df/d pose through the chart,
+ * -df/dt in the twists of the measured pair's carriers. */
+static void jacobian_components(dae_t *d, double time, double cj, const double *y, double *val,
+                                dae_sink *sink) {
+  const phm_model *m = d->m;
+  const phm_data *D = &d->data;
+  for (int ic = 0; ic < m->ncomp; ic++) {
+    const phm_component_desc *c = &m->comp[ic];
+    const phm_pair_desc *pr = &m->pair[c->pair];
+    int sp = c->kind == PHM_COMP_LINEAR && c->spair >= 0 ? c->spair : c->pair;
+    int nzc = phm_component_nstates(c), zc = d->iz + m->comp_z[ic];
+    int ab[2] = {pr->a, pr->b}, cs[2] = {m->pair[sp].a, m->pair[sp].b};
+    double w[12], Ku[144], B[12], gq[12], gt[12], Kz[12 * PHM_COMP_MAXZ], Fx[12 * PHM_COMP_MAXZ];
+    double Ft[12 * PHM_COMP_MAXZ], Fz[PHM_COMP_MAXZ * PHM_COMP_MAXZ];
+    phm_component_tangent(m, ic, D->pair, D->H, D->tw, y + d->ix, y + d->iz, time, d->tref, w, Ku,
+                          B, gq, gt, Kz, Fx, Ft, Fz);
+    add_wrench_tangent(sink, pr->a, pr->b, w, Ku, NULL);
+    for (int s = 0; s < 2; s++) { /* the measured carrier c_s's states */
+      if (cs[s] < 0) continue;
+      double E[12];
+      quat_chart(y + PHM_NSTATE * cs[s], E);
+      for (int r = 0; r < 2; r++) { /* in the momentum rows of the driven carrier c_r */
+        if (ab[r] < 0) continue;
+        double K[36], blk[6 * PHM_NSTATE];
+        for (int i = 0; i < 6; i++)
+          for (int j = 0; j < 6; j++) K[6 * i + j] = B[6 * r + i] * gq[6 * s + j];
+        to_chart(K, 6, 6, E, D->H + 16 * cs[s], -1.0, blk, PHM_NSTATE);
+        for (int i = 0; i < 6; i++)
+          for (int j = 0; j < 6; j++) blk[PHM_NSTATE * i + 7 + j] = -B[6 * r + i] * gt[6 * s + j];
+        add_block(d, val, PHM_NSTATE * ab[r] + 7, 6, PHM_NSTATE * cs[s], PHM_NSTATE, blk, PHM_NSTATE);
+      }
+      if (nzc == 0) continue;
+      double blk[PHM_COMP_MAXZ * 7], ft[PHM_COMP_MAXZ * 6];
+      to_chart(Fx + 6 * s, 12, nzc, E, D->H + 16 * cs[s], -1.0, blk, 7);
+      add_block(d, val, zc, nzc, PHM_NSTATE * cs[s], 7, blk, 7);
+      for (int i = 0; i < nzc; i++)
+        for (int j = 0; j < 6; j++) ft[6 * i + j] = -Ft[12 * i + 6 * s + j];
+      add_block(d, val, zc, nzc, PHM_NSTATE * cs[s] + 7, 6, ft, 6);
+    }
+    if (nzc == 0) continue;
+    for (int i = 0; i < nzc * nzc; i++) Fz[i] = -Fz[i];
+    for (int i = 0; i < nzc; i++) Fz[nzc * i + i] += cj;
+    add_block(d, val, zc, nzc, zc, nzc, Fz, nzc);
+    for (int r = 0; r < 2; r++) { /* the driven carriers' momentum rows in z's columns */
+      if (ab[r] < 0) continue;
+      double mz[6 * PHM_COMP_MAXZ];
+      for (int i = 0; i < 6; i++)
+        for (int j = 0; j < nzc; j++) mz[nzc * i + j] = -Kz[nzc * (6 * r + i) + j];
+      add_block(d, val, PHM_NSTATE * ab[r] + 7, 6, zc, nzc, mz, nzc);
+    }
+  }
+}
+
 /* The closed-form part of the Jacobian at (y, y') (the poses, twists, pairs and G^T mu in
  * d->data): each carrier's kinematic rows q' = 1/2 q (x) (0, w + dw), p' = R (v + dv) ((dw, dv) =
  * G^T mu; or in its body frame, body_kinematics_block) and momentum rows M t' - ad*_t M t -
@@ -334,6 +392,7 @@ static void jacobian_closed_form(dae_t *d, double time, double cj, const double 
   /* actuators, loads, springs: at the pairs' evaluation of this state (dae_pair_rows) */
   phm_applied_tangent(m, D->pair, D->H, D->tw, y + d->ix, time, d->tref, 1.0, add_wrench_tangent,
                       &sink);
+  jacobian_components(d, time, cj, y, val, &sink);
 }
 
 /* The pairs' part of the Jacobian in closed form (phm_pair_tangent; docs/method.md sections 4.3,

@@ -27,7 +27,8 @@ static phm_status check_output(const dae_t *d, const phm_sim_output *out, int io
            {"joint rates", out->jrates, (size_t)m->nj},
            {"actuator efforts", out->efforts, (size_t)m->nj},
            {"pair wrenches", out->pwrench, 6 * (size_t)m->np},
-           {"port energies", out->ports, (size_t)m->nport}};
+           {"port energies", out->ports, (size_t)m->nport},
+           {"component states", out->components, (size_t)m->nz}};
   for (size_t k = 0; k < sizeof q / sizeof q[0]; k++) {
     if (!q[k].base || !q[k].n) continue;
     long j = phm_first_nonfinite(q[k].base + i * q[k].n, q[k].n);
@@ -78,12 +79,21 @@ static void record(dae_t *d, const double *y, phm_sim_output *out, int iout, dou
   if (out->efforts && m->nj) {
     phm_applied_pairs(m, D->pair, D->H, D->tw, y + d->ix, time, d->tref, 1.0, D->wr, NULL, NULL,
                       NULL, NULL, D->eff);
+    if (m->ncomp) /* the components' efforts too */
+      phm_components_apply(m, D->pair, D->H, D->tw, y + d->ix, y + d->iz, NULL, time, d->tref,
+                           NULL, D->eff, NULL, NULL, NULL, NULL);
     memcpy(out->efforts + (size_t)iout * m->nj, D->eff, sizeof(double) * (size_t)m->nj);
   }
   if (out->ports && m->nport)
     memcpy(out->ports + (size_t)iout * m->nport, y + d->ie + 2, sizeof(double) * (size_t)m->nport);
   double e[3];
   phm_model_energy(m, D->H, D->tw, e);
+  if (out->components && m->nz)
+    memcpy(out->components + (size_t)iout * m->nz, y + d->iz, sizeof(double) * (size_t)m->nz);
+  if (m->ncomp) { /* the components' storage (bristles, inductances) with the elastic energy */
+    phm_components_apply(m, D->pair, D->H, D->tw, y + d->ix, y + d->iz, NULL, time, d->tref, NULL,
+                         NULL, NULL, e + 1, NULL, NULL);
+  }
   double tot = e[0] + e[1] + e[2];
   if (iout == 0) E0[0] = tot;
   if (out->energy) {

@@ -137,6 +137,9 @@ int dae_residual_rows(dae_t *d, double time, const double *y, const double *yp, 
   rows_of_pairs(d, time, y, yp, F, 1, crows);
   phm_applied_pairs(m, D->pair, D->H, D->tw, y + d->ix, time, d->tref, 1.0, D->wr, NULL, &Pd, &Ps,
                     D->pport, NULL);
+  if (m->ncomp) /* components with internal states: their wrenches, rows z' - f and ledger terms */
+    phm_components_apply(m, D->pair, D->H, D->tw, y + d->ix, y + d->iz, yp + d->iz, time, d->tref,
+                         D->wr, NULL, F + d->iz, NULL, &Pd, &Ps);
   for (int c = 0; c < nc; c++) {
     const double *yc = y + PHM_NSTATE * c, *ypc = yp + PHM_NSTATE * c;
     double *Fc = F + PHM_NSTATE * c;
@@ -277,7 +280,8 @@ phm_status dae_init(dae_t *d, const phm_model *m, phm_error *err) {
   d->ns = PHM_NSTATE;
   d->nt0 = 7;
   d->ix = PHM_NSTATE * m->nc;
-  d->ie = d->ix + m->nj;
+  d->iz = d->ix + m->nj;
+  d->ie = d->iz + m->nz;
   d->il = d->ie + 2 + m->nport;
   d->im = d->il + m->ncons;
   d->n = d->im + m->ncons;

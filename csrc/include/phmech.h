@@ -82,6 +82,7 @@ int phm_model_npairs(const phm_model *model);
 int phm_model_nelements(const phm_model *model);      /* se3 beam elements                       */
 int phm_model_njoints(const phm_model *model);        /* joint coordinates, all pairs (sum of k) */
 int phm_model_nports(const phm_model *model);         /* ports: actuators, loads, springs, in order */
+int phm_model_ncompstates(const phm_model *model);    /* components' internal states, all (section 4.11) */
 int phm_model_nloads(const phm_model *model);         /* applied wrenches and interactions       */
 void phm_model_pair_layout(const phm_model *model, int ip, int *row, int *m, int *joint, int *k); /* first row, rows, first joint coordinate, k of pair ip */
 /* Reset the initial poses H0 (nc x 16), twists t0 (nc x 6; NULL: keep), joint coordinates x0

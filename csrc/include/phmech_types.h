@@ -252,6 +252,43 @@ typedef struct {
   int reaction;      /* carrier taking the opposite wrench, -1 = ground                    */
 } phm_load_desc;
 
+/* A component with internal states on one joint coordinate of a pair (docs/method.md section
+ * 4.11): a port-Hamiltonian system whose mechanical port is (effort u, rate xdot) of coordinate
+ * `coord` of pair `pair` (revolute or prismatic), with states z (their count per kind below) that
+ * the DAE integrates after the joint coordinates. u enters as the wrench Phi_c u on b and its
+ * opposite on a (as an actuator's); the component's storage, dissipated and supplied power enter
+ * the energy ledger (storage with the elastic energy).
+ *   VISCOUS  (0 states) u = -c v                                        par: c
+ *   COULOMB  (0)        u = -Fc tanh(v / vreg)                          par: Fc, vreg
+ *   STRIBECK (0)        u = -g(v) tanh(v / vreg) - s2 v                 par: Fc, Fs, vs, s2, vreg
+ *   LUGRE    (1: z)     z' = v - s0 |v| z / g(v), u = -(s0 z + s1 z' + s2 v)
+ *                                                                       par: s0, s1, s2, Fc, Fs, vs
+ *   MOTOR    (1: i, or 0 with a current input) L i' = V(t) - R i - k n v, u = eta n k i
+ *                                                                       par: L, R, k, n, eta, J
+ *   LINEAR   (nx: xc) a linear controller on the measurement y = (x - r(t), v) of its own
+ *            coordinate or of coordinate scoord of pair spair (any type):
+ *                     xc' = A xc + B y, u = C xc + D y      par: A (nx x nx), B (nx x 2), C (nx), D (2)
+ * with v = xdot_c and g(v) = Fc + (Fs - Fc) exp(-(v/vs)^2). A motor's rotor inertia J enters as
+ * the reflected inertia J n^2 on the joint (a kinetic coupling, phm_model_create). A linear
+ * controller is a source: its power u v is supplied (as an actuator's). */
+typedef enum {
+  PHM_COMP_VISCOUS = 0, PHM_COMP_COULOMB = 1, PHM_COMP_STRIBECK = 2, PHM_COMP_LUGRE = 3,
+  PHM_COMP_MOTOR = 4, PHM_COMP_LINEAR = 5, PHM_NCOMP_KINDS = 6
+} phm_component_kind;
+#define PHM_COMP_NPAR 32 /* parameters per component                                       */
+#define PHM_COMP_MAXZ 4 /* internal states per component, at most                          */
+
+typedef struct {
+  int kind;          /* phm_component_kind                                                */
+  int pair, coord;   /* the pair and its joint coordinate                                 */
+  double par[PHM_COMP_NPAR];
+  int input;         /* MOTOR: 0 the law is the voltage V(t) [V], 1 the current i(t) [A]  */
+  int nx;            /* LINEAR: its states (0 .. PHM_COMP_MAXZ)                            */
+  int spair, scoord; /* LINEAR: the pair and coordinate it measures (spair -1: its own)    */
+  phm_law law;       /* MOTOR: its input; LINEAR: the reference r(t); unused otherwise    */
+  double z0[PHM_COMP_MAXZ]; /* initial internal states                                    */
+} phm_component_desc;
+
 typedef struct {
   int ncarriers;  const phm_carrier_desc *carriers;
   int nelements;  const phm_element_desc *elements;
@@ -261,6 +298,7 @@ typedef struct {
   int nactuators; const phm_actuator_desc *actuators;
   int nsprings;   const phm_spring_desc *springs;
   int ncouplings; const phm_coupling_desc *couplings; /* kinetic couplings without an element */
+  int ncomponents; const phm_component_desc *components; /* components with internal states */
 } phm_model_desc;
 
 typedef struct phm_model phm_model;
@@ -439,6 +477,7 @@ typedef struct {
   double *pwrench; /* [nout][npairs][6] constraint wrench W^C lambda on b, frame F_b */
   double *ports;   /* [nout][nports] energy supplied through each port, J (actuators: int u.xdot;
                     * loads: int w.t; springs: minus the dissipated energy)              */
+  double *components; /* [nout][ncompstates] the components' internal states (phm_model_ncompstates) */
   int nout_done;   /* outputs filled                                    */
   long nsteps, nres, njac, nniters, netf, nncf; /* integrator statistics (IDA or GALPHA) */
   long nfloor;     /* adaptive GALPHA: steps accepted above the tolerance (at the refinement's
@@ -469,7 +508,8 @@ typedef struct {
 enum {
   PHM_RESULT_POSES = 0, PHM_RESULT_TWISTS = 1, PHM_RESULT_LAMBDA = 2, PHM_RESULT_ENERGY = 3,
   PHM_RESULT_JOINTS = 4, PHM_RESULT_JRATES = 5, PHM_RESULT_EFFORTS = 6,
-  PHM_RESULT_PAIR_WRENCHES = 7, PHM_RESULT_PORTS = 8, PHM_NRESULT_FIELDS = 9
+  PHM_RESULT_PAIR_WRENCHES = 7, PHM_RESULT_PORTS = 8, PHM_RESULT_COMPONENTS = 9,
+  PHM_NRESULT_FIELDS = 10
 };
 
 /* ---------------------------------------------------------------- code tables (csrc/util/codes.c) */

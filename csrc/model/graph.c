@@ -12,6 +12,7 @@ phm_status phm_carrier_graph(const phm_model *m, int pairs, int **ptr_out, int *
                              phm_error *err) {
   int nc = m->nc, nv = nc + (pairs ? m->np : 0), ned = m->ne + m->np + m->nl + m->ns + m->nmc;
   if (pairs) ned += 2 * m->np;
+  ned += phm_components_sensor_edges(m, NULL, NULL, pairs);
   /* the edges in the order of the components; a pair's vertex meets its carriers after all
    * carrier-carrier edges */
   int *ea = malloc(sizeof(int) * (size_t)(ned + 1)), *eb = malloc(sizeof(int) * (size_t)(ned + 1));
@@ -28,6 +29,7 @@ phm_status phm_carrier_graph(const phm_model *m, int pairs, int **ptr_out, int *
       ea[k] = nc + i; eb[k++] = m->pair[i].a;
       ea[k] = nc + i; eb[k++] = m->pair[i].b;
     }
+  k += phm_components_sensor_edges(m, ea + k, eb + k, pairs); /* non-collocated controllers */
   /* every vertex itself first, then both directions of each edge in order (with repeats) */
   for (int v = 0; v < nv; v++) ptr[v + 1] = 1;
   for (int e = 0; e < k; e++)

@@ -67,6 +67,10 @@ void phm_model_free(phm_model *m) {
   free(m->bp);
   free(m->tables);
   free(m->lawnodes);
+  free(m->comp);
+  free(m->comp_z);
+  free(m->pair_z);
+  free(m->pair_nz);
   free(m);
 }
 
@@ -327,6 +331,8 @@ static void copy_components(phm_model *m, const phm_model_desc *d) {
 static int mass_couplings(phm_model *m, const phm_model_desc *d) {
   for (int i = 0; i < m->ne; i++) m->nmc += m->el[i].mass != PHM_MASS_LUMPED;
   m->nmc += d->ncouplings;
+  int nmotor = phm_components_ncouplings(d); /* rotor inertias between two carriers */
+  m->nmc += nmotor;
   m->mc_a = malloc(sizeof(int) * (size_t)(m->nmc + 1));
   m->mc_b = malloc(sizeof(int) * (size_t)(m->nmc + 1));
   m->mc = malloc(sizeof(double) * 144 * (size_t)(m->nmc + 1));
@@ -346,6 +352,7 @@ static int mass_couplings(phm_model *m, const phm_model_desc *d) {
     m->mc_b[k] = d->couplings[i].b;
     memcpy(m->mc + 144 * (size_t)k, d->couplings[i].Mc, 144 * sizeof(double));
   }
+  phm_components_inertia(m, k);
   for (k = 0; k < m->nmc; k++) phm_mass_rows(m->mc + 144 * (size_t)k, m->mc_rows + 12 * (size_t)k);
   return 0;
 }
@@ -361,6 +368,8 @@ static int copy_laws(phm_model *m, const phm_model_desc *d) {
     for (int c = 0; c < 6; c++) nlaws += d->pairs[i].xdriven >> c & 1;
   }
   nlaws += m->nl;
+  for (int i = 0; i < m->ncomp; i++)
+    nlaws += m->comp[i].kind == PHM_COMP_MOTOR || m->comp[i].kind == PHM_COMP_LINEAR;
   size_t nnodes = 0, ndoubles = 0;
   int nbp = 0;
   phm_law **laws = malloc(sizeof(phm_law *) * (size_t)(nlaws + 1));
@@ -380,6 +389,11 @@ static int copy_laws(phm_model *m, const phm_model_desc *d) {
     }
   }
   for (int i = 0; i < m->nl; i++) laws[nlaws++] = &m->load[i].law;
+  for (int i = 0; i < m->ncomp; i++) {
+    if (m->comp[i].kind == PHM_COMP_MOTOR || m->comp[i].kind == PHM_COMP_LINEAR)
+      laws[nlaws++] = &m->comp[i].law;
+    else memset(&m->comp[i].law, 0, sizeof(phm_law));
+  }
   for (int i = 0; i < nlaws; i++) {
     phm_law_extent(laws[i], &nnodes, &ndoubles);
     nbp += phm_law_breakpoints(laws[i], NULL);
@@ -411,12 +425,12 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   *out = NULL;
   phm_status st;
   if ((st = validate_counts(d, err)) || (st = validate_masses(d, err)) || (st = validate_pairs(d, err)) ||
-      (st = validate_forces(d, err)))
+      (st = validate_forces(d, err)) || (st = phm_components_validate(d, err)))
     return st;
   phm_model *m = model_alloc(d);
   if (!m) return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
   copy_components(m, d);
-  if (mass_couplings(m, d) || copy_laws(m, d)) {
+  if (phm_components_copy(m, d) || mass_couplings(m, d) || copy_laws(m, d)) {
     phm_model_free(m);
     return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
   }
@@ -435,6 +449,7 @@ int phm_model_npairs(const phm_model *m) { return m->np; }
 int phm_model_nelements(const phm_model *m) { return m->ne; }
 int phm_model_njoints(const phm_model *m) { return m->nj; }
 int phm_model_nports(const phm_model *m) { return m->nport; }
+int phm_model_ncompstates(const phm_model *m) { return m->nz; }
 int phm_model_nloads(const phm_model *m) { return m->nl; }
 void phm_model_pair_layout(const phm_model *m, int ip, int *row, int *mc, int *joint, int *k) {
   if (row) *row = m->pair_row[ip];

@@ -42,6 +42,11 @@ struct phm_model {
   double *mc;       /* nmc x 144: their couplings Mc (phm_element_mass, or given), once  */
   unsigned short *mc_rows; /* nmc x 12: row i's nonzero columns j of Mc (bit j); a straight
                             * element's couple 40 of the 144 pairs of twist components       */
+  int ncomp;        /* components with internal states (component.c), grouped by pair   */
+  phm_component_desc *comp;
+  int *comp_z;      /* ncomp: the first of its internal states among the nz                */
+  int *pair_z, *pair_nz; /* np: the first internal state of the pair's components, and their count */
+  int nz;           /* internal states of all components                                 */
 };
 
 /* tref for the interval [t, ...): midpoint between t and the next breakpoint (or t + 1). */
@@ -256,6 +261,52 @@ void phm_applied_dpower(const phm_model *m, const phm_pair_data *pd, const doubl
  * damping power *Pd (>= 0; either may be NULL). tw NULL: at rest. */
 void phm_spring_eval(const phm_spring_desc *sp, const double *H, const double *tw, double *wr,
                      double *V, double *Pd);
+
+/* ---------------------------------------------------------------- components (component.c) */
+/* Set-up (phm_model_create): the description's components checked (ModelError-like messages
+ * naming the component), copied into m grouped by pair (comp_z, pair_z, pair_nz, nz; -1 when out
+ * of memory), the count of the motors' rotor inertias between two carriers (mass couplings), and
+ * the rotor inertias J n^2 added: to the carrier's inertia when the pair's other side is the
+ * ground, else as the mass couplings from index k0 on. */
+phm_status phm_components_validate(const phm_model_desc *d, phm_error *err);
+int phm_components_copy(phm_model *m, const phm_model_desc *d);
+int phm_components_ncouplings(const phm_model_desc *d);
+void phm_components_inertia(phm_model *m, int k0);
+/* Internal states of a component of its kind (and motor input). */
+int phm_component_nstates(const phm_component_desc *c);
+/* One component's constitutive law at its coordinate's x, v = xdot and its states z: effort u,
+ * rates f (z' = f), stored energy V, dissipated and supplied power Pd, Ps, and (deriv != 0) their
+ * derivatives in x, v and z (docs/method.md section 4.11). No allocation. */
+typedef struct {
+  double u, du_x, du_v, du_z[PHM_COMP_MAXZ];
+  double f[PHM_COMP_MAXZ], df_x[PHM_COMP_MAXZ], df_v[PHM_COMP_MAXZ];
+  double df_z[PHM_COMP_MAXZ * PHM_COMP_MAXZ]; /* row-major: d f_i / d z_j at MAXZ i + j      */
+  double V, Pd, Ps;
+} phm_comp_eval;
+void phm_component_eval(const phm_component_desc *c, double x, double v, const double *z,
+                        double time, double tref, phm_comp_eval *e);
+/* Every component at the pairs' evaluation pd (NULL: evaluated here at H, tw, xs) and states z
+ * (nz; NULL: the model's z0): adds its wrench to wr (nc x 6, may be NULL) and its effort to
+ * effort (nj, may be NULL), its rows z' - f into Fz (nz, with zp; may be NULL), and its stored
+ * energy, dissipated and supplied power to *V, *Pd, *Ps (may be NULL). No allocation. */
+void phm_components_apply(const phm_model *m, const phm_pair_data *pd, const double *H,
+                          const double *tw, const double *xs, const double *z, const double *zp,
+                          double time, double tref, double *wr, double *effort, double *Fz,
+                          double *V, double *Pd, double *Ps);
+/* Component ic's closed-form tangent at pair evaluation pd and states z: its wrenches w (12: on
+ * its pair's a, b) = B u, Ku = dw/d[da; db] at fixed u (12 x 12), B (12), and u's derivatives in
+ * the measured pair's carriers (its own, or a controller's sensor pair): gq = du/d[da; db], gt =
+ * du/d[ta; tb] (12 each), Kz = dw/dz (12 x nzc, row-major); of its rates f, in the measured
+ * pair's carriers: Fx = df/d[da; db], Ft = df/d[ta; tb] (nzc x 12), and Fz = df/dz (nzc x nzc).
+ * No allocation. */
+void phm_component_tangent(const phm_model *m, int ic, const phm_pair_data *pd, const double *H,
+                           const double *tw, const double *xs, const double *z, double time,
+                           double tref, double w[12], double Ku[144], double B[12], double gq[12],
+                           double gt[12], double *Kz, double *Fx, double *Ft, double *Fz);
+/* The coupling-graph edges (ea[k], eb[k]) of the controllers that measure another pair than
+ * they drive: the driven pair's carriers with the sensed pair's, and (pairs != 0) the driven
+ * pair's vertex (nc + pair) with the sensed carriers; their count (ea NULL: only counted). */
+int phm_components_sensor_edges(const phm_model *m, int *ea, int *eb, int pairs);
 
 /* ---------------------------------------------------------------- coupling graph (graph.c) */
 /* The coupling graph (CSR) of the model's carriers and, with pairs != 0, of its pairs too:

@@ -99,7 +99,20 @@ static const column coupling_columns[] = {
     INDEX2("carriers", "coupled carriers", phm_coupling_desc, a, b, "coupling"),
 };
 
-enum { NKINDS = 7 };
+static const column component_columns[] = {
+    INDEX("kind", "component kinds", phm_component_desc, kind, "kind of component"),
+    INDEX("pair", "component pairs", phm_component_desc, pair, "pair of component"),
+    INDEX("coord", "component coordinates", phm_component_desc, coord, "coordinate of component"),
+    VECTOR("par", "component parameters", phm_component_desc, par, PHM_COMP_NPAR),
+    INDEX("input", "component inputs", phm_component_desc, input, "input of component"),
+    INDEX("nx", "component state counts", phm_component_desc, nx, "state count of component"),
+    INDEX("spair", "component sensor pairs", phm_component_desc, spair, "sensor pair of component"),
+    INDEX("scoord", "component sensor coordinates", phm_component_desc, scoord, "sensor coordinate of component"),
+    VECTOR("z0", "component initial states", phm_component_desc, z0, PHM_COMP_MAXZ),
+    LAW("law", "component laws", phm_component_desc, law, "component law", LAW_OR_NONE),
+};
+
+enum { NKINDS = 8 };
 static const component COMPONENTS[NKINDS] = {
     KIND("carriers", "carrier", phm_carrier_desc, carrier_columns),
     KIND("elements", "element", phm_element_desc, element_columns),
@@ -108,6 +121,7 @@ static const component COMPONENTS[NKINDS] = {
     KIND("actuators", "actuator", phm_actuator_desc, actuator_columns),
     KIND("springs", "spring", phm_spring_desc, spring_columns),
     KIND("couplings", "coupling", phm_coupling_desc, coupling_columns),
+    KIND("components", "component", phm_component_desc, component_columns),
 };
 
 /* The numeric column `col` (an array of shape (n, tail)) into the n structs at `items`. */
@@ -212,14 +226,15 @@ int phm_py_parse_component(const component *cp, PyObject *d, PyObject *keep, int
 static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
   (void)self;
   static char *kwl[] = {"carriers", "elements", "pairs", "loads", "actuators", "springs", "gravity",
-                        "couplings", NULL};
-  /* o[6] gravity, o[7] the couplings (optional: none) */
+                        "couplings", "components", NULL};
+  /* o[6] gravity, o[7] the couplings, o[8] the components (optional: none) */
   PyObject *o[NKINDS + 1] = {NULL};
-  if (!PyArg_ParseTupleAndKeywords(args, kw, "OOOOOOO|O", kwl, &o[0], &o[1], &o[2], &o[3], &o[4], &o[5],
-                                   &o[6], &o[7]))
+  if (!PyArg_ParseTupleAndKeywords(args, kw, "OOOOOOO|OO", kwl, &o[0], &o[1], &o[2], &o[3], &o[4], &o[5],
+                                   &o[6], &o[7], &o[8]))
     return NULL;
   PyObject *grav_arg = o[6];
   o[6] = o[7] == Py_None ? NULL : o[7]; /* None: no coupling, as when left out */
+  o[7] = o[8] == Py_None ? NULL : o[8]; /* None: no component */
   PyObject *keep = PyList_New(0);
   if (!keep) return NULL;
   PyObject *result = NULL;
@@ -235,7 +250,8 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
                         .elements = items[1], .npairs = (int)n[2], .pairs = items[2],
                         .nloads = (int)n[3], .loads = items[3], .nactuators = (int)n[4],
                         .actuators = items[4], .nsprings = (int)n[5], .springs = items[5],
-                        .ncouplings = (int)n[6], .couplings = items[6]};
+                        .ncouplings = (int)n[6], .couplings = items[6],
+                        .ncomponents = (int)n[7], .components = items[7]};
     memcpy(d.gravity, PyArray_DATA(grav), 3 * sizeof(double));
     phm_model *m = NULL;
     phm_error err;
@@ -297,8 +313,8 @@ static PyObject *py_model_sizes(PyObject *self, PyObject *cap) {
     phm_model_pair_layout(m, ip, &row, &mc, &j, &k);
     PyList_SET_ITEM(lay, ip, Py_BuildValue("iiii", row, mc, j, k));
   }
-  return Py_BuildValue("iiiiN", phm_model_ncarriers(m), phm_model_nconstraints(m),
-                       phm_model_njoints(m), phm_model_nports(m), lay);
+  return Py_BuildValue("iiiiNi", phm_model_ncarriers(m), phm_model_nconstraints(m),
+                       phm_model_njoints(m), phm_model_nports(m), lay, phm_model_ncompstates(m));
 }
 
 /* The poses (nc, 4, 4) and the joint references (njoints,; None: NULL) the queries below read,

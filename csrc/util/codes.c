@@ -16,6 +16,9 @@ static const phm_code law_kinds[] = {
 };
 static const phm_code integrators[] = {{"ida", PHM_INTEGRATOR_IDA}, {"galpha", PHM_INTEGRATOR_GALPHA}};
 static const phm_code actuator_kinds[] = {{"effort", PHM_ACT_EFFORT}, {"pd", PHM_ACT_PD}, {"spring", PHM_ACT_SPRING}};
+static const phm_code component_kinds[] = {
+    {"viscous", PHM_COMP_VISCOUS}, {"coulomb", PHM_COMP_COULOMB}, {"stribeck", PHM_COMP_STRIBECK},
+    {"lugre", PHM_COMP_LUGRE},     {"motor", PHM_COMP_MOTOR},       {"linear", PHM_COMP_LINEAR}};
 static const phm_code mass_kinds[] = {
     {"lumped", PHM_MASS_LUMPED}, {"consistent", PHM_MASS_CONSISTENT}, {"given", PHM_MASS_GIVEN}};
 /* The arrays of a simulation's result, in phm_sim_output's order; the value is the position
@@ -24,7 +27,7 @@ static const phm_code result_fields[] = {
     {"poses", PHM_RESULT_POSES},     {"twists", PHM_RESULT_TWISTS},   {"lambda", PHM_RESULT_LAMBDA},
     {"energy", PHM_RESULT_ENERGY},   {"joints", PHM_RESULT_JOINTS},   {"jrates", PHM_RESULT_JRATES},
     {"efforts", PHM_RESULT_EFFORTS}, {"pair_wrenches", PHM_RESULT_PAIR_WRENCHES},
-    {"ports", PHM_RESULT_PORTS},
+    {"ports", PHM_RESULT_PORTS},     {"components", PHM_RESULT_COMPONENTS},
 };
 
 #define ROWS(a) (int)(sizeof(a) / sizeof(a[0]))
@@ -33,6 +36,7 @@ static const phm_code_table tables[] = {
     {"integrators", integrators, ROWS(integrators)},
     {"actuator_kinds", actuator_kinds, ROWS(actuator_kinds)},
     {"mass_kinds", mass_kinds, ROWS(mass_kinds)},
+    {"component_kinds", component_kinds, ROWS(component_kinds)},
     {"result_fields", result_fields, ROWS(result_fields)},
 };
 

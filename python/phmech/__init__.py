@@ -24,12 +24,16 @@ from . import urdf
 from .urdf import URDFRobot, load_urdf
 from . import fmu
 from .fmu import export_fmu
+from . import components
+from .components import (CoulombFriction, DCMotor, LinearController, LuGreFriction,
+                         StribeckFriction, ViscousFriction)
 
 __all__ = ["ModelError", "SolverError", "CostWarning", "info", "blas_threads", "__version__",
            "se3", "graphs", "mesh", "mixed", "timoshenko", "analysis", "load", "load_result",
            "sweep", "linear", "LinearPortHamiltonian", "Passivity", "urdf", "load_urdf", "URDFRobot",
            "fmu", "export_fmu",
-           "Material", "Section", "BeamProperties", "table1_properties", *mechanism.__all__]
+           "Material", "Section", "BeamProperties", "table1_properties", "ViscousFriction",
+           "CoulombFriction", "StribeckFriction", "LuGreFriction", "DCMotor", "LinearController", *mechanism.__all__]
 
 
 def __getattr__(name: str):

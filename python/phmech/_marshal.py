@@ -145,12 +145,24 @@ def _description_columns(desc: ModelDescription) -> dict:
                      c=np.array([q["kcd"][1] for q in sp], dtype=float)),
         couplings=dict(Mc=np.array([c["Mc"] for c in desc.couplings], dtype=float).reshape(-1, 12, 12),
                        carriers=np.array([[c["a"], c["b"]] for c in desc.couplings],
-                                         dtype=float).reshape(-1, 2)))
+                                         dtype=float).reshape(-1, 2)),
+        components=_component_columns(desc.components))
     for kind in desc.columns.values():   # shared by every later call: nobody may write them
         for v in kind.values():
             if isinstance(v, np.ndarray):
                 v.setflags(write=False)
     return desc.columns
+
+
+def _component_columns(rows: Sequence[dict]) -> dict:
+    """The component rows' columns of ``components`` (python/phmech/components.py)."""
+    from .components import MAXZ, NPAR
+    return dict(kind=np.array([r["code"] for r in rows], dtype=float), pair=_column(rows, "pair"),
+                coord=_column(rows, "coord"), par=_column(rows, "par", (NPAR,)),
+                input=_column(rows, "input"), nx=_column(rows, "nstates"),
+                spair=_column(rows, "spair"), scoord=_column(rows, "scoord"),
+                z0=_column(rows, "z0", (MAXZ,)),
+                law=[_law(r["law"]) for r in rows])
 
 
 def _load_columns(loads: Sequence[dict]) -> dict:
@@ -191,7 +203,7 @@ def components(desc: ModelDescription, poses: np.ndarray, twists: np.ndarray, x0
         actuators=cols["actuators"],
         springs=dict(cols["springs"], rest_length=_rest_lengths(desc, poses)),
         gravity=np.asarray(desc.gravity, dtype=float),
-        couplings=cols["couplings"])
+        couplings=cols["couplings"], components=cols["components"])
 
 
 def core_model(desc: ModelDescription, poses: np.ndarray, twists: np.ndarray, x0: np.ndarray,

@@ -45,6 +45,8 @@ class ModelDescription:
     actuators: list = dataclasses.field(default_factory=list)
     springs: list = dataclasses.field(default_factory=list)
     couplings: list = dataclasses.field(default_factory=list)
+    #: components with internal states (python/phmech/components.py, component_row)
+    components: list = dataclasses.field(default_factory=list)
     bodies: dict = dataclasses.field(default_factory=dict)     # name -> Body
     links: dict = dataclasses.field(default_factory=dict)      # name -> FlexibleLink
     #: link name -> index of its first element (its elements are consecutive)

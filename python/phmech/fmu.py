@@ -423,6 +423,11 @@ def export_fmu(mechanism, path, inputs: Sequence[str] = (), outputs: Optional[Se
     state = mechanism._state
     comp = _marshal.components(mechanism._desc, state.poses, state.twists, state.x0,
                                state.drop_masks, state.frames_a)
+    if mechanism._desc.components:   # csrc/fmi/fmi2.c does not read them yet
+        raise ModelError("export_fmu: the components (friction, motors: "
+                         f"{[r['name'] for r in mechanism._desc.components]}) are not in the FMU "
+                         "wrapper csrc/fmi/fmi2.c yet")
+    del comp["components"]
     d = mechanism._desc
     names = {"carriers": [d.carrier_name(i) for i in range(len(d.carriers))],
              "elements": [str(i) for i in range(len(d.elements))],

@@ -72,7 +72,7 @@ from typing import Any, Callable, Optional
 
 import numpy as np
 
-from . import actuators, laws, pairs, section
+from . import actuators, components, laws, pairs, section
 from ._core import ModelError
 from .frames import Body, FlexibleLink, Frame
 
@@ -257,8 +257,9 @@ register(FlexibleLink, "FlexibleLink", *_named("flexible link", "_links"))
 for _cls in (laws.Constant, laws.Step, laws.Pulse, laws.Sine, laws.Table, laws.Cycloidal,
              laws.Linear, laws.PiecewisePolynomial, laws.Spline, laws.Sum, laws.Product,
              laws.Motion, actuators.Effort, actuators.PD, actuators.Spring, section.Material,
-             section.Section, section.BeamProperties,
-             *(getattr(pairs, t.name) for t in pairs.PAIR_TYPES)):
+             section.Section, section.BeamProperties, components.ViscousFriction,
+             components.CoulombFriction, components.StribeckFriction, components.LuGreFriction,
+             components.DCMotor, components.LinearController, *(getattr(pairs, t.name) for t in pairs.PAIR_TYPES)):
     register_dataclass(_cls)
 
 
@@ -613,6 +614,12 @@ def simulation_dataset(res):
         "model_carrier": ("model_carrier", np.arange(ncar)),
         "model_carrier_name": ("model_carrier", names),
     }
+    states = [(n, q) for n, d in res.components.items() for q in d]
+    if states:   # the components' internal states (python/phmech/components.py), when any
+        data["component_states"] = (("time", "component_state"),
+                                    np.column_stack([res.components[n][q] for n, q in states]),
+                                    dict(long_name="components' internal states (A, m, rad, ...)"))
+        coords["component_state"] = ("component_state", [f"{n}.{q}" for n, q in states])
     meta = dict(stats=encode_value(dict(res.stats)), interrupted=bool(res.interrupted),
                 recorded=res.carriers is not None,
                 pairs=encode_value(res._pairs), redundant=encode_value(res.redundant_constraints),
@@ -747,7 +754,19 @@ def load_result(path):
         _couplings=a("couplings") if "couplings" in ds else np.zeros((0, 12, 12)),
         # a file from before the fields (or without couplings): the masses on their carriers
         _coupled_fields=a("coupled_fields") if "coupled_fields" in ds
-        else np.zeros((ds.sizes.get("coupled_element", 0), 5)))
+        else np.zeros((ds.sizes.get("coupled_element", 0), 5)),
+        components=_component_states(ds))
+
+
+def _component_states(ds) -> dict:
+    """name -> {state: values} of a dataset's component states (none in older files)."""
+    out: dict = {}
+    if "component_states" in ds:
+        zs = np.asarray(ds["component_states"].values)
+        for j, label in enumerate(ds["component_state"].values):
+            n, q = str(label).rsplit(".", 1)
+            out.setdefault(n, {})[q] = zs[:, j].copy()
+    return out
 
 
 def simulation_dataframe(res):

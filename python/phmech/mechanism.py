@@ -750,6 +750,34 @@ class Mechanism:
         self._new_name(name)
         self._acts.append(act)
 
+    def _no_components(self, what: str) -> None:
+        """ModelError: the analyses (modes, linearize, static) do not yet include the components
+        with internal states, which only simulate integrates (issue 29, item 6)."""
+        if self._desc.components:
+            names = ", ".join(repr(r["name"]) for r in self._desc.components)
+            raise ModelError(f"{what}: the components {names} (friction, motors) are not part of "
+                             f"the linearized and static analyses yet; only simulate() includes "
+                             f"them")
+
+    @_recorded
+    def add_component(self, name: str, pair: str, component) -> None:
+        """A component with internal states (``phmech.components``: ViscousFriction,
+        CoulombFriction, StribeckFriction, LuGreFriction, DCMotor, LinearController) named
+        ``name`` on the revolute
+        or prismatic pair named ``pair``; its states are in ``res.components[name]``."""
+        from .components import component_row
+        if not isinstance(pair, str):
+            raise ModelError(f"component {name!r}: pair must be given by its name (got {pair!r})")
+        e = self._pair_entry(pair)
+        self._check_name(name)
+        sensor = getattr(component, "sensor", None)
+        if sensor is not None:   # a controller measuring another pair
+            se = self._pair_entry(sensor)
+            sensor = (self._pairs.index(se), se["k"])
+        row = component_row(name, e, self._pairs.index(e), component, sensor)
+        self._new_name(name)
+        self._desc.components.append(row)
+
     @_recorded
     def add_spring_damper(self, name: str, a, b, k: float, c: float = 0.0,
                           rest_length: Optional[float] = None, point_a=(0.0, 0.0, 0.0),
@@ -1326,7 +1354,18 @@ class Mechanism:
                                 _mass=np.array([c["mass"] for c in self._car], dtype=float),
                                 _com=np.array([c["com"] for c in self._car], dtype=float),
                                 _bodies=dict(self._bodies),
+                                components=self._component_states(r["components"][:k]),
                                 **self._desc.mass_couplings())
+
+    def _component_states(self, zs: np.ndarray) -> dict:
+        """name -> {state name: its values over the outputs} of every component with internal
+        states (python/phmech/components.py), from the core's state array ``zs`` (nout, nz)."""
+        from .components import state_layout
+        rows = self._desc.components
+        lay = state_layout(rows)
+        return {r["name"]: {sn: zs[:, lay[r["name"]][0] + j].copy()
+                            for j, sn in enumerate(r["states"])}
+                for r in rows if r["nstates"]}
 
     def _check_outputs(self, span: float, record) -> None:
         """ModelError when (t_end - t_start) / dt_out output times would take more than half the
@@ -1539,6 +1578,7 @@ class Mechanism:
         (its value or rate differs from t = 0's) a ModelError names the pair and the values:
         the initial configuration holds it at s(0), and modes there would be the t = 0 ones
         (drive it with ``law.shifted(-time)`` and call modes() at time 0 instead)."""
+        self._no_components("modes")
         n = integer("n", n, 1)
         time = real("time", time)
         self._check_linearization_time("modes", time, at)
@@ -1621,6 +1661,7 @@ class Mechanism:
         in K); a driven pair whose law has moved by ``time`` is refused as in :meth:`modes`.
         About a configuration that is not a static equilibrium an EquilibriumWarning says so,
         as :meth:`modes` does: K is the tangent there and x = 0 is no rest state."""
+        self._no_components("linearize")
         from . import linear
 
         time = real("time", time)
@@ -1704,6 +1745,7 @@ class Mechanism:
         part, what moves and the generalized force; the error's ``free_motions`` lists them
         (FreeMotion; docs/method.md section 7.3, "No equilibrium"). A motion nothing resists on
         which the loads do no work leaves the equilibrium not unique: one is returned."""
+        self._no_components("static")
         extra = []
         if not isinstance(loads, (list, tuple)):
             raise ModelError(f"static loads: expected a list of (target, wrench, frame) tuples "

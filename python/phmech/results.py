@@ -109,6 +109,8 @@ class SimulationResult:
     interrupted: bool
     _links: dict
     port_energy: dict = dataclasses.field(default_factory=dict)
+    #: component name -> {state name: values over the outputs} (python/phmech/components.py)
+    components: dict = dataclasses.field(default_factory=dict)
     joints: np.ndarray = None
     joint_rates: np.ndarray = None
     efforts: np.ndarray = None

@@ -38,7 +38,7 @@ static void rows_match_the_enums(void) {
 }
 
 static void tables_are_well_formed(void) {
-  CHECK(phm_code_table_count() == 5, "five code tables (%d)", phm_code_table_count());
+  CHECK(phm_code_table_count() == 6, "six code tables (%d)", phm_code_table_count());
   CHECK(phm_code_table_at(-1) == NULL && phm_code_table_at(phm_code_table_count()) == NULL &&
             phm_code_table_named("nope") == NULL && phm_code_table_named(NULL) == NULL,
         "unknown tables are NULL");

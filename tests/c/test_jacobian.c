@@ -23,6 +23,7 @@ typedef struct {
   phm_load_desc load[1];
   phm_spring_desc spr[1];
   phm_actuator_desc act[2];
+  phm_component_desc comp[7];
   phm_model_desc d;
 } builder;
 
@@ -317,6 +318,38 @@ static void pairs_springs_loads_actuators_are_closed_form(void) {
   compare("J = central FD: the same with consistent masses", &b, 1e-7);
 }
 
+/* Components with internal states (csrc/model/component.c, docs/method.md section 4.11): every
+ * kind on the revolute between carriers 3 and 4 (a motor with a rotor inertia between two
+ * carriers: a mass coupling), then a motor and LuGre friction on a revolute to the ground (its
+ * inertia on the carrier): their wrenches, their rows z' - f and their states' columns. Moderate
+ * parameters (the LuGre bristles' 1e5 N/m would only scale the entries); the random joint rates
+ * are not 0, where |v| has no derivative. */
+static void components_are_closed_form(void) {
+  static builder b;
+  applied_model(&b);
+  phm_law volt = {.kind = PHM_LAW_SINE, .amplitude = 2.0, .frequency = 1.5, .offset = 3.0};
+  b.comp[0] = (phm_component_desc){.kind = PHM_COMP_LUGRE, .pair = 1, .par = {50, 3, 0.4, 1, 1.5, 0.3}};
+  b.comp[1] = (phm_component_desc){.kind = PHM_COMP_MOTOR, .pair = 1, .par = {0.5, 2, 0.3, 4, 0.8, 0.01}, .law = volt};
+  b.comp[2] = (phm_component_desc){.kind = PHM_COMP_STRIBECK, .pair = 1, .par = {1, 1.5, 0.4, 0.2, 0.3}};
+  b.comp[3] = (phm_component_desc){.kind = PHM_COMP_COULOMB, .pair = 1, .par = {0.7, 0.5}};
+  b.comp[4] = (phm_component_desc){.kind = PHM_COMP_VISCOUS, .pair = 1, .par = {0.3}};
+  b.comp[5] = (phm_component_desc){.kind = PHM_COMP_MOTOR, .pair = 1, .input = 1, .par = {0.5, 2, 0.3, 4, 0.9, 0}, .law = volt};
+  /* a linear controller with two states: A (2 x 2), B (2 x 2), C (2), D (2), a sine reference */
+  b.comp[6] = (phm_component_desc){.kind = PHM_COMP_LINEAR, .pair = 1, .nx = 2, .law = volt,
+                                   .par = {-1, 0.5, -0.3, -2, 1, 0.2, 3, -0.4, -5, 0.7, -20, -3}};
+  for (int i = 0; i < 7; i++) b.comp[i].spair = -1; /* each measures its own pair */
+  b.d.ncomponents = 7;
+  b.d.components = b.comp;
+  compare("J = central FD: LuGre, motors (voltage with J, current), Stribeck, Coulomb, viscous, "
+          "a linear controller", &b, 1e-7);
+  b.pair[0].type = pair_code("revolute");
+  b.comp[0].pair = b.comp[1].pair = 0;
+  b.comp[6].spair = 0; /* the controller on the revolute 3-4 measures the one to the ground */
+  compare("J = central FD: LuGre and a motor with J on a revolute to the ground, the rest between "
+          "two, a controller measuring the other pair", &b, 1e-7);
+  b.d.ncomponents = 0;
+}
+
 /* dae_jacobian_prune keeps every entry ever nonzero: the first call reports a new pattern, the
  * same values again do not, an entry gone back to zero stays (its value 0), and a newly nonzero
  * entry grows the pattern. */
@@ -430,4 +463,5 @@ CHECK_MAIN(CHECK_CASE(carriers_and_gravity_are_closed_form), CHECK_CASE(elements
            CHECK_CASE(pruning_keeps_a_growing_pattern),
            CHECK_CASE(pairs_are_closed_form), CHECK_CASE(planar_is_the_submatrix),
            CHECK_CASE(pairs_springs_loads_actuators_are_closed_form),
+           CHECK_CASE(components_are_closed_form),
            CHECK_CASE(ledger_dpower_is_the_power_change))

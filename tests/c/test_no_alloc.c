@@ -46,8 +46,8 @@ void *__wrap_realloc(void *p, size_t size) {
 /* ---------------------------------------------------------------- the model */
 /* A flexible strip of NE elements along x whose root is turned about z by a driven fixed pair
  * (a Table law), a rigid body on its tip on a revolute pair about z held by a PD actuator with a
- * Table set point, a spring from the body to the ground, a load on a node with its reaction on
- * the body (an expression law), gravity. */
+ * Table set point, LuGre friction and a DC motor, a spring from the body to the ground, a load on
+ * a node with its reaction on the body (an expression law), gravity. */
 enum { NE = 4, NC = NE + 2 };
 static const double drive_table[] = {0.0, 0.0, 0.01, 0.02, 0.02, 0.03, 0.03, 0.03, 0.04, 0.0};
 static const double setpoint_table[] = {0.0, 0.0, 0.015, 0.1, 0.035, 0.1};
@@ -166,6 +166,14 @@ static phm_model *build(int mass, int planar) {
   d.springs = spr;
   d.nloads = 1;
   d.loads = ld;
+  /* components with internal states on the revolute: LuGre friction and a DC motor with a
+   * rotor inertia (a mass coupling of the pair's two carriers) */
+  static phm_component_desc comp[2];
+  comp[0] = (phm_component_desc){.kind = PHM_COMP_LUGRE, .pair = 1, .par = {1e3, 5, 0.01, 0.05, 0.08, 0.01}};
+  comp[1] = (phm_component_desc){.kind = PHM_COMP_MOTOR, .pair = 1, .par = {1e-3, 2.0, 0.02, 10, 0.9, 1e-6},
+                                 .law = {.kind = PHM_LAW_CONSTANT, .amplitude = 0.5}};
+  d.ncomponents = 2;
+  d.components = comp;
   d.gravity[2] = -9.81;
   if (planar) { /* everything in the x-y plane: gravity along -y, the out-of-plane rows dropped
                  * (the fixed pair's rx, ry, tz; the revolute's rx, ry, tz) */

@@ -1,0 +1,243 @@
+"""Components with internal states on a pair's joint coordinate: friction and DC motors.
+
+Each is a port-Hamiltonian system (docs/method.md section 4.11) whose mechanical port is the
+effort u and the rate v = xdot of one coordinate of a revolute or prismatic pair (a torque [N m]
+and an angular rate [rad/s], or a force [N] and a speed [m/s]); its internal states (a LuGre
+bristle deflection z, a motor current i) are states of the DAE, integrated with the mechanism.
+Its stored energy is counted with the elastic energy of ``res.energy``, its losses in the
+dissipated and its sources (a motor's electrical power) in the supplied energy, so the ledger
+closes over the components too. ``Mechanism.add_component(name, pair, component)`` adds one;
+``res.components[name]`` holds its states over the run.
+
+Friction laws (v the joint rate, g(v) = Fc + (Fs - Fc) exp(-(v/vs)^2) the Stribeck curve):
+
+- ``ViscousFriction(c)``: u = -c v;
+- ``CoulombFriction(Fc, v_reg)``: u = -Fc tanh(v / v_reg), Coulomb's law regularized over
+  v_reg (stateless; sticking is a slow creep at abs(v) << v_reg: use ``LuGreFriction`` for true
+  stiction, whose bristles hold the load without creep);
+- ``StribeckFriction(Fc, Fs, vs, viscous, v_reg)``: u = -g(v) tanh(v / v_reg) - viscous v;
+- ``LuGreFriction(sigma0, sigma1, sigma2, Fc, Fs, vs)``: the dynamic model of Canudas de Wit,
+  Olsson, Astrom and Lischinsky (IEEE TAC 40(3), 1995): z' = v - sigma0 abs(v) z / g(v),
+  u = -(sigma0 z + sigma1 z' + sigma2 v), storage sigma0 z^2 / 2.
+
+``DCMotor(L, R, k, J, ratio, efficiency, voltage=law | current=law)``: armature
+L i' = V(t) - R i - k n v, joint effort u = efficiency n k i, rotor inertia J reflected to the
+joint as J n^2 (n the gear ratio, motor speed n v); storage L i^2 / 2, supplied power V i,
+dissipated R i^2 + (1 - efficiency) n k i v (copper and gear losses).
+
+``LinearController(A, B, C, D, reference)``: a linear state-space controller on the coordinate's
+error and rate, its states in the DAE (a compiled route for feedback: no Python call per
+residual)."""
+from __future__ import annotations
+
+import dataclasses
+from typing import Optional
+
+import numpy as np
+
+from ._checks import real
+from ._core import ModelError
+from .laws import checked_law
+
+__all__ = ["ViscousFriction", "CoulombFriction", "StribeckFriction", "LuGreFriction", "DCMotor",
+           "LinearController", "component_row"]
+
+#: the core's component kinds (csrc/include/phmech_types.h, phm_component_kind)
+_KINDS = {"viscous": 0, "coulomb": 1, "stribeck": 2, "lugre": 3, "motor": 4, "linear": 5}
+#: parameters and internal states per component, at most (PHM_COMP_NPAR, PHM_COMP_MAXZ)
+NPAR, MAXZ = 32, 4
+
+
+@dataclasses.dataclass(frozen=True)
+class ViscousFriction:
+    """Viscous friction u = -c v; c [N s/m or N m s/rad] >= 0."""
+    c: float
+
+
+@dataclasses.dataclass(frozen=True)
+class CoulombFriction:
+    """Coulomb friction regularized over ``v_reg``: u = -Fc tanh(v / v_reg); Fc [N or N m] >= 0,
+    v_reg [m/s or rad/s] > 0."""
+    Fc: float
+    v_reg: float = 1e-3
+
+
+@dataclasses.dataclass(frozen=True)
+class StribeckFriction:
+    """Stribeck friction u = -(Fc + (Fs - Fc) exp(-(v/vs)^2)) tanh(v / v_reg) - viscous v."""
+    Fc: float
+    Fs: float
+    vs: float
+    viscous: float = 0.0
+    v_reg: float = 1e-4
+
+
+@dataclasses.dataclass(frozen=True)
+class LuGreFriction:
+    """LuGre friction (Canudas de Wit et al. 1995) with its bristle deflection z [m or rad] as a
+    state: z' = v - sigma0 abs(v) z / g(v), u = -(sigma0 z + sigma1 z' + sigma2 v). sigma0
+    [N/m] > 0 bristle stiffness, sigma1 [N s/m] >= 0 bristle damping, sigma2 [N s/m] >= 0
+    viscous, Fc <= Fs [N] Coulomb and static levels, vs [m/s] > 0 Stribeck speed; z0 the
+    initial deflection."""
+    sigma0: float
+    sigma1: float
+    sigma2: float
+    Fc: float
+    Fs: float
+    vs: float
+    z0: float = 0.0
+
+
+@dataclasses.dataclass(frozen=True)
+class DCMotor:
+    """A DC motor with gearbox on the joint: L [H] inductance, R [ohm] resistance, k [N m/A =
+    V s/rad] torque constant, J [kg m^2] rotor inertia (reflected as J n^2), ratio n (motor
+    angle per joint coordinate), efficiency in (0, 1] (the joint gets efficiency n k i). Input:
+    ``voltage`` V(t) [V] (a law or a number; the current i [A] is then a state, from i0) or
+    ``current`` i(t) [A] (no state)."""
+    L: Optional[float] = None
+    R: Optional[float] = None
+    k: Optional[float] = None
+    J: float = 0.0
+    ratio: float = 1.0
+    efficiency: float = 1.0
+    voltage: object = None
+    current: object = None
+    i0: float = 0.0
+
+
+@dataclasses.dataclass(frozen=True)
+class LinearController:
+    """A linear state-space controller on the pair's coordinate, its states xc (at most 4) in
+    the DAE: with the measurement y = (x - reference(t), v) (the coordinate's error [m or rad]
+    and its rate),
+
+        xc' = A xc + B y,     u = C xc + D y       (u: the effort on the coordinate, N or N m).
+
+    A (n, n), B (n, 2), C (n,), D (2,); n = 0 (A, B, C empty) is a static gain, e.g. a PD
+    D = (-kp, -kd); an integral action is a state xc' = x - r with C = -ki. ``reference``: a
+    law or a number [m or rad]; ``x0``: the initial states (zeros). The controller is a source:
+    its power u v is supplied energy (as an actuator's), and its states store none.
+    ``sensor``: the name of another pair (of any type) whose coordinate ``sensor_coordinate``
+    it measures instead of its own (non-collocated feedback; None: the pair it drives)."""
+    A: object = ()
+    B: object = ()
+    C: object = ()
+    D: object = (0.0, 0.0)
+    reference: object = 0.0
+    x0: object = None
+    sensor: Optional[str] = None
+    sensor_coordinate: int = 0
+
+
+def _matrix(what: str, v, shape: tuple) -> np.ndarray:
+    """``v`` as a finite float array of ``shape``; ModelError naming ``what`` otherwise."""
+    try:
+        a = np.asarray(v, dtype=float)
+    except (TypeError, ValueError):
+        raise ModelError(f"{what}: expected numbers of shape {shape}") from None
+    if a.size == 0 and 0 in shape:
+        return a.reshape(shape)
+    if a.shape != shape:
+        try:
+            a = a.reshape(shape)
+        except ValueError:
+            raise ModelError(f"{what}: expected shape {shape}, got {np.shape(v)}") from None
+    if not np.all(np.isfinite(a)):
+        raise ModelError(f"{what}: not finite")
+    return a
+
+
+def _params(what: str, comp, names: tuple) -> list:
+    """The named parameters of ``comp`` as floats; ModelError naming a missing one."""
+    out = []
+    for nm in names:
+        v = getattr(comp, nm)
+        if v is None:
+            raise ModelError(f"{what}: parameter {nm!r} is missing")
+        out.append(real(f"{what}: {nm}", v))
+    return out
+
+
+def component_row(name: str, pair_row: dict, index: int, comp,
+                  sensor: Optional[tuple] = None) -> dict:
+    """The description row of component ``comp`` named ``name`` on the pair row ``pair_row`` (at
+    position ``index`` among the pairs), validated (ModelError naming the component otherwise):
+    kind, pair, coord, par (NPAR), input, z0 (MAXZ), law, nstates, states (their names), spair,
+    scoord. ``sensor``: (index, k) of a LinearController's sensor pair (add_component finds it
+    by name), None for its own."""
+    what = f"component {name!r}"
+    tname = type(pair_row["pair"]).__name__.lower()
+    if tname not in ("revolute", "prismatic"):
+        raise ModelError(f"{what}: friction and motors act on revolute and prismatic pairs only "
+                         f"(pair {pair_row['name']!r} is {type(pair_row['pair']).__name__})")
+    par, z0, law, inp, states = np.zeros(NPAR), np.zeros(MAXZ), None, 0, ()
+    if isinstance(comp, LinearController):
+        A = np.asarray(comp.A, dtype=float) if np.size(comp.A) else np.zeros((0, 0))
+        n = int(round(np.sqrt(A.size)))
+        if n > MAXZ:
+            raise ModelError(f"{what}: {n} controller states, at most {MAXZ}")
+        A = _matrix(f"{what}: A", comp.A, (n, n))
+        B = _matrix(f"{what}: B", comp.B, (n, 2))
+        C = _matrix(f"{what}: C", comp.C, (n,))
+        D = _matrix(f"{what}: D", comp.D, (2,))
+        p = [*A.ravel(), *B.ravel(), *C, *D]
+        par[:len(p)] = p
+        if comp.x0 is not None:
+            z0[:n] = _matrix(f"{what}: x0", comp.x0, (n,))
+        law = checked_law(comp.reference, f"{what}: reference", numbers_too=True)
+        states = tuple(f"x{j}" for j in range(n))
+        spair, scoord = -1, 0
+        if comp.sensor is not None:
+            spair, ks = sensor
+            scoord = comp.sensor_coordinate
+            if not isinstance(scoord, (int, np.integer)) or not 0 <= scoord < ks:
+                raise ModelError(f"{what}: sensor_coordinate {scoord!r} is not one of the sensor "
+                                 f"pair's {ks} coordinates")
+        return dict(name=name, kind="linear", code=_KINDS["linear"], pair=index, coord=0,
+                    par=par, input=0, z0=z0, law=law, nstates=n, states=states,
+                    spair=spair, scoord=int(scoord))
+    if isinstance(comp, ViscousFriction):
+        kind, p = "viscous", _params(what, comp, ("c",))
+        ok = p[0] >= 0
+    elif isinstance(comp, CoulombFriction):
+        kind, p = "coulomb", _params(what, comp, ("Fc", "v_reg"))
+        ok = p[0] >= 0 and p[1] > 0
+    elif isinstance(comp, StribeckFriction):
+        kind, p = "stribeck", _params(what, comp, ("Fc", "Fs", "vs", "viscous", "v_reg"))
+        ok = p[0] >= 0 and p[1] >= 0 and p[2] > 0 and p[3] >= 0 and p[4] > 0
+    elif isinstance(comp, LuGreFriction):
+        kind, p = "lugre", _params(what, comp, ("sigma0", "sigma1", "sigma2", "Fc", "Fs", "vs"))
+        ok = p[0] > 0 and p[1] >= 0 and p[2] >= 0 and p[3] > 0 and p[4] > 0 and p[5] > 0
+        z0[0] = real(f"{what}: z0", comp.z0)
+    elif isinstance(comp, DCMotor):
+        kind = "motor"
+        if (comp.voltage is None) == (comp.current is None):
+            raise ModelError(f"{what}: give exactly one input, voltage= or current=")
+        inp = 0 if comp.voltage is not None else 1
+        p = _params(what, comp, ("L", "R", "k", "ratio", "efficiency", "J"))
+        ok = (p[0] > 0 if inp == 0 else p[0] >= 0) and p[1] >= 0 and p[2] > 0 and p[3] != 0 \
+            and 0 < p[4] <= 1 and p[5] >= 0
+        law = checked_law(comp.voltage if inp == 0 else comp.current,
+                          f"{what}: {'voltage' if inp == 0 else 'current'}", numbers_too=True)
+        z0[0] = real(f"{what}: i0", comp.i0)
+    else:
+        raise ModelError(f"{what}: expected ViscousFriction, CoulombFriction, StribeckFriction, "
+                         f"LuGreFriction, DCMotor or LinearController (got {type(comp).__name__})")
+    if not ok:
+        raise ModelError(f"{what}: a parameter is out of range ({kind}: {p}; see "
+                         f"phmech.components for each one's range)")
+    par[:len(p)] = p
+    states = {"lugre": ("z",), "motor": ("i",) if inp == 0 else ()}.get(kind, ())
+    return dict(name=name, kind=kind, code=_KINDS[kind], pair=index, coord=0, par=par,
+                input=inp, z0=z0, law=law, nstates=len(states), states=states, spair=-1, scoord=0)
+
+
+def state_layout(rows: list) -> dict:
+    """Each component's slice of the core's internal states (grouped by pair in the given order
+    within a pair, as csrc/model/component.c lays them out): name -> (first, count)."""
+    out, z = {}, 0
+    for i in sorted(range(len(rows)), key=lambda i: rows[i]["pair"]):
+        out[rows[i]["name"]] = (z, rows[i]["nstates"])
+        z += rows[i]["nstates"]
+    return out
