@@ -343,3 +343,15 @@ def test_free_fall_com_parabola(com):
     assert E_err < 2e-8
     # the gravity potential is taken at the COM: V = -m g . p_c
     assert np.allclose(r.energy["gravity"], -2.0 * pc @ g, rtol=1e-12, atol=1e-12 * np.abs(2.0 * pc @ g).max())
+
+
+def test_a_given_twist_is_kept_when_a_pair_places_the_body():
+    """add_rigid_body(twist=...) on a body placed by a pair whose rates xdot0 were not given: the
+    twist is the body's initial motion (it started at rest without a word before). Exact: free
+    flight x = v t; along a prismatic pair's axis the same."""
+    for pair in (ph.Free(), ph.Prismatic(axis="x")):
+        m = ph.Mechanism(gravity=(0, 0, 0))
+        b = m.add_rigid_body("b", 1.0, np.eye(3) * 1e-2, twist=(0, 0, 0, 1.0, 0, 0))
+        m.add_pair("p", pair, m.ground, b)
+        r = m.simulate(1.0, 0.1)
+        np.testing.assert_allclose(r.poses[:, b.carrier, 0, 3], r.t, atol=1e-9)

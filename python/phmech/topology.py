@@ -327,7 +327,12 @@ def place_tree(desc: ModelDescription):
                 tn = np.zeros(6) if c < 0 else T[c]
                 if e["has_x0"] or w not in given:
                     # placed from the pair at x0 (x = 0 if not given), moving with the near carrier
-                    H[w], T[w] = pose_across(e, e["x0"][:k], xd, Hn, tn, forward, frames_a[ip])
+                    # at the rates xdot0 (0 if not given), unless the body's own twist was given
+                    # (add_rigid_body(twist=...)) and the pair's rates were not: that twist is kept,
+                    # as below (a Free pair's body given v = 1 m/s started at rest without a word)
+                    H[w], Tw = pose_across(e, e["x0"][:k], xd, Hn, tn, forward, frames_a[ip])
+                    if k == 0 or has_xd or w not in desc.twist_given:
+                        T[w] = Tw
                 else:
                     # the given poses are the reference: the pair's coordinates (Fixed: its weld
                     # orientation) are those of its frames at the given poses, and w keeps its
