@@ -10,12 +10,12 @@ import os
 import sys
 
 from . import _core
-from ._core import ModelError, SolverError, __version__   # meson.build's project() version
+from ._errors import (ModelError, SolverError, __version__,   # __version__: meson.build's project() version
+                      CostWarning)
 from . import analysis, graphs, io, mesh, mixed, se3, timoshenko
 from .section import BeamProperties, Material, Section, table1_properties
 from . import mechanism
 from .mechanism import *  # noqa: F401,F403  (names listed in mechanism.__all__)
-from ._run import CostWarning
 from .io import load, load_result
 from .sweep import sweep
 from . import linear

@@ -14,7 +14,7 @@ from typing import Callable, Optional
 import numpy as np
 
 from ._checks import real
-from ._core import ModelError
+from ._errors import AccuracyWarning, CostWarning, ModelError, PlausibilityWarning
 
 #: steps per period of the band's highest frequency at the adaptive integrator's smallest and
 #: largest step (csrc/include/phmech_types.h, PHM_BAND_STEPS and PHM_BAND_MAX_STEPS)
@@ -25,29 +25,6 @@ REFINE_MAX = 1000.0
 #: the default band is at least this many hertz per second of run: 1/(2 dt_out) alone let a
 #: long dt_out set the accuracy (a pendulum run over 1 s with dt_out = 2 s, band 0.25 Hz)
 BAND_PER_SPAN = 50.0
-
-
-class CostWarning(UserWarning):
-    """A simulation is spending far more steps than the frequency band it was asked to resolve
-    needs: it is following vibrations above that band (typically the axial and shear modes of a
-    flexible link's mesh), which the output interval cannot even show."""
-
-
-class AccuracyWarning(UserWarning):
-    """A result is less accurate than phmech's contract: a finished simulation's energy ledger
-    (E - E0 - supplied + dissipated) drifted by more than ``LEDGER_WARN`` of the energy the run
-    moved and exchanged (the integrator created or destroyed that much energy, so the trajectory
-    itself is doubtful), its error estimate stayed above the tolerance (warn_if_above_tolerance),
-    or an analysis whose figures double precision or the model cannot resolve. The message gives
-    the measured figure, the bound and the remedy."""
-
-
-class PlausibilityWarning(UserWarning):
-    """A model that runs but is implausible for a physical mechanism: a value that looks like a
-    unit slip (Young's modulus in GPa, a section in mm, a density in g/cm^3, an angle in
-    degrees), or a run whose flexible links strain beyond a few per cent or are stressed far
-    beyond what their material can carry. The message gives the measured value, the bound and
-    what was probably meant (docs/user_guide.md, "Plausibility checks")."""
 
 
 #: ledger residual / energy_scale (``quality``: the largest of the kinetic energy, the change of

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._core import ModelError
+from ._errors import ModelError
 
 __all__ = ["spectrum", "dominant_frequency", "modal_energy", "mac", "label_modes", "mode_energies",
            "MODE_KINDS"]

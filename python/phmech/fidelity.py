@@ -30,6 +30,7 @@ from scipy.linalg import eigh
 from threadpoolctl import threadpool_limits
 
 from . import se3
+from .description import mass_centre
 
 @dataclasses.dataclass(frozen=True)
 class ModalChoice:
@@ -69,13 +70,6 @@ def _quadrature(L: float, eps: np.ndarray) -> tuple:
     s = (0.5 * (b - a) * x[None, :] + 0.5 * (a + b)).ravel()
     ws = (0.5 * (b - a) * w[None, :]).ravel()
     return s, ws
-
-
-def mass_centre(M: np.ndarray, mass: float) -> np.ndarray:
-    """The centre of mass [m] of a 6x6 spatial inertia M ((omega, v) order) of ``mass`` [kg]:
-    M[:3, 3:] = mass hat(c) (add_rigid_body's layout), c from its skew part."""
-    C = np.asarray(M)[:3, 3:] / mass
-    return np.array([C[2, 1] - C[1, 2], C[0, 2] - C[2, 0], C[1, 0] - C[0, 1]]) / 2.0
 
 
 def rigid_link_inertia(L: float, inertia: np.ndarray, eps: np.ndarray) -> tuple:

@@ -39,8 +39,7 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 
 from . import _marshal
-from ._core import ModelError, __version__
-from ._run import CostWarning
+from ._errors import CostWarning, ModelError, __version__, outside_stacklevel
 from .frames import Frame, frame_of
 from .pairs import PAIR_TYPES
 
@@ -62,7 +61,7 @@ _WRAPPER = "phmech_fmi2.so"
 
 
 def _law_numbers(law, what: str) -> list:
-    """The flat numbers of a core law tuple (python/phmech/_marshal.py, _law) or None (no law):
+    """The flat numbers of a core law tuple (python/phmech/laws.py, core_tuple) or None (no law):
     kind, amplitude, t0, duration, frequency, phase, offset, order, ndata, data..., nnodes,
     nodes...; ModelError naming ``what`` for a Python-function law."""
     if law is None:
@@ -407,7 +406,6 @@ def export_fmu(mechanism, path, inputs: Sequence[str] = (), outputs: Optional[Se
     if not sys.platform.startswith("linux") or os.uname().machine != "x86_64":
         raise ModelError("export_fmu writes Linux x86-64 FMUs and runs on Linux x86-64 only")
     if integrator == "ida" and mechanism._desc.elements:
-        from .mechanism import _outside_stacklevel
         warnings.warn(f"export_fmu: the FMU restarts IDA at every communication step, and with "
                       f"flexible links ({len(mechanism._desc.elements)} elements here) each restart "
                       f"costs thousands of steps (measured: a 3-element arm swung by a torque step, "
@@ -415,7 +413,7 @@ def export_fmu(mechanism, path, inputs: Sequence[str] = (), outputs: Optional[Se
                       f"failing on the elements' stiff modes); use integrator='generalized-alpha' "
                       f"with step= (fixed step; 2.8e-3 s of CPU per communication step at "
                       f"step=1e-4 on that arm), which restarts at no cost",
-                      CostWarning, stacklevel=_outside_stacklevel())
+                      CostWarning, stacklevel=outside_stacklevel())
     ins = _inputs(mechanism, list(inputs))
     outs = _outputs(mechanism, outputs)
     opt_vals, opts = _options(mechanism, integrator, rtol, atol, step, rho_inf, band)

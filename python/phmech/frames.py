@@ -14,7 +14,7 @@ import numpy as np
 
 from . import se3
 from ._checks import array, not_rotation, rigid_pose
-from ._core import ModelError
+from ._errors import ModelError
 
 if TYPE_CHECKING:
     from .description import ModelDescription

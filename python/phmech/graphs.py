@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ._core import ModelError
+from ._errors import ModelError
 
 if TYPE_CHECKING:
     from .description import ModelDescription

@@ -73,7 +73,7 @@ from typing import Any, Callable, Optional
 import numpy as np
 
 from . import actuators, laws, pairs, section
-from ._core import ModelError
+from ._errors import ModelError
 from .frames import Body, FlexibleLink, Frame
 
 __all__ = ["save", "load", "load_result", "register", "register_dataclass", "encode_value",

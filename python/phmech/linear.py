@@ -10,7 +10,7 @@ from typing import List
 
 import numpy as np
 
-from ._core import ModelError
+from ._errors import ModelError
 
 __all__ = ["LinearPortHamiltonian", "Passivity"]
 

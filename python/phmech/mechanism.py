@@ -28,13 +28,16 @@ from . import _core, _marshal, _run, analysis, io, planar as _planar, postproces
 from ._checks import (ANGLE_SLIP, array, choice, fibre_strain, inertia_triangle,
                       integer, per_coordinate, positive, positive_definite, real, rigid_pose,
                       section_slips, strain_bound)
-from ._core import ModelError, SolverError
+from ._errors import (AccuracyWarning, ConstraintError, EquilibriumWarning, InitialValueWarning, ModelError,
+                      PlausibilityWarning, RedundantConstraintWarning, SolverError, StabilityWarning,
+                      UnattachedWarning, outside_stacklevel, warn_plausibility)
 from .actuators import PD, Effort, Spring, actuator_row
-from .description import ModelDescription
+from ._codes import INTEGRATORS
+from .description import ModelDescription, mass_centre
 from .fidelity import (FIDELITIES, ModalChoice, choose_modes, distributed_resultant,
                        gravity_preload_sensitivity, interior_modes, modal_sliders,
                        modal_validity, node_offsets,
-                       mass_centre, reduction_error, rigid_link_inertia, static_reduction)
+                       reduction_error, rigid_link_inertia, static_reduction)
 from .frames import Body, FlexibleLink, Frame, frame_of, link_of, rotation
 from .graphs import Graphs, mechanism_graphs
 from .laws import (Constant, Cycloidal, Function, Linear, Motion, PiecewisePolynomial, Product,
@@ -42,10 +45,8 @@ from .laws import (Constant, Cycloidal, Function, Linear, Motion, PiecewisePolyn
 from .pairs import (Cylindrical, Fixed, Free, Helical, Planar, Prismatic, Revolute, Spherical,
                     Universal, _Pair)
 from .results import (ENERGY_NAMES, FreeMotion, InitialAdjustment, InitialConfiguration, ModesResult,
-                      Momentum, SimulationResult, StabilityWarning, StaticResult)
+                      Momentum, SimulationResult, StaticResult)
 from .section import BeamProperties
-from ._run import AccuracyWarning, PlausibilityWarning
-from .topology import ConstraintError, InitialValueWarning, RedundantConstraintWarning, UnattachedWarning
 
 _recorded = io.recorded   # a builder call a model file replays (phmech/io.py)
 
@@ -65,30 +66,6 @@ __all__ = ["Mechanism", "Frame", "Body", "FlexibleLink", "rotation", "Fixed", "R
            "InitialValueWarning", "InitialAdjustment", "InitialConfiguration", "Momentum",
            "StabilityWarning", "AccuracyWarning", "PlausibilityWarning", "EquilibriumWarning", "FreeMotion",
            "UnattachedWarning"]
-
-
-class EquilibriumWarning(UserWarning):
-    """Mechanism.modes was asked for modes at a configuration that is not a static equilibrium:
-    the values are then eigenvalues of the tangent there, not vibration frequencies."""
-
-
-def _outside_stacklevel() -> int:
-    """The ``stacklevel`` that makes a warning issued by this function's caller point at the
-    first frame outside phmech: the user's line (simulate, modes, ...), however deep inside
-    phmech it was found. (Python 3.12's ``skip_file_prefixes`` does this; pyproject.toml
-    supports 3.10.)"""
-    here = os.path.dirname(__file__)
-    frame, level = sys._getframe(1), 1
-    while frame is not None and os.path.dirname(frame.f_code.co_filename) == here:
-        frame, level = frame.f_back, level + 1
-    return level
-
-
-def _warn_plausibility(messages: Sequence[str]) -> None:
-    """Each message (phmech._checks: a value that looks like a unit slip) as a
-    PlausibilityWarning at the user's line."""
-    for msg in messages:
-        warnings.warn(msg, PlausibilityWarning, stacklevel=_outside_stacklevel())
 
 
 def _frame_of(x, mech: "Mechanism", what: str) -> Frame:
@@ -355,7 +332,7 @@ class Mechanism:
             link = FlexibleLink(name, L, N, [c] * (N + 1), choice, fidelity="rigid",
                                 offsets=node_offsets(L, N, eps))
             self._links[name] = link
-            _warn_plausibility(slips)
+            warn_plausibility(slips)
             return link
         if modes is not None and fidelity != "modal":
             raise ModelError(f"link {name!r}: modes= is for fidelity='modal' links (this one is "
@@ -365,7 +342,7 @@ class Mechanism:
             tol = self.frequency_tolerance if frequency_tolerance is None else frequency_tolerance
             link = self._add_modal_link(name, L, properties, N, eps, I, H0, given, choice, mass,
                                         modes, band, tol, placed)
-            _warn_plausibility(slips)
+            warn_plausibility(slips)
             return link
         first = self._start_link(name, eps, placed)
         # every node's share of the section, with the section's centre of mass (off the axis
@@ -384,7 +361,7 @@ class Mechanism:
                 self._given[first + k] = np.array(self._car[first + k]["H0"])
         link = FlexibleLink(name, L, N, list(range(first, first + N + 1)), choice)
         self._links[name] = link
-        _warn_plausibility(slips)
+        warn_plausibility(slips)
         return link
 
     def _start_link(self, name: str, eps: np.ndarray, placed: Optional[Frame]) -> int:
@@ -448,7 +425,7 @@ class Mechanism:
             warnings.warn(f"link {name!r}: its section damping couples its modes with each other "
                           f"and with its ends (correlation {sl['damping_coupling']:.2g}); a modal "
                           f"link keeps only each mode's own damping (exact for a damping "
-                          f"proportional to the stiffness)", AccuracyWarning, stacklevel=_outside_stacklevel())
+                          f"proportional to the stiffness)", AccuracyWarning, stacklevel=outside_stacklevel())
         first = self._start_link(name, eps, placed)
         # gravity's point masses: the chain's weights condensed onto the ends (phmech.fidelity;
         # also what centre_of_mass() reads); the start's gives the sliders theirs
@@ -494,7 +471,7 @@ class Mechanism:
                           f"(free-free) modes in the band {choice.band:g} Hz, from "
                           f"{choice.frequencies[0]:.4g} Hz: with modes=0 a modal link keeps only "
                           f"its static shapes, so it drops them; leave modes=None to have them "
-                          f"chosen from the band", AccuracyWarning, stacklevel=_outside_stacklevel())
+                          f"chosen from the band", AccuracyWarning, stacklevel=outside_stacklevel())
         return link
 
     @_recorded
@@ -674,7 +651,7 @@ class Mechanism:
             self._car[entry["b"]]["H0"], self._car[entry["b"]]["t0"] = place
         if act is not None:
             self._acts.append(act)
-        _warn_plausibility(slips)
+        warn_plausibility(slips)
 
     @staticmethod
     def _joint_laws(name: str, pair, driven) -> list:
@@ -912,13 +889,13 @@ class Mechanism:
                 raise ModelError(msg + " (Mechanism(strict=True))")
             if self._warned_initial != msg:
                 self._warned_initial = msg
-                warnings.warn(msg, InitialValueWarning, stacklevel=_outside_stacklevel())
+                warnings.warn(msg, InitialValueWarning, stacklevel=outside_stacklevel())
         dropped = state.redundant
         if dropped and self._warned != dropped:
             self._warned = list(dropped)
             warnings.warn(f"hyperconstrained mechanism: {len(dropped)} redundant constraint "
                           f"directions left out of the DAE (pair, direction in F_b): {dropped}",
-                          RedundantConstraintWarning, stacklevel=_outside_stacklevel())
+                          RedundantConstraintWarning, stacklevel=outside_stacklevel())
 
     def _warn_unattached(self, groups: list) -> None:
         """Publish the free groups (topology.FreeGroup rows) in ``unattached`` and warn about
@@ -928,7 +905,7 @@ class Mechanism:
         if self.unattached and self._warned_unattached != self.unattached:
             self._warned_unattached = self.unattached
             warnings.warn(topology.unattached_message(self._desc, groups), UnattachedWarning,
-                          stacklevel=_outside_stacklevel())
+                          stacklevel=outside_stacklevel())
 
     def _initial(self) -> tuple:
         """Copies of the initial poses, twists, the pairs' x0 rows and drop masks."""
@@ -955,7 +932,7 @@ class Mechanism:
                                   f"condensed weight (a curved or pre-twisted link's is not that "
                                   f"of any point), which puts its end, held at its start, "
                                   f"{miss:.2g} off the full link's sag; use fidelity='nonlinear' "
-                                  f"for it if that matters", AccuracyWarning, stacklevel=_outside_stacklevel())
+                                  f"for it if that matters", AccuracyWarning, stacklevel=outside_stacklevel())
             gmax = float(np.max(np.abs(self._desc.gravity)))   # |g| without overflowing
             g = gmax * float(np.linalg.norm(self._desc.gravity / gmax)) if self._modal_preload else 0.0
             for nm, entry in self._modal_preload.items():
@@ -967,7 +944,7 @@ class Mechanism:
                                   f"about {100 * entry[1] * g:.2g} % in the full link (geometric "
                                   f"stiffness), which a modal link leaves out (its gravity points "
                                   f"even shift it the other way); use fidelity='nonlinear' for it "
-                                  f"if it hangs or stands", AccuracyWarning, stacklevel=_outside_stacklevel())
+                                  f"if it hangs or stands", AccuracyWarning, stacklevel=outside_stacklevel())
         state, model = self._initial_state(extra_loads)
         if model is None:
             model = _marshal.core_model(self._desc, state.poses, state.twists, state.x0,
@@ -1103,7 +1080,8 @@ class Mechanism:
                 else "dense"
         if not isinstance(linear_solver, str) or linear_solver not in solvers:
             raise ModelError(f"unknown linear_solver {linear_solver!r} (available: 'auto', 'dense', 'klu')")
-        integrators = {"ida": 0, "generalized-alpha": 1}
+        #: the user's names of the core's integrators (_codes.INTEGRATORS: "ida", "galpha")
+        integrators = {"ida": INTEGRATORS["ida"], "generalized-alpha": INTEGRATORS["galpha"]}
         if not isinstance(integrator, str) or integrator not in integrators:
             raise ModelError(f"unknown integrator {integrator!r} (available: {', '.join(map(repr, integrators))})")
         adaptive = integrator == "generalized-alpha" and step is None
@@ -1225,7 +1203,7 @@ class Mechanism:
                 if lk.fidelity == "modal":
                     T0 = se3.exp(lk.length * self._desc.link_unstressed_strain(lk))
                     for msg in modal_validity(result, lk, T0, self.frequency_tolerance):
-                        warnings.warn(msg, AccuracyWarning, stacklevel=_outside_stacklevel())
+                        warnings.warn(msg, AccuracyWarning, stacklevel=outside_stacklevel())
         if r["error"]:
             t_last = f"{result.t[-1]:.6g} s" if len(result.t) else "the start"
             why = ""   # the output interval bounds the steps: say so
@@ -1429,7 +1407,7 @@ class Mechanism:
                           f"extreme fibre at sqrt(3 EI/EA)), above {100 * bound:g} %: {why}. "
                           f"Check the units of its properties (E in Pa, sections in m) and the "
                           f"loads, and whether the part would yield or break",
-                          PlausibilityWarning, stacklevel=_outside_stacklevel())
+                          PlausibilityWarning, stacklevel=outside_stacklevel())
 
     def stress_resultants(self, result: SimulationResult, link: Union[str, FlexibleLink]) -> np.ndarray:
         """Section stress resultants of each element of ``link`` along a simulation, shape
@@ -1462,7 +1440,7 @@ class Mechanism:
                           "non-symmetric load stiffness, which the linearization (modes(), "
                           "linearize()) symmetrizes: it treats them as dead loads and cannot show "
                           "flutter; simulate to see how the mechanism moves under them",
-                          StabilityWarning, stacklevel=_outside_stacklevel())
+                          StabilityWarning, stacklevel=outside_stacklevel())
         self._warn_unresolvable_masses()
         poses = None if at is None else self._start_poses(at, "at")
         lam = None if at is None else array("at.constraint_wrenches", at.constraint_wrenches,
@@ -1490,7 +1468,7 @@ class Mechanism:
                       f"{self.MASS_RATIO_RESOLVED:.2g}: double precision cannot resolve the lightest "
                       "carriers' modes next to the heaviest (their frequencies and shapes may be "
                       "wrong by orders of magnitude); give the light parts physical masses, or leave "
-                      "them out", AccuracyWarning, stacklevel=_outside_stacklevel())
+                      "them out", AccuracyWarning, stacklevel=outside_stacklevel())
 
     def sized(self, band: Optional[float] = None, tolerance: Optional[float] = None,
               max_elements: int = 256) -> "Mechanism":
@@ -1554,7 +1532,7 @@ class Mechanism:
                           f"the values are the eigenvalues of the tangent stiffness there, not the "
                           f"frequencies of small vibrations about a rest state" + neg +
                           ". For vibrations about the equilibrium use modes(at=m.static(...)).",
-                          EquilibriumWarning, stacklevel=_outside_stacklevel())
+                          EquilibriumWarning, stacklevel=outside_stacklevel())
         lab = analysis.label_modes(self._desc, where, om[:nf], sh[:nf])
         return ModesResult(om[:nf], om[:nf] / (2 * np.pi), ze[:nf], sh[:nf], poses=np.array(where),
                            equilibrium=bool(eq), _links=dict(self._links),
@@ -1634,7 +1612,7 @@ class Mechanism:
                           f"generalized forces are left out), so its responses are not small "
                           f"motions about the mechanism's rest. Linearize about an equilibrium: "
                           f"linearize(at=m.static(...))",
-                          EquilibriumWarning, stacklevel=_outside_stacklevel())
+                          EquilibriumWarning, stacklevel=outside_stacklevel())
         return lin
 
     def _check_linearization_time(self, what: str, time: float,
@@ -1760,7 +1738,7 @@ class Mechanism:
                           f"stiffness has a negative eigenvalue), also with {more} load steps. "
                           f"Under these loads the mechanism buckles or falls away from here; a "
                           f"stable equilibrium may be found from a perturbed start (start=) or "
-                          f"by simulating with damping", StabilityWarning, stacklevel=_outside_stacklevel())
+                          f"by simulating with damping", StabilityWarning, stacklevel=outside_stacklevel())
         return st
 
     def _free_motions(self, model, P, time: float, extra: Sequence[dict]) -> list:

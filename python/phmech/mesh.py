@@ -39,7 +39,7 @@ import numpy as np
 
 from ._checks import integer, real
 from . import _core
-from ._core import ModelError
+from ._errors import ModelError
 
 __all__ = ["MeshChoice", "choose_elements", "MechanismMeshChoice", "size_mechanism"]
 
@@ -387,10 +387,10 @@ def size_mechanism(mech, band: float, tolerance: float, max_elements: int = 256)
                          f"mechanism's modes up to {band:g} Hz within {tolerance:g}: raise "
                          f"max_elements, or ask for a lower band or a looser tolerance")
     if not equilibrium():
-        from .mechanism import EquilibriumWarning, _outside_stacklevel
+        from ._errors import EquilibriumWarning, outside_stacklevel
         warnings.warn("sized(): the initial configuration is not a static equilibrium, so the "
                       "modes it sized for are eigenvalues of the tangent stiffness there "
-                      "(Mechanism.modes)", EquilibriumWarning, stacklevel=_outside_stacklevel())
+                      "(Mechanism.modes)", EquilibriumWarning, stacklevel=outside_stacklevel())
     counts, err = chosen
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

@@ -26,7 +26,7 @@ import matplotlib.pyplot as plt
 import matplotlib.ticker
 
 from . import analysis, se3
-from ._core import ModelError
+from ._errors import ModelError
 from .frames import FlexibleLink
 from .results import ModesResult, SimulationResult, StaticResult
 

@@ -13,7 +13,7 @@ from typing import NamedTuple, Optional, Union
 import numpy as np
 
 from . import io, se3
-from ._core import ModelError
+from ._errors import ModelError, StabilityWarning
 from .frames import Body, FlexibleLink, Frame, carrier_name, frame_of, link_of
 
 #: 6-point Gauss-Legendre on [0, 1] (points, weights): a consistent element's mass along its
@@ -21,7 +21,7 @@ from .frames import Body, FlexibleLink, Frame, carrier_name, frame_of, link_of
 _FIELD_GAUSS = tuple(a / 2 + b for a, b in zip(np.polynomial.legendre.leggauss(6), (0.5, 0.0)))
 
 __all__ = ["SimulationResult", "ModesResult", "StaticResult", "Momentum", "InitialAdjustment",
-           "InitialConfiguration", "StabilityWarning", "FreeMotion"]
+           "InitialConfiguration", "FreeMotion"]
 
 #: the energies of SimulationResult.energy, in the order the core writes them
 ENERGY_NAMES = ("kinetic", "elastic", "gravity", "dissipated", "supplied", "total", "ledger")
@@ -428,11 +428,6 @@ class ModesResult:
     def to_netcdf(self, path) -> None:
         """Write the modes to the netCDF-4 file ``path``; ``phmech.load_result`` reads them."""
         io.write_result(self, path)
-
-
-class StabilityWarning(UserWarning):
-    """A static equilibrium is unstable (its tangent stiffness has a negative eigenvalue), or a
-    linearization cannot judge stability (follower loads)."""
 
 
 @dataclasses.dataclass(frozen=True)

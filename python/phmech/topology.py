@@ -53,7 +53,8 @@ from typing import Optional
 import numpy as np
 
 from . import _core, _marshal, se3
-from ._core import ModelError
+from ._errors import (ConstraintError, InitialValueWarning, ModelError, RedundantConstraintWarning,
+                      UnattachedWarning)
 from .description import ModelDescription
 from .frames import Frame
 from .graphs import mechanism_graphs
@@ -63,30 +64,6 @@ from .results import InitialAdjustment
 CLOSURE_TOL = 1e-9   # max |g| accepted after the loop-closure projection
 POSE_TOL = 1e-6      # given poses vs pairs [rad], and [m] times length_scale(desc)
 RANK_TOL = 1e-9      # relative to the largest singular value of G
-
-
-class RedundantConstraintWarning(UserWarning):
-    """The mechanism is hyperconstrained: some constraint rows are dependent at the initial
-    configuration and were left out of the DAE (see ``Mechanism.redundant_constraints``)."""
-
-
-class ConstraintError(_core.SolverError):
-    """A pair came apart during a simulation: the position residual of one of its constraint
-    rows went beyond the tolerance the integrators hold every pair to (``CONSTRAINT_TOL`` rad and
-    ``CONSTRAINT_TOL`` times the mechanism's size in m, with IDA its ``rtol`` where that is
-    larger, or ``atol`` if larger still; checked after every step of the generalized-alpha, at
-    every output of IDA; docs/user_guide.md, "Constraints"). Typically a row left out as redundant at the initial configuration that is
-    no longer redundant (a spatial loop whose axes were dependent only there). Attributes:
-    ``pair`` (name), ``direction`` (the row's constraint-wrench direction in the pair's frame
-    F_b), ``redundant`` (the row was left out at the start), ``residual`` and ``tolerance`` (m or
-    rad, ``unit``), ``time`` [s], ``result`` (the trajectory up to the last output before)."""
-    pair: str
-    direction: str
-    redundant: bool
-    residual: float
-    tolerance: float
-    unit: str
-    time: float
 
 
 #: the pairs' position tolerance during a simulation (csrc/dae/dae.h, DAE_CONSTRAINT_TOL): rad,
@@ -119,20 +96,6 @@ def constraint_error(desc: ModelDescription, message: str) -> Optional[Constrain
     err.pair, err.direction, err.redundant = e["name"], direction, redundant
     err.residual, err.tolerance, err.unit, err.time = res, tol, unit, t
     return err
-
-
-class UnattachedWarning(UserWarning):
-    """Some bodies or links are not connected to the ground by any pair or spring-damper: they
-    fly freely (under gravity they fall), which is what a forgotten pair gives
-    (``start=``/``at=`` only place a link or body, they do not join it). Join an intended free
-    group to the ground with a ``ph.Free()`` pair (no constraint) to say so; see
-    ``Mechanism.unattached`` and docs/user_guide.md, "Initial configuration", "Free bodies"."""
-
-
-class InitialValueWarning(UserWarning):
-    """The loop closure of the initial configuration moved a given joint coordinate (``x0``) or
-    a given pose beyond its tolerance (see ``Mechanism.initial_adjustments``; with
-    ``Mechanism(strict=True)`` this is a ModelError instead)."""
 
 
 @dataclasses.dataclass

@@ -55,10 +55,11 @@ from typing import Optional
 
 import numpy as np
 
-from ._core import ModelError
-from ._run import AccuracyWarning
+from ._errors import ModelError
+from ._errors import AccuracyWarning
 from .frames import FlexibleLink, Frame
-from .mechanism import Mechanism, _outside_stacklevel
+from .mechanism import Mechanism
+from ._errors import outside_stacklevel
 from .pairs import Fixed, Free, Planar, Prismatic, Revolute
 from .actuators import PD
 from .section import BeamProperties, Material, Section
@@ -567,12 +568,12 @@ def load_urdf(path, flexible: Optional[dict] = None, *, gravity=(0.0, 0.0, -9.81
                       f"not enforce (no joint stops; velocity and effort limits neither): "
                       f"{', '.join(limited_info)}; check result.joint(name)['x'] against them, or "
                       f"pass limits='ignore' to silence this", AccuracyWarning,
-                      stacklevel=_outside_stacklevel())
+                      stacklevel=outside_stacklevel())
     if friction:
         warnings.warn(f"URDF {path!r}: the <dynamics friction> of {len(friction)} joints is not "
                       f"modelled (Coulomb friction; {', '.join(friction)} N m or N): the joints "
                       f"move without it; add a PD damper (add_actuator) if a viscous substitute "
-                      f"will do", AccuracyWarning, stacklevel=_outside_stacklevel())
+                      f"will do", AccuracyWarning, stacklevel=outside_stacklevel())
     bodies = {t: tuple(groups[t]) for t in groups if t in body_frame and not (t == root and base == "fixed")}
     return URDFRobot(m, robot.name, joints, frames, bodies, flex, replaced)
 
