@@ -16,7 +16,8 @@ from . import analysis, graphs, io, mesh, mixed, se3, timoshenko
 from .section import BeamProperties, Material, Section, table1_properties
 from . import mechanism
 from .mechanism import *  # noqa: F401,F403  (names listed in mechanism.__all__)
-from .io import load, load_result
+from .mechanism import load
+from .results import load_result
 from .sweep import sweep
 from . import linear
 from .linear import LinearPortHamiltonian, Passivity

@@ -14,7 +14,7 @@ from typing import Callable, Optional
 import numpy as np
 
 from ._checks import real
-from ._errors import AccuracyWarning, CostWarning, ModelError, PlausibilityWarning
+from ._errors import AccuracyWarning, CostWarning, ModelError
 
 #: steps per period of the band's highest frequency at the adaptive integrator's smallest and
 #: largest step (csrc/include/phmech_types.h, PHM_BAND_STEPS and PHM_BAND_MAX_STEPS)
@@ -277,8 +277,7 @@ class Checkpoint:
 
     def write(self, result) -> None:
         """Write ``result`` to the path, atomically."""
-        from . import io
-        io.write_result(result, self.path)
+        result.to_netcdf(self.path)
         self.last = time.perf_counter()
 
 

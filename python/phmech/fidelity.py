@@ -22,7 +22,6 @@ link's start (modal_sliders), chosen by count or from a band (choose_modes).
 """
 from __future__ import annotations
 
-import dataclasses
 import warnings
 
 import numpy as np
@@ -30,26 +29,8 @@ from scipy.linalg import eigh
 from threadpoolctl import threadpool_limits
 
 from . import se3
+from .analysis import mode_energies
 from .description import mass_centre
-
-@dataclasses.dataclass(frozen=True)
-class ModalChoice:
-    """How many fixed-interface modes a modal link keeps (``modes``) for the ``band`` [Hz] and
-    ``tolerance`` (relative frequency error) asked for; ``error``: the largest relative error
-    of its own frequencies below the band against the chain it was reduced from, free and held
-    at its start (reduction_error); ``chosen``: whether the band chose ``modes`` (else the
-    user gave it)."""
-    modes: int
-    band: float
-    tolerance: float
-    error: float
-    chosen: bool
-
-    def __str__(self) -> str:
-        how = "chosen" if self.chosen else "given"
-        return (f"{self.modes} fixed-interface modes ({how}): frequency error {self.error:.2g} "
-                f"below {self.band:g} Hz against the chain reduced from (asked {self.tolerance:g})")
-
 
 #: the fidelities add_flexible_link accepts
 FIDELITIES = ("nonlinear", "rigid", "modal")
@@ -184,7 +165,6 @@ def interior_modes(red: dict, n: int) -> dict:
     lam, Pi = ch["fixed_interface"]
     Phi = np.zeros((K.shape[0], n))
     Phi[i] = Pi[:, :n]
-    from .analysis import mode_energies
     desc = ch["desc"]
     shapes = np.moveaxis(Phi.reshape(K.shape[0] // 6, 6, n), 2, 0)      # (mode, node, 6)
     strain = mode_energies(desc, np.array([c["H0"] for c in desc.carriers]), shapes)["strain"].sum(axis=1)

@@ -18,13 +18,12 @@ from __future__ import annotations
 import math
 import os
 import numbers
-import sys
 import warnings
 from typing import Callable, Optional, Sequence, Union
 
 import numpy as np
 
-from . import _core, _marshal, _run, analysis, io, planar as _planar, postprocess, se3, topology
+from . import linear, _core, _marshal, _run, analysis, io, planar as _planar, postprocess, se3, topology
 from ._checks import (ANGLE_SLIP, array, choice, fibre_strain, inertia_triangle,
                       integer, per_coordinate, positive, positive_definite, real, rigid_pose,
                       section_slips, strain_bound)
@@ -34,11 +33,11 @@ from ._errors import (AccuracyWarning, ConstraintError, EquilibriumWarning, Init
 from .actuators import PD, Effort, Spring, actuator_row
 from ._codes import INTEGRATORS
 from .description import ModelDescription, mass_centre
-from .fidelity import (FIDELITIES, ModalChoice, choose_modes, distributed_resultant,
+from .fidelity import (FIDELITIES, choose_modes, distributed_resultant,
                        gravity_preload_sensitivity, interior_modes, modal_sliders,
                        modal_validity, node_offsets,
                        reduction_error, rigid_link_inertia, static_reduction)
-from .frames import Body, FlexibleLink, Frame, frame_of, link_of, rotation
+from .frames import Body, FlexibleLink, Frame, ModalChoice, frame_of, link_of, rotation
 from .graphs import Graphs, mechanism_graphs
 from .laws import (Constant, Cycloidal, Function, Linear, Motion, PiecewisePolynomial, Product,
                    Pulse, Sine, Spline, Step, Sum, Table, _Law, checked_law, law_from_data)
@@ -1596,7 +1595,6 @@ class Mechanism:
         in K); a driven pair whose law has moved by ``time`` is refused as in :meth:`modes`.
         About a configuration that is not a static equilibrium an EquilibriumWarning says so,
         as :meth:`modes` does: K is the tangent there and x = 0 is no rest state."""
-        from . import linear
 
         time = real("time", time)
         self._check_linearization_time("linearize", time, at)
@@ -1839,3 +1837,8 @@ class Mechanism:
                 return 0.0
         return float(om[0])
 
+
+def load(path) -> Mechanism:
+    """The Mechanism saved in the model file ``path`` (Mechanism.save). ModelError when the file
+    is not a phmech model or has a newer schema version than this phmech reads."""
+    return io.load(path, Mechanism)

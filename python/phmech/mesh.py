@@ -31,6 +31,7 @@ and tolerances").
 """
 from __future__ import annotations
 
+import copy
 import dataclasses
 import math
 import warnings
@@ -38,31 +39,14 @@ import warnings
 import numpy as np
 
 from ._checks import integer, real
+from . import io
+from .frames import MeshChoice
 from . import _core
-from ._errors import ModelError
+from ._errors import EquilibriumWarning, ModelError, outside_stacklevel
 
 __all__ = ["MeshChoice", "choose_elements", "MechanismMeshChoice", "size_mechanism"]
 
 RIGID_MODES = 6   # a free link has six rigid-body modes (zero frequency), skipped
-
-
-@dataclasses.dataclass(frozen=True)
-class MeshChoice:
-    """What :func:`choose_elements` chose: ``elements``; ``band`` [Hz] and ``tolerance`` (relative
-    frequency error) asked for; ``modes_in_band``: the link's free-free elastic modes up to the
-    band; ``estimated_error``: the largest relative frequency error estimated over them at
-    ``elements`` (Richardson from twice and four times as many; 0 when no elastic mode is in the band);
-    ``frequencies`` [Hz]: those modes at twice as many elements."""
-    elements: int
-    band: float
-    tolerance: float
-    modes_in_band: int
-    estimated_error: float
-    frequencies: tuple
-
-    def __str__(self) -> str:
-        return (f"{self.elements} elements: {self.modes_in_band} modes up to {self.band:g} Hz, "
-                f"estimated frequency error {self.estimated_error:.2g} (asked {self.tolerance:g})")
 
 
 def _free_frequencies(length: float, properties, elements: int, band: float, curvature,
@@ -252,8 +236,6 @@ def size_mechanism(mech, band: float, tolerance: float, max_elements: int = 256)
     """The mechanism ``mech`` rebuilt from its add_* calls (phmech.io) with the fewest elements
     in its nonlinear links for which its own modes up to ``band`` [Hz] are within ``tolerance``
     of the converged ones; returns (Mechanism, MechanismMeshChoice). See Mechanism.sized."""
-    import copy
-    from . import io
     band, tolerance, max_elements = _request(band, tolerance, max_elements)
     try:
         doc = io.model_to_dict(mech)
@@ -297,7 +279,7 @@ def size_mechanism(mech, band: float, tolerance: float, max_elements: int = 256)
         for r in found:
             if r["link"] in counts and r["node"] == old[r["link"]]:
                 r["node"] = counts[r["link"]]
-        return io.model_from_dict(d)
+        return io.model_from_dict(d, type(mech))
 
     tried = [0]
 
@@ -387,7 +369,6 @@ def size_mechanism(mech, band: float, tolerance: float, max_elements: int = 256)
                          f"mechanism's modes up to {band:g} Hz within {tolerance:g}: raise "
                          f"max_elements, or ask for a lower band or a looser tolerance")
     if not equilibrium():
-        from ._errors import EquilibriumWarning, outside_stacklevel
         warnings.warn("sized(): the initial configuration is not a static equilibrium, so the "
                       "modes it sized for are eigenvalues of the tangent stiffness there "
                       "(Mechanism.modes)", EquilibriumWarning, stacklevel=outside_stacklevel())

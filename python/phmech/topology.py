@@ -53,8 +53,7 @@ from typing import Optional
 import numpy as np
 
 from . import _core, _marshal, se3
-from ._errors import (ConstraintError, InitialValueWarning, ModelError, RedundantConstraintWarning,
-                      UnattachedWarning)
+from ._errors import ConstraintError, ModelError
 from .description import ModelDescription
 from .frames import Frame
 from .graphs import mechanism_graphs

@@ -62,6 +62,7 @@ from .mechanism import Mechanism
 from ._errors import outside_stacklevel
 from .pairs import Fixed, Free, Planar, Prismatic, Revolute
 from .actuators import PD
+from .laws import PiecewisePolynomial
 from .section import BeamProperties, Material, Section
 from . import se3
 
@@ -581,7 +582,6 @@ def load_urdf(path, flexible: Optional[dict] = None, *, gravity=(0.0, 0.0, -9.81
 def _driven_robot(path, q, qdot, qddot, kwargs: dict) -> tuple:
     """(URDFRobot with every movable joint driven by q + qdot t + qddot t^2 / 2, its joint names);
     ModelError for a joint that is not one drivable coordinate."""
-    from .laws import PiecewisePolynomial
 
     for k in ("driven", "q0", "qdot0"):
         if k in kwargs:
