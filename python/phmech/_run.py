@@ -14,7 +14,7 @@ from typing import Callable, Optional
 import numpy as np
 
 from ._checks import real
-from ._errors import AccuracyWarning, CostWarning, ModelError
+from ._errors import AccuracyWarning, CostWarning, ModelError, outside_stacklevel
 
 #: steps per period of the band's highest frequency at the adaptive integrator's smallest and
 #: largest step (csrc/include/phmech_types.h, PHM_BAND_STEPS and PHM_BAND_MAX_STEPS)
@@ -39,7 +39,7 @@ BAND_PER_SPAN = 50.0
 LEDGER_WARN = 4e-3
 
 
-def warn_if_inaccurate(stats: dict, stacklevel: int = 3) -> None:
+def warn_if_inaccurate(stats: dict, stacklevel: Optional[int] = None) -> None:
     """AccuracyWarning when ``stats['ledger_relative']`` (from :func:`quality`) exceeds
     LEDGER_WARN, with what to change."""
     x = stats.get("ledger_relative", 0.0)
@@ -61,7 +61,7 @@ def warn_if_inaccurate(stats: dict, stacklevel: int = 3) -> None:
             f"change of kinetic plus elastic energy, the work supplied and the work dissipated), "
             f"above the bound {LEDGER_WARN:g}: "
             f"the integrator created or destroyed that much energy, so the trajectory is "
-            f"doubtful; {advice}", AccuracyWarning, stacklevel=stacklevel)
+            f"doubtful; {advice}", AccuracyWarning, stacklevel=stacklevel or outside_stacklevel())
 
 
 #: stats['error_sum'] (the accepted steps' local error estimates summed, in tolerances) above
@@ -72,7 +72,7 @@ def warn_if_inaccurate(stats: dict, stacklevel: int = 3) -> None:
 ERROR_SUM_WARN = 1.0
 
 
-def warn_if_above_tolerance(stats: dict, stacklevel: int = 3) -> None:
+def warn_if_above_tolerance(stats: dict, stacklevel: Optional[int] = None) -> None:
     """AccuracyWarning when the adaptive generalized-alpha accepted steps whose error estimate
     stayed above the tolerance at the refinement's limit (``stats['floor_steps']`` > 0: a step
     1/(REFINE_MAX BAND_STEPS band) long), naming the estimate reached, the tolerance asked, when,
@@ -88,7 +88,7 @@ def warn_if_above_tolerance(stats: dict, stacklevel: int = 3) -> None:
             f"were accepted at the level of Newton's convergence tolerance, whose error adds up "
             f"step after step, so the result is probably not within rtol. integrator='ida' "
             f"controls every state's error (a looser rtol asks less)", AccuracyWarning,
-            stacklevel=stacklevel)
+            stacklevel=stacklevel or outside_stacklevel())
     n = stats.get("floor_steps") or 0
     if n <= 0:
         return
@@ -101,7 +101,7 @@ def warn_if_above_tolerance(stats: dict, stacklevel: int = 3) -> None:
         f"within rtol there. A higher band= lowers that limit (and resolves more of the motion "
         f"instead of damping it), a looser rtol asks less; integrator='ida' controls every "
         f"state's error", AccuracyWarning,
-        stacklevel=stacklevel)
+        stacklevel=stacklevel or outside_stacklevel())
 
 
 def band_floor(band: float) -> float:
@@ -186,7 +186,7 @@ class RunMonitor:
                 f"than the {floor:.2g} s that the {self.band:.4g} Hz band needs: the integrator is "
                 f"resolving vibrations up to about {_hz(f_res)}, far above what the output can "
                 f"show. At this rate the run will take about {_duration(projected)} of CPU. "
-                + advice, CostWarning, stacklevel=4)
+                + advice, CostWarning, stacklevel=outside_stacklevel())
 
     def _maybe_print(self) -> None:
         if not self.progress:

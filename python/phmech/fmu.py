@@ -38,9 +38,11 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-from . import _marshal
+from . import _marshal, _model
 from ._errors import CostWarning, ModelError, __version__, outside_stacklevel
-from .frames import Frame, frame_of
+from ._simulate import DEFAULT_RHO_INF, DEFAULT_RTOL
+from .frames import frame_of
+from .mechanism import Mechanism
 from .pairs import PAIR_TYPES
 
 __all__ = ["export_fmu"]
@@ -147,7 +149,6 @@ def _options(mechanism, integrator: str, rtol: Optional[float], atol: Optional[f
         solver = 1 if len(mechanism._desc.carriers) >= 6 else 0   # simulate()'s "auto"
         vals = [0, rtol, atol, solver, 0.0, 5, 0, 0.0, 1.0, 0, 0.0]
     elif integrator == "generalized-alpha":
-        from .mechanism import DEFAULT_RHO_INF, DEFAULT_RTOL
         adaptive = step is None
         if adaptive and band is None:
             raise ModelError("export_fmu: the adaptive generalized-alpha needs band= [Hz] (the highest "
@@ -385,7 +386,6 @@ def export_fmu(mechanism, path, inputs: Sequence[str] = (), outputs: Optional[Se
     get/set, clocks and directional derivatives are not provided.
     CostWarning for IDA on a mechanism with flexible links (its restart at every communication
     step is slow there: use the fixed-step generalized-alpha)."""
-    from .mechanism import Mechanism
     if not isinstance(mechanism, Mechanism):
         raise ModelError(f"export_fmu: expected a phmech.Mechanism (got {type(mechanism).__name__})")
     path = Path(path)
@@ -417,7 +417,7 @@ def export_fmu(mechanism, path, inputs: Sequence[str] = (), outputs: Optional[Se
     ins = _inputs(mechanism, list(inputs))
     outs = _outputs(mechanism, outputs)
     opt_vals, opts = _options(mechanism, integrator, rtol, atol, step, rho_inf, band)
-    mechanism._build()                       # the initial configuration simulate() starts from
+    _model.build(mechanism)                  # the initial configuration simulate() starts from
     state = mechanism._state
     comp = _marshal.components(mechanism._desc, state.poses, state.twists, state.x0,
                                state.drop_masks, state.frames_a)

@@ -41,8 +41,9 @@ import numpy as np
 from ._checks import integer, real
 from . import io
 from .frames import MeshChoice
-from . import _core
-from ._errors import EquilibriumWarning, ModelError, outside_stacklevel
+from . import _model, _modes
+from ._builder import Builder
+from ._errors import EquilibriumWarning, ModelError, UnattachedWarning, outside_stacklevel
 
 __all__ = ["MeshChoice", "choose_elements", "MechanismMeshChoice", "size_mechanism"]
 
@@ -52,8 +53,7 @@ RIGID_MODES = 6   # a free link has six rigid-body modes (zero frequency), skipp
 def _free_frequencies(length: float, properties, elements: int, band: float, curvature,
                       mass: str = "consistent") -> np.ndarray:
     """Elastic free-free frequencies [Hz] of the link alone up to just above ``band``."""
-    from .mechanism import Mechanism, UnattachedWarning
-    m = Mechanism()
+    m = Builder()
     m.add_flexible_link("link", length, properties, elements=elements, curvature=curvature,
                         mass=mass)
     available = 6 * (elements + 1)
@@ -61,7 +61,7 @@ def _free_frequencies(length: float, properties, elements: int, band: float, cur
     while True:
         with warnings.catch_warnings():   # the link alone, free in space on purpose
             warnings.simplefilter("ignore", UnattachedWarning)
-            f = m.modes(n).frequency[RIGID_MODES:]
+            f = _modes.modes(m, n).frequency[RIGID_MODES:]
         if f.size == 0 or f[-1] > band or n >= available:
             return f
         n = min(available, 2 * n)
@@ -285,19 +285,18 @@ def size_mechanism(mech, band: float, tolerance: float, max_elements: int = 256)
 
     def equilibrium() -> bool:
         """Whether the initial configuration is a static equilibrium (Mechanism.modes' check)."""
-        return bool(mech._equilibrium_check(model0, mech._state.poses, 0.0, False))
+        return bool(_modes.equilibrium_check(mech, model0, mech._state.poses, 0.0, False))
 
     def frequencies(counts: dict, n_band=None):
         """The mesh's modes [Hz] (those of Mechanism.modes, without its labels and its
         equilibrium check): the lowest n_band, or (None) all up to just above the band."""
         tried[0] += 1
         m = build(counts)
-        model, poses, lam = m._linearization_point(None)
+        model, poses, lam = _model.linearization_point(m, None)
         available = 6 * len(m._car)
         n = min(available, 8 if n_band is None else n_band)
         while True:
-            om, _, _, nf = _core.model_modes(model, n, poses, lam, 0.0)
-            f = om[:nf] / (2 * np.pi)
+            f = _modes.frequencies(model, n, poses, lam)
             if n_band is not None or f.size == 0 or f[-1] > band or n >= available:
                 return f
             n = min(available, 2 * n)
@@ -305,7 +304,7 @@ def size_mechanism(mech, band: float, tolerance: float, max_elements: int = 256)
     # the user's mechanism, analysed as modes() would: its warnings (unattached bodies, moved
     # initial values, redundant constraints, ...) are the user's to hear, and each comes once per
     # mechanism, so before the silenced analyses of its rebuilt copies
-    model0, _, _ = mech._linearization_point(None)
+    model0, _, _ = _model.linearization_point(mech, None)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         # the reference: meshes 8, 16, 32, ... (the widest link's count, up to 8 max_elements:
