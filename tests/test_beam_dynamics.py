@@ -4,7 +4,7 @@ a cantilever under an end moment 2 pi EI / L, conservation of energy, the energy
 import numpy as np
 import pytest
 
-import phmech.mechanism as pm
+import phmech as pm   # the public names
 from phmech import timoshenko
 from phmech._core import ModelError
 from phmech.section import TABLE1, table1_properties
