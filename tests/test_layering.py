@@ -52,8 +52,10 @@ TABLE = (
     ("mixed", "extras", True),          # Golo's mixed element (its own core kernels)
     ("sweep", "extras", False),         # parameter sweeps
     ("studies", "extras", False),       # the paper's studies
+    ("_plotdata", "extras", False),     # what plot draws, in world coordinates (NumPy)
     ("plot", "extras", False),          # matplotlib / plotly
     ("fmu", "extras", False),           # FMU export
+    ("_urdfparse", "extras", False),    # a URDF file read: tree, inertias, joint frames
     ("urdf", "extras", False),          # URDF import
     ("__init__", "package", True),      # the public names (info, blas_threads call the core)
 )
