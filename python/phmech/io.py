@@ -39,13 +39,14 @@ Anything else (a Python function, an object of a type not registered) cannot be 
 raises ModelError naming the call, the component and the argument; loading never calls methods
 or builds types other than these.
 
-**Adding a type** (a new law kind, a frame with an offset, a pair driver): a dataclass whose
-fields are themselves saveable needs one line here, ``register_dataclass(NewLaw)`` (its tag is
-the class name; it is rebuilt as ``NewLaw(**fields)``). Any other type:
+**Adding a type** (a frame with an offset, a pair driver; a new law kind is registered from
+``laws._CLASSES``, a new pair type from the pair table): a dataclass whose fields are themselves
+saveable needs one line here, ``register_dataclass(NewType)`` (its tag is the class name; it is
+rebuilt as ``NewType(**fields)``). Any other type:
 ``register(cls, tag, encode, decode)`` with ``encode(obj, mech) -> dict`` of JSON-able fields
 (call ``encode_value`` on the values inside) and ``decode(fields, mech) -> obj`` (call
 ``decode_value``); ``mech`` is the Mechanism being saved or rebuilt (frames look up their
-carrier there). A new builder method is saved once it carries ``@_recorded`` in mechanism.py.
+carrier there). A new builder method is saved once it carries ``@_recorded`` (python/phmech/_builder.py).
 A change that makes old files read differently bumps ``SCHEMA_VERSION`` (old files keep
 loading: ``load`` accepts every version up to it; a newer one is refused naming both).
 
@@ -249,9 +250,9 @@ def _named(kind: str, table: str):
 
 register(Body, "Body", *_named("body", "_bodies"))
 register(FlexibleLink, "FlexibleLink", *_named("flexible link", "_links"))
-# laws.Function is left out on purpose: a Python callable is code, not data (save refuses it)
-for _cls in (laws.Constant, laws.Step, laws.Pulse, laws.Sine, laws.Table, laws.Cycloidal,
-             laws.Linear, laws.PiecewisePolynomial, laws.Spline, laws.Sum, laws.Product,
+# every law class of laws._CLASSES but Function, left out on purpose: a Python callable is code,
+# not data (save refuses it)
+for _cls in (*(c for c in laws._CLASSES.values() if c is not laws.Function),
              laws.Motion, actuators.Effort, actuators.PD, actuators.Spring, section.Material,
              section.Section, section.BeamProperties,
              *(getattr(pairs, t.name) for t in pairs.PAIR_TYPES)):
