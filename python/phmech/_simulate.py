@@ -30,18 +30,14 @@ DEFAULT_RHO_INF = 0.9
 MAX_STEPS = 1_000_000
 
 
-def simulate(mech, t_end: float, dt_out: float, rtol: Optional[float] = None,
-             atol: Optional[float] = None, linear_solver: str = "auto",
-             initial: Optional[StaticResult] = None, t_start: float = 0.0,
-             callback: Optional[Callable[[float, int], bool]] = None, max_step: float = 0.0,
-             max_order: Optional[int] = None, record=None, progress: bool = False,
-             error_test: str = "all", integrator: str = "generalized-alpha",
-             step: Optional[float] = None, rho_inf: Optional[float] = None,
-             band: Optional[float] = None, checkpoint=None,
-             checkpoint_every: Optional[float] = None,
-             planar: Optional[bool] = None) -> SimulationResult:
-    """Mechanism.simulate of the builder ``mech`` (python/phmech/mechanism.py: its docstring
-    gives the arguments, their units and what is returned)."""
+def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: Optional[float],
+             linear_solver: str, initial: Optional[StaticResult], t_start: float,
+             callback: Optional[Callable[[float, int], bool]], max_step: float,
+             max_order: Optional[int], record, progress: bool, error_test: str, integrator: str,
+             step: Optional[float], rho_inf: Optional[float], band: Optional[float], checkpoint,
+             checkpoint_every: Optional[float], planar: Optional[bool]) -> SimulationResult:
+    """Mechanism.simulate of the builder ``mech``, every option given: their defaults, units and
+    meaning are Mechanism.simulate's (python/phmech/mechanism.py), the one place they are set."""
     t0, t1, dt = (real("t_start", t_start), real("t_end", t_end), real("dt_out", dt_out))
     if t1 <= t0:
         raise ModelError(f"t_end must be > t_start (got {t1} <= {t0})")

@@ -39,7 +39,8 @@ class Mechanism(Builder):
     own modes (supports and couplings included)."""
 
     def _choose_elements(self, length, properties, band, tolerance, curvature, mass):
-        return mesh.choose_elements(length, properties, band, tolerance, curvature=curvature, mass=mass)
+        return mesh.choose_elements(length, properties, band, tolerance, curvature=curvature,
+                                    mass=mass)
 
     def _add_modal_link(self, name, L, properties, N, eps, I, H0, given, choice, mass, modes,
                         band, tol, placed) -> FlexibleLink:
@@ -167,7 +168,13 @@ class Mechanism(Builder):
         (IDA stays 3-D unless asked: see the comment in simulate); True: require it (ModelError
         naming the first check that fails); False: the 3-D DAE. ``result.stats["planar"]`` is
         the plane's normal axis ("x", "y", "z") or None."""
-        return _simulate.simulate(self, t_end=t_end, dt_out=dt_out, rtol=rtol, atol=atol, linear_solver=linear_solver, initial=initial, t_start=t_start, callback=callback, max_step=max_step, max_order=max_order, record=record, progress=progress, error_test=error_test, integrator=integrator, step=step, rho_inf=rho_inf, band=band, checkpoint=checkpoint, checkpoint_every=checkpoint_every, planar=planar)
+        return _simulate.simulate(self, t_end=t_end, dt_out=dt_out, rtol=rtol, atol=atol,
+                                  linear_solver=linear_solver, initial=initial, t_start=t_start,
+                                  callback=callback, max_step=max_step, max_order=max_order,
+                                  record=record, progress=progress, error_test=error_test,
+                                  integrator=integrator, step=step, rho_inf=rho_inf, band=band,
+                                  checkpoint=checkpoint, checkpoint_every=checkpoint_every,
+                                  planar=planar)
 
     def stress_resultants(self, result: SimulationResult, link: Union[str, FlexibleLink]) -> np.ndarray:
         """Section stress resultants of each element of ``link`` along a simulation, shape
@@ -284,7 +291,8 @@ class Mechanism(Builder):
         part, what moves and the generalized force; the error's ``free_motions`` lists them
         (FreeMotion; docs/method.md section 7.3, "No equilibrium"). A motion nothing resists on
         which the loads do no work leaves the equilibrium not unique: one is returned."""
-        return _statics.static(self, loads=loads, steps=steps, time=time, tol=tol, start=start, check_stability=check_stability, progress=progress)
+        return _statics.static(self, loads=loads, steps=steps, time=time, tol=tol, start=start,
+                               check_stability=check_stability, progress=progress)
 
 
 def load(path) -> Mechanism:
