@@ -6,8 +6,7 @@ import numpy as np
 import pytest
 
 import phmech as ph
-from phmech import _core, _marshal
-from phmech import _model
+from phmech import _core, _marshal, _model
 
 
 def described():

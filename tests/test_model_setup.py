@@ -8,8 +8,7 @@ import numpy as np
 import pytest
 
 import phmech as ph
-from phmech import _core, _marshal, _placement, se3, topology
-from phmech import _model
+from phmech import _core, _marshal, _model, _placement, se3, topology
 
 
 def fourbar(spring: bool = False) -> ph.Mechanism:

@@ -11,9 +11,8 @@ import numpy as np
 import pytest
 
 import phmech as ph
-from phmech import _core, timoshenko
+from phmech import _core, _model, timoshenko
 from phmech.section import TABLE1, table1_properties
-from phmech import _model
 
 DENSE, SPARSE = 1, 2
 L = TABLE1["L"]

@@ -10,8 +10,7 @@ import numpy as np
 import pytest
 
 import phmech as ph
-from phmech import se3
-from phmech import _model, _simulate
+from phmech import _model, _simulate, se3
 
 STEEL = ph.Material(E=210e9, nu=0.3, density=7850.0)
 G = 9.81
