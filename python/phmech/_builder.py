@@ -25,7 +25,7 @@ from ._links import LinkBuilder
 from .frames import Body, FlexibleLink, Frame, frame_of
 from .graphs import Graphs, mechanism_graphs
 from .laws import Constant, Motion, _Law, checked_law
-from .pairs import _Pair
+from .pairs import PAIR_TYPES, _Pair
 
 
 
@@ -228,7 +228,7 @@ class Builder(LinkBuilder):
         warned about (InitialValueWarning; ModelError with ``Mechanism(strict=True)``)."""
         if not isinstance(pair, _Pair):
             raise ModelError(f"pair {name!r}: unsupported pair type {type(pair).__name__} (available: "
-                             "Fixed, Revolute, Prismatic, Helical, Cylindrical, Universal, Spherical, Planar, Free)")
+                             f"{', '.join(t.name for t in PAIR_TYPES)})")
         fa = frame_of(a, self._desc, f"pair {name!r}, argument a")
         fb = frame_of(b, self._desc, f"pair {name!r}, argument b")
         if fa.carrier == fb.carrier:

@@ -13,6 +13,7 @@ import numpy as np
 from . import se3
 from ._errors import ModelError
 from .description import ModelDescription
+from .pairs import PAIR_TYPES
 
 POSE_TOL = 1e-6      # given poses vs pairs [rad], and [m] times length_scale(desc)
 
@@ -93,7 +94,8 @@ def pair_reference(e: dict, Ga, Gb, tol_m: float):
     hint = ("give poses that satisfy the pair, or give the far carrier no pose (pose=None) so "
             "that it is placed from the pair")
     if dist > tol_m:
-        what = "origins" if kind in ("Fixed", "Revolute", "Spherical", "Universal") else \
+        # a pair whose constraint wrenches hold all three forces holds its frames' origins together
+        what = "origins" if {"f_x", "f_y", "f_z"} <= set(PAIR_TYPES[e["type"]].directions) else \
             "origins (less the pair's free translation)"
         raise ModelError(f"pair {e['name']!r} ({kind}): at the given poses its frames {names} are "
                          f"{dist:.6g} m apart ({what}; tolerance {tol_m:.2g} m) and {ang:.6g} rad "
