@@ -144,3 +144,11 @@ def test_an_upward_import_is_caught(tmp_path):
     assert any("laws imports results inside a function" in v for v in found), found
     assert any("laws (describe) imports _core" in v for v in found), found
 
+
+
+def test_meson_installs_every_module():
+    """A module missing from meson.build's install list is in the source tree but not in the
+    wheel or in .venv (a fresh `make build`)."""
+    meson = (SRC.parents[1] / "meson.build").read_text(encoding="utf-8")
+    missing = [m for m in ORDER if f"'python/phmech/{m}.py'" not in meson]
+    assert missing == [], f"add to meson.build (py.install_sources): {missing}"
