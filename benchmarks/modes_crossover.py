@@ -13,6 +13,7 @@ import numpy as np
 
 import phmech as ph
 from phmech import _core, se3
+from phmech import _model
 
 from run import phmech_cantilever
 
@@ -28,12 +29,12 @@ def chain(n):
         m.add_pair(f"p{i}", ph.Revolute(), a, b)
         prev = b
     st = m.static(check_stability=False)
-    return m._build(), st.poses, st.constraint_wrenches, 6 * n
+    return _model.build(m), st.poses, st.constraint_wrenches, 6 * n
 
 
 def cantilever(n):
     m, _ = phmech_cantilever(n)
-    return m._build(), None, None, 6 * (n + 1)
+    return _model.build(m), None, None, 6 * (n + 1)
 
 
 def cpu(model, poses, lam, n, method):

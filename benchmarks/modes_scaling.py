@@ -14,6 +14,7 @@ import numpy as np
 import phmech as ph
 from phmech import _core, timoshenko
 from phmech.section import TABLE1, table1_properties
+from phmech import _model
 
 L = TABLE1["L"]
 REF = timoshenko.frequencies(5, L, TABLE1["EI"], TABLE1["kGA"], TABLE1["rhoA"], TABLE1["rhoI"])
@@ -37,7 +38,7 @@ def main() -> None:
         m = ph.Mechanism()
         b = m.add_flexible_link("b", L, table1_properties(), elements=n)
         m.add_pair("clamp", ph.Fixed(), m.ground, b.start)
-        model = m._build()
+        model = _model.build(m)
         row = dict(elements=n, carrier_coordinates=6 * (n + 1))
         for name, method in (("dense", DENSE), ("sparse", SPARSE)):
             if name == "dense" and n > 500:

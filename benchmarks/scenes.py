@@ -260,7 +260,7 @@ def main(argv=None):
     with open(path, "w") as f:
         sys.path.insert(0, HERE)
         from run import machine
-        json.dump(dict(rtol=ph.mechanism.DEFAULT_RTOL, reference=REFERENCE, scenes=rows, machine=machine(),
+        json.dump(dict(rtol=ph._simulate.DEFAULT_RTOL, reference=REFERENCE, scenes=rows, machine=machine(),
                        quick=a.quick, smoke=a.smoke), f, indent=1)
     print(f"results: {path}")
     return rows

@@ -14,6 +14,7 @@ from sphinx.util.docutils import SphinxDirective
 from sphinx.util.nodes import nested_parse_with_titles
 
 import phmech
+from phmech._builder import Builder
 
 project = "phmech"
 author = "phmech developers"
@@ -72,6 +73,9 @@ class PublicAPI(SphinxDirective):
                 if kind == "module":
                     lines += [f"phmech.{name}", "^" * (len(name) + 7), "",
                               f".. automodule:: phmech.{name}", "   :members:", ""]
+                elif isinstance(getattr(phmech, name), type) and issubclass(getattr(phmech, name), Builder):
+                    # Mechanism: its add_* methods are the builder's (python/phmech/_builder.py)
+                    lines += [f".. auto{kind}:: phmech.{name}", "   :inherited-members:", ""]
                 else:
                     lines += [f".. auto{kind}:: phmech.{name}", ""]
         node = nodes.section()

@@ -4,10 +4,11 @@ a cantilever under an end moment 2 pi EI / L, conservation of energy, the energy
 import numpy as np
 import pytest
 
-import phmech.mechanism as pm
+import phmech as pm   # the public names
 from phmech import timoshenko
 from phmech._core import ModelError
 from phmech.section import TABLE1, table1_properties
+from phmech import _model
 
 
 def cantilever(props, N=21, damping=None):
@@ -105,7 +106,7 @@ def test_core_simulate_rejects_bad_initial_arrays_without_crashing():
     # the binding's early error path once returned an uninitialized pointer (a crash)
     from phmech import _core
     m, _ = cantilever(table1_properties(), N=2)
-    model = m._build()
+    model = _model.build(m)
     tout = np.array([0.0, 0.01])
     with pytest.raises(ValueError, match="initial poses"):
         _core.model_simulate(model, tout, 1e-6, 1e-8, 0, np.zeros((2, 2)), None, None, 0.0)

@@ -8,6 +8,7 @@ import pytest
 
 import phmech as ph
 from phmech import se3
+from phmech import _model
 
 A, B, C, D = 0.2, 0.6, 0.5, 0.5   # crank, coupler, rocker, ground link [m] (Grashof crank-rocker)
 
@@ -57,7 +58,7 @@ def test_loop_closure_matches_circle_intersection():
     m = fourbar(theta=0.6)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ph.RedundantConstraintWarning)
-        H, _, x0, _ = m._initial()
+        H, _, x0, _ = _model.initial(m)
     # crank angle (given x0) held; rocker angle = one of the two closures, to 1e-9 rad
     R1 = H[0][:3, :3]
     assert abs(np.arctan2(R1[1, 0], R1[0, 0]) - 0.6) < 1e-9

@@ -1,10 +1,9 @@
 """The core's code tables (``_core.codes()``, csrc/util/codes.c and the pair table of
-csrc/model/pair.c) against the codes Python still types by hand (python/phmech/_marshal.py), and
-the result fields against the arrays a simulation returns: every hand-typed value must equal the
-core's, so that Python can read them from the core instead."""
+csrc/model/pair.c): Python reads every code from them (python/phmech/_codes.py), each law class
+names a kind the core has, and the result fields are the arrays a simulation returns."""
 import numpy as np
 
-from phmech import _core, _marshal
+from phmech import _codes, _core, laws
 from phmech.laws import (Constant, Cycloidal, Linear, PiecewisePolynomial, Pulse, Sine, Step,
                          Table)
 
@@ -26,26 +25,25 @@ def test_pair_types_match_the_pair_table():
     assert _core.codes()["pair_types"] == {row["name"]: row["code"] for row in _core.pair_types()}
 
 
-def test_marshal_law_kinds_match_the_core():
+def test_every_law_class_has_a_core_kind():
     kinds = _core.codes()["law_kinds"]
     leaves = {Constant: "constant", Step: "step", Pulse: "pulse", Sine: "sine", Table: "table",
               Cycloidal: "cycloidal", Linear: "linear", PiecewisePolynomial: "ppoly"}
-    assert set(_marshal._LAWS) == set(leaves)
-    for cls, name in leaves.items():
-        assert _marshal._LAWS[cls][0] == kinds[name], cls.__name__
-    assert (_marshal._EXPR, _marshal._SUM, _marshal._PRODUCT, _marshal._CALLBACK) == \
+    assert {cls: name for cls, (name, _) in laws._LAWS.items()} == leaves
+    for cls in (Constant, Step, Pulse, Sine, Cycloidal, Linear):
+        assert laws.core_tuple(cls())[0] == kinds[leaves[cls]], cls.__name__
+    assert (laws._EXPR, laws._SUM, laws._PRODUCT, laws._CALLBACK) == \
         (kinds["expr"], kinds["sum"], kinds["product"], kinds["callback"])
 
 
-def test_marshal_actuator_and_mass_kinds_match_the_core():
+def test_python_reads_its_codes_from_the_core():
     codes = _core.codes()
-    assert _marshal._ACTUATOR_KINDS == codes["actuator_kinds"]
-    assert _marshal._MASS_KINDS == codes["mass_kinds"]
-
-
-def test_integrators_match_the_core():
-    # python/phmech/mechanism.py, simulate: {"ida": 0, "generalized-alpha": 1}
-    assert _core.codes()["integrators"] == {"ida": 0, "galpha": 1}
+    assert dict(_codes.PAIR_TYPES) == codes["pair_types"]
+    assert dict(_codes.LAW_KINDS) == codes["law_kinds"]
+    assert dict(_codes.INTEGRATORS) == codes["integrators"]
+    assert dict(_codes.ACTUATOR_KINDS) == codes["actuator_kinds"]
+    assert dict(_codes.MASS_KINDS) == codes["mass_kinds"]
+    assert list(_codes.RESULT_FIELDS) == codes["result_fields"]
 
 
 def test_result_fields_are_the_arrays_simulate_returns():

@@ -35,6 +35,7 @@ from hypothesis import HealthCheck, given, note, settings, strategies as st
 
 import phmech as ph
 from phmech import se3
+from phmech.frames import frame_of
 
 DOCUMENTED = (ph.ModelError, ph.SolverError)
 DOCUMENTED_WARNINGS = (ph.CostWarning, ph.RedundantConstraintWarning, ph.InitialValueWarning,
@@ -533,7 +534,7 @@ class Model:
         free = [m._bodies[n].frame for n in self.bodies if m._bodies[n].carrier not in used] + \
                [lk.start for lk in self.links if not used & set(lk.nodes)]
         b = g.choice(free) if free and g.draw(st.integers(0, 3)) else self.frame("pair b", ground=False)
-        a = self.frame("pair a", avoid=getattr(attempt(None, ph.mechanism._frame_of, b, m, "b"), "carrier", None))
+        a = self.frame("pair a", avoid=getattr(attempt(None, frame_of, b, m._desc, "b"), "carrier", None))
         if attempt(m, m.add_pair, name, pair, a, b, **kw) is not FAILED:
             self.pairs.append(name)
 
@@ -554,7 +555,7 @@ class Model:
                     point=g.vec(3, -0.1, 0.1, "wrench point"))
         elif kind == "interaction":
             target = self.frame("interaction target", ground=False)
-            carrier = getattr(attempt(None, ph.mechanism._frame_of, target, m, "t"), "carrier", None)
+            carrier = getattr(attempt(None, frame_of, target, m._desc, "t"), "carrier", None)
             attempt(m, m.add_interaction, self.name("i"), target,
                     g.vec(6, -10, 10, "interaction wrench"), law=g.law("interaction law"),
                     reaction=self.frame("reaction", avoid=carrier) if g.draw(st.booleans()) else None)
@@ -571,7 +572,7 @@ class Model:
             if g.draw(st.booleans()):
                 kw["point_a"] = g.vec(3, -0.1, 0.1, "point_a")
             a = self.frame("spring a", ground=False)
-            carrier = getattr(attempt(None, ph.mechanism._frame_of, a, m, "a"), "carrier", None)
+            carrier = getattr(attempt(None, frame_of, a, m._desc, "a"), "carrier", None)
             attempt(m, m.add_spring_damper, self.name("s"), a, self.frame("spring b", avoid=carrier),
                     g.log(1.0, 1e4, "spring k"), g.real(0.0, 10.0, "spring c"), **kw)
 

@@ -10,6 +10,7 @@ import pytest
 
 import phmech as ph
 from phmech import _core, se3
+from phmech import _model
 
 PROPS = ph.BeamProperties.from_values(EA=1e6, GA_y=1e5, GA_z=1e5, GJ=10.0, EI_y=10.0, EI_z=10.0,
                                       rhoA=1.0, rhoI_y=1e-4, rhoI_z=1e-4)
@@ -333,7 +334,7 @@ def test_mesh_choice_refuses_a_link_without_positive_modes():
 def test_core_generalized_alpha_stops_on_steps_that_cannot_advance():
     # the core's own guard (the Python check above keeps such calls from reaching it)
     m, _ = pendulum()
-    model = m._build()
+    model = _model.build(m)
     def run(t0):
         return _core.model_simulate(model, np.array([t0, t0 + 1e-3]), 1e-4, 1e-6, 0, None, None,
                                     None, 1e-300, 5, None, 0, 1, 0.0, 0.9, adaptive=1, band=500.0)

@@ -193,9 +193,9 @@ def test_netcdf_round_trip_and_xarray_layout(tmp_path):
     assert md.to_xarray()["shapes"].dims == ("mode", "carrier", "component")
     # a newer result schema, and a file that is no result, are refused
     ds = r.to_xarray()
-    ds.attrs["schema_version"] = ph.io.RESULT_SCHEMA_VERSION + 1
+    ds.attrs["schema_version"] = ph._resultfile.RESULT_SCHEMA_VERSION + 1
     ds.to_netcdf(tmp_path / "new.nc", engine="h5netcdf")
-    with pytest.raises(ph.ModelError, match=rf"result schema versions up to {ph.io.RESULT_SCHEMA_VERSION}"):
+    with pytest.raises(ph.ModelError, match=rf"result schema versions up to {ph._resultfile.RESULT_SCHEMA_VERSION}"):
         ph.load_result(tmp_path / "new.nc")
     (tmp_path / "x.nc").write_text("hello")
     with pytest.raises(ph.ModelError, match="not a phmech result"):

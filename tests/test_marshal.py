@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import phmech as ph
-from phmech import _core, _marshal
+from phmech import _core, _marshal, _model
 
 
 def described():
@@ -22,7 +22,7 @@ def described():
     m.add_pair("hinge", ph.Revolute("z"), link.end, b, actuator=ph.PD(kp=10.0, kd=1.0))
     m.add_wrench("w", b, (0, 0, 0, 1.0, 0, 0), law=ph.Sine(frequency=2.0))
     m.add_spring_damper("s", "ground", b, 100.0)
-    state, _ = m._initial_state()
+    state, _ = _model.initial_state(m)
     kw = _marshal.components(m._desc, state.poses, state.twists, state.x0, state.drop_masks,
                              state.frames_a)
     # writable copies of the arrays the description shares read-only (the tests break them)
@@ -107,7 +107,7 @@ def test_the_description_columns_are_shared_read_only_and_dropped_on_a_change():
     m = ph.Mechanism(gravity=(0, 0, -9.81))
     b = m.add_rigid_body("b", 1.0, np.eye(3))
     m.add_pair("hinge", ph.Revolute("y"), m.ground, b)
-    state, _ = m._initial_state()
+    state, _ = _model.initial_state(m)
     args = (m._desc, state.poses, state.twists, state.x0, state.drop_masks, state.frames_a)
     first, second = _marshal.components(*args), _marshal.components(*args)
     assert first["carriers"]["M"] is second["carriers"]["M"]
@@ -118,7 +118,7 @@ def test_the_description_columns_are_shared_read_only_and_dropped_on_a_change():
     assert "type" in _marshal.components(*args)["pairs"]
     c = m.add_rigid_body("c", 2.0, np.eye(3))
     m.add_pair("float", ph.Free(), m.ground, c)   # c flies freely, and says so
-    state, _ = m._initial_state()
+    state, _ = _model.initial_state(m)
     third = _marshal.components(m._desc, state.poses, state.twists, state.x0, state.drop_masks,
                                 state.frames_a)
     np.testing.assert_array_equal(third["carriers"]["mass"], [1.0, 2.0])

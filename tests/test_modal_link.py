@@ -1,4 +1,4 @@
-"""Modal links (``add_flexible_link(fidelity="modal")``, phmech.fidelity.static_reduction): a
+"""Modal links (``add_flexible_link(fidelity="modal")``, phmech._reduction.static_reduction): a
 flexible link statically reduced (Guyan) onto its two ends, kept as one se3 element with the
 condensed stiffness, damping and mass.
 

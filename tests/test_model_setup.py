@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import phmech as ph
-from phmech import _core, _marshal, se3, topology
+from phmech import _core, _marshal, _model, _placement, se3, topology
 
 
 def fourbar(spring: bool = False) -> ph.Mechanism:
@@ -82,9 +82,9 @@ def test_model_moved_to_the_closed_state_equals_a_fresh_build():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ph.RedundantConstraintWarning)
         m = fourbar()
-        state, moved = m._initial_state()
+        state, moved = _model.initial_state(m)
     desc = m._desc
-    H, T, _, frames_a = topology.place_tree(desc)
+    H, T, _, frames_a = _placement.place_tree(desc)
     assert not np.array_equal(H, state.poses)     # the loop closure moved the poses
     fresh = _marshal.core_model(desc, state.poses, state.twists, state.x0, state.drop_masks, frames_a)
     assert _core.model_sizes(moved) == _core.model_sizes(fresh)
@@ -105,6 +105,6 @@ def test_set_initial_refuses_a_bad_state(args, message):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ph.RedundantConstraintWarning)
         m = fourbar()
-        state, model = m._initial_state()
+        state, model = _model.initial_state(m)
     with pytest.raises(ph.ModelError, match=message):
         _core.model_set_initial(model, *args(state))

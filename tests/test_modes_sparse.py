@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import phmech as ph
-from phmech import _core, timoshenko
+from phmech import _core, _model, timoshenko
 from phmech.section import TABLE1, table1_properties
 
 DENSE, SPARSE = 1, 2
@@ -28,7 +28,7 @@ def cantilever(n, props=None, mass="consistent"):
 
 
 def modes(m, n, method):
-    om, ze, sh, nf = _core.model_modes(m._build(), n, None, None, 0.0, method)
+    om, ze, sh, nf = _core.model_modes(_model.build(m), n, None, None, 0.0, method)
     assert nf == n
     return om, ze, sh
 
@@ -99,7 +99,7 @@ def test_damping_ratios_agree():
 
 def test_default_picks_sparse_on_large_models():
     m = cantilever(200)
-    auto = _core.model_modes(m._build(), 5, None, None, 0.0)[0]
+    auto = _core.model_modes(_model.build(m), 5, None, None, 0.0)[0]
     sparse = modes(m, 5, SPARSE)[0]
     assert np.array_equal(auto, sparse)
 
@@ -110,14 +110,14 @@ def test_default_takes_sparse_from_ten_plus_n_carriers():
     # modes at N = 14, 90 coordinates, 0.48 / 0.42 ms): one carrier fewer is dense
     for n, N in ((2, 11), (5, 14)):
         for elements, method in ((N, SPARSE), (N - 1, DENSE)):
-            model = cantilever(elements)._build()
+            model = _model.build(cantilever(elements))
             auto = _core.model_modes(model, n, None, None, 0.0)[0]
             assert np.array_equal(auto, modes(cantilever(elements), n, method)[0]), (n, elements)
 
 
 def test_unknown_method_is_refused():
     with pytest.raises(ph.ModelError, match="unknown modes method"):
-        _core.model_modes(cantilever(4)._build(), 2, None, None, 0.0, 7)
+        _core.model_modes(_model.build(cantilever(4)), 2, None, None, 0.0, 7)
 
 
 def _bar_chain(kinds, gravity):
@@ -134,7 +134,7 @@ def _bar_chain(kinds, gravity):
 
 def _modes_at(m, st, n, method):
     """The core's n lowest frequencies [rad/s] at the static equilibrium st, by method."""
-    return _core.model_modes(m._build(), n, st.poses, st.constraint_wrenches, 0.0, method)[0]
+    return _core.model_modes(_model.build(m), n, st.poses, st.constraint_wrenches, 0.0, method)[0]
 
 
 def test_few_degrees_of_freedom_on_many_coordinates_take_the_dense_path():
@@ -223,7 +223,7 @@ def test_a_strong_instability_beyond_the_stable_modes_is_not_missed(arms):
     assert -64 < d[0] < -62 and np.sum(d < 0) == len(arms)   # measured -63.06 (-5.72) rad/s
     np.testing.assert_allclose(auto, d, rtol=1e-12)
     np.testing.assert_allclose(s, d, rtol=1e-11)             # measured 1.8e-13
-    below = _core.model_modes_count(m._build(), -1e-6, st.poses, st.constraint_wrenches)[0]
+    below = _core.model_modes_count(_model.build(m), -1e-6, st.poses, st.constraint_wrenches)[0]
     assert below == len(arms)
     assert st.stable is False and st.lowest_omega == pytest.approx(d[0], rel=1e-9)
 
@@ -257,9 +257,9 @@ def _count_scenes(rng):
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore", ph.StabilityWarning)
                     st = m.static(check_stability=False)
-                yield f"chain {n} g {g}", m._build(), st.poses, st.constraint_wrenches
+                yield f"chain {n} g {g}", _model.build(m), st.poses, st.constraint_wrenches
             else:                               # gravity askew: not an equilibrium
-                yield f"chain {n} g askew", m._build(), None, None
+                yield f"chain {n} g askew", _model.build(m), None, None
     Pcr = np.pi ** 2 * TABLE1["EI"] / (4 * L ** 2)
     for N, mass in ((30, "lumped"), (60, "consistent")):
         for P in (0.5, 1 - 1e-4, 3.0, 30.0):    # times the first buckling load
@@ -268,12 +268,12 @@ def _count_scenes(rng):
             m.add_pair("clamp", ph.Fixed(), m.ground, b.start)
             load = [(b.end, (0, 0, 0, -P * Pcr, 0, 0), "world")]
             st = m.static(loads=load, steps=1, check_stability=False)
-            yield f"column {N} P {P}", m._build(st.loads), st.poses, st.constraint_wrenches
+            yield f"column {N} P {P}", _model.build(m, st.loads), st.poses, st.constraint_wrenches
     props = ph.BeamProperties.from_material(ph.Section.rectangle(0.01, 0.01), ph.Material(210e9, 0.3, 7850))
     m = ph.Mechanism()
     b = m.add_flexible_link("b", 0.5, props, elements=40)
     m.add_pair("float", ph.Free(), m.ground, b.start)   # free: a Free pair holds nothing
-    yield "free beam", m._build(), None, None
+    yield "free beam", _model.build(m), None, None
 
 
 def test_the_count_below_a_shift_is_the_dense_count():

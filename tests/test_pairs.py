@@ -5,7 +5,7 @@ import pytest
 from scipy.special import ellipk
 from scipy.optimize import brentq
 
-import phmech.mechanism as pm
+import phmech as pm   # the public names
 from phmech import se3
 
 G = 9.81

@@ -5,6 +5,7 @@ import pytest
 
 import phmech as ph
 from phmech import _core, studies
+from phmech import _model
 
 
 def loaded_cantilever():
@@ -15,7 +16,7 @@ def loaded_cantilever():
 def test_static_monitor_sees_every_load_step_and_can_stop():
     m, leaf, loads = loaded_cantilever()
     ref = m.static(loads=loads, steps=4)
-    model = m._build(ref.loads)
+    model = _model.build(m, ref.loads)
     calls = []
     P, lam, it = _core.model_static(model, None, 0.0, 4, 1e-10,
                                     lambda s, n, ds: calls.append((s, n, ds)) and False)

@@ -4,6 +4,7 @@ import pytest
 
 import phmech as ph
 from phmech.section import table1_properties
+from phmech import _model
 
 
 def model():
@@ -39,7 +40,7 @@ def test_record_bad_input():
     with pytest.raises(ph.ModelError):
         m.simulate(0.02, 0.01, record=["nobody"], integrator="ida")
     with pytest.raises(ph.ModelError, match="out of range"):
-        ph._core.model_simulate(m._build(), np.array([0.0, 0.01]), 1e-6, 1e-8, 0, None, None,
+        ph._core.model_simulate(_model.build(m), np.array([0.0, 0.01]), 1e-6, 1e-8, 0, None, None,
                                 None, 0.0, 5, [99])
 
 

@@ -5,6 +5,7 @@ import pytest
 
 import phmech as ph
 from phmech import se3
+from phmech import _model
 
 from test_graphs import B_K_f, B_K_r
 
@@ -49,7 +50,7 @@ def test_tree_places_serial_chain_and_keeps_relative_poses_across_pairs_without_
     m.add_pair("p1", ph.Revolute("z"), m.ground, a, x0=0.5)
     m.add_pair("p2", ph.Revolute("z"), a, b)
     m.add_pair("p3", ph.Fixed(), ph.Frame(a.carrier, T), link.end)   # link placed from its end
-    H, _, _, _ = m._initial()
+    H, _, _, _ = _model.initial(m)
     np.testing.assert_allclose(H[a.carrier], se3.rotation("z", 0.5), atol=1e-14)
     # p2 at its given angle 0.3 - 0.1 = 0.2 rad: b at 0.5 + 0.2
     np.testing.assert_allclose(H[b.carrier], se3.rotation("z", 0.7), atol=1e-14)
@@ -68,7 +69,7 @@ def test_given_poses_that_violate_a_pair_are_refused():
     m.add_pair("p1", ph.Revolute("z"), m.ground, a, x0=0.5)
     m.add_pair("p2", ph.Revolute("z"), a, b)
     with pytest.raises(ph.ModelError, match=r"pair 'p2' \(Revolute\).*'a' and 'b' are 8\.66025 m apart"):
-        m._initial()
+        _model.initial(m)
 
 
 def test_unconnected_body_is_free_and_falls():

@@ -10,31 +10,46 @@ import os
 import sys
 
 from . import _core
-from ._core import ModelError, SolverError, __version__   # meson.build's project() version
-from . import analysis, graphs, io, mesh, mixed, se3, timoshenko
-from .section import BeamProperties, Material, Section, table1_properties
-from . import mechanism
-from .mechanism import *  # noqa: F401,F403  (names listed in mechanism.__all__)
-from ._run import CostWarning
-from .io import load, load_result
-from .sweep import sweep
-from . import linear
-from .linear import LinearPortHamiltonian, Passivity
-from . import urdf
-from .urdf import URDFRobot, load_urdf
-from . import fmu
-from .fmu import export_fmu
+from ._errors import (AccuracyWarning, ConstraintError, CostWarning, EquilibriumWarning,
+                      InitialValueWarning, ModelError, PlausibilityWarning, RedundantConstraintWarning,
+                      SolverError, StabilityWarning, UnattachedWarning,
+                      __version__)   # __version__: meson.build's project() version
+from . import analysis, fmu, graphs, io, linear, mechanism, mesh, mixed, se3, timoshenko, urdf
+from .actuators import PD, Effort, Spring
 from . import components
 from .components import (CoulombFriction, DCMotor, LinearController, LuGreFriction,
                          StribeckFriction, ViscousFriction)
+from .fmu import export_fmu
+from .frames import Body, FlexibleLink, Frame, rotation
+from .graphs import Graphs
+from .laws import (Constant, Cycloidal, Function, Linear, Motion, PiecewisePolynomial, Product,
+                   Pulse, Sine, Spline, Step, Sum, Table, law_from_data)
+from .linear import LinearPortHamiltonian, Passivity
+from .mechanism import Mechanism, load
+from .pairs import (Cylindrical, Fixed, Free, Helical, Planar, Prismatic, Revolute, Spherical,
+                    Universal)
+from .results import (FreeMotion, InitialAdjustment, InitialConfiguration, ModesResult, Momentum,
+                      SimulationResult, StaticResult, load_result)
+from .section import BeamProperties, Material, Section, table1_properties
+from .sweep import sweep
+from .urdf import URDFRobot, load_urdf
 
+#: the public names, each once (docs/api.rst documents them in this order; docs/conf.py)
 __all__ = ["ModelError", "SolverError", "CostWarning", "info", "blas_threads", "__version__",
            "se3", "graphs", "mesh", "mixed", "timoshenko", "analysis", "load", "load_result",
            "sweep", "linear", "LinearPortHamiltonian", "Passivity", "urdf", "load_urdf", "URDFRobot",
            "fmu", "export_fmu",
-           "Material", "Section", "BeamProperties", "table1_properties", "ViscousFriction",
-           "CoulombFriction", "StribeckFriction", "LuGreFriction", "DCMotor", "LinearController", *mechanism.__all__]
-
+           "Material", "Section", "BeamProperties", "table1_properties",
+           "Mechanism", "Frame", "Body", "FlexibleLink", "rotation", "Fixed", "Revolute", "Prismatic",
+           "Helical", "Cylindrical", "Universal", "Spherical", "Planar", "Free", "Effort", "PD",
+           "Spring", "Motion", "Constant", "Step", "Pulse", "Sine", "Table", "Cycloidal", "Linear",
+           "Spline", "PiecewisePolynomial", "Sum", "Product", "Function", "law_from_data",
+           "SimulationResult", "ModesResult", "StaticResult", "Graphs", "RedundantConstraintWarning",
+           "ConstraintError", "InitialValueWarning", "InitialAdjustment", "InitialConfiguration",
+           "Momentum", "StabilityWarning", "AccuracyWarning", "PlausibilityWarning",
+           "EquilibriumWarning", "FreeMotion", "UnattachedWarning", "components",
+           "ViscousFriction", "CoulombFriction", "StribeckFriction", "LuGreFriction", "DCMotor",
+           "LinearController"]
 
 def __getattr__(name: str):
     """``phmech.plot`` is imported on first use, so that ``import phmech`` does not import

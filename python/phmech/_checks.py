@@ -10,7 +10,7 @@ import numbers
 
 import numpy as np
 
-from ._core import ModelError
+from ._errors import ModelError
 
 
 def _kind(value) -> str:

@@ -16,73 +16,11 @@ from typing import Optional, Sequence
 import numpy as np
 
 from . import _core
-from ._core import ModelError
+from ._errors import ModelError
+from .components import MAXZ, NPAR
 from .description import ModelDescription
-from .laws import (Constant, Cycloidal, Function, Linear, PiecewisePolynomial, Product, Pulse,
-                   Sine, Spline, Step, Sum, Table, _FunctionCall, _Law)
-
-_NO = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-
-#: phm_law_kind of each leaf class, and its (amplitude, t0, duration, frequency, phase, offset)
-#: fields of phm_law, then its data array (or None) and order (PPOLY)
-_LAWS = {
-    Constant: (0, lambda s: ((s.value, 0.0, 0.0, 0.0, 0.0, 0.0), None, 0)),
-    Step: (1, lambda s: ((s.value, s.t0, 0.0, 0.0, 0.0, 0.0), None, 0)),
-    Pulse: (2, lambda s: ((s.value, s.t0, s.duration, 0.0, 0.0, 0.0), None, 0)),
-    Sine: (3, lambda s: ((s.amplitude, 0.0, 0.0, s.frequency, s.phase, s.offset), None, 0)),
-    Table: (4, lambda s: (_NO, np.column_stack([s.times, s.values]).ravel(), 0)),
-    Cycloidal: (5, lambda s: ((s.value, s.t0, s.duration, 0.0, 0.0, 0.0), None, 0)),
-    Linear: (6, lambda s: ((s.rate, 0.0, 0.0, 0.0, 0.0, s.offset), None, 0)),
-    PiecewisePolynomial: (7, lambda s: (_NO, np.concatenate([np.asarray(s.breaks, dtype=float),
-                                                             np.asarray(s.coefficients, dtype=float).ravel()]),
-                                        len(s.coefficients[0]))),
-}
-_EXPR, _SUM, _PRODUCT, _CALLBACK = 9, 10, 11, 8
-
-#: phm_actuator_kind of each actuator kind of the description
-_ACTUATOR_KINDS = {"effort": 0, "pd": 1, "spring": 2}
-#: element mass kinds (csrc/include/phmech_types.h, phm_element_mass_kind)
-_MASS_KINDS = {"lumped": 0, "consistent": 1, "given": 2}
-
-
-def _leaf(law: _Law) -> tuple:
-    """The core's tuple of a leaf law (not a Sum or Product)."""
-    if isinstance(law, Spline):
-        law = law.piecewise()
-    if isinstance(law, Function):   # the core calls back (csrc/pyext/py_laws.c, law_callback)
-        bp = np.asarray(law.breakpoints, dtype=float) if law.breakpoints else None
-        return (_CALLBACK, *_NO, bp, 0, None, _FunctionCall(law))
-    kind, fields = _LAWS[type(law)]
-    params, data, order = fields(law)
-    return (kind, *params, data, order, None, None)
-
-
-def _postfix(law: _Law, out: list) -> None:
-    """Append the nodes of ``law`` in postfix order: a Sum or Product of n operands is its
-    operands joined by n - 1 operators."""
-    if isinstance(law, (Sum, Product)):
-        items = law.terms if isinstance(law, Sum) else law.factors
-        op = (_SUM if isinstance(law, Sum) else _PRODUCT, *_NO, None, 0, None, None)
-        for i, x in enumerate(items):
-            _postfix(x, out)
-            if i:
-                out.append(op)
-    else:
-        out.append(_leaf(law))
-
-
-def _law(law: Optional[_Law]) -> Optional[tuple]:
-    """The core's law tuple (kind, amplitude, t0, duration, frequency, phase, offset, data,
-    order, nodes, fn) (csrc/pyext/py_laws.c, phm_py_parse_law) of a checked law (laws.checked_law),
-    or None: a leaf's own, or for a Sum or Product an expression (kind EXPR) whose nodes are
-    the leaves and operators in postfix order."""
-    if law is None:
-        return None
-    if not isinstance(law, (Sum, Product)):
-        return _leaf(law)
-    nodes: list = []
-    _postfix(law, nodes)
-    return (_EXPR, *_NO, None, 0, nodes, None)
+from ._codes import ACTUATOR_KINDS, MASS_KINDS
+from .laws import core_tuple
 
 
 def _column(rows: list, key: str, shape: tuple = ()) -> np.ndarray:
@@ -124,22 +62,22 @@ def _description_columns(desc: ModelDescription) -> dict:
         carriers=dict(M=_column(car, "M", (6, 6)), mass=_column(car, "mass"), com=_column(car, "com", (3,))),
         elements=dict(h=_column(el, "h"), nodes=_ends(el), K=_column(el, "K", (6, 6)),
                       D=_column(el, "D", (6, 6)), eps_hat=_column(el, "eps", (6,)),
-                      mass=np.array([_MASS_KINDS[e.get("mass", "lumped")] for e in el], dtype=float),
+                      mass=np.array([MASS_KINDS[e.get("mass", "lumped")] for e in el], dtype=float),
                       Ms=np.array([e.get("Ms", np.zeros((6, 6))) for e in el],
                                   dtype=float).reshape(-1, 6, 6),
                       Mc=np.array([e.get("Mc", np.zeros((12, 12))) for e in el],
                                   dtype=float).reshape(-1, 12, 12)),
         pairs=dict(type=_column(pr, "type"), carriers=_ends(pr), Tb=_column(pr, "Tb", (4, 4)),
                    driven=_column(pr, "driven"), axis=_column(pr, "axis", (6,)),
-                   law=[_law(p["law"]) if p["driven"] else None for p in pr],
-                   xlaws=[None if p.get("xlaws") is None else [_law(x) for x in p["xlaws"]] for p in pr],
+                   law=[core_tuple(p["law"]) if p["driven"] else None for p in pr],
+                   xlaws=[None if p.get("xlaws") is None else [core_tuple(x) for x in p["xlaws"]] for p in pr],
                    pitch=_column(pr, "pitch"), has_x0=_column(pr, "has_x0")),
         loads=_load_columns(ld),
         actuators=dict(pair=_column(ac, "pair"),
-                       kind=np.array([_ACTUATOR_KINDS[a["kind"]] for a in ac], dtype=float),
+                       kind=np.array([ACTUATOR_KINDS[a["kind"]] for a in ac], dtype=float),
                        vec=_column(ac, "vec", (6,)), kp=_column(ac, "kp", (6,)),
                        kd=_column(ac, "kd", (6,)), x_set=_column(ac, "xset", (6,)),
-                       law=[_law(a["law"]) for a in ac]),
+                       law=[core_tuple(a["law"]) for a in ac]),
         springs=dict(carriers=_ends(sp), pa=_column(sp, "pa", (3,)), pb=_column(sp, "pb", (3,)),
                      k=np.array([q["kcd"][0] for q in sp], dtype=float),
                      c=np.array([q["kcd"][1] for q in sp], dtype=float)),
@@ -156,20 +94,19 @@ def _description_columns(desc: ModelDescription) -> dict:
 
 def _component_columns(rows: Sequence[dict]) -> dict:
     """The component rows' columns of ``components`` (python/phmech/components.py)."""
-    from .components import MAXZ, NPAR
     return dict(kind=np.array([r["code"] for r in rows], dtype=float), pair=_column(rows, "pair"),
                 coord=_column(rows, "coord"), par=_column(rows, "par", (NPAR,)),
                 input=_column(rows, "input"), nx=_column(rows, "nstates"),
                 spair=_column(rows, "spair"), scoord=_column(rows, "scoord"),
                 z0=_column(rows, "z0", (MAXZ,)),
-                law=[_law(r["law"]) for r in rows])
+                law=[core_tuple(r["law"]) for r in rows])
 
 
 def _load_columns(loads: Sequence[dict]) -> dict:
     """The load rows' columns of ``components``."""
     return dict(carrier=_column(loads, "carrier"), world=_column(loads, "world"),
                 point=_column(loads, "point", (3,)), w=_column(loads, "w", (6,)),
-                law=[_law(ld["law"]) for ld in loads],
+                law=[core_tuple(ld["law"]) for ld in loads],
                 reaction=np.array([ld.get("reaction", -1) for ld in loads], dtype=float))
 
 

@@ -14,7 +14,7 @@ from typing import Callable, Optional
 import numpy as np
 
 from ._checks import real
-from ._core import ModelError
+from ._errors import AccuracyWarning, CostWarning, ModelError, outside_stacklevel
 
 #: steps per period of the band's highest frequency at the adaptive integrator's smallest and
 #: largest step (csrc/include/phmech_types.h, PHM_BAND_STEPS and PHM_BAND_MAX_STEPS)
@@ -25,29 +25,6 @@ REFINE_MAX = 1000.0
 #: the default band is at least this many hertz per second of run: 1/(2 dt_out) alone let a
 #: long dt_out set the accuracy (a pendulum run over 1 s with dt_out = 2 s, band 0.25 Hz)
 BAND_PER_SPAN = 50.0
-
-
-class CostWarning(UserWarning):
-    """A simulation is spending far more steps than the frequency band it was asked to resolve
-    needs: it is following vibrations above that band (typically the axial and shear modes of a
-    flexible link's mesh), which the output interval cannot even show."""
-
-
-class AccuracyWarning(UserWarning):
-    """A result is less accurate than phmech's contract: a finished simulation's energy ledger
-    (E - E0 - supplied + dissipated) drifted by more than ``LEDGER_WARN`` of the energy the run
-    moved and exchanged (the integrator created or destroyed that much energy, so the trajectory
-    itself is doubtful), its error estimate stayed above the tolerance (warn_if_above_tolerance),
-    or an analysis whose figures double precision or the model cannot resolve. The message gives
-    the measured figure, the bound and the remedy."""
-
-
-class PlausibilityWarning(UserWarning):
-    """A model that runs but is implausible for a physical mechanism: a value that looks like a
-    unit slip (Young's modulus in GPa, a section in mm, a density in g/cm^3, an angle in
-    degrees), or a run whose flexible links strain beyond a few per cent or are stressed far
-    beyond what their material can carry. The message gives the measured value, the bound and
-    what was probably meant (docs/user_guide.md, "Plausibility checks")."""
 
 
 #: ledger residual / energy_scale (``quality``: the largest of the kinetic energy, the change of
@@ -62,7 +39,7 @@ class PlausibilityWarning(UserWarning):
 LEDGER_WARN = 4e-3
 
 
-def warn_if_inaccurate(stats: dict, stacklevel: int = 3) -> None:
+def warn_if_inaccurate(stats: dict, stacklevel: Optional[int] = None) -> None:
     """AccuracyWarning when ``stats['ledger_relative']`` (from :func:`quality`) exceeds
     LEDGER_WARN, with what to change."""
     x = stats.get("ledger_relative", 0.0)
@@ -84,7 +61,7 @@ def warn_if_inaccurate(stats: dict, stacklevel: int = 3) -> None:
             f"change of kinetic plus elastic energy, the work supplied and the work dissipated), "
             f"above the bound {LEDGER_WARN:g}: "
             f"the integrator created or destroyed that much energy, so the trajectory is "
-            f"doubtful; {advice}", AccuracyWarning, stacklevel=stacklevel)
+            f"doubtful; {advice}", AccuracyWarning, stacklevel=stacklevel or outside_stacklevel())
 
 
 #: stats['error_sum'] (the accepted steps' local error estimates summed, in tolerances) above
@@ -92,11 +69,12 @@ def warn_if_inaccurate(stats: dict, stacklevel: int = 3) -> None:
 #: systematic Newton error that adds up. Newton's tolerance is tightened while the sum runs
 #: ahead of its share (csrc/solve/galpha.c, newton_min), so the sum stays below 1 unless that
 #: tolerance reaches its floor, a relative 1e-11 (rtol 1e-8: a compound pendulum at 30 deg over
-#: 5 s sums to 1.75 and ends 0.92x rtol amp off, warned).
+#: 5 s sums to 1.47 and ends 0.91x rtol amp off, warned), or the run is on course for more than
+#: 3e5 steps, where it is not tightened.
 ERROR_SUM_WARN = 1.0
 
 
-def warn_if_above_tolerance(stats: dict, stacklevel: int = 3) -> None:
+def warn_if_above_tolerance(stats: dict, stacklevel: Optional[int] = None) -> None:
     """AccuracyWarning when the adaptive generalized-alpha accepted steps whose error estimate
     stayed above the tolerance at the refinement's limit (``stats['floor_steps']`` > 0: a step
     1/(REFINE_MAX BAND_STEPS band) long), naming the estimate reached, the tolerance asked, when,
@@ -113,7 +91,7 @@ def warn_if_above_tolerance(stats: dict, stacklevel: int = 3) -> None:
             f"{stats.get('newton_rtol') or 0:.3g} at the end), whose error adds up step after "
             f"step, so the result is probably not within rtol. integrator='ida' controls every "
             f"state's error (a looser rtol asks less)", AccuracyWarning,
-            stacklevel=stacklevel)
+            stacklevel=stacklevel or outside_stacklevel())
     n = stats.get("floor_steps") or 0
     if n <= 0:
         return
@@ -126,7 +104,7 @@ def warn_if_above_tolerance(stats: dict, stacklevel: int = 3) -> None:
         f"within rtol there. A higher band= lowers that limit (and resolves more of the motion "
         f"instead of damping it), a looser rtol asks less; integrator='ida' controls every "
         f"state's error", AccuracyWarning,
-        stacklevel=stacklevel)
+        stacklevel=stacklevel or outside_stacklevel())
 
 
 def band_floor(band: float) -> float:
@@ -211,7 +189,7 @@ class RunMonitor:
                 f"than the {floor:.2g} s that the {self.band:.4g} Hz band needs: the integrator is "
                 f"resolving vibrations up to about {_hz(f_res)}, far above what the output can "
                 f"show. At this rate the run will take about {_duration(projected)} of CPU. "
-                + advice, CostWarning, stacklevel=4)
+                + advice, CostWarning, stacklevel=outside_stacklevel())
 
     def _maybe_print(self) -> None:
         if not self.progress:
@@ -302,8 +280,7 @@ class Checkpoint:
 
     def write(self, result) -> None:
         """Write ``result`` to the path, atomically."""
-        from . import io
-        io.write_result(result, self.path)
+        result.to_netcdf(self.path)
         self.last = time.perf_counter()
 
 

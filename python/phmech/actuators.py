@@ -10,7 +10,7 @@ import dataclasses
 import numpy as np
 
 from ._checks import per_coordinate
-from ._core import ModelError
+from ._errors import ModelError
 from .laws import Constant, _Law, checked_law
 
 __all__ = ["Effort", "PD", "Spring"]

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._core import ModelError
+from . import se3
+from ._errors import ModelError
 
 __all__ = ["spectrum", "dominant_frequency", "modal_energy", "mac", "label_modes", "mode_energies",
            "MODE_KINDS"]
@@ -68,7 +69,6 @@ def modal_energy(mechanism, result, modes) -> np.ndarray:
     axial modes, so compare modes one by one, or the total of the modes you trust, over time.
     Typical use: which modes the integrator's numerical dissipation takes energy from
     (docs/integrators.md, "Where the numerical dissipation goes")."""
-    from . import se3
     poses, twists = np.asarray(result.poses), np.asarray(result.twists)
     M = np.array([c["M"] for c in mechanism._car])
     phi = np.asarray(modes.shapes)
@@ -142,7 +142,6 @@ def mode_energies(desc, poses, shapes) -> dict:
     - ``spring_strain`` (n, nsprings, 4): the same for the springs that carry a modal link's
       fixed-interface modes (phmech.fidelity.modal_sliders; ``spring_links`` names each one's
       link), k dd^2 split by the shares of its mode's strain kinds."""
-    from . import se3
     phi = np.asarray(shapes, dtype=float)
     kin = np.einsum("nci,nci->nc", phi, desc.mass_times(phi))
     els = desc.elements

@@ -36,7 +36,7 @@ from typing import Optional
 import numpy as np
 
 from ._checks import real
-from ._core import ModelError
+from ._errors import ModelError
 from .laws import checked_law
 
 __all__ = ["ViscousFriction", "CoulombFriction", "StribeckFriction", "LuGreFriction", "DCMotor",

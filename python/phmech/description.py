@@ -30,6 +30,7 @@ import dataclasses
 
 import numpy as np
 
+from ._codes import element_mass
 from .frames import FlexibleLink, carrier_name
 
 
@@ -113,8 +114,6 @@ class ModelDescription:
         ``centre_of_mass`` (zeros for a given coupling: its mass stays on its carriers). Made
         once per description, read-only."""
         if self._mass_couplings is None:
-            from . import _core
-            from .fidelity import mass_centre
             rows = [e for e in self.elements if e.get("mass", "lumped") != "lumped"] + self.couplings
             fields = np.zeros((len(rows), 5))
             for row, e in zip(fields, rows):
@@ -123,7 +122,7 @@ class ModelDescription:
                     row[:] = e["h"], ms, *mass_centre(e["Ms"], ms)
             cp = dict(_coupled_nodes=np.array([[e["a"], e["b"]] for e in rows], dtype=int).reshape(-1, 2),
                       _couplings=np.array([e["Mc"] if e.get("mass", "given") == "given" else
-                                           _core.element_mass(e["h"], e["Ms"], e["eps"]) for e in rows],
+                                           element_mass(e["h"], e["Ms"], e["eps"]) for e in rows],
                                           dtype=float).reshape(-1, 12, 12),
                       _coupled_fields=fields)
             for arr in cp.values():   # shared by every result until the next change
@@ -150,3 +149,9 @@ class ModelDescription:
         return [a["name"] for a in self.actuators] + [ld["name"] for ld in self.loads] + \
             [q["name"] for q in self.springs]
 
+
+def mass_centre(M: np.ndarray, mass: float) -> np.ndarray:
+    """The centre of mass [m] of a 6x6 spatial inertia M ((omega, v) order) of ``mass`` [kg]:
+    M[:3, 3:] = mass hat(c) (add_rigid_body's layout), c from its skew part."""
+    C = np.asarray(M)[:3, 3:] / mass
+    return np.array([C[2, 1] - C[1, 2], C[0, 2] - C[2, 0], C[1, 0] - C[0, 1]]) / 2.0

@@ -22,33 +22,14 @@ link's start (modal_sliders), chosen by count or from a band (choose_modes).
 """
 from __future__ import annotations
 
-import dataclasses
-import warnings
 
 import numpy as np
 from scipy.linalg import eigh
 from threadpoolctl import threadpool_limits
 
 from . import se3
-
-@dataclasses.dataclass(frozen=True)
-class ModalChoice:
-    """How many fixed-interface modes a modal link keeps (``modes``) for the ``band`` [Hz] and
-    ``tolerance`` (relative frequency error) asked for; ``error``: the largest relative error
-    of its own frequencies below the band against the chain it was reduced from, free and held
-    at its start (reduction_error); ``chosen``: whether the band chose ``modes`` (else the
-    user gave it)."""
-    modes: int
-    band: float
-    tolerance: float
-    error: float
-    chosen: bool
-
-    def __str__(self) -> str:
-        how = "chosen" if self.chosen else "given"
-        return (f"{self.modes} fixed-interface modes ({how}): frequency error {self.error:.2g} "
-                f"below {self.band:g} Hz against the chain reduced from (asked {self.tolerance:g})")
-
+from .analysis import mode_energies
+from .description import mass_centre
 
 #: the fidelities add_flexible_link accepts
 FIDELITIES = ("nonlinear", "rigid", "modal")
@@ -69,13 +50,6 @@ def _quadrature(L: float, eps: np.ndarray) -> tuple:
     s = (0.5 * (b - a) * x[None, :] + 0.5 * (a + b)).ravel()
     ws = (0.5 * (b - a) * w[None, :]).ravel()
     return s, ws
-
-
-def mass_centre(M: np.ndarray, mass: float) -> np.ndarray:
-    """The centre of mass [m] of a 6x6 spatial inertia M ((omega, v) order) of ``mass`` [kg]:
-    M[:3, 3:] = mass hat(c) (add_rigid_body's layout), c from its skew part."""
-    C = np.asarray(M)[:3, 3:] / mass
-    return np.array([C[2, 1] - C[1, 2], C[0, 2] - C[2, 0], C[1, 0] - C[0, 1]]) / 2.0
 
 
 def rigid_link_inertia(L: float, inertia: np.ndarray, eps: np.ndarray) -> tuple:
@@ -113,62 +87,6 @@ def distributed_resultant(L: float, eps: np.ndarray, q: np.ndarray, world: bool)
     return np.concatenate([np.einsum("n,ni->i", w, np.cross(p, f)), w @ f]), np.zeros(3)
 
 
-def static_reduction(length: float, properties, elements: int, eps: np.ndarray, mass: str) -> dict:
-    """The modal link of a flexible link (module doc): its ``elements``-element se3 chain, free and
-    unstressed, linearized by phmech (stiffness K, damping D, mass M in the nodes' body
-    perturbations), condensed onto its end nodes by the static modes T = [I; -K_ii^-1 K_ib]:
-    K_B = T^T K T, D_B, M_B (12 x 12 on (start, end)). K_c, D_c = the (end, end) blocks: the end's
-    stiffness and damping against the start held, in the perturbation xi = log(T0^-1 H_a^-1 H_b)
-    of the end relative to the start carried rigidly (T0 = exp(X0), X0 = length eps). One se3
-    element of length L with unstressed strain eps has, at the unstressed shape, the strain
-    L d(eps) = dexp_{-X0}^-1 d(xi); so its section stiffness K = L dexp_{-X0}^T K_c dexp_{-X0}
-    (and D likewise) gives it exactly K_c. Returns the element's ``K``, ``D``, the carriers'
-    inertias ``M_start``, ``M_end`` (M_B's diagonal blocks) and the coupling ``Mc`` (M_B less
-    them), and the condensed matrices ``K_B``, ``M_B``."""
-    with threadpool_limits(limits=1, user_api="blas"):
-        return _static_reduction(length, properties, elements, eps, mass)
-
-
-def _static_reduction(length, properties, elements, eps, mass) -> dict:
-    """static_reduction's work, with one BLAS thread: its matrices are small (6 (elements + 1)),
-    and NumPy's multithreaded BLAS spun on them. Measured at 64 elements: 33 ms single-threaded
-    against 48-150 ms of CPU (and 0.26 s of wall time at 32 elements) with two threads on two
-    cores another job was using."""
-    from .mechanism import Mechanism, UnattachedWarning
-    m = Mechanism()
-    kap = np.asarray(eps[:3], dtype=float)
-    m.add_flexible_link("link", length, properties, elements=elements, mass=mass,
-                        curvature=None if not np.any(kap) else kap)
-    with warnings.catch_warnings():   # the link alone, free in space on purpose
-        warnings.simplefilter("ignore", UnattachedWarning)
-        lin = m.linearize()
-    K, D, M = lin.stiffness, lin.damping, lin.mass
-    n = K.shape[0]
-    b = np.r_[0:6, n - 6:n]
-    i = np.r_[6:n - 6]
-    T = np.zeros((n, 12))
-    T[b, np.arange(12)] = 1.0
-    if i.size:
-        T[i] = -np.linalg.solve(K[np.ix_(i, i)], K[np.ix_(i, b)])
-    sym = lambda X: 0.5 * (X + X.T)
-    K_B, D_B, M_B = (sym(T.T @ X @ T) for X in (K, D, M))
-    X0 = length * np.asarray(eps, dtype=float)
-    E = se3.dexp(-X0)
-    Mc = M_B.copy()
-    Mc[:6, :6] = 0.0
-    Mc[6:, 6:] = 0.0
-    # the link's first frequency held at its start: the scale of its validity (modal_validity)
-    ev = eigh(K[6:, 6:], M[6:, 6:], eigvals_only=True, subset_by_index=[0, 0])
-    gravity = _gravity_points(m, T, X0)
-    sag = _gravity_sag_error(m, K, gravity, K_B[6:, 6:], length)
-    return dict(K=sym(length * E.T @ K_B[6:, 6:] @ E), D=sym(length * E.T @ D_B[6:, 6:] @ E),
-                M_start=M_B[:6, :6].copy(), M_end=M_B[6:, 6:].copy(), Mc=Mc, K_B=K_B, M_B=M_B,
-                omega_clamped=float(np.sqrt(max(ev[0], 0.0))), gravity=gravity,
-                gravity_sag_error=sag, chain=dict(K=K, D=D, M=M, T=T, interior=i, desc=m._desc,
-                                                  weights=np.array([_chain_weights(m._car, np.eye(3)[j])
-                                                                    for j in range(3)]).T))
-
-
 def interior_modes(red: dict, n: int) -> dict:
     """The first ``n`` fixed-interface modes of a statically reduced link (``red``, from
     static_reduction): its chain's modes with both ends held, Phi (6 (N + 1) x n, zero at the
@@ -190,7 +108,6 @@ def interior_modes(red: dict, n: int) -> dict:
     lam, Pi = ch["fixed_interface"]
     Phi = np.zeros((K.shape[0], n))
     Phi[i] = Pi[:, :n]
-    from .analysis import mode_energies
     desc = ch["desc"]
     shapes = np.moveaxis(Phi.reshape(K.shape[0] // 6, 6, n), 2, 0)      # (mode, node, 6)
     strain = mode_energies(desc, np.array([c["H0"] for c in desc.carriers]), shapes)["strain"].sum(axis=1)
@@ -271,7 +188,7 @@ def choose_modes(red: dict, band: float, tolerance: float) -> tuple:
         n = min(total, max(n + 1, below if n < below else n + 1))
 
 
-def _chain_weights(car: list, g: np.ndarray) -> np.ndarray:
+def chain_weights(car: list, g: np.ndarray) -> np.ndarray:
     """The chain's weights under gravity g (its start frame's axes) as generalized forces on its
     nodes' body perturbations, 6 per node: (c_k x f_k, f_k), f_k = m_k R_k^T g, at the
     unstressed shape (c_k: the node's centre of mass, the section's)."""
@@ -283,7 +200,7 @@ def _chain_weights(car: list, g: np.ndarray) -> np.ndarray:
     return w
 
 
-def _gravity_sag_error(m, K: np.ndarray, gravity: tuple, K_end: np.ndarray, length: float) -> float:
+def gravity_sag_error(m, K: np.ndarray, gravity: tuple, K_end: np.ndarray, length: float) -> float:
     """How far the gravity points put the end of the link held at its start, against the chain
     (linear statics, the three directions of g, the end's rotation scaled by the length): the
     largest difference over the largest sag (an axial g barely moves the end: its own relative
@@ -295,7 +212,7 @@ def _gravity_sag_error(m, K: np.ndarray, gravity: tuple, K_end: np.ndarray, leng
     worst = big = 0.0
     for j in range(3):
         g = np.eye(3)[j]
-        full = np.linalg.solve(K[6:, 6:], _chain_weights(m._car, g)[6:])[-6:]
+        full = np.linalg.solve(K[6:, 6:], chain_weights(m._car, g)[6:])[-6:]
         f = m_b * Rb.T @ g
         red = np.linalg.solve(K_end, np.r_[np.cross(c_b, f), f])
         worst = max(worst, np.linalg.norm(scale * (red - full)))
@@ -303,7 +220,7 @@ def _gravity_sag_error(m, K: np.ndarray, gravity: tuple, K_end: np.ndarray, leng
     return float(worst / max(big, 1e-300))
 
 
-def _gravity_points(m, T: np.ndarray, X0: np.ndarray) -> tuple:
+def gravity_points(m, T: np.ndarray, X0: np.ndarray) -> tuple:
     """Where gravity acts on a modal link: a point mass on each end carrier whose weight is the
     static condensation T^T w of the chain's weights (node k: (0, m_k R_k^T g) in its body
     frame, at the unstressed shape) for every direction of g: so the reduced link's gravity
@@ -318,7 +235,7 @@ def _gravity_points(m, T: np.ndarray, X0: np.ndarray) -> tuple:
     _gravity_sag_error's)."""
     car = m._car
     nodes = [np.asarray(c["H0"]) for c in car]          # the link alone: start at identity
-    wB = [T.T @ _chain_weights(car, np.eye(3)[j]) for j in range(3)]
+    wB = [T.T @ chain_weights(car, np.eye(3)[j]) for j in range(3)]
     Tb = se3.exp(X0)
     masses, blocks, rhs, forces, e_bodies = [], [], [], [], []
     for end, R in ((0, np.eye(3)), (1, Tb[:3, :3])):
@@ -351,27 +268,6 @@ def _gravity_points(m, T: np.ndarray, X0: np.ndarray) -> tuple:
                    np.linalg.norm(forces[end] - f_fit) / max(np.linalg.norm(forces[end]), 1e-300))
         out.append((masses[end], c, float(miss)))
     return tuple(out)
-
-
-def gravity_preload_sensitivity(length: float, properties, elements: int, eps: np.ndarray,
-                                mass: str) -> float:
-    """How much the link's own weight along its axis moves its first frequency held at its start,
-    relative, per m/s^2 of gravity: its chain (nonlinear) clamped at the start under 1 m/s^2
-    along its axis (tension), modes at that equilibrium against the unloaded ones. A modal link
-    has no geometric stiffness (and its end's gravity point even shifts it the other way), so
-    this is the error a gravity preload adds to it (Mechanism._build warns)."""
-    from .mechanism import Mechanism
-    from .pairs import Fixed
-    kap = np.asarray(eps[:3], dtype=float)
-    f = []
-    for g in (0.0, 1.0):
-        m = Mechanism(gravity=(g, 0.0, 0.0))
-        lk = m.add_flexible_link("link", length, properties, elements=elements, mass=mass,
-                                 curvature=None if not np.any(kap) else kap)
-        m.add_pair("clamp", Fixed(), m.ground, lk.start)
-        with threadpool_limits(limits=1, user_api="blas"):
-            f.append(m.modes(1, at=m.static() if g else None).frequency[0])
-    return float(abs(f[1] / f[0] - 1.0))
 
 
 #: Southwell's coefficient of a uniform cantilever's first bending mode: spinning at Omega about

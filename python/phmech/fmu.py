@@ -38,10 +38,11 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-from . import _marshal
-from ._core import ModelError, __version__
-from ._run import CostWarning
-from .frames import Frame, frame_of
+from . import _marshal, _model
+from ._errors import CostWarning, ModelError, __version__, outside_stacklevel
+from ._simulate import DEFAULT_RHO_INF, DEFAULT_RTOL
+from .frames import frame_of
+from .mechanism import Mechanism
 from .pairs import PAIR_TYPES
 
 __all__ = ["export_fmu"]
@@ -62,7 +63,7 @@ _WRAPPER = "phmech_fmi2.so"
 
 
 def _law_numbers(law, what: str) -> list:
-    """The flat numbers of a core law tuple (python/phmech/_marshal.py, _law) or None (no law):
+    """The flat numbers of a core law tuple (python/phmech/laws.py, core_tuple) or None (no law):
     kind, amplitude, t0, duration, frequency, phase, offset, order, ndata, data..., nnodes,
     nodes...; ModelError naming ``what`` for a Python-function law."""
     if law is None:
@@ -148,7 +149,6 @@ def _options(mechanism, integrator: str, rtol: Optional[float], atol: Optional[f
         solver = 1 if len(mechanism._desc.carriers) >= 6 else 0   # simulate()'s "auto"
         vals = [0, rtol, atol, solver, 0.0, 5, 0, 0.0, 1.0, 0, 0.0]
     elif integrator == "generalized-alpha":
-        from .mechanism import DEFAULT_RHO_INF, DEFAULT_RTOL
         adaptive = step is None
         if adaptive and band is None:
             raise ModelError("export_fmu: the adaptive generalized-alpha needs band= [Hz] (the highest "
@@ -386,7 +386,6 @@ def export_fmu(mechanism, path, inputs: Sequence[str] = (), outputs: Optional[Se
     get/set, clocks and directional derivatives are not provided.
     CostWarning for IDA on a mechanism with flexible links (its restart at every communication
     step is slow there: use the fixed-step generalized-alpha)."""
-    from .mechanism import Mechanism
     if not isinstance(mechanism, Mechanism):
         raise ModelError(f"export_fmu: expected a phmech.Mechanism (got {type(mechanism).__name__})")
     path = Path(path)
@@ -407,7 +406,6 @@ def export_fmu(mechanism, path, inputs: Sequence[str] = (), outputs: Optional[Se
     if not sys.platform.startswith("linux") or os.uname().machine != "x86_64":
         raise ModelError("export_fmu writes Linux x86-64 FMUs and runs on Linux x86-64 only")
     if integrator == "ida" and mechanism._desc.elements:
-        from .mechanism import _outside_stacklevel
         warnings.warn(f"export_fmu: the FMU restarts IDA at every communication step, and with "
                       f"flexible links ({len(mechanism._desc.elements)} elements here) each restart "
                       f"costs thousands of steps (measured: a 3-element arm swung by a torque step, "
@@ -415,11 +413,11 @@ def export_fmu(mechanism, path, inputs: Sequence[str] = (), outputs: Optional[Se
                       f"failing on the elements' stiff modes); use integrator='generalized-alpha' "
                       f"with step= (fixed step; 2.8e-3 s of CPU per communication step at "
                       f"step=1e-4 on that arm), which restarts at no cost",
-                      CostWarning, stacklevel=_outside_stacklevel())
+                      CostWarning, stacklevel=outside_stacklevel())
     ins = _inputs(mechanism, list(inputs))
     outs = _outputs(mechanism, outputs)
     opt_vals, opts = _options(mechanism, integrator, rtol, atol, step, rho_inf, band)
-    mechanism._build()                       # the initial configuration simulate() starts from
+    _model.build(mechanism)                  # the initial configuration simulate() starts from
     state = mechanism._state
     comp = _marshal.components(mechanism._desc, state.poses, state.twists, state.x0,
                                state.drop_masks, state.frames_a)

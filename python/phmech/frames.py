@@ -8,17 +8,13 @@ are made without a hand-made matrix by ``frame_at`` (on a Frame, a Body, ``Mecha
 from __future__ import annotations
 
 import dataclasses
-from typing import TYPE_CHECKING, Optional
+from typing import Optional
 
 import numpy as np
 
 from . import se3
 from ._checks import array, not_rotation, rigid_pose
-from ._core import ModelError
-
-if TYPE_CHECKING:
-    from .description import ModelDescription
-    from .mesh import MeshChoice
+from ._errors import ModelError
 
 __all__ = ["Frame", "Body", "FlexibleLink", "rotation"]
 
@@ -100,6 +96,44 @@ class Body:
         (3x3, relative to the body axes; None: body axes): ``body.frame.frame_at(...)``, see
         :meth:`Frame.frame_at`."""
         return self.frame.frame_at(point, rotation, name)
+
+
+@dataclasses.dataclass(frozen=True)
+class MeshChoice:
+    """What :func:`phmech.mesh.choose_elements` chose: ``elements``; ``band`` [Hz] and ``tolerance`` (relative
+    frequency error) asked for; ``modes_in_band``: the link's free-free elastic modes up to the
+    band; ``estimated_error``: the largest relative frequency error estimated over them at
+    ``elements`` (Richardson from twice and four times as many; 0 when no elastic mode is in the band);
+    ``frequencies`` [Hz]: those modes at twice as many elements."""
+    elements: int
+    band: float
+    tolerance: float
+    modes_in_band: int
+    estimated_error: float
+    frequencies: tuple
+
+    def __str__(self) -> str:
+        return (f"{self.elements} elements: {self.modes_in_band} modes up to {self.band:g} Hz, "
+                f"estimated frequency error {self.estimated_error:.2g} (asked {self.tolerance:g})")
+
+
+@dataclasses.dataclass(frozen=True)
+class ModalChoice:
+    """How many fixed-interface modes a modal link keeps (``modes``) for the ``band`` [Hz] and
+    ``tolerance`` (relative frequency error) asked for; ``error``: the largest relative error
+    of its own frequencies below the band against the chain it was reduced from, free and held
+    at its start (reduction_error); ``chosen``: whether the band chose ``modes`` (else the
+    user gave it)."""
+    modes: int
+    band: float
+    tolerance: float
+    error: float
+    chosen: bool
+
+    def __str__(self) -> str:
+        how = "chosen" if self.chosen else "given"
+        return (f"{self.modes} fixed-interface modes ({how}): frequency error {self.error:.2g} "
+                f"below {self.band:g} Hz against the chain reduced from (asked {self.tolerance:g})")
 
 
 @dataclasses.dataclass

@@ -10,14 +10,10 @@ from __future__ import annotations
 
 from collections import deque
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ._core import ModelError
-
-if TYPE_CHECKING:
-    from .description import ModelDescription
+from ._errors import ModelError
 
 GROUND = "0"
 

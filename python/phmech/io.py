@@ -39,17 +39,19 @@ Anything else (a Python function, an object of a type not registered) cannot be 
 raises ModelError naming the call, the component and the argument; loading never calls methods
 or builds types other than these.
 
-**Adding a type** (a new law kind, a frame with an offset, a pair driver): a dataclass whose
-fields are themselves saveable needs one line here, ``register_dataclass(NewLaw)`` (its tag is
-the class name; it is rebuilt as ``NewLaw(**fields)``). Any other type:
+**Adding a type** (a frame with an offset, a pair driver; a new law kind is registered from
+``laws._CLASSES``, a new pair type from the pair table): a dataclass whose fields are themselves
+saveable needs one line here, ``register_dataclass(NewType)`` (its tag is the class name; it is
+rebuilt as ``NewType(**fields)``). Any other type:
 ``register(cls, tag, encode, decode)`` with ``encode(obj, mech) -> dict`` of JSON-able fields
 (call ``encode_value`` on the values inside) and ``decode(fields, mech) -> obj`` (call
 ``decode_value``); ``mech`` is the Mechanism being saved or rebuilt (frames look up their
-carrier there). A new builder method is saved once it carries ``@_recorded`` in mechanism.py.
+carrier there). A new builder method is saved once it carries ``@_recorded`` (python/phmech/_builder.py).
 A change that makes old files read differently bumps ``SCHEMA_VERSION`` (old files keep
 loading: ``load`` accepts every version up to it; a newer one is refused naming both).
 
-Results
+Results (python/phmech/_resultfile.py writes them, ``phmech.load_result`` in
+python/phmech/results.py reads them)
 -------
 ``SimulationResult.to_xarray()``, ``ModesResult.to_xarray()``, ``StaticResult.to_xarray()``
 give ``xarray.Dataset``s with named dimensions and coordinates and a ``units`` attribute on
@@ -73,24 +75,19 @@ from typing import Any, Callable, Optional
 import numpy as np
 
 from . import actuators, components, laws, pairs, section
-from ._core import ModelError
+from ._errors import ModelError, __version__
 from .frames import Body, FlexibleLink, Frame
 
-__all__ = ["save", "load", "load_result", "register", "register_dataclass", "encode_value",
-           "decode_value", "model_to_dict", "model_from_dict", "SCHEMA_VERSION",
-           "RESULT_SCHEMA_VERSION"]
+__all__ = ["save", "load", "register", "register_dataclass", "encode_value",
+           "decode_value", "model_to_dict", "model_from_dict", "SCHEMA_VERSION"]
 
 FORMAT = "phmech-model"
 #: the model-file schema this phmech writes and the newest it reads (2: a flexible link's default
 #: element mass is "consistent"; a version-1 file's links without mass= keep "lumped")
 SCHEMA_VERSION = 2
-RESULT_FORMAT = "phmech-result"
-#: the result-file schema this phmech writes and the newest it reads
-RESULT_SCHEMA_VERSION = 2   # 2: the element mass couplings (consistent and modal links)
 
 
 def _version() -> str:
-    from . import __version__
     return __version__
 
 
@@ -253,13 +250,14 @@ def _named(kind: str, table: str):
 
 register(Body, "Body", *_named("body", "_bodies"))
 register(FlexibleLink, "FlexibleLink", *_named("flexible link", "_links"))
-# laws.Function is left out on purpose: a Python callable is code, not data (save refuses it)
-for _cls in (laws.Constant, laws.Step, laws.Pulse, laws.Sine, laws.Table, laws.Cycloidal,
-             laws.Linear, laws.PiecewisePolynomial, laws.Spline, laws.Sum, laws.Product,
+# every law class of laws._CLASSES but Function, left out on purpose: a Python callable is code,
+# not data (save refuses it)
+for _cls in (*(c for c in laws._CLASSES.values() if c is not laws.Function),
              laws.Motion, actuators.Effort, actuators.PD, actuators.Spring, section.Material,
              section.Section, section.BeamProperties, components.ViscousFriction,
              components.CoulombFriction, components.StribeckFriction, components.LuGreFriction,
-             components.DCMotor, components.LinearController, *(getattr(pairs, t.name) for t in pairs.PAIR_TYPES)):
+             components.DCMotor, components.LinearController,
+             *(getattr(pairs, t.name) for t in pairs.PAIR_TYPES)):
     register_dataclass(_cls)
 
 
@@ -344,7 +342,7 @@ def model_to_dict(mech) -> dict:
     doc = json.loads(json.dumps(doc))   # what a file holds, exactly
     with warnings.catch_warnings():   # the replay warns as the original did
         warnings.simplefilter("ignore")
-        again = model_from_dict(doc)
+        again = model_from_dict(doc, type(mech))
     where = _difference(mech._desc, again._desc, "description") or \
         _difference(_settings(mech), _settings(again), "settings")
     if where:
@@ -359,9 +357,9 @@ def _component(entry: dict) -> str:
     return repr(name) if isinstance(name, str) else "..."
 
 
-def model_from_dict(doc: dict):
-    """The Mechanism a model-file document describes (ModelError for anything else)."""
-    from .mechanism import Mechanism
+def model_from_dict(doc: dict, cls: type):
+    """The mechanism (of class ``cls``, phmech.Mechanism) a model-file document describes
+    (ModelError for anything else)."""
     if not isinstance(doc, dict) or doc.get("format") != FORMAT:
         raise ModelError(f"not a phmech model (expected a JSON object with \"format\": "
                          f"\"{FORMAT}\")")
@@ -375,7 +373,7 @@ def model_from_dict(doc: dict):
     calls = doc.get("calls")
     if not isinstance(calls, list):
         raise ModelError("phmech model: \"calls\" must be a list")
-    m, version = Mechanism(), v
+    m, version = cls(), v
     for i, e in enumerate(calls):
         meth = e.get("method") if isinstance(e, dict) else None
         args = e.get("args") if isinstance(e, dict) else None
@@ -383,7 +381,7 @@ def model_from_dict(doc: dict):
             raise ModelError(f"phmech model: call {i}: expected {{\"method\": ..., \"args\": {{...}}}}")
         if meth == "set":
             try:
-                s = Mechanism(**{k: decode_value(v) for k, v in args.items()})   # validates them
+                s = cls(**{k: decode_value(v) for k, v in args.items()})   # validates them
             except TypeError as e:
                 raise ModelError(f"phmech model: call {i} (set): {e}") from None
             m.gravity, m.strict, m.band = s.gravity, s.strict, s.band
@@ -409,19 +407,20 @@ def save(mech, path) -> None:
     def write(tmp):
         with open(tmp, "w", encoding="utf-8") as f:
             f.write(text)
-    _atomic_write(path, write)
+    atomic_write(path, write)
 
 
-def load(path):
-    """The Mechanism saved in the model file ``path`` (Mechanism.save). ModelError when the file
-    is not a phmech model or has a newer schema version than this phmech reads."""
+def load(path, cls: type):
+    """The mechanism (of class ``cls``, phmech.Mechanism) saved in the model file ``path``
+    (Mechanism.save). ModelError when the file is not a phmech model or has a newer schema
+    version than this phmech reads."""
     try:
         with open(path, encoding="utf-8") as f:
             doc = json.load(f)
     except (UnicodeDecodeError, json.JSONDecodeError) as e:
         raise ModelError(f"{os.fspath(path)}: not a phmech model (not JSON: {e})") from None
     try:
-        return model_from_dict(doc)
+        return model_from_dict(doc, cls)
     except ModelError as e:
         raise ModelError(f"{os.fspath(path)}: {e}") from None
 
@@ -467,7 +466,7 @@ def _difference(a, b, path: str) -> Optional[str]:
     return None if a == b else path
 
 
-def _atomic_write(path, write: Callable[[str], Any]) -> None:
+def atomic_write(path, write: Callable[[str], Any]) -> None:
     """``write(tmp)`` into a temporary file beside ``path``, then rename it to ``path``: a reader
     never sees a half-written file, and a failure leaves ``path`` as it was."""
     path = os.fspath(path)
@@ -481,301 +480,3 @@ def _atomic_write(path, write: Callable[[str], Any]) -> None:
         except OSError:
             pass
         raise
-
-
-# ---------------------------------------------------------------------------- results
-#: the six components of a twist (omega, v) or a wrench (tau, f): angular part first
-COMPONENTS = ("ang_x", "ang_y", "ang_z", "lin_x", "lin_y", "lin_z")
-
-
-def _carrier_names(n: int, bodies: dict, links: dict) -> list:
-    """A label per carrier: the body's name, or "link.nodeK"."""
-    names = [f"carrier{c}" for c in range(n)]
-    for b in bodies.values():
-        if 0 <= b.carrier < n:
-            names[b.carrier] = b.name
-    for lk in links.values():
-        for k, c in enumerate(lk.nodes):
-            if 0 <= c < n:
-                names[c] = lk.name if lk.rigid else f"{lk.name}.node{k}"
-    return names
-
-
-def _pair_labels(pairs: dict, nj: int, nrows: int) -> tuple:
-    """Labels, pair and unit of each joint coordinate, and labels of the constraint rows."""
-    joint, jpair, junit = [f"joint{j}" for j in range(nj)], [""] * nj, [""] * nj
-    rows = [f"row{r}" for r in range(nrows)]
-    for name, p in pairs.items():
-        row, m, j, k = p["layout"]
-        units = p.get("units", ("",) * k)
-        for i in range(k):
-            if j + i < nj:
-                joint[j + i] = name if k == 1 else f"{name}[{i}]"
-                jpair[j + i], junit[j + i] = name, units[i]
-        for i in range(m):
-            if row + i < nrows:
-                rows[row + i] = f"{name}[{i}]"
-    return joint, jpair, junit, rows
-
-
-def _links_meta(links: dict) -> dict:
-    return {lk.name: dict(length=lk.length, elements=lk.elements, nodes=list(lk.nodes),
-                          mesh=None if lk.mesh is None else dataclasses.asdict(lk.mesh),
-                          fidelity=lk.fidelity,
-                          offsets=None if lk.offsets is None else np.asarray(lk.offsets).tolist(),
-                          reduced_from=lk.reduced_from, clamped_frequency=lk.clamped_frequency,
-                          sliders=list(lk.sliders),
-                          modal_choice=None if lk.modal_choice is None else dataclasses.asdict(lk.modal_choice),
-                          modal_peaks=lk.modal_peaks)
-            for lk in links.values()}
-
-
-def _links_from(meta: dict) -> dict:
-    from .fidelity import ModalChoice
-    from .mesh import MeshChoice
-    out = {}
-    for name, d in meta.items():
-        mesh = d["mesh"]
-        if mesh is not None:
-            mesh = MeshChoice(**{**mesh, "frequencies": tuple(mesh["frequencies"])})
-        offsets = d.get("offsets")
-        out[name] = FlexibleLink(name, d["length"], d["elements"], list(d["nodes"]), mesh,
-                                 d.get("fidelity", "nonlinear"),
-                                 None if offsets is None else np.array(offsets, dtype=float),
-                                 d.get("reduced_from"), d.get("clamped_frequency"),
-                                 list(d.get("sliders", [])),
-                                 None if d.get("modal_choice") is None else ModalChoice(**d["modal_choice"]),
-                                 d.get("modal_peaks"))
-    return out
-
-
-def _header(kind: str, meta: dict) -> dict:
-    return {"format": RESULT_FORMAT, "schema_version": RESULT_SCHEMA_VERSION,
-            "phmech_version": _version(), "kind": kind, "phmech_meta": json.dumps(meta)}
-
-
-def simulation_dataset(res):
-    """SimulationResult -> xarray.Dataset (SimulationResult.to_xarray)."""
-    import xarray as xr
-    nt = len(res.t)
-    ncar = len(res._mass) if res._mass is not None else res.poses.shape[1]
-    names = _carrier_names(ncar, res._bodies, res._links)
-    rec = np.arange(res.poses.shape[1]) if res.carriers is None else np.asarray(res.carriers)
-    nj = res.joints.shape[1]
-    joint, jpair, junit, rows = _pair_labels(res._pairs, nj, res.constraint_wrenches.shape[1])
-    pair_names = sorted(res._pairs, key=lambda n: res._pairs[n]["index"])
-    ports = list(res.port_energy)
-    data = {
-        "poses": (("time", "carrier", "row", "col"), res.poses,
-                  dict(units="1 (rotation), m (translation)",
-                       long_name="world pose of each carrier frame (4x4 homogeneous)")),
-        "twists": (("time", "carrier", "component"), res.twists,
-                   dict(units="rad/s (ang), m/s (lin)", long_name="body twist (omega, v)")),
-        "constraint_wrenches": (("time", "constraint"), res.constraint_wrenches,
-                                dict(units="N m or N", long_name="constraint multipliers")),
-        "joints": (("time", "joint"), res.joints,
-                   dict(units="rad or m (joint_unit)", long_name="joint coordinates")),
-        "joint_rates": (("time", "joint"), res.joint_rates,
-                        dict(units="rad/s or m/s (joint_unit per s)", long_name="joint rates")),
-        "efforts": (("time", "joint"), res.efforts,
-                    dict(units="N m or N", long_name="actuator efforts on the joint coordinates")),
-        "pair_wrenches": (("time", "pair", "component"), res.pair_wrenches,
-                          dict(units="N m (ang), N (lin)",
-                               long_name="constraint wrench on frame b of each pair, in F_b")),
-        "port_energy": (("time", "port"), np.column_stack([res.port_energy[p] for p in ports])
-                        if ports else np.zeros((nt, 0)),
-                        dict(units="J", long_name="energy supplied through each port")),
-        "inertia": (("model_carrier", "inertia_row", "inertia_col"), res._inertia,
-                    dict(units="kg m^2, kg m, kg", long_name="6x6 spatial inertia, carrier frame")),
-        "mass": (("model_carrier",), res._mass, dict(units="kg")),
-        "com": (("model_carrier", "xyz"), res._com,
-                dict(units="m", long_name="centre of mass in carrier coordinates")),
-    }
-    if res._couplings is not None and len(res._couplings):
-        data["coupled_nodes"] = (("coupled_element", "end"), res._coupled_nodes,
-                                 dict(long_name="node carriers of the consistent-mass elements"))
-        data["couplings"] = (("coupled_element", "twist_row", "twist_col"), res._couplings,
-                             dict(units="kg m^2, kg m, kg", long_name="consistent-mass couplings "
-                                  "in the nodes' body twists (phm_element_mass)"))
-    if res._couplings is not None and len(res._couplings) and res._coupled_fields is not None:
-        data["coupled_fields"] = (("coupled_element", "field"), res._coupled_fields,
-                                  dict(units="m, kg/m, m", long_name="consistent elements' length, "
-                                       "section mass per length and centre of mass (zeros: none)"))
-    kinds = list(res.energy)
-    data["energy"] = (("time", "energy_kind"),
-                      np.column_stack([res.energy[k] for k in kinds]) if kinds else np.zeros((nt, 0)),
-                      dict(units="J", long_name="energies and the energy ledger residual"))
-    coords = {
-        "time": ("time", res.t, dict(units="s")),
-        "carrier": ("carrier", rec), "carrier_name": ("carrier", [names[c] for c in rec]),
-        "component": ("component", list(COMPONENTS)),
-        "energy_kind": ("energy_kind", kinds), "joint": ("joint", joint), "joint_pair": ("joint", jpair), "joint_unit": ("joint", junit),
-        "constraint": ("constraint", rows), "pair": ("pair", pair_names), "port": ("port", ports),
-        "model_carrier": ("model_carrier", np.arange(ncar)),
-        "model_carrier_name": ("model_carrier", names),
-    }
-    states = [(n, q) for n, d in res.components.items() for q in d]
-    if states:   # the components' internal states (python/phmech/components.py), when any
-        data["component_states"] = (("time", "component_state"),
-                                    np.column_stack([res.components[n][q] for n, q in states]),
-                                    dict(long_name="components' internal states (A, m, rad, ...)"))
-        coords["component_state"] = ("component_state", [f"{n}.{q}" for n, q in states])
-    meta = dict(stats=encode_value(dict(res.stats)), interrupted=bool(res.interrupted),
-                recorded=res.carriers is not None,
-                pairs=encode_value(res._pairs), redundant=encode_value(res.redundant_constraints),
-                links=_links_meta(res._links), bodies={b.name: b.carrier for b in res._bodies.values()})
-    attrs = _header("simulation", meta)
-    attrs["interrupted"] = int(bool(res.interrupted))
-    for k, v in res.stats.items():   # the statistics, readable without phmech
-        if isinstance(v, (bool, np.bool_)):
-            attrs[f"stats_{k}"] = int(v)
-        elif isinstance(v, (int, float, str, np.number)):
-            attrs[f"stats_{k}"] = v
-    return xr.Dataset(data, coords, attrs)
-
-
-def modes_dataset(res):
-    """ModesResult -> xarray.Dataset (ModesResult.to_xarray)."""
-    import xarray as xr
-    n, nc = res.shapes.shape[:2]
-    data = {"omega": (("mode",), res.omega, dict(units="rad/s")),
-            "frequency": (("mode",), res.frequency, dict(units="Hz")),
-            "damping_ratio": (("mode",), res.damping_ratio, dict(units="1")),
-            "shapes": (("mode", "carrier", "component"), res.shapes,
-                       dict(units="mass-normalized", long_name="tangent displacement (rotation, "
-                            "translation) per carrier"))}
-    if res.strain_fractions is not None:
-        data["strain_fractions"] = (("mode", "strain_kind"), res.strain_fractions,
-                                    dict(units="1", long_name="share of the links' strain energy"))
-        data["elastic_fraction"] = (("mode",), res.elastic_fraction,
-                                    dict(units="1", long_name="share of the mode's energy in strain"))
-    if res.poses is not None:
-        data["poses"] = (("carrier", "row", "col"), res.poses,
-                         dict(units="1 (rotation), m (translation)", long_name="configuration"))
-    coords = {"mode": np.arange(n), "carrier": np.arange(nc), "component": list(COMPONENTS)}
-    if res.strain_fractions is not None:
-        coords["strain_kind"] = ["torsion", "bending-y", "bending-z", "axial"]
-    meta = dict(kind=list(res.kind), participation=res.participation,
-                strain_participation=res.strain_participation, equilibrium=bool(res.equilibrium),
-                links=_links_meta(res._links),
-                bodies={b.name: b.carrier for b in res._bodies.values()})
-    return xr.Dataset(data, coords, _header("modes", meta))
-
-
-def static_dataset(res):
-    """StaticResult -> xarray.Dataset (StaticResult.to_xarray)."""
-    import xarray as xr
-    nc = res.poses.shape[0]
-    data = {"poses": (("carrier", "row", "col"), res.poses,
-                      dict(units="1 (rotation), m (translation)")),
-            "constraint_wrenches": (("constraint",), np.asarray(res.constraint_wrenches),
-                                    dict(units="N m or N"))}
-    coords = {"carrier": np.arange(nc)}
-    meta = dict(links=_links_meta(res._links), loads=encode_value(list(res.loads)),
-                steps=int(res.steps), stable=res.stable, lowest_omega=float(res.lowest_omega),
-                load_factor=float(res.load_factor))
-    attrs = _header("static", meta)
-    attrs["iterations"] = int(res.iterations)
-    return xr.Dataset(data, coords, attrs)
-
-
-def _dataset(res):
-    from .results import ModesResult, SimulationResult, StaticResult
-    for cls, f in ((SimulationResult, simulation_dataset), (ModesResult, modes_dataset),
-                   (StaticResult, static_dataset)):
-        if isinstance(res, cls):
-            return f(res)
-    raise ModelError(f"expected a SimulationResult, ModesResult or StaticResult (got "
-                     f"{type(res).__name__})")
-
-
-def write_result(res, path) -> None:
-    """Write a result to the netCDF-4 file ``path`` (h5netcdf), atomically."""
-    ds = _dataset(res)
-    _atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf"))
-
-
-def load_result(path):
-    """The SimulationResult, ModesResult or StaticResult in the netCDF file ``path`` (written by
-    ``to_netcdf`` or a checkpoint), equal to the one written. ModelError when the file is not a
-    phmech result or has a newer result schema than this phmech reads."""
-    import xarray as xr
-    p = os.fspath(path)
-    try:
-        with xr.open_dataset(p, engine="h5netcdf") as ds:
-            ds = ds.load()
-    except (OSError, ValueError) as e:
-        raise ModelError(f"{p}: not a phmech result (cannot be read as netCDF-4: {e})") from None
-    if ds.attrs.get("format") != RESULT_FORMAT:
-        raise ModelError(f"{p}: not a phmech result (no \"format\": \"{RESULT_FORMAT}\" attribute)")
-    v = ds.attrs.get("schema_version")
-    if v is None or int(v) > RESULT_SCHEMA_VERSION:
-        raise ModelError(f"{p}: this result file has schema version {v} (written by phmech "
-                         f"{ds.attrs.get('phmech_version', '?')}); this phmech {_version()} reads "
-                         f"result schema versions up to {RESULT_SCHEMA_VERSION}: upgrade phmech")
-    kind = ds.attrs.get("kind")
-    meta = json.loads(ds.attrs.get("phmech_meta", "{}"))
-    from .results import ModesResult, SimulationResult, StaticResult
-    a = lambda name: np.ascontiguousarray(ds[name].values)   # noqa: E731
-    if kind == "modes":
-        opt = lambda name: a(name) if name in ds else None   # noqa: E731
-        return ModesResult(a("omega"), a("frequency"), a("damping_ratio"), a("shapes"),
-                           kind=meta.get("kind", []), strain_fractions=opt("strain_fractions"),
-                           elastic_fraction=opt("elastic_fraction"),
-                           participation=meta.get("participation", []),
-                           strain_participation=meta.get("strain_participation", []),
-                           poses=opt("poses"), equilibrium=meta.get("equilibrium", True),
-                           _links=_links_from(meta.get("links", {})),
-                           _bodies={n: Body(n, c) for n, c in meta.get("bodies", {}).items()})
-    if kind == "static":
-        return StaticResult(a("poses"), a("constraint_wrenches"), int(ds.attrs["iterations"]),
-                            _links_from(meta["links"]), tuple(decode_value(meta["loads"])),
-                            steps=meta["steps"], stable=meta["stable"],
-                            lowest_omega=meta["lowest_omega"],
-                            load_factor=meta.get("load_factor", 1.0))
-    if kind != "simulation":
-        raise ModelError(f"{p}: unknown result kind {kind!r}")
-    bodies = {n: Body(n, c) for n, c in meta["bodies"].items()}
-    ports = [str(x) for x in ds["port"].values]
-    return SimulationResult(
-        t=a("time"), poses=a("poses"), twists=a("twists"),
-        constraint_wrenches=a("constraint_wrenches"),
-        energy={str(k): a("energy")[:, i].copy() for i, k in enumerate(ds["energy_kind"].values)},
-        stats=decode_value(meta["stats"]),
-        interrupted=bool(meta["interrupted"]), _links=_links_from(meta["links"]),
-        port_energy={p_: a("port_energy")[:, i].copy() for i, p_ in enumerate(ports)},
-        joints=a("joints"), joint_rates=a("joint_rates"), efforts=a("efforts"),
-        pair_wrenches=a("pair_wrenches"), _pairs=decode_value(meta["pairs"]),
-        redundant_constraints=decode_value(meta["redundant"]),
-        carriers=a("carrier") if meta["recorded"] else None,
-        _inertia=a("inertia"), _mass=a("mass"), _com=a("com"), _bodies=bodies,
-        _coupled_nodes=a("coupled_nodes").astype(int) if "coupled_nodes" in ds
-        else np.zeros((0, 2), dtype=int),
-        _couplings=a("couplings") if "couplings" in ds else np.zeros((0, 12, 12)),
-        # a file from before the fields (or without couplings): the masses on their carriers
-        _coupled_fields=a("coupled_fields") if "coupled_fields" in ds
-        else np.zeros((ds.sizes.get("coupled_element", 0), 5)),
-        components=_component_states(ds))
-
-
-def _component_states(ds) -> dict:
-    """name -> {state: values} of a dataset's component states (none in older files)."""
-    out: dict = {}
-    if "component_states" in ds:
-        zs = np.asarray(ds["component_states"].values)
-        for j, label in enumerate(ds["component_state"].values):
-            n, q = str(label).rsplit(".", 1)
-            out.setdefault(n, {})[q] = zs[:, j].copy()
-    return out
-
-
-def simulation_dataframe(res):
-    """SimulationResult -> pandas.DataFrame of its scalar series (SimulationResult.to_dataframe)."""
-    import pandas as pd
-    cols = {f"energy.{k}": v for k, v in res.energy.items()}
-    cols.update({f"port.{k}": v for k, v in res.port_energy.items()})
-    joint, _, _, _ = _pair_labels(res._pairs, res.joints.shape[1], 0)
-    for q, arr in (("x", res.joints), ("xdot", res.joint_rates), ("effort", res.efforts)):
-        for j, label in enumerate(joint):
-            cols[f"{label}.{q}"] = arr[:, j]
-    return pd.DataFrame(cols, index=pd.Index(res.t, name="time"))

@@ -21,12 +21,13 @@ import dataclasses
 import importlib
 import math
 import numbers
-from typing import Sequence
+from typing import Optional, Sequence
 
 import numpy as np
 
 from ._checks import real, real_numbers
-from ._core import ModelError
+from ._codes import LAW_KINDS, law_eval
+from ._errors import ModelError
 
 __all__ = ["Constant", "Step", "Pulse", "Sine", "Table", "Cycloidal", "Linear", "Spline",
            "PiecewisePolynomial", "Sum", "Product", "Function", "Motion", "law_from_data"]
@@ -55,9 +56,8 @@ class _Law:
     def derivatives(self, t) -> np.ndarray:
         """s, ds/dt, d2s/dt2 at times ``t`` [s], evaluated by the C core: shape t.shape + (3,).
         At a time where a piecewise law jumps, the piece that starts there."""
-        from . import _core, _marshal
         tt = np.asarray(t, dtype=float)
-        out = _core.law_eval(_marshal._law(self._checked()), tt.reshape(-1))
+        out = law_eval(core_tuple(self._checked()), tt.reshape(-1))
         return out.reshape(tt.shape + (3,))
 
     def evaluate(self, t):
@@ -688,3 +688,65 @@ class Motion:
 
 _CLASSES = {c.__name__: c for c in (Constant, Step, Pulse, Sine, Table, Cycloidal, Linear, Spline,
                                     PiecewisePolynomial, Sum, Product, Function)}
+
+
+_NO = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+# ---- the core's law tuples (csrc/pyext/py_laws.c, phm_py_parse_law): evaluation here
+# (_Law.derivatives) and the model's columns (phmech._marshal)
+
+#: the phm_law_kind name (_codes.LAW_KINDS) of each leaf class, and its (amplitude, t0,
+#: duration, frequency, phase, offset) fields of phm_law, then its data array (or None) and
+#: order (PPOLY)
+_LAWS = {
+    Constant: ("constant", lambda s: ((s.value, 0.0, 0.0, 0.0, 0.0, 0.0), None, 0)),
+    Step: ("step", lambda s: ((s.value, s.t0, 0.0, 0.0, 0.0, 0.0), None, 0)),
+    Pulse: ("pulse", lambda s: ((s.value, s.t0, s.duration, 0.0, 0.0, 0.0), None, 0)),
+    Sine: ("sine", lambda s: ((s.amplitude, 0.0, 0.0, s.frequency, s.phase, s.offset), None, 0)),
+    Table: ("table", lambda s: (_NO, np.column_stack([s.times, s.values]).ravel(), 0)),
+    Cycloidal: ("cycloidal", lambda s: ((s.value, s.t0, s.duration, 0.0, 0.0, 0.0), None, 0)),
+    Linear: ("linear", lambda s: ((s.rate, 0.0, 0.0, 0.0, 0.0, s.offset), None, 0)),
+    PiecewisePolynomial: ("ppoly", lambda s: (_NO, np.concatenate([np.asarray(s.breaks, dtype=float),
+                                                             np.asarray(s.coefficients, dtype=float).ravel()]),
+                                        len(s.coefficients[0]))),
+}
+_EXPR, _SUM, _PRODUCT, _CALLBACK = (LAW_KINDS[k] for k in ("expr", "sum", "product", "callback"))
+
+def _leaf(law: _Law) -> tuple:
+    """The core's tuple of a leaf law (not a Sum or Product)."""
+    if isinstance(law, Spline):
+        law = law.piecewise()
+    if isinstance(law, Function):   # the core calls back (csrc/pyext/py_laws.c, law_callback)
+        bp = np.asarray(law.breakpoints, dtype=float) if law.breakpoints else None
+        return (_CALLBACK, *_NO, bp, 0, None, _FunctionCall(law))
+    kind, fields = _LAWS[type(law)]
+    params, data, order = fields(law)
+    return (LAW_KINDS[kind], *params, data, order, None, None)
+
+
+def _postfix(law: _Law, out: list) -> None:
+    """Append the nodes of ``law`` in postfix order: a Sum or Product of n operands is its
+    operands joined by n - 1 operators."""
+    if isinstance(law, (Sum, Product)):
+        items = law.terms if isinstance(law, Sum) else law.factors
+        op = (_SUM if isinstance(law, Sum) else _PRODUCT, *_NO, None, 0, None, None)
+        for i, x in enumerate(items):
+            _postfix(x, out)
+            if i:
+                out.append(op)
+    else:
+        out.append(_leaf(law))
+
+
+def core_tuple(law: Optional[_Law]) -> Optional[tuple]:
+    """The core's law tuple (kind, amplitude, t0, duration, frequency, phase, offset, data,
+    order, nodes, fn) (csrc/pyext/py_laws.c, phm_py_parse_law) of a checked law (checked_law),
+    or None: a leaf's own, or for a Sum or Product an expression (kind EXPR) whose nodes are
+    the leaves and operators in postfix order."""
+    if law is None:
+        return None
+    if not isinstance(law, (Sum, Product)):
+        return _leaf(law)
+    nodes: list = []
+    _postfix(law, nodes)
+    return (_EXPR, *_NO, None, 0, nodes, None)

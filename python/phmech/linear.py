@@ -10,7 +10,8 @@ from typing import List
 
 import numpy as np
 
-from ._core import ModelError
+from ._errors import ModelError
+from .frames import Body, Frame, frame_of
 
 __all__ = ["LinearPortHamiltonian", "Passivity"]
 
@@ -199,7 +200,6 @@ def resolve_ports(desc, items, what: str) -> tuple:
     efforts [N m or N] / joint rates), an actuator (its pair's), a wrench or interaction (its
     wrench per unit law value / the power-conjugate velocity), a distributed load (all its
     nodes' loads together), a body's name (a wrench (tau, f) in its axes / its body twist)."""
-    from .frames import Body, Frame, frame_of
 
     if isinstance(items, (str, Frame, Body)):
         items = [items]

@@ -31,6 +31,7 @@ and tolerances").
 """
 from __future__ import annotations
 
+import copy
 import dataclasses
 import math
 import warnings
@@ -38,38 +39,21 @@ import warnings
 import numpy as np
 
 from ._checks import integer, real
-from . import _core
-from ._core import ModelError
+from . import io
+from .frames import MeshChoice
+from . import _model, _modes
+from ._builder import Builder
+from ._errors import EquilibriumWarning, ModelError, UnattachedWarning, outside_stacklevel
 
 __all__ = ["MeshChoice", "choose_elements", "MechanismMeshChoice", "size_mechanism"]
 
 RIGID_MODES = 6   # a free link has six rigid-body modes (zero frequency), skipped
 
 
-@dataclasses.dataclass(frozen=True)
-class MeshChoice:
-    """What :func:`choose_elements` chose: ``elements``; ``band`` [Hz] and ``tolerance`` (relative
-    frequency error) asked for; ``modes_in_band``: the link's free-free elastic modes up to the
-    band; ``estimated_error``: the largest relative frequency error estimated over them at
-    ``elements`` (Richardson from twice and four times as many; 0 when no elastic mode is in the band);
-    ``frequencies`` [Hz]: those modes at twice as many elements."""
-    elements: int
-    band: float
-    tolerance: float
-    modes_in_band: int
-    estimated_error: float
-    frequencies: tuple
-
-    def __str__(self) -> str:
-        return (f"{self.elements} elements: {self.modes_in_band} modes up to {self.band:g} Hz, "
-                f"estimated frequency error {self.estimated_error:.2g} (asked {self.tolerance:g})")
-
-
 def _free_frequencies(length: float, properties, elements: int, band: float, curvature,
                       mass: str = "consistent") -> np.ndarray:
     """Elastic free-free frequencies [Hz] of the link alone up to just above ``band``."""
-    from .mechanism import Mechanism, UnattachedWarning
-    m = Mechanism()
+    m = Builder()
     m.add_flexible_link("link", length, properties, elements=elements, curvature=curvature,
                         mass=mass)
     available = 6 * (elements + 1)
@@ -77,7 +61,7 @@ def _free_frequencies(length: float, properties, elements: int, band: float, cur
     while True:
         with warnings.catch_warnings():   # the link alone, free in space on purpose
             warnings.simplefilter("ignore", UnattachedWarning)
-            f = m.modes(n).frequency[RIGID_MODES:]
+            f = _modes.modes(m, n).frequency[RIGID_MODES:]
         if f.size == 0 or f[-1] > band or n >= available:
             return f
         n = min(available, 2 * n)
@@ -252,8 +236,6 @@ def size_mechanism(mech, band: float, tolerance: float, max_elements: int = 256)
     """The mechanism ``mech`` rebuilt from its add_* calls (phmech.io) with the fewest elements
     in its nonlinear links for which its own modes up to ``band`` [Hz] are within ``tolerance``
     of the converged ones; returns (Mechanism, MechanismMeshChoice). See Mechanism.sized."""
-    import copy
-    from . import io
     band, tolerance, max_elements = _request(band, tolerance, max_elements)
     try:
         doc = io.model_to_dict(mech)
@@ -297,25 +279,24 @@ def size_mechanism(mech, band: float, tolerance: float, max_elements: int = 256)
         for r in found:
             if r["link"] in counts and r["node"] == old[r["link"]]:
                 r["node"] = counts[r["link"]]
-        return io.model_from_dict(d)
+        return io.model_from_dict(d, type(mech))
 
     tried = [0]
 
     def equilibrium() -> bool:
         """Whether the initial configuration is a static equilibrium (Mechanism.modes' check)."""
-        return bool(mech._equilibrium_check(model0, mech._state.poses, 0.0, False))
+        return bool(_modes.equilibrium_check(mech, model0, mech._state.poses, 0.0, False))
 
     def frequencies(counts: dict, n_band=None):
         """The mesh's modes [Hz] (those of Mechanism.modes, without its labels and its
         equilibrium check): the lowest n_band, or (None) all up to just above the band."""
         tried[0] += 1
         m = build(counts)
-        model, poses, lam = m._linearization_point(None)
+        model, poses, lam = _model.linearization_point(m, None)
         available = 6 * len(m._car)
         n = min(available, 8 if n_band is None else n_band)
         while True:
-            om, _, _, nf = _core.model_modes(model, n, poses, lam, 0.0)
-            f = om[:nf] / (2 * np.pi)
+            f = _modes.frequencies(model, n, poses, lam)
             if n_band is not None or f.size == 0 or f[-1] > band or n >= available:
                 return f
             n = min(available, 2 * n)
@@ -323,7 +304,7 @@ def size_mechanism(mech, band: float, tolerance: float, max_elements: int = 256)
     # the user's mechanism, analysed as modes() would: its warnings (unattached bodies, moved
     # initial values, redundant constraints, ...) are the user's to hear, and each comes once per
     # mechanism, so before the silenced analyses of its rebuilt copies
-    model0, _, _ = mech._linearization_point(None)
+    model0, _, _ = _model.linearization_point(mech, None)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         # the reference: meshes 8, 16, 32, ... (the widest link's count, up to 8 max_elements:
@@ -387,10 +368,9 @@ def size_mechanism(mech, band: float, tolerance: float, max_elements: int = 256)
                          f"mechanism's modes up to {band:g} Hz within {tolerance:g}: raise "
                          f"max_elements, or ask for a lower band or a looser tolerance")
     if not equilibrium():
-        from .mechanism import EquilibriumWarning, _outside_stacklevel
         warnings.warn("sized(): the initial configuration is not a static equilibrium, so the "
                       "modes it sized for are eigenvalues of the tangent stiffness there "
-                      "(Mechanism.modes)", EquilibriumWarning, stacklevel=_outside_stacklevel())
+                      "(Mechanism.modes)", EquilibriumWarning, stacklevel=outside_stacklevel())
     counts, err = chosen
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

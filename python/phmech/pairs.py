@@ -16,9 +16,9 @@ from __future__ import annotations
 import dataclasses
 import numpy as np
 
-from . import _core
+from . import _codes
 from ._checks import array, real
-from ._core import ModelError
+from ._errors import ModelError
 
 
 # ------------------------------------------------------------------ axes and frames
@@ -89,13 +89,13 @@ class PairType:
 
     def fk(self, x, pitch: float) -> np.ndarray:
         """The relative pose h(x) of the pair frames (4x4) at joint coordinates x (pitch [m/rad])."""
-        return _core.pair_pose(self.code, pitch, np.asarray(x, dtype=float)[:self.k])
+        return _codes.pair_pose(self.code, pitch, np.asarray(x, dtype=float)[:self.k])
 
     def coords(self, h, pitch: float) -> np.ndarray:
         """The joint coordinates x (k,) of a relative pose h: the inverse of fk on the allowed
         motions (the part of h the type cannot produce is fk(x)^-1 h); principal angles (a
         helical pair: the turn nearest to h's translation)."""
-        return _core.pair_coordinates(self.code, pitch, np.ascontiguousarray(h, dtype=float))
+        return _codes.pair_coordinates(self.code, pitch, np.ascontiguousarray(h, dtype=float))
 
 
 def _parameters(spec: str) -> tuple:
@@ -114,7 +114,7 @@ PAIR_TYPES = tuple(
     PairType(row["code"], row["name"].capitalize(), _parameters(row["params"]), tuple(row["units"]),
              tuple(row["directions"]), bool(row["drivable"]),
              tuple(bool(row["xdrivable"] >> c & 1) for c in range(row["k"])), row["doc"])
-    for row in _core.pair_types())
+    for row in _codes.pair_types())
 
 #: Names of the constraint-wrench directions W^C of each pair type, by type code, in the pair
 #: frame F_b whose z axis is the joint axis (Universal: x = axis1, y = axis2).

@@ -25,10 +25,10 @@ import numpy as np
 import matplotlib.pyplot as plt
 import matplotlib.ticker
 
-from . import analysis, se3
-from ._core import ModelError
+from . import _plotdata, analysis
+from ._errors import ModelError
 from .frames import FlexibleLink
-from .results import ModesResult, SimulationResult, StaticResult
+from .results import ModesResult, SimulationResult
 
 __all__ = ["trajectory", "energy", "spectrum", "convergence", "sweep", "mode_shape", "modes",
            "draw", "animate", "interactive"]
@@ -286,32 +286,6 @@ def sweep(ds, var: str, ax=None, reference=None, bins: Optional[int] = None,
     return ax
 
 
-def _pair_rows(mechanism):
-    return [] if mechanism is None else list(mechanism._desc.pairs)
-
-
-def _geometry(links: dict, bodies: dict, pairs: list, poses: np.ndarray) -> dict:
-    """World points of what is drawn at ``poses`` (ncarriers, 4, 4)."""
-    def point(c, T):
-        H = np.eye(4) if c < 0 else poses[c]
-        return (H @ np.asarray(T))[:3, 3]
-    frames = {lk.name: lk.node_poses(poses[lk.nodes]) for lk in links.values()}
-    g = dict(links=[(nm, F[:, :3, 3]) for nm, F in frames.items()],
-             bodies=[], pairs=[],
-             sections=[F[:, :3, 1] for F in frames.values()])  # local y axes
-    attach = {b.carrier: [] for b in bodies.values()}
-    for p in pairs:
-        pa = point(p["a"], p["Ta"])
-        g["pairs"].append((p["name"], pa))
-        for c, T in ((p["a"], p["Ta"]), (p["b"], p["Tb"])):
-            if c in attach:
-                attach[c].append(point(c, T))
-    for b in bodies.values():
-        o = poses[b.carrier][:3, 3]
-        g["bodies"].append((b.name, o, attach[b.carrier]))
-    return g
-
-
 def _axes(ax, plane):
     if ax is not None:
         return ax
@@ -387,30 +361,6 @@ def _limits(ax, plane, pts):
         ax.set_aspect("equal")
 
 
-def _all_points(g) -> list:
-    return [P for _, P in g["links"]] + [o for _, o, _ in g["bodies"]] + \
-        [q for _, _, pts in g["bodies"] for q in pts] + [q for _, q in g["pairs"]]
-
-
-def _poses_of(mechanism, state, time):
-    """(poses, text) of what to draw: a SimulationResult at ``time`` (nearest output; None: the
-    last), a StaticResult, an array of poses, or None (the initial configuration)."""
-    if state is None:
-        return mechanism.initial_configuration().poses, "initial configuration"
-    if isinstance(state, SimulationResult):
-        if state.carriers is not None:
-            raise ModelError("draw: the result must record every carrier (simulate without record=)")
-        i = len(state.t) - 1 if time is None else int(np.argmin(np.abs(state.t - float(time))))
-        return state.poses[i], f"t = {state.t[i]:.4g} s"
-    if isinstance(state, StaticResult):
-        return state.poses, "static equilibrium"
-    P = np.asarray(state, dtype=float)
-    if P.ndim != 3 or P.shape[1:] != (4, 4):
-        raise ModelError(f"draw: expected a SimulationResult, StaticResult, poses (ncarriers, 4, "
-                         f"4) or None (got {type(state).__name__})")
-    return P, ""
-
-
 def draw(mechanism, state=None, time: Optional[float] = None, ax=None, plane: Optional[str] = None,
          ghost=None, labels: bool = True, title: Optional[str] = None):
     """The mechanism at one instant: deformed links (blue, node markers at their ends), rigid
@@ -420,15 +370,16 @@ def draw(mechanism, state=None, time: Optional[float] = None, ax=None, plane: Op
     StaticResult, poses (ncarriers, 4, 4), or None (the initial configuration). ``ghost``: a
     second state drawn in light grey behind (e.g. the target equilibrium). ``plane``: "xy",
     "xz", "yz" for a 2-D projection, None for 3-D."""
-    poses, what = _poses_of(mechanism, state, time)
+    poses, what = _plotdata.poses_of(mechanism, state, time)
     ax = _axes(ax, plane)
     d = mechanism._desc
-    g = _geometry(d.links, d.bodies, _pair_rows(mechanism), poses)
-    pts = _all_points(g)
+    g = _plotdata.geometry(d.links, d.bodies, _plotdata.pair_rows(mechanism), poses)
+    pts = _plotdata.all_points(g)
     if ghost is not None:
-        gg = _geometry(d.links, d.bodies, _pair_rows(mechanism), _poses_of(mechanism, ghost, None)[0])
+        gg = _plotdata.geometry(d.links, d.bodies, _plotdata.pair_rows(mechanism),
+                                _plotdata.poses_of(mechanism, ghost, None)[0])
         _draw_geometry(ax, gg, plane, ghost=True)
-        pts += _all_points(gg)
+        pts += _plotdata.all_points(gg)
     _draw_geometry(ax, g, plane, labels=labels)
     _limits(ax, plane, pts)
     ax.set_title(title if title is not None else f"mechanism, {what}")
@@ -436,18 +387,6 @@ def draw(mechanism, state=None, time: Optional[float] = None, ax=None, plane: Op
 
 
 # ------------------------------------------------------------------------------ modes
-def _mode_poses(modes: ModesResult, k: int, amp: float) -> np.ndarray:
-    return modes.poses @ se3.exp(amp * modes.shapes[k])
-
-
-def _mode_amplitude(modes: ModesResult, k: int, size: float, scale: Optional[float]) -> float:
-    if scale is not None:
-        return float(scale)
-    d = np.linalg.norm(modes.shapes[k, :, 3:], axis=1).max()           # largest translation
-    r = np.linalg.norm(modes.shapes[k, :, :3], axis=1).max() * size    # rotations (as lengths)
-    if d > 0.05 * r:
-        return 0.15 * size / max(d, 1e-300)
-    return 0.6 / max(r / size, 1e-300)       # rotations alone (torsion): 0.6 rad at most
 
 
 def mode_shape(modes: ModesResult, k: int = 0, mechanism=None, ax=None,
@@ -464,15 +403,15 @@ def mode_shape(modes: ModesResult, k: int = 0, mechanism=None, ax=None,
     if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or not 0 <= k < n:
         raise ModelError(f"mode_shape: k must be an integer 0..{n - 1} (got {k!r})")
     ax = _axes(ax, plane)
-    pairs = _pair_rows(mechanism)
-    g0 = _geometry(modes._links, modes._bodies, pairs, modes.poses)
-    P = np.concatenate([np.atleast_2d(p) for p in _all_points(g0)])
+    pairs = _plotdata.pair_rows(mechanism)
+    g0 = _plotdata.geometry(modes._links, modes._bodies, pairs, modes.poses)
+    P = np.concatenate([np.atleast_2d(p) for p in _plotdata.all_points(g0)])
     size = float(np.ptp(P, axis=0).max()) or 1.0
-    amp = _mode_amplitude(modes, k, size, scale)
-    g = _geometry(modes._links, modes._bodies, pairs, _mode_poses(modes, k, amp))
+    amp = _plotdata.mode_amplitude(modes, k, size, scale)
+    g = _plotdata.geometry(modes._links, modes._bodies, pairs, _plotdata.mode_poses(modes, k, amp))
     _draw_geometry(ax, g0, plane, ghost=True, sections=0.12 * size)
     _draw_geometry(ax, g, plane, labels=False, sections=0.12 * size)
-    _limits(ax, plane, _all_points(g0) + _all_points(g))
+    _limits(ax, plane, _plotdata.all_points(g0) + _plotdata.all_points(g))
     lab = modes.labels[k] if modes.kind else ""
     ax.set_title(f"mode {k + 1}: {modes.frequency[k]:.4g} Hz\n{lab}", fontsize=9)
     return ax
@@ -502,10 +441,6 @@ def modes(modes: ModesResult, n: Optional[int] = None, mechanism=None, plane: Op
 
 
 # ------------------------------------------------------------------------------ animation
-def _frames(result: SimulationResult, fps: float, t_max: Optional[float], speed: float) -> list:
-    t1 = result.t[-1] if t_max is None else min(float(t_max), result.t[-1])
-    times = np.arange(result.t[0], t1 + 1e-12, speed / fps)
-    return sorted(set(int(np.argmin(np.abs(result.t - t))) for t in times))
 
 
 def animate(mechanism, result: SimulationResult, path: Optional[str] = None, fps: float = 25,
@@ -529,22 +464,22 @@ def animate(mechanism, result: SimulationResult, path: Optional[str] = None, fps
         if ext == "mp4" and not animation.writers.is_available("ffmpeg"):
             raise ModelError("animate: writing .mp4 needs the ffmpeg program, which is not installed "
                              "(apt-get install ffmpeg); save as .gif instead (Pillow)")
-    idx = _frames(result, fps, t_max, speed)
+    idx = _plotdata.frames(result, fps, t_max, speed)
     d = mechanism._desc
-    pairs = _pair_rows(mechanism)
+    pairs = _plotdata.pair_rows(mechanism)
     fig = plt.figure(figsize=figsize)
     ax = fig.add_subplot(**({} if plane else dict(projection="3d")))
-    gg = None if ghost is None else _geometry(d.links, d.bodies, pairs,
-                                              _poses_of(mechanism, ghost, None)[0])
-    pts = [] if gg is None else _all_points(gg)
+    gg = None if ghost is None else _plotdata.geometry(d.links, d.bodies, pairs,
+                                              _plotdata.poses_of(mechanism, ghost, None)[0])
+    pts = [] if gg is None else _plotdata.all_points(gg)
     for i in idx[:: max(1, len(idx) // 50)] + [idx[-1]]:
-        pts += _all_points(_geometry(d.links, d.bodies, pairs, result.poses[i]))
+        pts += _plotdata.all_points(_plotdata.geometry(d.links, d.bodies, pairs, result.poses[i]))
 
     def frame(i):
         ax.clear()
         if gg is not None:
             _draw_geometry(ax, gg, plane, ghost=True)
-        _draw_geometry(ax, _geometry(d.links, d.bodies, pairs, result.poses[i]), plane,
+        _draw_geometry(ax, _plotdata.geometry(d.links, d.bodies, pairs, result.poses[i]), plane,
                        labels=False)
         _limits(ax, plane, pts)
         ax.set_title(f"{title}, t = {result.t[i]:.2f} s")
@@ -602,15 +537,16 @@ def interactive(mechanism, state=None, fps: float = 20, t_max: Optional[float] =
     itself in Jupyter; ``fig.write_html(path)`` saves it). Needs plotly."""
     go = _plotly()
     d = mechanism._desc
-    pairs = _pair_rows(mechanism)
+    pairs = _plotdata.pair_rows(mechanism)
     if modes is not None:
         if not isinstance(modes, ModesResult) or modes.poses is None:
             raise ModelError("interactive: modes must be a ModesResult from Mechanism.modes")
-        g0 = _geometry(d.links, d.bodies, pairs, modes.poses)
-        P = np.concatenate([np.atleast_2d(p) for p in _all_points(g0)])
-        amp = _mode_amplitude(modes, mode, float(np.ptp(P, axis=0).max()) or 1.0, None)
+        g0 = _plotdata.geometry(d.links, d.bodies, pairs, modes.poses)
+        P = np.concatenate([np.atleast_2d(p) for p in _plotdata.all_points(g0)])
+        amp = _plotdata.mode_amplitude(modes, mode, float(np.ptp(P, axis=0).max()) or 1.0, None)
         phases = np.linspace(0, 2 * np.pi, 17)[:-1]
-        geoms = [_geometry(d.links, d.bodies, pairs, _mode_poses(modes, mode, amp * np.sin(ph)))
+        geoms = [_plotdata.geometry(d.links, d.bodies, pairs,
+                                    _plotdata.mode_poses(modes, mode, amp * np.sin(ph)))
                  for ph in phases]
         names = [f"{ph:.2f}" for ph in phases]
         head = title or f"mode {mode + 1}: {modes.frequency[mode]:.4g} Hz, " + \
@@ -619,19 +555,19 @@ def interactive(mechanism, state=None, fps: float = 20, t_max: Optional[float] =
     elif isinstance(state, SimulationResult):
         if state.carriers is not None:
             raise ModelError("interactive: the result must record every carrier")
-        idx = _frames(state, fps, t_max, speed)
-        geoms = [_geometry(d.links, d.bodies, pairs, state.poses[i]) for i in idx]
+        idx = _plotdata.frames(state, fps, t_max, speed)
+        geoms = [_plotdata.geometry(d.links, d.bodies, pairs, state.poses[i]) for i in idx]
         names = [f"{state.t[i]:.3f}" for i in idx]
         head = title or "mechanism (press play or drag the time slider [s])"
         base = []
     else:
-        poses, what = _poses_of(mechanism, state, None)
-        geoms, names = [_geometry(d.links, d.bodies, pairs, poses)], None
+        poses, what = _plotdata.poses_of(mechanism, state, None)
+        geoms, names = [_plotdata.geometry(d.links, d.bodies, pairs, poses)], None
         head = title or f"mechanism, {what}"
         base = []
     first = _traces(go, geoms[0])
     fig = go.Figure(data=base + first)
-    P = np.concatenate([np.atleast_2d(p) for g in geoms for p in _all_points(g)])
+    P = np.concatenate([np.atleast_2d(p) for g in geoms for p in _plotdata.all_points(g)])
     lo, hi = P.min(axis=0), P.max(axis=0)
     c, R = 0.5 * (lo + hi), 0.55 * max(float((hi - lo).max()), 1e-9)
     scene = dict(aspectmode="cube", **{f"{a}axis": dict(range=[c[i] - R, c[i] + R], title=f"{a} [m]")

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import _core, se3
-from ._core import ModelError
+from ._errors import ModelError
 from .description import ModelDescription
 from .frames import FlexibleLink
 from .pairs import row_names

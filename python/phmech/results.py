@@ -7,13 +7,17 @@ added; csrc/include/phmech_types.h, phm_carrier_desc)."""
 from __future__ import annotations
 
 import dataclasses
+import json
+import os
 import types
 from typing import NamedTuple, Optional, Union
 
 import numpy as np
 
-from . import io, se3
-from ._core import ModelError
+from . import _resultfile, se3
+from .io import decode_value
+from .analysis import MODE_KIND_TEXT, mac
+from ._errors import ModelError
 from .frames import Body, FlexibleLink, Frame, carrier_name, frame_of, link_of
 
 #: 6-point Gauss-Legendre on [0, 1] (points, weights): a consistent element's mass along its
@@ -21,7 +25,7 @@ from .frames import Body, FlexibleLink, Frame, carrier_name, frame_of, link_of
 _FIELD_GAUSS = tuple(a / 2 + b for a, b in zip(np.polynomial.legendre.leggauss(6), (0.5, 0.0)))
 
 __all__ = ["SimulationResult", "ModesResult", "StaticResult", "Momentum", "InitialAdjustment",
-           "InitialConfiguration", "StabilityWarning", "FreeMotion"]
+           "InitialConfiguration", "FreeMotion"]
 
 #: the energies of SimulationResult.energy, in the order the core writes them
 ENERGY_NAMES = ("kinetic", "elastic", "gravity", "dissipated", "supplied", "total", "ledger")
@@ -349,18 +353,18 @@ class SimulationResult:
         joint, constraint, pair, port), coordinates with the carriers', joints' and ports'
         names, a ``units`` attribute per variable and the solver statistics as attributes
         (``stats_*``); see docs/user_guide.md, "Saving, loading and exporting"."""
-        return io.simulation_dataset(self)
+        return _resultfile.simulation_dataset(self)
 
     def to_netcdf(self, path) -> None:
         """Write the result to the netCDF-4 file ``path`` (atomically); ``phmech.load_result``
         reads it back equal."""
-        io.write_result(self, path)
+        _resultfile.write_result(self, path)
 
     def to_dataframe(self):
         """The scalar series as a ``pandas.DataFrame`` indexed by time [s]: ``energy.<name>``
         [J], ``port.<name>`` [J], and ``<joint>.x``, ``.xdot``, ``.effort`` per joint coordinate
         (``<pair>`` or ``<pair>[i]``; rad or m, per s, N m or N)."""
-        return io.simulation_dataframe(self)
+        return _resultfile.simulation_dataframe(self)
 
 
 @dataclasses.dataclass
@@ -400,7 +404,6 @@ class ModesResult:
     def labels(self) -> list:
         """Readable kind of each mode, with the link or body that dominates it, e.g.
         ``"bending about y (local x-z plane), leaf"``."""
-        from .analysis import MODE_KIND_TEXT
         out = []
         for k, kd in enumerate(self.kind):
             src = self.strain_participation[k] if kd != "rigid-body" else self.participation[k]
@@ -413,7 +416,6 @@ class ModesResult:
     def mac(self, other=None) -> np.ndarray:
         """Modal assurance criterion (n, n_other) against another ModesResult of the same
         mechanism (or an array of shapes); None: against itself (phmech.analysis.mac)."""
-        from .analysis import mac
         return mac(self, other)
 
     def table(self) -> str:
@@ -425,16 +427,11 @@ class ModesResult:
 
     def to_xarray(self):
         """The modes as an ``xarray.Dataset`` (dimensions mode x carrier x component)."""
-        return io.modes_dataset(self)
+        return _resultfile.modes_dataset(self)
 
     def to_netcdf(self, path) -> None:
         """Write the modes to the netCDF-4 file ``path``; ``phmech.load_result`` reads them."""
-        io.write_result(self, path)
-
-
-class StabilityWarning(UserWarning):
-    """A static equilibrium is unstable (its tangent stiffness has a negative eigenvalue), or a
-    linearization cannot judge stability (follower loads)."""
+        _resultfile.write_result(self, path)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -487,9 +484,70 @@ class StaticResult:
 
     def to_xarray(self):
         """The equilibrium as an ``xarray.Dataset`` (poses: carrier x row x col)."""
-        return io.static_dataset(self)
+        return _resultfile.static_dataset(self)
 
     def to_netcdf(self, path) -> None:
         """Write the equilibrium to the netCDF-4 file ``path``; ``phmech.load_result`` reads it."""
-        io.write_result(self, path)
+        _resultfile.write_result(self, path)
 
+
+def load_result(path):
+    """The SimulationResult, ModesResult or StaticResult in the netCDF file ``path`` (written by
+    ``to_netcdf`` or a checkpoint), equal to the one written. ModelError when the file is not a
+    phmech result or has a newer result schema than this phmech reads."""
+    import xarray as xr
+    p = os.fspath(path)
+    try:
+        with xr.open_dataset(p, engine="h5netcdf") as ds:
+            ds = ds.load()
+    except (OSError, ValueError) as e:
+        raise ModelError(f"{p}: not a phmech result (cannot be read as netCDF-4: {e})") from None
+    if ds.attrs.get("format") != _resultfile.RESULT_FORMAT:
+        raise ModelError(f"{p}: not a phmech result (no \"format\": \"{_resultfile.RESULT_FORMAT}\" attribute)")
+    v = ds.attrs.get("schema_version")
+    if v is None or int(v) > _resultfile.RESULT_SCHEMA_VERSION:
+        raise ModelError(f"{p}: this result file has schema version {v} (written by phmech "
+                         f"{ds.attrs.get('phmech_version', '?')}); this phmech {_resultfile._version()} reads "
+                         f"result schema versions up to {_resultfile.RESULT_SCHEMA_VERSION}: upgrade phmech")
+    kind = ds.attrs.get("kind")
+    meta = json.loads(ds.attrs.get("phmech_meta", "{}"))
+    a = lambda name: np.ascontiguousarray(ds[name].values)   # noqa: E731
+    if kind == "modes":
+        opt = lambda name: a(name) if name in ds else None   # noqa: E731
+        return ModesResult(a("omega"), a("frequency"), a("damping_ratio"), a("shapes"),
+                           kind=meta.get("kind", []), strain_fractions=opt("strain_fractions"),
+                           elastic_fraction=opt("elastic_fraction"),
+                           participation=meta.get("participation", []),
+                           strain_participation=meta.get("strain_participation", []),
+                           poses=opt("poses"), equilibrium=meta.get("equilibrium", True),
+                           _links=_resultfile._links_from(meta.get("links", {})),
+                           _bodies={n: Body(n, c) for n, c in meta.get("bodies", {}).items()})
+    if kind == "static":
+        return StaticResult(a("poses"), a("constraint_wrenches"), int(ds.attrs["iterations"]),
+                            _resultfile._links_from(meta["links"]), tuple(decode_value(meta["loads"])),
+                            steps=meta["steps"], stable=meta["stable"],
+                            lowest_omega=meta["lowest_omega"],
+                            load_factor=meta.get("load_factor", 1.0))
+    if kind != "simulation":
+        raise ModelError(f"{p}: unknown result kind {kind!r}")
+    bodies = {n: Body(n, c) for n, c in meta["bodies"].items()}
+    ports = [str(x) for x in ds["port"].values]
+    return SimulationResult(
+        t=a("time"), poses=a("poses"), twists=a("twists"),
+        constraint_wrenches=a("constraint_wrenches"),
+        energy={str(k): a("energy")[:, i].copy() for i, k in enumerate(ds["energy_kind"].values)},
+        stats=decode_value(meta["stats"]),
+        interrupted=bool(meta["interrupted"]), _links=_resultfile._links_from(meta["links"]),
+        port_energy={p_: a("port_energy")[:, i].copy() for i, p_ in enumerate(ports)},
+        joints=a("joints"), joint_rates=a("joint_rates"), efforts=a("efforts"),
+        pair_wrenches=a("pair_wrenches"), _pairs=decode_value(meta["pairs"]),
+        redundant_constraints=decode_value(meta["redundant"]),
+        carriers=a("carrier") if meta["recorded"] else None,
+        _inertia=a("inertia"), _mass=a("mass"), _com=a("com"), _bodies=bodies,
+        _coupled_nodes=a("coupled_nodes").astype(int) if "coupled_nodes" in ds
+        else np.zeros((0, 2), dtype=int),
+        _couplings=a("couplings") if "couplings" in ds else np.zeros((0, 12, 12)),
+        # a file from before the fields (or without couplings): the masses on their carriers
+        _coupled_fields=a("coupled_fields") if "coupled_fields" in ds
+        else np.zeros((ds.sizes.get("coupled_element", 0), 5)),
+        components=_resultfile.component_states(ds))

@@ -19,7 +19,7 @@ from typing import Optional
 import numpy as np
 
 from ._checks import array, material_slips, positive, real
-from ._core import ModelError
+from ._errors import ModelError, PlausibilityWarning
 
 __all__ = ["Material", "Section", "BeamProperties", "table1_properties", "TABLE1"]
 
@@ -57,7 +57,6 @@ class Material:
         object.__setattr__(self, "nu", nu)
         G = self.E / (2.0 * (1.0 + nu)) if self.G is None else positive("G", self.G)
         object.__setattr__(self, "G", G)
-        from ._run import PlausibilityWarning
         for msg in material_slips(self.E, self.density):   # __post_init__, __init__, the caller
             warnings.warn(msg, PlausibilityWarning, stacklevel=3)
 

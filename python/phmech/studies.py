@@ -9,7 +9,8 @@ import time
 import numpy as np
 
 from . import mixed, timoshenko
-from .mechanism import Fixed, Mechanism
+from .mechanism import Mechanism
+from .pairs import Fixed
 from .section import BeamProperties, table1_properties
 
 #: Table I of the paper (docs/method.md section 8.1): L [m], rhoA [kg/m], rhoI [kg m], EI [N m^2], kGA [N].

@@ -12,7 +12,7 @@ from typing import Any, Callable, Mapping, Optional, Sequence, Union
 
 import numpy as np
 
-from ._core import ModelError
+from ._errors import ModelError
 
 __all__ = ["sweep"]
 

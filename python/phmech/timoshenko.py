@@ -55,7 +55,7 @@ import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
 from ._checks import positive
-from ._core import ModelError
+from ._errors import ModelError
 
 __all__ = ["frequencies", "mode_shape", "cutoff_frequency", "BOUNDARY_CONDITIONS"]
 

@@ -55,20 +55,14 @@ from typing import Optional
 
 import numpy as np
 
-from ._core import ModelError
-from ._run import AccuracyWarning
-from .frames import FlexibleLink, Frame
-from .mechanism import Mechanism, _outside_stacklevel
-from .pairs import Fixed, Free, Planar, Prismatic, Revolute
+from . import _urdfparse
 from .actuators import PD
-from .section import BeamProperties, Material, Section
-from . import se3
+from ._errors import AccuracyWarning, ModelError, outside_stacklevel
+from .laws import PiecewisePolynomial
+from .mechanism import Mechanism
+from .pairs import Fixed, Free, Planar, Prismatic, Revolute
 
 __all__ = ["load_urdf", "URDFRobot", "URDFJoint", "inverse_dynamics", "forward_dynamics"]
-
-#: URDF joint types and the phmech pair each becomes (None: welded, no pair)
-JOINT_TYPES = {"revolute": Revolute, "continuous": Revolute, "prismatic": Prismatic,
-               "fixed": None, "floating": Free, "planar": Planar}
 
 
 @dataclasses.dataclass(frozen=True)
@@ -119,212 +113,6 @@ class URDFRobot:
         return np.hstack([result.joint(n)["xdot"] for n in self.joints])
 
 
-def _parse(path):
-    """The yourdfpy Robot of the URDF file ``path`` (no meshes, no scene graph)."""
-    try:
-        import yourdfpy
-    except ImportError:   # a dependency of phmech (pyproject.toml): only a broken install lacks it
-        raise ModelError("load_urdf needs the package 'yourdfpy' (pip install yourdfpy)") from None
-    if not isinstance(path, (str, os.PathLike)):
-        raise ModelError(f"load_urdf: path must be a file name (got {type(path).__name__})")
-    if not os.path.isfile(path):
-        raise ModelError(f"load_urdf: no such file {os.fspath(path)!r}")
-    from lxml import etree   # yourdfpy's XML library
-    try:   # strictly: yourdfpy falls back to a recovering parser that accepts a truncated file
-        etree.parse(os.fspath(path))
-    except etree.XMLSyntaxError as e:
-        raise ModelError(f"URDF {os.fspath(path)!r} cannot be parsed: {e}") from None
-    try:
-        u = yourdfpy.URDF.load(os.fspath(path), build_scene_graph=False, load_meshes=False,
-                               build_collision_scene_graph=False, load_collision_meshes=False)
-    except Exception as e:   # lxml's syntax errors, yourdfpy's own ValueErrors
-        raise ModelError(f"URDF {os.fspath(path)!r} cannot be parsed: {type(e).__name__}: {e}") from None
-    return u.robot
-
-
-def _float(v, what: str) -> float:
-    try:
-        x = float(v)
-    except (TypeError, ValueError):
-        raise ModelError(f"{what}: expected a number (got {v!r})") from None
-    if not np.isfinite(x):
-        raise ModelError(f"{what}: expected a finite number (got {v!r})")
-    return x
-
-
-def _origin(T, what: str) -> np.ndarray:
-    T = np.eye(4) if T is None else np.array(T, dtype=float)
-    if T.shape != (4, 4) or not np.all(np.isfinite(T)):
-        raise ModelError(f"{what}: <origin> is not a finite pose")
-    return T
-
-
-def _tree(robot, path) -> tuple:
-    """(root link, {link: [joints whose parent it is]}, {link: joint above it}) of the URDF,
-    checked: unique names, joints between existing links, one parent per link, one root, no
-    loop, known joint types."""
-    links = {}
-    for lk in robot.links:
-        if lk.name in links:
-            raise ModelError(f"URDF {path!r}: link {lk.name!r} is defined twice")
-        links[lk.name] = lk
-    if not links:
-        raise ModelError(f"URDF {path!r} has no link")
-    parent_of, children, names = {}, {n: [] for n in links}, set()
-    for j in robot.joints:
-        if j.name in names:
-            raise ModelError(f"URDF {path!r}: joint {j.name!r} is defined twice")
-        names.add(j.name)
-        if j.type not in JOINT_TYPES:
-            raise ModelError(f"URDF {path!r}: joint {j.name!r} has unknown type {j.type!r} "
-                             f"(URDF types: {', '.join(JOINT_TYPES)})")
-        for role, ln in (("parent", j.parent), ("child", j.child)):
-            if ln not in links:
-                raise ModelError(f"URDF {path!r}: joint {j.name!r} names {role} link {ln!r}, which "
-                                 f"is not a link of the file")
-        if j.child in parent_of:
-            raise ModelError(f"URDF {path!r}: link {j.child!r} is the child of two joints, "
-                             f"{parent_of[j.child].name!r} and {j.name!r}: a closed loop, which "
-                             f"URDF (a tree) cannot describe; build the loop-closing pair with "
-                             f"Mechanism.add_pair after the import")
-        parent_of[j.child] = j
-        children[j.parent].append(j)
-    roots = [n for n in links if n not in parent_of]
-    if len(roots) != 1:
-        if not roots:
-            raise ModelError(f"URDF {path!r}: every link is some joint's child: the joints form a "
-                             f"closed loop (no root link)")
-        raise ModelError(f"URDF {path!r}: {len(roots)} root links ({', '.join(map(repr, roots))}): "
-                         f"a robot has one; join them by a joint")
-    seen, stack = set(), [roots[0]]
-    while stack:
-        n = stack.pop()
-        seen.add(n)
-        stack.extend(j.child for j in children[n])
-    lost = [n for n in links if n not in seen]
-    if lost:
-        j = parent_of[lost[0]]
-        raise ModelError(f"URDF {path!r}: links {', '.join(map(repr, lost))} are not reached from "
-                         f"the root {roots[0]!r}: joint {j.name!r} closes a loop")
-    return roots[0], children, parent_of, links
-
-
-def _inertia(lk, path) -> tuple:
-    """(mass [kg], com (3,), inertia about the com (3, 3)) of link ``lk`` in its URDF frame,
-    or None without <inertial>."""
-    ine = lk.inertial
-    if ine is None:
-        return None
-    what = f"URDF {path!r}: link {lk.name!r} <inertial>"
-    m = _float(ine.mass if ine.mass is not None else 0.0, f"{what} mass")
-    if m < 0:
-        raise ModelError(f"{what}: negative mass {m:g} kg")
-    I = np.zeros((3, 3)) if ine.inertia is None else np.array(ine.inertia, dtype=float)
-    if I.shape != (3, 3) or not np.all(np.isfinite(I)):
-        raise ModelError(f"{what}: <inertia> is not 6 finite numbers")
-    T = _origin(ine.origin, what)
-    R = T[:3, :3]
-    return m, T[:3, 3].copy(), R @ I @ R.T
-
-
-def _merge(parts) -> tuple:
-    """(mass, com, inertia about com) of parts (mass, com, inertia about its com), all in one
-    frame (parallel-axis theorem)."""
-    M = sum(p[0] for p in parts)
-    if M <= 0:
-        return 0.0, np.zeros(3), np.zeros((3, 3))
-    c = sum(p[0] * p[1] for p in parts) / M
-    J = np.zeros((3, 3))
-    for m, ci, Ii in parts:
-        d = ci - c
-        J += Ii + m * (d @ d * np.eye(3) - np.outer(d, d))
-    return M, c, 0.5 * (J + J.T)
-
-
-def _joint_transform(jt: str, axis: np.ndarray, x: np.ndarray) -> np.ndarray:
-    """The URDF joint motion (child frame in the joint frame) at coordinates x."""
-    if jt in ("revolute", "continuous"):
-        return se3.rotation(axis, float(x[0]))
-    if jt == "prismatic":
-        return se3.translation(axis * float(x[0]))
-    if jt == "fixed":
-        return np.eye(4)
-    if jt == "floating":
-        T = np.eye(4)
-        T[:3, :3] = se3.exp(np.concatenate([x[:3], np.zeros(3)]))[:3, :3]
-        T[:3, 3] = x[3:6]
-        return T
-    # planar: angle about the normal, p_x, p_y in the frame whose z is the normal
-    Q = np.eye(4)
-    Q[:3, :3] = _frame_with_z(axis)
-    return Q @ se3.translation([x[1], x[2], 0.0]) @ se3.rotation("z", float(x[0])) @ se3.inverse(Q)
-
-
-def _frame_with_z(z: np.ndarray) -> np.ndarray:
-    """The rotation whose z is the unit vector z that phmech's pairs use for an axis (so that a
-    planar joint's p_x, p_y here are the pair's): phmech.pairs' rule."""
-    h = np.array([1.0, 0, 0]) if abs(z[0]) < 0.9 else np.array([0, 1.0, 0])
-    xx = h - z * (h @ z)
-    xx /= np.linalg.norm(xx)
-    return np.column_stack([xx, np.cross(z, xx), z])
-
-
-def _beam_rotation(d: np.ndarray) -> np.ndarray:
-    """The start-frame rotation of a flexible link along d (link-frame coordinates): x along d,
-    y the link frame's x (z when d runs along x) made normal to it."""
-    x = d / np.linalg.norm(d)
-    e = np.array([1.0, 0, 0]) if abs(x[0]) < 0.9 else np.array([0, 0, 1.0])
-    y = e - x * (e @ x)
-    y /= np.linalg.norm(y)
-    return np.column_stack([x, y, np.cross(x, y)])
-
-
-def _beam_properties(spec, name: str) -> tuple:
-    """(BeamProperties, keyword arguments of add_flexible_link) from a ``flexible=`` entry."""
-    what = f"load_urdf: flexible[{name!r}]"
-    if isinstance(spec, BeamProperties):
-        return spec, {}
-    if isinstance(spec, tuple) and len(spec) == 2 and isinstance(spec[0], Section) \
-            and isinstance(spec[1], Material):
-        return BeamProperties.from_material(*spec), {}
-    if isinstance(spec, dict):
-        kw = dict(spec)
-        props = kw.pop("properties", None)
-        sec, mat = kw.pop("section", None), kw.pop("material", None)
-        if props is None:
-            if not isinstance(sec, Section) or not isinstance(mat, Material):
-                raise ModelError(f"{what}: a dict needs properties= (BeamProperties) or section= "
-                                 f"(Section) and material= (Material)")
-            props = BeamProperties.from_material(sec, mat)
-        bad = set(kw) - {"elements", "band", "frequency_tolerance", "fidelity", "mass", "modes"}
-        if bad:
-            raise ModelError(f"{what}: unknown keys {sorted(bad)} (add_flexible_link's elements, "
-                             f"band, frequency_tolerance, fidelity, mass, modes)")
-        return props, kw
-    raise ModelError(f"{what}: expected BeamProperties, (Section, Material) or a dict "
-                     f"(got {type(spec).__name__})")
-
-
-def _per_joint(values, joints: dict, what: str) -> dict:
-    """{joint: array (k,)} from a dict joint -> number or sequence (unknown names refused)."""
-    if values is None:
-        return {}
-    if not isinstance(values, dict):
-        raise ModelError(f"load_urdf: {what} must be a dict joint name -> value (got "
-                         f"{type(values).__name__})")
-    out = {}
-    for n, v in values.items():
-        if n not in joints:
-            raise ModelError(f"load_urdf: {what}: {n!r} is not a movable joint of the URDF "
-                             f"(movable joints: {', '.join(map(repr, joints)) or 'none'})")
-        x = np.atleast_1d(np.asarray(v, dtype=float))
-        if x.shape != (joints[n].k,) or not np.all(np.isfinite(x)):
-            raise ModelError(f"load_urdf: {what}[{n!r}]: expected {joints[n].k} finite number(s) "
-                             f"(got {v!r})")
-        out[n] = x
-    return out
-
-
 def load_urdf(path, flexible: Optional[dict] = None, *, gravity=(0.0, 0.0, -9.81),
               base: str = "fixed", base_pose=None, q0: Optional[dict] = None,
               qdot0: Optional[dict] = None, driven: Optional[dict] = None,
@@ -360,8 +148,8 @@ def load_urdf(path, flexible: Optional[dict] = None, *, gravity=(0.0, 0.0, -9.81
                       ("mimic", mimic, ("error", "free"))):
         if not isinstance(v, str) or v not in ok:
             raise ModelError(f"load_urdf: {nm} must be one of {', '.join(map(repr, ok))} (got {v!r})")
-    robot = _parse(path)
-    root, children, parent_of, links = _tree(robot, path)
+    robot = _urdfparse.parse(path)
+    root, children, parent_of, links = _urdfparse.tree(robot, path)
     flexible = {} if flexible is None else flexible
     if not isinstance(flexible, dict):
         raise ModelError(f"load_urdf: flexible must be a dict link name -> properties (got "
@@ -382,7 +170,7 @@ def load_urdf(path, flexible: Optional[dict] = None, *, gravity=(0.0, 0.0, -9.81
             top[n], T_in_top[n] = n, np.eye(4)
         else:
             order.append(j)
-            T = _origin(j.origin, f"URDF {path!r}: joint {j.name!r}")
+            T = _urdfparse.origin(j.origin, f"URDF {path!r}: joint {j.name!r}")
             if j.type == "fixed" and j.parent not in flexible and n not in flexible:
                 top[n] = top[j.parent]
                 T_in_top[n] = T_in_top[j.parent] @ T
@@ -405,13 +193,13 @@ def load_urdf(path, flexible: Optional[dict] = None, *, gravity=(0.0, 0.0, -9.81
         ax = ax / np.linalg.norm(ax)
         lim = None
         if j.limit is not None and j.type not in ("continuous", "fixed", "floating", "planar"):
-            lim = tuple(None if v is None else _float(v, f"joint {j.name!r} <limit>")
+            lim = tuple(None if v is None else _urdfparse.number(v, f"joint {j.name!r} <limit>")
                         for v in (j.limit.lower, j.limit.upper, j.limit.velocity, j.limit.effort))
         mim = None
         if j.mimic is not None:
-            mim = (j.mimic.joint, _float(j.mimic.multiplier if j.mimic.multiplier is not None else 1.0,
+            mim = (j.mimic.joint, _urdfparse.number(j.mimic.multiplier if j.mimic.multiplier is not None else 1.0,
                                          f"joint {j.name!r} <mimic>"),
-                   _float(j.mimic.offset if j.mimic.offset is not None else 0.0, f"joint {j.name!r} <mimic>"))
+                   _urdfparse.number(j.mimic.offset if j.mimic.offset is not None else 0.0, f"joint {j.name!r} <mimic>"))
         k = {"floating": 6, "planar": 3, "fixed": 0}.get(j.type, 1)
         joints[j.name] = URDFJoint(j.name, j.type, j.parent, j.child, tuple(ax), k, lim, mim)
 
@@ -429,8 +217,8 @@ def load_urdf(path, flexible: Optional[dict] = None, *, gravity=(0.0, 0.0, -9.81
         raise ModelError(f"URDF {path!r}: joint {limited[0]!r} has position limits [{lo:g}, {hi:g}] "
                          f"(and {len(limited) - 1} more joints have limits), which phmech does not "
                          f"enforce; pass limits='warn' or 'ignore' to import them without")
-    q0s = _per_joint(q0, joints, "q0")
-    qd0s = _per_joint(qdot0, joints, "qdot0")
+    q0s = _urdfparse.per_joint(q0, joints, "q0")
+    qd0s = _urdfparse.per_joint(qdot0, joints, "qdot0")
     drv = {} if driven is None else dict(driven)
     for n in drv:
         if n not in joints:
@@ -443,14 +231,14 @@ def load_urdf(path, flexible: Optional[dict] = None, *, gravity=(0.0, 0.0, -9.81
             continue
         parts, missing = [], []
         for n in members:
-            mi = _inertia(links[n], path)
+            mi = _urdfparse.inertia(links[n], path)
             if mi is None:
                 missing.append(n)
                 continue
             T = T_in_top[n]
             R = T[:3, :3]
             parts.append((mi[0], R @ mi[1] + T[:3, 3], R @ mi[2] @ R.T))
-        M, c, J = _merge(parts)
+        M, c, J = _urdfparse.merge(parts)
         what = f"URDF {path!r}: link {t!r}" + (f" (with the links welded to it: "
                                                f"{', '.join(map(repr, members[1:]))})" if len(members) > 1 else "")
         if M <= 0:
@@ -496,7 +284,7 @@ def load_urdf(path, flexible: Optional[dict] = None, *, gravity=(0.0, 0.0, -9.81
             continue
         jj = joints[j.name]
         ptop = top[j.parent]
-        T = T_in_top[j.parent] @ _origin(j.origin, f"URDF {path!r}: joint {j.name!r}")
+        T = T_in_top[j.parent] @ _urdfparse.origin(j.origin, f"URDF {path!r}: joint {j.name!r}")
         if j.parent in flexible:   # at the end of the flexible link, turned as the URDF says
             R0, d = flex_start[j.parent]
             jf = flex[j.parent].end.frame_at((0, 0, 0), R0.T @ T[:3, :3], name=f"{j.name}.parent")
@@ -505,26 +293,26 @@ def load_urdf(path, flexible: Optional[dict] = None, *, gravity=(0.0, 0.0, -9.81
         x = q0s.get(j.name, np.zeros(jj.k))
         ax = np.array(jj.axis)
         if j.child in flexible:
-            props, kw = _beam_properties(flexible[j.child], j.child)
+            props, kw = _urdfparse.beam_properties(flexible[j.child], j.child)
             kids = children[j.child]
             if len(kids) != 1:
                 raise ModelError(f"load_urdf: flexible link {j.child!r} has {len(kids)} child joints; "
                                  f"a flexible link runs from its frame to the origin of its one child "
                                  f"joint (weld other links to that child)")
-            d = _origin(kids[0].origin, f"URDF {path!r}: joint {kids[0].name!r}")[:3, 3]
+            d = _urdfparse.origin(kids[0].origin, f"URDF {path!r}: joint {kids[0].name!r}")[:3, 3]
             L = float(np.linalg.norm(d))
             if L <= 0:
                 raise ModelError(f"load_urdf: flexible link {j.child!r}: its child joint "
                                  f"{kids[0].name!r} is at its origin (length 0)")
-            R0 = _beam_rotation(d)
-            Hj = m.world_pose(jf) @ _joint_transform(j.type, ax, x)
+            R0 = _urdfparse.beam_rotation(d)
+            Hj = m.world_pose(jf) @ _urdfparse.joint_transform(j.type, ax, x)
             start = np.eye(4)
             start[:3, :3] = R0
             lk = m.add_flexible_link(j.child, L, props, pose=Hj @ start, **kw)
             flex[j.child], flex_start[j.child] = lk, (R0, d)
             child_frame = lk.start.frame_at((0, 0, 0), R0.T, name=j.child)
             frames[j.child] = child_frame
-            um = _inertia(links[j.child], path)
+            um = _urdfparse.inertia(links[j.child], path)
             rho_a = float(props.inertia[3, 3])
             replaced[j.child] = (0.0 if um is None else um[0], rho_a * L)
         else:
@@ -553,8 +341,8 @@ def load_urdf(path, flexible: Optional[dict] = None, *, gravity=(0.0, 0.0, -9.81
             limited_info.append(f"{j.name} [{jj.limit[0]:g}, {jj.limit[1]:g}]")
         dyn = j.dynamics
         if dyn is not None and jj.k:
-            damping = 0.0 if dyn.damping is None else _float(dyn.damping, f"joint {j.name!r} <dynamics damping>")
-            fr = 0.0 if dyn.friction is None else _float(dyn.friction, f"joint {j.name!r} <dynamics friction>")
+            damping = 0.0 if dyn.damping is None else _urdfparse.number(dyn.damping, f"joint {j.name!r} <dynamics damping>")
+            fr = 0.0 if dyn.friction is None else _urdfparse.number(dyn.friction, f"joint {j.name!r} <dynamics friction>")
             if damping < 0 or fr < 0:
                 raise ModelError(f"URDF {path!r}: joint {j.name!r}: <dynamics> damping and friction "
                                  f"must be >= 0")
@@ -567,12 +355,12 @@ def load_urdf(path, flexible: Optional[dict] = None, *, gravity=(0.0, 0.0, -9.81
                       f"not enforce (no joint stops; velocity and effort limits neither): "
                       f"{', '.join(limited_info)}; check result.joint(name)['x'] against them, or "
                       f"pass limits='ignore' to silence this", AccuracyWarning,
-                      stacklevel=_outside_stacklevel())
+                      stacklevel=outside_stacklevel())
     if friction:
         warnings.warn(f"URDF {path!r}: the <dynamics friction> of {len(friction)} joints is not "
                       f"modelled (Coulomb friction; {', '.join(friction)} N m or N): the joints "
                       f"move without it; add a PD damper (add_actuator) if a viscous substitute "
-                      f"will do", AccuracyWarning, stacklevel=_outside_stacklevel())
+                      f"will do", AccuracyWarning, stacklevel=outside_stacklevel())
     bodies = {t: tuple(groups[t]) for t in groups if t in body_frame and not (t == root and base == "fixed")}
     return URDFRobot(m, robot.name, joints, frames, bodies, flex, replaced)
 
@@ -580,7 +368,6 @@ def load_urdf(path, flexible: Optional[dict] = None, *, gravity=(0.0, 0.0, -9.81
 def _driven_robot(path, q, qdot, qddot, kwargs: dict) -> tuple:
     """(URDFRobot with every movable joint driven by q + qdot t + qddot t^2 / 2, its joint names);
     ModelError for a joint that is not one drivable coordinate."""
-    from .laws import PiecewisePolynomial
 
     for k in ("driven", "q0", "qdot0"):
         if k in kwargs:

@@ -75,7 +75,7 @@ def test_skewed_four_bar_never_opens_silently(options):
     assert isinstance(e, ph.SolverError) and isinstance(e, RuntimeError)
     assert e.pair == "C" and e.redundant and e.direction in ("tau_y", "f_x", "f_z")
     assert e.residual > e.tolerance
-    L = ph.topology.length_scale(m._desc)   # the square's diagonal, sqrt(2) m
+    L = ph._placement.length_scale(m._desc)   # the square's diagonal, sqrt(2) m
     assert e.tolerance == pytest.approx(TOL * (L if e.unit == "m" else 1.0), rel=1e-12)
     # it opens at second order from the start: the first step beyond 1e-6 is early
     assert 0.0 < e.time < 0.1, e.time
@@ -106,7 +106,7 @@ def test_parallelogram_runs_through_its_flat_positions():
     # and it stays a parallelogram: the second crank turns with the first
     k1 = res.joint("k1")["x"][:, 0]
     assert np.max(np.abs(np.angle(np.exp(1j * (k1 - phi))))) <= 1e-5
-    assert np.max(m.constraint_residuals(res)["position"]) <= TOL * ph.topology.length_scale(m._desc)
+    assert np.max(m.constraint_residuals(res)["position"]) <= TOL * ph._placement.length_scale(m._desc)
 
 
 def test_parallelogram_through_flat_positions_with_ida():

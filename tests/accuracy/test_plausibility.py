@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import phmech as ph
-from phmech import se3
+from phmech import _model, _simulate, se3
 
 STEEL = ph.Material(E=210e9, nu=0.3, density=7850.0)
 G = 9.81
@@ -165,13 +165,13 @@ def test_ordinary_runs_do_not_warn_and_the_check_costs_little():
         c0 = time.thread_time()
         r = m.simulate(0.5, 1e-3)
         run = time.thread_time() - c0
-    model = m._build()
+    model = _model.build(m)
     c0 = time.thread_time()
-    m._warn_implausible_strain(r, model)
+    _simulate.warn_implausible_strain(m, r, model)
     skipped = time.thread_time() - c0
     assert skipped < 0.01 * run, (skipped, run)
     r.energy["elastic"][:] = 1e9   # as if strained: the resultants are read
     c0 = time.thread_time()
-    m._warn_implausible_strain(r, model)
+    _simulate.warn_implausible_strain(m, r, model)
     full = time.thread_time() - c0
     assert full < 0.05 * run, (full, run)

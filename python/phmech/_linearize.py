@@ -1,0 +1,36 @@
+"""Mechanism.linearize: the linear port-Hamiltonian model (phmech.linear) about the initial
+configuration or a static equilibrium, from the core's reduced stiffness, damping and mass on the
+constraint manifold (``_core.model_linear``) and the input matrix of the chosen ports."""
+from __future__ import annotations
+
+import warnings
+from typing import Optional, Sequence
+
+
+from . import _core, linear, _model, _modes
+from ._checks import real
+from ._errors import EquilibriumWarning, outside_stacklevel
+from .results import StaticResult
+
+
+def linearize(mech, at: Optional[StaticResult] = None, inputs: Sequence = (),
+              outputs: Optional[Sequence] = None, time: float = 0.0):
+    """Mechanism.linearize of the builder ``mech`` (python/phmech/mechanism.py: its docstring
+    gives the arguments, their units and what is returned)."""
+    mech._no_components("linearize")
+    time = real("time", time)
+    _model.check_linearization_time(mech, "linearize", time, at)
+    model, poses, lam = _model.linearization_point(mech, at)
+    lin = linear.build(_core, model, mech._desc, list(inputs) if not isinstance(inputs, str)
+                       else [inputs], outputs, poses, lam, time)
+    where = mech._state.poses if poses is None else poses
+    eq = _modes.equilibrium_check(mech, model, where, time, at is not None)
+    if not eq:
+        warnings.warn(f"linearize: the configuration is not a static equilibrium "
+                      f"({eq.reason}): the model's stiffness K is the tangent there and "
+                      f"its state x = 0 is not a rest state (the loads' unbalanced "
+                      f"generalized forces are left out), so its responses are not small "
+                      f"motions about the mechanism's rest. Linearize about an equilibrium: "
+                      f"linearize(at=m.static(...))",
+                      EquilibriumWarning, stacklevel=outside_stacklevel())
+    return lin

@@ -1,0 +1,78 @@
+"""Mechanism.modes: vibration modes about the initial configuration or a static equilibrium
+(``_core.model_modes``: LAPACK or the sparse shift-invert eigensolver of the core), labelled by
+their strain energy (phmech.analysis), and the check that the configuration is an equilibrium
+(EquilibriumWarning otherwise). Frequencies in Hz, omega in rad/s."""
+from __future__ import annotations
+
+import warnings
+from typing import Optional
+
+import numpy as np
+
+from . import analysis, _core, _model
+from ._checks import integer, real
+from ._errors import EquilibriumWarning, ModelError, SolverError, outside_stacklevel
+from .results import ModesResult, StaticResult
+
+
+def modes(mech, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0) -> ModesResult:
+    """Mechanism.modes of the builder ``mech`` (python/phmech/mechanism.py: its docstring
+    gives the arguments, their units and what is returned)."""
+    mech._no_components("modes")
+    n = integer("n", n, 1)
+    time = real("time", time)
+    _model.check_linearization_time(mech, "modes", time, at)
+    model, poses, lam = _model.linearization_point(mech, at)
+    # at most 6 per carrier exist: asking for more allocates no more than that
+    om, ze, sh, nf = _core.model_modes(model, min(n, 6 * len(mech._car)), poses, lam, time)
+    where = mech._state.poses if poses is None else poses
+    eq = equilibrium_check(mech, model, where, time, at is not None)
+    if not eq and np.any(om[:nf] < 0):
+        neg = "; its negative eigenvalues lambda show as negative frequencies -sqrt(-lambda)"
+    else:
+        neg = ("; a negative eigenvalue lambda of the tangent would show as a negative "
+               "frequency -sqrt(-lambda)")
+    if not eq:
+        warnings.warn(f"modes: the configuration is not a static equilibrium ({eq.reason}): "
+                      f"the values are the eigenvalues of the tangent stiffness there, not the "
+                      f"frequencies of small vibrations about a rest state" + neg +
+                      ". For vibrations about the equilibrium use modes(at=m.static(...)).",
+                      EquilibriumWarning, stacklevel=outside_stacklevel())
+    lab = analysis.label_modes(mech._desc, where, om[:nf], sh[:nf])
+    return ModesResult(om[:nf], om[:nf] / (2 * np.pi), ze[:nf], sh[:nf], poses=np.array(where),
+                       equilibrium=bool(eq), _links=dict(mech._links),
+                       _bodies=dict(mech._bodies), **lab)
+
+def equilibrium_check(mech, model, poses, time, at_given: bool):
+    """Whether ``poses`` is a static equilibrium: a static solve at the full load started there
+    (no load steps: Newton, else pseudo-transient continuation) must not move any carrier by
+    more than 1e-6 of the mechanism's size [m] or 1e-6 rad.
+    Returns a truthy/falsy object with a ``reason``. A solve that fails (a free mechanism is
+    singular) tells nothing: then the check passes."""
+    class _Eq:
+        def __init__(mech, ok, reason=""):
+            mech.ok, mech.reason = ok, reason
+
+        def __bool__(mech):
+            return mech.ok
+    try:
+        P, _, _ = _core.model_static(model, poses, time, 0, 1e-10)
+    except (SolverError, ModelError):
+        return _Eq(True)
+    size = max([1.0] + [lk.length for lk in mech._links.values()])
+    dp = np.linalg.norm(P[:, :3, 3] - poses[:, :3, 3], axis=1)
+    rel = np.einsum("cji,cjk->cik", poses[:, :3, :3], P[:, :3, :3])
+    dth = np.arccos(np.clip((np.trace(rel, axis1=1, axis2=2) - 1) / 2, -1, 1))
+    c = int(np.argmax(dp / size + dth))
+    if dp[c] <= 1e-6 * size and dth[c] <= 1e-6:
+        return _Eq(True)
+    return _Eq(False, f"a static solve from it moves {mech._desc.carrier_name(c)} by "
+                      f"{dp[c]:.3g} m and {dth[c]:.3g} rad")
+
+
+def frequencies(model, n: int, poses: np.ndarray, lam: np.ndarray, time: float = 0.0) -> np.ndarray:
+    """The ``n`` lowest frequencies [Hz] of the core ``model`` linearized at ``poses`` with
+    multipliers ``lam`` (_model.linearization_point) at ``time`` [s]: what modes computes,
+    without its labels and its equilibrium check (phmech.mesh sizes meshes with them)."""
+    om, _, _, nf = _core.model_modes(model, n, poses, lam, time)
+    return om[:nf] / (2 * np.pi)

@@ -1,0 +1,390 @@
+"""Mechanism.simulate: its options resolved (integrator, tolerances, band, step, linear solver,
+planarity, recording), the run in the C core (``_core.model_simulate``) under a RunMonitor
+(python/phmech/_run.py), and the SimulationResult assembled and checked (accuracy, plausibility
+of the strains). Conventions: SI units, times in s, poses 4x4, twists (omega, v)."""
+from __future__ import annotations
+
+import os
+import warnings
+from typing import Callable, Optional
+
+import numpy as np
+
+from . import _core, _marshal, _model, planar as _planar, postprocess, _run, se3, topology
+from ._checks import fibre_strain, positive, real, strain_bound
+from ._codes import INTEGRATORS
+from ._errors import (AccuracyWarning, ModelError, PlausibilityWarning, SolverError,
+                      outside_stacklevel)
+from .components import state_layout
+from .fidelity import modal_validity
+from .frames import Body, FlexibleLink, Frame, frame_of
+from .results import ENERGY_NAMES, SimulationResult, StaticResult
+
+
+
+#: the adaptive generalized-alpha's default local error tolerance and spectral radius at
+#: infinity (docs/integrators.md: measured on benchmarks/scenes.py)
+DEFAULT_RTOL = 1e-4
+DEFAULT_RHO_INF = 0.9
+#: steps an integrator takes at most between two output times (csrc/include/phmech_types.h,
+#: phm_sim_options max_steps: its default)
+MAX_STEPS = 1_000_000
+
+
+def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: Optional[float],
+             linear_solver: str, initial: Optional[StaticResult], t_start: float,
+             callback: Optional[Callable[[float, int], bool]], max_step: float,
+             max_order: Optional[int], record, progress: bool, error_test: str, integrator: str,
+             step: Optional[float], rho_inf: Optional[float], band: Optional[float], checkpoint,
+             checkpoint_every: Optional[float], planar: Optional[bool]) -> SimulationResult:
+    """Mechanism.simulate of the builder ``mech``, every option given: their defaults, units and
+    meaning are Mechanism.simulate's (python/phmech/mechanism.py), the one place they are set."""
+    t0, t1, dt = (real("t_start", t_start), real("t_end", t_end), real("dt_out", dt_out))
+    if t1 <= t0:
+        raise ModelError(f"t_end must be > t_start (got {t1} <= {t0})")
+    if dt <= 0:
+        raise ModelError(f"dt_out must be > 0 (got {dt})")
+    solvers = {"dense": 0, "klu": 1}
+    if isinstance(linear_solver, str) and linear_solver == "auto":
+        # the generalized-alpha's KLU matrix drops its exact zeros (dae_jacobian_prune): KLU
+        # is then faster than the dense LU from one carrier on (measured 2026-11-27: a
+        # pendulum 7.5 against 12.4 ms, the four-bar of benchmarks/scenes.py 51 against 94
+        # ms, a 3-carrier modal-link pendulum 0.19 against 0.52 s); IDA keeps its rule, though
+        # KLU was faster there too with both on the closed-form Jacobian (a pendulum 1.6
+        # against 2.3 ms, five bars 4.8 against 27.7 ms: docs/integrators.md, "IDA's linear
+        # solvers: one Jacobian"): a switch moves every small IDA run at the tolerance's level
+        linear_solver = "klu" if integrator == "generalized-alpha" or len(mech._car) >= 6 \
+            else "dense"
+    if not isinstance(linear_solver, str) or linear_solver not in solvers:
+        raise ModelError(f"unknown linear_solver {linear_solver!r} (available: 'auto', 'dense', 'klu')")
+    #: the user's names of the core's integrators (_codes.INTEGRATORS: "ida", "galpha")
+    integrators = {"ida": INTEGRATORS["ida"], "generalized-alpha": INTEGRATORS["galpha"]}
+    if not isinstance(integrator, str) or integrator not in integrators:
+        raise ModelError(f"unknown integrator {integrator!r} (available: {', '.join(map(repr, integrators))})")
+    adaptive = integrator == "generalized-alpha" and step is None
+    band_given = band is not None
+    # the default band: what the outputs can show, but never below BAND_PER_SPAN / span
+    # (docs/user_guide.md, "Accuracy contract"): outputs are samples, not steps
+    band = max(0.5 / dt, _run.BAND_PER_SPAN / (t1 - t0)) if band is None else positive("band", band)
+    if integrator == "generalized-alpha":
+        if step is not None:
+            step = positive("step", step)
+        rho_inf = DEFAULT_RHO_INF if rho_inf is None else real("rho_inf", rho_inf)
+        if not 0.0 <= rho_inf <= 1.0:
+            raise ModelError(f"rho_inf must be in [0, 1] (got {rho_inf})")
+        if not (isinstance(error_test, str) and error_test == "all") or max_order is not None:
+            raise ModelError("error_test and max_order apply to integrator='ida' only")
+        if max_step is not None and not (isinstance(max_step, (int, float)) and max_step == 0) \
+                and not adaptive:
+            raise ModelError("max_step applies to integrator='ida' and to the adaptive "
+                             "generalized-alpha (without step=)")
+    elif step is not None:
+        raise ModelError("step= applies to integrator='generalized-alpha' (IDA chooses its own steps; "
+                         "use max_step to bound them)")
+    tests = {"all": 0, "configuration": 1}
+    if not isinstance(error_test, str) or error_test not in tests:
+        raise ModelError(f"unknown error_test {error_test!r} (available: 'all', 'configuration')")
+    if max_order is None:
+        max_order = 2 if error_test == "configuration" else 5
+    if isinstance(max_order, (bool, np.bool_)) or not isinstance(max_order, (int, np.integer)) or not 1 <= max_order <= 5:
+        raise ModelError(f"max_order must be an integer 1..5 (got {max_order!r})")
+    if error_test == "configuration" and max_order > 2:
+        raise ModelError(f"error_test='configuration' needs max_order 1 or 2 (got {max_order}): "
+                         "without the twists in the error test, BDF orders 3-5 let unresolved "
+                         "vibrations grow")
+    max_step = 0.0 if max_step is None or (isinstance(max_step, (int, float)) and max_step == 0) \
+        else positive("max_step", max_step)
+    # the integrators stop after MAX_STEPS steps between two outputs: fail now, not then
+    h = min([x for x in (max_step, step, 1.0 / (_run.BAND_MAX_STEPS * band) if adaptive else 0.0)
+             if x and x > 0] or [np.inf])
+    if dt / h > MAX_STEPS:
+        raise ModelError(f"simulate: steps of at most {h:.3g} s (" +
+                         ("max_step" if h == max_step else "step" if h == step else
+                          f"the {band:.4g} Hz band") +
+                         f") would take {dt / h:.3g} steps per output interval dt_out = {dt:g} s; "
+                         f"the integrators stop at {MAX_STEPS:.0e} steps between two outputs: "
+                         f"use a smaller dt_out, or longer steps")
+    rtol = (DEFAULT_RTOL if adaptive else 1e-8) if rtol is None else real("rtol", rtol)
+    atol = rtol * 1e-2 if atol is None else real("atol", atol)
+    if rtol <= 0 or atol <= 0:
+        raise ModelError("rtol and atol must be > 0")
+    if callback is not None and not callable(callback):
+        raise ModelError(f"callback must be a function callback(t, i) or None (got {callback!r})")
+    if initial is not None and not isinstance(initial, StaticResult):
+        raise ModelError(f"initial must be a StaticResult (Mechanism.static) or None (got "
+                         f"{type(initial).__name__})")
+    with np.errstate(over="ignore"):
+        span = (t1 - t0) / dt
+    _check_outputs(mech, span, record)
+    n = int(np.floor(span + 1e-9))
+    tout = t0 + dt * np.arange(n + 1)
+    if tout[-1] < t1 - 1e-12 * max(1.0, abs(t1)):
+        tout = np.append(tout, t1)
+    rec = None if record is None else _record_carriers(mech, record)
+    model = _model.build(mech)   # finds the redundant constraints
+    drop_masks = mech._state.drop_masks
+    if rec is not None and mech.redundant_constraints:
+        raise ModelError("record= cannot be combined with redundant constraints yet: the "
+                         "minimum-norm multipliers need every carrier's pose")
+    poses = None if initial is None else _model.start_poses(mech, initial, "initial")
+    twists = None if initial is None else np.zeros((len(mech._car), 6))
+    if planar not in (None, True, False):
+        raise ModelError(f"planar must be None, True or False (got {planar!r})")
+    # planar=None leaves IDA in 3-D: with the planar DAE and KLU's pivoting for 3-D it failed
+    # the flexible slider-crank of tests/test_flexible_loop.py at rtol 1e-8 (IDA_CONV_FAIL;
+    # csrc/solve/ida.c: it runs with AMD and full pivoting, a remedy measured on that one
+    # scene), and with the dense LU the spline-driven revolute of
+    # tests/test_driven_pairs.py ended its spin-up 1.6e-4 N m off in its torque (3-D 6.7e-5,
+    # the test's bound 1.3e-4: where IDA's steps land near the breakpoint)
+    auto_ok = integrator != "ida"
+    plane = None if planar is False or (planar is None and not auto_ok) else \
+        _plane(mech, model, poses, twists, planar is True)
+    run = dict(linear_solver=linear_solver, integrator=integrator, adaptive=adaptive,
+               rtol=rtol, atol=atol, planar=None if plane is None else _planar.AXES[plane[0]])
+    sim_model = model if plane is None else plane[2]
+
+    def assemble(r, k, stats, interrupted) -> SimulationResult:
+        return _simulation_result(mech, r, k, tout, model, drop_masks, rec, band,
+                                       {**stats, **run}, interrupted, plane)
+
+    saver = None
+    if checkpoint is not None:
+        saver = _run.Checkpoint(checkpoint, checkpoint_every,
+                                lambda arrays, k, stats: assemble(arrays, k, stats, False))
+    elif checkpoint_every is not None:
+        raise ModelError("checkpoint_every applies with checkpoint=path only")
+    monitor = _run.RunMonitor(t0, t1, band, integrator, progress, callback, checkpoint=saver)
+    with _run.sigterm_as_interrupt(monitor):
+        r = _core.model_simulate(sim_model, tout, rtol, atol, solvers[linear_solver], poses, twists,
+                                 monitor.per_output, float(max_step), int(max_order), rec,
+                                 tests[error_test], integrators[integrator], float(step or 0.0),
+                                 float(1.0 if rho_inf is None else rho_inf), adaptive=int(adaptive),
+                                 band=float(band if adaptive else 0.0), monitor=monitor,
+                                 arrays=None if saver is None else saver.arrays_ready,
+                                 planar=0 if plane is None else plane[0] + 1)
+    monitor.finish(r["stats"]["steps"])
+    result = assemble(r, r["nout"], r["stats"], bool(r["interrupted"]) or monitor.terminated)
+    unsaved = ""
+    if saver is not None:   # the file ends as the run did (a failed run: its partial result)
+        try:
+            saver.write(result)
+        except Exception as e:   # not to hide the solver's error and its partial result
+            if not r["error"]:
+                raise
+            unsaved = f"; the checkpoint could not be written: {e}"
+    if not r["error"]:
+        _run.warn_if_inaccurate(result.stats)
+        warn_implausible_strain(mech, result, model)
+        _run.warn_if_above_tolerance(result.stats)
+        for lk in mech._links.values():
+            if lk.fidelity == "modal":
+                T0 = se3.exp(lk.length * mech._desc.link_unstressed_strain(lk))
+                for msg in modal_validity(result, lk, T0, mech.frequency_tolerance):
+                    warnings.warn(msg, AccuracyWarning, stacklevel=outside_stacklevel())
+    if r["error"]:
+        t_last = f"{result.t[-1]:.6g} s" if len(result.t) else "the start"
+        why = ""   # the output interval bounds the steps: say so
+        if integrator == "ida":
+            why = (f"; IDA takes at most {MAX_STEPS:.0e} steps between two outputs (dt_out = "
+                   f"{dt:g} s): a smaller dt_out, or a looser rtol" +
+                   (", or error_test='configuration' for flexible links"
+                    if error_test == "all" else "")) if "TOO_MUCH_WORK" in r["error"] else ""
+        elif adaptive:
+            why = (f"; the steps were at most {1.0 / (_run.BAND_MAX_STEPS * band):.3g} s, from "
+                   f"the {band:.4g} Hz band (" + ("band=" if band_given else
+                   f"1/(2 dt_out), dt_out = {dt:g} s" if 0.5 / dt >= band else
+                   f"{_run.BAND_PER_SPAN:g} / span, the default's floor") + "): a higher band= shortens them")
+        err = topology.constraint_error(mech._desc, r["error"]) or SolverError(r["error"])
+        err.args = (f"{err.args[0]} (the trajectory up to {t_last} is in this error's "
+                    f"'result' attribute{unsaved}{why})",)
+        err.result = result
+        raise err
+    return result
+
+def _plane(mech, model, poses, twists, require: bool):
+    """(axis, drop masks, core model) of the planar DAE when the scene is planar at its
+    start (``model``: this analysis's, made planar in place; ``poses``, ``twists``: the
+    run's, None for the initial configuration's), else
+    None, or with ``require`` ModelError naming the first check that fails per axis. The
+    masks drop the out-of-plane constraint rows and the in-plane rows redundant among the
+    in-plane ones."""
+    state = mech._state
+    H = state.poses if poses is None else np.asarray(poses, dtype=float)
+    T = state.twists if twists is None else np.asarray(twists, dtype=float)
+    # the checks and the out-of-plane rows (csrc/model/planarity.c, phmech.planar)
+    k, masks, why = _core.model_planar(model, H, T, [p["name"] for p in mech._desc.pairs])
+    if k is None:
+        if require:
+            raise ModelError("planar=True: the scene is not planar (" + "; ".join(
+                f"about {_planar.AXES[k]}: {why[k]}" for k in (2, 1, 0)) + ")")
+        return None
+    # the in-plane rows redundant among the in-plane ones: only loop-closing pairs' rows can
+    # be (topology.redundant_rows: a tree's rows are independent)
+    if any(ip not in state.tree for ip in range(len(masks))):
+        layout = postprocess.full_layout(mech._desc)
+        _, G, _ = _core.model_constraints_full(model, H, None, 0.0)
+        keep = np.zeros(G.shape[0], dtype=bool)
+        keep[postprocess.kept_rows(layout, masks)] = True
+        red, _ = topology.redundant_rows(mech._desc, G * keep[:, None], state.tree)
+        masks = [a | b for a, b in zip(masks, red)]
+    # this analysis's model, moved to the planar drop masks (no second model)
+    model = _marshal.with_initial(model, mech._desc, state.poses, state.poses, state.twists,
+                                  state.x0, masks)
+    return k, masks, model
+
+def _simulation_result(mech, r: dict, k: int, tout, model, drop_masks, rec, band: float,
+                       stats: dict, interrupted: bool, plane=None) -> SimulationResult:
+    """The SimulationResult of the first ``k`` outputs in the arrays ``r`` of
+    ``_core.model_simulate`` (the whole run, or a checkpoint's part of it while it runs),
+    ``stats`` the core's statistics and the run's options."""
+    e = r["energy"][:k]
+    energy = {nm: e[:, i].copy() for i, nm in enumerate(ENERGY_NAMES)}
+    ports = {nm: r["ports"][:k, i].copy() for i, nm in enumerate(mech._desc.port_names())}
+    layout = _core.model_sizes(model)[4]
+    lam, pw = r["lambda"][:k], r["pair_wrenches"][:k]
+    if plane is not None and mech.redundant_constraints and k > 0:
+        lam, pw, layout = postprocess.min_norm_multipliers(
+            mech._desc, plane[2], plane[1], r["poses"][:k], r["joints"][:k], lam, tout[:k])
+    elif plane is not None:   # the 3-D layout has every row: the dropped ones carry 0
+        layout = postprocess.full_layout(mech._desc)
+        keep = postprocess.kept_rows(layout, plane[1])
+        full = np.zeros((lam.shape[0], layout[-1][0] + layout[-1][1] if layout else 0))
+        full[:, keep] = lam
+        lam = full
+    elif mech.redundant_constraints and k > 0:
+        lam, pw, layout = postprocess.min_norm_multipliers(
+            mech._desc, model, drop_masks, r["poses"][:k], r["joints"][:k], lam, tout[:k])
+    pairs = {p["name"]: dict(index=i, layout=layout[i], units=p["pair"]._type.units)
+             for i, p in enumerate(mech._pairs)}
+    stats = {**stats, **_run.quality(energy, band)}
+    # Newton iterations (linear solves) per step, the issue-12 measure (docs/integrators.md,
+    # "Newton iterations"); rejected step attempts count in the iterations, not the steps.
+    # Not in a checkpoint's mid-run stats, which hold no counters
+    if "nonlinear_iters" in stats:
+        stats["newton_iters_per_step"] = stats["nonlinear_iters"] / max(1, stats["steps"])
+    if not stats["adaptive"]:
+        for key in ("error_estimate", "error_sum", "floor_steps", "error_ratio", "error_ratio_time",
+                    "noise_steps", "min_step", "newton_rtol"):
+            stats.pop(key, None)
+    return SimulationResult(t=tout[:k], poses=r["poses"][:k], twists=r["twists"][:k],
+                            constraint_wrenches=lam, energy=energy, stats=stats,
+                            interrupted=interrupted, _links=dict(mech._links),
+                            port_energy=ports, joints=r["joints"][:k],
+                            joint_rates=r["jrates"][:k], efforts=r["efforts"][:k],
+                            pair_wrenches=pw, _pairs=pairs,
+                            redundant_constraints=list(mech.redundant_constraints),
+                            carriers=None if rec is None else np.array(rec),
+                            _inertia=np.array([c["M"] for c in mech._car], dtype=float),
+                            _mass=np.array([c["mass"] for c in mech._car], dtype=float),
+                            _com=np.array([c["com"] for c in mech._car], dtype=float),
+                            _bodies=dict(mech._bodies),
+                            components=_component_states(mech, r["components"][:k]),
+                            **mech._desc.mass_couplings())
+
+
+def _component_states(mech, zs: np.ndarray) -> dict:
+    """name -> {state name: its values over the outputs} of every component with internal
+    states (python/phmech/components.py), from the core's state array ``zs`` (nout, nz)."""
+    rows = mech._desc.components
+    lay = state_layout(rows)
+    return {r["name"]: {sn: zs[:, lay[r["name"]][0] + j].copy()
+                        for j, sn in enumerate(r["states"])}
+            for r in rows if r["nstates"]}
+
+def _check_outputs(mech, span: float, record) -> None:
+    """ModelError when (t_end - t_start) / dt_out output times would take more than half the
+    machine's memory (an accidental t_end / dt_out of 1e10 would otherwise allocate 75 GB,
+    or fail inside NumPy)."""
+    nc = len(mech._car)
+    # per output: pose and twist of each recorded carrier; per pair at most 6 multipliers, 6
+    # pair wrench entries, 6 joint coordinates, rates and efforts; 7 energies; the ports; t
+    per = 8 * (22 * nc + 30 * len(mech._pairs) + 7 + len(mech._acts) + len(mech._loads)
+               + len(mech._springs) + 1)
+    if record is not None:
+        per = max(8 * 30, per - 8 * 22 * (nc - 1))   # at least one carrier recorded
+    try:
+        limit = 0.5 * os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (AttributeError, ValueError, OSError):
+        limit = 8e9
+    if not (span * per <= limit):
+        raise ModelError(f"simulate: (t_end - t_start) / dt_out = {span:.3g} output times would "
+                         f"take about {span * per / 1e9:.3g} GB, more than half this machine's "
+                         f"memory ({2 * limit / 1e9:.3g} GB); use a larger dt_out, a shorter run "
+                         f"or record= fewer carriers")
+
+
+def _record_carriers(mech, record) -> list:
+    """Carrier indices for simulate(record=...): bodies, links, frames or their names."""
+    if isinstance(record, (str, FlexibleLink, Body, Frame)):
+        items = [record]
+    elif isinstance(record, (list, tuple)):
+        items = list(record)
+    else:
+        raise ModelError(f"record: expected a body, link, frame, a name, or a list of them "
+                         f"(got {type(record).__name__})")
+    out = []
+    for x in items:
+        if isinstance(x, str) and x in mech._links:
+            x = mech._links[x]
+        if isinstance(x, FlexibleLink):
+            if mech._links.get(x.name) != x:
+                raise ModelError(f"record: link {x.name!r} is not a link of this mechanism")
+            out += [c for c in x.carriers if c not in out]   # a modal link's sliders too
+            continue
+        c = frame_of(x, mech._desc, "record").carrier
+        if c < 0:
+            raise ModelError("record: the ground has no recorded pose")
+        if c not in out:
+            out.append(c)
+    if not out:
+        raise ModelError("record: nothing to record")
+    return out
+
+def warn_implausible_strain(mech, result: SimulationResult, model) -> None:
+    """PlausibilityWarning, once per run, when a nonlinear flexible link's largest fibre
+    strain over the run (phmech._checks.fibre_strain of its stress resultants, all outputs,
+    one core call per 256 outputs for every link at once; skipped when the run's elastic
+    energy is too small for any element to reach its bound) exceeds its bound
+    (phmech._checks.strain_bound: 1 % for a metal-like speed of sound, 10 % below), naming
+    the link, the strain, where and when. Runs with ``record=`` (not every carrier stored)
+    are not checked."""
+    links = [lk for lk in mech._links.values() if lk.fidelity == "nonlinear"]
+    if not links or result.carriers is not None or not len(result.t):
+        return
+    # an element of length h whose fibre strain is e stores at least EA h e^2 / 14 (the
+    # least of (EA e_a^2 + EI_y k_y^2 + EI_z k_z^2) h / 2 with e_a + c_z k_y + c_y k_z = e,
+    # c = sqrt(3 EI/EA), for a diagonal section stiffness): when the run's whole elastic
+    # energy stays below that for every link, no element reached its bound, and the
+    # stress resultants are not needed (most runs: no cost)
+    elastic = float(np.max(result.energy["elastic"]))
+    rows = []
+    for lk in links:
+        first = mech._desc.first_element[lk.name]
+        el = mech._el[first]
+        K = el["K"]
+        bound, why = strain_bound(K, el["Ms"])
+        diagonal = not np.any(K - np.diag(np.diagonal(K)))
+        need = K[3, 3] * el["h"] * bound ** 2 / 14 if diagonal else 0.0
+        rows.append((lk, first, K, bound, why, need))
+    if elastic < min(r[5] for r in rows):
+        return
+    worst = (0.0, None, 0, 0, 0.0)   # strain / bound, row, output, element, strain
+    for t0 in range(0, len(result.t), 256):
+        t1 = min(len(result.t), t0 + 256)
+        S = _core.model_stress_resultants(model, result.poses[t0:t1], result.twists[t0:t1])
+        for row in rows:
+            lk, first, K, bound = row[:4]
+            eps = fibre_strain(S[:, first:first + lk.elements], K)
+            i = int(np.argmax(eps))
+            if eps.flat[i] / bound > worst[0]:
+                worst = (float(eps.flat[i]) / bound, row, t0 + i // lk.elements,
+                         i % lk.elements, float(eps.flat[i]))
+    ratio, row, it, el, strain = worst
+    if ratio > 1.0:
+        lk, _, _, bound, why, _ = row
+        warnings.warn(f"simulate: link {lk.name!r} strains {100 * strain:.3g} % at its "
+                      f"fibres (element {el}, t = {result.t[it]:.4g} s; axial plus bending, "
+                      f"extreme fibre at sqrt(3 EI/EA)), above {100 * bound:g} %: {why}. "
+                      f"Check the units of its properties (E in Pa, sections in m) and the "
+                      f"loads, and whether the part would yield or break",
+                      PlausibilityWarning, stacklevel=outside_stacklevel())
