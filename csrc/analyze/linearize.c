@@ -5,7 +5,7 @@
  * phm_gravity_tangent, phm_pair_tangent, phm_applied_tangent); read by modes (modes.c) and
  * statics (statics.c).
  * Set-up time code: allocates. */
-#include "solve.h"
+#include "analyze.h"
 
 #include <amd.h>
 #include <ldl.h>

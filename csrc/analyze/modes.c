@@ -1,8 +1,8 @@
 /* modes.c -- linearized modes (docs/method.md section 7): stiffness and damping blocks on the
- * tangent space (csrc/solve/linearize.c); then, for small models, the lowest eigenpairs of the
+ * tangent space (csrc/analyze/linearize.c); then, for small models, the lowest eigenpairs of the
  * dense reduced problem on the null space of the constraint Jacobian (LAPACK dsygvx), and for
  * large ones subspace iteration on the sparse KKT system (O(N) per iteration). */
-#include "solve.h"
+#include "analyze.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -308,7 +308,7 @@ done:
 /* ---------------------------------------------------------------- the reduced linear model */
 /* The linearization at poses H shared by the modes and the linear port-Hamiltonian model: the
  * stiffness K = -df/ddelta and damping D = -df/dt as blocks on the carrier coupling graph
- * (closed form, csrc/solve/linearize.c), and, for the dense path, their reduction to
+ * (closed form, csrc/analyze/linearize.c), and, for the dense path, their reduction to
  * the null space of the constraint Jacobian G. G touches only the carriers of the pairs, so the
  * null-space basis is Z = diag(U0, I): U0 from the SVD of G restricted to the constrained
  * carriers, identity on the free ones. Reduced coordinates: first the n0 null-space directions

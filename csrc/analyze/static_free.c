@@ -28,7 +28,7 @@
  * Each motion found is then checked with the model's own forces (phm_applied_pairs, all
  * internal forces included) at the poses given and at two poses along it, where the constraints
  * must still hold: a motion the structure proposes but the forces do not confirm is dropped. */
-#include "solve.h"
+#include "analyze.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -1,7 +1,7 @@
 /* galpha.c -- the generalized-alpha integrator (the default), with step-size control from a
  * configuration error estimate, refined below the band's floor when it asks (phm_sim_options in
  * csrc/include/phmech_types.h; measurements in docs/integrators.md). */
-#include "solve.h"
+#include "integrate.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -315,29 +315,52 @@ static double galpha_error(const dae_t *d, galpha_t *g, double h, double hq, dou
 /* the local error estimate below which it is Newton's noise, in Newton tolerances (run_galpha) */
 #define GALPHA_NOISE 0.25
 
-phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vector yy,
-                      N_Vector yp, const double *tout, int nout, double E0[1], double nbp,
-                      phm_sim_output *out, phm_error *err) {
+/* ---------------------------------------------------------------- the integrator's row
+ * (integrators.c): its options' checks, its scratch */
+phm_status galpha_check(const phm_sim_options *opt, phm_error *err) {
+  const phm_galpha_options *o = &opt->galpha;
+  if (!(o->adaptive ? o->step >= 0 : o->step > 0) || !isfinite(o->step) ||
+      !(o->rho_inf >= 0 && o->rho_inf <= 1) || !(o->band >= 0) || !isfinite(o->band))
+    return PHM_FAIL(err, PHM_EINVAL, "generalized-alpha needs step > 0 (>= 0 when adaptive), "
+                         "0 <= rho_inf <= 1 and a finite band >= 0 (got %g, %g, %g)",
+                         o->step, o->rho_inf, o->band);
+  return PHM_OK;
+}
+
+/* Its scratch, zeroed: nc x 33 doubles for the co-rotation (corot_init) and the ledger's
+ * il - ie rates dP (of the full DAE when planar). */
+phm_status galpha_setup(dae_t *d, const phm_sim_options *opt, void **work, phm_error *err) {
+  (void)opt;
+  const dae_t *f = dae_full(d);
+  *work = calloc(33 * (size_t)f->m->nc + (size_t)(f->il - f->ie) + 1, sizeof(double));
+  return *work ? PHM_OK : PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+}
+
+void galpha_release(void *work) { free(work); }
+
+phm_status run_galpha(dae_t *d, const phm_sim_options *opt, void *work, SUNContext ctx,
+                      N_Vector yy, N_Vector yp, const double *tout, int nout, double E0[1],
+                      double nbp, phm_sim_output *out, phm_error *err) {
   int n = d->n;
   phm_status st = PHM_OK;
-  double rho = opt->rho_inf;
-  int adaptive = opt->adaptive;
+  double rho = opt->galpha.rho_inf;
+  int adaptive = opt->galpha.adaptive;
   /* the band's floor: no step below it for accuracy's sake (Newton failures still halve) */
-  double hfloor = adaptive && opt->band > 0 ? 1.0 / (PHM_BAND_STEPS * opt->band) : 0.0;
+  double hfloor = adaptive && opt->galpha.band > 0 ? 1.0 / (PHM_BAND_STEPS * opt->galpha.band) : 0.0;
   /* and the refinement's limit: a step above the tolerance is redone shorter down to this, and
    * accepted there above it (counted in nfloor, and warned of by simulate) */
   double hlow = hfloor / PHM_REFINE_MAX;
   double hmax = opt->max_step > 0 ? opt->max_step : INFINITY;
   /* and no step above 1/(PHM_BAND_MAX_STEPS band): the band is resolved, whatever the estimate */
-  if (adaptive && opt->band > 0) hmax = fmin(hmax, 1.0 / (PHM_BAND_MAX_STEPS * opt->band));
+  if (adaptive && opt->galpha.band > 0) hmax = fmin(hmax, 1.0 / (PHM_BAND_MAX_STEPS * opt->galpha.band));
   /* proposed step: fixed, or the controller's (first: the given step, else the floor, else 1e-4
    * of the span) */
   /* (the first two steps have no estimate: at most 1e-3 of the span, from which the controller
    * grows the step 1.5x per step; a rigid pendulum run over 1 s with dt_out = 2 s took them at
    * the band's floor, 0.2 s, and ended 9e-3 rad off within its estimate) */
-  double h0 = adaptive ? (opt->step > 0 ? opt->step : hfloor > 0 ? fmin(hfloor, 1e-3 * (tout[nout - 1] - tout[0]))
+  double h0 = adaptive ? (opt->galpha.step > 0 ? opt->galpha.step : hfloor > 0 ? fmin(hfloor, 1e-3 * (tout[nout - 1] - tout[0]))
                                                                   : 1e-4 * (tout[nout - 1] - tout[0]))
-                       : opt->step;
+                       : opt->galpha.step;
   if (adaptive) h0 = fmin(h0, hmax);
   /* Newton's tolerances (fixed step: rtol/atol are Newton's). Adaptive: never looser than
    * rtol 1e-7 (atol 1e-9 for the default atol 1e-6): a loose Newton test breaks the physics,
@@ -360,7 +383,7 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
   SUNMatrix Js = NULL, A = NULL;
   SUNLinearSolver LS = NULL;
   galpha_corot cr;
-  double *gwork = dae_full(d)->data.gwork, *dP = gwork + 33 * (size_t)d->m->nc; /* ledger rates */
+  double *gwork = work, *dP = gwork + 33 * (size_t)d->m->nc; /* ledger rates (galpha_setup) */
   corot_init(d, &cr, gwork);
   N_Vector *vs[] = {&g.y0, &g.yp0, &g.Y, &g.Yp, &g.ya, &g.ypa, &g.Ra, &g.R, &g.dY, &g.w, &g.yq, &g.ypq, &g.yqq, &g.wa,
                     &g.z1, &g.z2, &g.z2q, &g.z2qq, &g.z1n, &g.z2n, &g.fm};
@@ -394,7 +417,7 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
   memcpy(yp0, ypd, sizeof(double) * (size_t)n);
   /* the estimate's filter (galpha_error) starts in the steady state of the motion's initial
    * rate: a ramp y0 + y0' t comes out delayed by 1/wc per stage */
-  g.wc = adaptive && opt->band > 0 ? 6.283185307179586 * PHM_FILTER_BAND * opt->band : 0.0;
+  g.wc = adaptive && opt->galpha.band > 0 ? 6.283185307179586 * PHM_FILTER_BAND * opt->galpha.band : 0.0;
   int filtered = adaptive && g.wc > 0 && d->m->ne > 0;
   if (adaptive) {
     double *z1 = N_VGetArrayPointer(g.z1), *z2 = N_VGetArrayPointer(g.z2);
@@ -537,7 +560,7 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
          * supplied energy, and in the rate it read as divergence (rate > 0.9): a Table I
          * cantilever under a 3.9 kN tip force from t = 0 at dt_out 0.25 s stopped at t = 0
          * "even with step 2.44e-05 s" (tests/test_default_integrator.py). Left out of the
-         * convergence test too (as from IDA's, csrc/solve/ida.c), they lag by the iteration
+         * convergence test too (as from IDA's, csrc/integrate/ida.c), they lag by the iteration
          * that accepts: the manipulator's ledger went from 1.7e-4 to 1.2e-3. Their rows'
          * diagonal cj is that of the step hjac the matrix was made for: rescaled to this step's
          * (cj ~ 1/h) their correction is exact but for P's lag, and contracts as the others do.

@@ -1,34 +1,13 @@
-/* solve.h -- what reads the DAE and the model to produce results: the integrators (ida.c,
- * galpha.c, dispatched by simulate.c) and the linearization shared by modes.c and statics.c. */
-#ifndef PHM_SOLVE_H
-#define PHM_SOLVE_H
+/* analyze.h -- the analyses of a model at a configuration (csrc/model/; not the DAE): the
+ * linearization shared by modes and statics (linearize.c: generalized forces, their closed-form
+ * Jacobian blocks, the sparse KKT matrix and its inertia), the modes (modes*.c), statics
+ * (statics.c, static_free.c). */
+#ifndef PHM_ANALYZE_H
+#define PHM_ANALYZE_H
 
 #include <klu.h>
 
-#include "dae.h"
-
-/* ---------------------------------------------------------------- integrators */
-/* Integrate from the consistent state in yy, yp at tout[0] (output 0 already emitted; E0 its
- * energy) to tout[nout - 1], emitting outputs 1..nout-1. d: set up with its Jacobian pattern
- * (dae_jacobian_pattern: both linear solvers of both integrators evaluate the closed-form
- * Jacobian on it); nbp: the next breakpoint of the laws. */
-phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vector yy, N_Vector yp,
-                   const double *tout, int nout, double E0[1], double nbp, phm_sim_output *out,
-                   phm_error *err);
-phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vector yy,
-                      N_Vector yp, const double *tout, int nout, double E0[1], double nbp,
-                      phm_sim_output *out, phm_error *err);
-/* After a Jacobian into J, the matrix of the KLU solver LS: drop its entries zero in every call
- * so far (dae_jacobian_prune) and, when the kept pattern grew, have KLU analyse it again. 0 on
- * success, 1 if KLU could not. */
-int phm_klu_prune(dae_t *d, SUNMatrix J, SUNLinearSolver LS);
-
-/* ---------------------------------------------------------------- nvector_ops.c */
-/* Install phmech's compiled copies of the serial N_Vector operations IDA spends its time in on v
- * (N_VNew_Serial's; its clones inherit them), and of the zero on the sparse matrix A: the same
- * numbers, bit for bit, as SUNDIALS's (whose Debian build is unoptimized). */
-void phm_nvector_ops(N_Vector v);
-void phm_sparse_matrix_ops(SUNMatrix A);
+#include "model.h"
 
 /* ---------------------------------------------------------------- linearization (linearize.c) */
 typedef struct {
