@@ -94,4 +94,43 @@ int lin_ldl_negative(lin_ldl_t *F, lin_kkt_t *S, double *check);
  * Gp[12 r + 6 ..] (12 per constraint row). */
 void lin_constraint_blocks(const lin_t *L, const double *H, double *Gp);
 
+/* ---------------------------------------------------------------- the reduction (reduce.c) */
+/* The linearization at poses H shared by the modes and the linear port-Hamiltonian model: the
+ * stiffness K = -df/ddelta and damping D = -df/dt as blocks on the carrier coupling graph
+ * (closed form, csrc/analyze/linearize.c), and, for the dense path, their reduction to
+ * the null space of the constraint Jacobian G. G touches only the carriers of the pairs, so the
+ * null-space basis is Z = diag(U0, I): U0 from the SVD of G restricted to the constrained
+ * carriers, identity on the free ones. Reduced coordinates: first the n0 null-space directions
+ * of the constrained carriers (U0 = columns rank.. of U), then 6 per free carrier in carrier
+ * order (red[c]: first index; -1 for a constrained carrier, cmap[c]: its place among them). */
+typedef struct {
+  lin_t L;
+  double *H, *Db;           /* poses (nc x 16), damping blocks (36 per graph slot); K in L.Kb */
+  int *cmap, *red;          /* constrained carriers' places, free carriers' first reduced index */
+  int n6c, n0, nr;          /* constrained carriers' coordinates, their null space, reduced size */
+  double *U;                /* n6c x n6c, column-major; U0 = U + rank n6c (column a contiguous) */
+  const double *U0;
+  double *Kr, *Dr, *Mr;     /* reduced stiffness, damping, mass (nr x nr, symmetrized) */
+} lin_red_t;
+
+void lin_red_free(lin_red_t *R);
+/* K and D blocks at poses (NULL: H0) with constraint wrenches lambda (NULL: none), loads at time. */
+phm_status lin_red_blocks(lin_red_t *R, const phm_model *m, const double *poses,
+                          const double *lambda, double time, phm_error *err);
+/* The null space of G and the reduced Kr, Dr, Mr (symmetrized) from the blocks. */
+phm_status lin_red_reduce(lin_red_t *R, const phm_model *m, phm_error *err);
+/* x = Z y: a reduced vector y (nr) as carrier tangent coordinates x (6 nc). */
+void lin_red_expand(const lin_red_t *R, int nc, const double *y, double *x);
+/* y = Z^T f: carrier wrenches f (6 nc) as reduced generalized forces y (nr). */
+void lin_red_project(const lin_red_t *R, int nc, const double *f, double *y);
+
+/* ---------------------------------------------------------------- sparse modes (modes_sparse.c) */
+/* The nf lowest modes of R's blocks (lin_red_blocks) on the sparse path with a block of b
+ * vectors, verified by the count of eigenvalues below its shift; *ok = 0: not verified and not
+ * sliced (slice = 0), for the dense path to redo. PHM_ESINGULAR (no message): the KKT matrix at
+ * the shift is singular. */
+phm_status modes_sparse_path(lin_red_t *R, const phm_model *m, int nf, int b, int slice,
+                             double *omega, double *zeta, double *shapes, int *ok,
+                             phm_error *err);
+
 #endif
