@@ -10,17 +10,22 @@
 #include "model.h"
 
 /* ---------------------------------------------------------------- linearization (linearize.c) */
+/* The linearization's data: the model, the point (time, load scale, multipliers) and the carrier
+ * graph with its 6x6 blocks. Not the DAE's phm_data (csrc/dae/dae.h): an analysis needs none of
+ * its buffers and the graph blocks are not among them, and dae_init costs 5-6 % of a modes call
+ * (measured: docs/architecture.md, "One workspace per model?"). */
 typedef struct {
   const phm_model *m;
   double time, tref, scale;
   const double *lam; /* constraint wrenches added to the forces (may be NULL) */
-  double *wr, *gl, *G, *Hp;
   /* carrier coupling graph (CSR) and the force Jacobian blocks (lin_graph; modes and statics) */
   int *ptr, *nbr;
   double *Kb;
   double *Mb; /* the mass in the same slots: carriers' inertias, consistent elements' couplings */
 } lin_t;
 
+/* L for model m (its graph and blocks: lin_graph). Allocates nothing (the four dense buffers it
+ * allocated, ncons x 6 nc doubles among them, were never read); PHM_OK. */
 phm_status lin_alloc(lin_t *L, const phm_model *m, phm_error *err);
 /* The slot of block (row carrier r, column carrier c) in L's coupling graph (lin_graph), or -1
  * when they are not neighbours. */
