@@ -154,7 +154,7 @@ const char *phm_integrator_name(int integrator); /* "ida", "galpha"; NULL if unk
  * atol and the rest by name); PHM_EINVAL for an unknown integrator. */
 phm_status phm_sim_defaults(int integrator, phm_sim_options *opt, phm_error *err);
 
-/* ---------------------------------------------------------------- modes (csrc/analyze/modes.c) */
+/* ---------------------------------------------------------------- modes (csrc/analyze/modes.c, modes_sparse.c) */
 /* Linearized modes at poses (NULL: H0) with constraint wrenches lambda (NULL: zero), loads at
  * `time`: the nmodes lowest omega [rad/s], damping ratios zeta, shapes [nmodes][nc][6] (tangent
  * coordinates, mass-normalized); *nfound modes returned (<= nmodes, limited by the free DOF).
@@ -181,6 +181,7 @@ phm_status phm_modes(const phm_model *model, const double *poses, const double *
 phm_status phm_modes_count(const phm_model *model, const double *poses, const double *lambda,
                            double time, double shift, int *below, double *check, phm_error *err);
 
+/* ---------------------------------------------------------------- linear port-Hamiltonian model (csrc/analyze/linear_model.c) */
 /* The linear port-Hamiltonian model at poses (NULL: H0) with constraint wrenches lambda (NULL:
  * zero), loads at `time`, on the null space Z of the constraint Jacobian (the dense reduction of
  * phm_modes): *nr reduced coordinates, stiffness K, damping D and mass M (nr x nr, symmetrized,
@@ -212,6 +213,7 @@ phm_status phm_static_monitored(const phm_model *model, const double *poses, dou
                                 double *poses_out, double *lambda_out, int *iters,
                                 double *reached, phm_error *err);
 
+/* ---------------------------------------------------------------- no equilibrium (csrc/analyze/static_free.c) */
 /* Motions nothing resists on which the loads (gravity, applied wrenches, effort actuators, at
  * load factor 1 and `time`) do work at a rate independent of the configuration: each proves
  * that the mechanism has no static equilibrium (docs/method.md section 7.3, "No equilibrium").

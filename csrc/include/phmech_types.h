@@ -391,7 +391,7 @@ enum { PHM_MODES_AUTO = 0, PHM_MODES_DENSE = 1, PHM_MODES_SPARSE = 2 };
 /* AUTO: a sparse result that its count does not verify (eigenvalues below its shift that its
  * iteration did not find, or a count that cannot be certified) is redone densely up to this many
  * coordinates on the constraint manifold (dense: 0.15 s at 600, 0.4 s at 900 coordinates;
- * ~O(n^3)); beyond, the spectrum is sliced (csrc/analyze/modes.c). */
+ * ~O(n^3)); beyond, the spectrum is sliced (csrc/analyze/modes_sparse.c). */
 #define PHM_DENSE_MODES_MAX 1500
 /* The sparse path's count of eigenvalues below its shift (the KKT matrix's inertia from an
  * LDL' factorization without pivoting, csrc/analyze/linearize.c) is trusted when its certificate
