@@ -8,7 +8,8 @@
 
 /* ---------------------------------------------------------------- the table of integrators */
 /* One row per integrator (integrators.c, indexed by its code PHM_INTEGRATOR_*). Adding one: its
- * code (phmech_types.h, with its option sub-struct in phm_sim_options), its row here, its file. */
+ * code and option sub-struct (phmech_types.h), its row in integrators.c, its four functions'
+ * prototypes below, its file (and meson.build); docs/architecture.md, "What a change touches". */
 typedef struct {
   const char *name;         /* its name in phmech._core.codes()["integrators"]                 */
   phm_sim_options defaults; /* its sub-struct's defaults (the other fields 0)                  */
