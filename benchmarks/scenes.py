@@ -198,7 +198,7 @@ def run_scene(sc: Scene, t_end: float, reference: bool = True, cache: Optional[s
                steps=int(res.stats["steps"]), floor_steps=int(res.stats["floor_steps"]),
                ledger_relative=res.stats["ledger_relative"],
                numerical_dissipation_relative=res.stats["numerical_dissipation_relative"],
-               error_estimate=res.stats["error_estimate"], scale=sc.scale, note=sc.note)
+               error_estimate=res.stats["error_estimate"], esum=res.stats.get("error_sum"), scale=sc.scale, note=sc.note)
     if reference:
         if cache and os.path.exists(cache):
             z = np.load(cache)

@@ -270,7 +270,11 @@ def test_newton_iterations_per_step_on_the_released_cantilever():
     """Issue 12 (docs/integrators.md, "Newton iterations"): the Table I cantilever (N = 30) bent by
     a static tip force of 3 EI / 4 and released, 1 s at dt_out 5 ms (2000 steps at the band's
     floor). Measured: 2.02 iterations per step, 12 Jacobians, ledger 4.1e-5 (before the refresh
-    budget: 2.95, 2 Jacobians, 3.0e-5; at N = 100 2.14 against 2.94). stats reports the count."""
+    budget: 2.95, 2 Jacobians, 3.0e-5; at N = 100 2.14 against 2.94). stats reports the count.
+    Since Newton's tolerance follows the summed error estimates (issue 27; before, they summed
+    to 1.17 here, beyond the tolerance): 17 025 steps, 2.03 iterations per step, 269 Jacobians
+    (the tighter tolerance spends the refresh budget sooner), no Newton failure, error_sum
+    0.69, Newton's tolerance 1e-9 at the end, 1.3x the CPU."""
     from phmech.studies import TABLE1, se3_cantilever
     m, b = se3_cantilever(30, ph.table1_properties(1.0))
     st = m.static(loads=[(b.end, (0, 0, 0, 0, 0, 0.25 * 3 * TABLE1["EI"]), "world")])
@@ -278,9 +282,10 @@ def test_newton_iterations_per_step_on_the_released_cantilever():
     s = res.stats
     assert s["newton_iters_per_step"] == s["nonlinear_iters"] / s["steps"]
     assert s["newton_iters_per_step"] <= 2.1
-    assert s["jacobian_evals"] <= 40
+    assert s["jacobian_evals"] <= 0.02 * s["steps"]
     assert s["nonlinear_conv_fails"] == 0
     assert s["ledger_relative"] <= 1e-4
+    assert s["error_sum"] <= 1.0
 
 
 def test_a_large_load_from_t0_with_a_coarse_output_interval_runs():
@@ -289,8 +294,9 @@ def test_a_large_load_from_t0_with_a_coarse_output_interval_runs():
     in Newton's rate (csrc/integrate/galpha.c) and failed it at every step size. Before issue 27 the
     output interval set the band (2 Hz) and so the steps (25 ms): the tip ended 2.6e-3 m off the
     dt_out = 0.01 s run, ledger 4.4e-3, with an AccuracyWarning. Since the default band is at
-    least 50 / span, dt_out no longer sets the accuracy: measured 7958 steps, the tip 2.0e-7 m
-    from the finer run, ledger 1.5e-7. The load strains the Table I section's fibres by 10.7 %:
+    least 50 / span, dt_out no longer sets the accuracy: measured 8929 steps, the tip 2.7e-5 m
+    (dt_out 0.01 s: 2.8e-5 m) from a run resolving a 2 kHz band at rtol 1e-7 (which agrees with
+    4 kHz at 1e-8 to 1e-8 m), within rtol |tip| + atol = 1e-4 m. The load strains the Table I section's fibres by 10.7 %:
     a PlausibilityWarning says so (the beam's made-up properties, 48.6 m/s speed of sound)."""
     from phmech.studies import TABLE1, se3_cantilever
     tips, runs = {}, {}
@@ -303,6 +309,12 @@ def test_a_large_load_from_t0_with_a_coarse_output_interval_runs():
         assert not [x for x in w if issubclass(x.category, ph.AccuracyWarning)]
         assert [x for x in w if issubclass(x.category, ph.PlausibilityWarning)]
         tips[dt] = runs[dt].tip(b)[-1]
-    assert np.linalg.norm(tips[0.25] - tips[0.01]) <= 1e-6
+    m, b = se3_cantilever(10, ph.table1_properties(1.0))
+    m.add_wrench("tip", b.end, (0, 0, 0, 0, 0, -0.25 * 3 * TABLE1["EI"]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ref = m.simulate(1.0, 0.25, band=2000.0, rtol=1e-7).tip(b)[-1]
+    for dt in tips:
+        assert np.linalg.norm(tips[dt] - ref) <= 1e-4 * np.linalg.norm(ref) + 1e-6
     assert runs[0.25].stats["ledger_relative"] <= 1e-5
     assert runs[0.01].stats["ledger_relative"] <= 1e-5

@@ -334,6 +334,10 @@ enum { PHM_ERRTEST_ALL = 0, PHM_ERRTEST_CONFIGURATION = 1 };
 /* Variable step: Newton's relative tolerance on the differential states is min(rtol, this)
  * (the energy ledger needs it; measurements in csrc/integrate/galpha.c, run_galpha). */
 #define PHM_NEWTON_RTOL 1e-7
+/* ... tightened down to this while the run's summed error estimates run ahead of their share
+ * of the tolerance (csrc/integrate/galpha.c, newton_min; the round-off of a stiff start is
+ * ~1e-12 relative) */
+#define PHM_NEWTON_RTOL_MIN 1e-11
 /* The integrators' codes: the position of each in the table of integrators
  * (csrc/integrate/integrators.c; phm_integrator_name, phm_sim_defaults). */
 enum { PHM_INTEGRATOR_IDA = 0, PHM_INTEGRATOR_GALPHA = 1 };
@@ -468,6 +472,8 @@ typedef struct {
                     * (WRMS, weights rtol |y| + atol): the accumulated error without error
                     * propagation, <= 1 when the contract holds (Newton's noise-accepted
                     * steps included: a systematic Newton error adds up step after step) */
+  double newton_rtol; /* adaptive GALPHA: Newton's relative tolerance at the end (PHM_NEWTON_RTOL,
+                    * tightened while the summed estimates run ahead: galpha.c)          */
   double last_step; int last_order;             /* last step [s] and order (BDF order; GALPHA: 2) */
   double max_mu;   /* the largest |mu| at the outputs (the position constraints' multipliers,
                     * docs/method.md section 6.2: 0 for the exact solution, rad/s and m/s) */

@@ -232,6 +232,9 @@ static void corot_apply(const dae_t *d, const galpha_corot *cr, int tr, double *
     }
 }
 
+/* the twists' absolute tolerance in the error estimate, in atol times the band's angular
+ * frequency (galpha_error) */
+#define GALPHA_TWIST_ATOL 0.1
 /* Local error estimate of a converged step h (previous steps hq, hqq; 0: not there), WRMS-normed
  * with the error weights of the configuration states (poses, joint coordinates; twists, ledger
  * integrals and multipliers are left out): the trapezoidal local error h^3 y'''/12, with y''' = 6
@@ -265,8 +268,20 @@ static double galpha_error(const dae_t *d, galpha_t *g, double h, double hq, dou
   double ih = 1.0 / h, ihq = est ? 1.0 / hq : 0, ihqq = est ? 1.0 / hqq : 0;
   double ia = 1.0 / (h + hq), ib = est ? 1.0 / (hq + hqq) : 0;
   double c3 = 0.5 * h * h * h / (h + hq + hqq);
+  /* The twists count where the estimate is not filtered (a rigid mechanism): an oscillation's
+   * phase error accrues in the twists near its turning points, where the positions' third
+   * difference vanishes; without them a compound pendulum (30 deg, 5 s, rtol 1e-4) ended 2.8x
+   * rtol off with its estimates summed to 0.64 (now 0.65x rtol, 1.36x the steps; 2 deg: 3.7x
+   * -> 0.94x). Filtered (flexible links): not, the twists of the mesh's vibrations above the
+   * band pass the filter's two stages enough to take 20-200x the steps (benchmarks/scenes.py).
+   * Their absolute tolerance is atol times GALPHA_TWIST_ATOL wc: the twist error that moves the
+   * positions by atol over 1/(0.1 wc), 1.6 periods of the band's highest frequency. With atol
+   * itself (1/s) the chain of 100 links of tests/accuracy/ (rtol 1e-4, 0.5 s) took 2.5x the
+   * steps to end 9e-8 m off instead of 4e-7 (its tolerance is 1e-3 m); with 1 wc the pendulum
+   * at 2 deg ended 2.6x rtol off (0.1 wc: 1.2x, 0.93x of rtol amp + atol). */
+  double atol_twist = g->wc > 0 ? GALPHA_TWIST_ATOL * g->wc * atol : atol;
   for (int i = 0; i < d->ie; i++) {
-    if (wa[i] < 0) continue; /* a twist */
+    if (wa[i] < 0 && fm[i] != 0.0) continue; /* a twist, filtered */
     double a = Y[i], b = Y[i];
     if (fm[i] != 0.0) {
       double s1 = (Y[i] - y0[i]) * ix, s2;
@@ -280,7 +295,7 @@ static double galpha_error(const dae_t *d, galpha_t *g, double h, double hq, dou
     double d10 = (b - z2[i]) * ih, d0q = (z2[i] - zq[i]) * ihq, dqq = (zq[i] - zqq[i]) * ihqq;
     double dd2a = (d10 - d0q) * ia, dd2b = (d0q - dqq) * ib;
     double e = c3 * (dd2a - dd2b);
-    double wgt = rtol * fabs(Y[i]) + atol;
+    double wgt = rtol * fabs(Y[i]) + (wa[i] < 0 ? atol_twist : atol);
     sum += (e / wgt) * (e / wgt);
     mx = fmax(mx, fabs(e));
     cnt++;
@@ -314,6 +329,10 @@ static double galpha_error(const dae_t *d, galpha_t *g, double h, double hq, dou
 #define GALPHA_EXTRA_BUDGET 4
 /* the local error estimate below which it is Newton's noise, in Newton tolerances (run_galpha) */
 #define GALPHA_NOISE 0.25
+/* the summed estimates below which Newton's tolerance is not tightened, and the steps the run
+ * is on course to take above which it is not either (see newton_min) */
+#define GALPHA_PACE_START 0.1
+#define GALPHA_PACE_MAX_STEPS 3e5
 
 /* ---------------------------------------------------------------- the integrator's row
  * (integrators.c): its options' checks, its scratch */
@@ -361,6 +380,13 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, void *work, SUNConte
   double h0 = adaptive ? (opt->galpha.step > 0 ? opt->galpha.step : hfloor > 0 ? fmin(hfloor, 1e-3 * (tout[nout - 1] - tout[0]))
                                                                   : 1e-4 * (tout[nout - 1] - tout[0]))
                        : opt->galpha.step;
+  /* ... and shorter with a tighter rtol: the first two steps' local error, O(h^3), is not
+   * estimated, and the run's share of the tolerance per step is O(rtol h): at 1e-3 of the span
+   * the compound pendulum at rtol 1e-6 (30 deg, 5 s) ended 3.3x rtol off, 288x at rtol 1e-8, all
+   * of it from its first step; scaled by 10 sqrt(rtol) (0.1 at the default rtol 1e-4), 0.63x and
+   * 0.75x, and the README's released cantilever 1.6x -> 0.66x rtol at Newton's tolerance 1e-9.
+   * The steps grow 1.5x per step from there: 17 steps from 1e-3 to 1. */
+  if (adaptive && opt->galpha.step <= 0) h0 *= fmin(1.0, 10.0 * sqrt(opt->rtol));
   if (adaptive) h0 = fmin(h0, hmax);
   /* Newton's tolerances (fixed step: rtol/atol are Newton's). Adaptive: never looser than
    * rtol 1e-7 (atol 1e-9 for the default atol 1e-6): a loose Newton test breaks the physics,
@@ -374,6 +400,26 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, void *work, SUNConte
    * the error tolerance either. The multipliers keep their tolerances (dae_state_atol): their
    * corrections carry the round-off of G t / h. */
   double newton_tol = adaptive ? fmin(1.0, PHM_NEWTON_RTOL / opt->rtol) : 1.0;
+  /* and tightened 10x, down to a relative PHM_NEWTON_RTOL_MIN, whenever a step accepted at the
+   * level of Newton's noise (below) finds the run's summed estimates ahead of their share of
+   * the tolerance, max(0.1, (t - t0) / span): the noise of a converged iterate is systematic
+   * (the iteration matrix is kept for many steps) and adds up step after step. Measured on a
+   * compound pendulum (30 deg, 5 s, rtol 1e-6): 47x rtol off at the fixed 1e-7, error_sum 17.3,
+   * 10 524 of 11 857 steps noise-accepted; paced: 0.63x, error_sum 0.60. Where the sum keeps
+   * its pace nothing changes (the rigid scenes of benchmarks/scenes.py); the flexible ones whose
+   * sum ran ahead (cantilever + tip mass 1.15, flexible arm 1.02 over their short horizons) took
+   * 1.2-1.4x the CPU and ended 0.40x and 0.28x rtol off instead of 0.56x and 0.36x.
+   * Not in a run on course to take more than GALPHA_PACE_MAX_STEPS steps: there an error within
+   * rtol over the whole span costs span^1.5 (a rod swinging for an hour, rtol 1e-4: 360 s took
+   * 3.8e6 steps and 9.2 s instead of 1.0e6 and 0.94 s, and an hour would take ~300 s, its
+   * per-unit-step estimates at round-off), and the summed estimates say so instead (the
+   * AccuracyWarning of error_sum > 1: python/phmech/_run.py). */
+  double newton_min = adaptive ? fmin(1.0, PHM_NEWTON_RTOL_MIN / opt->rtol) : 1.0;
+  /* (a Newton failure with a fresh iteration matrix after a tightening loosens it 10x and makes
+   * that the floor: at 1e-11 the flexible arm driven through a table of
+   * tests/test_default_integrator.py failed Newton in 2047 of 38 414 steps; on any failure, a
+   * stale matrix's too, examples/demo.py went back to 1e-7 and its summed estimates to 1.32) */
+  const double newton_start = newton_tol;
   double span = tout[nout - 1] - tout[0];
   galpha_t g;
   memset(&g, 0, sizeof g);
@@ -490,6 +536,7 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, void *work, SUNConte
     int halvings = 0;
     double etry = -1, htry = 0; /* the last attempt at this t that failed the error test */
     double errn = 0, emax = 0, elocal = 0;
+    int noise = 0; /* the accepted step's estimate is at the level of Newton's noise */
     for (;;) { /* one step of size h (halved on Newton failure, shortened on error-test failure) */
       /* predictor: y' (and the multipliers) extrapolated linearly from the last two steps */
       /* (no history on the first step and after a restart: yq, ypq are not read then) */
@@ -519,10 +566,16 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, void *work, SUNConte
        * pendulum and the flexible arm of benchmarks/scenes.py 16-18x). Twists: a velocity error
        * dv moves the poses by h dv in a step, so the tolerance on the twists that matches atol
        * on the poses is atol / h */
-      double ah = opt->atol / h;
-      for (int i = 0; i < d->il; i++) w[i] = newton_tol * (wa[i] < 0 ? ah : wa[i]);
+      double ah = opt->atol / h, *fmv = N_VGetArrayPointer(g.fm);
+      /* (a twist in the error estimate, unfiltered, keeps atol itself when h < 1: its Newton
+       * noise there is read by the estimate against rtol |v| + atol) */
+      double ahe = adaptive ? fmin(ah, opt->atol) : ah;
+      for (int i = 0; i < d->il; i++) w[i] = newton_tol * (wa[i] >= 0 ? wa[i] : fmv[i] != 0.0 ? ah : ahe);
       for (int i = d->il; i < n; i++) w[i] = wa[i];
-      for (int it = 0; it < 4; it++) {
+      /* four iterations, one more per 10x that Newton's tolerance was tightened (newton_min):
+       * the predictor is as far off in tolerances as they are tight */
+      int itmax = 4 + (int)lround(log10(newton_start / newton_tol));
+      for (int it = 0; it < itmax; it++) {
         galpha_stage(d, &g, h);
         galpha_residual(d, &g, t, h);
         out->nres++;
@@ -643,7 +696,7 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, void *work, SUNConte
          * mass 8.3x); the price, at rtol 1e-6 the arm + strip's tip 3.5e-7 m off over 0.5 s
          * against 8.7e-8 without it (docs/integrators.md, "Not reached: the 30x"). */
         elocal = fmax(errn, 0.0); /* this step's own share, summed in err_sum */
-        int noise = errn > 0 && errn <= GALPHA_NOISE * newton_tol;
+        noise = errn > 0 && errn <= GALPHA_NOISE * newton_tol;
         if (errn > 0) errn *= span / h;
         if (noise && errn > 1.0) {
           out->nnoise++;
@@ -674,6 +727,9 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, void *work, SUNConte
       }
       if (ok) break;
       out->nncf++;
+      if (fresh && newton_tol < newton_start) { /* tightened beyond what Newton reaches here: back, for good */
+        newton_tol = newton_min = fmin(newton_start, 10.0 * newton_tol);
+      }
       if (restart && !g.euler && (fresh || hjac == 0)) { /* see `restart` */
         g.euler = 1;
         hjac = 0;
@@ -709,6 +765,11 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, void *work, SUNConte
       if (h < out->min_step || out->min_step == 0) out->min_step = h;
       out->err_est += emax;
       out->err_sum += elocal;
+      if (noise && newton_tol > newton_min &&
+          out->err_sum > fmax(GALPHA_PACE_START, (t1 - tout[0]) / span) && /* see newton_min */
+          span <= GALPHA_PACE_MAX_STEPS * h)
+        newton_tol = fmax(newton_min, 0.1 * newton_tol);
+      out->newton_rtol = newton_tol * opt->rtol;
       double base = fmax(h, h0), eb = errn * pow(base / h, 2.0); /* the estimate scaled to h0 */
       double fac = errn < 0 ? 1.0 : eb > 0 ? 0.8 * pow(eb, -0.5) : 1.5;
       double hn = fac >= 1.25 ? base * fmin(1.5, fac) : base;

@@ -1044,8 +1044,11 @@ class Mechanism:
         did not lower the estimate, in a rigid mechanism, or the estimate was within Newton's
         tolerance: docs/user_guide.md, "Accuracy contract"), ``error_sum`` (the accepted steps'
         local estimates summed, in tolerances: above 1 the errors of the noise-accepted steps
-        may have added up beyond rtol, and an AccuracyWarning says so), ``min_step`` [s] (the
-        shortest step); and ``energy_scale`` [J], ``ledger_relative`` (the largest absolute
+        may have added up beyond rtol, and an AccuracyWarning says so), ``newton_rtol``
+        (Newton's relative tolerance at the end: 1e-7, or min(rtol, 1e-7), tightened 10x at a
+        time down to 1e-11 while error_sum runs ahead of its share of the tolerance, in a run on
+        course for at most 3e5 steps),
+        ``min_step`` [s] (the shortest step); and ``energy_scale`` [J], ``ledger_relative`` (the largest absolute
         energy ledger residual / energy_scale), ``numerical_dissipation`` [J] (energy the
         integrator removed, from the ledger) and ``max_mu`` (the largest multiplier of the
         position constraints at the outputs, a velocity correction [m/s, rad/s] that is zero for
@@ -1309,7 +1312,7 @@ class Mechanism:
             stats["newton_iters_per_step"] = stats["nonlinear_iters"] / max(1, stats["steps"])
         if not stats["adaptive"]:
             for key in ("error_estimate", "error_sum", "floor_steps", "error_ratio", "error_ratio_time",
-                        "noise_steps", "min_step"):
+                        "noise_steps", "min_step", "newton_rtol"):
                 stats.pop(key, None)
         return SimulationResult(t=tout[:k], poses=r["poses"][:k], twists=r["twists"][:k],
                                 constraint_wrenches=lam, energy=energy, stats=stats,
