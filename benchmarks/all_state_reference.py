@@ -25,7 +25,7 @@ import scenes  # noqa: E402
 ALL_STATE = dict(integrator="ida", rtol=1e-8, atol=1e-10, linear_solver="klu")
 # the manipulator's reference is at atol 1e-8 (of a 0.75 m arm): at 1e-10 and 1e-9 IDA's first step
 # failed its error test (h -> 3.8e-14 s at t = 0: its set-point step's initial accelerations
-# decay within ~15 ps). Since csrc/solve/ida.c retries that step, atol 1e-10 runs too (6 s: 5067
+# decay within ~15 ps). Since csrc/integrate/ida.c retries that step, atol 1e-10 runs too (6 s: 5067
 # steps, the hand 3.1e-8 m from the atol 1e-8 run); the published reference and its cache stay
 # at 1e-8 (docs/integrators.md, "IDA's first step")
 OPTIONS = {"manipulator": dict(ALL_STATE, atol=1e-8)}

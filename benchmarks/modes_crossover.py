@@ -1,5 +1,5 @@
 """Where the sparse modes path (subspace iteration on the KKT system with its count of the
-eigenvalues below the shift, csrc/solve/modes.c) becomes faster than the dense one: core-only CPU
+eigenvalues below the shift, csrc/analyze/modes_sparse.c) becomes faster than the dense one: core-only CPU
 of phm_modes by method, dense (1) and sparse (2) called alternately, medians of
 time.thread_time(), on the Table I cantilever (benchmarks/run.py's phmech_cantilever(N), 6 (N + 1)
 carrier coordinates) and a hanging chain of rigid bars at its static equilibrium (6 per bar),

@@ -1,5 +1,5 @@
 """CPU of modes(5) against the number of elements, dense LAPACK on the reduced problem against
-subspace iteration on the sparse KKT system (csrc/solve/modes.c), on the Table I cantilever
+subspace iteration on the sparse KKT system (csrc/analyze/modes_sparse.c), on the Table I cantilever
 (table1_properties(), clamped), with the error of each against the exact Timoshenko frequencies
 and the dense-sparse difference (the crossover, which sets PHM_SPARSE_MODES_MIN, is measured by
 benchmarks/modes_crossover.py, from smaller models). Writes

@@ -140,7 +140,7 @@ def test_the_manipulator_with_consistent_links_starts_with_the_defaults():
     (initial accelerations up to 4.5e8 rad/s^2 with consistent masses). Its first step failed
     at every size down to 1e-7 s ("Newton failed at t = 0"): SUNDIALS's KLU refactored the
     backward-Euler retry's matrix on the pivot order of the first matrix and hit a zero pivot;
-    the generalized-alpha now refactors afresh once (csrc/solve/galpha.c). Measured: 0.05 s in
+    the generalized-alpha now refactors afresh once (csrc/integrate/galpha.c). Measured: 0.05 s in
     173 steps."""
     import manipulator as M
     orig = ph.Mechanism.add_flexible_link

@@ -291,7 +291,7 @@ def test_newton_iterations_per_step_on_the_released_cantilever():
 def test_a_large_load_from_t0_with_a_coarse_output_interval_runs():
     """The Table I cantilever (N = 10) under a 3.9 kN tip force from t = 0 with dt_out = 0.25 s:
     the energy ledger's integrals, whose Newton rows lag one iteration, once read as divergence
-    in Newton's rate (csrc/solve/galpha.c) and failed it at every step size. Before issue 27 the
+    in Newton's rate (csrc/integrate/galpha.c) and failed it at every step size. Before issue 27 the
     output interval set the band (2 Hz) and so the steps (25 ms): the tip ended 2.6e-3 m off the
     dt_out = 0.01 s run, ledger 4.4e-3, with an AccuracyWarning. Since the default band is at
     least 50 / span, dt_out no longer sets the accuracy: measured 8929 steps, the tip 2.7e-5 m

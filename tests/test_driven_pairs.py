@@ -179,7 +179,7 @@ def test_driven_start_is_consistent_to_the_acceleration_level(opts):
 
 @pytest.mark.parametrize("linear_solver", ["klu", "dense"])
 def test_ida_ledger_is_exact_with_either_linear_solver(linear_solver):
-    """The ledger's Newton rows are completed in IDA's linear solve (csrc/solve/ida.c,
+    """The ledger's Newton rows are completed in IDA's linear solve (csrc/integrate/ida.c,
     ledger_solve): on the spin-up at rtol 1e-8 the supplied work is the kinetic energy gained,
     J w^2 / 2, within 1e-6 of it, and the ledger closes within 1e-6 of the energy scale, with
     KLU as with the dense LU (measured 1.7e-7 and 8.7e-8 for both; KLU without the completion:

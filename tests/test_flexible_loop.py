@@ -80,7 +80,7 @@ def test_energy_conserved_to_solver_tolerance(runs):
     d6, d8 = runs[1e-6][3], runs[1e-8][3]
     # measured before d326587: 7.8e-9 (rtol 1e-6) and 4.6e-10 (rtol 1e-8) of the max kinetic energy;
     # 2.8e-8 and 6.8e-10 before, 6.6e-8 and 2.5e-9 since IDA's body-frame kinematic rows
-    # (csrc/solve/ida.c: Newton's leftovers now sit in the constrained carriers' positions)
+    # (csrc/integrate/ida.c: Newton's leftovers now sit in the constrained carriers' positions)
     assert d8 < d6
     assert d8 <= 1e-8, d8
 
@@ -92,7 +92,7 @@ def test_no_energy_supplied(runs):
     (from the residuals at the outputs) and vanish with the tolerance. Measured: 2.7e-10 J
     (rtol 1e-6) and 2.9e-12 J (rtol 1e-8) against 1.17 J of kinetic energy; 1.7e-14 J at rtol
     1e-10 (4e-14 J at 1e-8 with the finite-difference Jacobian, whose Newton iterated further);
-    with IDA's body-frame kinematic rows (csrc/solve/ida.c) 1.3e-10 and 5.8e-13 J."""
+    with IDA's body-frame kinematic rows (csrc/integrate/ida.c) 1.3e-10 and 5.8e-13 J."""
     supplied = {}
     for rtol, (m, res, _, _, resid) in runs.items():
         lam = np.abs(res.constraint_wrenches).reshape(len(res.t), -1).sum(axis=1).max()
@@ -105,7 +105,7 @@ def test_no_energy_supplied(runs):
 def test_constraint_residuals_small(runs):
     cr = runs[1e-8][4]
     # measured max |g| 3.3e-14, max |G t| 8.2e-12 at rtol 1e-8 (7.0e-12 with the closed-form
-    # Jacobian); 5.4e-12 and 2.2e-11 with IDA's body-frame kinematic rows (csrc/solve/ida.c: mu no
+    # Jacobian); 5.4e-12 and 2.2e-11 with IDA's body-frame kinematic rows (csrc/integrate/ida.c: mu no
     # longer takes up Newton's leftovers, the positions do, within 0.05 of their tolerance 1e-10);
     # with test_no_energy_supplied this caps the supplied energy's bound too
     assert cr["position"].max() <= 1e-10, cr["position"].max()
@@ -116,7 +116,7 @@ def test_consistent_mass_conserves_energy_under_ida(consistent_runs):
     """With consistent element masses IDA with KLU failed here (IDA_CONV_FAIL at t = 28.9 ms at
     rtol 1e-6, 66.5 ms at 1e-8, and so for every N from 3 to 8): mu grew 1.2-2x per step with
     alternating sign to 1e93 on a Newton matrix whose columns of mu had turned with the crank
-    (csrc/solve/ida.c, docs/integrators.md "IDA and mu"). Now it runs and conserves energy as the
+    (csrc/integrate/ida.c, docs/integrators.md "IDA and mu"). Now it runs and conserves energy as the
     lumped run does: measured drifts 3.0e-8 (rtol 1e-6) and 1.2e-9 (1e-8), and the constraints
     hold as tightly (max |g| 5.4e-12, max |G t| 7.4e-11 at rtol 1e-8)."""
     d6, d8 = consistent_runs[1e-6][3], consistent_runs[1e-8][3]
@@ -159,7 +159,7 @@ def build_out_of_plane(mass, z0=0.08):
 
 @pytest.mark.parametrize("mass, rtol", [("lumped", 1e-6), ("consistent", 1e-8)])
 def test_out_of_plane_slider_crank_under_ida(mass, rtol):
-    """Before IDA's body-frame kinematic rows (csrc/solve/ida.c) mu reached 2.7e8 m/s at the
+    """Before IDA's body-frame kinematic rows (csrc/integrate/ida.c) mu reached 2.7e8 m/s at the
     outputs of the lumped run and the consistent one failed (IDA_CONV_FAIL at t = 24.7 ms; of
     the other two pairs, mu 6 and 2.9e27 m/s). Measured since: energy drifts 3.6e-8 (lumped,
     rtol 1e-6) and 8.1e-10 (consistent, 1e-8) of the max kinetic energy, max |mu| 1.4e-4 and

@@ -1,5 +1,5 @@
 """IDA's two linear solvers take the same Jacobian: the closed form of csrc/dae/jacobian.c, into
-KLU's sparse matrix or copied into the dense LU's (csrc/solve/ida.c, ida_jac_dense). The dense LU
+KLU's sparse matrix or copied into the dense LU's (csrc/integrate/ida.c, ida_jac_dense). The dense LU
 used to take IDA's own difference quotients, one residual per state for each Jacobian: over the
 runs below 3002 (four-bar), 1978 (the same, planar), 16744 (manipulator) and 52615 (slider-crank,
 planar) residuals beyond Newton's, where KLU spends none (measured before the change). Both

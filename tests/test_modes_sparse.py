@@ -1,4 +1,4 @@
-"""Modes by subspace iteration on the sparse KKT system (csrc/solve/modes.c) against the dense
+"""Modes by subspace iteration on the sparse KKT system (csrc/analyze/modes_sparse.c) against the dense
 reduced problem and against independent references: the exact Timoshenko frequencies with the
 se3 element's second-order convergence, six rigid-body modes of a free beam, repeated bending
 frequencies of a square section, a closed loop with a flexible link, damping ratios. The method
@@ -277,7 +277,7 @@ def _count_scenes(rng):
 
 
 def test_the_count_below_a_shift_is_the_dense_count():
-    # phm_modes_count (the KKT matrix's inertia, csrc/solve/linearize.c) against the dense
+    # phm_modes_count (the KKT matrix's inertia, csrc/analyze/linearize.c) against the dense
     # reduced problem's eigenvalues, at random shifts through the lowest part of the spectrum
     # and at the sparse path's own shift (-1e-9 of the mean), kept 1e-6 of the spectrum's scale
     # away from every eigenvalue (closer, the dense eigenvalues' own round-off decides): a

@@ -1,5 +1,5 @@
 """Mechanism.static() of a mechanism without a static equilibrium: the loads do work on a motion
-that nothing resists (csrc/solve/static_free.c, docs/method.md section 7.3, "No equilibrium").
+that nothing resists (csrc/analyze/static_free.c, docs/method.md section 7.3, "No equilibrium").
 The solve stops at Newton's first failure with a SolverError that names the pair or part, what
 moves and the generalized force; and every mechanism that has an equilibrium still solves, also
 those whose tangent at the start has a zero-stiffness direction with a load along it.

@@ -66,7 +66,7 @@ def test_manipulator_first_step_at_rtol_1e8_and_1e10():
     ~6e-15 s at rtol 1e-8 (~6e-16 s at 1e-10). IDA's 10 error-test failures from the first step
     of 1e-8 s reach 3.8e-14 s, the floor was 1e-14 s: IDA_ERR_FAIL at t = 0 with KLU (the auto
     choice here) at both tolerances. run_ida now retries the first step from the same consistent
-    values (csrc/solve/ida.c). Measured over 2 ms: 988 and 5817 steps, the two runs 3.6e-13 m
+    values (csrc/integrate/ida.c). Measured over 2 ms: 988 and 5817 steps, the two runs 3.6e-13 m
     apart, ledgers 7.9e-10 and 6.9e-11 of the energy scale."""
     examples = str(Path(__file__).resolve().parents[1] / "examples")
     out = run(f"""
@@ -89,7 +89,7 @@ def test_manipulator_dense_lu_matches_klu_from_the_first_step():
     the energy ledger's integrals, whose rates it moved by cj 1e300, inf once cj > 1.8e8 (the
     manipulator's first steps are ~1e-15 s). The ledger's columns were inf, its corrections 0 or
     NaN: over the first 2 ms at rtol 1e-8 one Newton failure (a NaN iterate) and a ledger
-    residual of 9.2e-5 of the energy scale, against KLU's 7.9e-10 (csrc/solve/ida.c, ida_atol).
+    residual of 9.2e-5 of the energy scale, against KLU's 7.9e-10 (csrc/integrate/ida.c, ida_atol).
     Measured with the ledger fixed: no Newton failure, ledger 6.7e-10, the two runs 1.0e-12 m
     apart. The dense LU now takes the closed-form Jacobian too (ida_jac_dense): 988 steps as
     KLU's (1028 before), ledger 6.8e-10, 8.0e-12 m apart (tests/test_ida_linear_solvers.py)."""

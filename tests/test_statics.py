@@ -158,7 +158,7 @@ def test_follower_loads_are_not_judged_and_modes_warns():
 
 def test_static_from_a_horizontal_pendulum_finds_it_hanging():
     # started horizontal, gravity has no stiffness (the tangent is singular) and Newton's load
-    # steps all fail; pseudo-transient continuation (csrc/solve/statics.c, ptc) lets it fall to
+    # steps all fail; pseudo-transient continuation (csrc/analyze/statics.c, ptc) lets it fall to
     # the stable equilibrium: centre straight below the pivot, omega^2 = m g l / (I_c + m l^2)
     m = ph.Mechanism(gravity=(0, 0, -9.81))
     arm = m.add_rigid_body("arm", 1.0, np.diag([1e-4, 0.0075, 0.0075]), com=(0.15, 0, 0))

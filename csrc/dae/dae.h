@@ -14,8 +14,9 @@
  * rates, read by the pair rows, the actuators and the outputs), the applied wrenches, G^T lambda
  * and G^T mu -- and the Jacobian, the outputs and the consistent initial values (at the start
  * and at every breakpoint of the laws) work in its scratch. After dae_init and
- * dae_jacobian_pattern nothing in csrc/dae/ or the integrators allocates (tests/c/test_no_alloc.c
- * counts it). */
+ * dae_jacobian_pattern nothing in csrc/dae/ allocates, nor the integrators after their set-up,
+ * which allocates their own scratch (csrc/integrate/integrate.h; tests/c/test_no_alloc.c counts
+ * it). */
 #ifndef PHM_DAE_H
 #define PHM_DAE_H
 
@@ -71,9 +72,6 @@ typedef struct {
   double *lreg, *mreg;   /* ncons: each velocity and position row's compliance, the
                           * regularization of the rows of the pairs on a loop
                           * (dae_regularization, docs/method.md section 6.2); 0 elsewhere    */
-  double *gwork;         /* nc x 33 + the ledger's il - ie: the generalized-alpha's scratch
-                          * (csrc/solve/galpha.c: co-rotation, ledger corrections), here so
-                          * that nothing allocates after the set-up                           */
   /* consistent initial values (dae_consistent_ic, dae_restart_at_breakpoint) */
   dae_ic_work ic;
 } phm_data;
@@ -98,8 +96,6 @@ typedef struct {
   unsigned char *kbody;  /* nc: carrier c's kinematic rows in its body frame (1) or in the
                           * world's (0): dae_body_kinematics (a full DAE's; NULL when planar) */
   phm_data data;         /* allocated by dae_init */
-  char idamsg[256];         /* IDA's last error message, through idasink (csrc/solve/ida.c) */
-  phm_sun_errsink idasink; /* here, not in run_ida: SUNDIALS 7 keeps it on the context */
   /* KLU: the Jacobian's sparsity pattern (CSC) */
   int nnz;
   sunindextype *colptr, *rowind;
@@ -161,7 +157,7 @@ void dae_ledger_dpower(dae_t *d, double time, const double *y, const double *dy,
 /* The kinematic rows of the carriers that mu acts on (those of pairs with constraint rows) in
  * their body frames (on != 0), the others' and by default all in the world's: the same equations
  * premultiplied by an invertible matrix of the carrier's quaternion, whose Newton matrix has
- * mu's entries constant (residual.c). IDA takes them (csrc/solve/ida.c says why). */
+ * mu's entries constant (residual.c). IDA takes them (csrc/integrate/ida.c says why). */
 void dae_body_kinematics(dae_t *d, int on);
 /* Absolute tolerance of state i for the error weights (the multipliers' own floors). */
 double dae_state_atol(const dae_t *d, int i, double atol);
@@ -250,7 +246,7 @@ int dae_jacobian(dae_t *d, double t, double cj, const double *y, const double *y
                  const double *r0, SUNMatrix J);
 /* The dense matrix A (n x n, SUNDenseMatrix) = the sparse Js (CSC, dae_jacobian's): every entry
  * outside Js's pattern zero, whatever A held. The dense LUs of both integrators take the
- * closed-form Jacobian this way (csrc/solve/ida.c, galpha.c): one implementation of it, evaluated
+ * closed-form Jacobian this way (csrc/integrate/ida.c, galpha.c): one implementation of it, evaluated
  * on the sparse pattern. No allocation. */
 void dae_jacobian_to_dense(SUNMatrix Js, SUNMatrix A);
 /* Drop the entries of J (CSC, on the pattern of dae_jacobian_pattern) that have been exactly

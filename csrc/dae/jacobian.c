@@ -527,7 +527,7 @@ void dae_jacobian_to_dense(SUNMatrix Js, SUNMatrix A) {
   const double *val = SUNSparseMatrix_Data(Js);
   double *a = SUNDenseMatrix_Data(A); /* column-major, column j at a + lda j */
   /* a memset, not SUNMatZero: Debian's SUNDIALS is built without optimization
-   * (csrc/solve/nvector_ops.c) */
+   * (csrc/integrate/nvector_ops.c) */
   memset(a, 0, sizeof(double) * (size_t)SUNDenseMatrix_LData(A));
   for (sunindextype j = 0; j < n; j++)
     for (sunindextype k = cp[j]; k < cp[j + 1]; k++) a[lda * j + ri[k]] = val[k];

@@ -193,7 +193,7 @@ void dae_free(dae_t *d) {
   dae_planar_free(d);
   phm_data *D = &d->data;
   dae_ic_work *w = &D->ic;
-  void *bufs[] = {D->H, D->tw, D->pair, D->wr, D->gl, D->gm, D->pport, D->eff, D->rtmp, D->dtw, D->lref, D->lreg, D->mreg, D->gwork, w->cmap, w->clist, w->H, w->tw, w->qprev, w->Lc, w->lcfail, w->b1c, w->cg, w->acc, w->G,
+  void *bufs[] = {D->H, D->tw, D->pair, D->wr, D->gl, D->gm, D->pport, D->eff, D->rtmp, D->dtw, D->lref, D->lreg, D->mreg, w->cmap, w->clist, w->H, w->tw, w->qprev, w->Lc, w->lcfail, w->b1c, w->cg, w->acc, w->G,
                   w->X, w->A, w->b, w->g, w->vt, w->c1, w->lam, w->Hp, w->res, d->colptr,
                   d->rowind, d->nzkeep, d->kbody};
   for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) free(bufs[i]);
@@ -301,11 +301,10 @@ phm_status dae_init(dae_t *d, const phm_model *m, phm_error *err) {
   D->lref = calloc((size_t)m->ncons + 1, sizeof(double));
   D->lreg = calloc((size_t)m->ncons + 1, sizeof(double));
   D->mreg = calloc((size_t)m->ncons + 1, sizeof(double));
-  D->gwork = calloc(33 * nc + (size_t)(d->il - d->ie) + 1, sizeof(double));
   d->kbody = calloc(nc + 1, 1);
   phm_status st = PHM_OK;
   if (!D->H || !D->tw || !D->pair || !D->wr || !D->gl || !D->gm || !D->pport || !D->eff ||
-      !D->rtmp || !D->dtw || !D->lref || !D->lreg || !D->mreg || !D->gwork || !d->kbody)
+      !D->rtmp || !D->dtw || !D->lref || !D->lreg || !D->mreg || !d->kbody)
     st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
   else
     st = ic_alloc(d, err);

@@ -390,12 +390,12 @@ static int read_interface(fmu *c, char *msg, size_t nmsg) {
   c->opt.atol = v[2];
   c->opt.linear_solver = to_i(v[3]);
   c->opt.max_step = v[4];
-  c->opt.max_order = to_i(v[5]);
-  c->opt.error_test = to_i(v[6]);
-  c->opt.step = v[7];
-  c->opt.rho_inf = v[8];
-  c->opt.adaptive = to_i(v[9]);
-  c->opt.band = v[10];
+  c->opt.ida.max_order = to_i(v[5]);
+  c->opt.ida.error_test = to_i(v[6]);
+  c->opt.galpha.step = v[7];
+  c->opt.galpha.rho_inf = v[8];
+  c->opt.galpha.adaptive = to_i(v[9]);
+  c->opt.galpha.band = v[10];
   return 0;
 }
 

@@ -1,8 +1,8 @@
 /* phmech.h -- the public C API of phmech: a table of contents, one line per function, in the
  * order of the data path (docs/architecture.md):
  *   description (phm_model_desc) -> model (immutable, csrc/model/) -> per-evaluation data and
- *   the DAE residual/Jacobian (csrc/dae/) -> integrators, linearization, modes, statics
- *   (csrc/solve/) -> results (caller-allocated arrays).
+ *   the DAE residual/Jacobian (csrc/dae/) -> integrators (csrc/integrate/) or analyses:
+ *   linearization, modes, statics (csrc/analyze/) -> results (caller-allocated arrays).
  * The types, their units and conventions are in phmech_types.h. The library never prints, exits
  * or aborts: a function that can fail returns a phm_status and leaves a message in a phm_error. */
 #ifndef PHMECH_H
@@ -138,16 +138,24 @@ phm_status phm_planar_check(const phm_model *model, const double *H, const doubl
                             const char *const *names, int *axis, int *drop,
                             char why[3][PHM_PLANAR_WHY], phm_error *err);
 
-/* ---------------------------------------------------------------- simulation (csrc/solve/simulate.c) */
+/* ---------------------------------------------------------------- simulation (csrc/integrate/simulate.c) */
 /* Integrate from tout[0] (initial poses/twists: poses0/twists0, or the model's H0/t0 if NULL)
  * after a consistent-initial-value projection, sampling at the increasing times tout[0..nout);
- * integrators: csrc/solve/ida.c, csrc/solve/galpha.c. A non-finite output stops the run with
- * PHM_ESOLVER (out->nout_done counts the finite outputs before it). */
+ * the integrator opt->integrator of the table of integrators (csrc/integrate/integrators.c:
+ * ida.c, galpha.c). A non-finite output stops the run with PHM_ESOLVER (out->nout_done counts
+ * the finite outputs before it). */
 phm_status phm_simulate(const phm_model *model, const double *poses0, const double *twists0,
                         const double *tout, int nout, const phm_sim_options *opt,
                         phm_sim_output *out, phm_error *err);
 
-/* ---------------------------------------------------------------- modes (csrc/solve/modes.c) */
+/* ---------------------------------------------------------------- integrators (csrc/integrate/integrators.c) */
+int phm_integrator_count(void);                  /* rows of the table of integrators (codes 0..count-1) */
+const char *phm_integrator_name(int integrator); /* "ida", "galpha"; NULL if unknown               */
+/* Options with the integrator's sub-struct at its defaults and every other field 0 (set rtol,
+ * atol and the rest by name); PHM_EINVAL for an unknown integrator. */
+phm_status phm_sim_defaults(int integrator, phm_sim_options *opt, phm_error *err);
+
+/* ---------------------------------------------------------------- modes (csrc/analyze/modes.c, modes_sparse.c) */
 /* Linearized modes at poses (NULL: H0) with constraint wrenches lambda (NULL: zero), loads at
  * `time`: the nmodes lowest omega [rad/s], damping ratios zeta, shapes [nmodes][nc][6] (tangent
  * coordinates, mass-normalized); *nfound modes returned (<= nmodes, limited by the free DOF).
@@ -165,7 +173,7 @@ phm_status phm_modes(const phm_model *model, const double *poses, const double *
 
 /* How many eigenvalues lambda = omega^2 [(rad/s)^2] of the linearization at poses (NULL: H0)
  * with constraint wrenches lambda (NULL: zero), loads at `time`, lie below `shift`: the inertia
- * of the sparse KKT matrix [K - shift M, G^T; G, 0] (Sylvester; csrc/solve/linearize.c). *check:
+ * of the sparse KKT matrix [K - shift M, G^T; G, 0] (Sylvester; csrc/analyze/linearize.c). *check:
  * the count's certificate, ||E||_1 est(||KKT^-1||_1) for the residual E of its LDL'
  * factorization; the count is exact when it is < 1 (up to the condition estimate's accuracy:
  * phm_modes trusts it below PHM_INERTIA_CHECK).
@@ -174,6 +182,7 @@ phm_status phm_modes(const phm_model *model, const double *poses, const double *
 phm_status phm_modes_count(const phm_model *model, const double *poses, const double *lambda,
                            double time, double shift, int *below, double *check, phm_error *err);
 
+/* ---------------------------------------------------------------- linear port-Hamiltonian model (csrc/analyze/linear_model.c) */
 /* The linear port-Hamiltonian model at poses (NULL: H0) with constraint wrenches lambda (NULL:
  * zero), loads at `time`, on the null space Z of the constraint Jacobian (the dense reduction of
  * phm_modes): *nr reduced coordinates, stiffness K, damping D and mass M (nr x nr, symmetrized,
@@ -185,7 +194,7 @@ phm_status phm_linear_model(const phm_model *model, const double *poses, const d
                             double *K, double *D, double *M, double *Z, double *B, phm_error *err);
 int phm_linear_port_columns(const phm_model *model, int nports, const phm_linear_port *ports); /* inputs of the ports */
 
-/* ---------------------------------------------------------------- statics (csrc/solve/statics.c) */
+/* ---------------------------------------------------------------- statics (csrc/analyze/statics.c) */
 /* Static equilibrium under the loads and gravity at `time`, scaled from 0 to 1 in `steps` load
  * steps (halved on failure) from the unloaded equilibrium nearest the start, or with steps = 0
  * at the full load directly from the start; Newton, sparse LU (KLU). poses: start (NULL: H0);
@@ -205,6 +214,7 @@ phm_status phm_static_monitored(const phm_model *model, const double *poses, dou
                                 double *poses_out, double *lambda_out, int *iters,
                                 double *reached, phm_error *err);
 
+/* ---------------------------------------------------------------- no equilibrium (csrc/analyze/static_free.c) */
 /* Motions nothing resists on which the loads (gravity, applied wrenches, effort actuators, at
  * load factor 1 and `time`) do work at a rate independent of the configuration: each proves
  * that the mechanism has no static equilibrium (docs/method.md section 7.3, "No equilibrium").

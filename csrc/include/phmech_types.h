@@ -184,7 +184,7 @@ typedef struct {
                               * a direction fixed in F_a (axes_a), in F_b (axes_b), at every
                               * relative pose: with that frame on the ground, the work of a
                               * dead load along it does not depend on the configuration
-                              * (phm_static_free, csrc/solve/static_free.c)                   */
+                              * (phm_static_free, csrc/analyze/static_free.c)                   */
 } phm_pair_type_info;
 
 /* A kinematic pair between frame Ta on carrier a and Tb on carrier b (-1 = ground). Frames
@@ -364,38 +364,54 @@ enum { PHM_ERRTEST_ALL = 0, PHM_ERRTEST_CONFIGURATION = 1 };
  * evenly). docs/integrators.md gives the measurements. band <= 0: no window (max_step only). */
 #define PHM_BAND_STEPS 20
 #define PHM_BAND_MAX_STEPS 12
-/* The error estimate's low-pass corner, in bands (galpha_error in csrc/solve/galpha.c), and
+/* The error estimate's low-pass corner, in bands (galpha_error in csrc/integrate/galpha.c), and
  * how far below the band's floor 1/(PHM_BAND_STEPS band) a step above the tolerance is
  * refined before it is accepted above it (nfloor). */
 #define PHM_FILTER_BAND 1.0
 #define PHM_REFINE_MAX 1000.0
 /* Variable step: Newton's relative tolerance on the differential states is min(rtol, this)
- * (the energy ledger needs it; measurements in csrc/solve/galpha.c, run_galpha). */
+ * (the energy ledger needs it; measurements in csrc/integrate/galpha.c, run_galpha). */
 #define PHM_NEWTON_RTOL 1e-7
 /* ... tightened down to this while the run's summed error estimates run ahead of their share
- * of the tolerance (csrc/solve/galpha.c, newton_min; the round-off of a stiff start is
+ * of the tolerance (csrc/integrate/galpha.c, newton_min; the round-off of a stiff start is
  * ~1e-12 relative) */
 #define PHM_NEWTON_RTOL_MIN 1e-11
+/* The integrators' codes: the position of each in the table of integrators
+ * (csrc/integrate/integrators.c; phm_integrator_name, phm_sim_defaults). */
 enum { PHM_INTEGRATOR_IDA = 0, PHM_INTEGRATOR_GALPHA = 1 };
 
+/* IDA's own options (phm_sim_options.ida). */
+typedef struct {
+  int max_order;          /* maximum BDF order 1..5; <= 0: 5                                */
+  int error_test;         /* PHM_ERRTEST_ALL or PHM_ERRTEST_CONFIGURATION                   */
+} phm_ida_options;
+
+/* The generalized-alpha's own options (phm_sim_options.galpha). */
+typedef struct {
+  double step, rho_inf;   /* step [s] (> 0; adaptive: the first, <= 0 from the band),
+                           * spectral radius at infinity [0, 1]                             */
+  int adaptive;           /* 0 fixed step, 1 variable step with error control               */
+  double band;            /* adaptive: highest frequency to resolve [Hz]; <= 0: none        */
+} phm_galpha_options;
+
+/* A simulation's options: those every integrator reads, then one sub-struct per integrator
+ * (read by that integrator only). Fill it by field name (designated initializers; fields not
+ * named are 0), or start from phm_sim_defaults(integrator). */
 typedef struct {
   double rtol, atol;      /* error tolerances (atol scalar); GALPHA fixed step: Newton's   */
   int linear_solver;      /* 0 dense LU, 1 KLU (both with the closed-form Jacobian) */
   long max_steps;         /* per output interval (IDA and GALPHA); <= 0: 10^6               */
   double max_step;        /* <= 0: no limit                                                 */
-  int max_order;          /* maximum BDF order 1..5; <= 0: 5                                */
-  int error_test;         /* PHM_ERRTEST_ALL or PHM_ERRTEST_CONFIGURATION                   */
   phm_callback interrupt; /* called at each output; non-zero: stop with PHM_EINTERRUPT      */
   phm_callback progress;  /* called at each output; non-zero: stop quietly (PHM_OK)         */
   void *ctx;
   int integrator;         /* PHM_INTEGRATOR_IDA (0) or PHM_INTEGRATOR_GALPHA                */
-  double step, rho_inf;   /* GALPHA: step [s] (> 0), spectral radius at infinity [0, 1]     */
-  int adaptive;           /* GALPHA: 0 fixed step, 1 variable step with error control       */
-  double band;            /* GALPHA adaptive: highest frequency to resolve [Hz]; <= 0: none */
   phm_monitor monitor;    /* may be NULL; called with ctx                                   */
   int planar;             /* 0: 3-D; 1, 2, 3: the planar DAE, every carrier moving in the plane
                            * normal to world x, y, z (checked by the caller, who dropped the
                            * out-of-plane constraint rows; csrc/dae/planar.c)              */
+  phm_ida_options ida;       /* integrator PHM_INTEGRATOR_IDA                              */
+  phm_galpha_options galpha; /* integrator PHM_INTEGRATOR_GALPHA                           */
 } phm_sim_options;
 
 /* How phm_modes solves its eigenproblem: dense LAPACK on the reduced problem (O(N^3)), or
@@ -417,14 +433,14 @@ enum { PHM_MODES_AUTO = 0, PHM_MODES_DENSE = 1, PHM_MODES_SPARSE = 2 };
 /* AUTO: a sparse result that its count does not verify (eigenvalues below its shift that its
  * iteration did not find, or a count that cannot be certified) is redone densely up to this many
  * coordinates on the constraint manifold (dense: 0.15 s at 600, 0.4 s at 900 coordinates;
- * ~O(n^3)); beyond, the spectrum is sliced (csrc/solve/modes.c). */
+ * ~O(n^3)); beyond, the spectrum is sliced (csrc/analyze/modes_sparse.c). */
 #define PHM_DENSE_MODES_MAX 1500
 /* The sparse path's count of eigenvalues below its shift (the KKT matrix's inertia from an
- * LDL' factorization without pivoting, csrc/solve/linearize.c) is trusted when its certificate
+ * LDL' factorization without pivoting, csrc/analyze/linearize.c) is trusted when its certificate
  * ||E||_1 est(||KKT^-1||_1) (E: the factorization's residual) is below this: 1 bounds it in
  * theory, 0.1 leaves a factor 10 for the condition estimate's error. */
 #define PHM_INERTIA_CHECK 0.1
-/* The dense path's shift-inverted pencil (csrc/solve/modes.c) gives the modes whose
+/* The dense path's shift-inverted pencil (csrc/analyze/modes.c) gives the modes whose
  * theta = 1/(lambda - sigma) is above this fraction of the first's: relative accuracy ~ eps/this. */
 #define PHM_MODES_RESOLVED 1e-6
 
@@ -442,7 +458,7 @@ typedef struct {
 } phm_linear_port;
 
 /* A motion of a mechanism that nothing resists and on which the loads do work at a rate that is
- * the same in every configuration (phm_static_free, csrc/solve/static_free.c): then the
+ * the same in every configuration (phm_static_free, csrc/analyze/static_free.c): then the
  * mechanism has no static equilibrium under those loads. Either the side of a pair away from the
  * ground moving along one of the pair's joint coordinates (pair >= 0), or a part held by nothing
  * (no pair, element, spring or interaction links it to the ground: pair = -1) moving rigidly. */

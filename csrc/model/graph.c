@@ -1,7 +1,7 @@
 /* graph.c -- the coupling graph of the carriers (which share an element, pair, spring, load or mass coupling)
  * and of the pairs (each coupled to its carriers): the block structure of every Jacobian (the
  * DAE's pattern, csrc/dae/jacobian.c, on carriers and pairs; the stiffness blocks of modes and
- * statics, csrc/solve/linearize.c, on the carriers). */
+ * statics, csrc/analyze/linearize.c, on the carriers). */
 #include "model.h"
 
 #include <stdlib.h>

@@ -1,4 +1,4 @@
-/* py_analyses.c -- the analyses of a model at a point (csrc/solve/): modes and their count,
+/* py_analyses.c -- the analyses of a model at a point (csrc/analyze/): modes and their count,
  * the linear model, statics and the free motions that prove there is no static equilibrium. */
 #include "py_model.h"
 

@@ -1,5 +1,5 @@
-/* py_codes.c -- phmech._core.codes(): the core's code tables (csrc/util/codes.c) and its pair
- * types (csrc/model/pair.c) for Python, so that no code is retyped by hand across the boundary. */
+/* py_codes.c -- phmech._core.codes(): the core's code tables (csrc/util/codes.c), its pair
+ * types (csrc/model/pair.c) and integrators (csrc/integrate/integrators.c) for Python, so that no code is retyped by hand across the boundary. */
 #include "pyext.h"
 
 /* {name: value} of a code table, or the list of its names (ordered by value = position) when
@@ -32,6 +32,15 @@ static PyObject *py_codes(PyObject *self, PyObject *noargs) {
   }
   if (d && PyDict_SetItemString(d, "pair_types", pairs) < 0) Py_CLEAR(d);
   Py_XDECREF(pairs);
+  PyObject *integ = d ? PyDict_New() : NULL; /* the table of integrators (csrc/integrate/integrators.c) */
+  if (!integ) Py_CLEAR(d);
+  for (int i = 0; d && i < phm_integrator_count(); i++) {
+    PyObject *v = PyLong_FromLong(i);
+    if (!v || PyDict_SetItemString(integ, phm_integrator_name(i), v) < 0) Py_CLEAR(d);
+    Py_XDECREF(v);
+  }
+  if (d && PyDict_SetItemString(d, "integrators", integ) < 0) Py_CLEAR(d);
+  Py_XDECREF(integ);
   for (int k = 0; d && k < phm_code_table_count(); k++) {
     const phm_code_table *t = phm_code_table_at(k);
     PyObject *o = table_object(t, t->rows == phm_code_table_named("result_fields")->rows);

@@ -1,4 +1,4 @@
-/* py_simulate.c -- model_simulate (csrc/solve/simulate.c, phm_simulate): its options (filled by
+/* py_simulate.c -- model_simulate (csrc/integrate/simulate.c, phm_simulate): its options (filled by
  * field name; the callbacks between outputs: py_run.c), the result arrays (named from the
  * result-field table, csrc/util/codes.c) and statistics. */
 #include "py_model.h"
@@ -103,10 +103,11 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
   }
   phm_py_run c = {.cb = cb == Py_None ? NULL : cb, .mon = mon == Py_None ? NULL : mon};
   phm_sim_options opt = {.rtol = rtol, .atol = atol, .linear_solver = solver, .max_steps = 0,
-                         .max_step = max_step, .max_order = max_order, .error_test = error_test,
-                         .interrupt = phm_py_interrupt_cb, .progress = phm_py_progress_cb, .ctx = &c,
-                         .integrator = integrator, .step = step, .rho_inf = rho_inf,
-                         .adaptive = adaptive, .band = band, .monitor = phm_py_monitor_cb, .planar = planar};
+                         .max_step = max_step, .interrupt = phm_py_interrupt_cb,
+                         .progress = phm_py_progress_cb, .ctx = &c, .integrator = integrator,
+                         .monitor = phm_py_monitor_cb, .planar = planar,
+                         .ida = {.max_order = max_order, .error_test = error_test},
+                         .galpha = {.step = step, .rho_inf = rho_inf, .adaptive = adaptive, .band = band}};
   phm_sim_output out;
   memset(&out, 0, sizeof out);
   out.record = R ? (const int *)PyArray_DATA(R) : NULL;

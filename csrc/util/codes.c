@@ -1,7 +1,7 @@
 /* codes.c -- THE name tables of the core's enums (csrc/include/phmech_types.h): time-law kinds,
- * integrators, actuator kinds, element mass kinds, and the names of the arrays a simulation
- * returns (phm_sim_output). One row per enum value, its name the enum's, lower case. The pair
- * types have their own table (csrc/model/pair.c). phmech._core.codes() (csrc/pyext/py_pairs.c)
+ * actuator kinds, element mass kinds, and the names of the arrays a simulation returns
+ * (phm_sim_output). One row per enum value, its name the enum's, lower case. The pair types and
+ * the integrators have their own tables (csrc/model/pair.c, csrc/integrate/integrators.c). phmech._core.codes() (csrc/pyext/py_pairs.c)
  * hands these to Python, so that no code is retyped by hand across the boundary;
  * tests/c/test_codes.c checks each row against its enum constant. */
 #include "phmech.h"
@@ -14,7 +14,6 @@ static const phm_code law_kinds[] = {
     {"linear", PHM_LAW_LINEAR},     {"ppoly", PHM_LAW_PPOLY},       {"callback", PHM_LAW_CALLBACK},
     {"expr", PHM_LAW_EXPR},         {"sum", PHM_LAW_SUM},           {"product", PHM_LAW_PRODUCT},
 };
-static const phm_code integrators[] = {{"ida", PHM_INTEGRATOR_IDA}, {"galpha", PHM_INTEGRATOR_GALPHA}};
 static const phm_code actuator_kinds[] = {{"effort", PHM_ACT_EFFORT}, {"pd", PHM_ACT_PD}, {"spring", PHM_ACT_SPRING}};
 static const phm_code component_kinds[] = {
     {"viscous", PHM_COMP_VISCOUS}, {"coulomb", PHM_COMP_COULOMB}, {"stribeck", PHM_COMP_STRIBECK},
@@ -33,7 +32,6 @@ static const phm_code result_fields[] = {
 #define ROWS(a) (int)(sizeof(a) / sizeof(a[0]))
 static const phm_code_table tables[] = {
     {"law_kinds", law_kinds, ROWS(law_kinds)},
-    {"integrators", integrators, ROWS(integrators)},
     {"actuator_kinds", actuator_kinds, ROWS(actuator_kinds)},
     {"mass_kinds", mass_kinds, ROWS(mass_kinds)},
     {"component_kinds", component_kinds, ROWS(component_kinds)},

@@ -20,7 +20,7 @@
 #endif
 
 /* Where IDA's error messages go: fn(ud, function, message), called inside the failing IDA call;
- * the caller copies the message into its own phm_error text (csrc/solve/ida.c). */
+ * the caller copies the message into its own phm_error text (csrc/integrate/ida.c). */
 typedef struct {
   void (*fn)(void *ud, const char *function, const char *msg);
   void *ud;

@@ -67,7 +67,7 @@ def warn_if_inaccurate(stats: dict, stacklevel: Optional[int] = None) -> None:
 #: stats['error_sum'] (the accepted steps' local error estimates summed, in tolerances) above
 #: which a run warns: the steps the generalized-alpha accepts at Newton's noise level carry a
 #: systematic Newton error that adds up. Newton's tolerance is tightened while the sum runs
-#: ahead of its share (csrc/solve/galpha.c, newton_min), so the sum stays below 1 unless that
+#: ahead of its share (csrc/integrate/galpha.c, newton_min), so the sum stays below 1 unless that
 #: tolerance reaches its floor, a relative 1e-11 (rtol 1e-8: a compound pendulum at 30 deg over
 #: 5 s sums to 1.47 and ends 0.91x rtol amp off, warned), or the run is on course for more than
 #: 3e5 steps, where it is not tightened.

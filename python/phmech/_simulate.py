@@ -132,7 +132,7 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
         raise ModelError(f"planar must be None, True or False (got {planar!r})")
     # planar=None leaves IDA in 3-D: with the planar DAE and KLU's pivoting for 3-D it failed
     # the flexible slider-crank of tests/test_flexible_loop.py at rtol 1e-8 (IDA_CONV_FAIL;
-    # csrc/solve/ida.c: it runs with AMD and full pivoting, a remedy measured on that one
+    # csrc/integrate/ida.c: it runs with AMD and full pivoting, a remedy measured on that one
     # scene), and with the dense LU the spline-driven revolute of
     # tests/test_driven_pairs.py ended its spin-up 1.6e-4 N m off in its torque (3-D 6.7e-5,
     # the test's bound 1.3e-4: where IDA's steps land near the breakpoint)

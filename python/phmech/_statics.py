@@ -88,7 +88,7 @@ def static(mech, loads: Sequence = (), steps: int = 10, time: float = 0.0,
 
 def _free_motions(mech, model, P, time: float, extra: Sequence[dict]) -> list:
     """The motions nothing resists on which the loads do work at poses P
-    (_core.model_static_free, csrc/solve/static_free.c), as FreeMotion rows named from the
+    (_core.model_static_free, csrc/analyze/static_free.c), as FreeMotion rows named from the
     description; [] when none is found."""
     try:
         raw = _core.model_static_free(model, P, time)
@@ -161,7 +161,7 @@ def _lowest_omega(mech, model, P, lam, time: float) -> float:
     negative eigenvalue of the tangent stiffness; a value below round-off of the next mode's
     (|omega_1|^2 < 1e-8 omega_2^2) counts as zero (a neutral mode), and so do negative values
     below round-off of a higher mode (up to the 24th), or all below 1e-6 rad/s; inf when
-    nothing can move (no degree of freedom: csrc/solve/modes.c refuses to count modes)."""
+    nothing can move (no degree of freedom: csrc/analyze/modes.c refuses to count modes)."""
     try:
         om = _core.model_modes(model, min(2, 6 * len(mech._car)), P, lam, time)[0]
     except ModelError as e:

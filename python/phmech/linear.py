@@ -1,6 +1,6 @@
 """The linear port-Hamiltonian model of a mechanism about an equilibrium (Mechanism.linearize):
 the C core's reduced stiffness, damping and mass on the constraint manifold and the ports' input
-matrix (csrc/solve/modes.c, phm_linear_model), assembled here into (J, R, Q, B, C, D), with a
+matrix (csrc/analyze/linear_model.c, phm_linear_model), assembled here into (J, R, Q, B, C, D), with a
 passivity check and conversions to scipy.signal and python-control (docs/method.md section 7.4,
 docs/user_guide.md "Linear port-Hamiltonian model")."""
 from __future__ import annotations
@@ -124,7 +124,7 @@ class LinearPortHamiltonian:
         from scipy.linalg import LinAlgError, eigh
 
         K, M = self.stiffness, self.mass
-        # as modes() (csrc/solve/modes.c): the shift-inverted pencil M y = theta (K - sigma M) y
+        # as modes() (csrc/analyze/modes.c): the shift-inverted pencil M y = theta (K - sigma M) y
         # for the modes it resolves (theta above MODES_RESOLVED of the largest: the lowest modes,
         # to ~eps relative), the direct pencil for the others and when K - sigma M is indefinite
         lam = eigh(K, M, eigvals_only=True)

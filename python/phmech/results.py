@@ -438,7 +438,7 @@ class ModesResult:
 class FreeMotion:
     """A motion that nothing resists and on which the loads do work at the same rate in every
     configuration, so that no static equilibrium exists: ``Mechanism.static`` raises SolverError
-    with a list of them in its ``free_motions`` attribute (csrc/solve/static_free.c).
+    with a list of them in its ``free_motions`` attribute (csrc/analyze/static_free.c).
 
     ``pair``: the pair whose joint ``coordinate`` moves the part on its side away from the
     ground, or None for a part that nothing links to the ground (moving rigidly). ``force``: the

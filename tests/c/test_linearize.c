@@ -1,4 +1,4 @@
-/* test_linearize.c -- the stiffness and damping blocks of modes and statics (csrc/solve/linearize.c:
+/* test_linearize.c -- the stiffness and damping blocks of modes and statics (csrc/analyze/linearize.c:
  * all in closed form) against central
  * differences computed here, carrier by carrier and direction by direction, of the generalized
  * forces f_c(delta) = dexp_{-delta}^T w_c(H_c exp(delta)) (docs/method.md section 7.1) and of the
@@ -9,7 +9,7 @@
  * matrix's inertia (lin_ldl_negative) against the dense matrix's eigenvalues (LAPACK dsyev). */
 #include "check.h"
 #include "linalg.h"
-#include "solve.h"
+#include "analyze.h"
 
 enum { NC = 5 };
 

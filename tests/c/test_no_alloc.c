@@ -255,15 +255,15 @@ int main(void) {
   memset(&base, 0, sizeof base);
   base.rtol = 1e-6;
   base.atol = 1e-8;
-  base.error_test = PHM_ERRTEST_ALL;
-  base.rho_inf = 0.9;
+  base.ida.error_test = PHM_ERRTEST_ALL;
+  base.galpha.rho_inf = 0.9;
 
   phm_sim_options defaults = base; /* simulate()'s defaults (python/phmech/mechanism.py) */
   defaults.integrator = PHM_INTEGRATOR_GALPHA;
-  defaults.adaptive = 1;
+  defaults.galpha.adaptive = 1;
   defaults.rtol = 1e-4;
   defaults.atol = 1e-6;
-  defaults.band = 100.0; /* 1 / (2 dt_out) */
+  defaults.galpha.band = 100.0; /* 1 / (2 dt_out) */
   defaults.linear_solver = 1;
   phm_sim_options o = defaults;
   run(m, "generalized-alpha, adaptive, KLU", o);
@@ -271,7 +271,7 @@ int main(void) {
   run(m, "generalized-alpha, adaptive, dense", o);
   o = base;
   o.integrator = PHM_INTEGRATOR_GALPHA;
-  o.step = 2.5e-4;
+  o.galpha.step = 2.5e-4;
   o.rtol = 1e-8;
   o.atol = 1e-10;
   o.linear_solver = 1;

@@ -1,9 +1,9 @@
-/* test_nvector_ops.c -- csrc/solve/nvector_ops.c: the serial N_Vector operations and the sparse
+/* test_nvector_ops.c -- csrc/integrate/nvector_ops.c: the serial N_Vector operations and the sparse
  * zero phmech installs for IDA give bit for bit what SUNDIALS's own give, in every case of
  * N_VLinearSum (coefficients 1, -1, equal, opposite, other; z aliasing x or y or neither), on
  * values with signed zeros, subnormals and large magnitudes. */
 #include "check.h"
-#include "solve.h"
+#include "integrate.h"
 
 enum { N = 37 };
 

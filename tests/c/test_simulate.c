@@ -1,4 +1,4 @@
-/* test_simulate.c -- csrc/solve/simulate.c (with the integrators of csrc/solve/ida.c and
+/* test_simulate.c -- csrc/integrate/simulate.c (with the integrators of csrc/integrate/ida.c and
  * galpha.c): whole runs checked against conservation laws -- a free rigid body's energy, a
  * released cantilever's energy and its ledger (csrc/dae/output.c) -- and options refused with a
  * message. */
@@ -6,7 +6,7 @@
 
 /* IDA at tolerances rtol, atol (the rest of the options at their defaults). */
 static phm_sim_options ida_options(double rtol, double atol) {
-  return (phm_sim_options){.rtol = rtol, .atol = atol, .error_test = PHM_ERRTEST_ALL,
+  return (phm_sim_options){.rtol = rtol, .atol = atol, .ida.error_test = PHM_ERRTEST_ALL,
                            .integrator = PHM_INTEGRATOR_IDA};
 }
 
@@ -91,8 +91,8 @@ static void invalid_options_are_refused_with_a_message(void) {
   check_refused("rtol = 0", phm_simulate(m, NULL, NULL, tout, 3, &o, &out, &err), PHM_EINVAL, &err,
                 "rtol and atol must be > 0 (got 0, 1e-08)");
   o = ida_options(1e-6, 1e-8);
-  o.error_test = PHM_ERRTEST_CONFIGURATION;
-  o.max_order = 3;
+  o.ida.error_test = PHM_ERRTEST_CONFIGURATION;
+  o.ida.max_order = 3;
   check_refused("configuration error test with BDF order 3", phm_simulate(m, NULL, NULL, tout, 3, &o, &out, &err),
                 PHM_EINVAL, &err, "the configuration error test needs a maximum BDF order of 1 or 2 (got 3)");
   o = ida_options(1e-6, 1e-8);
@@ -104,8 +104,8 @@ static void invalid_options_are_refused_with_a_message(void) {
   check_refused("unknown integrator", phm_simulate(m, NULL, NULL, tout, 3, &o, &out, &err), PHM_EINVAL, &err,
                 "unknown integrator 5");
   o.integrator = PHM_INTEGRATOR_GALPHA;
-  o.step = 0.01;
-  o.rho_inf = 1.5;
+  o.galpha.step = 0.01;
+  o.galpha.rho_inf = 1.5;
   check_refused("generalized-alpha with rho_inf > 1", phm_simulate(m, NULL, NULL, tout, 3, &o, &out, &err),
                 PHM_EINVAL, &err, "generalized-alpha needs step > 0");
   check_refused("no model", phm_simulate(NULL, NULL, NULL, tout, 3, &o, &out, &err), PHM_EINVAL, &err,

@@ -1,10 +1,10 @@
-/* test_statics.c -- static equilibrium (csrc/solve/statics.c, docs/method.md section 7.3): a
+/* test_statics.c -- static equilibrium (csrc/analyze/statics.c, docs/method.md section 7.3): a
  * cantilever rolled up into a full circle by an end moment (the exact solution has constant
  * strain, docs/method.md section 8), whose Newton iterations (tangents) the chain retraction, the
  * tangent predictor and the simplified corrections keep at about one per load step for any
  * number of elements and axial stiffness; steps = 0, Newton at the full load from the start,
  * which leaves an equilibrium where it is; and the mechanisms without an equilibrium
- * (csrc/solve/static_free.c): the pair table's fixed axes, the motions found, a solve that stops
+ * (csrc/analyze/static_free.c): the pair table's fixed axes, the motions found, a solve that stops
  * at once, and the free motions without load that leave an equilibrium in place. */
 #include "check.h"
 #include "model.h"

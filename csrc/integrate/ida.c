@@ -1,7 +1,7 @@
 /* ida.c -- the IDA driver (SUNDIALS' variable-order BDF): tolerances per state, the linear
  * solver (KLU or the dense LU, both with the closed-form Jacobian of csrc/dae/jacobian.c), output
  * times, breakpoints of the laws (restart from consistent values) and the monitor. */
-#include "solve.h"
+#include "integrate.h"
 
 #include <float.h>
 #include <math.h>
@@ -37,7 +37,7 @@ static int ida_res(sunrealtype t, N_Vector yy, N_Vector yp, N_Vector rr, void *u
  * (csrc/dae/jacobian.c): the full row is [-dP/dy, cj] (F_E = E' - P(y)), and nothing depends
  * on E, so the full system's solution is the one solved, with x_E = (b_E + dP/dy x) / cj --
  * the solved x_E plus the change of the powers along x over cj (dae_ledger_dpower, as the
- * fixed-step generalized-alpha adds it, csrc/solve/galpha.c). Without it the integrals lag
+ * fixed-step generalized-alpha adds it, csrc/integrate/galpha.c). Without it the integrals lag
  * Newton by an iteration: IDA often takes one iteration per step, and the ledger then holds the
  * predictor's powers (a driven revolute's spin-up, tests/test_driven_pairs.py, at rtol 1e-8:
  * 1.5e-5 of its energy scale with KLU, 8.7e-8 with the correction). This wrapper solver adds
@@ -129,12 +129,42 @@ static int ida_jac_dense(sunrealtype t, sunrealtype cj, N_Vector yy, N_Vector yp
   return 0;
 }
 
-/* IDA's last error message, quoted in the failure's phm_error (SUNDIALS prints nothing:
- * csrc/util/sundials_compat.h). */
-static void ida_err_message(void *ud, const char *function, const char *msg) {
-  dae_t *d = (dae_t *)ud;
-  snprintf(d->idamsg, sizeof d->idamsg, "%s: %s", function, msg);
+/* ---------------------------------------------------------------- the integrator's row
+ * (integrators.c): its options' checks, its scratch */
+phm_status ida_check(const phm_sim_options *opt, phm_error *err) {
+  const phm_ida_options *o = &opt->ida;
+  if (o->error_test != PHM_ERRTEST_ALL && o->error_test != PHM_ERRTEST_CONFIGURATION)
+    return PHM_FAIL(err, PHM_EINVAL, "unknown error test %d (0 all states, 1 configuration)", o->error_test);
+  if (o->error_test == PHM_ERRTEST_CONFIGURATION && !(o->max_order > 0 && o->max_order <= 2))
+    return PHM_FAIL(err, PHM_EINVAL, "the configuration error test needs a maximum BDF order of 1 or 2 "
+                         "(got %d): without the twists in the error test, BDF 3-5 let unresolved vibrations grow", o->max_order);
+  return PHM_OK;
 }
+
+/* IDA's scratch: its last error message, quoted in the failure's phm_error (SUNDIALS prints
+ * nothing: csrc/util/sundials_compat.h), and the sink that writes it. Allocated at set-up, freed
+ * after the SUNDIALS context (simulate.c), which keeps the sink with SUNDIALS 7. */
+typedef struct {
+  char msg[256];
+  phm_sun_errsink sink;
+} ida_work;
+
+static void ida_err_message(void *ud, const char *function, const char *msg) {
+  ida_work *w = ud;
+  snprintf(w->msg, sizeof w->msg, "%s: %s", function, msg);
+}
+
+phm_status ida_setup(dae_t *d, const phm_sim_options *opt, void **work, phm_error *err) {
+  (void)d;
+  (void)opt;
+  ida_work *w = calloc(1, sizeof *w);
+  if (!w) return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+  w->sink = (phm_sun_errsink){ida_err_message, w};
+  *work = w;
+  return PHM_OK;
+}
+
+void ida_release(void *work) { free(work); }
 
 /* ---------------------------------------------------------------- driver */
 #define IDACHK(call)                                                                           \
@@ -203,69 +233,38 @@ static void add_stats(void *mem, phm_sim_output *out) {
   if (IDAGetLastOrder(mem, &q) == 0) out->last_order = q;
 }
 
-phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vector yy, N_Vector yp,
-                   const double *tout, int nout, double E0[1], double nbp, phm_sim_output *out,
-                   phm_error *err) {
+/* One run of IDA: what run_ida creates (ida_free_run frees it) and the state its output
+ * intervals share. */
+typedef struct {
+  ida_ud ud;
+  ida_work *w;
+  void *mem;
+  N_Vector id, ys, yps; /* ys, yps: the last (re)start's values */
+  SUNMatrix A;
+  SUNLinearSolver LS, W; /* W: LS with the ledger's rows exact (ledger_wrap) */
+  long max_steps;        /* per output interval */
+  double hmin, h0;       /* the step's floor and the first step (ida_create) */
+  int retried, relaxed;  /* the first step retried since the (re)start; floor lifted */
+} ida_run;
+
+/* The differential states (id) and the tolerances per state. */
+static phm_status ida_tolerances(ida_run *r, dae_t *d, const phm_sim_options *opt, SUNContext ctx,
+                                 phm_error *err) {
   phm_status st = PHM_OK;
-  N_Vector id = NULL, ys = NULL, yps = NULL; /* ys, yps: the last (re)start's values */
-  SUNMatrix A = NULL;
-  SUNLinearSolver LS = NULL, W = NULL; /* W: LS with the ledger's rows exact (ledger_wrap) */
-  void *mem = NULL;
-  ida_ud ud = {d, NULL, NULL, NULL, 0.0, 0.0, NULL, NULL};
-  int stop;
-  double t = tout[0];
-  double *y = N_VGetArrayPointer(yy), *ypd = N_VGetArrayPointer(yp);
-  /* The kinematic rows of the carriers that mu acts on in their body frames (dae_body_kinematics).
-   * In the world frame mu enters p' = R (v + dv) and q' = 1/2 q (x) (0, w + dw) through R and q:
-   * its columns of the Newton matrix turn with the carrier, and IDA keeps that matrix until
-   * Newton fails or cj leaves 0.6 .. 1.67 times its value then, for hundreds of steps. mu's
-   * exact value is 0 and its discrete values are Newton's leftovers, which BDF's predictor
-   * extrapolates, amplifying an alternating sequence, and a matrix that has turned by dtheta
-   * leaves ~dtheta of that prediction in mu. IDA accepts one-iteration corrections on a rate
-   * estimate from the matrix's first steps, and mu's weight is loose (dae_state_atol), so
-   * nothing stopped it. Measured on the flexible slider-crank of tests/test_flexible_loop.py
-   * with consistent masses (N = 4, rtol 1e-6, order 5): the predictor put mu at 13-30x (median
-   * 20) its last value; the fraction of that left after the step grew from 0.001 right after a
-   * refresh to 0.15 6 ms later (1.3 times the angle the crank turned at 20 rad/s); past ~0.03
-   * mu grew 1.2-2x per step with alternating sign (the crank pivot's f_x, f_y rows: 0.03 at
-   * t = 24 ms, 2e9 at 25, 7e89 at 28.8), each step accepted after one iteration with
-   * corrections of 1e6-4e7 tolerances, until IDA_CONV_FAIL at t = 28.9 ms, h = 4e-11 s (and so
-   * for N = 3 .. 8 at rtol 1e-6 and 1e-8). With lumped masses, or with the dense solver, mu
-   * swung the same way (median |mu| ~1 m/s, peaks 1e16 and 5e8) and recovered at the refreshes
-   * that followed Newton failures. In the body frame mu's columns are -G^T, constant: its
-   * correction is exact whatever the matrix's age, median |mu| 2e-6 .. 5e-6, max 2e-3, and the
-   * consistent-mass runs pass (docs/integrators.md, "IDA and mu"). The cost is on the rotating
-   * columns that remain, q' and p' (times cj): only the carriers that mu acts on take these
-   * rows, the others keep the world frame's (all carriers: a free modal link's momentum,
-   * tests/test_modal_link.py at rtol 1e-9, drifted 8.6e-12 instead of 2.9e-12), and the
-   * constrained carriers' positions now keep Newton's leftovers (the slider-crank's max |g|
-   * 5.4e-12 against 3.9e-14 at rtol 1e-8). The generalized-alpha keeps the world frame: its
-   * predictor of the multipliers is linear and its first corrections are capped
-   * (csrc/solve/galpha.c), and in the body frame a quaternion's norm correction, large after
-   * its second-order predictor, leaked into the rotation through the turned matrix (a
-   * pendulum over 100 s: 9x the Jacobians, 7x the ledger). */
-  dae_body_kinematics(d, 1);
-  id = N_VNew_Serial(d->n, ctx);
-  if (!id) {
+  void *mem = r->mem;
+  r->id = N_VNew_Serial(d->n, ctx);
+  if (!r->id) {
     st = PHM_FAIL(err, PHM_ENOMEM, "out of memory (N_Vector)");
     goto done;
   }
-  double *idd = N_VGetArrayPointer(id);
+  double *idd = N_VGetArrayPointer(r->id);
   /* id: 1 differential, 0 algebraic. IDA uses it only to leave the 0 components out of the local
    * error test (IDASetSuppressAlg; no IDACalcIC here), so the configuration error test marks the
    * twists 0 as well: they keep their weights in the Newton convergence test. The energy ledger's
    * integrals are marked 0 too and get no weight in the Newton test either (ida_atol; the
    * generalized-alpha's error estimate leaves them out as well). */
   for (int i = 0; i < d->n; i++)
-    idd[i] = i < d->ie && !(dae_is_twist(d, i) && opt->error_test == PHM_ERRTEST_CONFIGURATION) ? 1.0 : 0.0;
-  mem = IDACreate(ctx);
-  if (!mem) {
-    st = PHM_FAIL(err, PHM_ENOMEM, "IDACreate failed");
-    goto done;
-  }
-  d->idasink = (phm_sun_errsink){ida_err_message, d};
-  IDACHK(phm_ida_set_errsink(mem, ctx, &d->idasink));
-  IDACHK(IDAInit(mem, ida_res, t, yy, yp));
+    idd[i] = i < d->ie && !(dae_is_twist(d, i) && opt->ida.error_test == PHM_ERRTEST_CONFIGURATION) ? 1.0 : 0.0;
   {
     N_Vector av = N_VNew_Serial(d->n, ctx);
     if (!av) {
@@ -281,20 +280,38 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
     N_VDestroy(av);
     IDACHK(fl);
   }
-  IDACHK(IDASetUserData(mem, &ud));
-  IDACHK(IDASetId(mem, id));
+  IDACHK(IDASetId(mem, r->id));
   IDACHK(IDASetSuppressAlg(mem, SUNTRUE));
+done:
+  return st;
+}
+
+/* IDA at the consistent state yy, yp at tout[0], with its error sink, tolerances, step limits
+ * and the state of its first-step retry. */
+static phm_status ida_create(ida_run *r, dae_t *d, const phm_sim_options *opt, SUNContext ctx,
+                             N_Vector yy, N_Vector yp, const double *tout, int nout,
+                             phm_error *err) {
+  phm_status st = PHM_OK;
+  void *mem = r->mem = IDACreate(ctx);
+  if (!mem) {
+    st = PHM_FAIL(err, PHM_ENOMEM, "IDACreate failed");
+    goto done;
+  }
+  IDACHK(phm_ida_set_errsink(mem, ctx, &r->w->sink));
+  IDACHK(IDAInit(mem, ida_res, tout[0], yy, yp));
+  if ((st = ida_tolerances(r, d, opt, ctx, err))) goto done;
+  IDACHK(IDASetUserData(mem, &r->ud));
   /* bounded failure: at most 10^6 steps per output interval, and no step below 1e-14 of the
    * simulated span (a corrector that keeps failing ends in IDA_CONV_FAIL/IDA_ERR_FAIL there
    * instead of creeping on at h ~ 1e-18) */
   /* with a monitor, IDASolve returns every PHM_MONITOR_STEPS steps (IDA_TOO_MUCH_WORK, state
    * intact) so the monitor sees long output intervals; the per-interval limit is counted here */
-  long max_steps = opt->max_steps > 0 ? opt->max_steps : 1000000L;
-  IDACHK(IDASetMaxNumSteps(mem, opt->monitor ? PHM_MONITOR_STEPS : max_steps));
-  const double hmin = 1e-14 * fmax(1.0, tout[nout - 1] - tout[0]);
-  const double h0 = fmin(1e-8, 1e-3 * (tout[nout - 1] - tout[0]));
-  IDACHK(IDASetMinStep(mem, hmin));
-  IDACHK(IDASetInitStep(mem, h0));
+  r->max_steps = opt->max_steps > 0 ? opt->max_steps : 1000000L;
+  IDACHK(IDASetMaxNumSteps(mem, opt->monitor ? PHM_MONITOR_STEPS : r->max_steps));
+  r->hmin = 1e-14 * fmax(1.0, tout[nout - 1] - tout[0]);
+  r->h0 = fmin(1e-8, 1e-3 * (tout[nout - 1] - tout[0]));
+  IDACHK(IDASetMinStep(mem, r->hmin));
+  IDACHK(IDASetInitStep(mem, r->h0));
   /* The first step from consistent values (the start, each breakpoint's restart) may need to be
    * far shorter than h0 and hmin: IDA's 10 error-test failures (each cutting h by 4 at most)
    * reach 4^-9 h0 = 3.8e-14 s, and hmin stops them at 1e-14 s. The Fig. 3 manipulator
@@ -314,25 +331,36 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
    * step has grown past hmin. Measured on that manipulator over 0.05 s (KLU): rtol 1e-8 1319
    * steps, 0.04 s of CPU; 1e-10 6780 steps, 0.15 s (before: IDA_ERR_FAIL at t = 0, KLU and
    * dense alike). */
-  ys = N_VClone(yy);
-  yps = N_VClone(yy);
-  if (!ys || !yps) {
+  r->ys = N_VClone(yy);
+  r->yps = N_VClone(yy);
+  if (!r->ys || !r->yps) {
     st = PHM_FAIL(err, PHM_ENOMEM, "out of memory (N_Vector)");
     goto done;
   }
-  N_VScale(1.0, yy, ys);
-  N_VScale(1.0, yp, yps);
-  int retried = 0, relaxed = 0; /* the first step retried since the (re)start; floor lifted */
+  N_VScale(1.0, yy, r->ys);
+  N_VScale(1.0, yp, r->yps);
+  r->retried = r->relaxed = 0;
   if (opt->max_step > 0) IDACHK(IDASetMaxStep(mem, opt->max_step));
-  if (opt->max_order > 0) IDACHK(IDASetMaxOrd(mem, opt->max_order < 5 ? opt->max_order : 5));
+  if (opt->ida.max_order > 0) IDACHK(IDASetMaxOrd(mem, opt->ida.max_order < 5 ? opt->ida.max_order : 5));
+done:
+  return st;
+}
+
+/* The linear solver, KLU or the dense LU, each with the closed-form Jacobian and wrapped by
+ * ledger_wrap. */
+static phm_status ida_linear_solver(ida_run *r, dae_t *d, const phm_sim_options *opt,
+                                    SUNContext ctx, N_Vector yy, phm_error *err) {
+  phm_status st = PHM_OK;
+  void *mem = r->mem;
+  SUNLinearSolver LS = NULL;
   if (opt->linear_solver == 1) {
-    A = SUNSparseMatrix(d->n, d->n, d->nnz, CSC_MAT, ctx);
-    if (!A) {
+    r->A = SUNSparseMatrix(d->n, d->n, d->nnz, CSC_MAT, ctx);
+    if (!r->A) {
       st = PHM_FAIL(err, PHM_ENOMEM, "out of memory (sparse matrix)");
       goto done;
     }
-    phm_sparse_matrix_ops(A);
-    LS = ud.klu = SUNLinSol_KLU(yy, A, ctx);
+    phm_sparse_matrix_ops(r->A);
+    LS = r->LS = r->ud.klu = SUNLinSol_KLU(yy, r->A, ctx);
     /* The pruned pattern (ida_jac) needs safer pivoting than KLU's defaults gave the full block
      * pattern. No block triangular form: its maximum transversal may make a round-off entry
      * (1e-35 .. 1e-19, zero in exact arithmetic) the pivot of a 1 x 1 block, where partial
@@ -365,102 +393,163 @@ phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vecto
       SUNLinSol_KLUGetCommon(LS)->tol = d->pl ? 1.0 : 0.1;
     }
   } else {
-    A = SUNDenseMatrix(d->n, d->n, ctx);
-    ud.js = SUNSparseMatrix(d->n, d->n, d->nnz, CSC_MAT, ctx); /* never zeroed: dae_jacobian fills it */
-    if (!A || !ud.js) {
+    r->A = SUNDenseMatrix(d->n, d->n, ctx);
+    r->ud.js = SUNSparseMatrix(d->n, d->n, d->nnz, CSC_MAT, ctx); /* never zeroed: dae_jacobian fills it */
+    if (!r->A || !r->ud.js) {
       st = PHM_FAIL(err, PHM_ENOMEM, "out of memory (dense matrix)");
       goto done;
     }
-    LS = SUNLinSol_Dense(yy, A, ctx);
+    LS = r->LS = SUNLinSol_Dense(yy, r->A, ctx);
   }
   if (!LS) {
     st = PHM_FAIL(err, PHM_ESOLVER, "could not create the linear solver");
     goto done;
   }
-  ud.inner = LS;
-  ud.dP = N_VClone(yy);
-  if (!ud.dP || !(W = ledger_wrap(&ud, ctx))) {
+  r->ud.inner = LS;
+  r->ud.dP = N_VClone(yy);
+  if (!r->ud.dP || !(r->W = ledger_wrap(&r->ud, ctx))) {
     st = PHM_FAIL(err, PHM_ENOMEM, "out of memory (linear solver)");
     goto done;
   }
-  IDACHK(IDASetLinearSolver(mem, W, A));
+  IDACHK(IDASetLinearSolver(mem, r->W, r->A));
   IDACHK(IDASetJacFn(mem, opt->linear_solver == 1 ? ida_jac : ida_jac_dense));
+done:
+  return st;
+}
 
-  for (int iout = 1; iout < nout; iout++) {
-    double target = tout[iout];
-    long chunks = 0;
-    while (t < target) {
-      if (isfinite(nbp)) IDACHK(IDASetStopTime(mem, nbp));
-      double tret = t;
-      int flag = IDASolve(mem, target, &tret, yy, yp, IDA_NORMAL);
-      long ns0 = -1;
-      if (flag == IDA_ERR_FAIL && IDAGetNumSteps(mem, &ns0) == 0 && ns0 == 0 && !retried) {
-        double hf = 0;
-        IDAGetCurrentStep(mem, &hf);
-        add_stats(mem, out); /* IDAReInit zeroes IDA's counters */
-        N_VScale(1.0, ys, yy);
-        N_VScale(1.0, yps, yp);
-        IDACHK(IDASetInitStep(mem, 0.25 * hf));
-        IDACHK(IDASetMinStep(mem, 16 * DBL_EPSILON * fabs(t)));
-        IDACHK(IDAReInit(mem, t, yy, yp));
-        retried = relaxed = 1;
-        continue;
-      }
-      if (relaxed) {
-        double hc = 0;
-        if (IDAGetCurrentStep(mem, &hc) == 0 && fabs(hc) >= hmin) {
-          IDACHK(IDASetMinStep(mem, hmin));
-          IDACHK(IDASetInitStep(mem, h0));
-          relaxed = 0;
-        }
-      }
-      if (flag == IDA_TOO_MUCH_WORK && opt->monitor && ++chunks * PHM_MONITOR_STEPS < max_steps) {
-        long ns = 0;
-        double hl = 0;
-        IDAGetNumSteps(mem, &ns);
-        IDAGetLastStep(mem, &hl);
-        t = tret;
-        if (opt->monitor(opt->ctx, t, out->nsteps + ns, hl)) {
-          st = PHM_FAIL(err, PHM_EINTERRUPT, "interrupted at t = %g s", t);
-          goto done;
-        }
-        continue;
-      }
-      if (flag < 0) {
-        char *nm = IDAGetReturnFlagName(flag);
-        st = PHM_FAIL(err, PHM_ESOLVER, "IDA failed with %s at t = %.9g s (%s)", nm ? nm : "?", tret, d->idamsg);
-        free(nm);
-        goto done;
-      }
-      t = tret;
-      if (flag == IDA_TSTOP_RETURN) {
-        /* breakpoint: new piece of the laws, re-initialize from consistent values */
-        add_stats(mem, out);
-        if ((st = dae_restart_at_breakpoint(d, t, t, &nbp, y, ypd, err))) goto done;
-        N_VScale(1.0, yy, ys);
-        N_VScale(1.0, yp, yps);
-        if (relaxed) {
-          IDACHK(IDASetMinStep(mem, hmin));
-          IDACHK(IDASetInitStep(mem, h0));
-        }
-        retried = relaxed = 0;
-        IDACHK(IDAReInit(mem, t, yy, yp));
-        if (t >= target) t = target;
+/* Integrate from *t to the output time target, restarting at the laws' breakpoints (*nbp: the
+ * next) and calling the monitor every PHM_MONITOR_STEPS steps. */
+static phm_status ida_interval(ida_run *r, dae_t *d, const phm_sim_options *opt, N_Vector yy,
+                               N_Vector yp, double *tp, double target, double *nbp,
+                               phm_sim_output *out, phm_error *err) {
+  phm_status st = PHM_OK;
+  void *mem = r->mem;
+  const double hmin = r->hmin, h0 = r->h0;
+  double t = *tp, *y = N_VGetArrayPointer(yy), *ypd = N_VGetArrayPointer(yp);
+  long chunks = 0;
+  while (t < target) {
+    if (isfinite(*nbp)) IDACHK(IDASetStopTime(mem, *nbp));
+    double tret = t;
+    int flag = IDASolve(mem, target, &tret, yy, yp, IDA_NORMAL);
+    long ns0 = -1;
+    if (flag == IDA_ERR_FAIL && IDAGetNumSteps(mem, &ns0) == 0 && ns0 == 0 && !r->retried) {
+      double hf = 0;
+      IDAGetCurrentStep(mem, &hf);
+      add_stats(mem, out); /* IDAReInit zeroes IDA's counters */
+      N_VScale(1.0, r->ys, yy);
+      N_VScale(1.0, r->yps, yp);
+      IDACHK(IDASetInitStep(mem, 0.25 * hf));
+      IDACHK(IDASetMinStep(mem, 16 * DBL_EPSILON * fabs(t)));
+      IDACHK(IDAReInit(mem, t, yy, yp));
+      r->retried = r->relaxed = 1;
+      continue;
+    }
+    if (r->relaxed) {
+      double hc = 0;
+      if (IDAGetCurrentStep(mem, &hc) == 0 && fabs(hc) >= hmin) {
+        IDACHK(IDASetMinStep(mem, hmin));
+        IDACHK(IDASetInitStep(mem, h0));
+        r->relaxed = 0;
       }
     }
+    if (flag == IDA_TOO_MUCH_WORK && opt->monitor && ++chunks * PHM_MONITOR_STEPS < r->max_steps) {
+      long ns = 0;
+      double hl = 0;
+      IDAGetNumSteps(mem, &ns);
+      IDAGetLastStep(mem, &hl);
+      t = tret;
+      if (opt->monitor(opt->ctx, t, out->nsteps + ns, hl)) {
+        st = PHM_FAIL(err, PHM_EINTERRUPT, "interrupted at t = %g s", t);
+        goto done;
+      }
+      continue;
+    }
+    if (flag < 0) {
+      char *nm = IDAGetReturnFlagName(flag);
+      st = PHM_FAIL(err, PHM_ESOLVER, "IDA failed with %s at t = %.9g s (%s)", nm ? nm : "?", tret, r->w->msg);
+      free(nm);
+      goto done;
+    }
+    t = tret;
+    if (flag == IDA_TSTOP_RETURN) {
+      /* breakpoint: new piece of the laws, re-initialize from consistent values */
+      add_stats(mem, out);
+      if ((st = dae_restart_at_breakpoint(d, t, t, nbp, y, ypd, err))) goto done;
+      N_VScale(1.0, yy, r->ys);
+      N_VScale(1.0, yp, r->yps);
+      if (r->relaxed) {
+        IDACHK(IDASetMinStep(mem, hmin));
+        IDACHK(IDASetInitStep(mem, h0));
+      }
+      r->retried = r->relaxed = 0;
+      IDACHK(IDAReInit(mem, t, yy, yp));
+      if (t >= target) t = target;
+    }
+  }
+done:
+  *tp = t;
+  return st;
+}
+
+static void ida_free_run(ida_run *r, phm_sim_output *out) {
+  if (r->mem) add_stats(r->mem, out);
+  if (r->mem) IDAFree(&r->mem);
+  if (r->W) SUNLinSolFree(r->W);
+  if (r->ud.dP) N_VDestroy(r->ud.dP);
+  if (r->LS) SUNLinSolFree(r->LS);
+  if (r->A) SUNMatDestroy(r->A);
+  if (r->ud.js) SUNMatDestroy(r->ud.js);
+  if (r->id) N_VDestroy(r->id);
+  if (r->ys) N_VDestroy(r->ys);
+  if (r->yps) N_VDestroy(r->yps);
+}
+
+phm_status run_ida(dae_t *d, const phm_sim_options *opt, void *work, SUNContext ctx, N_Vector yy,
+                   N_Vector yp, const double *tout, int nout, double E0[1], double nbp,
+                   phm_sim_output *out, phm_error *err) {
+  phm_status st = PHM_OK;
+  ida_run r = {.ud = {d, NULL, NULL, NULL, 0.0, 0.0, NULL, NULL}, .w = work};
+  int stop;
+  double t = tout[0], *y = N_VGetArrayPointer(yy);
+  /* The kinematic rows of the carriers that mu acts on in their body frames (dae_body_kinematics).
+   * In the world frame mu enters p' = R (v + dv) and q' = 1/2 q (x) (0, w + dw) through R and q:
+   * its columns of the Newton matrix turn with the carrier, and IDA keeps that matrix until
+   * Newton fails or cj leaves 0.6 .. 1.67 times its value then, for hundreds of steps. mu's
+   * exact value is 0 and its discrete values are Newton's leftovers, which BDF's predictor
+   * extrapolates, amplifying an alternating sequence, and a matrix that has turned by dtheta
+   * leaves ~dtheta of that prediction in mu. IDA accepts one-iteration corrections on a rate
+   * estimate from the matrix's first steps, and mu's weight is loose (dae_state_atol), so
+   * nothing stopped it. Measured on the flexible slider-crank of tests/test_flexible_loop.py
+   * with consistent masses (N = 4, rtol 1e-6, order 5): the predictor put mu at 13-30x (median
+   * 20) its last value; the fraction of that left after the step grew from 0.001 right after a
+   * refresh to 0.15 6 ms later (1.3 times the angle the crank turned at 20 rad/s); past ~0.03
+   * mu grew 1.2-2x per step with alternating sign (the crank pivot's f_x, f_y rows: 0.03 at
+   * t = 24 ms, 2e9 at 25, 7e89 at 28.8), each step accepted after one iteration with
+   * corrections of 1e6-4e7 tolerances, until IDA_CONV_FAIL at t = 28.9 ms, h = 4e-11 s (and so
+   * for N = 3 .. 8 at rtol 1e-6 and 1e-8). With lumped masses, or with the dense solver, mu
+   * swung the same way (median |mu| ~1 m/s, peaks 1e16 and 5e8) and recovered at the refreshes
+   * that followed Newton failures. In the body frame mu's columns are -G^T, constant: its
+   * correction is exact whatever the matrix's age, median |mu| 2e-6 .. 5e-6, max 2e-3, and the
+   * consistent-mass runs pass (docs/integrators.md, "IDA and mu"). The cost is on the rotating
+   * columns that remain, q' and p' (times cj): only the carriers that mu acts on take these
+   * rows, the others keep the world frame's (all carriers: a free modal link's momentum,
+   * tests/test_modal_link.py at rtol 1e-9, drifted 8.6e-12 instead of 2.9e-12), and the
+   * constrained carriers' positions now keep Newton's leftovers (the slider-crank's max |g|
+   * 5.4e-12 against 3.9e-14 at rtol 1e-8). The generalized-alpha keeps the world frame: its
+   * predictor of the multipliers is linear and its first corrections are capped
+   * (csrc/integrate/galpha.c), and in the body frame a quaternion's norm correction, large after
+   * its second-order predictor, leaked into the rotation through the turned matrix (a
+   * pendulum over 100 s: 9x the Jacobians, 7x the ledger). */
+  dae_body_kinematics(d, 1);
+  if ((st = ida_create(&r, d, opt, ctx, yy, yp, tout, nout, err)) ||
+      (st = ida_linear_solver(&r, d, opt, ctx, yy, err)))
+    goto done;
+  for (int iout = 1; iout < nout; iout++) {
+    if ((st = ida_interval(&r, d, opt, yy, yp, &t, tout[iout], &nbp, out, err))) goto done;
     if ((st = dae_step_accepted(d, t, y, fmax(DAE_CONSTRAINT_TOL, opt->rtol), opt->atol, 1, err))) goto done; /* IDA: at the outputs */
     if ((st = dae_emit_output(d, y, out, iout, E0, t, opt, &stop, err)) || stop) goto done;
   }
 done:
-  if (mem) add_stats(mem, out);
-  if (mem) IDAFree(&mem);
-  if (W) SUNLinSolFree(W);
-  if (ud.dP) N_VDestroy(ud.dP);
-  if (LS) SUNLinSolFree(LS);
-  if (A) SUNMatDestroy(A);
-  if (ud.js) SUNMatDestroy(ud.js);
-  if (id) N_VDestroy(id);
-  if (ys) N_VDestroy(ys);
-  if (yps) N_VDestroy(yps);
+  ida_free_run(&r, out);
   return st;
 }

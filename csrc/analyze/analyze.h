@@ -1,47 +1,31 @@
-/* solve.h -- what reads the DAE and the model to produce results: the integrators (ida.c,
- * galpha.c, dispatched by simulate.c) and the linearization shared by modes.c and statics.c. */
-#ifndef PHM_SOLVE_H
-#define PHM_SOLVE_H
+/* analyze.h -- the analyses of a model at a configuration (csrc/model/; not the DAE): the
+ * linearization shared by modes and statics (linearize.c: generalized forces, their closed-form
+ * Jacobian blocks, the sparse KKT matrix and its inertia), the modes (modes*.c), statics
+ * (statics.c, static_free.c). */
+#ifndef PHM_ANALYZE_H
+#define PHM_ANALYZE_H
 
 #include <klu.h>
 
-#include "dae.h"
-
-/* ---------------------------------------------------------------- integrators */
-/* Integrate from the consistent state in yy, yp at tout[0] (output 0 already emitted; E0 its
- * energy) to tout[nout - 1], emitting outputs 1..nout-1. d: set up with its Jacobian pattern
- * (dae_jacobian_pattern: both linear solvers of both integrators evaluate the closed-form
- * Jacobian on it); nbp: the next breakpoint of the laws. */
-phm_status run_ida(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vector yy, N_Vector yp,
-                   const double *tout, int nout, double E0[1], double nbp, phm_sim_output *out,
-                   phm_error *err);
-phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vector yy,
-                      N_Vector yp, const double *tout, int nout, double E0[1], double nbp,
-                      phm_sim_output *out, phm_error *err);
-/* After a Jacobian into J, the matrix of the KLU solver LS: drop its entries zero in every call
- * so far (dae_jacobian_prune) and, when the kept pattern grew, have KLU analyse it again. 0 on
- * success, 1 if KLU could not. */
-int phm_klu_prune(dae_t *d, SUNMatrix J, SUNLinearSolver LS);
-
-/* ---------------------------------------------------------------- nvector_ops.c */
-/* Install phmech's compiled copies of the serial N_Vector operations IDA spends its time in on v
- * (N_VNew_Serial's; its clones inherit them), and of the zero on the sparse matrix A: the same
- * numbers, bit for bit, as SUNDIALS's (whose Debian build is unoptimized). */
-void phm_nvector_ops(N_Vector v);
-void phm_sparse_matrix_ops(SUNMatrix A);
+#include "model.h"
 
 /* ---------------------------------------------------------------- linearization (linearize.c) */
+/* The linearization's data: the model, the point (time, load scale, multipliers) and the carrier
+ * graph with its 6x6 blocks. Not the DAE's phm_data (csrc/dae/dae.h): an analysis needs none of
+ * its buffers and the graph blocks are not among them, and dae_init costs 5-6 % of a modes call
+ * (measured: docs/architecture.md, "One workspace per model?"). */
 typedef struct {
   const phm_model *m;
   double time, tref, scale;
   const double *lam; /* constraint wrenches added to the forces (may be NULL) */
-  double *wr, *gl, *G, *Hp;
   /* carrier coupling graph (CSR) and the force Jacobian blocks (lin_graph; modes and statics) */
   int *ptr, *nbr;
   double *Kb;
   double *Mb; /* the mass in the same slots: carriers' inertias, consistent elements' couplings */
 } lin_t;
 
+/* L for model m (its graph and blocks: lin_graph). Allocates nothing (the four dense buffers it
+ * allocated, ncons x 6 nc doubles among them, were never read); PHM_OK. */
 phm_status lin_alloc(lin_t *L, const phm_model *m, phm_error *err);
 /* The slot of block (row carrier r, column carrier c) in L's coupling graph (lin_graph), or -1
  * when they are not neighbours. */
@@ -114,5 +98,44 @@ int lin_ldl_negative(lin_ldl_t *F, lin_kkt_t *S, double *check);
 /* The pairs' constraint Jacobian blocks at poses H: row r holds G_a in Gp[12 r ..] and G_b in
  * Gp[12 r + 6 ..] (12 per constraint row). */
 void lin_constraint_blocks(const lin_t *L, const double *H, double *Gp);
+
+/* ---------------------------------------------------------------- the reduction (reduce.c) */
+/* The linearization at poses H shared by the modes and the linear port-Hamiltonian model: the
+ * stiffness K = -df/ddelta and damping D = -df/dt as blocks on the carrier coupling graph
+ * (closed form, csrc/analyze/linearize.c), and, for the dense path, their reduction to
+ * the null space of the constraint Jacobian G. G touches only the carriers of the pairs, so the
+ * null-space basis is Z = diag(U0, I): U0 from the SVD of G restricted to the constrained
+ * carriers, identity on the free ones. Reduced coordinates: first the n0 null-space directions
+ * of the constrained carriers (U0 = columns rank.. of U), then 6 per free carrier in carrier
+ * order (red[c]: first index; -1 for a constrained carrier, cmap[c]: its place among them). */
+typedef struct {
+  lin_t L;
+  double *H, *Db;           /* poses (nc x 16), damping blocks (36 per graph slot); K in L.Kb */
+  int *cmap, *red;          /* constrained carriers' places, free carriers' first reduced index */
+  int n6c, n0, nr;          /* constrained carriers' coordinates, their null space, reduced size */
+  double *U;                /* n6c x n6c, column-major; U0 = U + rank n6c (column a contiguous) */
+  const double *U0;
+  double *Kr, *Dr, *Mr;     /* reduced stiffness, damping, mass (nr x nr, symmetrized) */
+} lin_red_t;
+
+void lin_red_free(lin_red_t *R);
+/* K and D blocks at poses (NULL: H0) with constraint wrenches lambda (NULL: none), loads at time. */
+phm_status lin_red_blocks(lin_red_t *R, const phm_model *m, const double *poses,
+                          const double *lambda, double time, phm_error *err);
+/* The null space of G and the reduced Kr, Dr, Mr (symmetrized) from the blocks. */
+phm_status lin_red_reduce(lin_red_t *R, const phm_model *m, phm_error *err);
+/* x = Z y: a reduced vector y (nr) as carrier tangent coordinates x (6 nc). */
+void lin_red_expand(const lin_red_t *R, int nc, const double *y, double *x);
+/* y = Z^T f: carrier wrenches f (6 nc) as reduced generalized forces y (nr). */
+void lin_red_project(const lin_red_t *R, int nc, const double *f, double *y);
+
+/* ---------------------------------------------------------------- sparse modes (modes_sparse.c) */
+/* The nf lowest modes of R's blocks (lin_red_blocks) on the sparse path with a block of b
+ * vectors, verified by the count of eigenvalues below its shift; *ok = 0: not verified and not
+ * sliced (slice = 0), for the dense path to redo. PHM_ESINGULAR (no message): the KKT matrix at
+ * the shift is singular. */
+phm_status modes_sparse_path(lin_red_t *R, const phm_model *m, int nf, int b, int slice,
+                             double *omega, double *zeta, double *shapes, int *ok,
+                             phm_error *err);
 
 #endif

@@ -5,7 +5,7 @@
  * phm_gravity_tangent, phm_pair_tangent, phm_applied_tangent); read by modes (modes.c) and
  * statics (statics.c).
  * Set-up time code: allocates. */
-#include "solve.h"
+#include "analyze.h"
 
 #include <amd.h>
 #include <ldl.h>
@@ -114,20 +114,11 @@ void lin_closed_form_blocks(const lin_t *L, const double *H, double *Kb, double 
 }
 
 phm_status lin_alloc(lin_t *L, const phm_model *m, phm_error *err) {
-  int n6 = 6 * m->nc;
+  (void)err;
   L->m = m;
-  L->wr = malloc(sizeof(double) * (size_t)n6);
-  L->gl = malloc(sizeof(double) * (size_t)n6);
-  L->G = malloc(sizeof(double) * ((size_t)m->ncons * n6 + 1));
-  L->Hp = malloc(sizeof(double) * 16 * (size_t)m->nc);
-  if (!L->wr || !L->gl || !L->G || !L->Hp) return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
   return PHM_OK;
 }
 void lin_free(lin_t *L) {
-  free(L->wr);
-  free(L->gl);
-  free(L->G);
-  free(L->Hp);
   free(L->ptr);
   free(L->nbr);
   free(L->Kb);

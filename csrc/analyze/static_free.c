@@ -28,7 +28,7 @@
  * Each motion found is then checked with the model's own forces (phm_applied_pairs, all
  * internal forces included) at the poses given and at two poses along it, where the constraints
  * must still hold: a motion the structure proposes but the forces do not confirm is dropped. */
-#include "solve.h"
+#include "analyze.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -288,6 +288,121 @@ static int candidate(search_t *S, int v, const double X[6], int fixed, double E,
   return 1;
 }
 
+/* Motion number k (fm, its twist X, the loads' parts lw) into the outputs: the moving part is
+ * the subtree of fm.carrier. */
+static void record(const search_t *S, phm_free_motion fm, const double X[6], const double *lw, int k,
+                   phm_free_motion *out, unsigned char *moving, double *load_work) {
+  int nc = S->m->nc, nl = S->m->nl;
+  memcpy(fm.twist, X, sizeof fm.twist);
+  out[k] = fm;
+  if (moving)
+    for (int c = 0; c < nc; c++) moving[(size_t)k * nc + c] = (unsigned char)in_sub(S->G, c, fm.carrier);
+  if (load_work) memcpy(load_work + (size_t)k * nl, lw, sizeof(double) * (size_t)nl);
+}
+
+/* The parts held by nothing (phm_static_free) from motion number found on, up to nmax; returns
+ * the new count. */
+static int free_parts(search_t *S, int found, int nmax, double *lw, phm_free_motion *out,
+                      unsigned char *moving, double *load_work) {
+  const phm_model *m = S->m;
+  const double *H = S->H;
+  int nc = m->nc, nl = m->nl;
+  /* parts held by nothing: the roots of the search other than the ground */
+  for (int r = 0; r < nc && found < nmax; r++) {
+    if (S->G->root[r] != r) continue;
+    double Fn[3] = {0, 0, 0}, Tn[3] = {0, 0, 0}, M = 0, mc[3] = {0, 0, 0};
+    int body_force = 0, body_load = 0;
+    for (int c = 0; c < nc; c++)
+      if (in_sub(S->G, c, r) && m->car[c].mass > 0) {
+        const double *Hc = H + 16 * c, *x = m->car[c].com;
+        M += m->car[c].mass;
+        for (int i = 0; i < 3; i++) {
+          Fn[i] += m->car[c].mass * m->gravity[i];
+          mc[i] += m->car[c].mass * (Hc[4 * i + 3] + Hc[4 * i] * x[0] + Hc[4 * i + 1] * x[1] + Hc[4 * i + 2] * x[2]);
+        }
+      }
+    for (int il = 0; il < nl; il++) {
+      const phm_load_desc *l = &m->load[il];
+      if (l->reaction >= 0 || S->sl[il] == 0 || !in_sub(S->G, l->carrier, r)) continue;
+      double f[3] = {S->sl[il] * l->w[3], S->sl[il] * l->w[4], S->sl[il] * l->w[5]};
+      if (!l->world) {
+        body_force |= norm3(f) > 0;
+        body_load |= norm3(f) > 0 || norm3(l->w) * fabs(S->sl[il]) > 0;
+        continue;
+      }
+      for (int i = 0; i < 3; i++) Fn[i] += f[i], Tn[i] += S->sl[il] * l->w[i];
+    }
+    double X[6] = {0, 0, 0, 0, 0, 0}, F, Fg, mass;
+    double fn = norm3(Fn), tn = norm3(Tn);
+    if (fn > 0 && !body_force) /* a translation along the net force */
+      for (int i = 0; i < 3; i++) X[3 + i] = Fn[i] / fn;
+    else if (fn == 0 && tn > 0 && !body_load) { /* no force at all: a rotation about the moment */
+      double o[3] = {H[16 * r + 3], H[16 * r + 7], H[16 * r + 11]};
+      if (M > 0)
+        for (int i = 0; i < 3; i++) o[i] = mc[i] / M;
+      for (int i = 0; i < 3; i++) X[i] = Tn[i] / tn;
+      X[3] = o[1] * X[2] - o[2] * X[1]; /* v = o x omega: the axis through o */
+      X[4] = o[2] * X[0] - o[0] * X[2];
+      X[5] = o[0] * X[1] - o[1] * X[0];
+    } else
+      continue;
+    if (!candidate(S, r, X, 1, 0.0, lw, &F, &Fg, &mass)) continue;
+    record(S, (phm_free_motion){.pair = -1, .coord = -1, .carrier = r, .force = F, .gravity = Fg,
+                                .effort = 0.0, .mass = mass},
+           X, lw, found++, out, moving, load_work);
+  }
+  return found;
+}
+
+/* The pairs' coordinates nothing holds (phm_static_free), as free_parts. */
+static int free_pairs(search_t *S, int found, int nmax, double *lw, phm_free_motion *out,
+                      unsigned char *moving, double *load_work) {
+  const phm_model *m = S->m;
+  const double *H = S->H;
+  int nc = m->nc;
+  /* pairs that separate a part from the rest: bridges of the search tree */
+  for (int v = 0; v < nc && found < nmax; v++) {
+    int u = S->G->parent[v], e = S->G->pedge[v] - m->ne;
+    if (u < 0 || e < 0 || e >= m->np || !(S->G->low[v] > S->G->tin[u])) continue;
+    int ip = e, k = m->pair_k[ip];
+    const phm_pair_desc *pr = &m->pair[ip];
+    const phm_pair_type_info *ti = phm_pair_type(pr->type);
+    if (k == 0 || !ti) continue;
+    int side_b = v == pr->b; /* the part moves with F_b; else with F_a */
+    int ground = side_b ? pr->a < 0 : pr->b < 0;
+    const double *Ha = pr->a >= 0 ? H + 16 * pr->a : NULL, *Hb = pr->b >= 0 ? H + 16 * pr->b : NULL;
+    double h[16], W[36], Phi[36], Fb[16], AdFb[36];
+    phm_pair_frames(m, ip, Ha, Hb, h, NULL, NULL);
+    phm_pair_kin(pr->type, pr->pitch, h, m->xref0 + m->pair_j[ip], NULL, W, Phi, NULL);
+    if (Hb) phm_se3_compose(Hb, pr->Tb, Fb);
+    else memcpy(Fb, pr->Tb, sizeof Fb);
+    phm_se3_Ad(Fb, AdFb);
+    for (int j = 0; j < k && found < nmax; j++) {
+      if (pr->xdriven >> j & 1) continue; /* its coordinate follows a law: held */
+      int held = 0;
+      for (int ia = 0; ia < m->na; ia++)
+        if (m->act[ia].pair == ip && m->act[ia].kind != PHM_ACT_EFFORT && m->act[ia].kp[j] != 0) held = 1;
+      if (held) continue;
+      /* psi_j: W^C^T psi = 0, Phi^T psi = e_j (rows of A: the columns of [W^C Phi]) */
+      double A[36], psi[6], X[6];
+      int mr = ti->m;
+      for (int i = 0; i < 6; i++)
+        for (int q = 0; q < 6; q++) A[6 * i + q] = i < mr ? W[6 * q + i] : Phi[6 * q + (i - mr)];
+      if (solve6(A, mr + j, psi)) continue;
+      phm_mv6(AdFb, psi, X); /* the part on F_b's side moves by Ad_Fb psi; on F_a's by -Ad_Fb psi */
+      if (!side_b)
+        for (int i = 0; i < 6; i++) X[i] = -X[i];
+      int fixed = ground && ((side_b ? ti->axes_a : ti->axes_b) >> j & 1);
+      double F, Fg, mass, E = S->eff[m->pair_j[ip] + j];
+      if (!candidate(S, v, X, fixed, E, lw, &F, &Fg, &mass)) continue;
+      record(S, (phm_free_motion){.pair = ip, .coord = j, .carrier = v, .force = F, .gravity = Fg,
+                                  .effort = E, .mass = mass},
+             X, lw, found++, out, moving, load_work);
+    }
+  }
+  return found;
+}
+
 phm_status phm_static_free(const phm_model *m, const double *poses, double time, int nmax,
                            phm_free_motion *out, unsigned char *moving, double *load_work,
                            int *nfound, phm_error *err) {
@@ -329,100 +444,8 @@ phm_status phm_static_free(const phm_model *m, const double *poses, double time,
     S.sl[il] = phm_law_eval(&m->load[il].law, time, S.tref, NULL, NULL);
     phm_load_wrench(m, il, H, S.sl[il], NULL, S.wl + 6 * il, wre);
   }
-  /* parts held by nothing: the roots of the search other than the ground */
-  for (int r = 0; r < nc && found < nmax; r++) {
-    if (G.root[r] != r) continue;
-    double Fn[3] = {0, 0, 0}, Tn[3] = {0, 0, 0}, M = 0, mc[3] = {0, 0, 0};
-    int body_force = 0, body_load = 0;
-    for (int c = 0; c < nc; c++)
-      if (in_sub(&G, c, r) && m->car[c].mass > 0) {
-        const double *Hc = H + 16 * c, *x = m->car[c].com;
-        M += m->car[c].mass;
-        for (int i = 0; i < 3; i++) {
-          Fn[i] += m->car[c].mass * m->gravity[i];
-          mc[i] += m->car[c].mass * (Hc[4 * i + 3] + Hc[4 * i] * x[0] + Hc[4 * i + 1] * x[1] + Hc[4 * i + 2] * x[2]);
-        }
-      }
-    for (int il = 0; il < nl; il++) {
-      const phm_load_desc *l = &m->load[il];
-      if (l->reaction >= 0 || S.sl[il] == 0 || !in_sub(&G, l->carrier, r)) continue;
-      double f[3] = {S.sl[il] * l->w[3], S.sl[il] * l->w[4], S.sl[il] * l->w[5]};
-      if (!l->world) {
-        body_force |= norm3(f) > 0;
-        body_load |= norm3(f) > 0 || norm3(l->w) * fabs(S.sl[il]) > 0;
-        continue;
-      }
-      for (int i = 0; i < 3; i++) Fn[i] += f[i], Tn[i] += S.sl[il] * l->w[i];
-    }
-    double X[6] = {0, 0, 0, 0, 0, 0}, F, Fg, mass;
-    double fn = norm3(Fn), tn = norm3(Tn);
-    if (fn > 0 && !body_force) /* a translation along the net force */
-      for (int i = 0; i < 3; i++) X[3 + i] = Fn[i] / fn;
-    else if (fn == 0 && tn > 0 && !body_load) { /* no force at all: a rotation about the moment */
-      double o[3] = {H[16 * r + 3], H[16 * r + 7], H[16 * r + 11]};
-      if (M > 0)
-        for (int i = 0; i < 3; i++) o[i] = mc[i] / M;
-      for (int i = 0; i < 3; i++) X[i] = Tn[i] / tn;
-      X[3] = o[1] * X[2] - o[2] * X[1]; /* v = o x omega: the axis through o */
-      X[4] = o[2] * X[0] - o[0] * X[2];
-      X[5] = o[0] * X[1] - o[1] * X[0];
-    } else
-      continue;
-    if (!candidate(&S, r, X, 1, 0.0, lw, &F, &Fg, &mass)) continue;
-    phm_free_motion *fm = &out[found];
-    *fm = (phm_free_motion){.pair = -1, .coord = -1, .carrier = r, .force = F, .gravity = Fg,
-                            .effort = 0.0, .mass = mass};
-    memcpy(fm->twist, X, sizeof X);
-    if (moving)
-      for (int c = 0; c < nc; c++) moving[(size_t)found * nc + c] = (unsigned char)in_sub(&G, c, r);
-    if (load_work) memcpy(load_work + (size_t)found * nl, lw, sizeof(double) * (size_t)nl);
-    found++;
-  }
-  /* pairs that separate a part from the rest: bridges of the search tree */
-  for (int v = 0; v < nc && found < nmax; v++) {
-    int u = G.parent[v], e = G.pedge[v] - m->ne;
-    if (u < 0 || e < 0 || e >= m->np || !(G.low[v] > G.tin[u])) continue;
-    int ip = e, k = m->pair_k[ip];
-    const phm_pair_desc *pr = &m->pair[ip];
-    const phm_pair_type_info *ti = phm_pair_type(pr->type);
-    if (k == 0 || !ti) continue;
-    int side_b = v == pr->b; /* the part moves with F_b; else with F_a */
-    int ground = side_b ? pr->a < 0 : pr->b < 0;
-    const double *Ha = pr->a >= 0 ? H + 16 * pr->a : NULL, *Hb = pr->b >= 0 ? H + 16 * pr->b : NULL;
-    double h[16], W[36], Phi[36], Fb[16], AdFb[36];
-    phm_pair_frames(m, ip, Ha, Hb, h, NULL, NULL);
-    phm_pair_kin(pr->type, pr->pitch, h, m->xref0 + m->pair_j[ip], NULL, W, Phi, NULL);
-    if (Hb) phm_se3_compose(Hb, pr->Tb, Fb);
-    else memcpy(Fb, pr->Tb, sizeof Fb);
-    phm_se3_Ad(Fb, AdFb);
-    for (int j = 0; j < k && found < nmax; j++) {
-      if (pr->xdriven >> j & 1) continue; /* its coordinate follows a law: held */
-      int held = 0;
-      for (int ia = 0; ia < m->na; ia++)
-        if (m->act[ia].pair == ip && m->act[ia].kind != PHM_ACT_EFFORT && m->act[ia].kp[j] != 0) held = 1;
-      if (held) continue;
-      /* psi_j: W^C^T psi = 0, Phi^T psi = e_j (rows of A: the columns of [W^C Phi]) */
-      double A[36], psi[6], X[6];
-      int mr = ti->m;
-      for (int i = 0; i < 6; i++)
-        for (int q = 0; q < 6; q++) A[6 * i + q] = i < mr ? W[6 * q + i] : Phi[6 * q + (i - mr)];
-      if (solve6(A, mr + j, psi)) continue;
-      phm_mv6(AdFb, psi, X); /* the part on F_b's side moves by Ad_Fb psi; on F_a's by -Ad_Fb psi */
-      if (!side_b)
-        for (int i = 0; i < 6; i++) X[i] = -X[i];
-      int fixed = ground && ((side_b ? ti->axes_a : ti->axes_b) >> j & 1);
-      double F, Fg, mass, E = S.eff[m->pair_j[ip] + j];
-      if (!candidate(&S, v, X, fixed, E, lw, &F, &Fg, &mass)) continue;
-      phm_free_motion *fm = &out[found];
-      *fm = (phm_free_motion){.pair = ip, .coord = j, .carrier = v, .force = F, .gravity = Fg,
-                              .effort = E, .mass = mass};
-      memcpy(fm->twist, X, sizeof X);
-      if (moving)
-        for (int c = 0; c < nc; c++) moving[(size_t)found * nc + c] = (unsigned char)in_sub(&G, c, v);
-      if (load_work) memcpy(load_work + (size_t)found * nl, lw, sizeof(double) * (size_t)nl);
-      found++;
-    }
-  }
+  found = free_parts(&S, found, nmax, lw, out, moving, load_work);
+  found = free_pairs(&S, found, nmax, lw, out, moving, load_work);
   *nfound = found;
   goto done;
 oom:

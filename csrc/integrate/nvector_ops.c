@@ -11,7 +11,7 @@
  * C test test_nvector_ops compares them with SUNDIALS's own. The fused and vector-array
  * operations stay unset, as N_VNew_Serial leaves them: SUNDIALS then composes them from the
  * operations below, as before. */
-#include "solve.h"
+#include "integrate.h"
 
 #include <math.h>
 #include <string.h>

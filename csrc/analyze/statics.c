@@ -2,7 +2,7 @@
  * retracted along the element chains, the factorization reused while it contracts, and load
  * stepping (halved on failure, grown back after fast convergence); at Newton's first failure, the
  * search for loads doing work on a motion nothing resists (static_free.c), which ends the solve. */
-#include "solve.h"
+#include "analyze.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -173,7 +173,7 @@ static int singular_converged(lin_t *L, lin_kkt_t *S, const double *Gp, const do
  * 1 on failure (H, lam restored, *have 0). With
  * *have on entry, the tangent predictor first: S's factorization (of the last load's solve) on
  * this load's residual, one step (for a load increment dF that is K^-1 dF). Then corrections at
- * each iterate: a new tangent [K G^T; G 0] (in closed form, csrc/solve/linearize.c) factored by
+ * each iterate: a new tangent [K G^T; G 0] (in closed form, csrc/analyze/linearize.c) factored by
  * KLU, or, while they contract by
  * NEWTON_THETA, simplified ones with the last factorization (one residual and solve each); each
  * step scaled down to at most 1 rad of rotation and taken by the chain retraction (take_step).
@@ -361,7 +361,7 @@ static int ptc(lin_t *L, lin_kkt_t *S, double *H, double *lam, double tol, int m
 }
 
 /* PHM_ESOLVER with a message when the loads do work on a motion nothing resists at poses H
- * (phm_static_free, csrc/solve/static_free.c: then no equilibrium exists, and step halving and
+ * (phm_static_free, csrc/analyze/static_free.c: then no equilibrium exists, and step halving and
  * pseudo-transient continuation would only fail slowly), else PHM_OK (or PHM_ENOMEM). Called at
  * Newton's first failure: a solve that converges never pays for it, and one that fails would
  * fail anyway -- the motions are proved free from the structure, not guessed from a singular

@@ -1,8 +1,8 @@
-/* simulate.c -- phm_simulate: checks the options, sets up the DAE (csrc/dae/), finds consistent
- * initial values, emits the first output and hands the run to an integrator (csrc/solve/ida.c,
- * csrc/solve/galpha.c). */
+/* simulate.c -- phm_simulate: checks the options, sets up the DAE (csrc/dae/) and the
+ * integrator's scratch, finds consistent initial values, emits the first output and hands the
+ * run to the integrator of the table (integrators.c: ida.c, galpha.c). */
 #define _POSIX_C_SOURCE 200809L
-#include "solve.h"
+#include "integrate.h"
 
 #include <math.h>
 #include <string.h>
@@ -29,38 +29,29 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
   }
   if (!(opt->rtol > 0) || !(opt->atol > 0) || !isfinite(opt->rtol) || !isfinite(opt->atol))
     return PHM_FAIL(err, PHM_EINVAL, "rtol and atol must be > 0 (got %g, %g)", opt->rtol, opt->atol);
-  if (opt->error_test != PHM_ERRTEST_ALL && opt->error_test != PHM_ERRTEST_CONFIGURATION)
-    return PHM_FAIL(err, PHM_EINVAL, "unknown error test %d (0 all states, 1 configuration)", opt->error_test);
-  if (opt->error_test == PHM_ERRTEST_CONFIGURATION && !(opt->max_order > 0 && opt->max_order <= 2))
-    return PHM_FAIL(err, PHM_EINVAL, "the configuration error test needs a maximum BDF order of 1 or 2 "
-                         "(got %d): without the twists in the error test, BDF 3-5 let unresolved vibrations grow", opt->max_order);
   if (opt->linear_solver != 0 && opt->linear_solver != 1)
     return PHM_FAIL(err, PHM_EINVAL, "unknown linear solver %d (0 dense, 1 KLU)", opt->linear_solver);
-  if (opt->integrator != PHM_INTEGRATOR_IDA && opt->integrator != PHM_INTEGRATOR_GALPHA)
-    return PHM_FAIL(err, PHM_EINVAL, "unknown integrator %d (0 IDA, 1 generalized-alpha)", opt->integrator);
-  if (opt->integrator == PHM_INTEGRATOR_GALPHA &&
-      (!(opt->adaptive ? opt->step >= 0 : opt->step > 0) || !isfinite(opt->step) ||
-       !(opt->rho_inf >= 0 && opt->rho_inf <= 1) || !(opt->band >= 0) || !isfinite(opt->band)))
-    return PHM_FAIL(err, PHM_EINVAL, "generalized-alpha needs step > 0 (>= 0 when adaptive), "
-                         "0 <= rho_inf <= 1 and a finite band >= 0 (got %g, %g, %g)",
-                         opt->step, opt->rho_inf, opt->band);
+  const phm_integrator *ig = phm_integrator_get(opt->integrator);
+  if (!ig) return PHM_FAIL(err, PHM_EINVAL, "unknown integrator %d (0 IDA, 1 generalized-alpha)", opt->integrator);
+  phm_status st = ig->check(opt, err);
+  if (st) return st;
   double t_start = now();
   out->nout_done = 0;
   out->nsteps = out->nres = out->njac = out->nniters = out->netf = out->nncf = out->nfloor = out->nnoise = 0;
   out->err_est = out->err_sum = out->newton_rtol = out->max_mu = out->err_ratio = out->t_err_ratio = out->min_step = 0;
-  phm_status st = PHM_OK;
   /* set-up: the DAE's data and Jacobian pattern (every integrator and linear solver evaluates
-   * the closed-form Jacobian on it; the dense LUs copy it into their matrix); nothing of
-   * phmech's allocates after it */
+   * the closed-form Jacobian on it; the dense LUs copy it into their matrix) and the
+   * integrator's scratch; nothing of phmech's allocates after it */
   dae_t d;
   if ((st = opt->planar ? dae_planar_init(&d, m, opt->planar - 1, err) : dae_init(&d, m, err))) return st;
+  void *work = NULL;
   SUNContext ctx = NULL;
   N_Vector yy = NULL, yp = NULL;
   int nc = m->nc;
   double *H = dae_full(&d)->data.ic.H, *tw = dae_full(&d)->data.ic.tw;
-  if ((st = dae_jacobian_pattern(&d, err))) goto done;
+  if ((st = dae_jacobian_pattern(&d, err)) || (st = ig->setup(&d, opt, &work, err))) goto done;
   /* the constraint rows' regularization (csrc/dae/watch.c) */
-  dae_regularization_scale(&d, opt->rtol, opt->integrator == PHM_INTEGRATOR_GALPHA);
+  dae_regularization_scale(&d, opt->rtol, ig->per_step);
   for (int c = 0; c < nc; c++) {
     memcpy(H + 16 * c, poses0 ? poses0 + 16 * c : m->car[c].H0, 16 * sizeof(double));
     memcpy(tw + 6 * c, twists0 ? twists0 + 6 * c : m->car[c].t0, 6 * sizeof(double));
@@ -88,21 +79,14 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
   int stop;
   if ((st = dae_emit_output(&d, y, out, 0, &E0, t, opt, &stop, err)) || stop) goto done;
   if (nout == 1) goto done;
-  if (opt->integrator == PHM_INTEGRATOR_GALPHA)
-    st = run_galpha(&d, opt, ctx, yy, yp, tout, nout, &E0, nbp, out, err);
-  else
-    st = run_ida(&d, opt, ctx, yy, yp, tout, nout, &E0, nbp, out, err);
+  st = ig->run(&d, opt, work, ctx, yy, yp, tout, nout, &E0, nbp, out, err);
 
 done:
   if (yy) N_VDestroy(yy);
   if (yp) N_VDestroy(yp);
-  if (ctx) SUNContext_Free(&ctx);
+  if (ctx) SUNContext_Free(&ctx); /* before the scratch: SUNDIALS 7 keeps IDA's error sink on it */
+  if (work) ig->release(work);
   dae_free(&d);
   out->wall_time = now() - t_start;
   return st;
-}
-
-int phm_klu_prune(dae_t *d, SUNMatrix J, SUNLinearSolver LS) {
-  return dae_jacobian_prune(d, J) &&
-         SUNLinSol_KLUReInit(LS, J, (sunindextype)d->nnz, SUNKLU_REINIT_PARTIAL) != PHM_SUN_SUCCESS;
 }

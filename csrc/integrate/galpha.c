@@ -1,7 +1,7 @@
 /* galpha.c -- the generalized-alpha integrator (the default), with step-size control from a
  * configuration error estimate, refined below the band's floor when it asks (phm_sim_options in
  * csrc/include/phmech_types.h; measurements in docs/integrators.md). */
-#include "solve.h"
+#include "integrate.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -334,36 +334,83 @@ static double galpha_error(const dae_t *d, galpha_t *g, double h, double hq, dou
 #define GALPHA_PACE_START 0.1
 #define GALPHA_PACE_MAX_STEPS 3e5
 
-phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Vector yy,
-                      N_Vector yp, const double *tout, int nout, double E0[1], double nbp,
-                      phm_sim_output *out, phm_error *err) {
-  int n = d->n;
-  phm_status st = PHM_OK;
-  double rho = opt->rho_inf;
-  int adaptive = opt->adaptive;
+/* ---------------------------------------------------------------- the integrator's row
+ * (integrators.c): its options' checks, its scratch */
+phm_status galpha_check(const phm_sim_options *opt, phm_error *err) {
+  const phm_galpha_options *o = &opt->galpha;
+  if (!(o->adaptive ? o->step >= 0 : o->step > 0) || !isfinite(o->step) ||
+      !(o->rho_inf >= 0 && o->rho_inf <= 1) || !(o->band >= 0) || !isfinite(o->band))
+    return PHM_FAIL(err, PHM_EINVAL, "generalized-alpha needs step > 0 (>= 0 when adaptive), "
+                         "0 <= rho_inf <= 1 and a finite band >= 0 (got %g, %g, %g)",
+                         o->step, o->rho_inf, o->band);
+  return PHM_OK;
+}
+
+/* Its scratch, zeroed: nc x 33 doubles for the co-rotation (corot_init) and the ledger's
+ * il - ie rates dP (of the full DAE when planar). */
+phm_status galpha_setup(dae_t *d, const phm_sim_options *opt, void **work, phm_error *err) {
+  (void)opt;
+  const dae_t *f = dae_full(d);
+  *work = calloc(33 * (size_t)f->m->nc + (size_t)(f->il - f->ie) + 1, sizeof(double));
+  return *work ? PHM_OK : PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+}
+
+void galpha_release(void *work) { free(work); }
+
+/* One run of the generalized-alpha: the scheme and its vectors (g), the co-rotation (cr), the
+ * iteration matrix and its solver, the arrays (g's vectors' data), the step-size limits and the
+ * state its steps share (run_galpha's functions below). */
+typedef struct {
+  dae_t *d;
+  const phm_sim_options *opt;
+  phm_sim_output *out;
+  int n, adaptive, filtered;
+  galpha_t g;
+  galpha_corot cr;
+  SUNMatrix Js, A;
+  SUNLinearSolver LS;
+  double *y0, *yp0, *Y, *Yp, *dY, *w, *yq, *ypq, *yqq, *wa, *dP;
+  double hfloor, hlow, hmax, span;
+  double newton_tol, newton_min, newton_start; /* Newton's tolerance factor, its floor, its start */
+  double t, h0;           /* the time reached, the proposed step */
+  double hjac, hq, hqq;   /* the step the matrix was made for (0: none), the last two steps */
+  int fresh, restart, extra, refresh; /* see galpha_open */
+  double etry, htry, errn, emax, elocal; /* this step's attempts (galpha_error_test) */
+  int noise;              /* this step's estimate is at the level of Newton's noise */
+} galpha_run;
+
+/* g's vectors, for galpha_open and galpha_close. */
+#define GALPHA_VECTORS(g)                                                                        \
+  {&(g)->y0, &(g)->yp0, &(g)->Y, &(g)->Yp, &(g)->ya, &(g)->ypa, &(g)->Ra, &(g)->R, &(g)->dY,      \
+   &(g)->w, &(g)->yq, &(g)->ypq, &(g)->yqq, &(g)->wa, &(g)->z1, &(g)->z2, &(g)->z2q, &(g)->z2qq,  \
+   &(g)->z1n, &(g)->z2n, &(g)->fm}
+
+/* The run's step-size limits, first step and Newton's tolerance factor, from the options. */
+static void galpha_limits(galpha_run *gr, const phm_sim_options *opt, const double *tout, int nout) {
+  int adaptive = opt->galpha.adaptive;
   /* the band's floor: no step below it for accuracy's sake (Newton failures still halve) */
-  double hfloor = adaptive && opt->band > 0 ? 1.0 / (PHM_BAND_STEPS * opt->band) : 0.0;
+  double hfloor = adaptive && opt->galpha.band > 0 ? 1.0 / (PHM_BAND_STEPS * opt->galpha.band) : 0.0;
   /* and the refinement's limit: a step above the tolerance is redone shorter down to this, and
    * accepted there above it (counted in nfloor, and warned of by simulate) */
   double hlow = hfloor / PHM_REFINE_MAX;
   double hmax = opt->max_step > 0 ? opt->max_step : INFINITY;
   /* and no step above 1/(PHM_BAND_MAX_STEPS band): the band is resolved, whatever the estimate */
-  if (adaptive && opt->band > 0) hmax = fmin(hmax, 1.0 / (PHM_BAND_MAX_STEPS * opt->band));
+  if (adaptive && opt->galpha.band > 0) hmax = fmin(hmax, 1.0 / (PHM_BAND_MAX_STEPS * opt->galpha.band));
   /* proposed step: fixed, or the controller's (first: the given step, else the floor, else 1e-4
    * of the span) */
   /* (the first two steps have no estimate: at most 1e-3 of the span, from which the controller
    * grows the step 1.5x per step; a rigid pendulum run over 1 s with dt_out = 2 s took them at
    * the band's floor, 0.2 s, and ended 9e-3 rad off within its estimate) */
-  double h0 = adaptive ? (opt->step > 0 ? opt->step : hfloor > 0 ? fmin(hfloor, 1e-3 * (tout[nout - 1] - tout[0]))
+  double h0 = adaptive ? (opt->galpha.step > 0 ? opt->galpha.step : hfloor > 0 ? fmin(hfloor, 1e-3 * (tout[nout - 1] - tout[0]))
                                                                   : 1e-4 * (tout[nout - 1] - tout[0]))
-                       : opt->step;
+                       : opt->galpha.step;
   /* ... and shorter with a tighter rtol: the first two steps' local error, O(h^3), is not
    * estimated, and the run's share of the tolerance per step is O(rtol h): at 1e-3 of the span
    * the compound pendulum at rtol 1e-6 (30 deg, 5 s) ended 3.3x rtol off, 288x at rtol 1e-8, all
    * of it from its first step; scaled by 10 sqrt(rtol) (0.1 at the default rtol 1e-4), 0.63x and
    * 0.75x, and the README's released cantilever 1.6x -> 0.66x rtol at Newton's tolerance 1e-9.
    * The steps grow 1.5x per step from there: 17 steps from 1e-3 to 1. */
-  if (adaptive && opt->step <= 0) h0 *= fmin(1.0, 10.0 * sqrt(opt->rtol));
+  if (adaptive && opt->galpha.step <= 0) h0 *= fmin(1.0, 10.0 * sqrt(opt->rtol));
   if (adaptive) h0 = fmin(h0, hmax);
   /* Newton's tolerances (fixed step: rtol/atol are Newton's). Adaptive: never looser than
    * rtol 1e-7 (atol 1e-9 for the default atol 1e-6): a loose Newton test breaks the physics,
@@ -398,18 +445,37 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
    * stale matrix's too, examples/demo.py went back to 1e-7 and its summed estimates to 1.32) */
   const double newton_start = newton_tol;
   double span = tout[nout - 1] - tout[0];
-  galpha_t g;
-  memset(&g, 0, sizeof g);
-  g.af = 1.0 / (1.0 + rho);
-  g.am = 0.5 * (3.0 - rho) / (1.0 + rho);
-  g.gam = 0.5 + g.am - g.af;
-  SUNMatrix Js = NULL, A = NULL;
-  SUNLinearSolver LS = NULL;
-  galpha_corot cr;
-  double *gwork = dae_full(d)->data.gwork, *dP = gwork + 33 * (size_t)d->m->nc; /* ledger rates */
-  corot_init(d, &cr, gwork);
-  N_Vector *vs[] = {&g.y0, &g.yp0, &g.Y, &g.Yp, &g.ya, &g.ypa, &g.Ra, &g.R, &g.dY, &g.w, &g.yq, &g.ypq, &g.yqq, &g.wa,
-                    &g.z1, &g.z2, &g.z2q, &g.z2qq, &g.z1n, &g.z2n, &g.fm};
+  gr->adaptive = adaptive;
+  gr->hfloor = hfloor;
+  gr->hlow = hlow;
+  gr->hmax = hmax;
+  gr->h0 = h0;
+  gr->newton_tol = newton_tol;
+  gr->newton_min = newton_min;
+  gr->newton_start = newton_start;
+  gr->span = span;
+}
+
+/* The run's scheme, vectors, matrices, solver and step-size limits, from the consistent state
+ * yy, yp at tout[0]; work: galpha_setup's. */
+static phm_status galpha_open(galpha_run *gr, dae_t *d, const phm_sim_options *opt, void *work,
+                              SUNContext ctx, N_Vector yy, N_Vector yp, const double *tout,
+                              int nout, phm_error *err) {
+  int n = gr->n = d->n;
+  gr->d = d;
+  gr->opt = opt;
+  phm_status st = PHM_OK;
+  double rho = opt->galpha.rho_inf;
+  galpha_limits(gr, opt, tout, nout);
+  int adaptive = gr->adaptive;
+  galpha_t *g = &gr->g;
+  memset(g, 0, sizeof *g);
+  g->af = 1.0 / (1.0 + rho);
+  g->am = 0.5 * (3.0 - rho) / (1.0 + rho);
+  g->gam = 0.5 + g->am - g->af;
+  double *gwork = work, *dP = gwork + 33 * (size_t)d->m->nc; /* ledger rates (galpha_setup) */
+  corot_init(d, &gr->cr, gwork);
+  N_Vector *vs[] = GALPHA_VECTORS(g);
   int nv = (int)(sizeof vs / sizeof vs[0]);
   for (int k = 0; k < nv; k++) {
     if (!(*vs[k] = N_VClone(yy))) { /* yy's compiled operations (simulate.c) with it */
@@ -418,46 +484,56 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
     }
     N_VConst(0.0, *vs[k]); /* a clone's data is uninitialized */
   }
-  Js = SUNSparseMatrix(n, n, d->nnz, CSC_MAT, ctx); /* never zeroed: no phm_sparse_matrix_ops */
-  A = opt->linear_solver == 1 ? Js : SUNDenseMatrix(n, n, ctx);
+  SUNMatrix Js = gr->Js = SUNSparseMatrix(n, n, d->nnz, CSC_MAT, ctx); /* never zeroed: no phm_sparse_matrix_ops */
+  SUNMatrix A = gr->A = opt->linear_solver == 1 ? Js : SUNDenseMatrix(n, n, ctx);
   if (!Js || !A) {
     st = PHM_FAIL(err, PHM_ENOMEM, "out of memory (matrix)");
     goto done;
   }
-  LS = opt->linear_solver == 1 ? SUNLinSol_KLU(yy, A, ctx) : SUNLinSol_Dense(yy, A, ctx);
+  SUNLinearSolver LS = gr->LS = opt->linear_solver == 1 ? SUNLinSol_KLU(yy, A, ctx) : SUNLinSol_Dense(yy, A, ctx);
   if (!LS || SUNLinSolInitialize(LS) != PHM_SUN_SUCCESS) {
     st = PHM_FAIL(err, PHM_ESOLVER, "could not create the linear solver");
     goto done;
   }
-  double *y0 = N_VGetArrayPointer(g.y0), *yp0 = N_VGetArrayPointer(g.yp0), *Y = N_VGetArrayPointer(g.Y);
-  double *Yp = N_VGetArrayPointer(g.Yp), *dY = N_VGetArrayPointer(g.dY), *w = N_VGetArrayPointer(g.w);
+  double *y0 = N_VGetArrayPointer(g->y0), *yp0 = N_VGetArrayPointer(g->yp0);
   double *y = N_VGetArrayPointer(yy), *ypd = N_VGetArrayPointer(yp);
-  double *yq = N_VGetArrayPointer(g.yq), *ypq = N_VGetArrayPointer(g.ypq), hq = 0; /* hq = 0: no history */
-  double *yqq = N_VGetArrayPointer(g.yqq), hqq = 0;
-  double *wa = N_VGetArrayPointer(g.wa); /* per state, once: two calls per state per step were 2 % of a small scene's run */
+  double *wa = N_VGetArrayPointer(g->wa); /* per state, once: two calls per state per step were 2 % of a small scene's run */
   for (int i = 0; i < n; i++) wa[i] = dae_is_twist(d, i) ? -1.0 : dae_state_atol(d, i, opt->atol);
   memcpy(y0, y, sizeof(double) * (size_t)n);
   memcpy(yp0, ypd, sizeof(double) * (size_t)n);
   /* the estimate's filter (galpha_error) starts in the steady state of the motion's initial
    * rate: a ramp y0 + y0' t comes out delayed by 1/wc per stage */
-  g.wc = adaptive && opt->band > 0 ? 6.283185307179586 * PHM_FILTER_BAND * opt->band : 0.0;
-  int filtered = adaptive && g.wc > 0 && d->m->ne > 0;
+  g->wc = adaptive && opt->galpha.band > 0 ? 6.283185307179586 * PHM_FILTER_BAND * opt->galpha.band : 0.0;
+  int filtered = adaptive && g->wc > 0 && d->m->ne > 0;
   if (adaptive) {
-    double *z1 = N_VGetArrayPointer(g.z1), *z2 = N_VGetArrayPointer(g.z2);
-    double iw = g.wc > 0 ? 1.0 / g.wc : 0.0, *fm = N_VGetArrayPointer(g.fm);
+    double *z1 = N_VGetArrayPointer(g->z1), *z2 = N_VGetArrayPointer(g->z2);
+    double iw = g->wc > 0 ? 1.0 / g->wc : 0.0, *fm = N_VGetArrayPointer(g->fm);
     /* a mechanism with flexible links: every configuration state (the mesh's vibrations reach
      * the joints and the bodies they carry: filtering the nodes' states alone left the arm +
      * strip's elbow angle above the tolerance at steps of 3e-8 s); a rigid one: none, every
      * motion there is the mechanism's own (a chain of 100 rigid links whips its tail far above
      * a band of 10 Hz) */
-    if (d->m->ne > 0) N_VConst(1.0, g.fm);
+    if (d->m->ne > 0) N_VConst(1.0, g->fm);
     for (int i = 0; i < n; i++) {
       z1[i] = y[i] - fm[i] * ypd[i] * iw;
       z2[i] = y[i] - 2.0 * fm[i] * ypd[i] * iw;
     }
   }
-  double t = tout[0], hjac = 0;
-  int iout = 1, fresh = 0;
+  gr->y0 = y0;
+  gr->yp0 = yp0;
+  gr->Y = N_VGetArrayPointer(g->Y);
+  gr->Yp = N_VGetArrayPointer(g->Yp);
+  gr->dY = N_VGetArrayPointer(g->dY);
+  gr->w = N_VGetArrayPointer(g->w);
+  gr->yq = N_VGetArrayPointer(g->yq);
+  gr->ypq = N_VGetArrayPointer(g->ypq);
+  gr->yqq = N_VGetArrayPointer(g->yqq);
+  gr->wa = wa;
+  gr->dP = dP;
+  gr->filtered = filtered;
+  gr->t = tout[0];
+  gr->hjac = gr->hq = gr->hqq = 0; /* hq = 0: no history */
+  gr->fresh = 0;
   /* restart: the first step, and the first after each breakpoint. If it fails, it is redone as
    * backward Euler, which does not use y0': dae_consistent_ic computes y0' exactly, but it can be
    * huge (a joint torque on a light node of the manipulator: 3e9 rad/s^2); carried into the step
@@ -465,22 +541,400 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
    * Jacobian loses every digit. One first-order step adds an O(h^2) error once, so the global
    * error stays second order (with twice the error constant on a pendulum: why it is a fallback
    * and not the rule). */
-  int restart = 1;
+  gr->restart = 1;
   /* the iteration matrix's extra iterations (beyond two per step, on a matrix not computed in
    * that step) since it was computed, and whether the next step attempt refreshes it (see
    * GALPHA_EXTRA_BUDGET) */
-  int extra = 0, refresh = 0;
+  gr->extra = gr->refresh = 0;
+done:
+  return st;
+}
+
+static void galpha_close(galpha_run *gr) {
+  if (gr->LS) SUNLinSolFree(gr->LS);
+  if (gr->A && gr->A != gr->Js) SUNMatDestroy(gr->A);
+  if (gr->Js) SUNMatDestroy(gr->Js);
+  N_Vector *vs[] = GALPHA_VECTORS(&gr->g);
+  for (int k = 0; k < (int)(sizeof vs / sizeof vs[0]); k++)
+    if (*vs[k]) N_VDestroy(*vs[k]);
+}
+
+/* Newton on the step h at t from the predictor in Y: ok = 1 when it converged (the caller
+ * shortens or redoes the step otherwise), the iteration matrix refreshed when gr->hjac = 0.
+ * WRMS norm of the correction, weights 1 / (ntol (rtol |Y| + a)) at the updated iterate:
+ * nrm of every state decides convergence; nrm_rate, without the energy ledger's
+ * integrals [ie, il), the rate of contraction. Nothing depends on those integrals and
+ * their Jacobian rows keep only the diagonal (csrc/dae/jacobian.c), so each iteration
+ * corrects them one iteration late: from rest, the first correction holds a whole step's
+ * supplied energy, and in the rate it read as divergence (rate > 0.9): a Table I
+ * cantilever under a 3.9 kN tip force from t = 0 at dt_out 0.25 s stopped at t = 0
+ * "even with step 2.44e-05 s" (tests/test_default_integrator.py). Left out of the
+ * convergence test too (as from IDA's, csrc/integrate/ida.c), they lag by the iteration
+ * that accepts: the manipulator's ledger went from 1.7e-4 to 1.2e-3. Their rows'
+ * diagonal cj is that of the step hjac the matrix was made for: rescaled to this step's
+ * (cj ~ 1/h) their correction is exact but for P's lag, and contracts as the others do.
+ * The fixed step adds P's change by this correction (dae_ledger_dpower: what the rows
+ * leave out), and the test takes only the rest, the error of the last such prediction:
+ * on the tip-loaded cantilever of benchmarks/bench_scaling.py at N = 1000 the lag was
+ * the tip node's unresolved vibration (hw ~ 1e3, +-7 m/s) times the 3.9 kN tip force,
+ * 1.4e5 tolerances, and it alone made 95 % of the steps take a third iteration (2.95
+ * per step with the co-rotated matrix, 2.25 without the lag; 2.32 and 2.29 at N = 30).
+ * Not in the default integrator: there the manipulator of benchmarks/scenes.py took
+ * 1.82 iterations per step instead of 1.58 (its one-iteration acceptance, nrm <= 0.033,
+ * sits near the threshold, and the steps then settle in the two-iteration regime; 20 %
+ * more CPU) for the same error and ledger, the four-bar's error went from 1.5e-6 to
+ * 2.7e-6 and the slider-crank's ledger from 1.5e-6 to 3.1e-6, and the released
+ * cantilever of benchmarks/newton_iterations.py did not change (2.22 per step). Nor in
+ * a restart's backward Euler step: the manipulator
+ * of tests/test_generalized_alpha.py (3e9 rad/s^2 at the start) then took its first
+ * step whole instead of halving it, 9.7e-6 m off IDA at h = 0.5 ms against 2.2e-6. */
+static phm_status galpha_newton(galpha_run *gr, double t, double h, int *okp, phm_error *err) {
+  dae_t *d = gr->d;
+  const phm_sim_options *opt = gr->opt;
+  phm_sim_output *out = gr->out;
+  galpha_t *g = &gr->g;
+  galpha_corot *cr = &gr->cr;
+  SUNMatrix Js = gr->Js, A = gr->A;
+  SUNLinearSolver LS = gr->LS;
+  int n = gr->n, adaptive = gr->adaptive, restart = gr->restart;
+  double *Y = gr->Y, *dY = gr->dY, *w = gr->w, *wa = gr->wa, *dP = gr->dP;
+  double newton_tol = gr->newton_tol, newton_start = gr->newton_start, hjac = gr->hjac;
+  int fresh = gr->fresh, extra = gr->extra, refresh = gr->refresh;
+  phm_status st = PHM_OK;
+  int ok = 0;
+  double nrm0 = 0;
+  /* the absolute part of Newton's error weights, once per step attempt (the relative part
+   * follows the iterate, as before: weights fixed from the step's start, or from the larger
+   * of the start and the predictor, raised the energy-ledger residuals of the double
+   * pendulum and the flexible arm of benchmarks/scenes.py 16-18x). Twists: a velocity error
+   * dv moves the poses by h dv in a step, so the tolerance on the twists that matches atol
+   * on the poses is atol / h */
+  double ah = opt->atol / h, *fmv = N_VGetArrayPointer(g->fm);
+  /* (a twist in the error estimate, unfiltered, keeps atol itself when h < 1: its Newton
+   * noise there is read by the estimate against rtol |v| + atol) */
+  double ahe = adaptive ? fmin(ah, opt->atol) : ah;
+  for (int i = 0; i < d->il; i++) w[i] = newton_tol * (wa[i] >= 0 ? wa[i] : fmv[i] != 0.0 ? ah : ahe);
+  for (int i = d->il; i < n; i++) w[i] = wa[i];
+  /* four iterations, one more per 10x that Newton's tolerance was tightened (newton_min):
+   * the predictor is as far off in tolerances as they are tight */
+  int itmax = 4 + (int)lround(log10(newton_start / newton_tol));
+  for (int it = 0; it < itmax; it++) {
+    galpha_stage(d, g, h);
+    galpha_residual(d, g, t, h);
+    out->nres++;
+    if (hjac == 0) {
+      if (galpha_jacobian(d, g, t, h, Js, A, LS) ||
+          factor_iteration_matrix(LS, A, opt->linear_solver == 1, d->nnz)) {
+        if (restart && !g->euler) break; /* redone as backward Euler below */
+        if (adaptive) { /* a shorter step (Newton-failure path): fresh, so it halves */
+          fresh = 1;
+          break;
+        }
+        st = PHM_FAIL(err, PHM_ESOLVER, "generalized-alpha: singular iteration matrix at t = %.9g s", t);
+        goto done;
+      }
+      out->njac++;
+      corot_reference(d, cr, N_VGetArrayPointer(g->ya));
+      extra = 0;
+      hjac = h;
+      fresh = 1;
+    }
+    if (it == 0) cr->on = !adaptive && !fresh && corot_set(d, cr, N_VGetArrayPointer(g->ya)); /* galpha_corot */
+    N_VScale(-1.0, g->R, g->dY);
+    if (cr->on) corot_apply(d, cr, 1, dY);
+    if (SUNLinSolSolve(LS, A, g->dY, g->dY, 0.0) != PHM_SUN_SUCCESS) {
+      st = PHM_FAIL(err, PHM_ESOLVER, "generalized-alpha: linear solve failed at t = %.9g s", t);
+      goto done;
+    }
+    if (cr->on) corot_apply(d, cr, 0, dY);
+    out->nniters++;
+    /* WRMS norm of the correction: see galpha_newton */
+    int lag = adaptive || g->euler; /* the ledger's corrections keep their lag (see above) */
+    if (!lag) dae_ledger_dpower(d, t + g->af * h, Y, dY, g->af, dP); /* not Euler: af is g->af */
+    double icj = g->gam * h / g->am; /* 1 / (af cj), this step's (read only without the lag) */
+    double sum = 0, suml = 0, rd = newton_tol * opt->rtol;
+    for (int i = 0; i < d->il; i++) {
+      int ledger = i >= d->ie;
+      if (ledger) {
+        dY[i] *= h / hjac;
+        if (!lag) Y[i] += dP[i - d->ie] * icj;
+      }
+      Y[i] += dY[i];
+      double e = dY[i] / (rd * fabs(Y[i]) + w[i]);
+      if (ledger) suml += e * e;
+      else sum += e * e;
+    }
+    for (int i = d->il; i < n; i++) {
+      Y[i] += dY[i];
+      double e = dY[i] / (opt->rtol * fabs(Y[i]) + w[i]);
+      sum += e * e;
+    }
+    double nrm = sqrt((sum + suml) / d->nnorm), nrm_rate = sqrt(sum / d->nnorm);
+    if (!isfinite(nrm)) break;
+    if (it == 0) {
+      nrm0 = nrm_rate;
+      if (nrm <= 0.033) { ok = 1; break; }
+    } else {
+      /* pow(x, 1) is x: the first contraction without the call */
+      double rate = nrm0 > 0 ? (it == 1 ? nrm_rate / nrm0 : pow(nrm_rate / nrm0, 1.0 / it)) : 0.0;
+      if (rate > 0.9 && nrm_rate > 0.033) break; /* diverging (not round-off over round-off) */
+      /* rate > 0.9 below that: the states are at round-off, the ledger's lag decides */
+      int conv = rate <= 0.9 ? nrm * rate / (1.0 - rate) <= 0.33 : nrm <= 0.033;
+      /* at it == 1 the rate is the first contraction, from the predictor: its error lies
+       * mostly in what any iteration matrix resolves (the unresolved vibrations of the
+       * mesh, linear), so nrm1/nrm0 underestimates the contraction of what is left (the
+       * rotation of the carriers since the matrix was computed): on the released
+       * cantilever 8e-3 against 5e-2 for the next one. Such an iterate is accepted only if
+       * its last correction is within GALPHA_FIRST_MAX tolerances */
+      if (conv && (!adaptive || it > 1 || nrm <= GALPHA_FIRST_MAX)) {
+        ok = 1;
+        if (adaptive && !fresh && it >= 2 && (extra += it - 1) >= GALPHA_EXTRA_BUDGET) refresh = 1;
+        break;
+      }
+    }
+  }
+done:
+  *okp = ok;
+  gr->hjac = hjac;
+  gr->fresh = fresh;
+  gr->extra = extra;
+  gr->refresh = refresh;
+  return st;
+}
+
+/* The adaptive step's error test, after Newton converged on the step h at t: 1 when it failed
+ * and the step is to be redone shorter (*hp), 0 when accepted (gr->errn, emax, elocal: its
+ * figures). */
+static int galpha_error_test(galpha_run *gr, double *hp) {
+  dae_t *d = gr->d;
+  const phm_sim_options *opt = gr->opt;
+  phm_sim_output *out = gr->out;
+  galpha_t *g = &gr->g;
+  double h = *hp, hq = gr->hq, hqq = gr->hqq, newton_tol = gr->newton_tol, span = gr->span;
+  double hlow = gr->hlow, h0 = gr->h0;
+  int filtered = gr->filtered, retry = 0;
+  /* per unit step: the local estimate times the number of such steps in the run, so that
+   * the estimates summed over the run (an oscillation's phase error adds up step after
+   * step) stay within the tolerance, not only each one. Measured on the impulsed
+   * cantilever (benchmarks/scenes.py): per step, its 149 Hz mode (4 % of the energy, in
+   * the 500 Hz band) drifted a full period off in 1 s and the tip 17 um off IDA; per unit
+   * step 6.7 um, at the band's floor step. */
+  gr->errn = galpha_error(d, g, h, hq, hqq, opt->rtol, opt->atol, &gr->emax);
+  /* Newton's noise: a converged iterate is within ~0.33 of Newton's tolerance, newton_tol
+   * times the estimate's, and a third difference of such noise reads as <= 0.22 of it; a
+   * local estimate below GALPHA_NOISE newton_tol is that noise, not the step's error, and
+   * no shorter step lowers it (per unit step it grows as 1/h): such a step is accepted and
+   * counted (nnoise). Measured on a rigid pendulum over 1 s (rtol 1e-4, span/h up to
+   * 5000): six steps went to the refinement's limit at t = 0.07 s, four with this rule
+   * (the rule below took the rest). It is also what keeps the flexible scenes' cost: at
+   * rtol 1e-4 over 2 s the arm + strip accepted 18 098 of 25 194 steps by it, and without
+   * it the scenes of benchmarks/scenes.py took 1.0-8.3x main's CPU (the cantilever + tip
+   * mass 8.3x); the price, at rtol 1e-6 the arm + strip's tip 3.5e-7 m off over 0.5 s
+   * against 8.7e-8 without it (docs/integrators.md, "Not reached: the 30x"). */
+  gr->elocal = fmax(gr->errn, 0.0); /* this step's own share, summed in err_sum */
+  gr->noise = gr->errn > 0 && gr->errn <= GALPHA_NOISE * newton_tol;
+  if (gr->errn > 0) gr->errn *= span / h;
+  if (gr->noise && gr->errn > 1.0) {
+    out->nnoise++;
+    gr->errn = 1.0;
+  }
+  /* a shorter step that did not lower the estimate (errn ~ h^2 per unit step: a step 0.6x
+   * as long should read 0.36x) is not seeing its own error but what the history holds:
+   * the last steps' accepted errors, which the third difference carries into the next
+   * ones (per unit step: errn ~ delta span / (hq tol), whatever h), Newton's noise, or
+   * what the filter lets through above the band. Accepted and counted (nnoise): refining
+   * on down to the limit would not change it. Measured on a rigid pendulum (rtol 1e-4,
+   * steps grown from 1 ms to 17 ms): errn 2.2, 3.1, 3.2, 2.7, 2.3, 2.0 at steps halved
+   * each time from 6 ms to 0.2 ms, the refinement's limit. Rigid mechanisms only: where
+   * the estimate is filtered, what the filter lets through above the band would pass for
+   * history too (the arm + strip ran the same with and without the rule). */
+  if (gr->errn > 1.0 && !filtered && gr->etry > 0 && h < 0.6 * gr->htry && gr->errn > 0.5 * gr->etry) {
+    out->nnoise++;
+    gr->errn = 1.0;
+  }
+  if (gr->errn > 1.0 && h > hlow * (1.0 + 1e-9)) { /* error test failed: shorter step, same t */
+    gr->etry = gr->errn;
+    gr->htry = h;
+    out->netf++;
+    h = fmax(hlow, h * fmax(0.2, 0.8 * pow(gr->errn, -0.5))); /* errn ~ h^2 (per unit step) */
+    h0 = h;
+    retry = 1;
+    goto done;
+  }
+done:
+  *hp = h;
+  gr->h0 = h0;
+  return retry;
+}
+
+/* One step from gr->t of size *hp: the predictor, Newton (galpha_newton), the error test
+ * (adaptive: galpha_error_test); on Newton's failure redone with a fresh matrix, as backward
+ * Euler after a restart, or halved (up to 10 times); *hp: the step taken. */
+static phm_status galpha_attempt(galpha_run *gr, double *hp, phm_error *err) {
+  dae_t *d = gr->d;
+  phm_sim_output *out = gr->out;
+  galpha_t *g = &gr->g;
+  int n = gr->n, adaptive = gr->adaptive;
+  double t = gr->t, h = *hp, hq = gr->hq;
+  double *Y = gr->Y, *y0 = gr->y0, *yp0 = gr->yp0, *yq = gr->yq, *ypq = gr->ypq;
+  phm_status st = PHM_OK;
+  int halvings = 0;
+  gr->etry = -1; /* the last attempt at this t that failed the error test */
+  gr->htry = 0;
+  gr->errn = gr->emax = gr->elocal = 0;
+  gr->noise = 0;
+  for (;;) { /* one step of size h (halved on Newton failure, shortened on error-test failure) */
+    /* predictor: y' (and the multipliers) extrapolated linearly from the last two steps */
+    /* (no history on the first step and after a restart: yq, ypq are not read then) */
+    double r = hq > 0 ? h / hq : 0;
+    for (int i = 0; i < d->il; i++)
+      Y[i] = g->euler ? y0[i] : y0[i] + h * yp0[i] + (hq > 0 ? g->gam * h * r * (yp0[i] - ypq[i]) : 0.0);
+    for (int i = d->il; i < n; i++) Y[i] = hq > 0 ? y0[i] + r * (y0[i] - yq[i]) : y0[i];
+    /* the iteration matrix scales with 1/h: refreshed when h moved by more than 20 %. (The
+     * adaptive run allowed 50 % before GALPHA_FIRST_MAX: the controller moves h a little at
+     * every step, and a stale matrix only slowed the convergence, which a failure then
+     * refreshed. With iterates converged to the tolerance the error estimate is no longer
+     * raised by Newton's noise, the controller leaves the band's floor more often and its
+     * shortened retries met a matrix 30-40 % off: the flexible arm driven through a table
+     * (tests/test_default_integrator.py) had 494 Newton failures in 14 991 steps at 50 %, 7 at
+     * 20 %; docs/integrators.md, "Newton iterations".) */
+    if (fabs(h / gr->hjac - 1.0) > 0.2) gr->hjac = 0;
+    if (gr->refresh) { /* GALPHA_EXTRA_BUDGET spent */
+      gr->hjac = 0;
+      gr->refresh = 0;
+    }
+    gr->fresh = 0;
+    int ok = 0;
+    if ((st = galpha_newton(gr, t, h, &ok, err))) goto done;
+    if (ok && adaptive && galpha_error_test(gr, &h)) continue;
+    if (ok) break;
+    out->nncf++;
+    if (gr->fresh && gr->newton_tol < gr->newton_start) { /* tightened beyond what Newton reaches here: back, for good */
+      gr->newton_tol = gr->newton_min = fmin(gr->newton_start, 10.0 * gr->newton_tol);
+    }
+    if (gr->restart && !g->euler && (gr->fresh || gr->hjac == 0)) { /* see `restart` */
+      g->euler = 1;
+      gr->hjac = 0;
+      continue;
+    }
+    if (!gr->fresh) { gr->hjac = 0; continue; }            /* retry with a fresh Jacobian */
+    if (++halvings > 10) {
+      st = PHM_FAIL(err, PHM_ESOLVER, "generalized-alpha: Newton failed at t = %.9g s even with "
+                         "step %.3g s (fresh Jacobian, 10 halvings)", t, h);
+      goto done;
+    }
+    h *= 0.5;
+    gr->hjac = 0;
+  }
+done:
+  *hp = h;
+  return st;
+}
+
+/* After the step h from gr->t to target (or t + h): the step's bookkeeping, the controller's
+ * next proposal, the monitor, output *iout when reached, and the history moved on. */
+static phm_status galpha_accept(galpha_run *gr, double h, double target, const double *tout,
+                                int *iout, long *steps_out, double E0[1], int *stop,
+                                phm_error *err) {
+  dae_t *d = gr->d;
+  const phm_sim_options *opt = gr->opt;
+  phm_sim_output *out = gr->out;
+  galpha_t *g = &gr->g;
+  int n = gr->n, adaptive = gr->adaptive;
+  double t = gr->t, errn = gr->errn, emax = gr->emax, elocal = gr->elocal;
+  double hmax = gr->hmax, hlow = gr->hlow, h0 = gr->h0, span = gr->span;
+  double *Y = gr->Y, *Yp = gr->Yp, *y0 = gr->y0, *yp0 = gr->yp0;
+  double *yq = gr->yq, *ypq = gr->ypq, *yqq = gr->yqq;
+  phm_status st = PHM_OK;
+  galpha_stage(d, g, h); /* y1' of the converged y1 */
+  double t1 = fabs(target - (t + h)) < 1e-9 * h ? target : t + h;
+  out->nsteps++;
+  out->last_step = h;
+  if ((st = dae_step_accepted(d, t1, Y, DAE_CONSTRAINT_TOL, opt->atol, t1 == tout[*iout], err))) goto done; /* watch.c */
+  if (adaptive) {
+    /* next proposal, with a dead band against chattering (every change of h costs Newton
+     * iterations with the iteration matrix of another h, and measured on the double pendulum
+     * a controller that also shrank h after accepted steps made 4x more convergence failures
+     * and a larger error): an accepted step keeps h unless the estimate allows >= 1.25x (then
+     * at most 1.5x); a rejected step (above) has already shortened it. A step shortened to
+     * land on an output neither shrinks the proposal nor blocks its growth (its estimate is
+     * scaled to the proposal by (h0/h)^2). */
+    if (errn > 1.0) out->nfloor++;
+    if (errn > out->err_ratio) {
+      out->err_ratio = errn;
+      out->t_err_ratio = t1;
+    }
+    if (h < out->min_step || out->min_step == 0) out->min_step = h;
+    out->err_est += emax;
+    out->err_sum += elocal;
+    if (gr->noise && gr->newton_tol > gr->newton_min &&
+        out->err_sum > fmax(GALPHA_PACE_START, (t1 - tout[0]) / span) && /* see newton_min */
+        span <= GALPHA_PACE_MAX_STEPS * h)
+      gr->newton_tol = fmax(gr->newton_min, 0.1 * gr->newton_tol);
+    out->newton_rtol = gr->newton_tol * opt->rtol;
+    double base = fmax(h, h0), eb = errn * pow(base / h, 2.0); /* the estimate scaled to h0 */
+    double fac = errn < 0 ? 1.0 : eb > 0 ? 0.8 * pow(eb, -0.5) : 1.5;
+    double hn = fac >= 1.25 ? base * fmin(1.5, fac) : base;
+    h0 = fmin(hmax, fmax(hlow, hn));
+  }
+  if (opt->monitor && out->nsteps % PHM_MONITOR_STEPS == 0 && opt->monitor(opt->ctx, t1, out->nsteps, h)) {
+    st = PHM_FAIL(err, PHM_EINTERRUPT, "interrupted at t = %g s", t1);
+    goto done;
+  }
+  if (t1 == tout[*iout]) {
+    if ((st = dae_emit_output(d, Y, out, *iout, E0, t1, opt, stop, err)) || *stop) goto done;
+    (*iout)++;
+    *steps_out = 0;
+  }
+  gr->t = t1;
+  gr->hqq = gr->hq;
+  gr->hq = g->euler ? 0 : h; /* no history across the Euler step (its y0' is not this scheme's) */
+  memcpy(yqq, yq, sizeof(double) * (size_t)n);
+  if (g->euler) gr->hjac = 0; /* other coefficients from here on */
+  /* adaptive: the two steps after a restart have no error estimate yet and start from the
+   * restart's rates; a failing one is redone as backward Euler too */
+  if (g->euler) gr->hjac = 0;
+  gr->restart = adaptive && gr->restart > 0 && gr->restart < 3 ? gr->restart + 1 : 0;
+  g->euler = 0;
+  memcpy(yq, y0, sizeof(double) * (size_t)n);
+  memcpy(ypq, yp0, sizeof(double) * (size_t)n);
+  if (adaptive) { /* the filter moves to t1 (galpha_error filled z1n, z2n) */
+    N_Vector tmp = g->z2qq;
+    g->z2qq = g->z2q;
+    g->z2q = g->z2;
+    g->z2 = g->z2n;
+    g->z2n = tmp;
+    tmp = g->z1;
+    g->z1 = g->z1n;
+    g->z1n = tmp;
+  }
+  memcpy(y0, Y, sizeof(double) * (size_t)n);
+  memcpy(yp0, Yp, sizeof(double) * (size_t)n);
+done:
+  gr->h0 = h0;
+  return st;
+}
+
+phm_status run_galpha(dae_t *d, const phm_sim_options *opt, void *work, SUNContext ctx,
+                      N_Vector yy, N_Vector yp, const double *tout, int nout, double E0[1],
+                      double nbp, phm_sim_output *out, phm_error *err) {
+  galpha_run run, *gr = &run;
+  memset(gr, 0, sizeof *gr);
+  gr->out = out;
+  phm_status st = galpha_open(gr, d, opt, work, ctx, yy, yp, tout, nout, err);
+  int iout = 1, stop = 0;
   long max_steps = opt->max_steps > 0 ? opt->max_steps : 1000000L, steps_out = 0;
-  while (iout < nout) {
+  while (!st && !stop && iout < nout) {
+    double t = gr->t, h0 = gr->h0;
     /* A breakpoint within bptol (1e-9 of a step) of t counts as reached: restart on its new
      * piece. Landing on it exactly would take a step of round-off size: a Step law at
      * 1e-3 + 1e-13 s with outputs every 1e-3 s gave a step of 1e-13 s (h = -inf from ceil(-0)
      * before this rule), and the first step after it fails. */
     double bptol = 1e-9 * h0;
     if (isfinite(nbp) && t >= nbp - bptol) {
-      if ((st = dae_restart_at_breakpoint(d, t, fmax(t, nbp), &nbp, y0, yp0, err))) goto done;
-      hjac = hq = hqq = 0;
-      restart = 1;
+      if ((st = dae_restart_at_breakpoint(d, t, fmax(t, nbp), &nbp, gr->y0, gr->yp0, err))) goto done;
+      gr->hjac = gr->hq = gr->hqq = 0;
+      gr->restart = 1;
     }
     /* steps land on the output times and the breakpoints of the laws: the largest step <= h0
      * that divides what is left of the interval evenly (outputs need no interpolation, and the
@@ -510,289 +964,11 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, SUNContext ctx, N_Ve
                          "output times (t = %.9g s, step %.3g s)", max_steps, t, h);
       goto done;
     }
-    int halvings = 0;
-    double etry = -1, htry = 0; /* the last attempt at this t that failed the error test */
-    double errn = 0, emax = 0, elocal = 0;
-    int noise = 0; /* the accepted step's estimate is at the level of Newton's noise */
-    for (;;) { /* one step of size h (halved on Newton failure, shortened on error-test failure) */
-      /* predictor: y' (and the multipliers) extrapolated linearly from the last two steps */
-      /* (no history on the first step and after a restart: yq, ypq are not read then) */
-      double r = hq > 0 ? h / hq : 0;
-      for (int i = 0; i < d->il; i++)
-        Y[i] = g.euler ? y0[i] : y0[i] + h * yp0[i] + (hq > 0 ? g.gam * h * r * (yp0[i] - ypq[i]) : 0.0);
-      for (int i = d->il; i < n; i++) Y[i] = hq > 0 ? y0[i] + r * (y0[i] - yq[i]) : y0[i];
-      /* the iteration matrix scales with 1/h: refreshed when h moved by more than 20 %. (The
-       * adaptive run allowed 50 % before GALPHA_FIRST_MAX: the controller moves h a little at
-       * every step, and a stale matrix only slowed the convergence, which a failure then
-       * refreshed. With iterates converged to the tolerance the error estimate is no longer
-       * raised by Newton's noise, the controller leaves the band's floor more often and its
-       * shortened retries met a matrix 30-40 % off: the flexible arm driven through a table
-       * (tests/test_default_integrator.py) had 494 Newton failures in 14 991 steps at 50 %, 7 at
-       * 20 %; docs/integrators.md, "Newton iterations".) */
-      if (fabs(h / hjac - 1.0) > 0.2) hjac = 0;
-      if (refresh) { /* GALPHA_EXTRA_BUDGET spent */
-        hjac = 0;
-        refresh = 0;
-      }
-      fresh = 0;
-      int ok = 0;
-      double nrm0 = 0;
-      /* the absolute part of Newton's error weights, once per step attempt (the relative part
-       * follows the iterate, as before: weights fixed from the step's start, or from the larger
-       * of the start and the predictor, raised the energy-ledger residuals of the double
-       * pendulum and the flexible arm of benchmarks/scenes.py 16-18x). Twists: a velocity error
-       * dv moves the poses by h dv in a step, so the tolerance on the twists that matches atol
-       * on the poses is atol / h */
-      double ah = opt->atol / h, *fmv = N_VGetArrayPointer(g.fm);
-      /* (a twist in the error estimate, unfiltered, keeps atol itself when h < 1: its Newton
-       * noise there is read by the estimate against rtol |v| + atol) */
-      double ahe = adaptive ? fmin(ah, opt->atol) : ah;
-      for (int i = 0; i < d->il; i++) w[i] = newton_tol * (wa[i] >= 0 ? wa[i] : fmv[i] != 0.0 ? ah : ahe);
-      for (int i = d->il; i < n; i++) w[i] = wa[i];
-      /* four iterations, one more per 10x that Newton's tolerance was tightened (newton_min):
-       * the predictor is as far off in tolerances as they are tight */
-      int itmax = 4 + (int)lround(log10(newton_start / newton_tol));
-      for (int it = 0; it < itmax; it++) {
-        galpha_stage(d, &g, h);
-        galpha_residual(d, &g, t, h);
-        out->nres++;
-        if (hjac == 0) {
-          if (galpha_jacobian(d, &g, t, h, Js, A, LS) ||
-              factor_iteration_matrix(LS, A, opt->linear_solver == 1, d->nnz)) {
-            if (restart && !g.euler) break; /* redone as backward Euler below */
-            if (adaptive) { /* a shorter step (Newton-failure path): fresh, so it halves */
-              fresh = 1;
-              break;
-            }
-            st = PHM_FAIL(err, PHM_ESOLVER, "generalized-alpha: singular iteration matrix at t = %.9g s", t);
-            goto done;
-          }
-          out->njac++;
-          corot_reference(d, &cr, N_VGetArrayPointer(g.ya));
-          extra = 0;
-          hjac = h;
-          fresh = 1;
-        }
-        if (it == 0) cr.on = !adaptive && !fresh && corot_set(d, &cr, N_VGetArrayPointer(g.ya)); /* galpha_corot */
-        N_VScale(-1.0, g.R, g.dY);
-        if (cr.on) corot_apply(d, &cr, 1, dY);
-        if (SUNLinSolSolve(LS, A, g.dY, g.dY, 0.0) != PHM_SUN_SUCCESS) {
-          st = PHM_FAIL(err, PHM_ESOLVER, "generalized-alpha: linear solve failed at t = %.9g s", t);
-          goto done;
-        }
-        if (cr.on) corot_apply(d, &cr, 0, dY);
-        out->nniters++;
-        /* WRMS norm of the correction, weights 1 / (ntol (rtol |Y| + a)) at the updated iterate:
-         * nrm of every state decides convergence; nrm_rate, without the energy ledger's
-         * integrals [ie, il), the rate of contraction. Nothing depends on those integrals and
-         * their Jacobian rows keep only the diagonal (csrc/dae/jacobian.c), so each iteration
-         * corrects them one iteration late: from rest, the first correction holds a whole step's
-         * supplied energy, and in the rate it read as divergence (rate > 0.9): a Table I
-         * cantilever under a 3.9 kN tip force from t = 0 at dt_out 0.25 s stopped at t = 0
-         * "even with step 2.44e-05 s" (tests/test_default_integrator.py). Left out of the
-         * convergence test too (as from IDA's, csrc/solve/ida.c), they lag by the iteration
-         * that accepts: the manipulator's ledger went from 1.7e-4 to 1.2e-3. Their rows'
-         * diagonal cj is that of the step hjac the matrix was made for: rescaled to this step's
-         * (cj ~ 1/h) their correction is exact but for P's lag, and contracts as the others do.
-         * The fixed step adds P's change by this correction (dae_ledger_dpower: what the rows
-         * leave out), and the test takes only the rest, the error of the last such prediction:
-         * on the tip-loaded cantilever of benchmarks/bench_scaling.py at N = 1000 the lag was
-         * the tip node's unresolved vibration (hw ~ 1e3, +-7 m/s) times the 3.9 kN tip force,
-         * 1.4e5 tolerances, and it alone made 95 % of the steps take a third iteration (2.95
-         * per step with the co-rotated matrix, 2.25 without the lag; 2.32 and 2.29 at N = 30).
-         * Not in the default integrator: there the manipulator of benchmarks/scenes.py took
-         * 1.82 iterations per step instead of 1.58 (its one-iteration acceptance, nrm <= 0.033,
-         * sits near the threshold, and the steps then settle in the two-iteration regime; 20 %
-         * more CPU) for the same error and ledger, the four-bar's error went from 1.5e-6 to
-         * 2.7e-6 and the slider-crank's ledger from 1.5e-6 to 3.1e-6, and the released
-         * cantilever of benchmarks/newton_iterations.py did not change (2.22 per step). Nor in
-         * a restart's backward Euler step: the manipulator
-         * of tests/test_generalized_alpha.py (3e9 rad/s^2 at the start) then took its first
-         * step whole instead of halving it, 9.7e-6 m off IDA at h = 0.5 ms against 2.2e-6. */
-        int lag = adaptive || g.euler; /* the ledger's corrections keep their lag (see above) */
-        if (!lag) dae_ledger_dpower(d, t + g.af * h, Y, dY, g.af, dP); /* not Euler: af is g.af */
-        double icj = g.gam * h / g.am; /* 1 / (af cj), this step's (read only without the lag) */
-        double sum = 0, suml = 0, rd = newton_tol * opt->rtol;
-        for (int i = 0; i < d->il; i++) {
-          int ledger = i >= d->ie;
-          if (ledger) {
-            dY[i] *= h / hjac;
-            if (!lag) Y[i] += dP[i - d->ie] * icj;
-          }
-          Y[i] += dY[i];
-          double e = dY[i] / (rd * fabs(Y[i]) + w[i]);
-          if (ledger) suml += e * e;
-          else sum += e * e;
-        }
-        for (int i = d->il; i < n; i++) {
-          Y[i] += dY[i];
-          double e = dY[i] / (opt->rtol * fabs(Y[i]) + w[i]);
-          sum += e * e;
-        }
-        double nrm = sqrt((sum + suml) / d->nnorm), nrm_rate = sqrt(sum / d->nnorm);
-        if (!isfinite(nrm)) break;
-        if (it == 0) {
-          nrm0 = nrm_rate;
-          if (nrm <= 0.033) { ok = 1; break; }
-        } else {
-          /* pow(x, 1) is x: the first contraction without the call */
-          double rate = nrm0 > 0 ? (it == 1 ? nrm_rate / nrm0 : pow(nrm_rate / nrm0, 1.0 / it)) : 0.0;
-          if (rate > 0.9 && nrm_rate > 0.033) break; /* diverging (not round-off over round-off) */
-          /* rate > 0.9 below that: the states are at round-off, the ledger's lag decides */
-          int conv = rate <= 0.9 ? nrm * rate / (1.0 - rate) <= 0.33 : nrm <= 0.033;
-          /* at it == 1 the rate is the first contraction, from the predictor: its error lies
-           * mostly in what any iteration matrix resolves (the unresolved vibrations of the
-           * mesh, linear), so nrm1/nrm0 underestimates the contraction of what is left (the
-           * rotation of the carriers since the matrix was computed): on the released
-           * cantilever 8e-3 against 5e-2 for the next one. Such an iterate is accepted only if
-           * its last correction is within GALPHA_FIRST_MAX tolerances */
-          if (conv && (!adaptive || it > 1 || nrm <= GALPHA_FIRST_MAX)) {
-            ok = 1;
-            if (adaptive && !fresh && it >= 2 && (extra += it - 1) >= GALPHA_EXTRA_BUDGET) refresh = 1;
-            break;
-          }
-        }
-      }
-      if (ok && adaptive) {
-        /* per unit step: the local estimate times the number of such steps in the run, so that
-         * the estimates summed over the run (an oscillation's phase error adds up step after
-         * step) stay within the tolerance, not only each one. Measured on the impulsed
-         * cantilever (benchmarks/scenes.py): per step, its 149 Hz mode (4 % of the energy, in
-         * the 500 Hz band) drifted a full period off in 1 s and the tip 17 um off IDA; per unit
-         * step 6.7 um, at the band's floor step. */
-        errn = galpha_error(d, &g, h, hq, hqq, opt->rtol, opt->atol, &emax);
-        /* Newton's noise: a converged iterate is within ~0.33 of Newton's tolerance, newton_tol
-         * times the estimate's, and a third difference of such noise reads as <= 0.22 of it; a
-         * local estimate below GALPHA_NOISE newton_tol is that noise, not the step's error, and
-         * no shorter step lowers it (per unit step it grows as 1/h): such a step is accepted and
-         * counted (nnoise). Measured on a rigid pendulum over 1 s (rtol 1e-4, span/h up to
-         * 5000): six steps went to the refinement's limit at t = 0.07 s, four with this rule
-         * (the rule below took the rest). It is also what keeps the flexible scenes' cost: at
-         * rtol 1e-4 over 2 s the arm + strip accepted 18 098 of 25 194 steps by it, and without
-         * it the scenes of benchmarks/scenes.py took 1.0-8.3x main's CPU (the cantilever + tip
-         * mass 8.3x); the price, at rtol 1e-6 the arm + strip's tip 3.5e-7 m off over 0.5 s
-         * against 8.7e-8 without it (docs/integrators.md, "Not reached: the 30x"). */
-        elocal = fmax(errn, 0.0); /* this step's own share, summed in err_sum */
-        noise = errn > 0 && errn <= GALPHA_NOISE * newton_tol;
-        if (errn > 0) errn *= span / h;
-        if (noise && errn > 1.0) {
-          out->nnoise++;
-          errn = 1.0;
-        }
-        /* a shorter step that did not lower the estimate (errn ~ h^2 per unit step: a step 0.6x
-         * as long should read 0.36x) is not seeing its own error but what the history holds:
-         * the last steps' accepted errors, which the third difference carries into the next
-         * ones (per unit step: errn ~ delta span / (hq tol), whatever h), Newton's noise, or
-         * what the filter lets through above the band. Accepted and counted (nnoise): refining
-         * on down to the limit would not change it. Measured on a rigid pendulum (rtol 1e-4,
-         * steps grown from 1 ms to 17 ms): errn 2.2, 3.1, 3.2, 2.7, 2.3, 2.0 at steps halved
-         * each time from 6 ms to 0.2 ms, the refinement's limit. Rigid mechanisms only: where
-         * the estimate is filtered, what the filter lets through above the band would pass for
-         * history too (the arm + strip ran the same with and without the rule). */
-        if (errn > 1.0 && !filtered && etry > 0 && h < 0.6 * htry && errn > 0.5 * etry) {
-          out->nnoise++;
-          errn = 1.0;
-        }
-        if (errn > 1.0 && h > hlow * (1.0 + 1e-9)) { /* error test failed: shorter step, same t */
-          etry = errn;
-          htry = h;
-          out->netf++;
-          h = fmax(hlow, h * fmax(0.2, 0.8 * pow(errn, -0.5))); /* errn ~ h^2 (per unit step) */
-          h0 = h;
-          continue;
-        }
-      }
-      if (ok) break;
-      out->nncf++;
-      if (fresh && newton_tol < newton_start) { /* tightened beyond what Newton reaches here: back, for good */
-        newton_tol = newton_min = fmin(newton_start, 10.0 * newton_tol);
-      }
-      if (restart && !g.euler && (fresh || hjac == 0)) { /* see `restart` */
-        g.euler = 1;
-        hjac = 0;
-        continue;
-      }
-      if (!fresh) { hjac = 0; continue; }            /* retry with a fresh Jacobian */
-      if (++halvings > 10) {
-        st = PHM_FAIL(err, PHM_ESOLVER, "generalized-alpha: Newton failed at t = %.9g s even with "
-                           "step %.3g s (fresh Jacobian, 10 halvings)", t, h);
-        goto done;
-      }
-      h *= 0.5;
-      hjac = 0;
-    }
-    galpha_stage(d, &g, h); /* y1' of the converged y1 */
-    double t1 = fabs(target - (t + h)) < 1e-9 * h ? target : t + h;
-    out->nsteps++;
-    out->last_step = h;
-    if ((st = dae_step_accepted(d, t1, Y, DAE_CONSTRAINT_TOL, opt->atol, t1 == tout[iout], err))) goto done; /* watch.c */
-    if (adaptive) {
-      /* next proposal, with a dead band against chattering (every change of h costs Newton
-       * iterations with the iteration matrix of another h, and measured on the double pendulum
-       * a controller that also shrank h after accepted steps made 4x more convergence failures
-       * and a larger error): an accepted step keeps h unless the estimate allows >= 1.25x (then
-       * at most 1.5x); a rejected step (above) has already shortened it. A step shortened to
-       * land on an output neither shrinks the proposal nor blocks its growth (its estimate is
-       * scaled to the proposal by (h0/h)^2). */
-      if (errn > 1.0) out->nfloor++;
-      if (errn > out->err_ratio) {
-        out->err_ratio = errn;
-        out->t_err_ratio = t1;
-      }
-      if (h < out->min_step || out->min_step == 0) out->min_step = h;
-      out->err_est += emax;
-      out->err_sum += elocal;
-      if (noise && newton_tol > newton_min &&
-          out->err_sum > fmax(GALPHA_PACE_START, (t1 - tout[0]) / span) && /* see newton_min */
-          span <= GALPHA_PACE_MAX_STEPS * h)
-        newton_tol = fmax(newton_min, 0.1 * newton_tol);
-      out->newton_rtol = newton_tol * opt->rtol;
-      double base = fmax(h, h0), eb = errn * pow(base / h, 2.0); /* the estimate scaled to h0 */
-      double fac = errn < 0 ? 1.0 : eb > 0 ? 0.8 * pow(eb, -0.5) : 1.5;
-      double hn = fac >= 1.25 ? base * fmin(1.5, fac) : base;
-      h0 = fmin(hmax, fmax(hlow, hn));
-    }
-    if (opt->monitor && out->nsteps % PHM_MONITOR_STEPS == 0 && opt->monitor(opt->ctx, t1, out->nsteps, h)) {
-      st = PHM_FAIL(err, PHM_EINTERRUPT, "interrupted at t = %g s", t1);
-      goto done;
-    }
-    if (t1 == tout[iout]) {
-      int stop;
-      if ((st = dae_emit_output(d, Y, out, iout, E0, t1, opt, &stop, err)) || stop) goto done;
-      iout++;
-      steps_out = 0;
-    }
-    t = t1;
-    hqq = hq;
-    hq = g.euler ? 0 : h; /* no history across the Euler step (its y0' is not this scheme's) */
-    memcpy(yqq, yq, sizeof(double) * (size_t)n);
-    if (g.euler) hjac = 0; /* other coefficients from here on */
-    /* adaptive: the two steps after a restart have no error estimate yet and start from the
-     * restart's rates; a failing one is redone as backward Euler too */
-    if (g.euler) hjac = 0;
-    restart = adaptive && restart > 0 && restart < 3 ? restart + 1 : 0;
-    g.euler = 0;
-    memcpy(yq, y0, sizeof(double) * (size_t)n);
-    memcpy(ypq, yp0, sizeof(double) * (size_t)n);
-    if (adaptive) { /* the filter moves to t1 (galpha_error filled z1n, z2n) */
-      N_Vector tmp = g.z2qq;
-      g.z2qq = g.z2q;
-      g.z2q = g.z2;
-      g.z2 = g.z2n;
-      g.z2n = tmp;
-      tmp = g.z1;
-      g.z1 = g.z1n;
-      g.z1n = tmp;
-    }
-    memcpy(y0, Y, sizeof(double) * (size_t)n);
-    memcpy(yp0, Yp, sizeof(double) * (size_t)n);
+    if ((st = galpha_attempt(gr, &h, err))) goto done;
+    st = galpha_accept(gr, h, target, tout, &iout, &steps_out, E0, &stop, err);
   }
 done:
   out->last_order = 2;
-  if (LS) SUNLinSolFree(LS);
-  if (A && A != Js) SUNMatDestroy(A);
-  if (Js) SUNMatDestroy(Js);
-  for (int k = 0; k < nv; k++)
-    if (*vs[k]) N_VDestroy(*vs[k]);
+  galpha_close(gr);
   return st;
 }

@@ -1,0 +1,65 @@
+/* integrate.h -- the integrators of a model's DAE (csrc/dae/): the table of integrators
+ * (integrators.c), one file each (ida.c, galpha.c), the driver that sets a run up and hands it to
+ * one of them (simulate.c), and what they share (klu.c: the pruned KLU pattern; nvector_ops.c). */
+#ifndef PHM_INTEGRATE_H
+#define PHM_INTEGRATE_H
+
+#include "dae.h"
+
+/* ---------------------------------------------------------------- the table of integrators */
+/* One row per integrator (integrators.c, indexed by its code PHM_INTEGRATOR_*). Adding one: its
+ * code and option sub-struct (phmech_types.h), its row in integrators.c, its four functions'
+ * prototypes below, its file (and meson.build); docs/architecture.md, "What a change touches". */
+typedef struct {
+  const char *name;         /* its name in phmech._core.codes()["integrators"]                 */
+  phm_sim_options defaults; /* its sub-struct's defaults (the other fields 0)                  */
+  int per_step;             /* the regularization's lambda_ref follows every step (1) or only
+                             * the outputs (0): dae_regularization_scale                        */
+  /* PHM_OK, or PHM_EINVAL naming the first bad option of its sub-struct */
+  phm_status (*check)(const phm_sim_options *opt, phm_error *err);
+  /* Its scratch for a run of d (*work; NULL if none), allocated at set-up, before the first
+   * output: nothing of phmech's allocates after it (tests/c/test_no_alloc.c). */
+  phm_status (*setup)(dae_t *d, const phm_sim_options *opt, void **work, phm_error *err);
+  void (*release)(void *work);
+  /* Integrate from the consistent state in yy, yp at tout[0] (output 0 already emitted; E0 its
+   * energy) to tout[nout - 1], emitting outputs 1..nout-1. d: set up with its Jacobian pattern
+   * (dae_jacobian_pattern: both linear solvers of both integrators evaluate the closed-form
+   * Jacobian on it); nbp: the next breakpoint of the laws; work: its setup's. */
+  phm_status (*run)(dae_t *d, const phm_sim_options *opt, void *work, SUNContext ctx,
+                    N_Vector yy, N_Vector yp, const double *tout, int nout, double E0[1],
+                    double nbp, phm_sim_output *out, phm_error *err);
+} phm_integrator;
+
+/* The integrator of code `integrator`, or NULL if there is none. */
+const phm_integrator *phm_integrator_get(int integrator);
+
+/* ---------------------------------------------------------------- the integrators */
+/* ida.c */
+phm_status ida_check(const phm_sim_options *opt, phm_error *err);
+phm_status ida_setup(dae_t *d, const phm_sim_options *opt, void **work, phm_error *err);
+void ida_release(void *work);
+phm_status run_ida(dae_t *d, const phm_sim_options *opt, void *work, SUNContext ctx, N_Vector yy,
+                   N_Vector yp, const double *tout, int nout, double E0[1], double nbp,
+                   phm_sim_output *out, phm_error *err);
+/* galpha.c */
+phm_status galpha_check(const phm_sim_options *opt, phm_error *err);
+phm_status galpha_setup(dae_t *d, const phm_sim_options *opt, void **work, phm_error *err);
+void galpha_release(void *work);
+phm_status run_galpha(dae_t *d, const phm_sim_options *opt, void *work, SUNContext ctx,
+                      N_Vector yy, N_Vector yp, const double *tout, int nout, double E0[1],
+                      double nbp, phm_sim_output *out, phm_error *err);
+
+/* ---------------------------------------------------------------- klu.c */
+/* After a Jacobian into J, the matrix of the KLU solver LS: drop its entries zero in every call
+ * so far (dae_jacobian_prune) and, when the kept pattern grew, have KLU analyse it again. 0 on
+ * success, 1 if KLU could not. */
+int phm_klu_prune(dae_t *d, SUNMatrix J, SUNLinearSolver LS);
+
+/* ---------------------------------------------------------------- nvector_ops.c */
+/* Install phmech's compiled copies of the serial N_Vector operations IDA spends its time in on v
+ * (N_VNew_Serial's; its clones inherit them), and of the zero on the sparse matrix A: the same
+ * numbers, bit for bit, as SUNDIALS's (whose Debian build is unoptimized). */
+void phm_nvector_ops(N_Vector v);
+void phm_sparse_matrix_ops(SUNMatrix A);
+
+#endif
