@@ -34,8 +34,8 @@ EX_STEPS are run over T_REF and the largest whose error (against phmech's refere
 is at most phmech's default's is used for every N.
 
 Writes ``benchmarks/results/bench_large.json`` (``--quick``: ``bench_large_quick.json``) and a
-PNG beside it. ``--quick``: N = 100, 300 over 1 s; ``--smoke``: N = 100 over 0.2 s
-(tests/test_bench_large.py).
+PNG beside it. ``--quick``: N = 100, 300 over 1 s; ``--smoke``: N = 100 over 0.2 s, one Exudyn step
+(tests/test_benchmarks_smoke.py).
 """
 from __future__ import annotations
 
@@ -227,7 +227,7 @@ def slim(r: dict) -> dict:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="N = 100, 300 over 1 s")
-    ap.add_argument("--smoke", action="store_true", help="N = 100 over 0.2 s (tests/test_bench_large.py)")
+    ap.add_argument("--smoke", action="store_true", help="N = 100 over 0.2 s (tests/test_benchmarks_smoke.py)")
     ap.add_argument("--budget", type=float, default=600.0, help="wall-time cap per point [s]")
     ap.add_argument("--no-exudyn", action="store_true", help="phmech only")
     ap.add_argument("--sizes", type=int, nargs="+", help="override the sizes N")
@@ -283,7 +283,7 @@ def main() -> None:
         r["mesh_error"] = deviation(r, finest, T) if r is not finest else None
         r["error"] = deviation(r, ref, T_ref)
     check = None
-    if ph_runs:
+    if ph_runs and not a.smoke:
         n0 = ph_runs[0]["N"]
         tight = run_point("phmech", n0, T_ref, REF_RTOL / 10, a.budget)
         check = dict(N=n0, rtol=REF_RTOL / 10, reference_vs_tighter=deviation(refs[n0], tight, T_ref),
@@ -291,9 +291,9 @@ def main() -> None:
         print(f"  reference check N={n0}: rtol {REF_RTOL} vs {REF_RTOL / 10}: {check['reference_vs_tighter']:.2e} L",
               flush=True)
 
-    ex_h, cal = None, []
+    ex_h, cal, cal_points = None, [], {}
     if ex and ref is not None:
-        for h in EX_STEPS[::-1]:
+        for h in (EX_STEPS[1:2] if a.smoke else EX_STEPS[::-1]):
             try:
                 c = run_point("exudyn", N_cal, T_ref, h, a.budget)
             except (RuntimeError, subprocess.TimeoutExpired) as e:
@@ -301,6 +301,7 @@ def main() -> None:
                 continue
             c["error"] = deviation(c, ref, T_ref)
             cal.append(slim(c))
+            cal_points[h] = c
             print(f"  exudyn calibration N={N_cal} h={h:g}: error {c['error']:.2e} L, CPU/s {c['cpu_per_sim_s']:.4g}",
                   flush=True)
         # the largest step whose error is within 10 % of the smallest step's: its time error is
@@ -319,7 +320,9 @@ def main() -> None:
                 print(f"  exudyn N={N}: skipped ({skipped[-1]['reason']})", flush=True)
                 continue
             try:
-                r = run_point("exudyn", N, T, ex_h, a.budget)
+                # the calibration's point when it is this one (the smoke: N_cal, T = T_ref)
+                same = (N, T) == (N_cal, T_ref) and ex_h in cal_points
+                r = dict(cal_points[ex_h]) if same else run_point("exudyn", N, T, ex_h, a.budget)
             except (RuntimeError, subprocess.TimeoutExpired) as e:
                 skipped.append(dict(code="exudyn", N=N, reason=str(e)[-300:]))
                 print(f"  exudyn N={N}: failed ({skipped[-1]['reason']})", flush=True)
