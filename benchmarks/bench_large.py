@@ -224,6 +224,39 @@ def slim(r: dict) -> dict:
     return {k: v for k, v in r.items() if k not in ("t", "points")}
 
 
+def fit_all(runs: list, base: dict) -> dict:
+    """Per code: the CPU/s exponent over all its N (least squares in log-log), the local slopes
+    between neighbouring N and the exponent of the peak RSS above the baseline."""
+    fits = {}
+    for code in ("phmech", "exudyn"):
+        rs = sorted((r for r in runs if r["code"] == code), key=lambda r: r["N"])
+        if len(rs) >= 2:
+            fits[code] = dict(cpu_exponent=fit_exponent(rs), fitted_on=[r["N"] for r in rs],
+                              local_slopes=[float(np.log(b["cpu_per_sim_s"] / a_["cpu_per_sim_s"]) / np.log(b["N"] / a_["N"]))
+                                            for a_, b in zip(rs, rs[1:])],
+                              memory_exponent_above_baseline=fit_exponent(
+                                  [dict(N=r["N"], cpu_per_sim_s=max(r["maxrss_MB"] - base[code], 1e-3)) for r in rs]))
+    return fits
+
+
+def merge_point(code: str, N: int, budget: float) -> None:
+    """Run one more point (the JSON's T and, for Exudyn, its step) and add it to
+    benchmarks/results/bench_large.json without its errors (they need the trajectories of the
+    reference, not stored): for a size whose reference would not fit the budget of a full run."""
+    path = os.path.join(RESULTS, "bench_large.json")
+    with open(path) as f:
+        d = json.load(f)
+    r = slim(run_point(code, N, d["T"], d["exudyn_h"] if code == "exudyn" else 0.0, budget))
+    r["added_by"] = f"bench_large.py --merge-point {code} {N} ({time.strftime('%Y-%m-%d %H:%M', time.gmtime())} UTC)"
+    d["runs"] = [x for x in d["runs"] if not (x["code"] == code and x["N"] == N)] + [r]
+    d["skipped"] = [x for x in d["skipped"] if not (x["code"] == code and x["N"] == N)]
+    d["fits"] = fit_all(d["runs"], d["baseline_rss_MB"])
+    write_json("bench_large", d)
+    plot(d, "bench_large")
+    print(f"{code} N={N}: CPU/s {r['cpu_per_sim_s']:.4g}, static {r['static_cpu_s']:.3g} s, steps {r['steps']}, "
+          f"Newton {r.get('newton_iterations')}, RSS {r['maxrss_MB']:.0f} MB; fits {json.dumps(d['fits'])}", flush=True)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="N = 100, 300 over 1 s")
@@ -232,7 +265,12 @@ def main() -> None:
     ap.add_argument("--no-exudyn", action="store_true", help="phmech only")
     ap.add_argument("--sizes", type=int, nargs="+", help="override the sizes N")
     ap.add_argument("--point", nargs=4, help=argparse.SUPPRESS)
+    ap.add_argument("--merge-point", nargs=2, metavar=("CODE", "N"),
+                    help="run one point (phmech or exudyn) and add it to the stored bench_large.json, without errors")
     a = ap.parse_args()
+    if a.merge_point:
+        merge_point(a.merge_point[0], int(a.merge_point[1]), a.budget)
+        return
     if a.point:
         code, n, T, s = a.point
         print(json.dumps(point(code, int(n), float(T), float(s))))
@@ -345,25 +383,20 @@ def main() -> None:
             c = front[0][0]              # at or above Exudyn's coarsest error: its cheapest point
         r["exudyn_cpu_per_sim_s_at_error"] = c
         r["ratio_to_exudyn"] = None if c is None else r["cpu_per_sim_s"] / c
-    fits = {}
-    for code in ("phmech", "exudyn"):
-        rs = sorted((r for r in runs if r["code"] == code), key=lambda r: r["N"])
-        if len(rs) >= 2:
-            fits[code] = dict(cpu_exponent=fit_exponent(rs), fitted_on=[r["N"] for r in rs],
-                              local_slopes=[float(np.log(b["cpu_per_sim_s"] / a_["cpu_per_sim_s"]) / np.log(b["N"] / a_["N"]))
-                                            for a_, b in zip(rs, rs[1:])],
-                              memory_exponent_above_baseline=fit_exponent(
-                                  [dict(N=r["N"], cpu_per_sim_s=max(r["maxrss_MB"] - base[code], 1e-3)) for r in rs]))
+    fits = fit_all(runs, base)
     out = dict(
         problem=f"steel riser, solid circle d = {D} m (E {E:g} Pa, nu {NU}, {RHO} kg/m^3), L = {L} m, hanging under "
                 f"gravity {G} m/s^2 from its top, clamped to a slider driven horizontally by x(t) = {A_TOP} (1 - cos 2 pi "
                 f"{F_TOP} t) m; from the static equilibrium; outputs every {DT_OUT} s over T = {T} s",
         phmech_call="m.static(); m.simulate(T, dt_out, initial=static): defaults (default integrator, rtol 1e-4)",
-        exudyn_setting=f"ObjectBeamGeometricallyExact2D, EigenSparse, SolveStatic, generalized-alpha spectral radius "
-                       f"{EX_RHO}, fixed step h = {ex_h} s (the largest of {list(EX_STEPS)} reaching phmech's error at "
-                       f"N = {N_cal} over {T_ref} s)" if ex else None,
+        exudyn_setting=f"ObjectBeamGeometricallyExact2D, EigenSparse, initial state the analytic hanging equilibrium "
+                       f"(its SolveStatic does not converge here), generalized-alpha spectral radius {EX_RHO}, Newton "
+                       f"relative tolerance {EX_NEWTON_RTOL} (its default 1e-8 stalls), fixed step h = {ex_h} s (the "
+                       f"largest of {list(EX_STEPS)} whose error at N = {N_cal} over {T_ref} s is within 10 % of the "
+                       f"smallest step's)" if ex else None,
         error=f"max over outputs t <= {T_ref} s and the material points s/L = {list(POINTS)} of |p - p_ref| / L, p_ref: "
-              f"phmech at the same N, rtol {REF_RTOL} (Exudyn: against the same phmech reference)",
+              f"phmech at the finest N ({finest['N'] if finest else None}), rtol {REF_RTOL} (both codes)",
+        time_error=f"the same against phmech at the same N, rtol {REF_RTOL}",
         mesh_error=f"the same over the whole span against the finest N ({finest['N'] if finest else None}) with defaults",
         rate="CPU per simulated s = simulate() CPU / T (time.process_time; its set-up included)",
         T=T, T_ref=T_ref, dt_out=DT_OUT, N_cal=N_cal, exudyn_h=ex_h, exudyn_calibration=cal,
