@@ -315,6 +315,9 @@ def large(results: str) -> list:
             lines += ["", f"{code}: CPU/s ~ N^{f['cpu_exponent']:.2f} over N = {f['fitted_on']} (local slopes "
                       + ", ".join(f"{v:.2f}" for v in f["local_slopes"]) + "); peak RSS above the baseline "
                       f"({d['baseline_rss_MB'][code]:.0f} MB) ~ N^{f['memory_exponent_above_baseline']:.2f}."]
+    added = [f"N = {r['N']} ({r['code']}): {r['added_by']}" for r in d["runs"] if r.get("added_by")]
+    if added:
+        lines += ["", "Added later, without errors: " + "; ".join(added) + "."]
     if d.get("skipped"):
         lines += ["", "Skipped: " + "; ".join(f"{s['code']} N = {s['N']}: {s['reason']}" for s in d["skipped"]) + "."]
     if d.get("reference_check"):
