@@ -281,8 +281,53 @@ def headline(results: str) -> list:
     return ["; ".join(parts) + "."]
 
 
+def large(results: str) -> list:
+    """bench_large.py: the newer of its full and quick runs."""
+    d, path = load(results, "bench_large.json")
+    name = "bench_large.py"
+    dq, pq = load(results, "bench_large_quick.json")
+    date = lambda x: (x or {}).get("machine", {}).get("date_utc", "")  # noqa: E731
+    if dq is not None and (d is None or date(dq) > date(d)):
+        d, path, name = dq, pq, "bench_large.py --quick"
+    if d is None:
+        return ["(no bench_large.json)"]
+    e = lambda x: "--" if x is None else f"{x:.1e}"  # noqa: E731
+    lines = ["### Large models: hanging riser, top driven", "", header(d, path, name), "",
+             f"Problem: {d['problem']}. phmech: {d['phmech_call']}. Exudyn: {d.get('exudyn_setting') or 'not run'}.", "",
+             f"error: {d['error']}; time error: {d.get('time_error', '--')}; mesh error: {d['mesh_error']}. "
+             f"{d['rate']}. Last column: phmech's CPU/s over Exudyn's at phmech's error (log-log interpolation "
+             "between Exudyn's points; -- where phmech's error is below all of Exudyn's).", "",
+             "| N | phmech CPU/s | static CPU [s] | peak RSS [MB] | steps | Newton | error / L | time error / L "
+             "| mesh error / L | Exudyn CPU/s | Exudyn peak RSS [MB] | Exudyn error / L | phmech / Exudyn at phmech's error |",
+             "|---" * 13 + "|"]
+    ex = {r["N"]: r for r in d["runs"] if r["code"] == "exudyn"}
+    for r in sorted((r for r in d["runs"] if r["code"] == "phmech"), key=lambda r: r["N"]):
+        x = ex.get(r["N"]) or {}
+        rat = r.get("ratio_to_exudyn")
+        xc = f"{x['cpu_per_sim_s']:.3g} (h {x['h']:g})" if x else "--"
+        xm = f"{x['maxrss_MB']:.0f}" if x else "--"
+        lines.append(f"| {r['N']} | {r['cpu_per_sim_s']:.3g} | {r['static_cpu_s']:.3g} | {r['maxrss_MB']:.0f} | {r['steps']} "
+                     f"| {r['newton_iterations']} | {e(r.get('error'))} | {e(r.get('time_error'))} | {e(r.get('mesh_error'))} "
+                     f"| {xc} | {xm} | {e(x.get('error'))} | {'--' if rat is None else f'{rat:.2f}'} |")
+    for code in ("phmech", "exudyn"):
+        f = d["fits"].get(code)
+        if f:
+            lines += ["", f"{code}: CPU/s ~ N^{f['cpu_exponent']:.2f} over N = {f['fitted_on']} (local slopes "
+                      + ", ".join(f"{v:.2f}" for v in f["local_slopes"]) + "); peak RSS above the baseline "
+                      f"({d['baseline_rss_MB'][code]:.0f} MB) ~ N^{f['memory_exponent_above_baseline']:.2f}."]
+    added = [f"N = {r['N']} ({r['code']}): {r['added_by']}" for r in d["runs"] if r.get("added_by")]
+    if added:
+        lines += ["", "Added later, without errors: " + "; ".join(added) + "."]
+    if d.get("skipped"):
+        lines += ["", "Skipped: " + "; ".join(f"{s['code']} N = {s['N']}: {s['reason']}" for s in d["skipped"]) + "."]
+    if d.get("reference_check"):
+        c = d["reference_check"]
+        lines += ["", f"Reference check: at N = {c['N']}, rtol 1e-6 against {c['rtol']:g}: {c['reference_vs_tighter']:.1e} L."]
+    return lines
+
+
 PARTS = dict(headline=headline, transient=transient, whip=whip, modes=modes, scaling=scaling, leaf=leaf,
-             modal=modal, scenes=scenes)
+             modal=modal, scenes=scenes, large=large)
 
 
 def write_docs(results: str) -> None:

@@ -109,3 +109,19 @@ def test_report(tmp_path):
                         cwd=str(ROOT), timeout=120)
     assert pr.returncode == 0, pr.stderr[-3000:]
     assert "| error" in pr.stdout
+
+
+def test_bench_large(tmp_path):
+    # the quick mode's smallest case (N = 100) over 0.2 s: ~15 s wall, most of it fresh interpreters
+    out = run_script("bench_large.py", tmp_path)
+    d = load(tmp_path, "bench_large_smoke.json")
+    ph = [r for r in d["runs"] if r["code"] == "phmech"]
+    assert [r["N"] for r in ph] == [100], out
+    r = ph[0]
+    assert r["steps"] > 0 and r["newton_iterations"] >= r["steps"] and r["maxrss_MB"] > d["baseline_rss_MB"]["phmech"] * 0.5
+    # the defaults against the rtol 1e-6 reference: the motion of 0.2 s is small, its error far below 1e-4 L
+    assert math.isfinite(r["error"]) and r["error"] < 1e-4, r
+    assert not d["skipped"], d["skipped"]
+    if have("exudyn"):
+        ex = [r for r in d["runs"] if r["code"] == "exudyn"]
+        assert len(ex) == 1 and math.isfinite(ex[0]["error"]) and ex[0]["error"] < 1e-3, ex
