@@ -24,7 +24,7 @@ static phm_status check_output(const dae_t *d, const phm_sim_output *out, int io
            {"constraint wrenches", out->lambda, (size_t)m->ncons},
            {"energies", out->energy, PHM_NENERGY},
            {"joint coordinates", out->joints, (size_t)m->nj},
-           {"joint rates", out->jrates, (size_t)m->nj},
+           {"joint rates", out->joint_rates, (size_t)m->nj},
            {"actuator efforts", out->efforts, (size_t)m->nj},
            {"pair wrenches", out->pwrench, 6 * (size_t)m->np},
            {"port energies", out->ports, (size_t)m->nport},
@@ -70,7 +70,7 @@ static void record(dae_t *d, const double *y, phm_sim_output *out, int iout, dou
     int j0 = m->pair_j[ip];
     for (int c = 0; c < m->pair_k[ip]; c++) {
       if (out->joints) out->joints[(size_t)iout * m->nj + j0 + c] = p->x[c];
-      if (out->jrates) out->jrates[(size_t)iout * m->nj + j0 + c] = p->xdot[c];
+      if (out->joint_rates) out->joint_rates[(size_t)iout * m->nj + j0 + c] = p->xdot[c];
     }
     if (out->pwrench)
       phm_pair_wrench(m, ip, p, y + d->il + m->pair_row[ip],

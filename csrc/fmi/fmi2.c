@@ -447,7 +447,7 @@ static fmi2Status advance(fmu *c, double t1) {
   out.poses = P;
   out.twists = W;
   out.joints = X;
-  out.jrates = XD;
+  out.joint_rates = XD;
   phm_error err;
   phm_status s = phm_simulate(c->model, c->H, c->T, tout, n, &c->opt, &out, &err);
   if (s != PHM_OK || out.nout_done != n) {

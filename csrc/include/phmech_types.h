@@ -488,7 +488,7 @@ typedef struct {
   double *lambda;  /* [nout][nconstraints]                             */
   double *energy;  /* [nout][PHM_NENERGY]                              */
   double *joints;  /* [nout][njoints] joint coordinates x              */
-  double *jrates;  /* [nout][njoints] joint rates xdot                 */
+  double *joint_rates;  /* [nout][njoints] joint rates xdot                 */
   double *efforts; /* [nout][njoints] sum of the actuators' efforts u  */
   double *pwrench; /* [nout][npairs][6] constraint wrench W^C lambda on b, frame F_b */
   double *ports;   /* [nout][nports] energy supplied through each port, J (actuators: int u.xdot;
@@ -523,7 +523,7 @@ typedef struct {
  * the result-field table (csrc/util/codes.c names them). */
 enum {
   PHM_RESULT_POSES = 0, PHM_RESULT_TWISTS = 1, PHM_RESULT_LAMBDA = 2, PHM_RESULT_ENERGY = 3,
-  PHM_RESULT_JOINTS = 4, PHM_RESULT_JRATES = 5, PHM_RESULT_EFFORTS = 6,
+  PHM_RESULT_JOINTS = 4, PHM_RESULT_JOINT_RATES = 5, PHM_RESULT_EFFORTS = 6,
   PHM_RESULT_PAIR_WRENCHES = 7, PHM_RESULT_PORTS = 8, PHM_RESULT_COMPONENTS = 9,
   PHM_NRESULT_FIELDS = 10
 };

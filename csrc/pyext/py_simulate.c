@@ -83,12 +83,12 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
   npy_intp dims[PHM_NRESULT_FIELDS][4] = {
       [PHM_RESULT_POSES] = {nout, nrec, 4, 4}, [PHM_RESULT_TWISTS] = {nout, nrec, 6},
       [PHM_RESULT_LAMBDA] = {nout, nk},        [PHM_RESULT_ENERGY] = {nout, PHM_NENERGY},
-      [PHM_RESULT_JOINTS] = {nout, nj},        [PHM_RESULT_JRATES] = {nout, nj},
+      [PHM_RESULT_JOINTS] = {nout, nj},        [PHM_RESULT_JOINT_RATES] = {nout, nj},
       [PHM_RESULT_EFFORTS] = {nout, nj},       [PHM_RESULT_PAIR_WRENCHES] = {nout, npr, 6},
       [PHM_RESULT_PORTS] = {nout, npt},        [PHM_RESULT_COMPONENTS] = {nout, phm_model_ncompstates(m)}};
   static const int ndims[PHM_NRESULT_FIELDS] = {[PHM_RESULT_POSES] = 4, [PHM_RESULT_TWISTS] = 3,
                                                 [PHM_RESULT_LAMBDA] = 2, [PHM_RESULT_ENERGY] = 2,
-                                                [PHM_RESULT_JOINTS] = 2, [PHM_RESULT_JRATES] = 2,
+                                                [PHM_RESULT_JOINTS] = 2, [PHM_RESULT_JOINT_RATES] = 2,
                                                 [PHM_RESULT_EFFORTS] = 2, [PHM_RESULT_PAIR_WRENCHES] = 3,
                                                 [PHM_RESULT_PORTS] = 2, [PHM_RESULT_COMPONENTS] = 2};
   PyArrayObject *ra[PHM_NRESULT_FIELDS] = {NULL};
@@ -117,7 +117,7 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
   out.lambda = PyArray_DATA(ra[PHM_RESULT_LAMBDA]);
   out.energy = PyArray_DATA(ra[PHM_RESULT_ENERGY]);
   out.joints = PyArray_DATA(ra[PHM_RESULT_JOINTS]);
-  out.jrates = PyArray_DATA(ra[PHM_RESULT_JRATES]);
+  out.joint_rates = PyArray_DATA(ra[PHM_RESULT_JOINT_RATES]);
   out.efforts = PyArray_DATA(ra[PHM_RESULT_EFFORTS]);
   out.pwrench = PyArray_DATA(ra[PHM_RESULT_PAIR_WRENCHES]);
   out.ports = PyArray_DATA(ra[PHM_RESULT_PORTS]);

@@ -24,7 +24,7 @@ static const phm_code mass_kinds[] = {
  * (csrc/pyext/py_simulate.c allocates and names them from this table). */
 static const phm_code result_fields[] = {
     {"poses", PHM_RESULT_POSES},     {"twists", PHM_RESULT_TWISTS},   {"lambda", PHM_RESULT_LAMBDA},
-    {"energy", PHM_RESULT_ENERGY},   {"joints", PHM_RESULT_JOINTS},   {"jrates", PHM_RESULT_JRATES},
+    {"energy", PHM_RESULT_ENERGY},   {"joints", PHM_RESULT_JOINTS},   {"joint_rates", PHM_RESULT_JOINT_RATES},
     {"efforts", PHM_RESULT_EFFORTS}, {"pair_wrenches", PHM_RESULT_PAIR_WRENCHES},
     {"ports", PHM_RESULT_PORTS},     {"components", PHM_RESULT_COMPONENTS},
 };

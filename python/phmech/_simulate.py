@@ -270,7 +270,7 @@ def _simulation_result(mech, r: dict, k: int, tout, model, drop_masks, rec, band
                             constraint_wrenches=lam, energy=energy, stats=stats,
                             interrupted=interrupted, _links=dict(mech._links),
                             port_energy=ports, joints=r["joints"][:k],
-                            joint_rates=r["jrates"][:k], efforts=r["efforts"][:k],
+                            joint_rates=r["joint_rates"][:k], efforts=r["efforts"][:k],
                             pair_wrenches=pw, _pairs=pairs,
                             redundant_constraints=list(mech.redundant_constraints),
                             carriers=None if rec is None else np.array(rec),

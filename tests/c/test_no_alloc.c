@@ -214,7 +214,7 @@ static void run(const phm_model *m, const char *name, phm_sim_options opt) {
   out.lambda = malloc(sizeof(double) * NOUT * (size_t)(nk + 1));
   out.energy = malloc(sizeof(double) * NOUT * PHM_NENERGY);
   out.joints = malloc(sizeof(double) * NOUT * (size_t)(nj + 1));
-  out.jrates = malloc(sizeof(double) * NOUT * (size_t)(nj + 1));
+  out.joint_rates = malloc(sizeof(double) * NOUT * (size_t)(nj + 1));
   out.efforts = malloc(sizeof(double) * NOUT * (size_t)(nj + 1));
   out.pwrench = malloc(sizeof(double) * NOUT * 6 * (size_t)np);
   out.ports = malloc(sizeof(double) * NOUT * (size_t)(nport + 1));
@@ -240,7 +240,7 @@ static void run(const phm_model *m, const char *name, phm_sim_options opt) {
   free(out.lambda);
   free(out.energy);
   free(out.joints);
-  free(out.jrates);
+  free(out.joint_rates);
   free(out.efforts);
   free(out.pwrench);
   free(out.ports);
