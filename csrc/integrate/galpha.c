@@ -730,7 +730,8 @@ static int galpha_error_test(galpha_run *gr, double *hp) {
    * rtol 1e-4 over 2 s the arm + strip accepted 18 098 of 25 194 steps by it, and without
    * it the scenes of benchmarks/scenes.py took 1.0-8.3x main's CPU (the cantilever + tip
    * mass 8.3x); the price, at rtol 1e-6 the arm + strip's tip 3.5e-7 m off over 0.5 s
-   * against 8.7e-8 without it (docs/integrators.md, "Not reached: the 30x"). */
+   * against 8.7e-8 without it, before Newton's tolerance followed the summed estimates
+   * (docs/integrators.md, "Convergence in rtol"). */
   gr->elocal = fmax(gr->errn, 0.0); /* this step's own share, summed in err_sum */
   gr->noise = gr->errn > 0 && gr->errn <= GALPHA_NOISE * newton_tol;
   if (gr->errn > 0) gr->errn *= span / h;
