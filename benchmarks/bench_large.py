@@ -51,7 +51,7 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from run import RESULTS, cpu_at_error, have, machine, pareto, write_json  # noqa: E402
+from run import RESULTS, cpu_at_error, exudyn_stats, have, machine, pareto, write_json  # noqa: E402
 
 L = 100.0                      # riser length [m]
 D = 0.02                       # diameter [m]
@@ -159,14 +159,8 @@ def exudyn_riser(N: int, T: float, h: float) -> dict:
     c3 = time.process_time()
     d = [np.asarray(mbs.GetSensorStoredData(s)) for s in sens]
     pts = np.stack([x[:, 1:3] for x in d], axis=1)       # (nt, 4, 2): x, y
-    out = dict(build_cpu_s=c1 - c0, static_cpu_s=c2 - c1, sim_cpu_s=c3 - c2, t=d[0][:, 0].tolist(),
-               points=pts.tolist(), steps=int(round(T / h)), h=h)
-    try:
-        it = mbs.sys["dynamicSolver"].it
-        out.update(newton_iterations=int(it.newtonStepsCount), jacobians=int(it.newtonJacobiCount))
-    except Exception:  # noqa: BLE001 -- informative only
-        pass
-    return out
+    return dict(build_cpu_s=c1 - c0, static_cpu_s=c2 - c1, sim_cpu_s=c3 - c2, t=d[0][:, 0].tolist(),
+                points=pts.tolist(), h=h, **exudyn_stats(mbs, T, h))
 
 
 def point(code: str, N: int, T: float, setting: float) -> dict:
@@ -289,6 +283,15 @@ def main() -> None:
         base["exudyn"] = baseline_rss("numpy, phmech, exudyn")
     runs, refs, skipped = [], {}, []
 
+    def skip_over_budget(code, N, last):
+        """Whether N is skipped: its wall time predicted from the last point (N0, wall0) as
+        wall0 (N / N0)^1.2 exceeds the budget; recorded in ``skipped`` and printed."""
+        if last is None or last[1] * (N / last[0]) ** 1.2 <= a.budget:
+            return False
+        skipped.append(dict(code=code, N=N, reason=f"predicted wall > budget {a.budget:.0f} s"))
+        print(f"  {code} N={N}: skipped ({skipped[-1]['reason']})", flush=True)
+        return True
+
     def show(r, what=""):
         print(f"  {r['code']:7s} N={r['N']:6d} {what}: CPU/s {r['cpu_per_sim_s']:.4g}, static {r['static_cpu_s']:.3g} s, "
               f"build {r['build_cpu_s']:.3g} s, steps {r['steps']}, Newton {r.get('newton_iterations')}, "
@@ -297,9 +300,7 @@ def main() -> None:
     print(f"phmech defaults over T = {T} s; references at rtol {REF_RTOL} over {T_ref} s", flush=True)
     last = None
     for N in Ns:
-        if last is not None and last[1] * (N / last[0]) ** 1.2 > a.budget:
-            skipped.append(dict(code="phmech", N=N, reason=f"predicted wall > budget {a.budget:.0f} s"))
-            print(f"  phmech N={N}: skipped ({skipped[-1]['reason']})", flush=True)
+        if skip_over_budget("phmech", N, last):
             continue
         try:
             r = run_point("phmech", N, T, 0.0, a.budget)
@@ -353,9 +354,7 @@ def main() -> None:
         print(f"  exudyn: step {ex_h:g} s", flush=True)
         last = None
         for N in Ns:
-            if last is not None and last[1] * (N / last[0]) ** 1.2 > a.budget:
-                skipped.append(dict(code="exudyn", N=N, reason=f"predicted wall > budget {a.budget:.0f} s"))
-                print(f"  exudyn N={N}: skipped ({skipped[-1]['reason']})", flush=True)
+            if skip_over_budget("exudyn", N, last):
                 continue
             try:
                 # the calibration's point when it is this one (the smoke: N_cal, T = T_ref)

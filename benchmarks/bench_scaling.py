@@ -51,7 +51,7 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from run import (EA1, F_TIP, RESULTS, TABLE1, ensure_peers, exudyn_beam,  # noqa: E402
+from run import (EA1, F_TIP, RESULTS, TABLE1, ensure_peers, exudyn_beam, exudyn_stats,  # noqa: E402
                  exudyn_settings, have, machine, phmech_cantilever, write_json)
 
 # chain of rigid links
@@ -116,23 +116,13 @@ def _ex_solve(mbs, ss, T: float, h: float, sparse: bool, rho: float = 1.0):
     return time.process_time() - t0
 
 
-def _ex_stats(mbs, T, h):
-    st = {"steps": int(round(T / h))}
-    try:
-        it = mbs.sys["dynamicSolver"].it
-        st.update(newton_iterations=int(it.newtonStepsCount), jacobians=int(it.newtonJacobiCount))
-    except Exception:  # noqa: BLE001 -- informative only
-        pass
-    return st
-
-
 def ex_ge2d(N: int, T: float, h: float):
     """Exudyn ObjectBeamGeometricallyExact2D (as run.py's exudyn_beam); tip (x, y)."""
     _, mbs, _, sens = exudyn_beam(N, tip_force=F_TIP)
     ss = exudyn_settings(N > 40)
     ss.solution.sensors.writePeriod = T / 4
     c = _ex_solve(mbs, ss, T, h, N > 40)
-    return c, np.asarray(mbs.GetSensorStoredData(sens))[-1, 1:3], _ex_stats(mbs, T, h)
+    return c, np.asarray(mbs.GetSensorStoredData(sens))[-1, 1:3], exudyn_stats(mbs, T, h)
 
 
 def ex_ancf(N: int, T: float, h: float):
@@ -143,7 +133,7 @@ def ex_ancf(N: int, T: float, h: float):
     ss = exudyn_settings(N > 40)
     ss.solution.sensors.writePeriod = T / 4
     c = _ex_solve(mbs, ss, T, h, N > 40)
-    return c, np.asarray(mbs.GetSensorStoredData(sens))[-1, 1:3], _ex_stats(mbs, T, h)
+    return c, np.asarray(mbs.GetSensorStoredData(sens))[-1, 1:3], exudyn_stats(mbs, T, h)
 
 
 def ex_ge3d(N: int, T: float, h: float):
@@ -181,7 +171,7 @@ def ex_ge3d(N: int, T: float, h: float):
     ss = exudyn_settings(N > 40)
     ss.solution.sensors.writePeriod = T / 4
     c = _ex_solve(mbs, ss, T, h, N > 40)
-    return c, np.asarray(mbs.GetSensorStoredData(sens))[-1, 1:3], _ex_stats(mbs, T, h)
+    return c, np.asarray(mbs.GetSensorStoredData(sens))[-1, 1:3], exudyn_stats(mbs, T, h)
 
 
 # ------------------------------------------------------------------ chain models (tip of end link at T)
@@ -223,7 +213,7 @@ def ex_chain(n: int, T: float, h: float):
     c = _ex_solve(mbs, ss, T, h, n > 10, EX_RHO_CHAIN)
     ends = np.array([mbs.GetObjectOutputBody(b, exu.OutputVariableType.Position, localPosition=[LINK_L / 2, 0, 0])[:2]
                      for b in bodies])
-    return c, ends, _ex_stats(mbs, T, h)
+    return c, ends, exudyn_stats(mbs, T, h)
 
 
 def mj_chain(n: int, T: float, dt: float, integrator: str = "RK4"):

@@ -219,14 +219,20 @@ def modal(results: str) -> list:
     return lines
 
 
-def scenes(results: str) -> list:
-    # the newer of the full and the quick run, by the date each stores (none: before issue 31)
-    d, path = load(results, "scenes.json")
-    name = "scenes.py"
-    dq, pq = load(results, "scenes_quick.json")
+def newer_run(results: str, stem: str):
+    """(data, path, command) of the newer of ``stem``.json and ``stem``_quick.json, by the date
+    each stores (a run without one: before issue 31, counts as oldest); data None if neither."""
+    d, path = load(results, f"{stem}.json")
+    name = f"{stem}.py"
+    dq, pq = load(results, f"{stem}_quick.json")
     date = lambda x: (x or {}).get("machine", {}).get("date_utc", "")  # noqa: E731
     if dq is not None and (d is None or date(dq) > date(d)):
-        d, path, name = dq, pq, "scenes.py --quick"
+        d, path, name = dq, pq, f"{stem}.py --quick"
+    return d, path, name
+
+
+def scenes(results: str) -> list:
+    d, path, name = newer_run(results, "scenes")
     if d is None:
         return ["(no scenes.json)"]
     lines = ["### Scenes (default integrator)", "", header(d, path, name), "",
@@ -283,12 +289,7 @@ def headline(results: str) -> list:
 
 def large(results: str) -> list:
     """bench_large.py: the newer of its full and quick runs."""
-    d, path = load(results, "bench_large.json")
-    name = "bench_large.py"
-    dq, pq = load(results, "bench_large_quick.json")
-    date = lambda x: (x or {}).get("machine", {}).get("date_utc", "")  # noqa: E731
-    if dq is not None and (d is None or date(dq) > date(d)):
-        d, path, name = dq, pq, "bench_large.py --quick"
+    d, path, name = newer_run(results, "bench_large")
     if d is None:
         return ["(no bench_large.json)"]
     e = lambda x: "--" if x is None else f"{x:.1e}"  # noqa: E731

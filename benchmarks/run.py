@@ -83,6 +83,18 @@ def have(module: str) -> bool:
     return importlib.util.find_spec(module) is not None
 
 
+def exudyn_stats(mbs, T: float, h: float) -> dict:
+    """The fixed-step Exudyn run's steps over T [s] at step h [s], and its Newton iterations and
+    Jacobians when its solver exposes them (informative only)."""
+    st = {"steps": int(round(T / h))}
+    try:
+        it = mbs.sys["dynamicSolver"].it
+        st.update(newton_iterations=int(it.newtonStepsCount), jacobians=int(it.newtonJacobiCount))
+    except Exception:  # noqa: BLE001 -- informative only
+        pass
+    return st
+
+
 def machine() -> dict:
     import phmech
     from importlib.metadata import PackageNotFoundError, version
