@@ -236,10 +236,12 @@ def scenes(results: str) -> list:
     if d is None:
         return ["(no scenes.json)"]
     lines = ["### Scenes (default integrator)", "", header(d, path, name), "",
-             "| scene | t [s] | CPU | CPU/s | steps | error/scale |", "|---|---|---|---|---|---|"]
+             "| scene | t [s] | CPU | CPU/s | steps | error/scale | error/(rtol scale + atol) |",
+             "|---|---|---|---|---|---|---|"]
     for r in d["scenes"]:
+        et = r.get("error_vs_tolerance")
         lines.append(f"| {r['scene']} | {r['t_end']:g} | {ms(r['cpu_s'])} | {r['cpu_per_s']:.3g} | {r['steps']} | "
-                     f"{r['error']:.1e} |")
+                     f"{r['error']:.1e} | {'-' if et is None else f'{et:.2f}'} |")
     return lines
 
 
