@@ -115,6 +115,12 @@ class SimulationResult:
     port_energy: dict = dataclasses.field(default_factory=dict)
     #: component name -> {state name: values over the outputs} (python/phmech/components.py)
     components: dict = dataclasses.field(default_factory=dict)
+    #: sensor name -> its values over the outputs, (nt, size) or a pose (nt, 4, 4), in the
+    #: sensor's units (python/phmech/sensors.py)
+    sensors: dict = dataclasses.field(default_factory=dict)
+    #: sampled controller name -> {"t": sample times (ns,) [s], "y": its inputs (ns, ny), "u":
+    #: its outputs (ns, nu)} (python/phmech/controllers.py)
+    controllers: dict = dataclasses.field(default_factory=dict)
     joints: np.ndarray = None
     joint_rates: np.ndarray = None
     efforts: np.ndarray = None
