@@ -251,3 +251,23 @@ def test_bad_controllers():
         m.add_controller("c4", ph.SampledController(None, 100, outputs=["hinge"]))
     with pytest.raises(ph.ModelError, match="no outputs"):
         m.add_controller("c5", ph.SampledController(lambda t, y, s: (0, s), 100))
+
+
+def test_after_a_run_the_outputs_hold_u0_and_a_model_file_keeps_the_sensors(tmp_path):
+    m = _pendulum(u0=0.5, delay=1e-4)
+    r = m.simulate(0.01, 1e-3)
+    assert r.controllers["pd"]["u"][-1, 0] != 0.5
+    assert m._desc.controllers[0]["hold"].u[0] == 0.5
+    # the linear model takes the controller's output as an input port
+    with pytest.warns(ph.EquilibriumWarning):   # x0 = 0.01 rad and u0 = 0.5 N m: no rest
+        lin = m.linearize(inputs=["pd[0]"])
+    assert lin.inputs == ["pd[0]"]
+    with pytest.raises(ph.ModelError, match="callable"):
+        m.save(tmp_path / "m.json")
+    s, link = _arm(False)
+    s.add_sensor("tip", ph.TipDeflection(link))
+    s.add_sensor("end", ph.FrameSensor(link.end, "twist"))
+    s.add_sensor("x", ph.JointSensor("joint", rate=True))
+    s.save(tmp_path / "s.json")
+    back = ph.load(tmp_path / "s.json")
+    assert list(back._desc.sensors) == ["tip", "end", "x"]

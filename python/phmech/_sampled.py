@@ -94,6 +94,13 @@ def plan(mech, tout: np.ndarray, integrator: str, checkpoint) -> Optional[Plan]:
     return p
 
 
+def release(mech) -> None:
+    """After a run: the controllers' outputs hold u0 again (what the linear and static
+    analyses see: the controllers open, their outputs inputs at u0)."""
+    for c in mech._desc.controllers:
+        c["hold"].u[:] = c["u0"]
+
+
 def sensor_carriers(mech) -> list:
     """The carriers whose poses and twists the mechanism's sensors read."""
     out = []

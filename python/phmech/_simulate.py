@@ -170,6 +170,7 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
         sampler = _sampled.Sampler(mech, ctl, rec)
         r0 = simulate_core(run_tout[:1], None, None, None)
         if not r0["error"] and sampler.sample(r0, 0, float(run_tout[0]), only_first=True):
+            _sampled.release(mech)
             err = sampler.error
             err.result = _with_samples(mech, assemble(r0, 1, r0["stats"], True), sampler, rec)
             raise err
@@ -188,10 +189,13 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
     elif checkpoint_every is not None:
         raise ModelError("checkpoint_every applies with checkpoint=path only")
     monitor = _run.RunMonitor(t0, t1, band, integrator, progress, callback, checkpoint=saver)
-    with _run.sigterm_as_interrupt(monitor):
-        r = simulate_core(run_tout, monitor.per_output, monitor,
-                          sampler.arrays if sampler is not None else
-                          None if saver is None else saver.arrays_ready)
+    try:
+        with _run.sigterm_as_interrupt(monitor):
+            r = simulate_core(run_tout, monitor.per_output, monitor,
+                              sampler.arrays if sampler is not None else
+                              None if saver is None else saver.arrays_ready)
+    finally:   # the other analyses see the controllers' outputs at u0
+        _sampled.release(mech)
     monitor.finish(r["stats"]["steps"])
     if sampler is None:
         result = assemble(r, r["nout"], r["stats"], bool(r["interrupted"]) or monitor.terminated)
