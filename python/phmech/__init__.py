@@ -17,8 +17,8 @@ from ._errors import (AccuracyWarning, ConstraintError, CostWarning, Equilibrium
 from . import analysis, fmu, graphs, io, linear, mechanism, mesh, mixed, se3, timoshenko, urdf
 from .actuators import PD, Effort, Spring
 from . import components
-from .components import (CoulombFriction, DCMotor, LinearController, LuGreFriction,
-                         StribeckFriction, ViscousFriction)
+from .components import (CallbackController, CoulombFriction, DCMotor, LinearController,
+                         LuGreFriction, StribeckFriction, ViscousFriction)
 from . import controllers, sensors
 from .controllers import EffortOutput, SampledController, WrenchOutput
 from .fmu import export_fmu
@@ -53,7 +53,7 @@ __all__ = ["ModelError", "SolverError", "CostWarning", "info", "blas_threads", "
            "EquilibriumWarning", "FreeMotion", "UnattachedWarning", "components",
            "ViscousFriction", "CoulombFriction", "StribeckFriction", "LuGreFriction", "DCMotor",
            "LinearController", "sensors", "JointSensor", "FrameSensor", "TipDeflection",
-           "LinkStrain", "controllers", "SampledController", "EffortOutput", "WrenchOutput",
+           "LinkStrain", "CallbackController", "controllers", "SampledController", "EffortOutput", "WrenchOutput",
            "ControllerError"]
 
 def __getattr__(name: str):

@@ -189,6 +189,9 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
     elif checkpoint_every is not None:
         raise ModelError("checkpoint_every applies with checkpoint=path only")
     monitor = _run.RunMonitor(t0, t1, band, integrator, progress, callback, checkpoint=saver)
+    calls = [c["call"] for c in mech._desc.components if c["kind"] == "callback"]
+    for call in calls:   # python/phmech/components.py, CallbackController
+        call.failure = None
     try:
         with _run.sigterm_as_interrupt(monitor):
             r = simulate_core(run_tout, monitor.per_output, monitor,
@@ -211,6 +214,10 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
                                               monitor.terminated), sampler, rec)
     if sampler is None and mech._desc.sensors:
         result.sensors = _sampled.result_sensors(mech, result, rec)
+    failed = [call.failure for call in calls if call.failure is not None]
+    if failed:   # a callback controller's function failed: its error, with the trajectory
+        failed[0].result = result
+        raise failed[0]
     unsaved = ""
     if saver is not None:   # the file ends as the run did (a failed run: its partial result)
         try:
