@@ -323,3 +323,19 @@ def test_bad_callback_controllers():
         _hanging(ph.CallbackController(lambda t, y: 0.0, step=0.0))
     with pytest.raises(ph.ModelError, match="jacobian must be a function"):
         _hanging(ph.CallbackController(lambda t, y: 0.0, jacobian=1.0))
+
+
+def test_sensors_and_samples_in_a_result_file(tmp_path):
+    pytest.importorskip("xarray")
+    pytest.importorskip("h5netcdf")
+    m = _pendulum(delay=2e-4)
+    m.add_sensor("bob pose", ph.FrameSensor("bob", "pose"))
+    r = m.simulate(0.01, 1e-3)
+    r.to_netcdf(tmp_path / "r.nc")
+    back = ph.load_result(tmp_path / "r.nc")
+    assert list(back.sensors) == ["q", "qd", "bob pose"]
+    assert back.sensors["bob pose"].shape == (11, 4, 4)
+    for n in r.sensors:
+        assert np.array_equal(back.sensors[n], r.sensors[n])
+    for q in "tyu":
+        assert np.array_equal(back.controllers["pd"][q], r.controllers["pd"][q])

@@ -538,6 +538,7 @@ def load_result(path):
         raise ModelError(f"{p}: unknown result kind {kind!r}")
     bodies = {n: Body(n, c) for n, c in meta["bodies"].items()}
     ports = [str(x) for x in ds["port"].values]
+    sensors, ctrls = _resultfile.sensors_and_controllers(ds, meta)
     return SimulationResult(
         t=a("time"), poses=a("poses"), twists=a("twists"),
         constraint_wrenches=a("constraint_wrenches"),
@@ -556,4 +557,4 @@ def load_result(path):
         # a file from before the fields (or without couplings): the masses on their carriers
         _coupled_fields=a("coupled_fields") if "coupled_fields" in ds
         else np.zeros((ds.sizes.get("coupled_element", 0), 5)),
-        components=_resultfile.component_states(ds))
+        components=_resultfile.component_states(ds), sensors=sensors, controllers=ctrls)
