@@ -339,3 +339,33 @@ def test_sensors_and_samples_in_a_result_file(tmp_path):
         assert np.array_equal(back.sensors[n], r.sensors[n])
     for q in "tyu":
         assert np.array_equal(back.controllers["pd"][q], r.controllers["pd"][q])
+
+
+@pytest.mark.parametrize("rate", [1000.0, 250.0])
+def test_a_wrench_output_acts_as_the_effort_and_two_rates_mix(rate):
+    """A force along the slide as a WrenchOutput or as the pair's effort: the same motion; a
+    second controller at another rate on a second slide leaves the first one's as it was."""
+    def slide(output, second=False):
+        m = ph.Mechanism()
+        b = m.add_rigid_body("b", 2.0, 1e-2 * np.eye(3))
+        m.add_pair("s", ph.Prismatic("x"), m.ground, b, x0=0.1)
+        m.add_sensor("x", ph.JointSensor("s"))
+        m.add_sensor("v", ph.JointSensor("s", rate=True))
+        out = ph.WrenchOutput(b, (0, 0, 0, 1.0, 0, 0)) if output == "wrench" else "s"
+        m.add_controller("c", ph.SampledController(
+            lambda t, y, s: (-50.0 * y[0] - 2.0 * y[1], s), rate, inputs=["x", "v"],
+            outputs=[out]))
+        if second:
+            c = m.add_rigid_body("c2", 1.0, 1e-2 * np.eye(3))
+            m.add_pair("s2", ph.Prismatic("y"), m.ground, c, x0=0.2)
+            m.add_sensor("y2", ph.JointSensor("s2"))
+            m.add_controller("k", ph.SampledController(
+                lambda t, y, s: (-30.0 * y[0], s + 1), 400.0, inputs=["y2"],
+                outputs=[ph.EffortOutput("s2", 0)], state=0))
+        return m.simulate(0.5, 1e-3, rtol=1e-7)
+    a, b, c = slide("effort"), slide("wrench"), slide("effort", second=True)
+    xa, xb, xc = (r.joint("s")["x"][:, 0] for r in (a, b, c))
+    assert np.abs(xa - xb).max() < 1e-9 and np.abs(xa - xc).max() < 1e-7
+    assert np.abs(xa).max() == pytest.approx(0.1)
+    assert len(c.controllers["k"]["t"]) == 200 and len(c.controllers["c"]["t"]) == rate / 2
+    assert c.port_energy["c[0]"][-1] != 0 and "k[0]" in c.port_energy
