@@ -369,3 +369,12 @@ def test_a_wrench_output_acts_as_the_effort_and_two_rates_mix(rate):
     assert np.abs(xa).max() == pytest.approx(0.1)
     assert len(c.controllers["k"]["t"]) == 200 and len(c.controllers["c"]["t"]) == rate / 2
     assert c.port_energy["c[0]"][-1] != 0 and "k[0]" in c.port_energy
+
+
+def test_fixed_steps_and_a_later_start():
+    ref = _discrete(1001, 1e-3)
+    r = _pendulum().simulate(1.0, 1e-3, step=2.5e-4)      # measured 1.8e-6
+    assert np.abs(r.joints[:, 0] - ref).max() < 1e-4 * 0.01
+    r = _pendulum().simulate(1.5, 1e-3, t_start=0.5)      # samples from t_start
+    assert r.controllers["pd"]["t"][0] == 0.5
+    assert np.abs(r.joints[:, 0] - ref).max() < 1e-4 * 0.01

@@ -214,10 +214,6 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
                                               monitor.terminated), sampler, rec)
     if sampler is None and mech._desc.sensors:
         result.sensors = _sampled.result_sensors(mech, result, rec)
-    failed = [call.failure for call in calls if call.failure is not None]
-    if failed:   # a callback controller's function failed: its error, with the trajectory
-        failed[0].result = result
-        raise failed[0]
     unsaved = ""
     if saver is not None:   # the file ends as the run did (a failed run: its partial result)
         try:
@@ -226,6 +222,10 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
             if not r["error"]:
                 raise
             unsaved = f"; the checkpoint could not be written: {e}"
+    failed = [call.failure for call in calls if call.failure is not None]
+    if failed:   # a callback controller's function failed: its error, with the trajectory
+        failed[0].result = result
+        raise failed[0]
     if not r["error"]:
         _run.warn_if_inaccurate(result.stats)
         warn_implausible_strain(mech, result, model)
