@@ -378,3 +378,29 @@ def test_fixed_steps_and_a_later_start():
     r = _pendulum().simulate(1.5, 1e-3, t_start=0.5)      # samples from t_start
     assert r.controllers["pd"]["t"][0] == 0.5
     assert np.abs(r.joints[:, 0] - ref).max() < 1e-4 * 0.01
+
+
+def test_pair_wrench_and_component_state_sensors():
+    m = ph.Mechanism(gravity=(0, -G, 0))
+    b = m.add_rigid_body("rotor", 1.0, np.diag([0.02, 0.02, 0.03]), com=(0, -0.1, 0))
+    m.add_pair("hub", ph.Revolute("z"), m.ground, b)
+    m.add_component("motor", "hub", ph.DCMotor(L=1e-3, R=1.0, k=0.05, voltage=2.0))
+    m.add_sensor("i", ph.ComponentState("motor", "i"))
+    m.add_sensor("w", ph.PairWrench("hub"))
+    m.add_sensor("q", ph.JointSensor("hub"))
+    m.add_controller("log", ph.SampledController(lambda t, y, s: (0.0, s), 100.0,
+                                                 inputs=["i", "w", "q"], outputs=["hub"]))
+    r = m.simulate(0.2, 1e-3)
+    assert np.array_equal(r.sensors["i"][:, 0], r.components["motor"]["i"])
+    assert np.array_equal(r.sensors["w"], r.joint("hub")["wrench"])
+    assert np.abs(r.sensors["w"][:, 4]).max() > 1.0          # it holds the rotor's weight
+    y, ts = r.controllers["log"]["y"], r.controllers["log"]["t"]
+    k = np.rint(ts / 1e-3).astype(int)                        # samples at outputs
+    assert np.array_equal(y[:, 0], r.sensors["i"][k, 0])
+    assert np.array_equal(y[:, 1:7], r.sensors["w"][k])
+    with pytest.raises(ph.ModelError, match="has no state 'z'"):
+        m.add_sensor("z", ph.ComponentState("motor", "z"))
+    with pytest.raises(ph.ModelError, match="unknown component 'fric'"):
+        m.add_sensor("z", ph.ComponentState("fric", "z"))
+    with pytest.raises(ph.ModelError, match="unknown pair 'nope'"):
+        m.add_sensor("z", ph.PairWrench("nope"))

@@ -32,7 +32,8 @@ from .pairs import (Cylindrical, Fixed, Free, Helical, Planar, Prismatic, Revolu
                     Universal)
 from .results import (FreeMotion, InitialAdjustment, InitialConfiguration, ModesResult, Momentum,
                       SimulationResult, StaticResult, load_result)
-from .sensors import FrameSensor, JointSensor, LinkStrain, TipDeflection
+from .sensors import (ComponentState, FrameSensor, JointSensor, LinkStrain, PairWrench,
+                      TipDeflection)
 from .section import BeamProperties, Material, Section, table1_properties
 from .sweep import sweep
 from .urdf import URDFRobot, load_urdf
@@ -53,7 +54,7 @@ __all__ = ["ModelError", "SolverError", "CostWarning", "info", "blas_threads", "
            "EquilibriumWarning", "FreeMotion", "UnattachedWarning", "components",
            "ViscousFriction", "CoulombFriction", "StribeckFriction", "LuGreFriction", "DCMotor",
            "LinearController", "sensors", "JointSensor", "FrameSensor", "TipDeflection",
-           "LinkStrain", "CallbackController", "controllers", "SampledController", "EffortOutput", "WrenchOutput",
+           "LinkStrain", "PairWrench", "ComponentState", "CallbackController", "controllers", "SampledController", "EffortOutput", "WrenchOutput",
            "ControllerError"]
 
 def __getattr__(name: str):

@@ -17,6 +17,7 @@ from typing import Optional
 import numpy as np
 
 from ._errors import ControllerError, ModelError
+from .components import state_layout
 from .controllers import zero
 from .laws import Function
 from .sensors import sensor_values
@@ -109,6 +110,15 @@ def sensor_carriers(mech) -> list:
     return out
 
 
+#: the output arrays sensors read (_core.model_simulate's names)
+_ARRAYS = ("joints", "joint_rates", "poses", "twists", "pair_wrenches", "components")
+
+
+def _first_states(mech) -> dict:
+    """Component name -> its first column among the components' states."""
+    return {n: z for n, (z, _) in state_layout(mech._desc.components).items()}
+
+
 def _columns(rec, ncar: int) -> dict:
     return {c: c for c in range(ncar)} if rec is None else {c: i for i, c in enumerate(rec)}
 
@@ -122,6 +132,7 @@ class Sampler:
         self.sensors = mech._desc.sensors
         self.plan = p
         self.col = _columns(rec, len(mech._desc.carriers))
+        self.states = _first_states(mech)
         self.error = None
         self.r = None
         self.state = [c["state"] for c in self.ctrls]
@@ -142,8 +153,8 @@ class Sampler:
 
     def _y(self, c: dict, r: dict, i: int) -> np.ndarray:
         sl = slice(i, i + 1)
-        vals = [sensor_values(self.sensors[s], r["joints"][sl], r["joint_rates"][sl],
-                              r["poses"][sl], r["twists"][sl], self.col)[0].reshape(-1)
+        ri = {k: r[k][sl] for k in _ARRAYS}
+        vals = [sensor_values(self.sensors[s], ri, self.col, self.states)[0].reshape(-1)
                 for s in c["inputs"]]
         return np.concatenate(vals) if vals else np.zeros(0)
 
@@ -231,8 +242,15 @@ def keep(r: dict, idx: np.ndarray, n: int) -> dict:
 def result_sensors(mech, res, rec) -> dict:
     """name -> values (nt, *shape) of every sensor of ``mech`` over the result ``res``."""
     col = _columns(rec, len(mech._desc.carriers))
+    states = _first_states(mech)
+    zs = np.zeros((len(res.t), sum(c["nstates"] for c in mech._desc.components)))
+    for n, z in states.items():
+        for j, v in enumerate(res.components.get(n, {}).values()):
+            zs[:, z + j] = v
+    r = dict(joints=res.joints, joint_rates=res.joint_rates, poses=res.poses, twists=res.twists,
+             pair_wrenches=res.pair_wrenches, components=zs)
     out = {}
     for name, row in mech._desc.sensors.items():
-        v = sensor_values(row, res.joints, res.joint_rates, res.poses, res.twists, col)
+        v = sensor_values(row, r, col, states)
         out[name] = v.reshape((len(res.t),) + row["shape"])
     return out

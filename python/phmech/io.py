@@ -259,6 +259,7 @@ for _cls in (*(c for c in laws._CLASSES.values() if c is not laws.Function),
              components.DCMotor, components.LinearController, components.CallbackController,
              sensors.JointSensor,
              sensors.FrameSensor, sensors.TipDeflection, sensors.LinkStrain,
+             sensors.PairWrench, sensors.ComponentState,
              controllers.SampledController, controllers.EffortOutput, controllers.WrenchOutput,
              *(getattr(pairs, t.name) for t in pairs.PAIR_TYPES)):
     register_dataclass(_cls)

@@ -17,7 +17,12 @@
 - ``LinkStrain(link, station)``: the strain eps - eps_hat (6: curvatures [1/m] about x, y, z,
   then axial and shear strains [-]) of the element of a nonlinear link that holds ``station``
   [m from its start], eps = log(H_a^-1 H_b) / h (csrc/model/element.c: an element's strain is
-  constant along it).
+  constant along it);
+- ``PairWrench(pair)``: the constraint wrench (tau [N m], f [N]) a pair applies on its frame b, in
+  F_b (``res.joint(pair)["wrench"]``; with redundant constraints the run's own multipliers, the
+  result's minimum-norm ones);
+- ``ComponentState(component, state)``: an internal state of a component (a motor's current
+  "i" [A], a LuGre bristle deflection "z" [m or rad], a linear controller's "x0", ...).
 
 A sensor's value is a flat array; ``res.sensors[name]`` is (nt, size) (a pose (nt, 4, 4)).
 Values come from the run's outputs (``sensor_values``): NumPy on the poses, twists and joint
@@ -33,8 +38,8 @@ from . import se3
 from ._errors import ModelError
 from .frames import FlexibleLink, frame_of
 
-__all__ = ["JointSensor", "FrameSensor", "TipDeflection", "LinkStrain", "sensor_row",
-           "sensor_values"]
+__all__ = ["JointSensor", "FrameSensor", "TipDeflection", "LinkStrain", "PairWrench",
+           "ComponentState", "sensor_row", "sensor_values"]
 
 #: FrameSensor quantities -> their size
 _FRAME_QUANTITIES = {"pose": 16, "position": 3, "twist": 6, "velocity": 3}
@@ -71,6 +76,21 @@ class LinkStrain:
     nonlinear link holding ``station`` [m from its start]: 6 values."""
     link: object
     station: float = 0.0
+
+
+@dataclasses.dataclass(frozen=True)
+class PairWrench:
+    """The constraint wrench (tau [N m], f [N]) of the pair named ``pair`` on its frame b, in
+    F_b: 6 values."""
+    pair: str
+
+
+@dataclasses.dataclass(frozen=True)
+class ComponentState:
+    """The internal state ``state`` of the component named ``component`` (added before the
+    sensor; ``phmech.components``): 1 value in the state's unit."""
+    component: str
+    state: str
 
 
 def _link(desc, x, what: str) -> FlexibleLink:
@@ -143,19 +163,45 @@ def sensor_row(name: str, sensor, desc) -> dict:
                     eps_hat=np.array(desc.link_unstressed_strain(lk), dtype=float), size=6,
                     shape=(6,), unit="1/m (curvatures), - (axial and shear)",
                     carriers=[lk.nodes[e], lk.nodes[e + 1]])
-    raise ModelError(f"{what}: expected JointSensor, FrameSensor, TipDeflection or LinkStrain "
-                     f"(got {type(sensor).__name__})")
+    if isinstance(sensor, PairWrench):
+        rows = [p["name"] for p in desc.pairs]
+        if not isinstance(sensor.pair, str) or sensor.pair not in rows:
+            raise ModelError(f"{what}: unknown pair {sensor.pair!r} (pairs: "
+                             f"{', '.join(map(repr, rows)) or 'none'})")
+        return dict(name=name, kind="wrench", pair=rows.index(sensor.pair), size=6, shape=(6,),
+                    unit="N m (tau), N (f)", carriers=[])
+    if isinstance(sensor, ComponentState):
+        comps = {c["name"]: c for c in desc.components}
+        c = comps.get(sensor.component) if isinstance(sensor.component, str) else None
+        if c is None:
+            raise ModelError(f"{what}: unknown component {sensor.component!r} (components: "
+                             f"{', '.join(map(repr, comps)) or 'none'})")
+        if sensor.state not in c["states"]:
+            raise ModelError(f"{what}: component {sensor.component!r} has no state "
+                             f"{sensor.state!r} (its states: "
+                             f"{', '.join(map(repr, c['states'])) or 'none'})")
+        return dict(name=name, kind="state", component=sensor.component,
+                    index=list(c["states"]).index(sensor.state), size=1, shape=(1,),
+                    unit="the state's (A, m, rad, ...)", carriers=[])
+    raise ModelError(f"{what}: expected JointSensor, FrameSensor, TipDeflection, LinkStrain, "
+                     f"PairWrench or ComponentState (got {type(sensor).__name__})")
 
 
-def sensor_values(row: dict, joints: np.ndarray, rates: np.ndarray, poses: np.ndarray,
-                  twists: np.ndarray, column: dict) -> np.ndarray:
-    """The values (n, size) of sensor ``row`` at n outputs: ``joints``, ``rates`` (n, ncoords),
-    ``poses`` (n, ncols, 4, 4), ``twists`` (n, ncols, 6) the output arrays, ``column`` carrier
-    index -> its column in ``poses`` (all carriers, or those recorded)."""
+def sensor_values(row: dict, r: dict, column: dict, states: dict) -> np.ndarray:
+    """The values (n, size) of sensor ``row`` at n outputs of the output arrays ``r``
+    (``joints``, ``joint_rates`` (n, ncoords), ``poses`` (n, ncols, 4, 4), ``twists`` (n, ncols,
+    6), ``pair_wrenches`` (n, npairs, 6), ``components`` (n, nz): as _core.model_simulate
+    returns them), ``column`` carrier index -> its column in ``poses`` (all carriers, or those
+    recorded), ``states`` component name -> its first column in ``components``."""
+    joints, poses, twists = r["joints"], r["poses"], r["twists"]
     n = joints.shape[0]
     kind = row["kind"]
     if kind == "joint":
-        return (rates if row["rate"] else joints)[:, row["cols"]].copy()
+        return r["joint_rates" if row["rate"] else "joints"][:, row["cols"]].copy()
+    if kind == "wrench":
+        return r["pair_wrenches"][:, row["pair"]].copy()
+    if kind == "state":
+        return r["components"][:, states[row["component"]] + row["index"]][:, None].copy()
 
     def pose(f):
         if f.carrier < 0:
