@@ -249,6 +249,9 @@ def test_bad_controllers():
                                                     outputs=[ph.EffortOutput("hinge", 2)]))
     with pytest.raises(ph.ModelError, match="f must be a function"):
         m.add_controller("c4", ph.SampledController(None, 100, outputs=["hinge"]))
+    with pytest.raises(ph.ModelError, match="controller 'c6': output 0 is on the unknown pair"):
+        m.add_controller("c6", ph.SampledController(lambda t, y, s: (0, s), 100,
+                                                    outputs=["hinged"]))
     with pytest.raises(ph.ModelError, match="no outputs"):
         m.add_controller("c5", ph.SampledController(lambda t, y, s: (0, s), 100))
 

@@ -435,6 +435,10 @@ class Builder(LinkBuilder):
             self._check_name(nm)
             law = checked_law(Function(hold.law_fn(j), zero, zero), f"controller {name!r}")
             if isinstance(o, EffortOutput):
+                if not isinstance(o.pair, str) or o.pair not in [p["name"] for p in self._pairs]:
+                    raise ModelError(f"controller {name!r}: output {j} is on the unknown pair "
+                                     f"{o.pair!r} (pairs: "
+                                     f"{', '.join(repr(p['name']) for p in self._pairs) or 'none'})")
                 e = self._pair_entry(o.pair)
                 k, c = e["k"], o.coordinate
                 if isinstance(c, bool) or not isinstance(c, (int, np.integer)) or not 0 <= c < k:
