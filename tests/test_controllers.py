@@ -407,3 +407,54 @@ def test_pair_wrench_and_component_state_sensors():
         m.add_sensor("z", ph.ComponentState("fric", "z"))
     with pytest.raises(ph.ModelError, match="unknown pair 'nope'"):
         m.add_sensor("z", ph.PairWrench("nope"))
+
+
+def test_a_digital_motor_drive_matches_the_discrete_loop():
+    """A DC motor on a disc, its voltage from a 1 kHz PD with ZOH (MotorVoltageOutput): the angle
+    at the samples against the discrete closed loop of (angle, speed, current) from
+    scipy.signal (the system is linear: no linearization error): measured 1.9e-8 (angle) and
+    1.4e-6 (current) of their peaks at the default rtol 1e-4, 3.7e-10 and 1.9e-8 at 1e-6."""
+    J, L, R, k, kp, kd, ref = 0.01, 2e-3, 1.5, 0.08, 30.0, 2.0, 0.2
+    m = ph.Mechanism(gravity=(0, 0, 0))
+    disc = m.add_rigid_body("disc", 1.0, np.diag([0.006, 0.006, J]))
+    m.add_pair("hub", ph.Revolute("z"), m.ground, disc)
+    m.add_component("motor", "hub", ph.DCMotor(L=L, R=R, k=k, voltage=0.0))
+    m.add_sensor("q", ph.JointSensor("hub"))
+    m.add_sensor("w", ph.JointSensor("hub", rate=True))
+    m.add_controller("drive", ph.SampledController(
+        lambda t, y, s: (-kp * (y[0] - ref) - kd * y[1], s), RATE, inputs=["q", "w"],
+        outputs=[ph.MotorVoltageOutput("motor")]))
+    r = m.simulate(0.3, 1e-3)
+    A = np.array([[0, 1, 0], [0, 0, k / J], [0, -k / L, -R / L]])
+    B = np.array([[0], [0], [1 / L]])
+    C = np.eye(3)
+    Ad, Bd, *_ = cont2discrete((A, B, C, np.zeros((3, 1))), 1 / RATE, method="zoh")
+    K = np.array([[kp, kd, 0]])
+    n = len(r.t)
+    _, y, _ = dlsim((Ad - Bd @ K, Bd * kp, C, np.zeros((3, 1)), 1 / RATE), np.full((n, 1), ref),
+                    x0=np.zeros(3))
+    q = r.joint("hub")["x"][:, 0]
+    assert np.abs(q - y[:, 0]).max() < 1e-4 * np.abs(y[:, 0]).max()
+    assert np.abs(r.components["motor"]["i"] - y[:, 2]).max() < 1e-4 * np.abs(y[:, 2]).max()
+    assert abs(r.energy["ledger"][-1]) < 1e-6
+    with pytest.raises(ph.ModelError, match="already has a controller's voltage"):
+        m.add_controller("second", ph.SampledController(
+            lambda t, y, s: (0.0, s), 100.0, outputs=[ph.MotorVoltageOutput("motor")]))
+    with pytest.raises(ph.ModelError, match="not a DC motor with a voltage input"):
+        m.add_controller("third", ph.SampledController(
+            lambda t, y, s: (0.0, s), 100.0, outputs=[ph.MotorVoltageOutput("hub")]))
+
+
+def test_mixed_outputs_each_get_their_own_value():
+    m = ph.Mechanism(gravity=(0, 0, 0))
+    b = m.add_rigid_body("b", 1.0, 1e-2 * np.eye(3))
+    m.add_pair("s", ph.Prismatic("x"), m.ground, b)
+    c = m.add_rigid_body("c", 1.0, 1e-2 * np.eye(3))
+    m.add_pair("p", ph.Prismatic("y"), m.ground, c)
+    m.add_controller("k", ph.SampledController(lambda t, y, s: ((2.0, 3.0), s), 100.0,
+                                               outputs=[ph.WrenchOutput(b, (0, 0, 0, 1, 0, 0)),
+                                                        "p"]))
+    r = m.simulate(0.1, 1e-2)
+    assert r.joint("p")["effort"][-1, 0] == 3.0
+    assert r.joint("s")["x"][-1, 0] == pytest.approx(0.5 * 2.0 * 0.1 ** 2, rel=1e-6)
+    assert r.joint("p")["x"][-1, 0] == pytest.approx(0.5 * 3.0 * 0.1 ** 2, rel=1e-6)

@@ -20,7 +20,7 @@ from . import components
 from .components import (CallbackController, CoulombFriction, DCMotor, LinearController,
                          LuGreFriction, StribeckFriction, ViscousFriction)
 from . import controllers, sensors
-from .controllers import EffortOutput, SampledController, WrenchOutput
+from .controllers import EffortOutput, MotorVoltageOutput, SampledController, WrenchOutput
 from .fmu import export_fmu
 from .frames import Body, FlexibleLink, Frame, rotation
 from .graphs import Graphs
@@ -55,6 +55,7 @@ __all__ = ["ModelError", "SolverError", "CostWarning", "info", "blas_threads", "
            "ViscousFriction", "CoulombFriction", "StribeckFriction", "LuGreFriction", "DCMotor",
            "LinearController", "sensors", "JointSensor", "FrameSensor", "TipDeflection",
            "LinkStrain", "PairWrench", "ComponentState", "CallbackController", "controllers", "SampledController", "EffortOutput", "WrenchOutput",
+           "MotorVoltageOutput",
            "ControllerError"]
 
 def __getattr__(name: str):

@@ -17,7 +17,7 @@ import numpy as np
 from . import io, _placement
 from .actuators import Effort, actuator_row
 from .components import component_row
-from .controllers import EffortOutput, Hold, controller_row, zero
+from .controllers import EffortOutput, Hold, MotorVoltageOutput, controller_row, zero
 from ._checks import (ANGLE_SLIP, array, choice, inertia_triangle, per_coordinate,
                       positive_definite, real, rigid_pose)
 from .description import ModelDescription
@@ -429,12 +429,22 @@ class Builder(LinkBuilder):
         self._check_name(name)
         row = controller_row(name, controller, self._desc.sensors)
         hold = Hold(row["u0"])
-        acts, loads = [], []
+        acts, loads, motors = [], [], []
         for j, o in enumerate(row["outputs"]):
             nm = f"{name}[{j}]"
             self._check_name(nm)
             law = checked_law(Function(hold.law_fn(j), zero, zero), f"controller {name!r}")
-            if isinstance(o, EffortOutput):
+            if isinstance(o, MotorVoltageOutput):
+                c = [r for r in self._desc.components if r["name"] == o.motor]
+                if not c or c[0]["kind"] != "motor" or c[0]["input"] != 0:
+                    raise ModelError(f"controller {name!r}: output {j} drives {o.motor!r}, which "
+                                     f"is not a DC motor with a voltage input of this mechanism")
+                if any(c[0] is r for rr in self._desc.controllers for r in rr["law_rows"]) or \
+                        any(c[0] is r for r, _ in motors):
+                    raise ModelError(f"controller {name!r}: motor {o.motor!r} already has a "
+                                     f"controller's voltage")
+                motors.append((c[0], law))
+            elif isinstance(o, EffortOutput):
                 if not isinstance(o.pair, str) or o.pair not in [p["name"] for p in self._pairs]:
                     raise ModelError(f"controller {name!r}: output {j} is on the unknown pair "
                                      f"{o.pair!r} (pairs: "
@@ -457,7 +467,13 @@ class Builder(LinkBuilder):
         for r in loads:
             self._new_name(r["name"])
             self._loads.append(r)
-        self._desc.controllers.append(dict(row, hold=hold, law_rows=acts + loads))
+        for r, law in motors:   # the motor's voltage is the held value from now on
+            r["law"] = law
+        # law_rows in the outputs' order (each row's law reads hold.u[j], j its output)
+        rows = iter(acts), iter(loads), iter(r for r, _ in motors)
+        order = [rows[2 if isinstance(o, MotorVoltageOutput) else 0 if isinstance(o, EffortOutput)
+                      else 1] for o in row["outputs"]]
+        self._desc.controllers.append(dict(row, hold=hold, law_rows=[next(it) for it in order]))
 
     @_recorded
     def add_spring_damper(self, name: str, a, b, k: float, c: float = 0.0,

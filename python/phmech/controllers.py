@@ -5,9 +5,10 @@ instants t_k = t_start + k / rate_hz of a run, ``f(t_k, y_k, state) -> (u_k, sta
 with y_k the concatenated values of the sensors named in ``inputs`` (``phmech.sensors``,
 ``Mechanism.add_sensor``) at t_k; u_k (one number per output) is held from t_k + delay until the
 next value takes over. Each output is the effort on one joint coordinate of a pair
-(``EffortOutput``, or the pair's name: its coordinate 0; a torque [N m] or force [N]) or a wrench
-``u_j * wrench`` on a frame (``WrenchOutput``; wrench (tau [N m], f [N]) per unit of u). Their
-powers are ports of the energy ledger, named ``name[j]``.
+(``EffortOutput``, or the pair's name: its coordinate 0; a torque [N m] or force [N]), a wrench
+``u_j * wrench`` on a frame (``WrenchOutput``; wrench (tau [N m], f [N]) per unit of u), or a DC
+motor's voltage [V] (``MotorVoltageOutput``). The efforts' and wrenches' powers are ports of the
+energy ledger, named ``name[j]``; a motor's electrical power is its own supplied energy.
 
 How a run holds u (python/phmech/_sampled.py): the sample and switch instants are output times
 of the run (the result keeps only the asked ones) and breakpoints of the outputs' laws, so the
@@ -25,7 +26,8 @@ import numpy as np
 from ._checks import per_coordinate, real
 from ._errors import ModelError
 
-__all__ = ["SampledController", "EffortOutput", "WrenchOutput", "controller_row"]
+__all__ = ["SampledController", "EffortOutput", "WrenchOutput", "MotorVoltageOutput",
+           "controller_row"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -45,6 +47,14 @@ class WrenchOutput:
     wrench: Sequence[float]
     frame: str = "world"
     point: Sequence[float] = (0.0, 0.0, 0.0)
+
+
+@dataclasses.dataclass(frozen=True)
+class MotorVoltageOutput:
+    """A controller output driving the voltage [V] of the DC motor named ``motor``
+    (``phmech.DCMotor`` with ``voltage=``, added before the controller; the controller's
+    output replaces its voltage law): a digital drive."""
+    motor: str
 
 
 @dataclasses.dataclass(frozen=True)
@@ -90,7 +100,8 @@ def controller_row(name: str, ctrl, sensors: dict) -> dict:
         if not isinstance(s, str) or s not in sensors:
             raise ModelError(f"{what}: input {s!r} is not a sensor of this mechanism (sensors: "
                              f"{', '.join(map(repr, sensors)) or 'none'}; Mechanism.add_sensor)")
-    outputs = [ctrl.outputs] if isinstance(ctrl.outputs, (str, EffortOutput, WrenchOutput)) \
+    outputs = [ctrl.outputs] if isinstance(ctrl.outputs, (str, EffortOutput, WrenchOutput,
+                                                          MotorVoltageOutput)) \
         else list(ctrl.outputs or ())
     if not outputs:
         raise ModelError(f"{what}: no outputs (give pair names, EffortOutput or WrenchOutput)")
@@ -98,9 +109,9 @@ def controller_row(name: str, ctrl, sensors: dict) -> dict:
     for o in outputs:
         if isinstance(o, str):
             o = EffortOutput(o)
-        if not isinstance(o, (EffortOutput, WrenchOutput)):
-            raise ModelError(f"{what}: output {o!r} is not a pair name, EffortOutput or "
-                             f"WrenchOutput")
+        if not isinstance(o, (EffortOutput, WrenchOutput, MotorVoltageOutput)):
+            raise ModelError(f"{what}: output {o!r} is not a pair name, EffortOutput, "
+                             f"WrenchOutput or MotorVoltageOutput")
         outs.append(o)
     u0 = per_coordinate(ctrl.u0, len(outs), f"{what}: u0", default=0.0)
     return dict(name=name, f=ctrl.f, rate=rate, period=1.0 / rate, delay=delay,

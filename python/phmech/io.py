@@ -261,6 +261,7 @@ for _cls in (*(c for c in laws._CLASSES.values() if c is not laws.Function),
              sensors.FrameSensor, sensors.TipDeflection, sensors.LinkStrain,
              sensors.PairWrench, sensors.ComponentState,
              controllers.SampledController, controllers.EffortOutput, controllers.WrenchOutput,
+             controllers.MotorVoltageOutput,
              *(getattr(pairs, t.name) for t in pairs.PAIR_TYPES)):
     register_dataclass(_cls)
 
