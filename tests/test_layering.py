@@ -24,6 +24,8 @@ TABLE = (
     ("components", "describe", False),  # friction, motors, controllers with internal states
     ("section", "describe", False),     # Material, Section, BeamProperties
     ("frames", "describe", False),      # Frame, Body, FlexibleLink, MeshChoice, ModalChoice
+    ("sensors", "describe", False),     # JointSensor, FrameSensor, TipDeflection, LinkStrain
+    ("controllers", "describe", False),  # SampledController, its outputs, the held values
     ("description", "describe", False),  # ModelDescription: the rows
     ("graphs", "describe", False),      # graphs and incidence matrices
     ("analysis", "describe", False),    # spectra, MAC, mode energies and labels
@@ -38,6 +40,7 @@ TABLE = (
     ("topology", "core", True),         # loop closure, redundant rows, initial state
     ("planar", "core", True),           # planar scene detection
     ("_run", "core", False),            # run monitoring: progress, cost, checkpoints, quality
+    ("_sampled", "core", False),        # sampled controllers in a run: instants, calls, sensors
     ("postprocess", "core", True),      # stress resultants, constraint residuals
     ("linear", "core", False),          # LinearPortHamiltonian
     ("_model", "core", False),          # the built model: initial state, core model, warnings

@@ -268,12 +268,14 @@ typedef struct {
  *   LINEAR   (nx: xc) a linear controller on the measurement y = (x - r(t), v) of its own
  *            coordinate or of coordinate scoord of pair spair (any type):
  *                     xc' = A xc + B y, u = C xc + D y      par: A (nx x nx), B (nx x 2), C (nx), D (2)
+ *   CALLBACK (0)        u = fn(t, x, v), the caller's function (fn, ctx) of its own coordinate
+ *                       and rate, with du/dx, du/dv when asked (nder 1); a source, as LINEAR
  * with v = xdot_c and g(v) = Fc + (Fs - Fc) exp(-(v/vs)^2). A motor's rotor inertia J enters as
  * the reflected inertia J n^2 on the joint (a kinetic coupling, phm_model_create). A linear
  * controller is a source: its power u v is supplied (as an actuator's). */
 typedef enum {
   PHM_COMP_VISCOUS = 0, PHM_COMP_COULOMB = 1, PHM_COMP_STRIBECK = 2, PHM_COMP_LUGRE = 3,
-  PHM_COMP_MOTOR = 4, PHM_COMP_LINEAR = 5, PHM_NCOMP_KINDS = 6
+  PHM_COMP_MOTOR = 4, PHM_COMP_LINEAR = 5, PHM_COMP_CALLBACK = 6, PHM_NCOMP_KINDS = 7
 } phm_component_kind;
 #define PHM_COMP_NPAR 32 /* parameters per component                                       */
 #define PHM_COMP_MAXZ 4 /* internal states per component, at most                          */
@@ -287,6 +289,10 @@ typedef struct {
   int spair, scoord; /* LINEAR: the pair and coordinate it measures (spair -1: its own)    */
   phm_law law;       /* MOTOR: its input; LINEAR: the reference r(t); unused otherwise    */
   double z0[PHM_COMP_MAXZ]; /* initial internal states                                    */
+  /* CALLBACK: out[0] = u at (t, x, v), and with nder 1 out[1] = du/dx, out[2] = du/dv; non-zero
+   * return: failed (u is then NaN, the run fails and the caller reports its function's error) */
+  int (*fn)(void *ctx, double t, double x, double v, int nder, double out[3]);
+  void *ctx;
 } phm_component_desc;
 
 typedef struct {

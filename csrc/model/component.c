@@ -19,7 +19,8 @@
 
 static const char *const kind_name[PHM_NCOMP_KINDS] = {"viscous friction", "Coulomb friction",
                                                         "Stribeck friction", "LuGre friction",
-                                                        "DC motor", "linear controller"};
+                                                        "DC motor", "linear controller",
+                                                        "callback controller"};
 
 int phm_component_nstates(const phm_component_desc *c) {
   if (c->kind == PHM_COMP_LUGRE) return 1;
@@ -68,6 +69,7 @@ phm_status phm_components_validate(const phm_model_desc *d, phm_error *err) {
                   "component %d (%s): sensor coordinate %d of a pair with %d", i, kn, c->scoord, ks);
       }
       break;
+    case PHM_COMP_CALLBACK: ok = c->fn != NULL; break;
     case PHM_COMP_MOTOR:
       ok = (c->input == 0 || c->input == 1) && par_ok(p[0], 0, c->input == 0) && par_ok(p[1], 0, 0) &&
            par_ok(p[2], 0, 1) && isfinite(p[3]) && p[3] != 0 && par_ok(p[4], 0, 1) && p[4] <= 1 &&
@@ -271,7 +273,24 @@ void phm_component_eval(const phm_component_desc *c, double x, double v, const d
     e->du_v = D[1]; /* its power, u times the driven rate, is phm_components_apply's */
     break;
   }
+  case PHM_COMP_CALLBACK: { /* u = fn(t, x, v); its derivatives: phm_component_tangent's */
+    double out[3] = {0, 0, 0};
+    e->u = c->fn(c->ctx, time, x, v, 0, out) ? NAN : out[0];
+    break;
   }
+  }
+}
+
+/* A callback controller's evaluation with its derivatives du/dx, du/dv (its function asked with
+ * nder 1: one call where phm_component_eval and a second call for them would take two). */
+static void callback_eval(const phm_component_desc *c, double x, double v, double time,
+                          phm_comp_eval *e) {
+  double out[3] = {0, 0, 0};
+  memset(e, 0, sizeof *e);
+  if (c->fn(c->ctx, time, x, v, 1, out)) out[0] = out[1] = out[2] = NAN;
+  e->u = out[0];
+  e->du_x = out[1];
+  e->du_v = out[2];
 }
 
 /* Pair ip's evaluation: pd's, or *own evaluated at H, tw, xs (joint coordinates and rates). */
@@ -321,7 +340,7 @@ void phm_components_apply(const phm_model *m, const phm_pair_data *pd, const dou
     if (V) *V += e.V;
     if (Pd) *Pd += e.Pd;
     /* a controller's power is its effort's on the pair it drives (a source, as an actuator) */
-    if (Ps) *Ps += c->kind == PHM_COMP_LINEAR ? e.u * p->xdot[c->coord] : e.Ps;
+    if (Ps) *Ps += c->kind == PHM_COMP_LINEAR || c->kind == PHM_COMP_CALLBACK ? e.u * p->xdot[c->coord] : e.Ps;
   }
 }
 
@@ -363,7 +382,8 @@ void phm_component_tangent(const phm_model *m, int ic, const phm_pair_data *pd, 
   const phm_pair_data *p = pair_at(m, ip, pd, H, tw, xs, time, tref, &own);
   const phm_pair_data *ps = sp == ip ? p : pair_at(m, sp, pd, H, tw, xs, time, tref, &sown);
   phm_comp_eval e;
-  phm_component_eval(c, ps->x[sc], ps->xdot[sc], comp_states(m, ic, z), time, tref, &e);
+  if (c->kind == PHM_COMP_CALLBACK) callback_eval(c, ps->x[sc], ps->xdot[sc], time, &e);
+  else phm_component_eval(c, ps->x[sc], ps->xdot[sc], comp_states(m, ic, z), time, tref, &e);
   double u[6] = {0}, dx[72], dxd[72], Bs[12];
   u[c->coord] = e.u;
   phm_pair_data t, ts;

@@ -53,6 +53,32 @@ static int law_callback(void *ctx, double t, int nder, double out[3]) {
   return rc;
 }
 
+/* A callback controller's trampoline (phm_component_desc.fn, PHM_COMP_CALLBACK): its callable
+ * (python/phmech/components.py, _ControlCall; the ctx of its component's law) called as
+ * ctx.control(t, x, v, nder) -> (u, du/dx, du/dv), with the GIL; None or anything else is a
+ * failure (-1: the callable keeps its exception, python/phmech/_simulate.py raises it). */
+int phm_py_control_callback(void *ctx, double t, double x, double v, int nder, double out[3]) {
+  static PyObject *name = NULL;
+  PyGILState_STATE g = PyGILState_Ensure();
+  int rc = -1;
+  if (!name) name = PyUnicode_InternFromString("control");
+  PyObject *a[5] = {(PyObject *)ctx, PyFloat_FromDouble(t), PyFloat_FromDouble(x),
+                    PyFloat_FromDouble(v), PyLong_FromLong(nder)}, *r = NULL;
+  if (name && a[1] && a[2] && a[3] && a[4]) r = PyObject_VectorcallMethod(name, a, 5, NULL);
+  for (int k = 1; k < 5; k++) Py_XDECREF(a[k]);
+  if (r && PyTuple_Check(r) && PyTuple_GET_SIZE(r) == 3) {
+    rc = 0;
+    for (int k = 0; k < 3; k++) {
+      out[k] = PyFloat_AsDouble(PyTuple_GET_ITEM(r, k));
+      if (out[k] == -1.0 && PyErr_Occurred()) rc = -1;
+    }
+  }
+  Py_XDECREF(r);
+  if (PyErr_Occurred()) PyErr_Clear();
+  PyGILState_Release(g);
+  return rc;
+}
+
 int phm_py_parse_law(PyObject *obj, phm_law *law, PyObject *keep, const char *what, int depth) {
   memset(law, 0, sizeof *law);
   PyObject *data = Py_None, *nodes = Py_None, *fn = Py_None;

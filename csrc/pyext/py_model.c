@@ -245,6 +245,15 @@ static PyObject *py_model_new(PyObject *self, PyObject *args, PyObject *kw) {
   for (int k = 0; k < NKINDS; k++)
     if (o[k] && phm_py_parse_component(&COMPONENTS[k], o[k], keep, 1, &n[k], &items[k]) < 0) goto fail;
   if (!(grav = phm_py_double_array(grav_arg, "gravity", g3, 1, 0))) goto fail;
+  for (npy_intp i = 0; i < n[7]; i++) { /* a callback controller: its law's callable (kept) */
+    phm_component_desc *c = (phm_component_desc *)items[7] + i;
+    c->fn = NULL;
+    c->ctx = NULL;
+    if (c->kind == PHM_COMP_CALLBACK && c->law.kind == PHM_LAW_CALLBACK && c->law.ctx) {
+      c->fn = phm_py_control_callback;
+      c->ctx = c->law.ctx;
+    }
+  }
   {
     phm_model_desc d = {.ncarriers = (int)n[0], .carriers = items[0], .nelements = (int)n[1],
                         .elements = items[1], .npairs = (int)n[2], .pairs = items[2],

@@ -78,6 +78,7 @@ int phm_py_parse_component(const component *cp, PyObject *d, PyObject *keep, int
  * laws of column `col` into n structs; the first exception a CALLBACK law's callable kept
  * (re-raised: -1), for the list `keep` or the capsule of a model. */
 int phm_py_parse_law(PyObject *obj, phm_law *law, PyObject *keep, const char *what, int depth);
+int phm_py_control_callback(void *ctx, double t, double x, double v, int nder, double out[3]);
 int phm_py_fill_laws(const component *cp, const column *col, PyObject *list, npy_intp n, char *items,
                      PyObject *keep);
 int phm_py_law_error(PyObject *keep);

@@ -12,13 +12,15 @@ import sys
 from . import _core
 from ._errors import (AccuracyWarning, ConstraintError, CostWarning, EquilibriumWarning,
                       InitialValueWarning, ModelError, PlausibilityWarning, RedundantConstraintWarning,
-                      SolverError, StabilityWarning, UnattachedWarning,
+                      SolverError, StabilityWarning, UnattachedWarning, ControllerError,
                       __version__)   # __version__: meson.build's project() version
 from . import analysis, fmu, graphs, io, linear, mechanism, mesh, mixed, se3, timoshenko, urdf
 from .actuators import PD, Effort, Spring
 from . import components
-from .components import (CoulombFriction, DCMotor, LinearController, LuGreFriction,
-                         StribeckFriction, ViscousFriction)
+from .components import (CallbackController, CoulombFriction, DCMotor, LinearController,
+                         LuGreFriction, StribeckFriction, ViscousFriction)
+from . import controllers, sensors
+from .controllers import EffortOutput, MotorVoltageOutput, SampledController, WrenchOutput
 from .fmu import export_fmu
 from .frames import Body, FlexibleLink, Frame, rotation
 from .graphs import Graphs
@@ -30,6 +32,8 @@ from .pairs import (Cylindrical, Fixed, Free, Helical, Planar, Prismatic, Revolu
                     Universal)
 from .results import (FreeMotion, InitialAdjustment, InitialConfiguration, ModesResult, Momentum,
                       SimulationResult, StaticResult, load_result)
+from .sensors import (ComponentState, FrameSensor, JointSensor, LinkStrain, PairWrench,
+                      TipDeflection)
 from .section import BeamProperties, Material, Section, table1_properties
 from .sweep import sweep
 from .urdf import URDFRobot, load_urdf
@@ -49,7 +53,10 @@ __all__ = ["ModelError", "SolverError", "CostWarning", "info", "blas_threads", "
            "Momentum", "StabilityWarning", "AccuracyWarning", "PlausibilityWarning",
            "EquilibriumWarning", "FreeMotion", "UnattachedWarning", "components",
            "ViscousFriction", "CoulombFriction", "StribeckFriction", "LuGreFriction", "DCMotor",
-           "LinearController"]
+           "LinearController", "sensors", "JointSensor", "FrameSensor", "TipDeflection",
+           "LinkStrain", "PairWrench", "ComponentState", "CallbackController", "controllers", "SampledController", "EffortOutput", "WrenchOutput",
+           "MotorVoltageOutput",
+           "ControllerError"]
 
 def __getattr__(name: str):
     """``phmech.plot`` is imported on first use, so that ``import phmech`` does not import

@@ -15,8 +15,9 @@ from typing import Optional, Sequence
 import numpy as np
 
 from . import io, _placement
-from .actuators import actuator_row
+from .actuators import Effort, actuator_row
 from .components import component_row
+from .controllers import EffortOutput, Hold, MotorVoltageOutput, controller_row, zero
 from ._checks import (ANGLE_SLIP, array, choice, inertia_triangle, per_coordinate,
                       positive_definite, real, rigid_pose)
 from .description import ModelDescription
@@ -25,8 +26,9 @@ from .fidelity import distributed_resultant
 from ._links import LinkBuilder
 from .frames import Body, FlexibleLink, Frame, frame_of
 from .graphs import Graphs, mechanism_graphs
-from .laws import Constant, Motion, _Law, checked_law
+from .laws import Constant, Function, Motion, _Law, checked_law
 from .pairs import PAIR_TYPES, _Pair
+from .sensors import sensor_row
 
 
 
@@ -407,6 +409,71 @@ class Builder(LinkBuilder):
         row = component_row(name, e, self._pairs.index(e), component, sensor)
         self._new_name(name)
         self._desc.components.append(row)
+
+    @_recorded
+    def add_sensor(self, name: str, sensor) -> None:
+        """A sensor (``phmech.sensors``: JointSensor, FrameSensor, TipDeflection, LinkStrain)
+        named ``name``: a sampled controller's input, and ``res.sensors[name]`` over a run's
+        outputs (in the sensor's units)."""
+        self._check_name(name)
+        row = sensor_row(name, sensor, self._desc)
+        self._new_name(name)
+        self._desc.sensors[name] = row
+
+    @_recorded
+    def add_controller(self, name: str, controller) -> None:
+        """A sampled controller with a zero-order hold (``phmech.SampledController``) named
+        ``name``: its inputs are sensors added before it, its outputs efforts on pairs or wrenches,
+        each an actuator or wrench named ``name[j]`` (a port of the ledger) whose value the run
+        holds between samples; ``res.controllers[name]`` holds its samples."""
+        self._check_name(name)
+        row = controller_row(name, controller, self._desc.sensors)
+        hold = Hold(row["u0"])
+        acts, loads, motors = [], [], []
+        for j, o in enumerate(row["outputs"]):
+            nm = f"{name}[{j}]"
+            self._check_name(nm)
+            law = checked_law(Function(hold.law_fn(j), zero, zero), f"controller {name!r}")
+            if isinstance(o, MotorVoltageOutput):
+                c = [r for r in self._desc.components if r["name"] == o.motor]
+                if not c or c[0]["kind"] != "motor" or c[0]["input"] != 0:
+                    raise ModelError(f"controller {name!r}: output {j} drives {o.motor!r}, which "
+                                     f"is not a DC motor with a voltage input of this mechanism")
+                if any(c[0] is r for rr in self._desc.controllers for r in rr["law_rows"]) or \
+                        any(c[0] is r for r, _ in motors):
+                    raise ModelError(f"controller {name!r}: motor {o.motor!r} already has a "
+                                     f"controller's voltage")
+                motors.append((c[0], law))
+            elif isinstance(o, EffortOutput):
+                if not isinstance(o.pair, str) or o.pair not in [p["name"] for p in self._pairs]:
+                    raise ModelError(f"controller {name!r}: output {j} is on the unknown pair "
+                                     f"{o.pair!r} (pairs: "
+                                     f"{', '.join(repr(p['name']) for p in self._pairs) or 'none'})")
+                e = self._pair_entry(o.pair)
+                k, c = e["k"], o.coordinate
+                if isinstance(c, bool) or not isinstance(c, (int, np.integer)) or not 0 <= c < k:
+                    raise ModelError(f"controller {name!r}: output {j} drives coordinate {c!r} "
+                                     f"of pair {o.pair!r}, which has {k}")
+                d = np.zeros(k)
+                d[c] = 1.0
+                acts.append(actuator_row(nm, e, self._pairs.index(e), Effort(law, d)))
+            else:
+                loads.append(self._wrench_entry(nm, o.target, o.wrench, law, o.frame, o.point,
+                                                f"controller {name!r}, output {j}"))
+        self._new_name(name)
+        for r in acts:
+            self._new_name(r["name"])
+            self._acts.append(r)
+        for r in loads:
+            self._new_name(r["name"])
+            self._loads.append(r)
+        for r, law in motors:   # the motor's voltage is the held value from now on
+            r["law"] = law
+        # law_rows in the outputs' order (each row's law reads hold.u[j], j its output)
+        rows = iter(acts), iter(loads), iter(r for r, _ in motors)
+        order = [rows[2 if isinstance(o, MotorVoltageOutput) else 0 if isinstance(o, EffortOutput)
+                      else 1] for o in row["outputs"]]
+        self._desc.controllers.append(dict(row, hold=hold, law_rows=[next(it) for it in order]))
 
     @_recorded
     def add_spring_damper(self, name: str, a, b, k: float, c: float = 0.0,

@@ -16,7 +16,7 @@ from ._core import ModelError, SolverError, __version__
 __all__ = ["ModelError", "SolverError", "__version__", "CostWarning", "AccuracyWarning",
            "PlausibilityWarning", "EquilibriumWarning", "StabilityWarning",
            "RedundantConstraintWarning", "ConstraintError", "UnattachedWarning",
-           "InitialValueWarning"]
+           "InitialValueWarning", "ControllerError"]
 
 
 class CostWarning(UserWarning):
@@ -73,6 +73,16 @@ class ConstraintError(SolverError):
     residual: float
     tolerance: float
     unit: str
+    time: float
+
+
+class ControllerError(ModelError):
+    """A sampled controller failed during a run (python/phmech/_sampled.py): its function
+    raised, returned something other than (u, state), a u of the wrong shape or not finite.
+    Attributes: ``component`` (the controller's name), ``time`` [s] (the sample instant),
+    ``result`` (the trajectory up to and including that instant); the function's own exception,
+    if any, is the ``__cause__``."""
+    component: str
     time: float
 
 

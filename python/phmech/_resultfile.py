@@ -155,7 +155,23 @@ def simulation_dataset(res):
                                     np.column_stack([res.components[n][q] for n, q in states]),
                                     dict(long_name="components' internal states (A, m, rad, ...)"))
         coords["component_state"] = ("component_state", [f"{n}.{q}" for n, q in states])
+    if res.sensors:   # the sensors' values (python/phmech/sensors.py), flattened per output
+        data["sensor_values"] = (("time", "sensor_value"), np.column_stack(
+            [np.asarray(v).reshape(nt, -1) for v in res.sensors.values()]),
+            dict(long_name="sensor values, in each sensor's units (python/phmech/sensors.py)"))
+        coords["sensor_value"] = ("sensor_value", [f"{n}[{i}]" for n, v in res.sensors.items()
+                                                   for i in range(int(np.prod(np.shape(v)[1:])))])
+    for i, (n, c) in enumerate(res.controllers.items()):   # a sampled controller's samples
+        data[f"controller{i}_t"] = ((f"controller{i}_sample",), c["t"],
+                                    dict(units="s", long_name=f"sample times of controller {n}"))
+        data[f"controller{i}_y"] = ((f"controller{i}_sample", f"controller{i}_input"), c["y"],
+                                    dict(long_name=f"inputs of controller {n} (its sensors')"))
+        data[f"controller{i}_u"] = ((f"controller{i}_sample", f"controller{i}_output"), c["u"],
+                                    dict(units="N m, N or wrench factor",
+                                         long_name=f"outputs of controller {n}"))
     meta = dict(stats=encode_value(dict(res.stats)), interrupted=bool(res.interrupted),
+                sensors={n: list(np.shape(v)[1:]) for n, v in res.sensors.items()},
+                controllers=list(res.controllers),
                 recorded=res.carriers is not None,
                 pairs=encode_value(res._pairs), redundant=encode_value(res.redundant_constraints),
                 links=_links_meta(res._links), bodies={b.name: b.carrier for b in res._bodies.values()})
@@ -235,6 +251,20 @@ def simulation_dataframe(res):
         for j, label in enumerate(joint):
             cols[f"{label}.{q}"] = arr[:, j]
     return pd.DataFrame(cols, index=pd.Index(res.t, name="time"))
+
+
+def sensors_and_controllers(ds, meta: dict) -> tuple:
+    """(sensors, controllers) of a dataset, as SimulationResult holds them (none in older
+    files)."""
+    sensors, ctrls, j = {}, {}, 0
+    for n, shape in meta.get("sensors", {}).items():
+        size = int(np.prod(shape))
+        v = np.asarray(ds["sensor_values"].values)[:, j:j + size]
+        sensors[n] = np.ascontiguousarray(v.reshape((v.shape[0], *shape)))
+        j += size
+    for i, n in enumerate(meta.get("controllers", [])):
+        ctrls[n] = {q: np.ascontiguousarray(ds[f"controller{i}_{q}"].values) for q in "tyu"}
+    return sensors, ctrls
 
 
 def component_states(ds) -> dict:

@@ -10,7 +10,7 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from . import _core, _marshal, _model, planar as _planar, postprocess, _run, se3, topology
+from . import _core, _marshal, _model, planar as _planar, postprocess, _run, _sampled, se3, topology
 from ._checks import fibre_strain, positive, real, strain_bound
 from ._codes import INTEGRATORS
 from ._errors import (AccuracyWarning, ModelError, PlausibilityWarning, SolverError,
@@ -121,6 +121,13 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
     if tout[-1] < t1 - 1e-12 * max(1.0, abs(t1)):
         tout = np.append(tout, t1)
     rec = None if record is None else _record_carriers(mech, record)
+    if rec is not None:   # the sensors read their carriers' poses and twists
+        rec += [c for c in _sampled.sensor_carriers(mech) if c not in rec]
+    # sampled controllers: their instants are outputs too (python/phmech/_sampled.py)
+    ctl = _sampled.plan(mech, tout, integrator, checkpoint)
+    run_tout = tout if ctl is None else ctl.tout
+    if ctl is not None:
+        _check_outputs(mech, len(run_tout) - 1.0, record)
     model = _model.build(mech)   # finds the redundant constraints
     drop_masks = mech._state.drop_masks
     if rec is not None and mech.redundant_constraints:
@@ -143,9 +150,37 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
                rtol=rtol, atol=atol, planar=None if plane is None else _planar.AXES[plane[0]])
     sim_model = model if plane is None else plane[2]
 
-    def assemble(r, k, stats, interrupted) -> SimulationResult:
-        return _simulation_result(mech, r, k, tout, model, drop_masks, rec, band,
+    def assemble(r, k, stats, interrupted, times=tout) -> SimulationResult:
+        return _simulation_result(mech, r, k, times, model, drop_masks, rec, band,
                                        {**stats, **run}, interrupted, plane)
+
+    def simulate_core(times, per_output, monitor, arrays):
+        return _core.model_simulate(sim_model, times, rtol, atol, solvers[linear_solver], poses,
+                                    twists, per_output, float(max_step), int(max_order), rec,
+                                    tests[error_test], integrators[integrator], float(step or 0.0),
+                                    float(1.0 if rho_inf is None else rho_inf),
+                                    adaptive=int(adaptive), band=float(band if adaptive else 0.0),
+                                    monitor=monitor, arrays=arrays,
+                                    planar=0 if plane is None else plane[0] + 1)
+
+    sampler = None
+    if ctl is not None:
+        # the first samples, at t_start, from a one-output run: the run's consistent initial
+        # values then hold their u
+        sampler = _sampled.Sampler(mech, ctl, rec)
+        r0 = simulate_core(run_tout[:1], None, None, None)
+        if not r0["error"] and sampler.sample(r0, 0, float(run_tout[0]), only_first=True):
+            _sampled.release(mech)
+            err = sampler.error
+            err.result = _with_samples(mech, assemble(r0, 1, r0["stats"], True), sampler, rec)
+            raise err
+        user_callback = callback
+
+        def callback(t: float, i: int) -> bool:   # the samples, then the user's outputs
+            if sampler.on_output(t, i):
+                return True
+            u = int(ctl.user[i])
+            return bool(user_callback(t, u)) if user_callback is not None and u >= 0 else False
 
     saver = None
     if checkpoint is not None:
@@ -154,16 +189,31 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
     elif checkpoint_every is not None:
         raise ModelError("checkpoint_every applies with checkpoint=path only")
     monitor = _run.RunMonitor(t0, t1, band, integrator, progress, callback, checkpoint=saver)
-    with _run.sigterm_as_interrupt(monitor):
-        r = _core.model_simulate(sim_model, tout, rtol, atol, solvers[linear_solver], poses, twists,
-                                 monitor.per_output, float(max_step), int(max_order), rec,
-                                 tests[error_test], integrators[integrator], float(step or 0.0),
-                                 float(1.0 if rho_inf is None else rho_inf), adaptive=int(adaptive),
-                                 band=float(band if adaptive else 0.0), monitor=monitor,
-                                 arrays=None if saver is None else saver.arrays_ready,
-                                 planar=0 if plane is None else plane[0] + 1)
+    calls = [c["call"] for c in mech._desc.components if c["kind"] == "callback"]
+    for call in calls:   # python/phmech/components.py, CallbackController
+        call.failure = None
+    try:
+        with _run.sigterm_as_interrupt(monitor):
+            r = simulate_core(run_tout, monitor.per_output, monitor,
+                              sampler.arrays if sampler is not None else
+                              None if saver is None else saver.arrays_ready)
+    finally:   # the other analyses see the controllers' outputs at u0
+        _sampled.release(mech)
     monitor.finish(r["stats"]["steps"])
-    result = assemble(r, r["nout"], r["stats"], bool(r["interrupted"]) or monitor.terminated)
+    if sampler is None:
+        result = assemble(r, r["nout"], r["stats"], bool(r["interrupted"]) or monitor.terminated)
+    elif sampler.error is not None:   # the outputs up to the failed sample, all of them
+        result = _with_samples(mech, assemble(r, r["nout"], r["stats"], True, run_tout),
+                               sampler, rec)
+        sampler.error.result = result
+        raise sampler.error
+    else:   # the outputs asked for
+        idx = np.flatnonzero(ctl.user[:r["nout"]] >= 0)
+        result = _with_samples(mech, assemble(_sampled.keep(r, idx, len(run_tout)), len(idx),
+                                              r["stats"], bool(r["interrupted"]) or
+                                              monitor.terminated), sampler, rec)
+    if sampler is None and mech._desc.sensors:
+        result.sensors = _sampled.result_sensors(mech, result, rec)
     unsaved = ""
     if saver is not None:   # the file ends as the run did (a failed run: its partial result)
         try:
@@ -172,6 +222,10 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
             if not r["error"]:
                 raise
             unsaved = f"; the checkpoint could not be written: {e}"
+    failed = [call.failure for call in calls if call.failure is not None]
+    if failed:   # a callback controller's function failed: its error, with the trajectory
+        failed[0].result = result
+        raise failed[0]
     if not r["error"]:
         _run.warn_if_inaccurate(result.stats)
         warn_implausible_strain(mech, result, model)
@@ -199,6 +253,12 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
                     f"'result' attribute{unsaved}{why})",)
         err.result = result
         raise err
+    return result
+
+def _with_samples(mech, result: SimulationResult, sampler, rec) -> SimulationResult:
+    """``result`` with its sensors' values and the controllers' samples."""
+    result.sensors = _sampled.result_sensors(mech, result, rec)
+    result.controllers = sampler.controllers()
     return result
 
 def _plane(mech, model, poses, twists, require: bool):

@@ -27,7 +27,11 @@ dissipated R i^2 + (1 - efficiency) n k i v (copper and gear losses).
 
 ``LinearController(A, B, C, D, reference)``: a linear state-space controller on the coordinate's
 error and rate, its states in the DAE (a compiled route for feedback: no Python call per
-residual)."""
+residual).
+
+``CallbackController(f, jacobian=None, step=1e-7)``: u = f(t, y), y = (x, v) the coordinate and
+its rate, a Python function called inside the DAE (once per residual, and with its derivatives
+per Jacobian); a source like LinearController."""
 from __future__ import annotations
 
 import dataclasses
@@ -36,14 +40,15 @@ from typing import Optional
 import numpy as np
 
 from ._checks import real
-from ._errors import ModelError
-from .laws import checked_law
+from ._errors import ControllerError, ModelError
+from .laws import Function, checked_law
 
 __all__ = ["ViscousFriction", "CoulombFriction", "StribeckFriction", "LuGreFriction", "DCMotor",
-           "LinearController", "component_row"]
+           "LinearController", "CallbackController", "component_row"]
 
 #: the core's component kinds (csrc/include/phmech_types.h, phm_component_kind)
-_KINDS = {"viscous": 0, "coulomb": 1, "stribeck": 2, "lugre": 3, "motor": 4, "linear": 5}
+_KINDS = {"viscous": 0, "coulomb": 1, "stribeck": 2, "lugre": 3, "motor": 4, "linear": 5,
+          "callback": 6}
 #: parameters and internal states per component, at most (PHM_COMP_NPAR, PHM_COMP_MAXZ)
 NPAR, MAXZ = 32, 4
 
@@ -130,6 +135,94 @@ class LinearController:
     sensor_coordinate: int = 0
 
 
+@dataclasses.dataclass(frozen=True)
+class CallbackController:
+    """A continuous feedback u = f(t, y) on the pair's coordinate, evaluated inside the DAE: t
+    [s], y = (x, v) the coordinate [m or rad] and its rate [m/s or rad/s] (a tuple), u the effort
+    [N or N m] (a real number). The Jacobian needs du/dx and du/dv: ``jacobian(t, y) -> (du/dx,
+    du/dv)`` when given, else central differences of f with steps ``step`` * max(1, abs(x)) and
+    ``step`` * max(1, abs(v)) (four more calls). The core calls back into Python, with the GIL,
+    at every residual (one call) and Jacobian (one call, or five with the differences):
+    measured about 1.5 us per call on a pendulum (docs/user_guide.md, "Continuous Python
+    controllers"); ``LinearController`` is the compiled route. Collocated: it measures the
+    coordinate it drives. A source: its power u v is supplied energy. When f raises or returns
+    something other than a finite real number the run stops with a ControllerError naming the
+    component and the time, its ``result`` the trajectory up to the last output before."""
+    f: object
+    jacobian: object = None
+    step: float = 1e-7
+
+
+class _ControlCall:
+    """What the core calls for a CallbackController (csrc/pyext/py_laws.c,
+    phm_py_control_callback): ``control(t, x, v, nder) -> (u, du/dx, du/dv)`` (zeros for the
+    derivatives with nder 0), or None after a failure, kept in ``failure``. It travels to the
+    core as the callable of its component's law (``core_call``: python/phmech/laws.py), which the
+    core never evaluates as a law."""
+
+    def __init__(self, name: str, comp: CallbackController):
+        self.name, self.f, self.jacobian = name, comp.f, comp.jacobian
+        self.step = comp.step
+        self.failure = None
+
+    @property
+    def core_call(self) -> "_ControlCall":
+        return self
+
+    def __call__(self, t: float) -> float:   # as a law's function (checked once: 0)
+        return 0.0
+
+    def _fail(self, t: float, msg: str, cause: Optional[BaseException] = None) -> None:
+        err = ControllerError(f"component {self.name!r} at t = {t:.9g} s: {msg}")
+        err.component, err.time = self.name, t
+        if cause is not None:
+            err.__cause__ = cause
+        self.failure = err
+        return None
+
+    def _u(self, f, t: float, y: tuple, what: str) -> float:
+        u = f(t, y)
+        if isinstance(u, np.ndarray) and u.size == 1:
+            u = u.reshape(())[()]
+        if isinstance(u, (bool, np.bool_)) or not isinstance(u, (int, float, np.integer,
+                                                                  np.floating)):
+            raise _Bad(f"{what} returned {type(u).__name__} {u!r:.60}, not a real number")
+        u = float(u)
+        if not np.isfinite(u):
+            raise _Bad(f"{what} returned {u}")
+        return u
+
+    def control(self, t: float, x: float, v: float, nder: int):
+        if self.failure is not None:
+            return None
+        try:
+            u = self._u(self.f, t, (x, v), "its function")
+            if not nder:
+                return (u, 0.0, 0.0)
+            if self.jacobian is not None:
+                d = self.jacobian(t, (x, v))
+                d = np.asarray(d, dtype=float).reshape(-1) if d is not None else np.zeros(0)
+                if d.shape != (2,) or not np.all(np.isfinite(d)):
+                    raise _Bad(f"its jacobian must return two finite numbers (du/dx, du/dv), "
+                               f"got {d.tolist()}")
+                return (u, float(d[0]), float(d[1]))
+            hx, hv = self.step * max(1.0, abs(x)), self.step * max(1.0, abs(v))
+            f = self.f
+            ux = (self._u(f, t, (x + hx, v), "its function") -
+                  self._u(f, t, (x - hx, v), "its function")) / (2 * hx)
+            uv = (self._u(f, t, (x, v + hv), "its function") -
+                  self._u(f, t, (x, v - hv), "its function")) / (2 * hv)
+            return (u, ux, uv)
+        except _Bad as e:
+            return self._fail(t, str(e))
+        except Exception as e:   # noqa: BLE001 -- the user's function: reported with the result
+            return self._fail(t, f"its function raised {type(e).__name__}: {e}", e)
+
+
+class _Bad(Exception):
+    """A callback controller's malformed answer (reported as a ControllerError)."""
+
+
 def _matrix(what: str, v, shape: tuple) -> np.ndarray:
     """``v`` as a finite float array of ``shape``; ModelError naming ``what`` otherwise."""
     try:
@@ -197,6 +290,19 @@ def component_row(name: str, pair_row: dict, index: int, comp,
         return dict(name=name, kind="linear", code=_KINDS["linear"], pair=index, coord=0,
                     par=par, input=0, z0=z0, law=law, nstates=n, states=states,
                     spair=spair, scoord=int(scoord))
+    if isinstance(comp, CallbackController):
+        if not callable(comp.f) or isinstance(comp.f, type):
+            raise ModelError(f"{what}: f must be a function f(t, y) -> u (got "
+                             f"{type(comp.f).__name__})")
+        if comp.jacobian is not None and not callable(comp.jacobian):
+            raise ModelError(f"{what}: jacobian must be a function jacobian(t, y) -> (du/dx, "
+                             f"du/dv) or None")
+        if not real(f"{what}: step", comp.step) > 0:
+            raise ModelError(f"{what}: step must be > 0 (got {comp.step})")
+        call = _ControlCall(name, comp)
+        return dict(name=name, kind="callback", code=_KINDS["callback"], pair=index, coord=0,
+                    par=par, input=0, z0=z0, law=checked_law(Function(call), what), nstates=0,
+                    states=(), spair=-1, scoord=0, call=call)
     if isinstance(comp, ViscousFriction):
         kind, p = "viscous", _params(what, comp, ("c",))
         ok = p[0] >= 0
@@ -223,7 +329,8 @@ def component_row(name: str, pair_row: dict, index: int, comp,
         z0[0] = real(f"{what}: i0", comp.i0)
     else:
         raise ModelError(f"{what}: expected ViscousFriction, CoulombFriction, StribeckFriction, "
-                         f"LuGreFriction, DCMotor or LinearController (got {type(comp).__name__})")
+                         f"LuGreFriction, DCMotor, LinearController or CallbackController (got "
+                         f"{type(comp).__name__})")
     if not ok:
         raise ModelError(f"{what}: a parameter is out of range ({kind}: {p}; see "
                          f"phmech.components for each one's range)")

@@ -48,6 +48,11 @@ class ModelDescription:
     couplings: list = dataclasses.field(default_factory=list)
     #: components with internal states (python/phmech/components.py, component_row)
     components: list = dataclasses.field(default_factory=list)
+    #: sensors by name (python/phmech/sensors.py, sensor_row), in the order added
+    sensors: dict = dataclasses.field(default_factory=dict, compare=False)
+    #: sampled controllers (python/phmech/controllers.py, controller_row); their outputs are
+    #: actuator and load rows whose laws the run sets (python/phmech/_sampled.py)
+    controllers: list = dataclasses.field(default_factory=list, compare=False)
     bodies: dict = dataclasses.field(default_factory=dict)     # name -> Body
     links: dict = dataclasses.field(default_factory=dict)      # name -> FlexibleLink
     #: link name -> index of its first element (its elements are consecutive)

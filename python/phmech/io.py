@@ -74,7 +74,7 @@ from typing import Any, Callable, Optional
 
 import numpy as np
 
-from . import actuators, components, laws, pairs, section
+from . import actuators, components, controllers, laws, pairs, section, sensors
 from ._errors import ModelError, __version__
 from .frames import Body, FlexibleLink, Frame
 
@@ -256,7 +256,12 @@ for _cls in (*(c for c in laws._CLASSES.values() if c is not laws.Function),
              laws.Motion, actuators.Effort, actuators.PD, actuators.Spring, section.Material,
              section.Section, section.BeamProperties, components.ViscousFriction,
              components.CoulombFriction, components.StribeckFriction, components.LuGreFriction,
-             components.DCMotor, components.LinearController,
+             components.DCMotor, components.LinearController, components.CallbackController,
+             sensors.JointSensor,
+             sensors.FrameSensor, sensors.TipDeflection, sensors.LinkStrain,
+             sensors.PairWrench, sensors.ComponentState,
+             controllers.SampledController, controllers.EffortOutput, controllers.WrenchOutput,
+             controllers.MotorVoltageOutput,
              *(getattr(pairs, t.name) for t in pairs.PAIR_TYPES)):
     register_dataclass(_cls)
 

@@ -115,6 +115,12 @@ class SimulationResult:
     port_energy: dict = dataclasses.field(default_factory=dict)
     #: component name -> {state name: values over the outputs} (python/phmech/components.py)
     components: dict = dataclasses.field(default_factory=dict)
+    #: sensor name -> its values over the outputs, (nt, size) or a pose (nt, 4, 4), in the
+    #: sensor's units (python/phmech/sensors.py)
+    sensors: dict = dataclasses.field(default_factory=dict)
+    #: sampled controller name -> {"t": sample times (ns,) [s], "y": its inputs (ns, ny), "u":
+    #: its outputs (ns, nu)} (python/phmech/controllers.py)
+    controllers: dict = dataclasses.field(default_factory=dict)
     joints: np.ndarray = None
     joint_rates: np.ndarray = None
     efforts: np.ndarray = None
@@ -532,6 +538,7 @@ def load_result(path):
         raise ModelError(f"{p}: unknown result kind {kind!r}")
     bodies = {n: Body(n, c) for n, c in meta["bodies"].items()}
     ports = [str(x) for x in ds["port"].values]
+    sensors, ctrls = _resultfile.sensors_and_controllers(ds, meta)
     return SimulationResult(
         t=a("time"), poses=a("poses"), twists=a("twists"),
         constraint_wrenches=a("constraint_wrenches"),
@@ -550,4 +557,4 @@ def load_result(path):
         # a file from before the fields (or without couplings): the masses on their carriers
         _coupled_fields=a("coupled_fields") if "coupled_fields" in ds
         else np.zeros((ds.sizes.get("coupled_element", 0), 5)),
-        components=_resultfile.component_states(ds))
+        components=_resultfile.component_states(ds), sensors=sensors, controllers=ctrls)

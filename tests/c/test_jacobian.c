@@ -350,6 +350,31 @@ static void components_are_closed_form(void) {
   b.d.ncomponents = 0;
 }
 
+/* A callback controller (PHM_COMP_CALLBACK): u = fn(t, x, v) with the derivatives its function
+ * gives when asked (nder 1), here u = -3 sin(x) - 0.5 v^3 + 0.2 t; on the revolute between two
+ * carriers, then on one to the ground. */
+static int callback_law(void *ctx, double t, double x, double v, int nder, double out[3]) {
+  (void)ctx;
+  out[0] = -3 * sin(x) - 0.5 * v * v * v + 0.2 * t;
+  out[1] = nder ? -3 * cos(x) : 0;
+  out[2] = nder ? -1.5 * v * v : 0;
+  return 0;
+}
+
+static void callback_controller_is_closed_form(void) {
+  static builder b;
+  applied_model(&b);
+  b.comp[0] = (phm_component_desc){.kind = PHM_COMP_CALLBACK, .pair = 1, .spair = -1,
+                                   .fn = callback_law};
+  b.d.ncomponents = 1;
+  b.d.components = b.comp;
+  compare("J = central FD: a callback controller", &b, 1e-7);
+  b.pair[0].type = pair_code("revolute");
+  b.comp[0].pair = 0;
+  compare("J = central FD: a callback controller on a revolute to the ground", &b, 1e-7);
+  b.d.ncomponents = 0;
+}
+
 /* dae_jacobian_prune keeps every entry ever nonzero: the first call reports a new pattern, the
  * same values again do not, an entry gone back to zero stays (its value 0), and a newly nonzero
  * entry grows the pattern. */
@@ -463,5 +488,5 @@ CHECK_MAIN(CHECK_CASE(carriers_and_gravity_are_closed_form), CHECK_CASE(elements
            CHECK_CASE(pruning_keeps_a_growing_pattern),
            CHECK_CASE(pairs_are_closed_form), CHECK_CASE(planar_is_the_submatrix),
            CHECK_CASE(pairs_springs_loads_actuators_are_closed_form),
-           CHECK_CASE(components_are_closed_form),
+           CHECK_CASE(components_are_closed_form), CHECK_CASE(callback_controller_is_closed_form),
            CHECK_CASE(ledger_dpower_is_the_power_change))
