@@ -35,7 +35,7 @@ def built(mech) -> dict:
     core model without extra loads (build), and what other layers store (simulate's planar
     model, modes' equilibrium check, the labels' element geometry). A new, empty dict when the
     state or the gravity changed since (so nothing stale is ever reused)."""
-    g = tuple(np.asarray(mech._desc.gravity, dtype=float).tolist())
+    g = np.asarray(mech._desc.gravity, dtype=float).tobytes()
     c = _BUILT.get(mech)
     if c is None or c["_state"] is not mech._state or c["_gravity"] != g:
         c = {"_state": mech._state, "_gravity": g}

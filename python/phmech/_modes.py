@@ -38,7 +38,7 @@ def modes(mech, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0
                       f"frequencies of small vibrations about a rest state" + neg +
                       ". For vibrations about the equilibrium use modes(at=m.static(...)).",
                       EquilibriumWarning, stacklevel=outside_stacklevel())
-    lab = analysis.label_modes(mech._desc, where, om[:nf], sh[:nf], _geometry(mech, where, at))
+    lab = _labels(mech, where, om[:nf], sh[:nf], at)
     return ModesResult(om[:nf], om[:nf] / (2 * np.pi), ze[:nf], sh[:nf], poses=np.array(where),
                        equilibrium=bool(eq), _links=dict(mech._links),
                        _bodies=dict(mech._bodies), **lab)
@@ -52,6 +52,22 @@ def _equilibrium(mech, model, poses, time: float, at: Optional[StaticResult]):
     if time not in keep:
         keep[time] = equilibrium_check(mech, model, poses, time, False)
     return keep[time]
+
+def _labels(mech, poses, omega, shapes, at: Optional[StaticResult]) -> dict:
+    """analysis.label_modes of these modes. At the initial configuration (``at`` None) the
+    last labels are kept (_model.built) with the frequencies and shapes they were made from,
+    and a call that finds the same ones, bit for bit, gets copies of them."""
+    if at is not None:
+        return analysis.label_modes(mech._desc, poses, omega, shapes)
+    keep = _model.built(mech)
+    key = (omega.tobytes(), shapes.tobytes())
+    last = keep.get("labels")
+    if last is None or last[0] != key:
+        last = keep["labels"] = (key, analysis.label_modes(mech._desc, poses, omega, shapes,
+                                                           _geometry(mech, poses, at)))
+    # copies: a caller changing its result's labels changes neither the kept ones nor others'
+    return {k: v.copy() if isinstance(v, np.ndarray) else
+            [dict(d) if isinstance(d, dict) else d for d in v] for k, v in last[1].items()}
 
 def _geometry(mech, poses, at: Optional[StaticResult]):
     """analysis.element_geometry at ``poses``; at the initial configuration (``at`` None) made
