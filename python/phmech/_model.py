@@ -113,7 +113,7 @@ def build(mech, extra_loads: Sequence[dict] = ()):
     gravity (kept in ``built(mech)``; analyses only read it: one that changes a model, as
     simulate's planar one, works on its own); with them, once per call (or none when finding
     the initial configuration built it)."""
-    if np.any(mech._desc.gravity):
+    if (mech._modal_gravity_miss or mech._modal_preload) and np.any(mech._desc.gravity):
         for nm, miss in mech._modal_gravity_miss.items():
             if miss > mech.frequency_tolerance:
                 warnings.warn(f"modal link {nm!r} under gravity: two point masses carry its "
