@@ -149,3 +149,28 @@ def test_planar_choice_is_kept_per_start_and_a_required_plane_still_fails():
         for _ in range(2):
             with pytest.raises(ph.ModelError, match="not planar"):
                 m.simulate(0.02, 0.01, planar=True)
+
+
+def test_modes_at_static_results_keep_their_own_checks_and_labels():
+    import dataclasses
+    m, link = cantilever(gravity=(0.0, 0.0, -9.81), tip=True)
+    fresh, flink = cantilever(gravity=(0.0, 0.0, -9.81), tip=True)
+    st = m.static()
+    a = m.modes(3, at=st)
+    same_modes(m.modes(3, at=st), a)
+    same_modes(a, fresh.modes(3, at=fresh.static()))
+    # another equilibrium (an extra tip load): its own numbers, as a fresh mechanism's
+    load = [(link.end, (0.0, 0.0, 0.0, 0.0, 0.0, -2e3), "world")]
+    b = m.modes(3, at=m.static(loads=load))
+    fload = [(flink.end, (0.0, 0.0, 0.0, 0.0, 0.0, -2e3), "world")]
+    same_modes(b, fresh.modes(3, at=fresh.static(loads=fload)))
+    assert not np.array_equal(a.omega, b.omega)
+    # poses that are no equilibrium, after the check passed at the static result's own
+    bent = st.poses.copy()
+    bent[-1][2, 3] += 0.05
+    off = dataclasses.replace(st, poses=bent)
+    with pytest.warns(ph.EquilibriumWarning):
+        assert not m.modes(3, at=off).equilibrium
+    with pytest.warns(ph.EquilibriumWarning):
+        assert not m.modes(3, at=off).equilibrium
+    assert m.modes(3, at=st).equilibrium

@@ -44,23 +44,24 @@ def modes(mech, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0
                        _bodies=dict(mech._bodies), **lab)
 
 def _equilibrium(mech, model, poses, time: float, at: Optional[StaticResult]):
-    """equilibrium_check of ``poses``; at the initial configuration (``at`` None) made once per
-    time [s] and kept (_model.built) until the mechanism changes."""
-    if at is not None:
+    """equilibrium_check of ``poses``; at the initial configuration (``at`` None), or at a
+    StaticResult found without extra loads (the model is then the mechanism's), made once per
+    time [s] and poses and kept (_model.built) until the mechanism changes."""
+    if at is not None and at.loads:
         return equilibrium_check(mech, model, poses, time, True)
     keep = _model.built(mech).setdefault("equilibrium", {})
-    if time not in keep:
-        keep[time] = equilibrium_check(mech, model, poses, time, False)
-    return keep[time]
+    key = (time, None if at is None else np.asarray(poses, dtype=float).tobytes())
+    if key not in keep:
+        keep[key] = equilibrium_check(mech, model, poses, time, at is not None)
+    return keep[key]
 
 def _labels(mech, poses, omega, shapes, at: Optional[StaticResult]) -> dict:
-    """analysis.label_modes of these modes. At the initial configuration (``at`` None) the
-    last labels are kept (_model.built) with the frequencies and shapes they were made from,
-    and a call that finds the same ones, bit for bit, gets copies of them."""
-    if at is not None:
-        return analysis.label_modes(mech._desc, poses, omega, shapes)
+    """analysis.label_modes of these modes. The last labels are kept (_model.built) with the
+    configuration (``at``, or None: the initial one), frequencies and shapes they were made
+    from, and a call that finds the same ones, bit for bit, gets copies of them."""
     keep = _model.built(mech)
-    key = (omega.tobytes(), shapes.tobytes())
+    key = (None if at is None else np.asarray(poses, dtype=float).tobytes(), omega.tobytes(),
+           shapes.tobytes())
     last = keep.get("labels")
     if last is None or last[0] != key:
         last = keep["labels"] = (key, analysis.label_modes(mech._desc, poses, omega, shapes,
