@@ -186,6 +186,7 @@ bench: build $(BENCH_STAMP)
 	$(PY) benchmarks/bench_modal.py $(BENCH_ARGS)
 	$(PY) benchmarks/mass_matrix_study.py $(BENCH_ARGS)
 	$(PY) benchmarks/bench_large.py $(BENCH_ARGS)
+	$(PY) benchmarks/bench_overhead.py $(BENCH_ARGS)
 	$(PY) benchmarks/report.py --write-docs
 
 clean:

@@ -1,6 +1,6 @@
 """The markdown tables of README.md, docs/performance.md and docs/perf_*.md from the stored results.
 
-    python benchmarks/report.py [--results DIR] [--only transient whip modes scaling leaf modal scenes]
+    python benchmarks/report.py [--results DIR] [--only transient whip modes scaling leaf modal scenes large overhead]
     python benchmarks/report.py --write-docs      # rewrite the marked blocks of the docs in place
 
 Reads benchmarks/results/*.json (written by `make bench` or `make bench BENCH_ARGS=--quick`) and
@@ -329,8 +329,28 @@ def large(results: str) -> list:
     return lines
 
 
+def overhead(results: str) -> list:
+    """Per-call CPU of modes(), static(), simulate() against the core's own (bench_overhead.py)."""
+    d, path, cmd = newer_run(results, "bench_overhead")
+    if d is None:
+        return ["(no bench_overhead.json)"]
+    lines = ["### Per-call overhead (small models)", "", header(d, path, cmd), "",
+             "| model | analysis | CPU per call | core (model_* calls) | total / core |", "|---|---|---|---|---|"]
+    for r in d["runs"]:
+        lines.append(f"| {r['model']} | {r['analysis']} | {ms(r['cpu_s'])} | {ms(r['core_cpu_s'])} | "
+                     f"{r['ratio']:.2f} |")
+    if d.get("exudyn"):
+        lines += ["", "| N | modes(5) per call | Exudyn GE2D eigenvalues | ratio | phmech build + modes | "
+                  "Exudyn build + eigenvalues | ratio |", "|---|---|---|---|---|---|---|"]
+        for r in d["exudyn"]:
+            lines.append(f"| {r['N']} | {ms(r['phmech_call_cpu_s'])} | {ms(r['exudyn_call_cpu_s'])} | "
+                         f"{r['call_ratio']:.2f} | {ms(r['phmech_build_solve_cpu_s'])} | "
+                         f"{ms(r['exudyn_build_solve_cpu_s'])} | {r['build_solve_ratio']:.2f} |")
+    return lines
+
+
 PARTS = dict(headline=headline, transient=transient, whip=whip, modes=modes, scaling=scaling, leaf=leaf,
-             modal=modal, scenes=scenes, large=large)
+             modal=modal, scenes=scenes, large=large, overhead=overhead)
 
 
 def write_docs(results: str) -> None:

@@ -125,3 +125,14 @@ def test_bench_large(tmp_path):
     if have("exudyn"):
         ex = [r for r in d["runs"] if r["code"] == "exudyn"]
         assert len(ex) == 1 and math.isfinite(ex[0]["error"]) and ex[0]["error"] < 1e-3, ex
+
+
+def test_bench_overhead(tmp_path):
+    run_script("bench_overhead.py", tmp_path)
+    d = load(tmp_path, "bench_overhead_quick.json")
+    assert {(r["model"], r["analysis"]) for r in d["runs"]} >= {("cantilever N=3", "modes(5)"),
+                                                               ("double pendulum", "simulate")}
+    # every call spends its time in the core's model_* functions, and the rest is counted
+    assert all(0 < r["core_cpu_s"] <= r["cpu_s"] * 1.5 for r in d["runs"]), d["runs"]
+    if have("exudyn"):
+        assert [r["N"] for r in d["exudyn"]] == [3, 5, 9]

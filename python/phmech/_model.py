@@ -6,6 +6,7 @@ builder (``mech``: a phmech.Mechanism, or the _builder.Builder a link-alone anal
 from __future__ import annotations
 
 import warnings
+import weakref
 from typing import Optional, Sequence
 
 import numpy as np
@@ -21,6 +22,25 @@ from .results import StaticResult
 #: eigensolvers' backward error (eps times the norm of M) perturbs a carrier of mass m by
 #: eps m_max / m relative
 MASS_RATIO_RESOLVED = 1e-3 / np.finfo(float).eps
+
+
+#: what the analyses build from a mechanism's initial configuration and keep between calls
+#: (builder -> dict; see built): weak keys, so a mechanism is freed (and pickled) without it
+_BUILT: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def built(mech) -> dict:
+    """What the analyses built from the mechanism's current initial configuration
+    (``mech._state``, dropped by every add_*) and gravity, kept between calls: ``model``, the
+    core model without extra loads (build), and what other layers store (simulate's planar
+    model, modes' equilibrium check, the labels' element geometry). A new, empty dict when the
+    state or the gravity changed since (so nothing stale is ever reused)."""
+    g = np.asarray(mech._desc.gravity, dtype=float).tobytes()
+    c = _BUILT.get(mech)
+    if c is None or c["_state"] is not mech._state or c["_gravity"] != g:
+        c = {"_state": mech._state, "_gravity": g}
+        _BUILT[mech] = c
+    return c
 
 
 def initial_state(mech, extra_loads: Sequence[dict] = ()):
@@ -43,6 +63,8 @@ def initial_state(mech, extra_loads: Sequence[dict] = ()):
                              f"the loops: the model's lengths, positions, x0 or xdot0 are beyond "
                              f"what double precision can handle") from None
     _report(mech, mech._state)
+    if model is not None and not extra_loads:
+        built(mech)["model"] = model
     return mech._state, model
 
 def _report(mech, state: topology.InitialState) -> None:
@@ -87,9 +109,11 @@ def initial(mech) -> tuple:
 
 def build(mech, extra_loads: Sequence[dict] = ()):
     """The core model of this mechanism at its initial configuration, with ``extra_loads``
-    (load rows) after its own: built once per call, or none when finding the initial
-    configuration built it."""
-    if np.any(mech._desc.gravity):
+    (load rows) after its own: without extra loads, built once per initial configuration and
+    gravity (kept in ``built(mech)``; analyses only read it: one that changes a model, as
+    simulate's planar one, works on its own); with them, once per call (or none when finding
+    the initial configuration built it)."""
+    if (mech._modal_gravity_miss or mech._modal_preload) and np.any(mech._desc.gravity):
         for nm, miss in mech._modal_gravity_miss.items():
             if miss > mech.frequency_tolerance:
                 warnings.warn(f"modal link {nm!r} under gravity: two point masses carry its "
@@ -110,9 +134,14 @@ def build(mech, extra_loads: Sequence[dict] = ()):
                               f"even shift it the other way); use fidelity='nonlinear' for it "
                               f"if it hangs or stands", AccuracyWarning, stacklevel=outside_stacklevel())
     state, model = initial_state(mech, extra_loads)
+    keep = built(mech) if not extra_loads else {}
+    if model is None:
+        model = keep.get("model")
     if model is None:
         model = _marshal.core_model(mech._desc, state.poses, state.twists, state.x0,
                                     state.drop_masks, state.frames_a, extra_loads)
+    if not extra_loads:
+        keep["model"] = model
     return model
 
 def linearization_point(mech, at: Optional[StaticResult]) -> tuple:
@@ -140,19 +169,28 @@ def warn_unresolvable_masses(mech) -> None:
     """AccuracyWarning when the carriers' masses span more than MASS_RATIO_RESOLVED (4.5e12):
     the modes of the lightest carriers are then below what double precision resolves (a link
     of density 1e-300 hinged to a 1 kg body gave 1.4e9 rad/s for bending modes of ~1e153
-    rad/s, without a word: tests/test_fuzz_findings.py)."""
+    rad/s, without a word: tests/test_fuzz_findings.py). The message is made once per
+    initial configuration (built), the warning issued at every call."""
+    keep = built(mech)
+    if "mass_warning" not in keep:
+        keep["mass_warning"] = _unresolvable_masses(mech)
+    if keep["mass_warning"]:
+        warnings.warn(keep["mass_warning"], AccuracyWarning, stacklevel=outside_stacklevel())
+
+def _unresolvable_masses(mech) -> str:
+    """warn_unresolvable_masses' message, or "" when the masses are resolved."""
     # massless carriers have no modes of their own: left out
     masses = np.array([c["mass"] if c["mass"] > 0 else np.inf for c in mech._car] + [np.inf])
     light = int(np.argmin(masses))
     heavy = masses[np.isfinite(masses)].max(initial=0.0)
     if not heavy > MASS_RATIO_RESOLVED * masses[light]:
-        return
-    warnings.warn(f"the carriers' masses span {heavy:.3g} kg to {masses[light]:.3g} kg "
-                  f"(lightest: {mech._desc.carrier_name(light)}), a ratio above "
-                  f"{MASS_RATIO_RESOLVED:.2g}: double precision cannot resolve the lightest "
-                  "carriers' modes next to the heaviest (their frequencies and shapes may be "
-                  "wrong by orders of magnitude); give the light parts physical masses, or leave "
-                  "them out", AccuracyWarning, stacklevel=outside_stacklevel())
+        return ""
+    return (f"the carriers' masses span {heavy:.3g} kg to {masses[light]:.3g} kg "
+            f"(lightest: {mech._desc.carrier_name(light)}), a ratio above "
+            f"{MASS_RATIO_RESOLVED:.2g}: double precision cannot resolve the lightest "
+            "carriers' modes next to the heaviest (their frequencies and shapes may be "
+            "wrong by orders of magnitude); give the light parts physical masses, or leave "
+            "them out")
 
 def follower_loads(mech) -> list:
     """Names of the wrenches given in body axes (they turn with their carrier)."""

@@ -26,7 +26,7 @@ def modes(mech, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0
     # at most 6 per carrier exist: asking for more allocates no more than that
     om, ze, sh, nf = _core.model_modes(model, min(n, 6 * len(mech._car)), poses, lam, time)
     where = mech._state.poses if poses is None else poses
-    eq = equilibrium_check(mech, model, where, time, at is not None)
+    eq = _equilibrium(mech, model, where, time, at)
     if not eq and np.any(om[:nf] < 0):
         neg = "; its negative eigenvalues lambda show as negative frequencies -sqrt(-lambda)"
     else:
@@ -38,10 +38,47 @@ def modes(mech, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0
                       f"frequencies of small vibrations about a rest state" + neg +
                       ". For vibrations about the equilibrium use modes(at=m.static(...)).",
                       EquilibriumWarning, stacklevel=outside_stacklevel())
-    lab = analysis.label_modes(mech._desc, where, om[:nf], sh[:nf])
+    lab = _labels(mech, where, om[:nf], sh[:nf], at)
     return ModesResult(om[:nf], om[:nf] / (2 * np.pi), ze[:nf], sh[:nf], poses=np.array(where),
                        equilibrium=bool(eq), _links=dict(mech._links),
                        _bodies=dict(mech._bodies), **lab)
+
+def _equilibrium(mech, model, poses, time: float, at: Optional[StaticResult]):
+    """equilibrium_check of ``poses``; at the initial configuration (``at`` None), or at a
+    StaticResult found without extra loads (the model is then the mechanism's), made once per
+    time [s] and poses and kept (_model.built) until the mechanism changes."""
+    if at is not None and at.loads:
+        return equilibrium_check(mech, model, poses, time, True)
+    keep = _model.built(mech).setdefault("equilibrium", {})
+    key = (time, None if at is None else np.asarray(poses, dtype=float).tobytes())
+    if key not in keep:
+        keep[key] = equilibrium_check(mech, model, poses, time, at is not None)
+    return keep[key]
+
+def _labels(mech, poses, omega, shapes, at: Optional[StaticResult]) -> dict:
+    """analysis.label_modes of these modes. The last labels are kept (_model.built) with the
+    configuration (``at``, or None: the initial one), frequencies and shapes they were made
+    from, and a call that finds the same ones, bit for bit, gets copies of them."""
+    keep = _model.built(mech)
+    key = (None if at is None else np.asarray(poses, dtype=float).tobytes(), omega.tobytes(),
+           shapes.tobytes())
+    last = keep.get("labels")
+    if last is None or last[0] != key:
+        last = keep["labels"] = (key, analysis.label_modes(mech._desc, poses, omega, shapes,
+                                                           _geometry(mech, poses, at)))
+    # copies: a caller changing its result's labels changes neither the kept ones nor others'
+    return {k: v.copy() if isinstance(v, np.ndarray) else
+            [dict(d) if isinstance(d, dict) else d for d in v] for k, v in last[1].items()}
+
+def _geometry(mech, poses, at: Optional[StaticResult]):
+    """analysis.element_geometry at ``poses``; at the initial configuration (``at`` None) made
+    once and kept (_model.built) until the mechanism changes."""
+    if at is not None:
+        return analysis.element_geometry(mech._desc, poses)
+    keep = _model.built(mech)
+    if "element_geometry" not in keep:
+        keep["element_geometry"] = analysis.element_geometry(mech._desc, poses)
+    return keep["element_geometry"]
 
 def equilibrium_check(mech, model, poses, time, at_given: bool):
     """Whether ``poses`` is a static equilibrium: a static solve at the full load started there

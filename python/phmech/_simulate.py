@@ -146,6 +146,8 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
     auto_ok = integrator != "ida"
     plane = None if planar is False or (planar is None and not auto_ok) else \
         _plane(mech, model, poses, twists, planar is True)
+    if plane is not None:   # the run and its result read the planar model
+        model = plane[2]
     run = dict(linear_solver=linear_solver, integrator=integrator, adaptive=adaptive,
                rtol=rtol, atol=atol, planar=None if plane is None else _planar.AXES[plane[0]])
     sim_model = model if plane is None else plane[2]
@@ -263,11 +265,43 @@ def _with_samples(mech, result: SimulationResult, sampler, rec) -> SimulationRes
 
 def _plane(mech, model, poses, twists, require: bool):
     """(axis, drop masks, core model) of the planar DAE when the scene is planar at its
-    start (``model``: this analysis's, made planar in place; ``poses``, ``twists``: the
+    start (``model``: the mechanism's 3-D model, only read; ``poses``, ``twists``: the
     run's, None for the initial configuration's), else
     None, or with ``require`` ModelError naming the first check that fails per axis. The
     masks drop the out-of-plane constraint rows and the in-plane rows redundant among the
-    in-plane ones."""
+    in-plane ones. From the initial configuration the answer is kept (_model.built) until the
+    mechanism changes, and so is the planar model of each set of masks."""
+    keep = _model.built(mech)
+    start = poses is None and twists is None
+    if start and "plane" in keep and (keep["plane"] is not None or not require):
+        return keep["plane"]
+    plane = _find_plane(mech, model, poses, twists, require)
+    if plane is not None:
+        k, masks = plane
+        models = keep.setdefault("planar_models", {})
+        if tuple(masks) not in models:
+            models[tuple(masks)] = _planar_model(mech, masks, keep, model)
+        plane = (k, masks, models[tuple(masks)])
+    if start:
+        keep["plane"] = plane
+    return plane
+
+def _planar_model(mech, masks, keep: dict, model):
+    """A core model of the mechanism at its initial configuration with the drop masks
+    ``masks``: ``model``, the 3-D one kept in ``keep`` (_model.built), is taken out of it and
+    moved to those masks (the next analysis that needs the 3-D model builds it again), or a
+    new one when it is not kept there."""
+    state = mech._state
+    if keep.get("model") is model:
+        del keep["model"]
+    else:
+        model = _marshal.core_model(mech._desc, state.poses, state.twists, state.x0,
+                                    state.drop_masks, state.frames_a)
+    return _marshal.with_initial(model, mech._desc, state.poses, state.poses, state.twists,
+                                 state.x0, masks)
+
+def _find_plane(mech, model, poses, twists, require: bool):
+    """(axis, drop masks) of _plane, or None."""
     state = mech._state
     H = state.poses if poses is None else np.asarray(poses, dtype=float)
     T = state.twists if twists is None else np.asarray(twists, dtype=float)
@@ -287,10 +321,7 @@ def _plane(mech, model, poses, twists, require: bool):
         keep[postprocess.kept_rows(layout, masks)] = True
         red, _ = topology.redundant_rows(mech._desc, G * keep[:, None], state.tree)
         masks = [a | b for a, b in zip(masks, red)]
-    # this analysis's model, moved to the planar drop masks (no second model)
-    model = _marshal.with_initial(model, mech._desc, state.poses, state.poses, state.twists,
-                                  state.x0, masks)
-    return k, masks, model
+    return k, masks
 
 def _simulation_result(mech, r: dict, k: int, tout, model, drop_masks, rec, band: float,
                        stats: dict, interrupted: bool, plane=None) -> SimulationResult:

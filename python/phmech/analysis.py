@@ -2,6 +2,8 @@
 each linearized mode along a simulated trajectory."""
 from __future__ import annotations
 
+from typing import Optional
+
 import numpy as np
 
 from . import se3
@@ -125,7 +127,23 @@ def mac(a, b=None) -> np.ndarray:
         return np.where(den > 0, num / np.where(den > 0, den, 1.0), 0.0)
 
 
-def mode_energies(desc, poses, shapes) -> dict:
+def element_geometry(desc, poses) -> Optional[tuple]:
+    """What mode_energies needs of the elements at ``poses`` (ncarriers, 4, 4), whatever the
+    shapes: their carriers a, b, lengths h [m], section stiffnesses K, T = dexp_inv(-X) and
+    Ad(exp(-X)) of their relative twists X (None without elements). Modes keeps it for the
+    initial configuration (python/phmech/_modes.py)."""
+    els = desc.elements
+    if not els:
+        return None
+    a = np.array([e["a"] for e in els])
+    b = np.array([e["b"] for e in els])
+    h = np.array([e["h"] for e in els], dtype=float)
+    K = np.array([e["K"] for e in els], dtype=float)
+    X = se3.log(np.einsum("eij,ejk->eik", se3.inverse(poses[a]), poses[b]))
+    return a, b, h, K, se3.dexp_inv(-X), se3.Ad(se3.exp(-X))
+
+
+def mode_energies(desc, poses, shapes, geometry=None) -> dict:
     """Where each mode's energy sits (used by Mechanism.modes to label the modes).
 
     ``desc``: the ModelDescription, ``poses`` (ncarriers, 4, 4) the configuration the modes were
@@ -141,19 +159,15 @@ def mode_energies(desc, poses, shapes) -> dict:
       h its length, K the section stiffness. Linear in the shape, so exact for the tangent;
     - ``spring_strain`` (n, nsprings, 4): the same for the springs that carry a modal link's
       fixed-interface modes (phmech.fidelity.modal_sliders; ``spring_links`` names each one's
-      link), k dd^2 split by the shares of its mode's strain kinds."""
+      link), k dd^2 split by the shares of its mode's strain kinds.
+
+    ``geometry``: element_geometry(desc, poses), if already made."""
     phi = np.asarray(shapes, dtype=float)
     kin = np.einsum("nci,nci->nc", phi, desc.mass_times(phi))
     els = desc.elements
     strain = np.zeros((len(phi), len(els), 4))
     if els:
-        a = np.array([e["a"] for e in els])
-        b = np.array([e["b"] for e in els])
-        h = np.array([e["h"] for e in els], dtype=float)
-        K = np.array([e["K"] for e in els], dtype=float)
-        X = se3.log(np.einsum("eij,ejk->eik", se3.inverse(poses[a]), poses[b]))
-        T = se3.dexp_inv(-X)
-        AdX = se3.Ad(se3.exp(-X))
+        a, b, h, K, T, AdX = element_geometry(desc, poses) if geometry is None else geometry
         xi = phi[:, b] - np.einsum("eij,nej->nei", AdX, phi[:, a])         # (n, e, 6)
         dX = np.einsum("eij,nej->nei", T, xi)
         KdX = np.einsum("eij,nej->nei", K, dX)
@@ -176,7 +190,7 @@ def mode_energies(desc, poses, shapes) -> dict:
                 spring_links=[q["link"] for q in internal])
 
 
-def label_modes(desc, poses, omega, shapes) -> dict:
+def label_modes(desc, poses, omega, shapes, geometry=None) -> dict:
     """Label each mode by the dominant kind of its links' strain energy (MODE_KINDS).
 
     A mode whose links store less than half of its energy in strain (twice the strain energy
@@ -187,8 +201,9 @@ def label_modes(desc, poses, omega, shapes) -> dict:
     shares of the links' strain energy), ``elastic_fraction`` (n,: the links' strain energy
     over the modal energy omega^2/2 phi^T M phi; 1 for a mode of free-standing links) and
     ``participation`` (list of dicts: each body's and link's share of the mode's kinetic
-    energy) and ``strain_participation`` (each link's share of the strain energy)."""
-    e = mode_energies(desc, poses, shapes)
+    energy) and ``strain_participation`` (each link's share of the strain energy).
+    ``geometry``: as for mode_energies."""
+    e = mode_energies(desc, poses, shapes, geometry)
     kin, strain, sstrain = e["kinetic"], e["strain"], e["spring_strain"]
     om2 = np.asarray(omega, dtype=float) ** 2
     per_kind = strain.sum(axis=1) + sstrain.sum(axis=1)     # (n, 4)
