@@ -458,3 +458,15 @@ def test_mixed_outputs_each_get_their_own_value():
     assert r.joint("p")["effort"][-1, 0] == 3.0
     assert r.joint("s")["x"][-1, 0] == pytest.approx(0.5 * 2.0 * 0.1 ** 2, rel=1e-6)
     assert r.joint("p")["x"][-1, 0] == pytest.approx(0.5 * 3.0 * 0.1 ** 2, rel=1e-6)
+
+
+def test_a_second_run_of_the_same_mechanism_equals_a_fresh_one():
+    """A sampled controller's run sets its output laws (their breakpoints: the run's sample
+    instants) in place; the model the analyses keep between calls (_model.built) must not carry
+    the first run's into the second. Measured before the fix: 1.0e-7 rad apart (0.1 s then
+    0.2 s against a fresh 0.2 s run); now bit-identical."""
+    m = _pendulum()
+    m.simulate(0.1, 1e-3)
+    again = m.simulate(0.2, 1e-3).joint("hinge")["x"]
+    fresh = _pendulum().simulate(0.2, 1e-3).joint("hinge")["x"]
+    assert np.array_equal(again, fresh)

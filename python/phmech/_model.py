@@ -34,11 +34,13 @@ def built(mech) -> dict:
     (``mech._state``, dropped by every add_*) and gravity, kept between calls: ``model``, the
     core model without extra loads (build), and what other layers store (simulate's planar
     model, modes' equilibrium check, the labels' element geometry). A new, empty dict when the
-    state or the gravity changed since (so nothing stale is ever reused)."""
+    state, the gravity or the description's rows changed since (``ModelDescription.version``:
+    a sampled controller's run sets its output laws in place) -- nothing stale is reused."""
     g = np.asarray(mech._desc.gravity, dtype=float).tobytes()
+    v = mech._desc.version
     c = _BUILT.get(mech)
-    if c is None or c["_state"] is not mech._state or c["_gravity"] != g:
-        c = {"_state": mech._state, "_gravity": g}
+    if c is None or c["_state"] is not mech._state or c["_gravity"] != g or c["_version"] != v:
+        c = {"_state": mech._state, "_gravity": g, "_version": v}
         _BUILT[mech] = c
     return c
 

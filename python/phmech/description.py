@@ -75,9 +75,15 @@ class ModelDescription:
     _mass_couplings: dict = dataclasses.field(default=None, compare=False, repr=False)
     #: the carriers' 6x6 inertias stacked (nc, 6, 6) for mass_times, kept like columns
     _inertias: np.ndarray = dataclasses.field(default=None, compare=False, repr=False)
+    #: counts the changes (changed()): what was built from an older version is stale
+    #: (_model.built keys on it)
+    version: int = dataclasses.field(default=0, compare=False, repr=False)
 
     def changed(self) -> None:
-        """A component was (or is about to be) added: what was made from the rows is stale."""
+        """A component was (or is about to be) added, or a row was changed in place (the laws
+        of sampled controllers, python/phmech/_sampled.py): what was made from the rows is
+        stale."""
+        self.version += 1
         self.columns = None
         self._mass_couplings = None
         self._inertias = None
