@@ -2,7 +2,7 @@
 
 The FMU holds ``modelDescription.xml``; ``binaries/linux64/<modelIdentifier>.so`` (FMI 3.0:
 ``binaries/x86_64-linux/``), phmech's C
-core with an FMI wrapper (csrc/fmi/fmi2.c, built by meson as ``phmech_fmi2.so`` beside this
+core with an FMI wrapper (csrc/fmi/: fmu.c, fmi2.c, fmi3.c, built by meson as ``phmech_fmi2.so`` beside this
 module) and, beside it, the shared libraries it loads that are not part of glibc (SUNDIALS,
 KLU/SuiteSparse, LAPACK/BLAS, the Fortran runtime), found with ``ldd`` and reached through the
 wrapper's RPATH ``$ORIGIN``; and ``resources/model.phm``, the model: the exact arrays phmech hands
@@ -47,9 +47,9 @@ from .pairs import PAIR_TYPES
 
 __all__ = ["export_fmu"]
 
-#: output kinds of the model file (csrc/fmi/fmi2.c, OUT_*)
+#: output kinds of the model file (csrc/fmi/fmu.h, OUT_*)
 _OUT_JOINT, _OUT_RATE, _OUT_POSITION, _OUT_ENERGY = 0, 1, 2, 3
-#: input kinds (csrc/fmi/fmi2.c, IN_*)
+#: input kinds (csrc/fmi/fmu.h, IN_*)
 _IN_ACTUATOR, _IN_LOAD = 0, 1
 _CALLBACK = 8            # phm_law_kind of a Python-function law (csrc/include/phmech_types.h)
 _ENERGIES = ("kinetic", "elastic", "gravity", "total")
@@ -82,7 +82,7 @@ def _law_numbers(law, what: str) -> list:
     return out
 
 
-#: the columns of _marshal.components that csrc/fmi/fmi2.c (build_desc) reads, per component
+#: the columns of _marshal.components that csrc/fmi/fmu.c (build_desc) reads, per component
 #: kind: a column phmech adds later must be read there too (export_fmu refuses it until then)
 _READ = {"carriers": {"M", "mass", "com", "H0", "t0"},
          "elements": {"h", "nodes", "K", "D", "eps_hat", "mass", "Ms", "Mc"},
@@ -106,7 +106,7 @@ def _records(comp: dict, names: dict, input_rows: set) -> list:
         if unread or set(comp) - set(kinds) - {"gravity"}:
             raise ModelError(f"export_fmu: the model has {kind} columns {sorted(unread)} (or components "
                              f"{sorted(set(comp) - set(kinds) - {'gravity'})}) that the FMU wrapper "
-                             f"csrc/fmi/fmi2.c does not read: it must learn them first")
+                             f"csrc/fmi/fmu.c does not read: it must learn them first")
         first = next(iter(cols.values()))
         sizes.append(len(first))
         for key, v in cols.items():
@@ -421,10 +421,10 @@ def export_fmu(mechanism, path, inputs: Sequence[str] = (), outputs: Optional[Se
     state = mechanism._state
     comp = _marshal.components(mechanism._desc, state.poses, state.twists, state.x0,
                                state.drop_masks, state.frames_a)
-    if mechanism._desc.components:   # csrc/fmi/fmi2.c does not read them yet
+    if mechanism._desc.components:   # csrc/fmi/fmu.c does not read them yet
         raise ModelError("export_fmu: the components (friction, motors: "
                          f"{[r['name'] for r in mechanism._desc.components]}) are not in the FMU "
-                         "wrapper csrc/fmi/fmi2.c yet")
+                         "wrapper csrc/fmi/fmu.c yet")
     del comp["components"]
     d = mechanism._desc
     names = {"carriers": [d.carrier_name(i) for i in range(len(d.carriers))],
