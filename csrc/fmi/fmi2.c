@@ -2,7 +2,6 @@
  * (csrc/fmi/fmu.c: the model file, the model, a step). Value references: the inputs, then the
  * outputs, all Real. FMU state, derivatives and the non-Real variable types are not supported
  * (the model description says so). */
-#define _POSIX_C_SOURCE 200809L /* strdup */
 #include "fmu.h"
 
 #include <math.h>
@@ -24,17 +23,12 @@ fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid, f
                               const fmi2CallbackFunctions *cb, fmi2Boolean visible, fmi2Boolean logging) {
   (void)guid;
   (void)visible;
-  fmu *c = calloc(1, sizeof *c);
+  fmu *c = fmu_new(name, logging);
   if (!c) return NULL;
   if (cb) c->cb = *cb;
-  c->logging = logging;
-  c->name = strdup(name ? name : "phmech");
-  if (type != fmi2CoSimulation) {
-    fmu_log(c, fmi2Error, "phmech FMUs are co-simulation FMUs only (fmi2CoSimulation)");
-    fmu_free(c);
-    return NULL;
-  }
-  return fmu_load(c, resources);
+  return fmu_load(c, resources, type != fmi2CoSimulation
+                                    ? "phmech FMUs are co-simulation FMUs only (fmi2CoSimulation)"
+                                    : NULL);
 }
 
 void fmi2FreeInstance(fmi2Component comp) { fmu_free((fmu *)comp); }

@@ -3,11 +3,7 @@
  * FMI 2.0 (inputs, then outputs), all Float64. Event mode, clocks, intermediate updates, FMU state
  * and derivatives are not supported (their functions return fmi3Error, the model description says
  * so); their stubs below are what the FMI 3.0 API requires an FMU to export. */
-#define _POSIX_C_SOURCE 200809L /* strdup */
 #include "fmu.h"
-
-#include <stdlib.h>
-#include <string.h>
 
 const char *fmi3GetVersion(void) { return fmi3Version; }
 
@@ -31,18 +27,12 @@ fmi3Instance fmi3InstantiateCoSimulation(fmi3String name, fmi3String token, fmi3
                                          fmi3LogMessageCallback logMessage,
                                          fmi3IntermediateUpdateCallback intermediateUpdate) {
   (void)token; (void)visible; (void)earlyReturnAllowed; (void)req; (void)nreq; (void)intermediateUpdate;
-  fmu *c = calloc(1, sizeof *c);
+  fmu *c = fmu_new(name, logging);
   if (!c) return NULL;
   c->log3 = logMessage;
   c->env3 = env;
-  c->logging = logging;
-  c->name = strdup(name ? name : "phmech");
-  if (eventModeUsed) {
-    fmu_log(c, fmi2Error, "phmech FMUs have no event mode (eventModeUsed must be false)");
-    fmu_free(c);
-    return NULL;
-  }
-  return fmu_load(c, resources);
+  return fmu_load(c, resources,
+                  eventModeUsed ? "phmech FMUs have no event mode (eventModeUsed must be false)" : NULL);
 }
 
 void fmi3FreeInstance(fmi3Instance inst) { fmu_free((fmu *)inst); }

@@ -485,11 +485,19 @@ static void uri_to_path(const char *uri, char *path, size_t n) {
   path[k] = 0;
 }
 
-/* Read the model file in the folder `resources` (a file:// URI or a path), build the model and
- * the state: c, or NULL (c freed) after logging why. */
-fmu *fmu_load(fmu *c, const char *resources) {
-  if (!resources) {
-    fmu_log(c, fmi2Error, "no resource location given");
+/* fmu.h */
+fmu *fmu_new(const char *name, int logging) {
+  fmu *c = calloc(1, sizeof *c);
+  if (!c) return NULL;
+  c->logging = logging;
+  c->name = strdup(name ? name : "phmech");
+  return c;
+}
+
+/* Read the model file in `resources`, build the model and the state (fmu.h). */
+fmu *fmu_load(fmu *c, const char *resources, const char *refusal) {
+  if (refusal || !resources) {
+    fmu_log(c, fmi2Error, "%s", refusal ? refusal : "no resource location given");
     fmu_free(c);
     return NULL;
   }

@@ -58,9 +58,12 @@ typedef struct {
 void fmu_log(fmu *c, fmi2Status st, const char *fmt, ...);
 /* The record `key` of the model file (NULL if absent). */
 const record *fmu_record(const fmu *c, const char *key);
+/* A new instance named `name` (NULL: "phmech"), nothing loaded; NULL without memory. */
+fmu *fmu_new(const char *name, int logging);
 /* Read the model file in the folder `resources` (a file:// URI or a path), build the model and
- * the state: c, or NULL (c freed) after logging why. */
-fmu *fmu_load(fmu *c, const char *resources);
+ * the state: c, or NULL (c freed) after logging why -- at once with `refusal` (not NULL), what
+ * the importer asked that the FMU cannot do. */
+fmu *fmu_load(fmu *c, const char *resources, const char *refusal);
 /* Free an instance and all it holds (NULL: nothing). */
 void fmu_free(fmu *c);
 /* Integrate from c->t to t1, or only project the initial state (t1 = c->t); the state and the

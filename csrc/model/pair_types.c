@@ -128,6 +128,23 @@ static void log_pq(const double h[16], int n, int tan, pq *out) {
   }
 }
 
+#if defined(__GNUC__)
+#define PAIR_KIN_INLINE static inline __attribute__((always_inline))
+#else
+#define PAIR_KIN_INLINE static inline
+#endif
+
+/* Joint coordinates 0..2 the rotation vector log(R) of h, their effort columns 0..2 of Phi the unit
+ * torques (xdot = the angular velocity in F_b): the spherical pair's and the free pair's rotation. */
+PAIR_KIN_INLINE void rotation_vector(const double h[16], int tan, double *xx, double *dx, double *Pl,
+                                     double *dP) {
+  pq lg[3];
+  const pq c0 = cst(0), c1 = cst(1);
+  log_pq(h, 3, tan, lg);
+  for (int i = 0; i < 3; i++) put(xx, dx, i, lg[i]);
+  setcol(Pl, dP, 0, 0, c1, c0, c0); setcol(Pl, dP, 1, 0, c0, c1, c0); setcol(Pl, dP, 2, 0, c0, c0, c1);
+}
+
 /* Position constraints are written so that dg = W^T t_rel at g = 0 (up to a unit-triangular
  * factor for helical/cylindrical): rotations through the z axis of F_a seen in F_b, R^T e_z, whose
  * rate is e_z x omega; translations through R^T p (rate v - omega x R^T p) or p (rate R v).
@@ -137,11 +154,6 @@ static void log_pq(const double h[16], int n, int tan, pq *out) {
  * constant, so that the values-only one (every residual's) drops the derivatives' work: called
  * out of line, the derivatives carried along cost a revolute pair 141 ns instead of 64 ns; inlined
  * 87 ns (a rigid four-bar's residual 1.43 us instead of 1.34 us before the tangents). */
-#if defined(__GNUC__)
-#define PAIR_KIN_INLINE static inline __attribute__((always_inline))
-#else
-#define PAIR_KIN_INLINE static inline
-#endif
 PAIR_KIN_INLINE void pair_kin(int tan, int type, double pitch, const double h[16], const double *xref,
                          double *g, double *W, double *Phi, double *x, double *Dg, double *DW,
                          double *DPhi, double *Dx) {
@@ -227,11 +239,9 @@ PAIR_KIN_INLINE void pair_kin(int tan, int type, double pitch, const double h[16
     put(xx, dx, 1, near_pq(atan2_pq(R[0][2], R[0][0], tan), xref, 1));
     break;
   case PAIR_SPHERICAL:
-    log_pq(h, 3, tan, lg);
-    for (int i = 0; i < 3; i++) put(xx, dx, i, lg[i]);
+    rotation_vector(h, tan, xx, dx, Pl, dP);
     put(gg, dg, 0, q[0]); put(gg, dg, 1, q[1]); put(gg, dg, 2, q[2]);
     setcol(Wl, dW, 0, 3, c1, c0, c0); setcol(Wl, dW, 1, 3, c0, c1, c0); setcol(Wl, dW, 2, 3, c0, c0, c1);
-    setcol(Pl, dP, 0, 0, c1, c0, c0); setcol(Pl, dP, 1, 0, c0, c1, c0); setcol(Pl, dP, 2, 0, c0, c0, c1);
     break;
   case PAIR_PLANAR:
     put(gg, dg, 0, R[2][1]); put(gg, dg, 1, neg(R[2][0])); put(gg, dg, 2, p[2]);
@@ -243,10 +253,8 @@ PAIR_KIN_INLINE void pair_kin(int tan, int type, double pitch, const double h[16
     put(xx, dx, 2, p[1]);
     break;
   case PAIR_FREE:
-    log_pq(h, 3, tan, lg);
-    for (int i = 0; i < 3; i++) put(xx, dx, i, lg[i]);
+    rotation_vector(h, tan, xx, dx, Pl, dP);
     put(xx, dx, 3, p[0]); put(xx, dx, 4, p[1]); put(xx, dx, 5, p[2]);
-    setcol(Pl, dP, 0, 0, c1, c0, c0); setcol(Pl, dP, 1, 0, c0, c1, c0); setcol(Pl, dP, 2, 0, c0, c0, c1);
     for (int j = 0; j < 3; j++) setcol(Pl, dP, 3 + j, 3, R[j][0], R[j][1], R[j][2]);
     break;
   default: break; /* a type without its case here has no kinematics: phm_model_create refuses it */

@@ -61,28 +61,22 @@ class _Law:
 
     # ---- composition
     def __add__(self, other):
-        o = _operand(other)
-        return NotImplemented if o is None else Sum((self, o))
+        return _composed(other, lambda o: Sum((self, o)))
 
     def __radd__(self, other):
-        o = _operand(other)
-        return NotImplemented if o is None else Sum((o, self))
+        return _composed(other, lambda o: Sum((o, self)))
 
     def __sub__(self, other):
-        o = _operand(other)
-        return NotImplemented if o is None else Sum((self, Product((Constant(-1.0), o))))
+        return _composed(other, lambda o: Sum((self, Product((Constant(-1.0), o)))))
 
     def __rsub__(self, other):
-        o = _operand(other)
-        return NotImplemented if o is None else Sum((o, Product((Constant(-1.0), self))))
+        return _composed(other, lambda o: Sum((o, Product((Constant(-1.0), self)))))
 
     def __mul__(self, other):
-        o = _operand(other)
-        return NotImplemented if o is None else Product((self, o))
+        return _composed(other, lambda o: Product((self, o)))
 
     def __rmul__(self, other):
-        o = _operand(other)
-        return NotImplemented if o is None else Product((o, self))
+        return _composed(other, lambda o: Product((o, self)))
 
     def __neg__(self):
         return Product((Constant(-1.0), self))
@@ -108,6 +102,13 @@ def _plain(v):
     if isinstance(v, (np.floating, np.integer)):
         return v.item()
     return v
+
+
+def _composed(other, make):
+    """``make(o)`` with ``other`` as an operand ``o`` (_operand), or NotImplemented when it is
+    not one (Python then tries the other side's operator)."""
+    o = _operand(other)
+    return NotImplemented if o is None else make(o)
 
 
 def _operand(v):
