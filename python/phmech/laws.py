@@ -32,8 +32,8 @@ from ._checks import real, real_numbers
 from ._errors import ModelError
 from ._lawbase import _NO, Constant, Function, Product, Sum, _Law, checked_law, core_tuple
 
-__all__ = ["Constant", "Step", "Pulse", "Sine", "Table", "Cycloidal", "Linear", "Spline",
-           "PiecewisePolynomial", "Sum", "Product", "Function", "Motion", "law_from_data"]
+__all__ = ["Constant", "Step", "Pulse", "Sine", "Table", "Cycloidal", "Linear", "Trapezoidal",
+           "Spline", "PiecewisePolynomial", "Sum", "Product", "Function", "Motion", "law_from_data"]
 
 # (_Law, checked_law and core_tuple: the builder's modules and _marshal import them from here)
 
@@ -412,6 +412,69 @@ class Spline(_Law):
 
 
 @dataclasses.dataclass(frozen=True)
+class Trapezoidal(_Law):
+    """Rest-to-rest move by ``distance`` from t0 [s] with a trapezoidal velocity profile: constant
+    acceleration ``max_acceleration`` up to ``max_velocity``, a cruise at it, constant deceleration
+    to rest. Units: those of what the law drives -- m, m/s, m/s^2 for a displacement, rad, rad/s,
+    rad/s^2 for an angle. Too short a move to reach ``max_velocity`` is a triangular profile (peak
+    velocity sqrt(|distance| max_acceleration)). s = 0 before t0 and ``distance`` after the move
+    (``duration()`` [s] long); s and s' are continuous, s'' jumps at the start and end of each
+    ramp, where the integrators restart (breakpoints). A negative distance moves backwards.
+    Evaluated in the core as its PiecewisePolynomial (``piecewise()``)."""
+    distance: float = 1.0
+    max_velocity: float = 1.0
+    max_acceleration: float = 1.0
+    t0: float = 0.0
+
+    def _checked(self) -> "Trapezoidal":
+        d = real("Trapezoidal distance", self.distance)
+        v, a = real("Trapezoidal max_velocity", self.max_velocity), real("Trapezoidal max_acceleration",
+                                                                            self.max_acceleration)
+        if not (v > 0 and a > 0):
+            raise ModelError(f"Trapezoidal max_velocity and max_acceleration must be > 0 (got {v}, {a})")
+        return Trapezoidal(d, v, a, real("Trapezoidal t0", self.t0))
+
+    def shifted(self, dt: float) -> "Trapezoidal":
+        return dataclasses.replace(self, t0=self.t0 + real("shift", dt))
+
+    def phases(self) -> tuple:
+        """(ramp, cruise): how long each of the two ramps and the cruise last [s] (cruise 0 for a
+        triangular profile)."""
+        p = self._checked()
+        dist, v, a = abs(p.distance), p.max_velocity, p.max_acceleration
+        if dist * a >= v * v:
+            return v / a, dist / v - v / a
+        return (dist / a) ** 0.5, 0.0
+
+    def duration(self) -> float:
+        """How long the move lasts [s]: two ramps and the cruise."""
+        ramp, cruise = self.phases()
+        return 2 * ramp + cruise
+
+    def piecewise(self) -> PiecewisePolynomial:
+        """The move as the PiecewisePolynomial the core evaluates: rest, ramp up, cruise (when
+        there is one), ramp down, rest (the first and last pieces continue outside)."""
+        p = self._checked()
+        ramp, cruise = p.phases()
+        a = p.max_acceleration if p.distance >= 0 else -p.max_acceleration
+        if ramp == 0.0:   # no move
+            return PiecewisePolynomial((p.t0, p.t0 + 1.0), ((0.0,),))
+        vp, s1 = a * ramp, 0.5 * a * ramp * ramp   # the peak velocity, the distance of a ramp
+        t1, t2 = p.t0 + ramp, p.t0 + ramp + cruise
+        breaks, coefficients = [p.t0 - 1.0, p.t0, t1], [(0.0, 0.0, 0.0), (0.5 * a, 0.0, 0.0)]
+        if t1 < t2 < t2 + ramp:
+            breaks.append(t2)
+            coefficients.append((0.0, vp, s1))
+        end = breaks[-1] + ramp
+        breaks += [end, end + 1.0]
+        coefficients += [(-0.5 * a, vp, p.distance - s1), (0.0, 0.0, p.distance)]
+        return PiecewisePolynomial(tuple(breaks), tuple(coefficients))
+
+    def _core_leaf(self) -> tuple:
+        return self.piecewise()._core_leaf()
+
+
+@dataclasses.dataclass(frozen=True)
 class Motion:
     """Prescribed relative motion of a driven Fixed pair: r(t) = exp(law(t) * axis), axis a
     twist (omega, v) in the pair's frame on b, e.g. (0,0,1,0,0,0) with an angle law [rad], or
@@ -421,5 +484,5 @@ class Motion:
     law: _Law
 
 
-_CLASSES = {c.__name__: c for c in (Constant, Step, Pulse, Sine, Table, Cycloidal, Linear, Spline,
-                                    PiecewisePolynomial, Sum, Product, Function)}
+_CLASSES = {c.__name__: c for c in (Constant, Step, Pulse, Sine, Table, Cycloidal, Linear, Trapezoidal,
+                                    Spline, PiecewisePolynomial, Sum, Product, Function)}
