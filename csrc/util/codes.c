@@ -27,6 +27,7 @@ static const phm_code result_fields[] = {
     {"energy", PHM_RESULT_ENERGY},   {"joints", PHM_RESULT_JOINTS},   {"joint_rates", PHM_RESULT_JOINT_RATES},
     {"efforts", PHM_RESULT_EFFORTS}, {"pair_wrenches", PHM_RESULT_PAIR_WRENCHES},
     {"ports", PHM_RESULT_PORTS},     {"components", PHM_RESULT_COMPONENTS},
+    {"constraint_residual", PHM_RESULT_CONSTRAINT_RESIDUAL},
 };
 
 #define ROWS(a) (int)(sizeof(a) / sizeof(a[0]))
