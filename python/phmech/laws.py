@@ -417,7 +417,7 @@ class Trapezoidal(_Law):
     acceleration ``max_acceleration`` up to ``max_velocity``, a cruise at it, constant deceleration
     to rest. Units: those of what the law drives -- m, m/s, m/s^2 for a displacement, rad, rad/s,
     rad/s^2 for an angle. Too short a move to reach ``max_velocity`` is a triangular profile (peak
-    velocity sqrt(|distance| max_acceleration)). s = 0 before t0 and ``distance`` after the move
+    velocity sqrt(abs(distance) max_acceleration)). s = 0 before t0 and ``distance`` after the move
     (``duration()`` [s] long); s and s' are continuous, s'' jumps at the start and end of each
     ramp, where the integrators restart (breakpoints). A negative distance moves backwards.
     Evaluated in the core as its PiecewisePolynomial (``piecewise()``)."""

@@ -120,7 +120,7 @@ class SimulationResult:
     efforts: np.ndarray = None
     pair_wrenches: np.ndarray = None
     _pairs: dict = dataclasses.field(default_factory=dict)
-    #: (nt, npairs): each pair's position constraint residual at each output, the largest |g| of
+    #: (nt, npairs): each pair's position constraint residual at each output, the largest abs(g) of
     #: the constraint rows the DAE keeps for it [rad for a rotation row, m for a translation
     #: row; 0 for a pair without rows] -- how closely the integrator holds the pair together
     #: (computed by the core at each output, csrc/dae/output.c; None in files from before it)
