@@ -1,5 +1,5 @@
 """The core's code tables (``_core.codes()``, csrc/util/codes.c and the pair table of
-csrc/model/pair.c): Python reads every code from them (python/phmech/_codes.py), each law class
+csrc/model/pair_types.c): Python reads every code from them (python/phmech/_codes.py), each law class
 names a kind the core has, and the result fields are the arrays a simulation returns."""
 import numpy as np
 

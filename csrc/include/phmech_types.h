@@ -166,7 +166,7 @@ typedef struct {
   double Mc[144];    /* symmetric 12 x 12 on [t_a; t_b]                                   */
 } phm_coupling_desc;
 
-/* A pair type: a row of THE pair table (csrc/model/pair.c, the only place that defines pair
+/* A pair type: a row of THE pair table (csrc/model/pair_types.c, the only place that defines pair
  * types; phm_pair_type(i) returns row i, phm_pair_type_count() the number of rows; Python builds its
  * pair classes from it). Joint axis = local z of both pair frames unless the row says otherwise. */
 typedef struct {

@@ -34,7 +34,7 @@ struct phm_model {
   phm_law *lawnodes; /* owned copies of the expression laws' nodes */
   double lref;      /* length scale for finite differences, m */
   int pair_general; /* 0 (phm_model_create): pairs through their closed forms and structural
-                     * shortcuts (pair.c); 1: the table's general path alone -- the C tests
+                     * shortcuts (pair_types.c, pair.c); 1: the table's general path alone -- the C tests
                      * set it to compare the two                                           */
   int nmc;          /* mass couplings: the elements' (CONSISTENT or GIVEN, in element order),
                      * then the description's couplings without an element                */
