@@ -337,7 +337,10 @@ def _leaf(law: _Law) -> tuple:
     """The core's tuple of a leaf law (not a Sum or Product)."""
     if isinstance(law, Function):   # the core calls back (csrc/pyext/py_laws.c, law_callback)
         bp = np.asarray(law.breakpoints, dtype=float) if law.breakpoints else None
-        return (_CALLBACK, *_NO, bp, 0, None, _FunctionCall(law))
+        # a function that answers the core's (t, nder) itself, checked (python/phmech/controllers.py,
+        # Hold: a held value), else the checks of _FunctionCall
+        fast = getattr(law.fn, "core_call", None) if law.shift == 0 else None
+        return (_CALLBACK, *_NO, bp, 0, None, fast or _FunctionCall(law))
     kind, params, data, order = law._core_leaf()
     return (LAW_KINDS[kind], *params, data, order, None, None)
 
