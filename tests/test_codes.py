@@ -1,10 +1,10 @@
 """The core's code tables (``_core.codes()``, csrc/util/codes.c and the pair table of
-csrc/model/pair.c): Python reads every code from them (python/phmech/_codes.py), each law class
+csrc/model/pair_types.c): Python reads every code from them (python/phmech/_codes.py), each law class
 names a kind the core has, and the result fields are the arrays a simulation returns."""
 import numpy as np
 
-from phmech import _codes, _core, laws
-from phmech.laws import (Constant, Cycloidal, Linear, PiecewisePolynomial, Pulse, Sine, Step,
+from phmech import _codes, _core, _lawbase, laws
+from phmech.laws import (Constant, Cycloidal, Linear, PiecewisePolynomial, Pulse, Sine, Spline, Step,
                          Table)
 
 from test_marshal import described
@@ -29,10 +29,17 @@ def test_every_law_class_has_a_core_kind():
     kinds = _core.codes()["law_kinds"]
     leaves = {Constant: "constant", Step: "step", Pulse: "pulse", Sine: "sine", Table: "table",
               Cycloidal: "cycloidal", Linear: "linear", PiecewisePolynomial: "ppoly"}
-    assert {cls: name for cls, (name, _) in laws._LAWS.items()} == leaves
-    for cls in (Constant, Step, Pulse, Sine, Cycloidal, Linear):
-        assert laws.core_tuple(cls())[0] == kinds[leaves[cls]], cls.__name__
-    assert (laws._EXPR, laws._SUM, laws._PRODUCT, laws._CALLBACK) == \
+    examples = {Table: Table((0.0, 1.0), (0.0, 1.0)), Spline: Spline((0.0, 1.0), (0.0, 1.0)),
+                PiecewisePolynomial: PiecewisePolynomial((0.0, 1.0), ((1.0, 0.0),))}
+    for cls, name in leaves.items():   # each core kind's own class
+        law = examples[cls] if cls in examples else cls()
+        assert law._core_leaf()[0] == name, cls.__name__
+        assert laws.core_tuple(law._checked())[0] == kinds[name], cls.__name__
+    for cls in laws._CLASSES.values():   # every other leaf is evaluated as one of them (Spline: ppoly)
+        if cls not in (laws.Sum, laws.Product, laws.Function):
+            law = examples[cls] if cls in examples else cls()
+            assert law._core_leaf()[0] in leaves.values(), cls.__name__
+    assert (_lawbase._EXPR, _lawbase._SUM, _lawbase._PRODUCT, _lawbase._CALLBACK) == \
         (kinds["expr"], kinds["sum"], kinds["product"], kinds["callback"])
 
 

@@ -1,4 +1,4 @@
-"""Mechanisms as FMUs (phmech.export_fmu, python/phmech/fmu.py; csrc/fmi/fmi2.c): FMPy, an
+"""Mechanisms as FMUs (phmech.export_fmu, python/phmech/fmu.py; csrc/fmi/): FMPy, an
 independent FMI client, simulates the FMU with a held torque step, and its motion equals
 simulate() with the same torque given as a Step law; FMPy's model-description validation reports
 nothing; every library the wrapper loads beyond glibc is inside the FMU; the FMU runs in a fresh
@@ -282,7 +282,7 @@ def test_a_column_the_wrapper_does_not_read_is_refused(tmp_path, monkeypatch):
         return c
     import types
     monkeypatch.setattr(ph.fmu, "_marshal", types.SimpleNamespace(components=more))
-    with pytest.raises(ph.ModelError, match=r"elements columns \['new_field'\].*csrc/fmi/fmi2.c"):
+    with pytest.raises(ph.ModelError, match=r"elements columns \['new_field'\].*csrc/fmi/fmu.c"):
         ph.export_fmu(flexible_arm(), tmp_path / "n.fmu", inputs=["motor"],
                       integrator="generalized-alpha", step=1e-4)
 

@@ -169,3 +169,63 @@ def test_function_defined_from_zero_on_gets_forward_differences_there():
     d = law.derivatives(np.array([5e-5, 1.0]))
     np.testing.assert_allclose(d[1], [1.0, 0.5, -0.25], rtol=1e-6)
     assert np.isfinite(d[0]).all()
+
+
+def trapezoid_reference(D, v, a, t0, t):
+    """s, s', s'' of a rest-to-rest move by D with a trapezoidal velocity profile, from its
+    definition: the time to reach v at a, the cruise that covers the rest, or a triangle (peak
+    sqrt(|D| a)) when |D| < v^2 / a."""
+    sg, D = np.sign(D), abs(D)
+    if D >= v * v / a:
+        ramp, cruise = v / a, (D - v * v / a) / v
+    else:
+        ramp, cruise = np.sqrt(D / a), 0.0
+        v = a * ramp
+    T, tau = 2 * ramp + cruise, t - t0
+    up, flat, down = (tau >= 0) & (tau < ramp), (tau >= ramp) & (tau < ramp + cruise), \
+        (tau >= ramp + cruise) & (tau < T)
+    s = np.select([tau < 0, up, flat, down], [0.0, a * tau ** 2 / 2, a * ramp ** 2 / 2 + v * (tau - ramp),
+                                              D - a * (T - tau) ** 2 / 2], D)
+    ds = np.select([up, flat, down], [a * tau, v, a * (T - tau)], 0.0)
+    dds = np.select([up, flat, down], [a, 0.0, -a], 0.0)
+    return sg * np.stack([s, ds, dds], axis=-1), T
+
+
+@pytest.mark.parametrize("D, v, a, t0", [(2.0, 1.0, 2.0, 0.5), (-0.1, 1.0, 2.0, 0.0),
+                                         (0.75, 0.5, 4.0, -0.3), (1.0, 1.0, 1.0, 0.2)])
+def test_trapezoidal_move_matches_its_closed_form(D, v, a, t0):
+    """Trapezoidal (evaluated by the core as a piecewise polynomial) against the profile written
+    from its definition: s, s', s'' everywhere but at the ramps' ends (where s'' jumps), the peak
+    velocity (max_velocity, or sqrt(|D| a) for a triangle), the duration and the end at rest."""
+    law = ph.Trapezoidal(D, v, a, t0)
+    t = np.linspace(t0 - 0.5, t0 + 4.0, 1237)
+    ref, dur = trapezoid_reference(D, v, a, t0, t)
+    ramp, cruise = law.phases()
+    ends = t0 + np.array([0, ramp, ramp + cruise, dur])
+    away = np.min(np.abs(t[:, None] - ends), axis=1) > 1e-9
+    np.testing.assert_allclose(law.derivatives(t)[away], ref[away], rtol=1e-12, atol=1e-12)
+    assert law.duration() == pytest.approx(dur, rel=1e-14)
+    peak = min(v, np.sqrt(abs(D) * a))   # the cruise's velocity, or a triangle's top
+    assert abs(law.derivatives(t0 + ramp + cruise / 2)[1]) == pytest.approx(peak, rel=1e-12)
+    assert np.max(np.abs(law.derivatives(t)[:, 1])) <= peak * (1 + 1e-12)
+    np.testing.assert_allclose(law.derivatives([t0 + dur, t0 + dur + 10.0]), [[D, 0, 0], [D, 0, 0]],
+                               atol=1e-14)
+    np.testing.assert_allclose(law.shifted(0.25).derivatives(t + 0.25), law.derivatives(t),
+                               atol=1e-13)
+    assert ph.law_from_data(law.to_data()) == law
+
+
+def test_trapezoidal_drives_a_slider_and_refuses_bad_limits():
+    """A prismatic pair driven by a Trapezoidal move follows it (the restarts at the ramps' ends
+    included) and is at rest at distance after it; non-positive limits are refused."""
+    law = ph.Trapezoidal(0.2, 0.25, 1.0, 0.05)
+    m = ph.Mechanism()
+    body = m.add_rigid_body("slider", 0.7, np.eye(3) * 0.01)
+    m.add_pair("rail", ph.Prismatic("x"), m.ground, body, driven=law)
+    r = m.simulate(1.2, 0.01)
+    x = r.joint("rail")["x"][:, 0]
+    np.testing.assert_allclose(x, law.evaluate(r.t), atol=1e-7)
+    assert abs(x[-1] - 0.2) < 1e-7 and abs(r.joint("rail")["xdot"][-1, 0]) < 1e-6
+    for bad in (dict(max_velocity=0.0), dict(max_acceleration=-1.0)):
+        with pytest.raises(ph.ModelError, match="Trapezoidal max_velocity and max_acceleration"):
+            m.add_pair("rail2", ph.Prismatic("x"), m.ground, body, driven=ph.Trapezoidal(**bad))

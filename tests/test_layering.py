@@ -18,7 +18,8 @@ TABLE = (
     ("_codes", "kernel", True),         # the core's code tables (_core.codes()) and stateless kernels
     ("_checks", "kernel", False),       # argument checks, one message style
     ("se3", "kernel", True),            # SE(3)/SO(3) kernels of the core
-    ("laws", "describe", False),        # time laws and their core tuples
+    ("_lawbase", "describe", False),    # the law algebra: _Law, Constant, Sum, Product, Function, core tuples
+    ("laws", "describe", False),        # time laws: the shapes, piecewise polynomials, law_from_data
     ("pairs", "describe", False),       # pair classes from the core's pair table
     ("actuators", "describe", False),   # Effort, PD, Spring
     ("components", "describe", False),  # friction, motors, controllers with internal states

@@ -1,6 +1,6 @@
 /* output.c -- what a simulation hands back at each output time: the recorded poses and twists,
- * multipliers, joint coordinates, rates and efforts, pair wrenches, port energies and the energy
- * ledger; every output checked finite before it counts. */
+ * multipliers, joint coordinates, rates and efforts, pair wrenches, port energies, the energy
+ * ledger and each pair's constraint residual; every output checked finite before it counts. */
 #include "dae.h"
 
 #include <math.h>
@@ -28,7 +28,8 @@ static phm_status check_output(const dae_t *d, const phm_sim_output *out, int io
            {"actuator efforts", out->efforts, (size_t)m->nj},
            {"pair wrenches", out->pwrench, 6 * (size_t)m->np},
            {"port energies", out->ports, (size_t)m->nport},
-           {"component states", out->components, (size_t)m->nz}};
+           {"component states", out->components, (size_t)m->nz},
+           {"constraint residuals", out->constraint_residual, (size_t)m->np}};
   for (size_t k = 0; k < sizeof q / sizeof q[0]; k++) {
     if (!q[k].base || !q[k].n) continue;
     long j = phm_first_nonfinite(q[k].base + i * q[k].n, q[k].n);
@@ -62,9 +63,10 @@ static void record(dae_t *d, const double *y, phm_sim_output *out, int iout, dou
   if (out->lambda && m->ncons)
     memcpy(out->lambda + (size_t)iout * m->ncons, y + d->il, sizeof(double) * m->ncons);
   for (int i = d->im; i < d->n; i++) out->max_mu = fmax(out->max_mu, fabs(y[i]));
-  /* every pair once: joint coordinates and rates, constraint wrenches, the actuators' efforts
-   * (not the position constraints g, which nothing here reads) */
-  dae_eval_pairs(d, time, y, PHM_PAIR_ROWS | PHM_PAIR_JOINT | PHM_PAIR_NO_G);
+  /* every pair once: joint coordinates and rates, constraint wrenches, the actuators' efforts,
+   * and the position constraints g when their residuals are asked for */
+  dae_eval_pairs(d, time, y,
+                 PHM_PAIR_ROWS | PHM_PAIR_JOINT | (out->constraint_residual ? 0 : PHM_PAIR_NO_G));
   for (int ip = 0; ip < m->np; ip++) {
     const phm_pair_data *p = D->pair + ip;
     int j0 = m->pair_j[ip];
@@ -75,6 +77,11 @@ static void record(dae_t *d, const double *y, phm_sim_output *out, int iout, dou
     if (out->pwrench)
       phm_pair_wrench(m, ip, p, y + d->il + m->pair_row[ip],
                       out->pwrench + ((size_t)iout * m->np + ip) * 6);
+    if (out->constraint_residual) {
+      double r = 0.0;
+      for (int k = 0; k < m->pair_m[ip]; k++) r = fmax(r, fabs(p->g[k]));
+      out->constraint_residual[(size_t)iout * m->np + ip] = r;
+    }
   }
   if (out->efforts && m->nj) {
     phm_applied_pairs(m, D->pair, D->H, D->tw, y + d->ix, time, d->tref, 1.0, D->wr, NULL, NULL,

@@ -1,487 +1,13 @@
-/* fmi2.c -- an FMI 2.0 (and 3.0, at the end) co-simulation wrapper around phmech's C core (python/phmech/fmu.py
- * writes the FMU; docs/user_guide.md, "Mechanisms as FMUs").
- *
- * The model comes from resources/model.phm, written by phmech.export_fmu: a sequence of records
- *   key (ASCII, NUL-terminated) | uint64 n (little-endian) | n float64 (little-endian)
- * holding the exact inputs of phm_model_create (the columns of python/phmech/_marshal.py, at
- * the consistent initial configuration phmech found), the integrator options, and the FMU's
- * variables (inputs, outputs). Time laws are encoded as flat numbers (law_decode). No Python.
- *
- * Inputs are held constant over a communication step (zero-order hold): the law of each input
- * (an effort actuator's or an applied wrench's) is a CALLBACK law returning the current input
- * value. fmi2DoStep integrates from the state reached at the end of the previous step
- * (poses, twists, and the joint coordinates as branch references) to t + h with phm_simulate;
- * its consistent-initial-value projection at the start of each step leaves a consistent state
- * unchanged up to the solver's tolerance. */
-#define _POSIX_C_SOURCE 200809L /* strdup */
+/* fmi2.c -- the FMI 2.0 co-simulation functions of phmech's FMU, on the instance of fmu.h
+ * (csrc/fmi/fmu.c: the model file, the model, a step). Value references: the inputs, then the
+ * outputs, all Real. FMU state, derivatives and the non-Real variable types are not supported
+ * (the model description says so). */
+#include "fmu.h"
+
 #include <math.h>
-#include <stdarg.h>
-#include <stdint.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "fmi2Functions.h"
-#include "fmi3Functions.h"
-#include "phmech.h"
-
-#define FMU_FILE "model.phm"
-
-typedef struct {
-  char *key;
-  uint64_t n;
-  double *v;
-} record;
-
-/* Output kinds (python/phmech/fmu.py, _OUT_*). */
-enum { OUT_JOINT = 0, OUT_RATE = 1, OUT_POSITION = 2, OUT_ENERGY = 3 };
-/* Input kinds (python/phmech/fmu.py, _IN_*). */
-enum { IN_ACTUATOR = 0, IN_LOAD = 1 };
-
-typedef struct {
-  int kind, index, comp;
-  double T[16];
-} output_var;
-
-typedef struct {
-  fmi2CallbackFunctions cb;
-  fmi3LogMessageCallback log3; /* FMI 3.0: the logger and its environment */
-  fmi3InstanceEnvironment env3;
-  char *name;
-  int logging;
-  record *rec;
-  int nrec;
-  /* the description (arrays point into rec or into blocks freed with the instance) */
-  phm_model_desc desc;
-  phm_law *law_nodes[8]; /* expression node blocks: one per component kind */
-  phm_model *model;
-  phm_sim_options opt;
-  int nc, nj, npairs;
-  int nin, nout;
-  int *in_kind, *in_index;
-  double *u;          /* current input values */
-  output_var *outv;
-  double *y;          /* current output values */
-  double *H, *T, *x, *xd; /* state at time t: poses, twists, joints, rates */
-  double *x0;         /* npairs x 6 branch references */
-  double t, tstart;
-  int initialized;    /* fmi2ExitInitializationMode done: steps allowed */
-  int outputs_ready;  /* y holds the outputs of the state at t */
-} fmu;
-
-/* ------------------------------------------------------------------ logging */
-static void logf_(fmu *c, fmi2Status st, const char *fmt, ...) {
-  if (!c || (!c->cb.logger && !c->log3)) return;
-  char buf[1024];
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(buf, sizeof buf, fmt, ap);
-  va_end(ap);
-  if (c->log3) { /* fmi2Status and fmi3Status number OK, Warning, Discard, Error alike */
-    c->log3(c->env3, (fmi3Status)st, st == fmi2OK ? "logAll" : "logStatusError", buf);
-    return;
-  }
-  c->cb.logger(c->cb.componentEnvironment, c->name, st, st == fmi2OK ? "logAll" : "logStatusError", "%s", buf);
-}
-
-/* ------------------------------------------------------------------ the file */
-static void free_records(record *r, int n) {
-  for (int i = 0; i < n; i++) {
-    free(r[i].key);
-    free(r[i].v);
-  }
-  free(r);
-}
-
-static int read_records(const char *path, record **out, int *nout, char *msg, size_t nmsg) {
-  FILE *f = fopen(path, "rb");
-  if (!f) {
-    snprintf(msg, nmsg, "cannot open %s", path);
-    return -1;
-  }
-  record *r = NULL;
-  int n = 0, cap = 0;
-  for (;;) {
-    char key[256];
-    int k = 0, ch;
-    while ((ch = fgetc(f)) != EOF && ch != 0 && k < 255) key[k++] = (char)ch;
-    if (ch == EOF && k == 0) break;
-    if (ch != 0) goto bad;
-    key[k] = 0;
-    unsigned char nb[8];
-    if (fread(nb, 1, 8, f) != 8) goto bad;
-    uint64_t cnt = 0;
-    for (int i = 7; i >= 0; i--) cnt = (cnt << 8) | nb[i];
-    if (cnt > (uint64_t)1 << 32) goto bad;
-    if (n == cap) {
-      cap = cap ? 2 * cap : 64;
-      record *nr = realloc(r, (size_t)cap * sizeof *r);
-      if (!nr) goto bad;
-      r = nr;
-    }
-    r[n].key = malloc((size_t)k + 1);
-    r[n].v = malloc(cnt ? (size_t)cnt * sizeof(double) : 1);
-    r[n].n = cnt;
-    if (!r[n].key || !r[n].v) {
-      free(r[n].key);
-      free(r[n].v);
-      goto bad;
-    }
-    memcpy(r[n].key, key, (size_t)k + 1);
-    n++;
-    if (cnt && fread(r[n - 1].v, sizeof(double), (size_t)cnt, f) != cnt) goto bad; /* x86-64: LE */
-  }
-  fclose(f);
-  *out = r;
-  *nout = n;
-  return 0;
-bad:
-  fclose(f);
-  free_records(r, n);
-  snprintf(msg, nmsg, "%s: malformed (not written by phmech.export_fmu?)", path);
-  return -1;
-}
-
-static const record *find(const fmu *c, const char *key) {
-  for (int i = 0; i < c->nrec; i++)
-    if (strcmp(c->rec[i].key, key) == 0) return &c->rec[i];
-  return NULL;
-}
-
-/* The record `kind.key` with n * width numbers (NULL, and *ok = 0, if missing or mis-sized). */
-static const double *col(const fmu *c, const char *kind, const char *key, int n, int width, int *ok) {
-  char k[128];
-  snprintf(k, sizeof k, "%s.%s", kind, key);
-  const record *r = find(c, k);
-  if (!r || r->n != (uint64_t)n * (uint64_t)width) {
-    *ok = 0;
-    return NULL;
-  }
-  return r->v;
-}
-
-/* ------------------------------------------------------------------ laws
- * A law, flat: kind, amplitude, t0, duration, frequency, phase, offset, order, ndata, data[ndata],
- * nnodes, then the nnodes node laws the same way (kind -1: no law). Returns the numbers read, or
- * -1. `nodes`: where an expression's nodes go (a block with room for them: *used advances). */
-static long law_decode(const double *v, long avail, phm_law *law, phm_law *nodes, int room, int *used,
-                       int depth) {
-  memset(law, 0, sizeof *law);
-  if (avail < 10) return -1;
-  law->kind = (int)v[0];
-  law->amplitude = v[1];
-  law->t0 = v[2];
-  law->duration = v[3];
-  law->frequency = v[4];
-  law->phase = v[5];
-  law->offset = v[6];
-  law->order = (int)v[7];
-  long nd = (long)v[8];
-  if (nd < 0 || 9 + nd + 1 > avail) return -1;
-  law->table = nd ? v + 9 : NULL;
-  if (law->kind == PHM_LAW_TABLE) law->ntable = (int)(nd / 2);
-  else if (law->kind == PHM_LAW_PPOLY) law->ntable = law->order > 0 ? (int)((nd - 1) / (law->order + 1)) : 0;
-  else law->ntable = (int)nd;
-  long pos = 9 + nd;
-  int nn = (int)v[pos++];
-  if (nn < 0 || (nn && (depth > 0 || *used + nn > room))) return -1;
-  if (nn) {
-    law->nodes = nodes + *used;
-    law->nnodes = nn;
-    phm_law *mine = nodes + *used;
-    *used += nn;
-    for (int i = 0; i < nn; i++) {
-      long r = law_decode(v + pos, avail - pos, &mine[i], nodes, room, used, depth + 1);
-      if (r < 0) return -1;
-      pos += r;
-    }
-  }
-  return pos;
-}
-
-/* The laws of record `kind.key`, `per` laws per component (n components), into the law field at
- * byte offset `off` (+ j sizeof(phm_law) for the j-th of a component) of each struct. */
-static int decode_laws(fmu *c, const char *kind, const char *key, int n, int per, char *items,
-                       size_t size, size_t off, int slot, int *xbits) {
-  char k[128];
-  snprintf(k, sizeof k, "%s.%s", kind, key);
-  const record *r = find(c, k);
-  if (!r) return n == 0 ? 0 : -1;
-  int room = (int)r->n / 10 + 1, used = 0;
-  phm_law *nodes = calloc((size_t)room, sizeof(phm_law));
-  if (!nodes) return -1;
-  c->law_nodes[slot] = nodes;
-  long pos = 0;
-  for (int i = 0; i < n; i++)
-    for (int j = 0; j < per; j++) {
-      phm_law tmp;
-      long got = law_decode(r->v + pos, (long)r->n - pos, &tmp, nodes, room, &used, 0);
-      if (got < 0) return -1;
-      pos += got;
-      if (tmp.kind < 0) continue;
-      memcpy(items + (size_t)i * size + off + (size_t)j * sizeof(phm_law), &tmp, sizeof tmp);
-      if (xbits) xbits[i] |= 1 << j;
-    }
-  return pos == (long)r->n ? 0 : -1;
-}
-
-/* CALLBACK law of an input: its current value, held. */
-static int input_law(void *ctx, double t, int nder, double out[3]) {
-  (void)t;
-  (void)nder;
-  out[0] = *(const double *)ctx;
-  out[1] = out[2] = 0;
-  return 0;
-}
-
-static int to_i(double v) { return (int)lround(v); }
-
-/* Fill c->desc from the records. 0, or -1 with a message. */
-static int build_desc(fmu *c, char *msg, size_t nmsg) {
-  int ok = 1;
-  const record *sz = find(c, "sizes");
-  if (!sz || sz->n != 7) {
-    snprintf(msg, nmsg, "model file: no sizes record");
-    return -1;
-  }
-  int n[7];
-  for (int i = 0; i < 7; i++) n[i] = to_i(sz->v[i]);
-  phm_carrier_desc *car = calloc((size_t)n[0] + 1, sizeof *car);
-  phm_element_desc *el = calloc((size_t)n[1] + 1, sizeof *el);
-  phm_pair_desc *pr = calloc((size_t)n[2] + 1, sizeof *pr);
-  phm_load_desc *ld = calloc((size_t)n[3] + 1, sizeof *ld);
-  phm_actuator_desc *ac = calloc((size_t)n[4] + 1, sizeof *ac);
-  phm_spring_desc *sp = calloc((size_t)n[5] + 1, sizeof *sp);
-  phm_coupling_desc *cp = calloc((size_t)n[6] + 1, sizeof *cp);
-  c->desc = (phm_model_desc){.ncarriers = n[0], .carriers = car, .nelements = n[1], .elements = el,
-                             .npairs = n[2], .pairs = pr, .nloads = n[3], .loads = ld,
-                             .nactuators = n[4], .actuators = ac, .nsprings = n[5], .springs = sp,
-                             .ncouplings = n[6], .couplings = cp};
-  if (!car || !el || !pr || !ld || !ac || !sp || !cp) {
-    snprintf(msg, nmsg, "out of memory");
-    return -1;
-  }
-  const double *v;
-#define REALS(kind, key, nn, w, dst) \
-  if ((v = col(c, kind, key, nn, w, &ok))) \
-    for (int i = 0; i < nn; i++) memcpy(dst, v + (size_t)i * (w), (w) * sizeof(double));
-  REALS("carriers", "M", n[0], 36, car[i].M)
-  REALS("carriers", "mass", n[0], 1, &car[i].mass)
-  REALS("carriers", "com", n[0], 3, car[i].com)
-  REALS("carriers", "H0", n[0], 16, car[i].H0)
-  REALS("carriers", "t0", n[0], 6, car[i].t0)
-  REALS("elements", "h", n[1], 1, &el[i].h)
-  if ((v = col(c, "elements", "nodes", n[1], 2, &ok)))
-    for (int i = 0; i < n[1]; i++) { el[i].a = to_i(v[2 * i]); el[i].b = to_i(v[2 * i + 1]); }
-  REALS("elements", "K", n[1], 36, el[i].K)
-  REALS("elements", "D", n[1], 36, el[i].D)
-  REALS("elements", "eps_hat", n[1], 6, el[i].eps_hat)
-  if ((v = col(c, "elements", "mass", n[1], 1, &ok)))
-    for (int i = 0; i < n[1]; i++) el[i].mass = to_i(v[i]);
-  REALS("elements", "Ms", n[1], 36, el[i].Ms)
-  REALS("elements", "Mc", n[1], 144, el[i].Mc)
-  if ((v = col(c, "pairs", "type", n[2], 1, &ok)))
-    for (int i = 0; i < n[2]; i++) pr[i].type = to_i(v[i]);
-  if ((v = col(c, "pairs", "carriers", n[2], 2, &ok)))
-    for (int i = 0; i < n[2]; i++) { pr[i].a = to_i(v[2 * i]); pr[i].b = to_i(v[2 * i + 1]); }
-  REALS("pairs", "Ta", n[2], 16, pr[i].Ta)
-  REALS("pairs", "Tb", n[2], 16, pr[i].Tb)
-  if ((v = col(c, "pairs", "driven", n[2], 1, &ok)))
-    for (int i = 0; i < n[2]; i++) pr[i].driven = v[i] != 0;
-  REALS("pairs", "axis", n[2], 6, pr[i].axis)
-  REALS("pairs", "pitch", n[2], 1, &pr[i].pitch)
-  REALS("pairs", "x0", n[2], 6, pr[i].x0)
-  if ((v = col(c, "pairs", "has_x0", n[2], 1, &ok)))
-    for (int i = 0; i < n[2]; i++) pr[i].has_x0 = v[i] != 0;
-  if ((v = col(c, "pairs", "drop", n[2], 1, &ok)))
-    for (int i = 0; i < n[2]; i++) pr[i].drop = to_i(v[i]);
-  if ((v = col(c, "loads", "carrier", n[3], 1, &ok)))
-    for (int i = 0; i < n[3]; i++) ld[i].carrier = to_i(v[i]);
-  if ((v = col(c, "loads", "world", n[3], 1, &ok)))
-    for (int i = 0; i < n[3]; i++) ld[i].world = v[i] != 0;
-  REALS("loads", "point", n[3], 3, ld[i].point)
-  REALS("loads", "w", n[3], 6, ld[i].w)
-  if ((v = col(c, "loads", "reaction", n[3], 1, &ok)))
-    for (int i = 0; i < n[3]; i++) ld[i].reaction = to_i(v[i]);
-  if ((v = col(c, "actuators", "pair", n[4], 1, &ok)))
-    for (int i = 0; i < n[4]; i++) ac[i].pair = to_i(v[i]);
-  if ((v = col(c, "actuators", "kind", n[4], 1, &ok)))
-    for (int i = 0; i < n[4]; i++) ac[i].kind = to_i(v[i]);
-  REALS("actuators", "vec", n[4], 6, ac[i].vec)
-  REALS("actuators", "kp", n[4], 6, ac[i].kp)
-  REALS("actuators", "kd", n[4], 6, ac[i].kd)
-  REALS("actuators", "x_set", n[4], 6, ac[i].x_set)
-  if ((v = col(c, "springs", "carriers", n[5], 2, &ok)))
-    for (int i = 0; i < n[5]; i++) { sp[i].a = to_i(v[2 * i]); sp[i].b = to_i(v[2 * i + 1]); }
-  REALS("springs", "pa", n[5], 3, sp[i].pa)
-  REALS("springs", "pb", n[5], 3, sp[i].pb)
-  REALS("springs", "k", n[5], 1, &sp[i].k)
-  REALS("springs", "c", n[5], 1, &sp[i].c)
-  REALS("springs", "rest_length", n[5], 1, &sp[i].d0)
-  REALS("couplings", "Mc", n[6], 144, cp[i].Mc)
-  if ((v = col(c, "couplings", "carriers", n[6], 2, &ok)))
-    for (int i = 0; i < n[6]; i++) { cp[i].a = to_i(v[2 * i]); cp[i].b = to_i(v[2 * i + 1]); }
-#undef REALS
-  const record *g = find(c, "gravity");
-  if (!g || g->n != 3) ok = 0;
-  else memcpy(c->desc.gravity, g->v, sizeof c->desc.gravity);
-  if (!ok) {
-    snprintf(msg, nmsg, "model file: a record is missing or has the wrong size");
-    return -1;
-  }
-  int *xbits = calloc((size_t)n[2] + 1, sizeof(int));
-  if (!xbits) return -1;
-  int bad = decode_laws(c, "pairs", "law", n[2], 1, (char *)pr, sizeof *pr, offsetof(phm_pair_desc, law), 0, NULL) ||
-            decode_laws(c, "pairs", "xlaws", n[2], 6, (char *)pr, sizeof *pr, offsetof(phm_pair_desc, xlaw), 1, xbits) ||
-            decode_laws(c, "loads", "law", n[3], 1, (char *)ld, sizeof *ld, offsetof(phm_load_desc, law), 2, NULL) ||
-            decode_laws(c, "actuators", "law", n[4], 1, (char *)ac, sizeof *ac, offsetof(phm_actuator_desc, law), 3, NULL);
-  for (int i = 0; i < n[2]; i++) pr[i].xdriven = xbits[i];
-  free(xbits);
-  if (bad) {
-    snprintf(msg, nmsg, "model file: malformed time laws");
-    return -1;
-  }
-  return 0;
-}
-
-/* Inputs, outputs and options. 0 or -1 with a message. */
-static int read_interface(fmu *c, char *msg, size_t nmsg) {
-  const record *in = find(c, "inputs"), *out = find(c, "outputs"), *op = find(c, "options");
-  if (!in || in->n % 3 || !out || out->n % 19 || !op || op->n != 11) {
-    snprintf(msg, nmsg, "model file: no inputs, outputs or options record");
-    return -1;
-  }
-  c->nin = (int)(in->n / 3);
-  c->nout = (int)(out->n / 19);
-  c->in_kind = calloc((size_t)c->nin + 1, sizeof(int));
-  c->in_index = calloc((size_t)c->nin + 1, sizeof(int));
-  c->u = calloc((size_t)c->nin + 1, sizeof(double));
-  c->outv = calloc((size_t)c->nout + 1, sizeof(output_var));
-  c->y = calloc((size_t)c->nout + 1, sizeof(double));
-  if (!c->in_kind || !c->in_index || !c->u || !c->outv || !c->y) return -1;
-  for (int i = 0; i < c->nin; i++) {
-    c->in_kind[i] = to_i(in->v[3 * i]);
-    c->in_index[i] = to_i(in->v[3 * i + 1]);
-    c->u[i] = in->v[3 * i + 2];
-    int lim = c->in_kind[i] == IN_ACTUATOR ? c->desc.nactuators : c->desc.nloads;
-    if (c->in_index[i] < 0 || c->in_index[i] >= lim) {
-      snprintf(msg, nmsg, "model file: input %d out of range", i);
-      return -1;
-    }
-    phm_law *law = c->in_kind[i] == IN_ACTUATOR
-                       ? &((phm_actuator_desc *)c->desc.actuators)[c->in_index[i]].law
-                       : &((phm_load_desc *)c->desc.loads)[c->in_index[i]].law;
-    memset(law, 0, sizeof *law);
-    law->kind = PHM_LAW_CALLBACK;
-    law->fn = input_law;
-    law->ctx = &c->u[i];
-  }
-  for (int i = 0; i < c->nout; i++) {
-    const double *o = out->v + 19 * i;
-    c->outv[i].kind = to_i(o[0]);
-    c->outv[i].index = to_i(o[1]);
-    c->outv[i].comp = to_i(o[2]);
-    memcpy(c->outv[i].T, o + 3, sizeof c->outv[i].T);
-  }
-  const double *v = op->v;
-  memset(&c->opt, 0, sizeof c->opt);
-  c->opt.integrator = to_i(v[0]);
-  c->opt.rtol = v[1];
-  c->opt.atol = v[2];
-  c->opt.linear_solver = to_i(v[3]);
-  c->opt.max_step = v[4];
-  c->opt.ida.max_order = to_i(v[5]);
-  c->opt.ida.error_test = to_i(v[6]);
-  c->opt.galpha.step = v[7];
-  c->opt.galpha.rho_inf = v[8];
-  c->opt.galpha.adaptive = to_i(v[9]);
-  c->opt.galpha.band = v[10];
-  return 0;
-}
-
-/* ------------------------------------------------------------------ outputs */
-static void compute_outputs(fmu *c) {
-  double e[3] = {0, 0, 0};
-  int have_e = 0;
-  for (int i = 0; i < c->nout; i++) {
-    const output_var *o = &c->outv[i];
-    double val = NAN;
-    switch (o->kind) {
-    case OUT_JOINT: val = c->x[o->index]; break;
-    case OUT_RATE: val = c->xd[o->index]; break;
-    case OUT_POSITION: {
-      const double *H = c->H + 16 * o->index, *T = o->T;
-      int r = o->comp;
-      val = H[4 * r + 0] * T[3] + H[4 * r + 1] * T[7] + H[4 * r + 2] * T[11] + H[4 * r + 3];
-      break;
-    }
-    case OUT_ENERGY:
-      if (!have_e) {
-        phm_model_energy(c->model, c->H, c->T, e);
-        have_e = 1;
-      }
-      val = o->comp < 3 ? e[o->comp] : e[0] + e[1] + e[2];
-      break;
-    default: break;
-    }
-    c->y[i] = val;
-  }
-}
-
-/* Integrate from c->t to t1 (nout = 2), or only project the initial state (t1 = c->t, nout = 1);
- * the state becomes the one at t1. */
-static fmi2Status advance(fmu *c, double t1) {
-  int n = t1 > c->t ? 2 : 1;
-  double tout[2] = {c->t, t1};
-  size_t nc = (size_t)c->nc, nj = (size_t)c->nj;
-  double *P = malloc(2 * nc * 16 * sizeof(double)), *W = malloc(2 * nc * 6 * sizeof(double)),
-         *X = malloc(2 * (nj + 1) * sizeof(double)), *XD = malloc(2 * (nj + 1) * sizeof(double));
-  fmi2Status st = fmi2Error;
-  if (!P || !W || !X || !XD) {
-    logf_(c, fmi2Error, "out of memory");
-    goto done;
-  }
-  phm_sim_output out;
-  memset(&out, 0, sizeof out);
-  out.nrecord = c->nc;
-  out.poses = P;
-  out.twists = W;
-  out.joints = X;
-  out.joint_rates = XD;
-  phm_error err;
-  phm_status s = phm_simulate(c->model, c->H, c->T, tout, n, &c->opt, &out, &err);
-  if (s != PHM_OK || out.nout_done != n) {
-    logf_(c, fmi2Error, "phmech: integration from t = %.17g to %.17g s failed: %s", c->t, t1,
-          s != PHM_OK ? err.msg : "stopped early");
-    goto done;
-  }
-  int k = n - 1;
-  memcpy(c->H, P + (size_t)k * nc * 16, nc * 16 * sizeof(double));
-  memcpy(c->T, W + (size_t)k * nc * 6, nc * 6 * sizeof(double));
-  memcpy(c->x, X + (size_t)k * nj, nj * sizeof(double));
-  memcpy(c->xd, XD + (size_t)k * nj, nj * sizeof(double));
-  /* the joint coordinates reached: the branch references of multi-turn angles */
-  for (int ip = 0; ip < c->npairs; ip++) {
-    int row, m, joint, kk;
-    phm_model_pair_layout(c->model, ip, &row, &m, &joint, &kk);
-    for (int j = 0; j < kk; j++) c->x0[6 * ip + j] = c->x[joint + j];
-  }
-  if (phm_model_set_initial(c->model, c->H, c->T, c->x0, NULL, &err) != PHM_OK) {
-    logf_(c, fmi2Error, "phmech: %s", err.msg);
-    goto done;
-  }
-  c->t = t1;
-  compute_outputs(c);
-  st = fmi2OK;
-done:
-  free(P);
-  free(W);
-  free(X);
-  free(XD);
-  return st;
-}
-
-/* ------------------------------------------------------------------ FMI functions */
 const char *fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
 const char *fmi2GetVersion(void) { return fmi2Version; }
 
@@ -493,120 +19,19 @@ fmi2Status fmi2SetDebugLogging(fmi2Component comp, fmi2Boolean on, size_t n, con
   return fmi2OK;
 }
 
-static void free_fmu(fmu *c) {
-  if (!c) return;
-  phm_model_free(c->model);
-  free((void *)c->desc.carriers);
-  free((void *)c->desc.elements);
-  free((void *)c->desc.pairs);
-  free((void *)c->desc.loads);
-  free((void *)c->desc.actuators);
-  free((void *)c->desc.springs);
-  free((void *)c->desc.couplings);
-  for (int i = 0; i < 8; i++) free(c->law_nodes[i]);
-  free_records(c->rec, c->nrec);
-  free(c->in_kind);
-  free(c->in_index);
-  free(c->u);
-  free(c->outv);
-  free(c->y);
-  free(c->H);
-  free(c->T);
-  free(c->x);
-  free(c->xd);
-  free(c->x0);
-  free(c->name);
-  free(c);
-}
-
-/* file:///a/b -> /a/b (percent escapes decoded); a plain path is kept. */
-static void uri_to_path(const char *uri, char *path, size_t n) {
-  const char *s = uri;
-  if (strncmp(s, "file://", 7) == 0) {
-    s += 7;
-    if (strncmp(s, "localhost/", 10) == 0) s += 9;
-  } else if (strncmp(s, "file:", 5) == 0) {
-    s += 5;
-  }
-  size_t k = 0;
-  for (; *s && k + 1 < n; s++) {
-    if (s[0] == '%' && s[1] && s[2]) {
-      char hex[3] = {s[1], s[2], 0};
-      path[k++] = (char)strtol(hex, NULL, 16);
-      s += 2;
-    } else {
-      path[k++] = *s;
-    }
-  }
-  path[k] = 0;
-}
-
-static fmu *load(fmu *c, const char *resources);
-
 fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid, fmi2String resources,
                               const fmi2CallbackFunctions *cb, fmi2Boolean visible, fmi2Boolean logging) {
   (void)guid;
   (void)visible;
-  fmu *c = calloc(1, sizeof *c);
+  fmu *c = fmu_new(name, logging);
   if (!c) return NULL;
   if (cb) c->cb = *cb;
-  c->logging = logging;
-  c->name = strdup(name ? name : "phmech");
-  if (type != fmi2CoSimulation) {
-    logf_(c, fmi2Error, "phmech FMUs are co-simulation FMUs only (fmi2CoSimulation)");
-    free_fmu(c);
-    return NULL;
-  }
-  return load(c, resources);
+  return fmu_load(c, resources, type != fmi2CoSimulation
+                                    ? "phmech FMUs are co-simulation FMUs only (fmi2CoSimulation)"
+                                    : NULL);
 }
 
-/* Read the model file in the folder `resources` (a file:// URI or a path), build the model and
- * the state: c, or NULL (c freed) after logging why. */
-static fmu *load(fmu *c, const char *resources) {
-  if (!resources) {
-    logf_(c, fmi2Error, "no resource location given");
-    free_fmu(c);
-    return NULL;
-  }
-  char path[4096], msg[600];
-  uri_to_path(resources, path, sizeof path - sizeof FMU_FILE - 2);
-  size_t L = strlen(path);
-  if (L && path[L - 1] != '/') strcat(path, "/");
-  strcat(path, FMU_FILE);
-  if (read_records(path, &c->rec, &c->nrec, msg, sizeof msg) || build_desc(c, msg, sizeof msg) ||
-      read_interface(c, msg, sizeof msg)) {
-    logf_(c, fmi2Error, "%s", msg);
-    free_fmu(c);
-    return NULL;
-  }
-  phm_error err;
-  if (phm_model_create(&c->desc, &c->model, &err) != PHM_OK) {
-    logf_(c, fmi2Error, "phmech: the model was refused: %s", err.msg);
-    free_fmu(c);
-    return NULL;
-  }
-  c->nc = phm_model_ncarriers(c->model);
-  c->nj = phm_model_njoints(c->model);
-  c->npairs = phm_model_npairs(c->model);
-  size_t nc = (size_t)c->nc;
-  c->H = malloc(nc * 16 * sizeof(double) + 1);
-  c->T = malloc(nc * 6 * sizeof(double) + 1);
-  c->x = calloc((size_t)c->nj + 1, sizeof(double));
-  c->xd = calloc((size_t)c->nj + 1, sizeof(double));
-  c->x0 = calloc((size_t)c->npairs * 6 + 1, sizeof(double));
-  if (!c->H || !c->T || !c->x || !c->xd || !c->x0) {
-    free_fmu(c);
-    return NULL;
-  }
-  for (size_t i = 0; i < nc; i++) {
-    memcpy(c->H + 16 * i, c->desc.carriers[i].H0, 16 * sizeof(double));
-    memcpy(c->T + 6 * i, c->desc.carriers[i].t0, 6 * sizeof(double));
-  }
-  for (int i = 0; i < c->npairs; i++) memcpy(c->x0 + 6 * i, c->desc.pairs[i].x0, 6 * sizeof(double));
-  return c;
-}
-
-void fmi2FreeInstance(fmi2Component comp) { free_fmu((fmu *)comp); }
+void fmi2FreeInstance(fmi2Component comp) { fmu_free((fmu *)comp); }
 
 fmi2Status fmi2SetupExperiment(fmi2Component comp, fmi2Boolean tolDefined, fmi2Real tol,
                                fmi2Real tstart, fmi2Boolean stopDefined, fmi2Real tstop) {
@@ -625,7 +50,7 @@ fmi2Status fmi2SetupExperiment(fmi2Component comp, fmi2Boolean tolDefined, fmi2R
 fmi2Status fmi2EnterInitializationMode(fmi2Component comp) {
   fmu *c = comp;
   if (!c) return fmi2Error;
-  fmi2Status st = advance(c, c->t);
+  fmi2Status st = fmu_advance(c, c->t);
   c->initialized = 0;
   c->outputs_ready = st == fmi2OK;
   return st;
@@ -634,7 +59,7 @@ fmi2Status fmi2EnterInitializationMode(fmi2Component comp) {
 fmi2Status fmi2ExitInitializationMode(fmi2Component comp) {
   fmu *c = comp;
   if (!c) return fmi2Error;
-  fmi2Status st = advance(c, c->t); /* the consistent initial state and its outputs */
+  fmi2Status st = fmu_advance(c, c->t); /* the consistent initial state and its outputs */
   c->initialized = c->outputs_ready = st == fmi2OK;
   return st;
 }
@@ -651,7 +76,7 @@ fmi2Status fmi2Reset(fmi2Component comp) {
   for (int i = 0; i < c->npairs; i++) memcpy(c->x0 + 6 * i, c->desc.pairs[i].x0, 6 * sizeof(double));
   phm_error err;
   if (phm_model_set_initial(c->model, c->H, c->T, c->x0, NULL, &err) != PHM_OK) return fmi2Error;
-  const record *in = find(c, "inputs");
+  const record *in = fmu_record(c, "inputs");
   for (int i = 0; i < c->nin; i++) c->u[i] = in->v[3 * i + 2];
   c->t = c->tstart;
   c->initialized = c->outputs_ready = 0;
@@ -665,12 +90,12 @@ fmi2Status fmi2GetReal(fmi2Component comp, const fmi2ValueReference vr[], size_t
   for (size_t i = 0; i < n; i++) {
     if (vr[i] < (unsigned)c->nin) value[i] = c->u[vr[i]];
     else if (vr[i] < (unsigned)(c->nin + c->nout) && !c->outputs_ready) {
-      logf_(c, fmi2Error, "fmi2GetReal: the outputs are known from fmi2EnterInitializationMode on");
+      fmu_log(c, fmi2Error, "fmi2GetReal: the outputs are known from fmi2EnterInitializationMode on");
       return fmi2Error;
     } else if (vr[i] < (unsigned)(c->nin + c->nout)) value[i] = c->y[vr[i] - c->nin];
     else if (vr[i] == (unsigned)(c->nin + c->nout)) value[i] = c->t; /* FMI 3.0's independent variable */
     else {
-      logf_(c, fmi2Error, "fmi2GetReal: unknown value reference %u", vr[i]);
+      fmu_log(c, fmi2Error, "fmi2GetReal: unknown value reference %u", vr[i]);
       return fmi2Error;
     }
   }
@@ -682,11 +107,11 @@ fmi2Status fmi2SetReal(fmi2Component comp, const fmi2ValueReference vr[], size_t
   if (!c) return fmi2Error;
   for (size_t i = 0; i < n; i++) {
     if (vr[i] >= (unsigned)c->nin) {
-      logf_(c, fmi2Error, "fmi2SetReal: value reference %u is not an input", vr[i]);
+      fmu_log(c, fmi2Error, "fmi2SetReal: value reference %u is not an input", vr[i]);
       return fmi2Error;
     }
     if (!isfinite(value[i])) {
-      logf_(c, fmi2Error, "fmi2SetReal: input %u set to a non-finite value", vr[i]);
+      fmu_log(c, fmi2Error, "fmi2SetReal: input %u set to a non-finite value", vr[i]);
       return fmi2Error;
     }
     c->u[vr[i]] = value[i];
@@ -697,7 +122,7 @@ fmi2Status fmi2SetReal(fmi2Component comp, const fmi2ValueReference vr[], size_t
 static fmi2Status none(fmi2Component comp, size_t n) {
   if (!comp) return fmi2Error;
   if (n) {
-    logf_(comp, fmi2Error, "this FMU has Real variables only");
+    fmu_log(comp, fmi2Error, "this FMU has Real variables only");
     return fmi2Error;
   }
   return fmi2OK;
@@ -729,7 +154,7 @@ fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t 
 
 /* Not supported (the model description says so: canGetAndSetFMUstate etc. are false). */
 static fmi2Status unsupported(fmi2Component comp, const char *what) {
-  logf_(comp, fmi2Error, "%s is not supported by phmech FMUs", what);
+  fmu_log(comp, fmi2Error, "%s is not supported by phmech FMUs", what);
   return fmi2Error;
 }
 fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *s) { (void)s; return unsupported(c, "fmi2GetFMUstate"); }
@@ -769,18 +194,18 @@ fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h, fmi2Boolean no
   fmu *c = comp;
   if (!c) return fmi2Error;
   if (!c->initialized) {
-    logf_(c, fmi2Error, "fmi2DoStep before fmi2ExitInitializationMode");
+    fmu_log(c, fmi2Error, "fmi2DoStep before fmi2ExitInitializationMode");
     return fmi2Error;
   }
   if (!(h > 0)) {
-    logf_(c, fmi2Error, "fmi2DoStep: step %g s must be > 0", h);
+    fmu_log(c, fmi2Error, "fmi2DoStep: step %g s must be > 0", h);
     return fmi2Error;
   }
   if (fabs(t - c->t) > 1e-9 * fmax(1.0, fabs(t))) {
-    logf_(c, fmi2Error, "fmi2DoStep: t = %.17g s, but the FMU is at %.17g s", t, c->t);
+    fmu_log(c, fmi2Error, "fmi2DoStep: t = %.17g s, but the FMU is at %.17g s", t, c->t);
     return fmi2Error;
   }
-  return advance(c, c->t + h);
+  return fmu_advance(c, c->t + h);
 }
 
 fmi2Status fmi2CancelStep(fmi2Component c) { return unsupported(c, "fmi2CancelStep"); }
@@ -808,396 +233,4 @@ fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind k, fmi2Boo
 fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind k, fmi2String *v) {
   (void)k; (void)v;
   return unsupported(c, "fmi2GetStringStatus");
-}
-
-/* ------------------------------------------------------------------ FMI 3.0 co-simulation
- * The same instance and model file; value references as in FMI 2.0 (inputs, then outputs), all
- * Float64. Event mode, clocks, intermediate updates, FMU state and derivatives are not supported
- * (their functions return fmi3Error, the model description says so). */
-const char *fmi3GetVersion(void) { return fmi3Version; }
-
-static fmi3Status unsupported3(fmi3Instance inst, const char *what) {
-  logf_(inst, fmi2Error, "%s is not supported by phmech FMUs", what);
-  return fmi3Error;
-}
-
-fmi3Status fmi3SetDebugLogging(fmi3Instance inst, fmi3Boolean on, size_t n, const fmi3String cats[]) {
-  (void)n;
-  (void)cats;
-  if (!inst) return fmi3Error;
-  ((fmu *)inst)->logging = on;
-  return fmi3OK;
-}
-
-fmi3Instance fmi3InstantiateCoSimulation(fmi3String name, fmi3String token, fmi3String resources,
-                                         fmi3Boolean visible, fmi3Boolean logging, fmi3Boolean eventModeUsed,
-                                         fmi3Boolean earlyReturnAllowed, const fmi3ValueReference req[],
-                                         size_t nreq, fmi3InstanceEnvironment env,
-                                         fmi3LogMessageCallback logMessage,
-                                         fmi3IntermediateUpdateCallback intermediateUpdate) {
-  (void)token; (void)visible; (void)earlyReturnAllowed; (void)req; (void)nreq; (void)intermediateUpdate;
-  fmu *c = calloc(1, sizeof *c);
-  if (!c) return NULL;
-  c->log3 = logMessage;
-  c->env3 = env;
-  c->logging = logging;
-  c->name = strdup(name ? name : "phmech");
-  if (eventModeUsed) {
-    logf_(c, fmi2Error, "phmech FMUs have no event mode (eventModeUsed must be false)");
-    free_fmu(c);
-    return NULL;
-  }
-  return load(c, resources);
-}
-
-void fmi3FreeInstance(fmi3Instance inst) { free_fmu((fmu *)inst); }
-
-fmi3Status fmi3EnterInitializationMode(fmi3Instance inst, fmi3Boolean tolDefined, fmi3Float64 tol,
-                                       fmi3Float64 tstart, fmi3Boolean stopDefined, fmi3Float64 tstop) {
-  if (fmi2SetupExperiment(inst, tolDefined, tol, tstart, stopDefined, tstop) != fmi2OK) return fmi3Error;
-  return (fmi3Status)fmi2EnterInitializationMode(inst);
-}
-fmi3Status fmi3ExitInitializationMode(fmi3Instance inst) { return (fmi3Status)fmi2ExitInitializationMode(inst); }
-fmi3Status fmi3EnterStepMode(fmi3Instance inst) { return inst ? fmi3OK : fmi3Error; }
-fmi3Status fmi3Terminate(fmi3Instance inst) { return inst ? fmi3OK : fmi3Error; }
-fmi3Status fmi3Reset(fmi3Instance inst) { return (fmi3Status)fmi2Reset(inst); }
-
-fmi3Status fmi3GetFloat64(fmi3Instance inst, const fmi3ValueReference vr[], size_t nvr, fmi3Float64 v[],
-                          size_t nv) {
-  if (nv != nvr) return unsupported3(inst, "fmi3GetFloat64 of array variables");
-  return (fmi3Status)fmi2GetReal(inst, vr, nvr, v);
-}
-fmi3Status fmi3SetFloat64(fmi3Instance inst, const fmi3ValueReference vr[], size_t nvr,
-                          const fmi3Float64 v[], size_t nv) {
-  if (nv != nvr) return unsupported3(inst, "fmi3SetFloat64 of array variables");
-  return (fmi3Status)fmi2SetReal(inst, vr, nvr, v);
-}
-
-fmi3Status fmi3DoStep(fmi3Instance inst, fmi3Float64 t, fmi3Float64 h, fmi3Boolean noSetPrior,
-                      fmi3Boolean *eventHandlingNeeded, fmi3Boolean *terminateSimulation,
-                      fmi3Boolean *earlyReturn, fmi3Float64 *lastSuccessfulTime) {
-  fmi3Status st = (fmi3Status)fmi2DoStep(inst, t, h, noSetPrior);
-  if (eventHandlingNeeded) *eventHandlingNeeded = fmi3False;
-  if (terminateSimulation) *terminateSimulation = st != fmi3OK;
-  if (earlyReturn) *earlyReturn = fmi3False;
-  if (lastSuccessfulTime && inst) *lastSuccessfulTime = ((fmu *)inst)->t;
-  return st;
-}
-
-/* the rest of FMI 3.0's functions: not supported */
-fmi3Instance fmi3InstantiateModelExchange(fmi3String instanceName, fmi3String instantiationToken, fmi3String resourcePath, fmi3Boolean visible, fmi3Boolean loggingOn, fmi3InstanceEnvironment instanceEnvironment, fmi3LogMessageCallback logMessage) {
-  (void)instantiationToken; (void)resourcePath; (void)visible; (void)loggingOn; (void)instanceEnvironment; (void)logMessage;
-  (void)instanceName;
-  return NULL; /* co-simulation only */
-}
-
-fmi3Instance fmi3InstantiateScheduledExecution(fmi3String instanceName, fmi3String instantiationToken, fmi3String resourcePath, fmi3Boolean visible, fmi3Boolean loggingOn, fmi3InstanceEnvironment instanceEnvironment, fmi3LogMessageCallback logMessage, fmi3ClockUpdateCallback clockUpdate, fmi3LockPreemptionCallback lockPreemption, fmi3UnlockPreemptionCallback unlockPreemption) {
-  (void)instantiationToken; (void)resourcePath; (void)visible; (void)loggingOn; (void)instanceEnvironment; (void)logMessage; (void)clockUpdate; (void)lockPreemption; (void)unlockPreemption;
-  (void)instanceName;
-  return NULL; /* co-simulation only */
-}
-
-fmi3Status fmi3EnterEventMode(fmi3Instance instance) {
-  
-  return unsupported3(instance, "fmi3EnterEventMode");
-}
-
-fmi3Status fmi3GetFloat32(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Float32 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetFloat32");
-}
-
-fmi3Status fmi3GetInt8(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Int8 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetInt8");
-}
-
-fmi3Status fmi3GetUInt8(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3UInt8 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetUInt8");
-}
-
-fmi3Status fmi3GetInt16(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Int16 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetInt16");
-}
-
-fmi3Status fmi3GetUInt16(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3UInt16 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetUInt16");
-}
-
-fmi3Status fmi3GetInt32(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Int32 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetInt32");
-}
-
-fmi3Status fmi3GetUInt32(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3UInt32 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetUInt32");
-}
-
-fmi3Status fmi3GetInt64(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Int64 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetInt64");
-}
-
-fmi3Status fmi3GetUInt64(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3UInt64 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetUInt64");
-}
-
-fmi3Status fmi3GetBoolean(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Boolean values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetBoolean");
-}
-
-fmi3Status fmi3GetString(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3String values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetString");
-}
-
-fmi3Status fmi3GetBinary(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, size_t valueSizes[], fmi3Binary values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)valueSizes; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetBinary");
-}
-
-fmi3Status fmi3GetClock(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Clock values[]) {
-  (void)valueReferences; (void)nValueReferences; (void)values;
-  return unsupported3(instance, "fmi3GetClock");
-}
-
-fmi3Status fmi3SetFloat32(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Float32 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3SetFloat32");
-}
-
-fmi3Status fmi3SetInt8(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Int8 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3SetInt8");
-}
-
-fmi3Status fmi3SetUInt8(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3UInt8 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3SetUInt8");
-}
-
-fmi3Status fmi3SetInt16(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Int16 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3SetInt16");
-}
-
-fmi3Status fmi3SetUInt16(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3UInt16 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3SetUInt16");
-}
-
-fmi3Status fmi3SetInt32(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Int32 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3SetInt32");
-}
-
-fmi3Status fmi3SetUInt32(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3UInt32 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3SetUInt32");
-}
-
-fmi3Status fmi3SetInt64(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Int64 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3SetInt64");
-}
-
-fmi3Status fmi3SetUInt64(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3UInt64 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3SetUInt64");
-}
-
-fmi3Status fmi3SetBoolean(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Boolean values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3SetBoolean");
-}
-
-fmi3Status fmi3SetString(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3String values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3SetString");
-}
-
-fmi3Status fmi3SetBinary(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const size_t valueSizes[], const fmi3Binary values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)valueSizes; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3SetBinary");
-}
-
-fmi3Status fmi3SetClock(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Clock values[]) {
-  (void)valueReferences; (void)nValueReferences; (void)values;
-  return unsupported3(instance, "fmi3SetClock");
-}
-
-fmi3Status fmi3GetNumberOfVariableDependencies(fmi3Instance instance, fmi3ValueReference valueReference, size_t* nDependencies) {
-  (void)valueReference; (void)nDependencies;
-  return unsupported3(instance, "fmi3GetNumberOfVariableDependencies");
-}
-
-fmi3Status fmi3GetVariableDependencies(fmi3Instance instance, fmi3ValueReference dependent, size_t elementIndicesOfDependent[], fmi3ValueReference independents[], size_t elementIndicesOfIndependents[], fmi3DependencyKind dependencyKinds[], size_t nDependencies) {
-  (void)dependent; (void)elementIndicesOfDependent; (void)independents; (void)elementIndicesOfIndependents; (void)dependencyKinds; (void)nDependencies;
-  return unsupported3(instance, "fmi3GetVariableDependencies");
-}
-
-fmi3Status fmi3GetFMUState(fmi3Instance instance, fmi3FMUState* FMUState) {
-  (void)FMUState;
-  return unsupported3(instance, "fmi3GetFMUState");
-}
-
-fmi3Status fmi3SetFMUState(fmi3Instance instance, fmi3FMUState FMUState) {
-  (void)FMUState;
-  return unsupported3(instance, "fmi3SetFMUState");
-}
-
-fmi3Status fmi3FreeFMUState(fmi3Instance instance, fmi3FMUState* FMUState) {
-  (void)FMUState;
-  return unsupported3(instance, "fmi3FreeFMUState");
-}
-
-fmi3Status fmi3SerializedFMUStateSize(fmi3Instance instance, fmi3FMUState FMUState, size_t* size) {
-  (void)FMUState; (void)size;
-  return unsupported3(instance, "fmi3SerializedFMUStateSize");
-}
-
-fmi3Status fmi3SerializeFMUState(fmi3Instance instance, fmi3FMUState FMUState, fmi3Byte serializedState[], size_t size) {
-  (void)FMUState; (void)serializedState; (void)size;
-  return unsupported3(instance, "fmi3SerializeFMUState");
-}
-
-fmi3Status fmi3DeserializeFMUState(fmi3Instance instance, const fmi3Byte serializedState[], size_t size, fmi3FMUState* FMUState) {
-  (void)serializedState; (void)size; (void)FMUState;
-  return unsupported3(instance, "fmi3DeserializeFMUState");
-}
-
-fmi3Status fmi3GetDirectionalDerivative(fmi3Instance instance, const fmi3ValueReference unknowns[], size_t nUnknowns, const fmi3ValueReference knowns[], size_t nKnowns, const fmi3Float64 seed[], size_t nSeed, fmi3Float64 sensitivity[], size_t nSensitivity) {
-  (void)unknowns; (void)nUnknowns; (void)knowns; (void)nKnowns; (void)seed; (void)nSeed; (void)sensitivity; (void)nSensitivity;
-  return unsupported3(instance, "fmi3GetDirectionalDerivative");
-}
-
-fmi3Status fmi3GetAdjointDerivative(fmi3Instance instance, const fmi3ValueReference unknowns[], size_t nUnknowns, const fmi3ValueReference knowns[], size_t nKnowns, const fmi3Float64 seed[], size_t nSeed, fmi3Float64 sensitivity[], size_t nSensitivity) {
-  (void)unknowns; (void)nUnknowns; (void)knowns; (void)nKnowns; (void)seed; (void)nSeed; (void)sensitivity; (void)nSensitivity;
-  return unsupported3(instance, "fmi3GetAdjointDerivative");
-}
-
-fmi3Status fmi3EnterConfigurationMode(fmi3Instance instance) {
-  
-  return unsupported3(instance, "fmi3EnterConfigurationMode");
-}
-
-fmi3Status fmi3ExitConfigurationMode(fmi3Instance instance) {
-  
-  return unsupported3(instance, "fmi3ExitConfigurationMode");
-}
-
-fmi3Status fmi3GetIntervalDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Float64 intervals[], fmi3IntervalQualifier qualifiers[]) {
-  (void)valueReferences; (void)nValueReferences; (void)intervals; (void)qualifiers;
-  return unsupported3(instance, "fmi3GetIntervalDecimal");
-}
-
-fmi3Status fmi3GetIntervalFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3UInt64 counters[], fmi3UInt64 resolutions[], fmi3IntervalQualifier qualifiers[]) {
-  (void)valueReferences; (void)nValueReferences; (void)counters; (void)resolutions; (void)qualifiers;
-  return unsupported3(instance, "fmi3GetIntervalFraction");
-}
-
-fmi3Status fmi3GetShiftDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Float64 shifts[]) {
-  (void)valueReferences; (void)nValueReferences; (void)shifts;
-  return unsupported3(instance, "fmi3GetShiftDecimal");
-}
-
-fmi3Status fmi3GetShiftFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3UInt64 counters[], fmi3UInt64 resolutions[]) {
-  (void)valueReferences; (void)nValueReferences; (void)counters; (void)resolutions;
-  return unsupported3(instance, "fmi3GetShiftFraction");
-}
-
-fmi3Status fmi3SetIntervalDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Float64 intervals[]) {
-  (void)valueReferences; (void)nValueReferences; (void)intervals;
-  return unsupported3(instance, "fmi3SetIntervalDecimal");
-}
-
-fmi3Status fmi3SetIntervalFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3UInt64 counters[], const fmi3UInt64 resolutions[]) {
-  (void)valueReferences; (void)nValueReferences; (void)counters; (void)resolutions;
-  return unsupported3(instance, "fmi3SetIntervalFraction");
-}
-
-fmi3Status fmi3SetShiftDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Float64 shifts[]) {
-  (void)valueReferences; (void)nValueReferences; (void)shifts;
-  return unsupported3(instance, "fmi3SetShiftDecimal");
-}
-
-fmi3Status fmi3SetShiftFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3UInt64 counters[], const fmi3UInt64 resolutions[]) {
-  (void)valueReferences; (void)nValueReferences; (void)counters; (void)resolutions;
-  return unsupported3(instance, "fmi3SetShiftFraction");
-}
-
-fmi3Status fmi3EvaluateDiscreteStates(fmi3Instance instance) {
-  
-  return unsupported3(instance, "fmi3EvaluateDiscreteStates");
-}
-
-fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean* discreteStatesNeedUpdate, fmi3Boolean* terminateSimulation, fmi3Boolean* nominalsOfContinuousStatesChanged, fmi3Boolean* valuesOfContinuousStatesChanged, fmi3Boolean* nextEventTimeDefined, fmi3Float64* nextEventTime) {
-  (void)discreteStatesNeedUpdate; (void)terminateSimulation; (void)nominalsOfContinuousStatesChanged; (void)valuesOfContinuousStatesChanged; (void)nextEventTimeDefined; (void)nextEventTime;
-  return unsupported3(instance, "fmi3UpdateDiscreteStates");
-}
-
-fmi3Status fmi3EnterContinuousTimeMode(fmi3Instance instance) {
-  
-  return unsupported3(instance, "fmi3EnterContinuousTimeMode");
-}
-
-fmi3Status fmi3CompletedIntegratorStep(fmi3Instance instance, fmi3Boolean noSetFMUStatePriorToCurrentPoint, fmi3Boolean* enterEventMode, fmi3Boolean* terminateSimulation) {
-  (void)noSetFMUStatePriorToCurrentPoint; (void)enterEventMode; (void)terminateSimulation;
-  return unsupported3(instance, "fmi3CompletedIntegratorStep");
-}
-
-fmi3Status fmi3SetTime(fmi3Instance instance, fmi3Float64 time) {
-  (void)time;
-  return unsupported3(instance, "fmi3SetTime");
-}
-
-fmi3Status fmi3SetContinuousStates(fmi3Instance instance, const fmi3Float64 continuousStates[], size_t nContinuousStates) {
-  (void)continuousStates; (void)nContinuousStates;
-  return unsupported3(instance, "fmi3SetContinuousStates");
-}
-
-fmi3Status fmi3GetContinuousStateDerivatives(fmi3Instance instance, fmi3Float64 derivatives[], size_t nContinuousStates) {
-  (void)derivatives; (void)nContinuousStates;
-  return unsupported3(instance, "fmi3GetContinuousStateDerivatives");
-}
-
-fmi3Status fmi3GetEventIndicators(fmi3Instance instance, fmi3Float64 eventIndicators[], size_t nEventIndicators) {
-  (void)eventIndicators; (void)nEventIndicators;
-  return unsupported3(instance, "fmi3GetEventIndicators");
-}
-
-fmi3Status fmi3GetContinuousStates(fmi3Instance instance, fmi3Float64 continuousStates[], size_t nContinuousStates) {
-  (void)continuousStates; (void)nContinuousStates;
-  return unsupported3(instance, "fmi3GetContinuousStates");
-}
-
-fmi3Status fmi3GetNominalsOfContinuousStates(fmi3Instance instance, fmi3Float64 nominals[], size_t nContinuousStates) {
-  (void)nominals; (void)nContinuousStates;
-  return unsupported3(instance, "fmi3GetNominalsOfContinuousStates");
-}
-
-fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance instance, size_t* nEventIndicators) {
-  (void)nEventIndicators;
-  return unsupported3(instance, "fmi3GetNumberOfEventIndicators");
-}
-
-fmi3Status fmi3GetNumberOfContinuousStates(fmi3Instance instance, size_t* nContinuousStates) {
-  (void)nContinuousStates;
-  return unsupported3(instance, "fmi3GetNumberOfContinuousStates");
-}
-
-fmi3Status fmi3GetOutputDerivatives(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Int32 orders[], fmi3Float64 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)orders; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetOutputDerivatives");
-}
-
-fmi3Status fmi3ActivateModelPartition(fmi3Instance instance, fmi3ValueReference clockReference, fmi3Float64 activationTime) {
-  (void)clockReference; (void)activationTime;
-  return unsupported3(instance, "fmi3ActivateModelPartition");
 }

@@ -20,7 +20,7 @@
 phm_status phm_error_set(phm_error *err, phm_status code, const char *fmt, ...); /* record code and message; returns code */
 void phm_error_clear(phm_error *err);                                             /* PHM_OK, empty message            */
 
-/* ---------------------------------------------------------------- SO(3), SE(3), quaternions (csrc/util/se3.c) */
+/* ---------------------------------------------------------------- SO(3), SE(3), quaternions (csrc/util/se3.c, quat.c, se3_dexp_partials.c) */
 void phm_so3_hat(const double w[3], double W[9]);        /* W = hat(w), W x = w cross x          */
 void phm_so3_vee(const double W[9], double w[3]);        /* inverse of hat (skew part)           */
 void phm_so3_exp(const double w[3], double R[9]);        /* Rodrigues, series near 0             */
@@ -92,7 +92,7 @@ void phm_model_pair_layout(const phm_model *model, int ip, int *row, int *m, int
 phm_status phm_model_set_initial(phm_model *model, const double *H0, const double *t0,
                                  const double *x0, const int *drop, phm_error *err);
 
-/* ---------------------------------------------------------------- pairs (csrc/model/pair.c) */
+/* ---------------------------------------------------------------- pairs (csrc/model/pair_types.c, pair.c) */
 int phm_pair_type_count(void);                                   /* number of pair types          */
 const phm_pair_type_info *phm_pair_type(int type);               /* the pair table: names, k, m, units, directions; NULL if unknown */
 /* Relative pose h (4x4) of a pair type's frames at joint coordinates x (k of them). */

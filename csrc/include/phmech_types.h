@@ -166,7 +166,7 @@ typedef struct {
   double Mc[144];    /* symmetric 12 x 12 on [t_a; t_b]                                   */
 } phm_coupling_desc;
 
-/* A pair type: a row of THE pair table (csrc/model/pair.c, the only place that defines pair
+/* A pair type: a row of THE pair table (csrc/model/pair_types.c, the only place that defines pair
  * types; phm_pair_type(i) returns row i, phm_pair_type_count() the number of rows; Python builds its
  * pair classes from it). Joint axis = local z of both pair frames unless the row says otherwise. */
 typedef struct {
@@ -500,6 +500,9 @@ typedef struct {
   double *ports;   /* [nout][nports] energy supplied through each port, J (actuators: int u.xdot;
                     * loads: int w.t; springs: minus the dissipated energy)              */
   double *components; /* [nout][ncompstates] the components' internal states (phm_model_ncompstates) */
+  double *constraint_residual; /* [nout][npairs] each pair's position constraint residual: the
+                    * largest |g| of its kept rows (rad for rotation rows, m for translation
+                    * rows; 0 for a pair without rows) */
   int nout_done;   /* outputs filled                                    */
   long nsteps, nres, njac, nniters, netf, nncf; /* integrator statistics (IDA or GALPHA) */
   long nfloor;     /* adaptive GALPHA: steps accepted above the tolerance (at the refinement's
@@ -531,7 +534,7 @@ enum {
   PHM_RESULT_POSES = 0, PHM_RESULT_TWISTS = 1, PHM_RESULT_LAMBDA = 2, PHM_RESULT_ENERGY = 3,
   PHM_RESULT_JOINTS = 4, PHM_RESULT_JOINT_RATES = 5, PHM_RESULT_EFFORTS = 6,
   PHM_RESULT_PAIR_WRENCHES = 7, PHM_RESULT_PORTS = 8, PHM_RESULT_COMPONENTS = 9,
-  PHM_NRESULT_FIELDS = 10
+  PHM_RESULT_CONSTRAINT_RESIDUAL = 10, PHM_NRESULT_FIELDS = 11
 };
 
 /* ---------------------------------------------------------------- code tables (csrc/util/codes.c) */

@@ -210,23 +210,22 @@ static double ida_atol(const dae_t *d, int i, double atol) {
   return i >= d->ie && i < d->il ? PHM_IDA_LEDGER_ATOL : dae_state_atol(d, i, atol);
 }
 
-static void add_stats(void *mem, phm_sim_output *out) {
+/* One of IDA's counters (0 where IDA does not give it). */
+static long ida_count(int (*get)(void *, long *), void *mem) {
   long a = 0;
-  if (IDAGetNumSteps(mem, &a) == 0) out->nsteps += a;
-  a = 0;
-  if (IDAGetNumResEvals(mem, &a) == 0) out->nres += a;
-  a = 0;
+  return get(mem, &a) == 0 ? a : 0;
+}
+
+static void add_stats(void *mem, phm_sim_output *out) {
+  out->nsteps += ida_count(IDAGetNumSteps, mem);
+  out->nres += ida_count(IDAGetNumResEvals, mem);
   /* the residuals IDA's linear solver spends on difference quotients: none with ida_jac and
    * ida_jac_dense (tests/test_solver_robustness.py holds the dense run's count to that) */
-  if (IDAGetNumLinResEvals(mem, &a) == 0) out->nres += a;
-  a = 0;
-  if (IDAGetNumJacEvals(mem, &a) == 0) out->njac += a;
-  a = 0;
-  if (IDAGetNumNonlinSolvIters(mem, &a) == 0) out->nniters += a;
-  a = 0;
-  if (IDAGetNumErrTestFails(mem, &a) == 0) out->netf += a;
-  a = 0;
-  if (IDAGetNumNonlinSolvConvFails(mem, &a) == 0) out->nncf += a;
+  out->nres += ida_count(IDAGetNumLinResEvals, mem);
+  out->njac += ida_count(IDAGetNumJacEvals, mem);
+  out->nniters += ida_count(IDAGetNumNonlinSolvIters, mem);
+  out->netf += ida_count(IDAGetNumErrTestFails, mem);
+  out->nncf += ida_count(IDAGetNumNonlinSolvConvFails, mem);
   double h = 0;
   if (IDAGetLastStep(mem, &h) == 0) out->last_step = h;
   int q = 0;

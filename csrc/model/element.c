@@ -79,6 +79,18 @@ static void blocks6(const double A[9], const double L[9], int tr, double M[36]) 
     }
 }
 
+/* The damping stress of a strain rate: rate = (B tb - A ta)/h (6x6 row-major A, B), sig += D rate
+ * (the tangent's stress, and each of its derivatives with dA_k, dB_k). */
+static void damping_add(const phm_element_desc *e, const double B[36], const double A[36],
+                        const double tb[6], const double ta[6], double rate[6], double sig[6]) {
+  double xb[6], xa[6], s2[6];
+  phm_mv6(B, tb, xb);
+  phm_mv6(A, ta, xa);
+  for (int i = 0; i < 6; i++) rate[i] = (xb[i] - xa[i]) / e->h;
+  phm_mv6(e->D, rate, s2);
+  for (int i = 0; i < 6; i++) sig[i] += s2[i];
+}
+
 /* The fused evaluation (docs/method.md section 4.2, "Tangent"): with A = dexp_X^-1, B = dexp_{-X}^-1,
  * a perturbation Ha -> Ha exp(da), Hb -> Hb exp(db) moves X by dX = B db - A da; the wrenches
  * wa = A^T sigma, wb = -B^T sigma, with sigma = K (X/h - eps_hat) + D (B tb - A ta)/h, vary by
@@ -98,14 +110,7 @@ void phm_element_tangent(const phm_element_desc *e, const double Ha[16], const d
   blocks6(Ab, Lb, 1, B);
   for (int i = 0; i < 6; i++) de[i] = X[i] / e->h - e->eps_hat[i];
   phm_mv6(e->K, de, sig);
-  if (damp) {
-    double xb[6], xa[6], s2[6];
-    phm_mv6(B, tb, xb);
-    phm_mv6(A, ta, xa);
-    for (int i = 0; i < 6; i++) ed[i] = (xb[i] - xa[i]) / e->h;
-    phm_mv6(e->D, ed, s2);
-    for (int i = 0; i < 6; i++) sig[i] += s2[i];
-  }
+  if (damp) damping_add(e, B, A, tb, ta, ed, sig);
   phm_mtv6(A, sig, wa);
   phm_mtv6(B, sig, wb);
   for (int i = 0; i < 6; i++) wb[i] = -wb[i];
@@ -116,12 +121,8 @@ void phm_element_tangent(const phm_element_desc *e, const double Ha[16], const d
     blocks6(dAi[k], dL[k], 1, dB);
     for (int i = 0; i < 6; i++) ds[i] = e->K[6 * i + k] / e->h;
     if (damp) {
-      double xb[6], xa[6], s2[6], dd[6];
-      phm_mv6(dB, tb, xb);
-      phm_mv6(dA, ta, xa);
-      for (int i = 0; i < 6; i++) dd[i] = (xb[i] - xa[i]) / e->h;
-      phm_mv6(e->D, dd, s2);
-      for (int i = 0; i < 6; i++) ds[i] += s2[i];
+      double dd[6];
+      damping_add(e, dB, dA, tb, ta, dd, ds);
     }
     phm_mtv6(dA, sig, t1);
     phm_mtv6(A, ds, t2);

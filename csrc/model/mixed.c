@@ -239,38 +239,30 @@ static int mgs_column(double *U, int n, int k, const double *v) {
   return 1;
 }
 
+/* X <- X - U (U^T X) for the m x m matrix X whose entry (a, b) is C[a rs + b cs]: C itself
+ * (rs = m, cs = 1) or its transpose (rs = 1, cs = m: then C <- C - (C U) U^T, the same sums in
+ * the same order); U m x k (row stride 4), W scratch of m x 4. */
+static void project_out(double *C, size_t rs, size_t cs, int m, const double *U, int k, double *W) {
+  for (int j = 0; j < m; j++)
+    for (int q = 0; q < k; q++) {
+      double acc = 0.0;
+      for (int i = 0; i < m; i++) acc += U[(size_t)i * 4 + q] * C[(size_t)i * rs + (size_t)j * cs];
+      W[(size_t)j * 4 + q] = acc;
+    }
+  for (int i = 0; i < m; i++)
+    for (int j = 0; j < m; j++) {
+      double acc = 0.0;
+      for (int q = 0; q < k; q++) acc += U[(size_t)i * 4 + q] * W[(size_t)j * 4 + q];
+      C[(size_t)i * rs + (size_t)j * cs] -= acc;
+    }
+}
+
 /* C <- (I - Ul Ul^T) C (I - Ur Ur^T), C m x m row-major, Ul m x kl, Ur m x kr (row stride 4),
  * W scratch of m x 4. */
 static void project(double *C, int m, const double *Ul, int kl, const double *Ur, int kr,
                     double *W) {
-  if (kr > 0) { /* C <- C - (C Ur) Ur^T */
-    for (int i = 0; i < m; i++)
-      for (int q = 0; q < kr; q++) {
-        double acc = 0.0;
-        for (int j = 0; j < m; j++) acc += C[(size_t)i * m + j] * Ur[(size_t)j * 4 + q];
-        W[(size_t)i * 4 + q] = acc;
-      }
-    for (int i = 0; i < m; i++)
-      for (int j = 0; j < m; j++) {
-        double acc = 0.0;
-        for (int q = 0; q < kr; q++) acc += W[(size_t)i * 4 + q] * Ur[(size_t)j * 4 + q];
-        C[(size_t)i * m + j] -= acc;
-      }
-  }
-  if (kl > 0) { /* C <- C - Ul (Ul^T C) */
-    for (int j = 0; j < m; j++)
-      for (int q = 0; q < kl; q++) {
-        double acc = 0.0;
-        for (int i = 0; i < m; i++) acc += Ul[(size_t)i * 4 + q] * C[(size_t)i * m + j];
-        W[(size_t)j * 4 + q] = acc;
-      }
-    for (int i = 0; i < m; i++)
-      for (int j = 0; j < m; j++) {
-        double acc = 0.0;
-        for (int q = 0; q < kl; q++) acc += Ul[(size_t)i * 4 + q] * W[(size_t)j * 4 + q];
-        C[(size_t)i * m + j] -= acc;
-      }
-  }
+  if (kr > 0) project_out(C, 1, (size_t)m, m, Ur, kr, W); /* C <- C - (C Ur) Ur^T */
+  if (kl > 0) project_out(C, (size_t)m, 1, m, Ul, kl, W); /* C <- C - Ul (Ul^T C) */
 }
 
 /* Frequencies. With z = S x, S = Q^1/2, the closed chain is z' = A z + G lambda, A = S J S skew,

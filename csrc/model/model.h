@@ -1,5 +1,5 @@
 /* model.h -- the immutable model (struct phm_model) and the kernels every later stage reads:
- * pairs (csrc/model/pair.c), the se3 beam element (element.c), applied wrenches (applied.c),
+ * pair types (csrc/model/pair_types.c), pairs (pair.c), the se3 beam element (element.c), applied wrenches (applied.c),
  * energy (energy.c), the coupling graph of carriers and pairs (graph.c). Private to csrc/ and the
  * C tests. */
 #ifndef PHM_MODEL_H
@@ -34,7 +34,7 @@ struct phm_model {
   phm_law *lawnodes; /* owned copies of the expression laws' nodes */
   double lref;      /* length scale for finite differences, m */
   int pair_general; /* 0 (phm_model_create): pairs through their closed forms and structural
-                     * shortcuts (pair.c); 1: the table's general path alone -- the C tests
+                     * shortcuts (pair_types.c, pair.c); 1: the table's general path alone -- the C tests
                      * set it to compare the two                                           */
   int nmc;          /* mass couplings: the elements' (CONSISTENT or GIVEN, in element order),
                      * then the description's couplings without an element                */
@@ -52,7 +52,7 @@ struct phm_model {
 /* tref for the interval [t, ...): midpoint between t and the next breakpoint (or t + 1). */
 double phm_model_tref(const phm_model *m, double t, double *next_bp);
 
-/* ---------------------------------------------------------------- pairs (pair.c) */
+/* ---------------------------------------------------------------- pair types (pair_types.c) */
 /* Kinematics of a pair type at relative pose h (docs/method.md section 4): position constraints
  * g (m), constraint-wrench basis W (6 x 6 row-major, first m columns used), dual effort basis Phi
  * (6 x 6, first k columns), joint coordinates x (k), angles nearest xref (NULL: principal
@@ -73,6 +73,15 @@ void phm_pair_kin_general(int type, double pitch, const double h[16], const doub
                           double *g, double *W, double *Phi, double *x, double *Dg, double *DW,
                           double *DPhi, double *Dx);
 
+/* The kinematics of a type as a model's pair evaluates it (pair.c): the closed form where the
+ * type has one (general = 0), else the table's switch. DW, DPhi of a closed form with constant
+ * bases are zero-filled, or, with constant (not NULL), left as they are and *constant = 1 (the
+ * pair's rows then skip them). phm_pair_kin_tangent is this with general = 0, constant NULL. */
+void phm_pair_kin_eval(int general, int type, double pitch, const double h[16],
+                       const double *xref, double *g, double *W, double *Phi, double *x, double *Dg,
+                       double *DW, double *DPhi, double *Dx, int *constant);
+
+/* ---------------------------------------------------------------- pairs (pair.c) */
 /* Constraint rows of a pair before any is dropped: its type's m, plus one per joint coordinate
  * that follows a law (xdriven; those rows come after the type's, in coordinate order). */
 int phm_pair_rows_full(const phm_pair_desc *pr);

@@ -1,5 +1,5 @@
 /* py_codes.c -- phmech._core.codes(): the core's code tables (csrc/util/codes.c), its pair
- * types (csrc/model/pair.c) and integrators (csrc/integrate/integrators.c) for Python, so that no code is retyped by hand across the boundary. */
+ * types (csrc/model/pair_types.c) and integrators (csrc/integrate/integrators.c) for Python, so that no code is retyped by hand across the boundary. */
 #include "pyext.h"
 
 /* {name: value} of a code table, or the list of its names (ordered by value = position) when

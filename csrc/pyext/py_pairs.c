@@ -1,4 +1,4 @@
-/* py_pairs.c -- the pair table (csrc/model/pair.c) for Python: phmech._core.pair_types() lists
+/* py_pairs.c -- the pair table (csrc/model/pair_types.c) for Python: phmech._core.pair_types() lists
  * every type with its parameters, units and constraint directions, from which python/phmech
  * builds its pair classes; pair_pose / pair_coordinates give a type's kinematics alone. */
 #include "pyext.h"

@@ -85,12 +85,14 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
       [PHM_RESULT_LAMBDA] = {nout, nk},        [PHM_RESULT_ENERGY] = {nout, PHM_NENERGY},
       [PHM_RESULT_JOINTS] = {nout, nj},        [PHM_RESULT_JOINT_RATES] = {nout, nj},
       [PHM_RESULT_EFFORTS] = {nout, nj},       [PHM_RESULT_PAIR_WRENCHES] = {nout, npr, 6},
-      [PHM_RESULT_PORTS] = {nout, npt},        [PHM_RESULT_COMPONENTS] = {nout, phm_model_ncompstates(m)}};
+      [PHM_RESULT_PORTS] = {nout, npt},        [PHM_RESULT_COMPONENTS] = {nout, phm_model_ncompstates(m)},
+      [PHM_RESULT_CONSTRAINT_RESIDUAL] = {nout, npr}};
   static const int ndims[PHM_NRESULT_FIELDS] = {[PHM_RESULT_POSES] = 4, [PHM_RESULT_TWISTS] = 3,
                                                 [PHM_RESULT_LAMBDA] = 2, [PHM_RESULT_ENERGY] = 2,
                                                 [PHM_RESULT_JOINTS] = 2, [PHM_RESULT_JOINT_RATES] = 2,
                                                 [PHM_RESULT_EFFORTS] = 2, [PHM_RESULT_PAIR_WRENCHES] = 3,
-                                                [PHM_RESULT_PORTS] = 2, [PHM_RESULT_COMPONENTS] = 2};
+                                                [PHM_RESULT_PORTS] = 2, [PHM_RESULT_COMPONENTS] = 2,
+                                                [PHM_RESULT_CONSTRAINT_RESIDUAL] = 2};
   PyArrayObject *ra[PHM_NRESULT_FIELDS] = {NULL};
   for (int i = 0; i < PHM_NRESULT_FIELDS; i++)
     if (!(ra[i] = (PyArrayObject *)PyArray_ZEROS(ndims[i], dims[i], NPY_DOUBLE, 0))) goto fail;
@@ -122,6 +124,7 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
   out.pwrench = PyArray_DATA(ra[PHM_RESULT_PAIR_WRENCHES]);
   out.ports = PyArray_DATA(ra[PHM_RESULT_PORTS]);
   out.components = PyArray_DATA(ra[PHM_RESULT_COMPONENTS]);
+  out.constraint_residual = PyArray_DATA(ra[PHM_RESULT_CONSTRAINT_RESIDUAL]);
   phm_error err;
   phm_status st;
   Py_BEGIN_ALLOW_THREADS

@@ -1,7 +1,7 @@
 /* codes.c -- THE name tables of the core's enums (csrc/include/phmech_types.h): time-law kinds,
  * actuator kinds, element mass kinds, and the names of the arrays a simulation returns
  * (phm_sim_output). One row per enum value, its name the enum's, lower case. The pair types and
- * the integrators have their own tables (csrc/model/pair.c, csrc/integrate/integrators.c). phmech._core.codes() (csrc/pyext/py_pairs.c)
+ * the integrators have their own tables (csrc/model/pair_types.c, csrc/integrate/integrators.c). phmech._core.codes() (csrc/pyext/py_pairs.c)
  * hands these to Python, so that no code is retyped by hand across the boundary;
  * tests/c/test_codes.c checks each row against its enum constant. */
 #include "phmech.h"
@@ -28,6 +28,7 @@ static const phm_code result_fields[] = {
     {"energy", PHM_RESULT_ENERGY},   {"joints", PHM_RESULT_JOINTS},   {"joint_rates", PHM_RESULT_JOINT_RATES},
     {"efforts", PHM_RESULT_EFFORTS}, {"pair_wrenches", PHM_RESULT_PAIR_WRENCHES},
     {"ports", PHM_RESULT_PORTS},     {"components", PHM_RESULT_COMPONENTS},
+    {"constraint_residual", PHM_RESULT_CONSTRAINT_RESIDUAL},
 };
 
 #define ROWS(a) (int)(sizeof(a) / sizeof(a[0]))

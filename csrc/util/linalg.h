@@ -56,7 +56,41 @@ static inline long phm_first_nonfinite(const double *x, size_t n) {
 }
 static inline int phm_all_finite(const double *x, size_t n) { return phm_first_nonfinite(x, n) < 0; }
 
-/* The general paths of se3.c's logarithms and quaternion conversion, which take fast paths at
+/* C = A B (3x3 row-major; C may be A or B). */
+static inline void phm_mat3_mul(const double A[9], const double B[9], double C[9]) {
+  double T[9];
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++)
+      T[3 * i + j] = A[3 * i] * B[j] + A[3 * i + 1] * B[3 + j] + A[3 * i + 2] * B[6 + j];
+  for (int e = 0; e < 9; e++) C[e] = T[e];
+}
+
+static inline double phm_norm3(const double w[3]) { return sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]); }
+
+/* M = I + alpha W + beta W^2 with W = hat(w) (se3.c). */
+void phm_so3_poly(const double w[3], double alpha, double beta, double M[9]);
+
+/* The fast paths at rotations about a coordinate axis e_k (se3.c, quat.c): PHM_AXIS_INLINE
+ * functions take k first, and PHM_AXIS_CALL calls one with k a constant, so that each of the
+ * three is its own specialization. */
+#if defined(__GNUC__)
+#define PHM_AXIS_INLINE static inline __attribute__((always_inline))
+#else
+#define PHM_AXIS_INLINE static inline
+#endif
+
+/* fn(k, ...) with k a constant 0, 1 or 2: each call its own specialization of the inlined fn. */
+#define PHM_AXIS_CALL(k, fn, ...)   \
+  do {                              \
+    switch (k) {                    \
+    case 0: fn(0, __VA_ARGS__); break; \
+    case 1: fn(1, __VA_ARGS__); break; \
+    default: fn(2, __VA_ARGS__); break; \
+    }                               \
+  } while (0)
+
+
+/* The general paths of se3.c's logarithms and quat.c's quaternion conversion, which take fast paths at
  * rotations about a coordinate axis (a planar scene's: the same numbers; tests/c/test_se3.c
  * compares the two). */
 void phm_so3_log_general(const double R[9], double w[3]);

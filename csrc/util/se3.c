@@ -1,5 +1,7 @@
-/* se3.c -- so(3)/SO(3), se(3)/SE(3) and quaternion algebra (conventions: csrc/include/phmech_types.h,
- * docs/method.md section 3).
+/* se3.c -- so(3)/SO(3) and se(3)/SE(3) algebra: hat, exp, log, compose, inverse, Ad, ad, dexp and
+ * dexp^-1 (conventions: csrc/include/phmech_types.h, docs/method.md section 3); with fast paths at
+ * rotations about a coordinate axis. Quaternions: quat.c; the derivatives of dexp^-1:
+ * se3_dexp_partials.c.
  *
  * All matrices row-major. Twist x = (omega, v). No allocation, no printing.
  * Near theta = 0 the trigonometric coefficients are evaluated by truncated Taylor series
@@ -11,16 +13,6 @@
 #include <string.h>
 
 /* ---------------------------------------------------------------- small helpers */
-
-static void mat3_mul(const double A[9], const double B[9], double C[9]) {
-  double T[9];
-  for (int i = 0; i < 3; i++)
-    for (int j = 0; j < 3; j++)
-      T[3 * i + j] = A[3 * i] * B[j] + A[3 * i + 1] * B[3 + j] + A[3 * i + 2] * B[6 + j];
-  memcpy(C, T, sizeof T);
-}
-
-static double norm3(const double w[3]) { return sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]); }
 
 /* sin(t)/t, accurate for all t. */
 static double sinc(double t) {
@@ -51,8 +43,8 @@ static double so3_jac_inv_coeff(double t) {
   return (1.0 - h * cos(h) / sin(h)) / t2;
 }
 
-/* M = I + alpha W + beta W^2 with W = hat(w). */
-static void so3_poly(const double w[3], double alpha, double beta, double M[9]) {
+/* M = I + alpha W + beta W^2 with W = hat(w) (csrc/util/linalg.h). */
+void phm_so3_poly(const double w[3], double alpha, double beta, double M[9]) {
   double W[9], t2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
   phm_so3_hat(w, W);
   /* W^2 = w w^T - |w|^2 I */
@@ -111,22 +103,6 @@ static void se3_dexp_Q_coeffs(double t, double *c1, double *c2, double *c3) {
  * path's numbers at a fraction of its cost (tests/c/test_se3.c compares the two). (i, j, k) is
  * a cyclic order of the axes: hat(theta e_k) has -theta at (i, j) and theta at (j, i). */
 
-#if defined(__GNUC__)
-#define AXIS_INLINE static inline __attribute__((always_inline))
-#else
-#define AXIS_INLINE static inline
-#endif
-
-/* fn(k, ...) with k a constant 0, 1 or 2: each call its own specialization of the inlined fn. */
-#define AXIS_CALL(k, fn, ...)       \
-  do {                              \
-    switch (k) {                    \
-    case 0: fn(0, __VA_ARGS__); break; \
-    case 1: fn(1, __VA_ARGS__); break; \
-    default: fn(2, __VA_ARGS__); break; \
-    }                               \
-  } while (0)
-
 /* The axis k of a rotation matrix R (3x3) whose row and column k are e_k off the diagonal (exact
  * zeros), -1 if none (two tests for a general R). */
 static inline int rot_axis(const double R[9]) {
@@ -142,7 +118,7 @@ static inline int rot_axis(const double R[9]) {
 /* phm_so3_log_general at R = rotation about e_k (rot_axis(R) == k): w = theta e_k. Returns 0
  * (w untouched) where the general path would take another axis from R's symmetric part (theta
  * = pi about another axis, or R not a rotation): the caller then takes the general path. */
-AXIS_INLINE int so3_log_axis(const double R[9], int k, double w[3]) {
+PHM_AXIS_INLINE int so3_log_axis(const double R[9], int k, double w[3]) {
   int i = (k + 1) % 3, j = (k + 2) % 3;
   double sk = 0.5 * (R[3 * j + i] - R[3 * i + j]); /* vee's component k, the others 0.5 (0 - 0) */
   double sn = fabs(sk); /* norm3 of (0, sk, 0): sqrt(sk * sk) is |sk| in binary floating point */
@@ -167,8 +143,8 @@ AXIS_INLINE int so3_log_axis(const double R[9], int k, double w[3]) {
   return 1;
 }
 
-/* Ai = so3_poly(theta e_k, alpha, beta): I + alpha W + beta (w w^T - theta^2 I). */
-AXIS_INLINE void so3_poly_axis(int k, double th, double alpha, double beta, double M[9]) {
+/* Ai = phm_so3_poly(theta e_k, alpha, beta): I + alpha W + beta (w w^T - theta^2 I). */
+PHM_AXIS_INLINE void so3_poly_axis(int k, double th, double alpha, double beta, double M[9]) {
   int i = (k + 1) % 3, j = (k + 2) % 3;
   double t2 = th * th;
   M[3 * k + k] = 1.0;
@@ -179,7 +155,7 @@ AXIS_INLINE void so3_poly_axis(int k, double th, double alpha, double beta, doub
 }
 
 /* y = M p for M = so3_poly_axis's (row k: p_k). */
-AXIS_INLINE void mat3_vec_axis(int k, const double M[9], const double p[3], double y[3]) {
+PHM_AXIS_INLINE void mat3_vec_axis(int k, const double M[9], const double p[3], double y[3]) {
   int i = (k + 1) % 3, j = (k + 2) % 3;
   double yi = i < j ? M[3 * i + i] * p[i] + M[3 * i + j] * p[j] : M[3 * i + j] * p[j] + M[3 * i + i] * p[i];
   double yj = i < j ? M[3 * j + i] * p[i] + M[3 * j + j] * p[j] : M[3 * j + j] * p[j] + M[3 * j + i] * p[i];
@@ -190,7 +166,7 @@ AXIS_INLINE void mat3_vec_axis(int k, const double M[9], const double p[3], doub
 
 /* se3_dexp_Q_at (which states Q) at x = (theta e_k, v), t = |theta|, entry by entry with s =
  * theta v_k, u = w x v = (u_i, u_j, 0) = (-theta v_j, theta v_i, 0). */
-AXIS_INLINE void se3_dexp_Q_axis(int k, double th, double t, const double v[3], double Q[9]) {
+PHM_AXIS_INLINE void se3_dexp_Q_axis(int k, double th, double t, const double v[3], double Q[9]) {
   int i = (k + 1) % 3, j = (k + 2) % 3;
   double c1, c2, c3;
   se3_dexp_Q_coeffs(t, &c1, &c2, &c3);
@@ -210,7 +186,7 @@ AXIS_INLINE void se3_dexp_Q_axis(int k, double th, double t, const double v[3], 
 #define SUM2(first_is_a, a, b) ((first_is_a) ? (a) + (b) : (b) + (a))
 
 /* L = -(Ai Q) Ai (se3_dexp_inv_blocks) for Ai = so3_poly_axis's. */
-AXIS_INLINE void dexp_inv_L_axis(int k, const double Ai[9], const double Q[9], double L[9]) {
+PHM_AXIS_INLINE void dexp_inv_L_axis(int k, const double Ai[9], const double Q[9], double L[9]) {
   int i = (k + 1) % 3, j = (k + 2) % 3, o = i < j;
   double a = Ai[3 * i + i], bij = Ai[3 * i + j], bji = Ai[3 * j + i], T[9];
   for (int c = 0; c < 3; c++) {
@@ -226,7 +202,7 @@ AXIS_INLINE void dexp_inv_L_axis(int k, const double Ai[9], const double Q[9], d
 }
 
 /* phm_se3_log at R = rotation about e_k (*ok = 0: the general path's turn, so3_log_axis). */
-AXIS_INLINE void se3_log_axis(int k, const double R[9], const double p[3], double x[6], int *ok) {
+PHM_AXIS_INLINE void se3_log_axis(int k, const double R[9], const double p[3], double x[6], int *ok) {
   if (!(*ok = so3_log_axis(R, k, x))) return;
   double th = x[k], Ai[9];
   so3_poly_axis(k, th, -0.5, so3_jac_inv_coeff(fabs(th)), Ai);
@@ -234,7 +210,7 @@ AXIS_INLINE void se3_log_axis(int k, const double R[9], const double p[3], doubl
 }
 
 /* phm_se3_log_dexp_inv at R = rotation about e_k (*ok = 0: the general path's turn). */
-AXIS_INLINE void se3_log_dexp_inv_axis(int k, const double R[9], const double p[3], double x[6],
+PHM_AXIS_INLINE void se3_log_dexp_inv_axis(int k, const double R[9], const double p[3], double x[6],
                                        double Ai[9], double L[9], int *ok) {
   if (!(*ok = so3_log_axis(R, k, x))) return;
   double th = x[k], t = fabs(th), Q[9];
@@ -260,15 +236,15 @@ void phm_so3_vee(const double W[9], double w[3]) {
 
 void phm_so3_exp(const double w[3], double R[9]) {
   double a, b, c;
-  so3_coeffs(norm3(w), &a, &b, &c);
-  so3_poly(w, a, b, R);
+  so3_coeffs(phm_norm3(w), &a, &b, &c);
+  phm_so3_poly(w, a, b, R);
 }
 
 /* The general SO(3) log (phm_so3_log_general; inlined into each caller). */
 static inline void so3_log_gen(const double R[9], double w[3]) {
   double s[3]; /* vee of the skew part = sin(theta) n */
   phm_so3_vee(R, s);
-  double sn = norm3(s);
+  double sn = phm_norm3(s);
   double c = 0.5 * (R[0] + R[4] + R[8] - 1.0); /* cos(theta) */
   double theta = atan2(sn, c);
   if (c >= 0.0) {
@@ -286,7 +262,7 @@ static inline void so3_log_gen(const double R[9], double w[3]) {
   if (B[8] > B[3 * k + k]) k = 2;
   double n[3];
   for (int i = 0; i < 3; i++) n[i] = B[3 * i + k];
-  double nn = norm3(n);
+  double nn = phm_norm3(n);
   if (!(nn > 0.0)) { /* not a rotation matrix; fall back on the skew part */
     double f = sn > 0.0 ? theta / sn : 0.0;
     for (int i = 0; i < 3; i++) w[i] = f * s[i];
@@ -308,12 +284,12 @@ void phm_so3_log(const double R[9], double w[3]) {
 
 void phm_so3_jac(const double w[3], double A[9]) {
   double a, b, c;
-  so3_coeffs(norm3(w), &a, &b, &c);
-  so3_poly(w, b, c, A);
+  so3_coeffs(phm_norm3(w), &a, &b, &c);
+  phm_so3_poly(w, b, c, A);
 }
 
 void phm_so3_jac_inv(const double w[3], double Ai[9]) {
-  so3_poly(w, -0.5, so3_jac_inv_coeff(norm3(w)), Ai);
+  phm_so3_poly(w, -0.5, so3_jac_inv_coeff(phm_norm3(w)), Ai);
 }
 
 /* ---------------------------------------------------------------- se(3) / SE(3) */
@@ -355,9 +331,9 @@ static void pose_join(const double R[9], const double p[3], double H[16]) {
 
 void phm_se3_exp(const double x[6], double H[16]) {
   double a, b, c, R[9], A[9], p[3];
-  so3_coeffs(norm3(x), &a, &b, &c);
-  so3_poly(x, a, b, R);
-  so3_poly(x, b, c, A);
+  so3_coeffs(phm_norm3(x), &a, &b, &c);
+  phm_so3_poly(x, a, b, R);
+  phm_so3_poly(x, b, c, A);
   mat3_vec(A, x + 3, p);
   pose_join(R, p, H);
 }
@@ -381,7 +357,7 @@ void phm_se3_log(const double H[16], double x[6]) {
   pose_split(H, R, p);
   int k = rot_axis(R);
   int ok = 0;
-  if (k >= 0) AXIS_CALL(k, se3_log_axis, R, p, x, &ok);
+  if (k >= 0) PHM_AXIS_CALL(k, se3_log_axis, R, p, x, &ok);
   if (!ok) se3_log_rp(R, p, x);
 }
 
@@ -389,7 +365,7 @@ void phm_se3_compose(const double A[16], const double B[16], double AB[16]) {
   double Ra[9], pa[3], Rb[9], pb[3], R[9], p[3];
   pose_split(A, Ra, pa);
   pose_split(B, Rb, pb);
-  mat3_mul(Ra, Rb, R);
+  phm_mat3_mul(Ra, Rb, R);
   mat3_vec(Ra, pb, p);
   for (int i = 0; i < 3; i++) p[i] += pa[i];
   pose_join(R, p, AB);
@@ -409,7 +385,7 @@ void phm_se3_Ad(const double H[16], double A[36]) {
   double R[9], p[3], P[9], PR[9];
   pose_split(H, R, p);
   phm_so3_hat(p, P);
-  mat3_mul(P, R, PR);
+  phm_mat3_mul(P, R, PR);
   block_lower(R, PR, A);
 }
 
@@ -466,7 +442,7 @@ static void se3_dexp_Q_at(const double x[6], double t, double Q[9]) {
 }
 
 /* (t = |omega|) */
-static void se3_dexp_Q(const double x[6], double Q[9]) { se3_dexp_Q_at(x, norm3(x), Q); }
+static void se3_dexp_Q(const double x[6], double Q[9]) { se3_dexp_Q_at(x, phm_norm3(x), Q); }
 
 void phm_se3_dexp(const double x[6], double D[36]) {
   double A[9], Q[9];
@@ -480,14 +456,14 @@ void phm_se3_dexp(const double x[6], double D[36]) {
 static void se3_dexp_inv_blocks(const double x[6], double t, const double Ai[9], double L[9]) {
   double Q[9], T[9];
   se3_dexp_Q_at(x, t, Q);
-  mat3_mul(Ai, Q, T);
-  mat3_mul(T, Ai, L);
+  phm_mat3_mul(Ai, Q, T);
+  phm_mat3_mul(T, Ai, L);
   for (int i = 0; i < 9; i++) L[i] = -L[i];
 }
 
 void phm_se3_dexp_inv(const double x[6], double Di[36]) {
-  double Ai[9], L[9], t = norm3(x);
-  so3_poly(x, -0.5, so3_jac_inv_coeff(t), Ai); /* phm_so3_jac_inv, sharing |omega| */
+  double Ai[9], L[9], t = phm_norm3(x);
+  phm_so3_poly(x, -0.5, so3_jac_inv_coeff(t), Ai); /* phm_so3_jac_inv, sharing |omega| */
   se3_dexp_inv_blocks(x, t, Ai, L);
   block_lower(Ai, L, Di);
 }
@@ -500,8 +476,8 @@ void phm_se3_dexp_inv(const double x[6], double Di[36]) {
 static void se3_log_dexp_inv_rp(const double R[9], const double p[3], double x[6], double Ai[9],
                                 double L[9]) {
   so3_log_gen(R, x);
-  double t = norm3(x);
-  so3_poly(x, -0.5, so3_jac_inv_coeff(t), Ai); /* phm_so3_jac_inv, sharing |omega| */
+  double t = phm_norm3(x);
+  phm_so3_poly(x, -0.5, so3_jac_inv_coeff(t), Ai); /* phm_so3_jac_inv, sharing |omega| */
   mat3_vec(Ai, p, x + 3);
   se3_dexp_inv_blocks(x, t, Ai, L);
 }
@@ -517,223 +493,6 @@ void phm_se3_log_dexp_inv(const double H[16], double x[6], double Ai[9], double 
   pose_split(H, R, p);
   int k = rot_axis(R);
   int ok = 0;
-  if (k >= 0) AXIS_CALL(k, se3_log_dexp_inv_axis, R, p, x, Ai, L, &ok);
+  if (k >= 0) PHM_AXIS_CALL(k, se3_log_dexp_inv_axis, R, p, x, Ai, L, &ok);
   if (!ok) se3_log_dexp_inv_rp(R, p, x, Ai, L);
-}
-
-/* ---------------------------------------------------------------- quaternions */
-
-/* The general quaternion -> rotation (phm_quat_to_rot_general; inlined into each caller). */
-static inline void quat_to_rot_gen(const double q[4], double R[9]) {
-  double n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
-  if (!(n2 > 0.0)) { /* zero quaternion: identity (callers should reject it) */
-    static const double I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    memcpy(R, I, sizeof I);
-    return;
-  }
-  double s = 2.0 / n2;
-  double w = q[0], x = q[1], y = q[2], z = q[3];
-  R[0] = 1.0 - s * (y * y + z * z);
-  R[1] = s * (x * y - w * z);
-  R[2] = s * (x * z + w * y);
-  R[3] = s * (x * y + w * z);
-  R[4] = 1.0 - s * (x * x + z * z);
-  R[5] = s * (y * z - w * x);
-  R[6] = s * (x * z - w * y);
-  R[7] = s * (y * z + w * x);
-  R[8] = 1.0 - s * (x * x + y * y);
-}
-
-/* phm_quat_to_rot at q = (q_w, q_k e_k) (k constant): the general path's arithmetic without its
- * exact-zero terms (the same numbers), n2 > 0 and s = 2 / n2 given. */
-AXIS_INLINE void quat_to_rot_axis(int k, const double q[4], double s, double R[9]) {
-  int i = (k + 1) % 3, j = (k + 2) % 3;
-  double c = q[1 + k], wc = s * (q[0] * c);
-  R[3 * k + k] = 1.0;
-  R[3 * i + i] = R[3 * j + j] = 1.0 - s * (c * c);
-  R[3 * j + i] = wc;
-  R[3 * i + j] = -wc;
-  R[3 * i + k] = R[3 * k + i] = R[3 * j + k] = R[3 * k + j] = 0.0;
-}
-
-void phm_quat_to_rot(const double q[4], double R[9]) {
-  /* a planar scene's quaternions turn about one axis: two vector components exactly zero */
-  int k = q[1] == 0.0 ? (q[2] == 0.0 ? 2 : q[3] == 0.0 ? 1 : -1) : q[2] == 0.0 && q[3] == 0.0 ? 0 : -1;
-  if (k >= 0) {
-    double n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
-    if (n2 > 0.0) {
-      AXIS_CALL(k, quat_to_rot_axis, q, 2.0 / n2, R);
-      return;
-    }
-  }
-  quat_to_rot_gen(q, R);
-}
-
-void phm_quat_to_rot_general(const double q[4], double R[9]) { quat_to_rot_gen(q, R); }
-
-void phm_quat_from_rot(const double R[9], double q[4]) {
-  double tr = R[0] + R[4] + R[8];
-  double d[4] = {tr, R[0], R[4], R[8]};
-  int k = 0;
-  for (int i = 1; i < 4; i++)
-    if (d[i] > d[k]) k = i;
-  double r, f;
-  switch (k) {
-  case 0:
-    r = sqrt(fmax(1.0 + tr, 0.0));
-    f = r > 0.0 ? 0.5 / r : 0.0;
-    q[0] = 0.5 * r;
-    q[1] = (R[7] - R[5]) * f;
-    q[2] = (R[2] - R[6]) * f;
-    q[3] = (R[3] - R[1]) * f;
-    break;
-  case 1:
-    r = sqrt(fmax(1.0 + R[0] - R[4] - R[8], 0.0));
-    f = r > 0.0 ? 0.5 / r : 0.0;
-    q[0] = (R[7] - R[5]) * f;
-    q[1] = 0.5 * r;
-    q[2] = (R[1] + R[3]) * f;
-    q[3] = (R[2] + R[6]) * f;
-    break;
-  case 2:
-    r = sqrt(fmax(1.0 - R[0] + R[4] - R[8], 0.0));
-    f = r > 0.0 ? 0.5 / r : 0.0;
-    q[0] = (R[2] - R[6]) * f;
-    q[1] = (R[1] + R[3]) * f;
-    q[2] = 0.5 * r;
-    q[3] = (R[5] + R[7]) * f;
-    break;
-  default:
-    r = sqrt(fmax(1.0 - R[0] - R[4] + R[8], 0.0));
-    f = r > 0.0 ? 0.5 / r : 0.0;
-    q[0] = (R[3] - R[1]) * f;
-    q[1] = (R[2] + R[6]) * f;
-    q[2] = (R[5] + R[7]) * f;
-    q[3] = 0.5 * r;
-    break;
-  }
-  double n = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-  if (!(n > 0.0)) { /* not a rotation matrix */
-    q[0] = 1.0;
-    q[1] = q[2] = q[3] = 0.0;
-    return;
-  }
-  double sg = q[0] < 0.0 ? -1.0 / n : 1.0 / n;
-  for (int i = 0; i < 4; i++) q[i] *= sg;
-}
-
-/* ---------------------------------------------------------------- the derivative of dexp^-1 */
-
-/* f(tau) = sum_k a[k] tau^k and df/dtau, tau = t^2 (Horner). */
-static void series2(const double *a, int n, double tau, double *f, double *df) {
-  double s = a[n - 1], ds = 0.0;
-  for (int k = n - 2; k >= 0; k--) {
-    ds = ds * tau + s;
-    s = s * tau + a[k];
-  }
-  *f = s;
-  *df = ds;
-}
-
-/* The coefficients of dexp_x^-1 (so3_jac_inv_coeff's d, se3_dexp_Q's c1, c2, c3) and their
- * derivatives with respect to tau = |omega|^2, at t = |omega|. Below t = 1 by their Taylor series
- * in tau (entire for c1, c2, e; radius 2 pi for d: 10 terms leave < 1e-17 at t = 1), above in
- * closed form (where the cancellation of the derivatives' numerators costs < 1e-13 relative). */
-static void dexp_inv_coeffs(double t, double c[4], double dc[4]) {
-  double tau = t * t, e, de;
-  if (t < 1.0) {
-    /* d = sum_{n>=1} |B_2n| t^(2n-2) / (2n)! */
-    static const double ad[10] = {1.0 / 12.0, 1.0 / 720.0, 1.0 / 30240.0, 1.0 / 1209600.0,
-                                  1.0 / 47900160.0, 691.0 / 1307674368000.0,
-                                  7.0 / 523069747200.0, 3617.0 / 510.0 / 20922789888000.0,
-                                  43867.0 / 798.0 / 6402373705728000.0,
-                                  174611.0 / 330.0 / 2432902008176640000.0};
-    double a1[12], a2[12], ae[12], f3 = 1.0 / 6.0; /* f3 = 1/(2k+3)! */
-    for (int k = 0; k < 12; k++) {
-      double sg = k % 2 ? -1.0 : 1.0, f4 = f3 / (2 * k + 4), f5 = f4 / (2 * k + 5);
-      a1[k] = sg * f3;  /* c1 = sum (-1)^k t^2k / (2k+3)! */
-      a2[k] = sg * f4;  /* c2 = sum (-1)^k t^2k / (2k+4)! */
-      ae[k] = -sg * f5; /* e  = sum (-1)^(k+1) t^2k / (2k+5)! */
-      f3 = f5;
-    }
-    series2(ad, 10, tau, &c[0], &dc[0]);
-    series2(a1, 12, tau, &c[1], &dc[1]);
-    series2(a2, 12, tau, &c[2], &dc[2]);
-    series2(ae, 12, tau, &e, &de);
-  } else {
-    double s = sin(t), co = cos(t), h = 0.5 * t, sh = sin(h);
-    c[0] = (1.0 - h * cos(h) / sh) / tau;
-    dc[0] = ((-0.5 * cos(h) / sh + h / (2.0 * sh * sh)) / tau - 2.0 * c[0] / t) / (2.0 * t);
-    c[1] = (t - s) / (tau * t);
-    dc[1] = ((1.0 - co) / (tau * t) - 3.0 * c[1] / t) / (2.0 * t);
-    c[2] = (0.5 * tau + co - 1.0) / (tau * tau);
-    dc[2] = ((t - s) / (tau * tau) - 4.0 * c[2] / t) / (2.0 * t);
-    e = (t - s - tau * t / 6.0) / (tau * tau * t);
-    de = ((1.0 - co - 0.5 * tau) / (tau * tau * t) - 5.0 * e / t) / (2.0 * t);
-  }
-  c[3] = 0.5 * (c[2] + 3.0 * e);
-  dc[3] = 0.5 * (dc[2] + 3.0 * de);
-}
-
-/* The partial derivatives of the blocks of dexp_x^-1 = [[Ai, 0], [L, Ai]] with respect to x_k
- * (k = 0..5; Ai depends on omega only, so dAi[k] = 0 for k >= 3), in closed form:
- *   Ai = I - W/2 + d W^2, L = -Ai Q Ai,
- *   Q = V/2 + c1 (v w^T + w v^T - 2s I - s W) + c2 (u w^T - w u^T + s W) - 2 c3 s (w w^T - t^2 I)
- * (se3_dexp_Q; s = w.v, u = w x v), differentiated term by term with dc/dx_k = 2 w_k dc/dtau. */
-void phm_se3_dexp_inv_partials(const double x[6], double dAi[6][9], double dL[6][9]) {
-  const double *w = x, *v = x + 3;
-  double t = norm3(w), tau = t * t, c[4], dc[4];
-  dexp_inv_coeffs(t, c, dc);
-  double s = w[0] * v[0] + w[1] * v[1] + w[2] * v[2];
-  double u[3] = {w[1] * v[2] - w[2] * v[1], w[2] * v[0] - w[0] * v[2], w[0] * v[1] - w[1] * v[0]};
-  double W[9], V[9], Ai[9], Q[9], QAi[9], AiQ[9], T[9];
-  phm_so3_hat(w, W);
-  phm_so3_hat(v, V);
-  so3_poly(w, -0.5, c[0], Ai);
-  for (int i = 0; i < 3; i++)
-    for (int j = 0; j < 3; j++) {
-      int k = 3 * i + j;
-      double I = i == j ? 1.0 : 0.0;
-      Q[k] = 0.5 * V[k] + c[1] * (v[i] * w[j] + w[i] * v[j] - 2.0 * s * I - s * W[k]) +
-             c[2] * (u[i] * w[j] - w[i] * u[j] + s * W[k]) - 2.0 * c[3] * s * (w[i] * w[j] - tau * I);
-    }
-  mat3_mul(Q, Ai, QAi);
-  mat3_mul(Ai, Q, AiQ);
-  for (int k = 0; k < 6; k++) {
-    double dw[3] = {0, 0, 0}, dv[3] = {0, 0, 0};
-    if (k < 3) dw[k] = 1.0;
-    else dv[k - 3] = 1.0;
-    double wd = phm_dot(w, dw, 3), g[4];
-    for (int i = 0; i < 4; i++) g[i] = 2.0 * wd * dc[i];
-    double ds = phm_dot(dw, v, 3) + phm_dot(w, dv, 3);
-    double du[3] = {dw[1] * v[2] - dw[2] * v[1] + w[1] * dv[2] - w[2] * dv[1],
-                    dw[2] * v[0] - dw[0] * v[2] + w[2] * dv[0] - w[0] * dv[2],
-                    dw[0] * v[1] - dw[1] * v[0] + w[0] * dv[1] - w[1] * dv[0]};
-    double dW[9], dV[9], dQ[9], *dA = dAi[k];
-    phm_so3_hat(dw, dW);
-    phm_so3_hat(dv, dV);
-    for (int i = 0; i < 3; i++)
-      for (int j = 0; j < 3; j++) {
-        int q = 3 * i + j;
-        double I = i == j ? 1.0 : 0.0, ww = w[i] * w[j] - tau * I;
-        double dww = dw[i] * w[j] + w[i] * dw[j] - 2.0 * wd * I;
-        dA[q] = -0.5 * dW[q] + g[0] * ww + c[0] * dww;
-        dQ[q] = 0.5 * dV[q] +
-                g[1] * (v[i] * w[j] + w[i] * v[j] - 2.0 * s * I - s * W[q]) +
-                c[1] * (dv[i] * w[j] + v[i] * dw[j] + dw[i] * v[j] + w[i] * dv[j] - 2.0 * ds * I -
-                        ds * W[q] - s * dW[q]) +
-                g[2] * (u[i] * w[j] - w[i] * u[j] + s * W[q]) +
-                c[2] * (du[i] * w[j] + u[i] * dw[j] - dw[i] * u[j] - w[i] * du[j] + ds * W[q] +
-                        s * dW[q]) -
-                2.0 * (g[3] * s + c[3] * ds) * ww - 2.0 * c[3] * s * dww;
-      }
-    /* dL = -(dAi Q Ai + Ai dQ Ai + Ai Q dAi) */
-    double *l = dL[k];
-    mat3_mul(dA, QAi, l);
-    mat3_mul(Ai, dQ, T);
-    mat3_mul(T, Ai, T);
-    for (int i = 0; i < 9; i++) l[i] += T[i];
-    mat3_mul(AiQ, dA, T);
-    for (int i = 0; i < 9; i++) l[i] = -(l[i] + T[i]);
-  }
 }

@@ -25,7 +25,7 @@ from .fmu import export_fmu
 from .frames import Body, FlexibleLink, Frame, rotation
 from .graphs import Graphs
 from .laws import (Constant, Cycloidal, Function, Linear, Motion, PiecewisePolynomial, Product,
-                   Pulse, Sine, Spline, Step, Sum, Table, law_from_data)
+                   Pulse, Sine, Spline, Step, Sum, Table, Trapezoidal, law_from_data)
 from .linear import LinearPortHamiltonian, Passivity
 from .mechanism import Mechanism, load
 from .pairs import (Cylindrical, Fixed, Free, Helical, Planar, Prismatic, Revolute, Spherical,
@@ -47,7 +47,7 @@ __all__ = ["ModelError", "SolverError", "CostWarning", "info", "blas_threads", "
            "Mechanism", "Frame", "Body", "FlexibleLink", "rotation", "Fixed", "Revolute", "Prismatic",
            "Helical", "Cylindrical", "Universal", "Spherical", "Planar", "Free", "Effort", "PD",
            "Spring", "Motion", "Constant", "Step", "Pulse", "Sine", "Table", "Cycloidal", "Linear",
-           "Spline", "PiecewisePolynomial", "Sum", "Product", "Function", "law_from_data",
+           "Trapezoidal", "Spline", "PiecewisePolynomial", "Sum", "Product", "Function", "law_from_data",
            "SimulationResult", "ModesResult", "StaticResult", "Graphs", "RedundantConstraintWarning",
            "ConstraintError", "InitialValueWarning", "InitialAdjustment", "InitialConfiguration",
            "Momentum", "StabilityWarning", "AccuracyWarning", "PlausibilityWarning",

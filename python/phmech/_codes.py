@@ -1,5 +1,5 @@
 """The core's code tables, read from the core (``_core.codes()``, csrc/util/codes.c and the pair
-table of csrc/model/pair.c): no code crosses the boundary typed by hand. Each table maps the
+table of csrc/model/pair_types.c): no code crosses the boundary typed by hand. Each table maps the
 name of an enum value of csrc/include/phmech_types.h (lower case) to its code.
 
 Also the core's stateless kernels that the describe layer calls (pair kinematics, time-law
@@ -18,7 +18,7 @@ __all__ = ["PAIR_TYPES", "LAW_KINDS", "INTEGRATORS", "ACTUATOR_KINDS", "MASS_KIN
 
 _CODES = _core.codes()
 
-#: pair type name -> phm_pair_type (csrc/model/pair.c)
+#: pair type name -> phm_pair_type (csrc/model/pair_types.c)
 PAIR_TYPES = MappingProxyType(dict(_CODES["pair_types"]))
 #: time-law kind name -> phm_law_kind ("constant", ..., "ppoly", "callback", "expr", "sum", "product")
 LAW_KINDS = MappingProxyType(dict(_CODES["law_kinds"]))

@@ -117,6 +117,10 @@ def simulation_dataset(res):
         "pair_wrenches": (("time", "pair", "component"), res.pair_wrenches,
                           dict(units="N m (ang), N (lin)",
                                long_name="constraint wrench on frame b of each pair, in F_b")),
+        **({} if res.constraint_residual is None else {"constraint_residual": (
+            ("time", "pair"), res.constraint_residual,
+            dict(units="rad or m (per row)", long_name="largest position constraint residual "
+                 "|g| of each pair's kept rows"))}),
         "port_energy": (("time", "port"), np.column_stack([res.port_energy[p] for p in ports])
                         if ports else np.zeros((nt, 0)),
                         dict(units="J", long_name="energy supplied through each port")),

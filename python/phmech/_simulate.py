@@ -363,6 +363,7 @@ def _simulation_result(mech, r: dict, k: int, tout, model, drop_masks, rec, band
                             port_energy=ports, joints=r["joints"][:k],
                             joint_rates=r["joint_rates"][:k], efforts=r["efforts"][:k],
                             pair_wrenches=pw, _pairs=pairs,
+                            constraint_residual=r["constraint_residual"][:k],
                             redundant_constraints=list(mech.redundant_constraints),
                             carriers=None if rec is None else np.array(rec),
                             _inertia=np.array([c["M"] for c in mech._car], dtype=float),

@@ -2,7 +2,7 @@
 
 The FMU holds ``modelDescription.xml``; ``binaries/linux64/<modelIdentifier>.so`` (FMI 3.0:
 ``binaries/x86_64-linux/``), phmech's C
-core with an FMI wrapper (csrc/fmi/fmi2.c, built by meson as ``phmech_fmi2.so`` beside this
+core with an FMI wrapper (csrc/fmi/: fmu.c, fmi2.c, fmi3.c, built by meson as ``phmech_fmi2.so`` beside this
 module) and, beside it, the shared libraries it loads that are not part of glibc (SUNDIALS,
 KLU/SuiteSparse, LAPACK/BLAS, the Fortran runtime), found with ``ldd`` and reached through the
 wrapper's RPATH ``$ORIGIN``; and ``resources/model.phm``, the model: the exact arrays phmech hands
@@ -47,9 +47,9 @@ from .pairs import PAIR_TYPES
 
 __all__ = ["export_fmu"]
 
-#: output kinds of the model file (csrc/fmi/fmi2.c, OUT_*)
+#: output kinds of the model file (csrc/fmi/fmu.h, OUT_*)
 _OUT_JOINT, _OUT_RATE, _OUT_POSITION, _OUT_ENERGY = 0, 1, 2, 3
-#: input kinds (csrc/fmi/fmi2.c, IN_*)
+#: input kinds (csrc/fmi/fmu.h, IN_*)
 _IN_ACTUATOR, _IN_LOAD = 0, 1
 _CALLBACK = 8            # phm_law_kind of a Python-function law (csrc/include/phmech_types.h)
 _ENERGIES = ("kinetic", "elastic", "gravity", "total")
@@ -82,7 +82,7 @@ def _law_numbers(law, what: str) -> list:
     return out
 
 
-#: the columns of _marshal.components that csrc/fmi/fmi2.c (build_desc) reads, per component
+#: the columns of _marshal.components that csrc/fmi/fmu.c (build_desc) reads, per component
 #: kind: a column phmech adds later must be read there too (export_fmu refuses it until then)
 _READ = {"carriers": {"M", "mass", "com", "H0", "t0"},
          "elements": {"h", "nodes", "K", "D", "eps_hat", "mass", "Ms", "Mc"},
@@ -106,7 +106,7 @@ def _records(comp: dict, names: dict, input_rows: set) -> list:
         if unread or set(comp) - set(kinds) - {"gravity"}:
             raise ModelError(f"export_fmu: the model has {kind} columns {sorted(unread)} (or components "
                              f"{sorted(set(comp) - set(kinds) - {'gravity'})}) that the FMU wrapper "
-                             f"csrc/fmi/fmi2.c does not read: it must learn them first")
+                             f"csrc/fmi/fmu.c does not read: it must learn them first")
         first = next(iter(cols.values()))
         sizes.append(len(first))
         for key, v in cols.items():
@@ -286,22 +286,11 @@ def _xml(model_name: str, ident: str, guid: str, ins: list, outs: list, opts: di
     for u in units:
         b = " ".join(f'{k}="{v}"' for k, v in base.get(u, {}).items())
         lines.append(f'    <Unit name="{u}"><BaseUnit {b}/></Unit>' if b else f'    <Unit name="{u}"/>')
-    lines += ['  </UnitDefinitions>',
-              f'  <DefaultExperiment startTime="{start_time!r}" stopTime="{stop_time!r}"'
-              f' stepSize="{step_size!r}" tolerance="{opts["rtol"]!r}"/>',
+    lines += ['  </UnitDefinitions>', _default_experiment(start_time, stop_time, step_size, opts),
               '  <ModelVariables>']
-    vr = 0
-    for name, _, _, doc, unit in ins:
-        u = f' unit="{unit}"' if unit else ""
-        lines.append(f'    <ScalarVariable name={quoteattr(name)} valueReference="{vr}" causality="input"'
-                     f' variability="continuous" description={quoteattr(doc)}><Real start="0.0"{u}/>'
-                     f'</ScalarVariable>')
-        vr += 1
-    for name, *_, unit, doc in outs:
-        lines.append(f'    <ScalarVariable name={quoteattr(name)} valueReference="{vr}" causality="output"'
-                     f' variability="continuous" initial="calculated" description={quoteattr(doc)}>'
-                     f'<Real unit="{unit}"/></ScalarVariable>')
-        vr += 1
+    lines += _variables(ins, outs, "ScalarVariable", lambda causality, unit: (
+        f'><Real start="0.0"{_unit(unit)}/></ScalarVariable>' if causality == "input"
+        else f'><Real unit="{unit}"/></ScalarVariable>'))
     idx = [len(ins) + 1 + i for i in range(len(outs))]
     lines += ['  </ModelVariables>', '  <ModelStructure>', '    <Outputs>']
     lines += [f'      <Unknown index="{i}"/>' for i in idx]
@@ -309,6 +298,30 @@ def _xml(model_name: str, ident: str, guid: str, ins: list, outs: list, opts: di
     lines += [f'      <Unknown index="{i}"/>' for i in idx]
     lines += ['    </InitialUnknowns>', '  </ModelStructure>', '</fmiModelDescription>', '']
     return "\n".join(lines)
+
+
+def _default_experiment(start_time: float, stop_time: float, step_size: float, opts: dict) -> str:
+    """The model description's DefaultExperiment line (times [s], the run's rtol)."""
+    return (f'  <DefaultExperiment startTime="{start_time!r}" stopTime="{stop_time!r}"'
+            f' stepSize="{step_size!r}" tolerance="{opts["rtol"]!r}"/>')
+
+
+def _unit(unit: str) -> str:
+    """An input's unit attribute, or nothing for a unitless one."""
+    return f' unit="{unit}"' if unit else ""
+
+
+def _variables(ins: list, outs: list, tag: str, tail) -> list:
+    """The model description's variable lines, FMI 2.0's or 3.0's by ``tag`` and ``tail(causality,
+    unit)`` (the end of an element): the inputs, then the outputs, value references 0, 1, ... in
+    that order (csrc/fmi/fmi2.c reads them so)."""
+    rows = [(name, doc, unit, "input") for name, _, _, doc, unit in ins]
+    rows += [(name, doc, unit, "output") for name, *_, unit, doc in outs]
+    initial = {"input": "", "output": ' initial="calculated"'}
+    return [f'    <{tag} name={quoteattr(name)} valueReference="{vr}" causality="{causality}"'
+            f' variability="continuous"{initial[causality]} description={quoteattr(doc)}'
+            f'{tail(causality, unit)}'
+            for vr, (name, doc, unit, causality) in enumerate(rows)]
 
 
 def _xml3(model_name: str, ident: str, guid: str, ins: list, outs: list, opts: dict,
@@ -326,20 +339,11 @@ def _xml3(model_name: str, ident: str, guid: str, ins: list, outs: list, opts: d
              f' providesIntermediateUpdate="false" hasEventMode="false"/>',
              "  <UnitDefinitions>" + units + '  <Unit name="s"><BaseUnit s="1"/></Unit>\n'
              "  </UnitDefinitions>",
-             f'  <DefaultExperiment startTime="{start_time!r}" stopTime="{stop_time!r}"'
-             f' stepSize="{step_size!r}" tolerance="{opts["rtol"]!r}"/>',
+             _default_experiment(start_time, stop_time, step_size, opts),
              "  <ModelVariables>"]
-    vr = 0
-    for name, _, _, doc, unit in ins:
-        u = f' unit="{unit}"' if unit else ""
-        lines.append(f'    <Float64 name={quoteattr(name)} valueReference="{vr}" causality="input"'
-                     f' variability="continuous" description={quoteattr(doc)} start="0.0"{u}/>')
-        vr += 1
-    for name, *_, unit, doc in outs:
-        lines.append(f'    <Float64 name={quoteattr(name)} valueReference="{vr}" causality="output"'
-                     f' variability="continuous" initial="calculated" description={quoteattr(doc)}'
-                     f' unit="{unit}"/>')
-        vr += 1
+    lines += _variables(ins, outs, "Float64", lambda causality, unit: (
+        f' start="0.0"{_unit(unit)}/>' if causality == "input" else f' unit="{unit}"/>'))
+    vr = len(ins) + len(outs)
     lines.append(f'    <Float64 name="time" valueReference="{vr}" causality="independent"'
                  f' variability="continuous" description="simulated time" unit="s"/>')
     refs = range(len(ins), len(ins) + len(outs))
@@ -421,10 +425,10 @@ def export_fmu(mechanism, path, inputs: Sequence[str] = (), outputs: Optional[Se
     state = mechanism._state
     comp = _marshal.components(mechanism._desc, state.poses, state.twists, state.x0,
                                state.drop_masks, state.frames_a)
-    if mechanism._desc.components:   # csrc/fmi/fmi2.c does not read them yet
+    if mechanism._desc.components:   # csrc/fmi/fmu.c does not read them yet
         raise ModelError("export_fmu: the components (friction, motors: "
                          f"{[r['name'] for r in mechanism._desc.components]}) are not in the FMU "
-                         "wrapper csrc/fmi/fmi2.c yet")
+                         "wrapper csrc/fmi/fmu.c yet")
     del comp["components"]
     d = mechanism._desc
     names = {"carriers": [d.carrier_name(i) for i in range(len(d.carriers))],

@@ -14,105 +14,28 @@ for a motion or a driven joint coordinate, N or N m for a load).
 
 Every class is a frozen dataclass whose fields are its constructor arguments, so a law is plain
 data: ``law.to_data()`` gives a dict of them (nested laws as dicts, a Function's callables by
-their importable names) and ``law_from_data`` rebuilds the law."""
+their importable names) and ``law_from_data`` rebuilds the law.
+
+The algebra every law shares (the base class, composition, Constant, Sum, Product, Function and
+the core's law tuples) is in ``_lawbase.py``; this module adds the shapes, the piecewise
+polynomials and ``law_from_data``. A new law is a frozen dataclass here with ``_checked``,
+``shifted`` and ``_core_leaf`` (its core form), named in ``_CLASSES`` and ``__all__``."""
 from __future__ import annotations
 
 import dataclasses
 import importlib
-import math
-import numbers
-from typing import Optional, Sequence
+from typing import Sequence
 
 import numpy as np
 
 from ._checks import real, real_numbers
-from ._codes import LAW_KINDS, law_eval
 from ._errors import ModelError
+from ._lawbase import _NO, Constant, Function, Product, Sum, _Law, checked_law, core_tuple
 
-__all__ = ["Constant", "Step", "Pulse", "Sine", "Table", "Cycloidal", "Linear", "Spline",
-           "PiecewisePolynomial", "Sum", "Product", "Function", "Motion", "law_from_data"]
+__all__ = ["Constant", "Step", "Pulse", "Sine", "Table", "Cycloidal", "Linear", "Trapezoidal",
+           "Spline", "PiecewisePolynomial", "Sum", "Product", "Function", "Motion", "law_from_data"]
 
-_LAW_NAMES = ("Constant, Step, Pulse, Sine, Table, Cycloidal, Linear, Spline, "
-              "PiecewisePolynomial, Function, or a sum or product of them")
-
-
-class _Law:
-    """A time law. ``_checked`` returns the law with every parameter validated and converted to
-    float (ModelError otherwise); ``start_value`` is s(0). Laws compose: ``a + b``, ``a - b``,
-    ``a * b``, ``c * a`` (c a number), ``-a``, ``a.shifted(dt)`` (s(t - dt))."""
-
-    def _checked(self) -> "_Law":
-        raise NotImplementedError
-
-    def start_value(self) -> float:
-        """s(0), in the unit of what the law scales."""
-        return float(self.derivatives(0.0)[0])
-
-    def shifted(self, dt: float) -> "_Law":
-        """The law delayed by ``dt`` [s]: t -> s(t - dt) (same class; parameters moved)."""
-        raise NotImplementedError
-
-    # ---- evaluation by the core (csrc/util/law.c)
-    def derivatives(self, t) -> np.ndarray:
-        """s, ds/dt, d2s/dt2 at times ``t`` [s], evaluated by the C core: shape t.shape + (3,).
-        At a time where a piecewise law jumps, the piece that starts there."""
-        tt = np.asarray(t, dtype=float)
-        out = law_eval(core_tuple(self._checked()), tt.reshape(-1))
-        return out.reshape(tt.shape + (3,))
-
-    def evaluate(self, t):
-        """s(t) at times ``t`` [s] (the core's evaluation), shape t.shape."""
-        return self.derivatives(t)[..., 0]
-
-    # ---- composition
-    def __add__(self, other):
-        o = _operand(other)
-        return NotImplemented if o is None else Sum((self, o))
-
-    def __radd__(self, other):
-        o = _operand(other)
-        return NotImplemented if o is None else Sum((o, self))
-
-    def __sub__(self, other):
-        o = _operand(other)
-        return NotImplemented if o is None else Sum((self, Product((Constant(-1.0), o))))
-
-    def __rsub__(self, other):
-        o = _operand(other)
-        return NotImplemented if o is None else Sum((o, Product((Constant(-1.0), self))))
-
-    def __mul__(self, other):
-        o = _operand(other)
-        return NotImplemented if o is None else Product((self, o))
-
-    def __rmul__(self, other):
-        o = _operand(other)
-        return NotImplemented if o is None else Product((o, self))
-
-    def __neg__(self):
-        return Product((Constant(-1.0), self))
-
-    # ---- plain data
-    def to_data(self) -> dict:
-        """The law as plain data: {"law": class name, field: value, ...}; nested laws as dicts,
-        arrays as lists. ``law_from_data`` inverts it."""
-        out = {"law": type(self).__name__}
-        for f in dataclasses.fields(self):
-            out[f.name] = _plain(getattr(self, f.name))
-        return out
-
-
-def _plain(v):
-    """A field value as plain data (see _Law.to_data)."""
-    if isinstance(v, _Law):
-        return v.to_data()
-    if isinstance(v, (tuple, list)):
-        return [_plain(x) for x in v]
-    if isinstance(v, np.ndarray):
-        return v.tolist()
-    if isinstance(v, (np.floating, np.integer)):
-        return v.item()
-    return v
+# (_Law, checked_law and core_tuple: the builder's modules and _marshal import them from here)
 
 
 def law_from_data(data: dict) -> _Law:
@@ -143,58 +66,11 @@ def _import(name: str):
     return obj
 
 
-def _operand(v):
-    """A law, a real number as Constant, a Python function of t as Function, or None (not an
-    operand)."""
-    if isinstance(v, _Law):
-        return v
-    if isinstance(v, (numbers.Real, np.integer, np.floating)) and not isinstance(v, (bool, np.bool_)):
-        return Constant(float(v))
-    if callable(v) and not isinstance(v, type):
-        return Function(v)
-    return None
-
-
-def checked_law(law, what: str, numbers_too: bool = False) -> _Law:
-    """``law`` validated (a copy with float parameters, see _Law); a clear ModelError for
-    anything else. A Python function of t becomes a Function law (evaluated by calls into
-    Python: see Function). ``numbers_too``: a number c also stands for Constant(c)."""
-    if isinstance(law, _Law):
-        try:
-            return law._checked()
-        except ModelError as e:
-            raise ModelError(f"{what}: {e}") from e.__cause__
-    if numbers_too and isinstance(law, (int, float, np.integer, np.floating)) and not isinstance(law, bool):
-        return Constant(real(what, law))._checked()
-    if callable(law) and not isinstance(law, type):
-        try:
-            return Function(law)._checked()
-        except ModelError as e:
-            raise ModelError(f"{what}: {e}") from e.__cause__
-    accepted = f"a time law ({_LAW_NAMES}{', or a number' if numbers_too else ''})"
-    raise ModelError(f"{what}: expected {accepted} (got {type(law).__name__})")
-
-
 def _positive_duration(kind: str, duration) -> float:
     d = real(f"{kind} duration", duration)
     if d <= 0:
         raise ModelError(f"{kind} duration must be > 0 (got {d} s)")
     return d
-
-
-@dataclasses.dataclass(frozen=True)
-class Constant(_Law):
-    """s(t) = value."""
-    value: float = 1.0
-
-    def _checked(self) -> "Constant":
-        return Constant(real("Constant value", self.value))
-
-    def start_value(self) -> float:
-        return self.value
-
-    def shifted(self, dt: float) -> "Constant":
-        return self
 
 
 @dataclasses.dataclass(frozen=True)
@@ -212,6 +88,9 @@ class Step(_Law):
 
     def shifted(self, dt: float) -> "Step":
         return Step(self.t0 + real("shift", dt), self.value)
+
+    def _core_leaf(self) -> tuple:
+        return "step", (self.value, self.t0, 0.0, 0.0, 0.0, 0.0), None, 0
 
 
 @dataclasses.dataclass(frozen=True)
@@ -233,6 +112,9 @@ class Pulse(_Law):
     def shifted(self, dt: float) -> "Pulse":
         return Pulse(self.t0 + real("shift", dt), self.duration, self.value)
 
+    def _core_leaf(self) -> tuple:
+        return "pulse", (self.value, self.t0, self.duration, 0.0, 0.0, 0.0), None, 0
+
 
 @dataclasses.dataclass(frozen=True)
 class Sine(_Law):
@@ -252,6 +134,9 @@ class Sine(_Law):
     def shifted(self, dt: float) -> "Sine":
         return Sine(self.amplitude, self.frequency,
                     self.phase - 2 * np.pi * self.frequency * real("shift", dt), self.offset)
+
+    def _core_leaf(self) -> tuple:
+        return "sine", (self.amplitude, 0.0, 0.0, self.frequency, self.phase, self.offset), None, 0
 
 
 @dataclasses.dataclass(frozen=True)
@@ -278,6 +163,9 @@ class Table(_Law):
     def shifted(self, dt: float) -> "Table":
         return Table(tuple((np.asarray(self.times, dtype=float) + real("shift", dt)).tolist()), self.values)
 
+    def _core_leaf(self) -> tuple:
+        return "table", _NO, np.column_stack([self.times, self.values]).ravel(), 0
+
 
 @dataclasses.dataclass(frozen=True)
 class Cycloidal(_Law):
@@ -300,6 +188,9 @@ class Cycloidal(_Law):
     def shifted(self, dt: float) -> "Cycloidal":
         return Cycloidal(self.value, self.t0 + real("shift", dt), self.duration)
 
+    def _core_leaf(self) -> tuple:
+        return "cycloidal", (self.value, self.t0, self.duration, 0.0, 0.0, 0.0), None, 0
+
 
 @dataclasses.dataclass(frozen=True)
 class Linear(_Law):
@@ -316,6 +207,9 @@ class Linear(_Law):
 
     def shifted(self, dt: float) -> "Linear":
         return Linear(self.rate, self.offset - self.rate * real("shift", dt))
+
+    def _core_leaf(self) -> tuple:
+        return "linear", (self.rate, 0.0, 0.0, 0.0, 0.0, self.offset), None, 0
 
 
 def _increasing(name: str, t: np.ndarray, v: np.ndarray, least: int) -> None:
@@ -386,6 +280,11 @@ class PiecewisePolynomial(_Law):
         t0 = x[0] if at is None else real("antiderivative at", at)
         ci[:, k] -= float(out.derivatives(t0)[0])
         return PiecewisePolynomial(tuple(x.tolist()), tuple(map(tuple, ci.tolist())))
+
+    def _core_leaf(self) -> tuple:
+        return "ppoly", _NO, np.concatenate([np.asarray(self.breaks, dtype=float),
+                                            np.asarray(self.coefficients, dtype=float).ravel()]), \
+            len(self.coefficients[0])
 
 
 _SPLINE_BCS = ("not-a-knot", "natural", "clamped")
@@ -508,172 +407,71 @@ class Spline(_Law):
         t0 = self._checked().times[0] if at is None else at
         return self.piecewise().antiderivative(t0)
 
-
-@dataclasses.dataclass(frozen=True)
-class Sum(_Law):
-    """s(t) = sum of the ``terms`` (laws or numbers); ``a + b`` makes one."""
-    terms: Sequence[object]
-
-    def _checked(self) -> "Sum":
-        return Sum(_checked_operands("Sum", self.terms))
-
-    def shifted(self, dt: float) -> "Sum":
-        return Sum(tuple(t.shifted(dt) for t in _checked_operands("Sum", self.terms)))
+    def _core_leaf(self) -> tuple:
+        return self.piecewise()._core_leaf()
 
 
 @dataclasses.dataclass(frozen=True)
-class Product(_Law):
-    """s(t) = product of the ``factors`` (laws or numbers); ``a * b`` and ``2.0 * a`` make one.
-    Derivatives by the Leibniz rule."""
-    factors: Sequence[object]
+class Trapezoidal(_Law):
+    """Rest-to-rest move by ``distance`` from t0 [s] with a trapezoidal velocity profile: constant
+    acceleration ``max_acceleration`` up to ``max_velocity``, a cruise at it, constant deceleration
+    to rest. Units: those of what the law drives -- m, m/s, m/s^2 for a displacement, rad, rad/s,
+    rad/s^2 for an angle. Too short a move to reach ``max_velocity`` is a triangular profile (peak
+    velocity sqrt(abs(distance) max_acceleration)). s = 0 before t0 and ``distance`` after the move
+    (``duration()`` [s] long); s and s' are continuous, s'' jumps at the start and end of each
+    ramp, where the integrators restart (breakpoints). A negative distance moves backwards.
+    Evaluated in the core as its PiecewisePolynomial (``piecewise()``)."""
+    distance: float = 1.0
+    max_velocity: float = 1.0
+    max_acceleration: float = 1.0
+    t0: float = 0.0
 
-    def _checked(self) -> "Product":
-        return Product(_checked_operands("Product", self.factors))
+    def _checked(self) -> "Trapezoidal":
+        d = real("Trapezoidal distance", self.distance)
+        v, a = real("Trapezoidal max_velocity", self.max_velocity), real("Trapezoidal max_acceleration",
+                                                                            self.max_acceleration)
+        if not (v > 0 and a > 0):
+            raise ModelError(f"Trapezoidal max_velocity and max_acceleration must be > 0 (got {v}, {a})")
+        return Trapezoidal(d, v, a, real("Trapezoidal t0", self.t0))
 
-    def shifted(self, dt: float) -> "Product":
-        return Product(tuple(t.shifted(dt) for t in _checked_operands("Product", self.factors)))
+    def shifted(self, dt: float) -> "Trapezoidal":
+        return dataclasses.replace(self, t0=self.t0 + real("shift", dt))
 
+    def phases(self) -> tuple:
+        """(ramp, cruise): how long each of the two ramps and the cruise last [s] (cruise 0 for a
+        triangular profile)."""
+        p = self._checked()
+        dist, v, a = abs(p.distance), p.max_velocity, p.max_acceleration
+        if dist * a >= v * v:
+            return v / a, dist / v - v / a
+        return (dist / a) ** 0.5, 0.0
 
-def _checked_operands(kind: str, items) -> tuple:
-    """The checked laws of a Sum or Product (numbers as Constant); at least one."""
-    if isinstance(items, (_Law, str)) or not hasattr(items, "__iter__"):
-        raise ModelError(f"{kind} takes a sequence of laws (got {type(items).__name__})")
-    out = []
-    for i, x in enumerate(items):
-        o = _operand(x)
-        if o is None:
-            raise ModelError(f"{kind} operand {i}: expected a time law or a number (got {type(x).__name__})")
-        out.append(o._checked())
-    if not out:
-        raise ModelError(f"{kind} needs at least one operand")
-    return tuple(out)
+    def duration(self) -> float:
+        """How long the move lasts [s]: two ramps and the cruise."""
+        ramp, cruise = self.phases()
+        return 2 * ramp + cruise
 
+    def piecewise(self) -> PiecewisePolynomial:
+        """The move as the PiecewisePolynomial the core evaluates: rest, ramp up, cruise (when
+        there is one), ramp down, rest (the first and last pieces continue outside)."""
+        p = self._checked()
+        ramp, cruise = p.phases()
+        a = p.max_acceleration if p.distance >= 0 else -p.max_acceleration
+        if ramp == 0.0:   # no move
+            return PiecewisePolynomial((p.t0, p.t0 + 1.0), ((0.0,),))
+        vp, s1 = a * ramp, 0.5 * a * ramp * ramp   # the peak velocity, the distance of a ramp
+        t1, t2 = p.t0 + ramp, p.t0 + ramp + cruise
+        breaks, coefficients = [p.t0 - 1.0, p.t0, t1], [(0.0, 0.0, 0.0), (0.5 * a, 0.0, 0.0)]
+        if t1 < t2 < t2 + ramp:
+            breaks.append(t2)
+            coefficients.append((0.0, vp, s1))
+        end = breaks[-1] + ramp
+        breaks += [end, end + 1.0]
+        coefficients += [(-0.5 * a, vp, p.distance - s1), (0.0, 0.0, p.distance)]
+        return PiecewisePolynomial(tuple(breaks), tuple(coefficients))
 
-def _callable_name(f) -> str:
-    return getattr(f, "__name__", type(f).__name__)
-
-
-@dataclasses.dataclass(frozen=True, eq=False)
-class Function(_Law):
-    """A Python function of time, s = fn(t - shift) [t in s], as a law. The core calls back into
-    Python (taking the GIL) at every evaluation of the law: once per residual evaluation of the
-    integrator (and per column group of its finite-difference Jacobian), about a microsecond
-    each -- where a Spline or Table through samples of it costs nothing. A driven coordinate and
-    a PD target also need s' and s'': ``derivative`` and ``second_derivative`` (functions of t)
-    when given, else central differences of fn with step ``step`` [s] (two more calls; s' to
-    ~1e-8 and s'' to ~1e-6 relative for a law that varies on a time scale of 1 s: give the
-    derivatives when it varies faster; one-sided forward differences where fn raises or is not
-    finite at t - step, e.g. sqrt(t) at t = 0). ``breakpoints``: times [s] where s, s' or s'' jump (the
-    integrators stop and restart there). fn must return a finite real number: anything else, or
-    an exception, stops the run and is raised as a ModelError naming the function and the time
-    (its cause: the original exception). Plain data (to_data) when the callables are importable
-    module-level functions."""
-    fn: object
-    derivative: object = None
-    second_derivative: object = None
-    breakpoints: Sequence[float] = ()
-    shift: float = 0.0
-    step: float = 1e-4
-
-    def _checked(self) -> "Function":
-        for name in ("fn", "derivative", "second_derivative"):
-            f = getattr(self, name)
-            if (f is not None or name == "fn") and (not callable(f) or isinstance(f, (type, _Law))):
-                raise ModelError(f"Function {name}: expected a Python function of t (got {type(f).__name__})")
-        bp = real_numbers("Function breakpoints", self.breakpoints).reshape(-1)
-        if bp.size and (not np.all(np.isfinite(bp)) or np.any(np.diff(bp) <= 0)):
-            raise ModelError("Function breakpoints must be finite and strictly increasing")
-        step = real("Function step", self.step)
-        if step <= 0:
-            raise ModelError(f"Function step must be > 0 (got {step} s)")
-        out = Function(self.fn, self.derivative, self.second_derivative, tuple(bp.tolist()),
-                       real("Function shift", self.shift), step)
-        call = _FunctionCall(out)
-        given = out.derivative is not None or out.second_derivative is not None
-        if call(0.0, 2 if given else 0) is None:   # one evaluation at t = 0 now: a bad
-            raise call.error                      # function fails at add_*
-        return out
-
-    def shifted(self, dt: float) -> "Function":
-        d = real("shift", dt)
-        return dataclasses.replace(self, shift=self.shift + d,
-                                   breakpoints=tuple(b + d for b in self.breakpoints))
-
-    def to_data(self) -> dict:
-        out = super().to_data()
-        for name in ("fn", "derivative", "second_derivative"):
-            f = getattr(self, name)
-            if f is None:
-                continue
-            mod, qual = getattr(f, "__module__", None), getattr(f, "__qualname__", "")
-            if not mod or "<" in qual:
-                raise ModelError(f"Function {name} {_callable_name(f)!r} is not an importable "
-                                 "module-level function: it cannot be saved as data")
-            out[name] = f"{mod}:{qual}"
-        return out
-
-
-class _FunctionCall:
-    """What the core calls for a Function law (csrc/pyext/py_laws.c, law_callback):
-    ``(t, nder) -> (s, s', s'')``, or None when the function failed, the ModelError then kept in
-    ``error`` (the binding raises it when the core returns; later calls fail at once)."""
-
-    def __init__(self, law: Function):
-        self.law = law
-        self.error = None
-
-    def _real(self, f, t, what):
-        v = f(t - self.law.shift)
-        if isinstance(v, np.ndarray) and v.ndim == 0:
-            v = v[()]
-        if not isinstance(v, (numbers.Real, np.integer, np.floating)) or isinstance(v, (bool, np.bool_)):
-            raise ModelError(f"time law: the function {_callable_name(f)!r}{what} returned "
-                             f"{type(v).__name__} {v!r} at t = {t:.9g} s, not a real number")
-        v = float(v)
-        if not math.isfinite(v):
-            raise ModelError(f"time law: the function {_callable_name(f)!r}{what} returned {v} at "
-                             f"t = {t:.9g} s")
-        return v
-
-    def __call__(self, t: float, nder: int):
-        if self.error is not None:
-            return None
-        law = self.law
-        try:
-            s = self._real(law.fn, t, "")
-            d1 = d2 = 0.0
-            if nder >= 1:
-                h = law.step
-                if law.derivative is not None:
-                    d1 = self._real(law.derivative, t, " (derivative)")
-                if law.derivative is None or (nder >= 2 and law.second_derivative is None):
-                    sp = self._real(law.fn, t + h, "")
-                    try:   # central differences; one-sided forward ones where fn is not
-                        with np.errstate(all="ignore"):   # defined before t (e.g. t < 0)
-                            sm = law.fn(t - h - law.shift)
-                        central = math.isfinite(float(sm))
-                    except Exception:   # noqa: BLE001 -- then the forward differences
-                        central = False
-                    if central:
-                        fd1, fd2 = (sp - float(sm)) / (2 * h), (sp - 2 * s + float(sm)) / (h * h)
-                    else:
-                        s2 = self._real(law.fn, t + 2 * h, "")
-                        fd1, fd2 = (-3 * s + 4 * sp - s2) / (2 * h), (s - 2 * sp + s2) / (h * h)
-                    if law.derivative is None:
-                        d1 = fd1
-                    if nder >= 2 and law.second_derivative is None:
-                        d2 = fd2
-                if nder >= 2 and law.second_derivative is not None:
-                    d2 = self._real(law.second_derivative, t, " (second derivative)")
-            return (s, d1, d2)
-        except ModelError as e:
-            self.error = e
-        except Exception as e:   # noqa: BLE001 -- any error of the user's function is reported
-            err = ModelError(f"time law: the function {_callable_name(law.fn)!r} raised "
-                             f"{type(e).__name__} at t = {t:.9g} s: {e}")
-            err.__cause__ = e
-            self.error = err
-        return None
+    def _core_leaf(self) -> tuple:
+        return self.piecewise()._core_leaf()
 
 
 @dataclasses.dataclass(frozen=True)
@@ -686,70 +484,5 @@ class Motion:
     law: _Law
 
 
-_CLASSES = {c.__name__: c for c in (Constant, Step, Pulse, Sine, Table, Cycloidal, Linear, Spline,
-                                    PiecewisePolynomial, Sum, Product, Function)}
-
-
-_NO = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-
-# ---- the core's law tuples (csrc/pyext/py_laws.c, phm_py_parse_law): evaluation here
-# (_Law.derivatives) and the model's columns (phmech._marshal)
-
-#: the phm_law_kind name (_codes.LAW_KINDS) of each leaf class, and its (amplitude, t0,
-#: duration, frequency, phase, offset) fields of phm_law, then its data array (or None) and
-#: order (PPOLY)
-_LAWS = {
-    Constant: ("constant", lambda s: ((s.value, 0.0, 0.0, 0.0, 0.0, 0.0), None, 0)),
-    Step: ("step", lambda s: ((s.value, s.t0, 0.0, 0.0, 0.0, 0.0), None, 0)),
-    Pulse: ("pulse", lambda s: ((s.value, s.t0, s.duration, 0.0, 0.0, 0.0), None, 0)),
-    Sine: ("sine", lambda s: ((s.amplitude, 0.0, 0.0, s.frequency, s.phase, s.offset), None, 0)),
-    Table: ("table", lambda s: (_NO, np.column_stack([s.times, s.values]).ravel(), 0)),
-    Cycloidal: ("cycloidal", lambda s: ((s.value, s.t0, s.duration, 0.0, 0.0, 0.0), None, 0)),
-    Linear: ("linear", lambda s: ((s.rate, 0.0, 0.0, 0.0, 0.0, s.offset), None, 0)),
-    PiecewisePolynomial: ("ppoly", lambda s: (_NO, np.concatenate([np.asarray(s.breaks, dtype=float),
-                                                             np.asarray(s.coefficients, dtype=float).ravel()]),
-                                        len(s.coefficients[0]))),
-}
-_EXPR, _SUM, _PRODUCT, _CALLBACK = (LAW_KINDS[k] for k in ("expr", "sum", "product", "callback"))
-
-def _leaf(law: _Law) -> tuple:
-    """The core's tuple of a leaf law (not a Sum or Product)."""
-    if isinstance(law, Spline):
-        law = law.piecewise()
-    if isinstance(law, Function):   # the core calls back (csrc/pyext/py_laws.c, law_callback)
-        bp = np.asarray(law.breakpoints, dtype=float) if law.breakpoints else None
-        # a function that answers the core's (t, nder) itself, checked (python/phmech/controllers.py,
-        # Hold: a held value), else the checks of _FunctionCall
-        fast = getattr(law.fn, "core_call", None) if law.shift == 0 else None
-        return (_CALLBACK, *_NO, bp, 0, None, fast or _FunctionCall(law))
-    kind, fields = _LAWS[type(law)]
-    params, data, order = fields(law)
-    return (LAW_KINDS[kind], *params, data, order, None, None)
-
-
-def _postfix(law: _Law, out: list) -> None:
-    """Append the nodes of ``law`` in postfix order: a Sum or Product of n operands is its
-    operands joined by n - 1 operators."""
-    if isinstance(law, (Sum, Product)):
-        items = law.terms if isinstance(law, Sum) else law.factors
-        op = (_SUM if isinstance(law, Sum) else _PRODUCT, *_NO, None, 0, None, None)
-        for i, x in enumerate(items):
-            _postfix(x, out)
-            if i:
-                out.append(op)
-    else:
-        out.append(_leaf(law))
-
-
-def core_tuple(law: Optional[_Law]) -> Optional[tuple]:
-    """The core's law tuple (kind, amplitude, t0, duration, frequency, phase, offset, data,
-    order, nodes, fn) (csrc/pyext/py_laws.c, phm_py_parse_law) of a checked law (checked_law),
-    or None: a leaf's own, or for a Sum or Product an expression (kind EXPR) whose nodes are
-    the leaves and operators in postfix order."""
-    if law is None:
-        return None
-    if not isinstance(law, (Sum, Product)):
-        return _leaf(law)
-    nodes: list = []
-    _postfix(law, nodes)
-    return (_EXPR, *_NO, None, 0, nodes, None)
+_CLASSES = {c.__name__: c for c in (Constant, Step, Pulse, Sine, Table, Cycloidal, Linear, Trapezoidal,
+                                    Spline, PiecewisePolynomial, Sum, Product, Function)}

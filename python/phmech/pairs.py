@@ -1,6 +1,6 @@
 """Kinematic pairs: the classes Fixed, Revolute, ... made from the core's pair table.
 
-The core's table (csrc/model/pair.c, the only place where pair types are defined; exported as
+The core's table (csrc/model/pair_types.c, the only place where pair types are defined; exported as
 ``_core.pair_types()``) gives every type's code, parameters, joint-coordinate units, constraint
 directions, whether it can be driven and its docstring; ``PAIR_TYPES`` holds those rows and a
 class is generated for each, with the kinematics h(x) and x(h) taken from the core
@@ -64,7 +64,7 @@ def _cardan_rotation(axis1, axis2) -> np.ndarray:
 # ------------------------------------------------------------------ THE table (from the core)
 @dataclasses.dataclass(frozen=True)
 class PairType:
-    """One pair type of the core's pair table (csrc/model/pair.c, exported as
+    """One pair type of the core's pair table (csrc/model/pair_types.c, exported as
     ``_core.pair_types()``).
 
     ``code``: its type code. ``name``: its class's name. ``parameters``: (field, type, default)
@@ -171,6 +171,6 @@ def _pair_class(t: PairType) -> type:
 
 
 # every type of the core's table becomes a class of this module: a new pair type in
-# csrc/model/pair.c needs no Python change (docs/architecture.md, "Adding a pair type")
+# csrc/model/pair_types.c needs no Python change (docs/architecture.md, "Adding a pair type")
 globals().update({t.name: _pair_class(t) for t in PAIR_TYPES})
 __all__ = [t.name for t in PAIR_TYPES]

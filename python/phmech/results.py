@@ -126,6 +126,11 @@ class SimulationResult:
     efforts: np.ndarray = None
     pair_wrenches: np.ndarray = None
     _pairs: dict = dataclasses.field(default_factory=dict)
+    #: (nt, npairs): each pair's position constraint residual at each output, the largest abs(g) of
+    #: the constraint rows the DAE keeps for it [rad for a rotation row, m for a translation
+    #: row; 0 for a pair without rows] -- how closely the integrator holds the pair together
+    #: (computed by the core at each output, csrc/dae/output.c; None in files from before it)
+    constraint_residual: np.ndarray = None
     #: (pair, direction) rows left out of the DAE as redundant; when non-empty,
     #: ``constraint_wrenches`` holds the minimum-norm multipliers of ALL rows (see
     #: postprocess.min_norm_multipliers) and ``pair_wrenches`` the matching pair wrenches.
@@ -548,6 +553,7 @@ def load_result(path):
         port_energy={p_: a("port_energy")[:, i].copy() for i, p_ in enumerate(ports)},
         joints=a("joints"), joint_rates=a("joint_rates"), efforts=a("efforts"),
         pair_wrenches=a("pair_wrenches"), _pairs=decode_value(meta["pairs"]),
+        constraint_residual=a("constraint_residual") if "constraint_residual" in ds else None,
         redundant_constraints=decode_value(meta["redundant"]),
         carriers=a("carrier") if meta["recorded"] else None,
         _inertia=a("inertia"), _mass=a("mass"), _com=a("com"), _bodies=bodies,

@@ -16,7 +16,7 @@ C-ordered float64 arrays. Inputs must be real, finite numbers of the stated trai
 anything else raises ``ValueError`` (``phmech.ModelError``, a ValueError, from the C binding).
 Results are finite: an input beyond a function's range in double precision (the exponential of a
 1e300 rad rotation, a product of poses with 1e200 entries) raises ModelError instead of returning
-NaN or inf. The numerics are in the C core (``csrc/se3.c``): exp/log use series near angle 0 and
+NaN or inf. The numerics are in the C core (``csrc/util/se3.c``, quaternions ``csrc/util/quat.c``): exp/log use series near angle 0 and
 a symmetric-part axis near angle pi.
 """
 from __future__ import annotations

@@ -287,7 +287,7 @@ static inline void carrier_unit(phm_carrier_desc *c) {
   c->mass = 1.0;
   for (int i = 0; i < 4; i++) c->H0[5 * i] = 1.0;
 }
-/* The row of the pair table (csrc/model/pair.c) named `name`, or -1. */
+/* The row of the pair table (csrc/model/pair_types.c) named `name`, or -1. */
 static inline int pair_code(const char *name) {
   for (int t = 0; t < phm_pair_type_count(); t++)
     if (strcmp(phm_pair_type(t)->name, name) == 0) return t;

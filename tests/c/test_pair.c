@@ -1,4 +1,4 @@
-/* test_pair.c -- csrc/model/pair.c, the pair table and the evaluation of a pair: the table's rows
+/* test_pair.c -- csrc/model/pair_types.c and pair.c, the pair table and the evaluation of a pair: the table's rows
  * and their order, a driven fixed pair against its prescribed motion, every pair type's
  * constraints, Jacobian blocks and joint coordinates against finite differences and an
  * independent forward kinematics (pair_fk below), phm_pair_type_pose and
@@ -7,7 +7,7 @@
 #include "check.h"
 #include "model.h"
 
-/* The rows of the pair table (csrc/model/pair.c) in its order; the first case checks them by name. */
+/* The rows of the pair table (csrc/model/pair_types.c) in its order; the first case checks them by name. */
 enum {
   PHM_PAIR_FIXED, PHM_PAIR_REVOLUTE, PHM_PAIR_PRISMATIC, PHM_PAIR_HELICAL, PHM_PAIR_CYLINDRICAL,
   PHM_PAIR_UNIVERSAL, PHM_PAIR_SPHERICAL, PHM_PAIR_PLANAR, PHM_PAIR_FREE, PAIR_TYPES
