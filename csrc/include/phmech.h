@@ -150,7 +150,7 @@ phm_status phm_simulate(const phm_model *model, const double *poses0, const doub
 
 /* ---------------------------------------------------------------- integrators (csrc/integrate/integrators.c) */
 int phm_integrator_count(void);                  /* rows of the table of integrators (codes 0..count-1) */
-const char *phm_integrator_name(int integrator); /* "ida", "galpha"; NULL if unknown               */
+const char *phm_integrator_name(int integrator); /* "ida", "generalized-alpha"; NULL if unknown    */
 /* Options with the integrator's sub-struct at its defaults and every other field 0 (set rtol,
  * atol and the rest by name); PHM_EINVAL for an unknown integrator. */
 phm_status phm_sim_defaults(int integrator, phm_sim_options *opt, phm_error *err);

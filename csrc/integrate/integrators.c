@@ -9,7 +9,7 @@
 static const phm_integrator integrators[] = {
     [PHM_INTEGRATOR_IDA] = {"ida", {.ida = {.max_order = 0, .error_test = PHM_ERRTEST_ALL}}, 0,
                             ida_check, ida_setup, ida_release, run_ida},
-    [PHM_INTEGRATOR_GALPHA] = {"galpha",
+    [PHM_INTEGRATOR_GALPHA] = {"generalized-alpha",
                                {.galpha = {.step = 0.0, .rho_inf = 1.0, .adaptive = 0, .band = 0.0}},
                                1, galpha_check, galpha_setup, galpha_release, run_galpha},
 };

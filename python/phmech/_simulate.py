@@ -57,8 +57,8 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
             else "dense"
     if not isinstance(linear_solver, str) or linear_solver not in solvers:
         raise ModelError(f"unknown linear_solver {linear_solver!r} (available: 'auto', 'dense', 'klu')")
-    #: the user's names of the core's integrators (_codes.INTEGRATORS: "ida", "galpha")
-    integrators = {"ida": INTEGRATORS["ida"], "generalized-alpha": INTEGRATORS["galpha"]}
+    #: the core's integrators by their one name (_codes.INTEGRATORS: "ida", "generalized-alpha")
+    integrators = INTEGRATORS
     if not isinstance(integrator, str) or integrator not in integrators:
         raise ModelError(f"unknown integrator {integrator!r} (available: {', '.join(map(repr, integrators))})")
     adaptive = integrator == "generalized-alpha" and step is None

@@ -10,12 +10,12 @@ static void rows_are_found_by_code(void) {
   const phm_integrator *ida = phm_integrator_get(PHM_INTEGRATOR_IDA);
   const phm_integrator *ga = phm_integrator_get(PHM_INTEGRATOR_GALPHA);
   CHECK(ida && strcmp(ida->name, "ida") == 0, "PHM_INTEGRATOR_IDA is \"ida\"");
-  CHECK(ga && strcmp(ga->name, "galpha") == 0, "PHM_INTEGRATOR_GALPHA is \"galpha\"");
+  CHECK(ga && strcmp(ga->name, "generalized-alpha") == 0, "PHM_INTEGRATOR_GALPHA is \"generalized-alpha\"");
   CHECK(ida && ida->run == run_ida && ga && ga->run == run_galpha, "each row runs its integrator");
   CHECK(ida && !ida->per_step && ga && ga->per_step, "lambda_ref: IDA at the outputs, generalized-alpha per step");
   CHECK(phm_integrator_get(-1) == NULL && phm_integrator_get(phm_integrator_count()) == NULL,
         "an unknown code finds nothing");
-  CHECK(phm_integrator_name(PHM_INTEGRATOR_GALPHA) && !strcmp(phm_integrator_name(PHM_INTEGRATOR_GALPHA), "galpha") &&
+  CHECK(phm_integrator_name(PHM_INTEGRATOR_GALPHA) && !strcmp(phm_integrator_name(PHM_INTEGRATOR_GALPHA), "generalized-alpha") &&
             phm_integrator_name(7) == NULL,
         "names by code");
   for (int i = 0; i < phm_integrator_count(); i++) {
