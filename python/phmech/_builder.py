@@ -17,7 +17,8 @@ import numpy as np
 from . import io, _placement
 from .actuators import Effort, actuator_row
 from .components import component_row
-from .controllers import EffortOutput, Hold, MotorVoltageOutput, controller_row, zero
+from .controllers import (EffortOutput, Hold, MotorVoltageOutput, controller_row, voltage_input,
+                          zero)
 from ._checks import (ANGLE_SLIP, array, choice, inertia_triangle, per_coordinate,
                       positive_definite, real, rigid_pose)
 from .description import ModelDescription
@@ -435,15 +436,7 @@ class Builder(LinkBuilder):
             self._check_name(nm)
             law = checked_law(Function(hold.law_fn(j), zero, zero), f"controller {name!r}")
             if isinstance(o, MotorVoltageOutput):
-                c = [r for r in self._desc.components if r["name"] == o.motor]
-                if not c or c[0]["kind"] != "motor" or c[0]["input"] != 0:
-                    raise ModelError(f"controller {name!r}: output {j} drives {o.motor!r}, which "
-                                     f"is not a DC motor with a voltage input of this mechanism")
-                if any(c[0] is r for rr in self._desc.controllers for r in rr["law_rows"]) or \
-                        any(c[0] is r for r, _ in motors):
-                    raise ModelError(f"controller {name!r}: motor {o.motor!r} already has a "
-                                     f"controller's voltage")
-                motors.append((c[0], law))
+                motors.append((voltage_input(self._desc, name, j, o, [r for r, _ in motors]), law))
             elif isinstance(o, EffortOutput):
                 if not isinstance(o.pair, str) or o.pair not in [p["name"] for p in self._pairs]:
                     raise ModelError(f"controller {name!r}: output {j} is on the unknown pair "

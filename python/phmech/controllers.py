@@ -119,6 +119,21 @@ def controller_row(name: str, ctrl, sensors: dict) -> dict:
                 outputs=outs, u0=np.array(u0[:len(outs)], dtype=float))
 
 
+def voltage_input(desc, name: str, j: int, o: MotorVoltageOutput, taken: list) -> dict:
+    """The component row of the DC motor whose voltage output ``j`` of controller ``name``
+    drives (a voltage-input motor of ``desc`` no controller drives yet, nor one of ``taken``,
+    this controller's other outputs); ModelError otherwise."""
+    c = [r for r in desc.components if r["name"] == o.motor]
+    if not c or c[0]["kind"] != "motor" or c[0]["input"] != 0:
+        raise ModelError(f"controller {name!r}: output {j} drives {o.motor!r}, which "
+                         f"is not a DC motor with a voltage input of this mechanism")
+    if any(c[0] is r for rr in desc.controllers for r in rr["law_rows"]) or \
+            any(c[0] is r for r in taken):
+        raise ModelError(f"controller {name!r}: motor {o.motor!r} already has a "
+                         f"controller's voltage")
+    return c[0]
+
+
 def zero(t: float) -> float:
     """The time derivatives of a held value [per s] (a controller output's law)."""
     return 0.0
