@@ -34,12 +34,10 @@ static void *keep_block(PyObject *keep, size_t n) {
   return r < 0 ? NULL : p;
 }
 
-/* CALLBACK trampoline: the callable's (s, s', s'') with the GIL (the integrators run without
- * it); any failure (an exception the callable did not keep, a malformed result) is -1. */
-static int law_callback(void *ctx, double t, int nder, double out[3]) {
-  PyGILState_STATE g = PyGILState_Ensure();
+/* A trampoline's end: the callable's result r (a new reference, or NULL) as three floats in
+ * out (0), or -1 for anything else; r released, any error cleared, the GIL state g released. */
+static int three_floats(PyObject *r, double out[3], PyGILState_STATE g) {
   int rc = -1;
-  PyObject *r = PyObject_CallFunction((PyObject *)ctx, "di", t, nder);
   if (r && PyTuple_Check(r) && PyTuple_GET_SIZE(r) == 3) {
     rc = 0;
     for (int k = 0; k < 3; k++) {
@@ -53,6 +51,14 @@ static int law_callback(void *ctx, double t, int nder, double out[3]) {
   return rc;
 }
 
+/* CALLBACK trampoline: the callable's (s, s', s'') with the GIL (the integrators run without
+ * it); any failure (an exception the callable did not keep, a malformed result) is -1. */
+static int law_callback(void *ctx, double t, int nder, double out[3]) {
+  PyGILState_STATE g = PyGILState_Ensure();
+  PyObject *r = PyObject_CallFunction((PyObject *)ctx, "di", t, nder);
+  return three_floats(r, out, g);
+}
+
 /* A callback controller's trampoline (phm_component_desc.fn, PHM_COMP_CALLBACK): its callable
  * (python/phmech/components.py, _ControlCall; the ctx of its component's law) called as
  * ctx.control(t, x, v, nder) -> (u, du/dx, du/dv), with the GIL; None or anything else is a
@@ -60,23 +66,12 @@ static int law_callback(void *ctx, double t, int nder, double out[3]) {
 int phm_py_control_callback(void *ctx, double t, double x, double v, int nder, double out[3]) {
   static PyObject *name = NULL;
   PyGILState_STATE g = PyGILState_Ensure();
-  int rc = -1;
   if (!name) name = PyUnicode_InternFromString("control");
   PyObject *a[5] = {(PyObject *)ctx, PyFloat_FromDouble(t), PyFloat_FromDouble(x),
                     PyFloat_FromDouble(v), PyLong_FromLong(nder)}, *r = NULL;
   if (name && a[1] && a[2] && a[3] && a[4]) r = PyObject_VectorcallMethod(name, a, 5, NULL);
   for (int k = 1; k < 5; k++) Py_XDECREF(a[k]);
-  if (r && PyTuple_Check(r) && PyTuple_GET_SIZE(r) == 3) {
-    rc = 0;
-    for (int k = 0; k < 3; k++) {
-      out[k] = PyFloat_AsDouble(PyTuple_GET_ITEM(r, k));
-      if (out[k] == -1.0 && PyErr_Occurred()) rc = -1;
-    }
-  }
-  Py_XDECREF(r);
-  if (PyErr_Occurred()) PyErr_Clear();
-  PyGILState_Release(g);
-  return rc;
+  return three_floats(r, out, g);
 }
 
 int phm_py_parse_law(PyObject *obj, phm_law *law, PyObject *keep, const char *what, int depth) {
