@@ -170,8 +170,8 @@ def test_bad_components_are_named():
     with pytest.raises(ph.ModelError, match="component 'lg'.*out of range"):
         m2.add_component("lg", "hub", ph.LuGreFriction(-1.0, 1, 1, 1, 1, 1))
     m2.add_component("d", "hub", ph.ViscousFriction(1.0))
-    with pytest.raises(ph.ModelError, match="modes: the components 'd'"):
-        m2.modes()
+    with pytest.raises(ph.ModelError, match="static: the components 'd'"):
+        m2.static()
 
 
 def test_components_are_saved_in_model_files(tmp_path):

@@ -43,6 +43,9 @@ void lin_force_jacobian_blocks(lin_t *L, const double *H);
  * actuators', loads' and springs') to Kb (df/ddelta; if not NULL) and their twist derivatives to
  * Db (df/dt: the damping; if not NULL). */
 void lin_closed_form_blocks(const lin_t *L, const double *H, double *Kb, double *Db);
+/* K (6 x 6, row-major, leading dimension 6) += Kw (ldk; NULL: none) - 1/2 ad*_(.) w: a
+ * carrier's own block of f_c(delta) = dexp_{-delta}^T w_c(H_c exp(delta)) for a wrench w. */
+void lin_add_own_block(double *K, const double *Kw, int ldk, const double w[6]);
 
 /* The KKT matrix [K G^T; G 0] of the linearization (K: 6x6 blocks on the slots of the carrier
  * graph, G: the pairs' constraint rows) in compressed columns, with the source of every entry,

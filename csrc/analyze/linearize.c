@@ -33,7 +33,7 @@ int lin_slot(const lin_t *L, int r, int c) {
 
 /* K += dw/ddelta (6 x 6) - 1/2 ad*_(.) w: a carrier's own block of f_c(delta) =
  * dexp_{-delta}^T w_c(H_c exp(delta)) for a wrench w (with its derivative Kw, NULL: none). */
-static void add_own_block(double *K, const double *Kw, int ldk, const double w[6]) {
+void lin_add_own_block(double *K, const double *Kw, int ldk, const double w[6]) {
   for (int j = 0; j < 6; j++) {
     double ej[6] = {0}, z[6];
     ej[j] = 1.0;
@@ -64,7 +64,7 @@ static void add_lin_tangent(void *ctx, int ca, int cb, const double w[12], const
           for (int j = 0; j < 6; j++) s->Db[36 * (size_t)q + 6 * i + j] += Kt[12 * (6 * bi + i) + 6 * bj + j];
       if (!s->Kb) continue;
       double *K = s->Kb + 36 * (size_t)q;
-      if (bi == bj) add_own_block(K, kx, 12, w + 6 * bi);
+      if (bi == bj) lin_add_own_block(K, kx, 12, w + 6 * bi);
       else
         for (int i = 0; i < 6; i++)
           for (int j = 0; j < 6; j++) K[6 * i + j] += kx[12 * i + j];
@@ -94,7 +94,7 @@ void lin_closed_form_blocks(const lin_t *L, const double *H, double *Kb, double 
   for (int c = 0; gn > 0 && c < m->nc; c++) {
     double w[6], Kg[36];
     phm_gravity_tangent(m, c, H + 16 * c, L->scale, w, Kg);
-    add_own_block(Kb + 36 * (size_t)lin_slot(L, c, c), Kg, 6, w);
+    lin_add_own_block(Kb + 36 * (size_t)lin_slot(L, c, c), Kg, 6, w);
   }
   for (int ip = 0; L->lam && ip < m->np; ip++) {
     const phm_pair_desc *pr = &m->pair[ip];

@@ -193,6 +193,13 @@ phm_status phm_linear_model(const phm_model *model, const double *poses, const d
                             double time, int nports, const phm_linear_port *ports, int *nr,
                             double *K, double *D, double *M, double *Z, double *B, phm_error *err);
 int phm_linear_port_columns(const phm_model *model, int nports, const phm_linear_port *ports); /* inputs of the ports */
+/* phm_linear_model with the components' linearized laws into *comp (phm_linear_components; NULL:
+ * phm_linear_model). */
+phm_status phm_linear_closed_loop(const phm_model *model, const double *poses,
+                                  const double *lambda, double time, int nports,
+                                  const phm_linear_port *ports, int *nr, double *K, double *D,
+                                  double *M, double *Z, double *B, phm_linear_components *comp,
+                                  phm_error *err);
 
 /* ---------------------------------------------------------------- statics (csrc/analyze/statics.c) */
 /* Static equilibrium under the loads and gravity at `time`, scaled from 0 to 1 in `steps` load

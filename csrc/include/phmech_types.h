@@ -457,6 +457,20 @@ typedef struct {
   double T[16]; /* PHM_PORT_FRAME: the frame's offset on its carrier (row-major 4x4) */
 } phm_linear_port;
 
+/* The components' part of a linear model (phm_linear_closed_loop; docs/method.md section 7.5):
+ * their laws (csrc/model/component.c) linearized at the point, at rest, in the reduced
+ * coordinates q of phm_linear_model: with f_c = Z^T (the components' wrenches) their reduced
+ * generalized forces and z (nz) their states, d f_c = -Kc dq - Dc dq' + Kz dz and
+ * dz' = Fq dq + Fv dq' + Fz dz. Caller-allocated, row-major: Kc, Dc with room for (6 nc)^2
+ * values, Kz for 6 nc x nz, Fq, Fv for nz x 6 nc, Fz nz x nz; f, fc: 6 nc (Z^T of all the
+ * generalized forces at the point, the mechanism's and the components', and the components'
+ * alone: the rest residual), zdot: nz (the states' rates there). z: the states at the point
+ * (NULL: the components' initial states). */
+typedef struct {
+  const double *z;
+  double *Kc, *Dc, *Kz, *Fq, *Fv, *Fz, *f, *fc, *zdot;
+} phm_linear_components;
+
 /* A motion of a mechanism that nothing resists and on which the loads do work at a rate that is
  * the same in every configuration (phm_static_free, csrc/analyze/static_free.c): then the
  * mechanism has no static equilibrium under those loads. Either the side of a pair away from the

@@ -382,13 +382,13 @@ class Builder(LinkBuilder):
         self._acts.append(act)
 
     def _no_components(self, what: str) -> None:
-        """ModelError: the analyses (modes, linearize, static) do not yet include the components
-        with internal states, which only simulate integrates (issue 29, item 6)."""
+        """ModelError: static does not yet include the components with internal states (modes
+        and linearize do, linearized; simulate integrates them)."""
         if self._desc.components:
             names = ", ".join(repr(r["name"]) for r in self._desc.components)
-            raise ModelError(f"{what}: the components {names} (friction, motors) are not part of "
-                             f"the linearized and static analyses yet; only simulate() includes "
-                             f"them")
+            raise ModelError(f"{what}: the components {names} (friction, motors, controllers) are "
+                             f"not part of the static analysis yet; simulate() includes them, and "
+                             f"modes() and linearize() linearized about the initial state")
 
     @_recorded
     def add_component(self, name: str, pair: str, component) -> None:

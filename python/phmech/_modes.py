@@ -9,7 +9,7 @@ from typing import Optional
 
 import numpy as np
 
-from . import analysis, _core, _model
+from . import analysis, _core, linear, _model
 from ._checks import integer, real
 from ._errors import EquilibriumWarning, ModelError, SolverError, outside_stacklevel
 from .results import ModesResult, StaticResult
@@ -18,7 +18,8 @@ from .results import ModesResult, StaticResult
 def modes(mech, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0) -> ModesResult:
     """Mechanism.modes of the builder ``mech`` (python/phmech/mechanism.py: its docstring
     gives the arguments, their units and what is returned)."""
-    mech._no_components("modes")
+    if mech._desc.components:
+        return closed_loop_modes(mech, n, at, time)
     n = integer("n", n, 1)
     time = real("time", time)
     _model.check_linearization_time(mech, "modes", time, at)
@@ -76,3 +77,61 @@ def frequencies(model, n: int, poses: np.ndarray, lam: np.ndarray, time: float =
     without its labels and its equilibrium check (phmech.mesh sizes meshes with them)."""
     om, _, _, nf = _core.model_modes(model, n, poses, lam, time)
     return om[:nf] / (2 * np.pi)
+
+
+def rest_check(lin):
+    """equilibrium_check's verdict for a mechanism with components, from its linear model ``lin``
+    (linear.LinearPortHamiltonian.at_rest: the forces with the components' efforts balance and
+    their states are still): a truthy/falsy object with a ``reason``."""
+    ok, reason = lin.at_rest()
+
+    class _Eq:
+        def __bool__(self):
+            return ok
+    e = _Eq()
+    e.reason = reason
+    return e
+
+
+def closed_loop_modes(mech, n: int, at: Optional[StaticResult], time: float) -> ModesResult:
+    """Mechanism.modes with components (docs/method.md section 7.5): the eigenvalues s [1/s] of
+    the closed loop's state matrix (linear.LinearPortHamiltonian.A over (q, p, z)), one of each
+    complex pair, the n of smallest magnitude: omega = abs(s) [rad/s] (natural frequency),
+    damping ratio -Re(s)/abs(s) (negative: unstable), shapes the reduced part q of the
+    eigenvector turned real at its largest entry, unit modal mass, as carrier tangents."""
+    n = integer("n", n, 1)
+    time = real("time", time)
+    _model.check_linearization_time(mech, "modes", time, at)
+    model, poses, lam = _model.linearization_point(mech, at)
+    lin = linear.build(_core, model, mech._desc, [], None, poses, lam, time)
+    s, V = np.linalg.eig(lin.A)
+    keep = s.imag >= -1e-12 * np.maximum(np.abs(s), 1e-300)     # one of each complex pair
+    s, V = s[keep], V[:, keep]
+    order = np.lexsort((s.imag, np.abs(s)))[:n]
+    s, V = s[order], V[:, order]
+    nr, nc = lin.nr, len(mech._car)
+    shapes = np.zeros((len(s), nc, 6))
+    for k in range(len(s)):
+        q = V[:nr, k]
+        if np.abs(q).max(initial=0.0) > 0:
+            j = int(np.argmax(np.abs(q)))
+            q = (q * np.conj(q[j]) / abs(q[j])).real
+            mm = q @ lin.mass @ q
+            q = q / np.sqrt(mm) if mm > 0 else q
+        else:
+            q = np.zeros(nr)
+        shapes[k] = (lin.basis @ q).reshape(nc, 6)
+    om = np.abs(s)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ze = np.where(om > 0, -s.real / np.where(om > 0, om, 1.0), 0.0)
+    where = mech._state.poses if poses is None else poses
+    eq = rest_check(lin)
+    if not eq:
+        warnings.warn(f"modes: the configuration is not a rest state of the mechanism with its "
+                      f"components ({eq.reason}): the poles are those of the tangent there, not "
+                      f"of small motions about a rest state", EquilibriumWarning,
+                      stacklevel=outside_stacklevel())
+    lab = analysis.label_modes(mech._desc, where, om, shapes)
+    return ModesResult(om, om / (2 * np.pi), ze, shapes, poses=np.array(where),
+                       equilibrium=bool(eq), poles=s, _links=dict(mech._links),
+                       _bodies=dict(mech._bodies), **lab)
