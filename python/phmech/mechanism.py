@@ -237,7 +237,16 @@ class Mechanism(Builder):
         ``time`` [s]: the loads act as at that time. When a driven pair's law has moved by then
         (its value or rate differs from t = 0's) a ModelError names the pair and the values:
         the initial configuration holds it at s(0), and modes there would be the t = 0 ones
-        (drive it with ``law.shifted(-time)`` and call modes() at time 0 instead)."""
+        (drive it with ``law.shifted(-time)`` and call modes() at time 0 instead).
+
+        With components (``add_component``: controllers, motors, friction) the modes are the
+        closed loop's (docs/method.md section 7.5): the eigenvalues s [1/s] of
+        ``linearize().A`` with the components' laws linearized at rest and their states,
+        one of each complex pair, the ``n`` of smallest magnitude; ``omega`` = abs(s) [rad/s]
+        (natural frequency, >= 0), ``damping_ratio`` = -Re(s)/abs(s) (negative: unstable),
+        ``poles`` the s themselves, ``shapes`` the eigenvectors' displacement part turned real.
+        The EquilibriumWarning then checks the rest state with the components' efforts and
+        state rates (``LinearPortHamiltonian.at_rest``)."""
         return _modes.modes(self, n=n, at=at, time=time)
 
     def linearize(self, at: Optional[StaticResult] = None, inputs: Sequence = (),
@@ -259,7 +268,14 @@ class Mechanism(Builder):
         acting at ``time`` (whose stiffness, e.g. of a world-fixed force on a rotating body, is
         in K); a driven pair whose law has moved by ``time`` is refused as in :meth:`modes`.
         About a configuration that is not a static equilibrium an EquilibriumWarning says so,
-        as :meth:`modes` does: K is the tangent there and x = 0 is no rest state."""
+        as :meth:`modes` does: K is the tangent there and x = 0 is no rest state.
+
+        With components (``add_component``) their states join the state, x = (q, p, z), and
+        their laws linearized at rest at their initial states give A the closed loop
+        (``Kc``, ``Dc``, ``Kz``, ``Fq``, ``Fv``, ``Fz``; ``poles()``): linear controllers,
+        viscous friction and DC motors exactly, Coulomb and Stribeck friction as their slope
+        at v = 0 (a damper Fc / v_reg), LuGre as its pre-sliding spring sigma0 and damper
+        sigma1 + sigma2 (docs/method.md section 7.5)."""
         return _linearize.linearize(self, at=at, inputs=inputs, outputs=outputs, time=time)
 
     def static(self, loads: Sequence = (), steps: int = 10, time: float = 0.0,
