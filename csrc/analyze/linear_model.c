@@ -217,6 +217,10 @@ phm_status phm_linear_closed_loop(const phm_model *m, const double *poses, const
       goto done;
     }
     linear_components(&R, m, comp, Zd, Zd + 12 * (size_t)n, f6, zero);
+    if (comp->G) {
+      memset(comp->G, 0, sizeof(double) * (size_t)n * n);
+      if (R.Gr) memcpy(comp->G, R.Gr, sizeof(double) * (size_t)n * n);
+    }
     if (!phm_all_finite(comp->Kc, (size_t)n * n) || !phm_all_finite(comp->Dc, (size_t)n * n) ||
         !phm_all_finite(comp->Kz, (size_t)n * nz) || !phm_all_finite(comp->Fq, (size_t)n * nz) ||
         !phm_all_finite(comp->Fv, (size_t)n * nz) || !phm_all_finite(comp->Fz, (size_t)nz * nz)) {

@@ -91,6 +91,12 @@ void phm_model_pair_layout(const phm_model *model, int ip, int *row, int *m, int
  * closure changes only these). */
 phm_status phm_model_set_initial(phm_model *model, const double *H0, const double *t0,
                                  const double *x0, const int *drop, phm_error *err);
+/* The analyses (statics, modes, the linear model; not simulate) about a steady rotation with the
+ * world twist S (omega [rad/s], v [m/s] at the world origin; zero: none), in the frame that turns
+ * with it (docs/method.md section 7.6): every carrier's motion s_c = Ad_{H_c^-1} S adds the
+ * centrifugal wrenches ad*_{s_c} (M s)_c to the forces and their stiffness to the tangent, and
+ * the linear model gets the gyroscopic (Coriolis) matrix (phm_linear_components.G). */
+phm_status phm_model_set_spin(phm_model *model, const double S[6], phm_error *err);
 
 /* ---------------------------------------------------------------- pairs (csrc/model/pair.c) */
 int phm_pair_type_count(void);                                   /* number of pair types          */

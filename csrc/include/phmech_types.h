@@ -469,6 +469,8 @@ typedef struct {
 typedef struct {
   const double *z;
   double *Kc, *Dc, *Kz, *Fq, *Fv, *Fz, *f, *fc, *zdot;
+  double *G; /* nr x nr (room for (6 nc)^2; may be NULL): a steady rotation's gyroscopic matrix
+              * (phm_model_set_spin; zero without): M q'' + (D + G) q' + K q = 0 */
 } phm_linear_components;
 
 /* A motion of a mechanism that nothing resists and on which the loads do work at a rate that is

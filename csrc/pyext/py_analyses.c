@@ -111,7 +111,7 @@ static PyObject *py_model_linear(PyObject *self, PyObject *args) {
   Py_ssize_t np_ = PyList_GET_SIZE(plist);
   phm_linear_port *ports = PyMem_Calloc((size_t)np_ + 1, sizeof(phm_linear_port));
   PyArrayObject *P = NULL, *L = NULL, *K = NULL, *D = NULL, *M = NULL, *Z = NULL, *B = NULL;
-  PyArrayObject *C[9] = {NULL}, *Zs = NULL; /* the components' blocks (phm_linear_components) */
+  PyArrayObject *C[10] = {NULL}, *Zs = NULL; /* the components' blocks (phm_linear_components) */
   PyObject *res = NULL;
   if (!ports) return PyErr_NoMemory();
   for (Py_ssize_t i = 0; i < np_; i++) {
@@ -135,12 +135,13 @@ static PyObject *py_model_linear(PyObject *self, PyObject *args) {
   phm_linear_components comp = {0};
   int nz = phm_model_ncompstates(m);
   if (withc) {
-    npy_intp sz[9] = {(npy_intp)n6 * n6, (npy_intp)n6 * n6, (npy_intp)n6 * nz, (npy_intp)n6 * nz,
-                      (npy_intp)n6 * nz, (npy_intp)nz * nz, n6, n6, nz};
-    for (int i = 0; i < 9; i++)
+    npy_intp sz[10] = {(npy_intp)n6 * n6, (npy_intp)n6 * n6, (npy_intp)n6 * nz, (npy_intp)n6 * nz,
+                       (npy_intp)n6 * nz, (npy_intp)nz * nz, n6, n6, nz, (npy_intp)n6 * n6};
+    for (int i = 0; i < 10; i++)
       if (!(C[i] = (PyArrayObject *)PyArray_ZEROS(1, sz + i, NPY_DOUBLE, 0))) goto fail;
-    double **out[9] = {&comp.Kc, &comp.Dc, &comp.Kz, &comp.Fq, &comp.Fv, &comp.Fz, &comp.f, &comp.fc, &comp.zdot};
-    for (int i = 0; i < 9; i++) *out[i] = PyArray_DATA(C[i]);
+    double **out[10] = {&comp.Kc, &comp.Dc, &comp.Kz, &comp.Fq, &comp.Fv, &comp.Fz, &comp.f, &comp.fc,
+                        &comp.zdot, &comp.G};
+    for (int i = 0; i < 10; i++) *out[i] = PyArray_DATA(C[i]);
     if (zo != Py_None) {
       npy_intp tail[1] = {nz};
       if (!(Zs = phm_py_double_array(zo, "component states", tail, 1, 0))) goto fail;
@@ -164,8 +165,8 @@ static PyObject *py_model_linear(PyObject *self, PyObject *args) {
     /* flat buffers: the leading nr x nr (Z: 6 nc x nr, B: nr x ncol) values are the matrices */
     PyObject *sizes = Py_BuildValue("(ii)", nr, ncol);
     if (sizes && withc)
-      res = Py_BuildValue("(OOOOON(OOOOOOOOOi))", K, D, M, Z, B, sizes, C[0], C[1], C[2], C[3],
-                          C[4], C[5], C[6], C[7], C[8], nz);
+      res = Py_BuildValue("(OOOOON(OOOOOOOOOiO))", K, D, M, Z, B, sizes, C[0], C[1], C[2], C[3],
+                          C[4], C[5], C[6], C[7], C[8], nz, C[9]);
     else if (sizes)
       res = Py_BuildValue("(OOOOON)", K, D, M, Z, B, sizes);
   }
@@ -173,7 +174,7 @@ fail:
   PyMem_Free(ports);
   Py_XDECREF(P); Py_XDECREF(L);
   Py_XDECREF(K); Py_XDECREF(D); Py_XDECREF(M); Py_XDECREF(Z); Py_XDECREF(B);
-  for (int i = 0; i < 9; i++) Py_XDECREF(C[i]);
+  for (int i = 0; i < 10; i++) Py_XDECREF(C[i]);
   Py_XDECREF(Zs);
   return res;
 }
@@ -321,7 +322,7 @@ PyMethodDef phm_py_analysis_methods[] = {
      "model_linear(model, ports, poses=None, lambda=None, time=0, components=False, z=None) -> (K, "
      "D, M, Z, B, (nr, ncol)): flat buffers whose leading nr*nr (Z: 6nc*nr, B: nr*ncol) values are "
      "the row-major matrices of phm_linear_model; ports: a list of (kind 0 pair | 1 load | 2 frame, "
-     "index, T (4, 4)). components: a 7th entry (Kc, Dc, Kz, Fq, Fv, Fz, f, fc, zdot, nz) of "
+     "index, T (4, 4)). components: a 7th entry (Kc, Dc, Kz, Fq, Fv, Fz, f, fc, zdot, nz, G) of "
      "phm_linear_closed_loop at the components' states z (nz; None: their initial states)."},
     {"model_static", py_model_static, METH_VARARGS,
      "model_static(model, poses=None, time=0, steps=1, tol=1e-10, monitor=None) -> (poses, lambda, "

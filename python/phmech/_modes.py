@@ -15,11 +15,12 @@ from ._errors import EquilibriumWarning, ModelError, SolverError, outside_stackl
 from .results import ModesResult, StaticResult
 
 
-def modes(mech, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0) -> ModesResult:
+def modes(mech, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0,
+          spin=None) -> ModesResult:
     """Mechanism.modes of the builder ``mech`` (python/phmech/mechanism.py: its docstring
     gives the arguments, their units and what is returned)."""
-    if mech._desc.components:
-        return closed_loop_modes(mech, n, at, time)
+    if mech._desc.components or spin is not None:
+        return closed_loop_modes(mech, n, at, time, spin)
     n = integer("n", n, 1)
     time = real("time", time)
     _model.check_linearization_time(mech, "modes", time, at)
@@ -93,17 +94,41 @@ def rest_check(lin):
     return e
 
 
-def closed_loop_modes(mech, n: int, at: Optional[StaticResult], time: float) -> ModesResult:
-    """Mechanism.modes with components (docs/method.md section 7.5): the eigenvalues s [1/s] of
-    the closed loop's state matrix (linear.LinearPortHamiltonian.A over (q, p, z)), one of each
-    complex pair, the n of smallest magnitude: omega = abs(s) [rad/s] (natural frequency),
-    damping ratio -Re(s)/abs(s) (negative: unstable), shapes the reduced part q of the
-    eigenvector turned real at its largest entry, unit modal mass, as carrier tangents."""
+def spun_point(mech, model, spin, at: Optional[StaticResult], time: float, poses, lam) -> tuple:
+    """With ``spin`` (pair name, Omega; _model.spin_twist) set on the core ``model``, the
+    steady rotation's relative equilibrium (the static solve with the centrifugal wrenches, 10
+    load steps in Omega^2 from the initial configuration) unless ``at`` gives it: (poses, lam).
+    Without spin: (poses, lam) unchanged."""
+    if spin is None:
+        return poses, lam
+    if mech._desc.components:
+        raise ModelError("spin: a steady rotation of a mechanism with components is not "
+                         "supported yet")
+    _core.model_set_spin(model, _model.spin_twist(mech, spin))
+    if at is None:
+        poses, lam, _ = _core.model_static(model, None, time, 10, 1e-10)
+    return poses, lam
+
+
+def closed_loop_modes(mech, n: int, at: Optional[StaticResult], time: float,
+                      spin=None) -> ModesResult:
+    """Mechanism.modes with components (docs/method.md section 7.5) or about a steady rotation
+    ``spin`` (section 7.6): the eigenvalues s [1/s] of the state matrix
+    (linear.LinearPortHamiltonian.A over (q, p, z)), one of each complex pair, the n of
+    smallest magnitude: omega = abs(s) [rad/s] (natural frequency), damping ratio
+    -Re(s)/abs(s) (negative: unstable), shapes the reduced part q of the eigenvector turned
+    real at its largest entry, unit modal mass, as carrier tangents."""
     n = integer("n", n, 1)
     time = real("time", time)
     _model.check_linearization_time(mech, "modes", time, at)
     model, poses, lam = _model.linearization_point(mech, at)
-    lin = linear.build(_core, model, mech._desc, [], None, poses, lam, time)
+    try:
+        poses, lam = spun_point(mech, model, spin, at, time, poses, lam)
+        lin = linear.build(_core, model, mech._desc, [], None, poses, lam, time,
+                           spin=spin is not None)
+    finally:
+        if spin is not None:
+            _core.model_set_spin(model, np.zeros(6))
     s, V = np.linalg.eig(lin.A)
     keep = s.imag >= -1e-12 * np.maximum(np.abs(s), 1e-300)     # one of each complex pair
     s, V = s[keep], V[:, keep]

@@ -76,7 +76,12 @@ class LinearPortHamiltonian:
     mechanism's own (a controller is in general not passive), B and C get nz zero rows and
     columns. ``poles()``: the eigenvalues of A. ``rest_force``: Z^T of every generalized force at
     the point (the mechanism's and the components'; zero at an equilibrium), ``rest_rates``:
-    dz/dt there."""
+    dz/dt there.
+
+    About a steady rotation (``Mechanism.linearize(spin=...)``, docs/method.md section 7.6) the
+    state is that of the frame turning with it: K holds the centrifugal stiffness, and
+    ``gyroscopic`` G (nr x nr, skew-symmetric: Coriolis) enters A as M q'' + (D + G) q' + K q
+    = 0; ``poles()`` are then the rotating mechanism's."""
     stiffness: np.ndarray
     damping: np.ndarray
     mass: np.ndarray
@@ -97,6 +102,7 @@ class LinearPortHamiltonian:
     rest_rates: Optional[np.ndarray] = None
     rest_force_components: Optional[np.ndarray] = None
     rest_states: Optional[np.ndarray] = None
+    gyroscopic: Optional[np.ndarray] = None
 
     def at_rest(self, rtol: float = 1e-8) -> tuple:
         """(ok, reason): whether the point is a rest state of the mechanism with its components
@@ -131,11 +137,13 @@ class LinearPortHamiltonian:
         components)."""
         n, nz = self.nr, self.nz
         out = np.zeros((2 * n + nz, 2 * n + nz))
+        if self.gyroscopic is not None:
+            out[n:2 * n, n:2 * n] = -self.gyroscopic @ self._minv
         if self.Kc is None:
             return out
         Mi = self._minv
         out[n:2 * n, :n] = -self.Kc
-        out[n:2 * n, n:2 * n] = -self.Dc @ Mi
+        out[n:2 * n, n:2 * n] -= self.Dc @ Mi
         out[n:2 * n, 2 * n:] = self.Kz
         out[2 * n:, :n] = self.Fq
         out[2 * n:, n:2 * n] = self.Fv @ Mi
@@ -194,7 +202,7 @@ class LinearPortHamiltonian:
         """(J - R) Q, and with components the closed loop (J - R) Q + A_components over
         x = (q, p, z)."""
         A = (self.J - self.R) @ self.Q
-        if not self.nz and self.Kc is None:
+        if not self.nz and self.Kc is None and self.gyroscopic is None:
             return A
         n = 2 * self.nr
         out = self.A_components
@@ -370,17 +378,18 @@ def initial_states(desc) -> np.ndarray:
     return out
 
 
-def build(core, model, desc, inputs, outputs, poses, lam, time, z=None) -> LinearPortHamiltonian:
+def build(core, model, desc, inputs, outputs, poses, lam, time, z=None,
+          spin: bool = False) -> LinearPortHamiltonian:
     """The LinearPortHamiltonian of a core model at poses/lam (None: its initial state); with the
     description's components, their linearized laws at their states ``z`` (None: the initial
-    ones)."""
+    ones); ``spin``: the model turns steadily (_core.model_set_spin): its gyroscopic matrix."""
     pin, gin, lin = resolve_ports(desc, inputs, "linearize inputs")
     if outputs is None:
         pout, gout, lout, coll = [], [], output_labels(lin), True
     else:
         pout, gout, lout = resolve_ports(desc, outputs, "linearize outputs")
         lout, coll = output_labels(lout), False
-    withc = bool(desc.components)
+    withc = bool(desc.components) or spin
     K, D, M, Z, B, (nr, ncol), *comp = core.model_linear(model, pin + pout, poses, lam, time,
                                                           withc, z)
     nc6 = 6 * len(desc.carriers)
@@ -392,13 +401,14 @@ def build(core, model, desc, inputs, outputs, poses, lam, time, z=None) -> Linea
         if not coll else Bq.T.copy()
     extra = {}
     if withc:
-        Kc, Dc, Kz, Fq, Fv, Fz, f, fc, zdot, nz = comp[0]
+        Kc, Dc, Kz, Fq, Fv, Fz, f, fc, zdot, nz, Gy = comp[0]
         extra = dict(Kc=Kc[:nr * nr].reshape(nr, nr), Dc=Dc[:nr * nr].reshape(nr, nr),
                      Kz=Kz[:nr * nz].reshape(nr, nz), Fq=Fq[:nz * nr].reshape(nz, nr),
                      Fv=Fv[:nz * nr].reshape(nz, nr), Fz=Fz.reshape(nz, nz),
                      states=component_states(desc), rest_force=f[:nr].copy(),
                      rest_rates=zdot.copy(), rest_force_components=fc[:nr].copy(),
-                     rest_states=initial_states(desc) if z is None else np.asarray(z, float))
+                     rest_states=initial_states(desc) if z is None else np.asarray(z, float),
+                     gyroscopic=Gy[:nr * nr].reshape(nr, nr) if spin else None)
     return LinearPortHamiltonian(
         stiffness=K[:nr * nr].reshape(nr, nr), damping=D[:nr * nr].reshape(nr, nr),
         mass=M[:nr * nr].reshape(nr, nr), basis=Z[:nc6 * nr].reshape(nc6, nr), Bq=Bq, Cq=Cq,

@@ -223,7 +223,8 @@ class Mechanism(Builder):
         tol = self.frequency_tolerance if tolerance is None else tolerance
         return mesh.size_mechanism(self, band, tol, max_elements)[0]
 
-    def modes(self, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0) -> ModesResult:
+    def modes(self, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0,
+              spin: Optional[tuple] = None) -> ModesResult:
         """The ``n`` lowest linearized modes at the initial configuration, or at a static
         equilibrium ``at``: its constraint wrenches give the geometric stiffness, and the extra
         loads it was found under (``static(loads=...)``) act as they did there.
@@ -246,8 +247,17 @@ class Mechanism(Builder):
         (natural frequency, >= 0), ``damping_ratio`` = -Re(s)/abs(s) (negative: unstable),
         ``poles`` the s themselves, ``shapes`` the eigenvectors' displacement part turned real.
         The EquilibriumWarning then checks the rest state with the components' efforts and
-        state rates (``LinearPortHamiltonian.at_rest``)."""
-        return _modes.modes(self, n=n, at=at, time=time)
+        state rates (``LinearPortHamiltonian.at_rest``).
+
+        ``spin`` = (name of a Revolute pair on the ground, Omega [rad/s]): the modes about the
+        steady rotation of the whole mechanism at Omega about that pair's axis (drive the pair
+        with ``Linear(rate=Omega)``, or leave it free), in the frame turning with it
+        (docs/method.md section 7.6): the relative equilibrium first (a static solve with the
+        centrifugal wrenches, unless ``at`` gives it: ``static(spin=...)``), then the poles of
+        its linearization with centrifugal stiffness and Coriolis (gyroscopic) coupling, as
+        with components (``poles``; ``omega`` >= 0). Gravity must be zero or along the axis.
+        ``phmech.plot.campbell`` draws the frequencies against Omega."""
+        return _modes.modes(self, n=n, at=at, time=time, spin=spin)
 
     def linearize(self, at: Optional[StaticResult] = None, inputs: Sequence = (),
                   outputs: Optional[Sequence] = None, time: float = 0.0):
