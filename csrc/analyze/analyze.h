@@ -37,6 +37,9 @@ void lin_free(lin_t *L);
 phm_status lin_graph(lin_t *L, phm_error *err);
 /* Generalized forces at poses H: applied wrenches (x L->scale) + G^T L->lam (nc x 6, body frame). */
 void lin_total_force(lin_t *L, const double *H, double *f);
+/* Adds a steady rotation's centrifugal wrenches ad*_{s_c} (M s)_c (x L->scale) to f (nc x 6;
+ * phm_model_set_spin; nothing without). */
+void lin_spin_force(const lin_t *L, const double *H, double *f);
 /* L->Kb[q] = d f_r / d delta_c for block q = (row carrier r, column carrier nbr[q]) of the
  * coupling graph, in closed form (lin_closed_form_blocks). */
 void lin_force_jacobian_blocks(lin_t *L, const double *H);

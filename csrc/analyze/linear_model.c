@@ -110,8 +110,15 @@ static void linear_components(const lin_red_t *R, const phm_model *m, phm_linear
   if (cp->zdot)
     for (int i = 0; i < nz; i++) cp->zdot[i] = -cp->zdot[i];
   if (cp->fc) lin_red_project(R, nc, f6, cp->fc);
+  /* the scale of the forces that balance at a rest state: the constraint wrenches, the
+   * centrifugal ones and the components' (each carrier's total is zero there) */
+  double *fm = f6 + 6 * (size_t)nc;
+  memset(fm, 0, sizeof(double) * 6 * (size_t)nc);
+  if (R->L.lam && m->ncons) phm_constraint_forces(m, H, time, tref, R->L.lam, fm);
+  lin_spin_force(&R->L, H, fm);
+  cp->fmax = 0;
+  for (int i = 0; i < 6 * nc; i++) cp->fmax = fmax(cp->fmax, fmax(fabs(fm[i]), fabs(f6[i])));
   if (cp->f) {
-    double *fm = f6 + 6 * (size_t)nc;
     lin_total_force((lin_t *)&R->L, H, fm);
     for (int i = 0; i < 6 * nc; i++) fm[i] += f6[i];
     lin_red_project(R, nc, fm, cp->f);

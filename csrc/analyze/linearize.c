@@ -44,6 +44,11 @@ void lin_total_force(lin_t *L, const double *H, double *f) {
   phm_applied_pairs(m, NULL, H, NULL, NULL, L->time, L->tref, L->scale, f, NULL, NULL, NULL, NULL,
                     NULL);
   if (L->lam && m->ncons) phm_constraint_forces(m, H, L->time, L->tref, L->lam, f);
+  lin_spin_force(L, H, f);
+}
+
+void lin_spin_force(const lin_t *L, const double *H, double *f) {
+  const phm_model *m = L->m;
   if (!m->has_spin) return;
   spin_motion(L, H);
   for (int c = 0; c < m->nc; c++) {

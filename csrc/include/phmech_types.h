@@ -471,6 +471,7 @@ typedef struct {
   double *Kc, *Dc, *Kz, *Fq, *Fv, *Fz, *f, *fc, *zdot;
   double *G; /* nr x nr (room for (6 nc)^2; may be NULL): a steady rotation's gyroscopic matrix
               * (phm_model_set_spin; zero without): M q'' + (D + G) q' + K q = 0 */
+  double fmax; /* out: the largest entry of the carriers' wrenches at the point (f's scale) */
 } phm_linear_components;
 
 /* A motion of a mechanism that nothing resists and on which the loads do work at a rate that is

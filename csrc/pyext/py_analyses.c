@@ -165,8 +165,8 @@ static PyObject *py_model_linear(PyObject *self, PyObject *args) {
     /* flat buffers: the leading nr x nr (Z: 6 nc x nr, B: nr x ncol) values are the matrices */
     PyObject *sizes = Py_BuildValue("(ii)", nr, ncol);
     if (sizes && withc)
-      res = Py_BuildValue("(OOOOON(OOOOOOOOOiO))", K, D, M, Z, B, sizes, C[0], C[1], C[2], C[3],
-                          C[4], C[5], C[6], C[7], C[8], nz, C[9]);
+      res = Py_BuildValue("(OOOOON(OOOOOOOOOiOd))", K, D, M, Z, B, sizes, C[0], C[1], C[2], C[3],
+                          C[4], C[5], C[6], C[7], C[8], nz, C[9], comp.fmax);
     else if (sizes)
       res = Py_BuildValue("(OOOOON)", K, D, M, Z, B, sizes);
   }
@@ -322,7 +322,7 @@ PyMethodDef phm_py_analysis_methods[] = {
      "model_linear(model, ports, poses=None, lambda=None, time=0, components=False, z=None) -> (K, "
      "D, M, Z, B, (nr, ncol)): flat buffers whose leading nr*nr (Z: 6nc*nr, B: nr*ncol) values are "
      "the row-major matrices of phm_linear_model; ports: a list of (kind 0 pair | 1 load | 2 frame, "
-     "index, T (4, 4)). components: a 7th entry (Kc, Dc, Kz, Fq, Fv, Fz, f, fc, zdot, nz, G) of "
+     "index, T (4, 4)). components: a 7th entry (Kc, Dc, Kz, Fq, Fv, Fz, f, fc, zdot, nz, G, fmax) of "
      "phm_linear_closed_loop at the components' states z (nz; None: their initial states)."},
     {"model_static", py_model_static, METH_VARARGS,
      "model_static(model, poses=None, time=0, steps=1, tol=1e-10, monitor=None) -> (poses, lambda, "

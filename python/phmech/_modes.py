@@ -153,8 +153,8 @@ def closed_loop_modes(mech, n: int, at: Optional[StaticResult], time: float,
     eq = rest_check(lin)
     if not eq:
         warnings.warn(f"modes: the configuration is not a rest state of the mechanism with its "
-                      f"components ({eq.reason}): the poles are those of the tangent there, not "
-                      f"of small motions about a rest state", EquilibriumWarning,
+                      f"components or steady rotation ({eq.reason}): the poles are those of the "
+                      f"tangent there, not of small motions about a rest state", EquilibriumWarning,
                       stacklevel=outside_stacklevel())
     lab = analysis.label_modes(mech._desc, where, om, shapes)
     return ModesResult(om, om / (2 * np.pi), ze, shapes, poses=np.array(where),

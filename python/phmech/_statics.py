@@ -20,10 +20,11 @@ from .results import FreeMotion, StaticResult
 
 def static(mech, loads: Sequence = (), steps: int = 10, time: float = 0.0,
            tol: float = 1e-10, start: Optional[StaticResult] = None,
-           check_stability: bool = True, progress: bool = False) -> StaticResult:
+           check_stability: bool = True, progress: bool = False, spin=None) -> StaticResult:
     """Mechanism.static of the builder ``mech`` (python/phmech/mechanism.py: its docstring
     gives the arguments, their units and what is returned)."""
     mech._no_components("static")
+    S = None if spin is None else _model.spin_twist(mech, spin)
     extra = []
     if not isinstance(loads, (list, tuple)):
         raise ModelError(f"static loads: expected a list of (target, wrench, frame) tuples "
@@ -47,6 +48,8 @@ def static(mech, loads: Sequence = (), steps: int = 10, time: float = 0.0,
     time, tol = real("time", time), positive("tol", tol)
     poses = None if start is None else _model.start_poses(mech, start, "start")
     model = _model.build(mech, extra)
+    if S is not None:      # a steady rotation (docs/method.md 7.6) on this call's own model
+        _core.model_set_spin(model, S)
 
     def solve(n_steps: int) -> StaticResult:
         monitor = _run.StaticMonitor() if progress else None

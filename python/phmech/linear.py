@@ -103,19 +103,22 @@ class LinearPortHamiltonian:
     rest_force_components: Optional[np.ndarray] = None
     rest_states: Optional[np.ndarray] = None
     gyroscopic: Optional[np.ndarray] = None
+    rest_scale: float = 0.0
 
-    def at_rest(self, rtol: float = 1e-8) -> tuple:
+    def at_rest(self, rtol: float = 1e-6) -> tuple:
         """(ok, reason): whether the point is a rest state of the mechanism with its components
-        -- the reduced generalized forces ``rest_force`` vanish within ``rtol`` of the larger of
-        the mechanism's and the components' (or within 1e-12 N or N m when both vanish), and the
-        components' states are still (abs(dz/dt) <= rtol (1 + abs(z)) [unit of z per s]).
-        Without components: (True, "")."""
+        (or in its steady rotation) -- the reduced generalized forces ``rest_force`` vanish
+        within ``rtol`` of ``rest_scale``, the largest constraint, centrifugal or component
+        wrench there (or within the round-off 100 eps max|K| of the stiffness, at least 1e-12 N
+        or N m, when there are none), and the components' states are still
+        (abs(dz/dt) <= rtol (1 + abs(z)) [unit of z per s]). Without components and spin:
+        (True, "")."""
         if self.rest_force is None:
             return True, ""
-        f, fc = self.rest_force, self.rest_force_components
-        scale = max(np.abs(f - fc).max(initial=0.0), np.abs(fc).max(initial=0.0))
+        f, scale = self.rest_force, self.rest_scale
         bad = np.abs(f).max(initial=0.0)
-        if bad > max(rtol * scale, 1e-12):
+        floor = max(1e-12, 100 * np.finfo(float).eps * np.abs(self.stiffness).max(initial=0.0))
+        if bad > max(rtol * scale, floor):
             i = int(np.argmax(np.abs(f)))
             return False, (f"the generalized forces with the components' efforts do not balance: "
                            f"{bad:.3g} in reduced coordinate {i} (of {scale:.3g} applied)")
@@ -401,14 +404,15 @@ def build(core, model, desc, inputs, outputs, poses, lam, time, z=None,
         if not coll else Bq.T.copy()
     extra = {}
     if withc:
-        Kc, Dc, Kz, Fq, Fv, Fz, f, fc, zdot, nz, Gy = comp[0]
+        Kc, Dc, Kz, Fq, Fv, Fz, f, fc, zdot, nz, Gy, fmax = comp[0]
         extra = dict(Kc=Kc[:nr * nr].reshape(nr, nr), Dc=Dc[:nr * nr].reshape(nr, nr),
                      Kz=Kz[:nr * nz].reshape(nr, nz), Fq=Fq[:nz * nr].reshape(nz, nr),
                      Fv=Fv[:nz * nr].reshape(nz, nr), Fz=Fz.reshape(nz, nz),
                      states=component_states(desc), rest_force=f[:nr].copy(),
                      rest_rates=zdot.copy(), rest_force_components=fc[:nr].copy(),
                      rest_states=initial_states(desc) if z is None else np.asarray(z, float),
-                     gyroscopic=Gy[:nr * nr].reshape(nr, nr) if spin else None)
+                     gyroscopic=Gy[:nr * nr].reshape(nr, nr) if spin else None,
+                     rest_scale=float(fmax))
     return LinearPortHamiltonian(
         stiffness=K[:nr * nr].reshape(nr, nr), damping=D[:nr * nr].reshape(nr, nr),
         mass=M[:nr * nr].reshape(nr, nr), basis=Z[:nc6 * nr].reshape(nc6, nr), Bq=Bq, Cq=Cq,

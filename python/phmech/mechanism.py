@@ -260,7 +260,8 @@ class Mechanism(Builder):
         return _modes.modes(self, n=n, at=at, time=time, spin=spin)
 
     def linearize(self, at: Optional[StaticResult] = None, inputs: Sequence = (),
-                  outputs: Optional[Sequence] = None, time: float = 0.0):
+                  outputs: Optional[Sequence] = None, time: float = 0.0,
+                  spin: Optional[tuple] = None):
         """The linear port-Hamiltonian model (phmech.linear.LinearPortHamiltonian: J, R, Q, B,
         C, D, passivity(), to_statespace(), to_control()) about the initial configuration, or
         about a static equilibrium ``at`` (its constraint wrenches give the geometric stiffness
@@ -285,12 +286,18 @@ class Mechanism(Builder):
         (``Kc``, ``Dc``, ``Kz``, ``Fq``, ``Fv``, ``Fz``; ``poles()``): linear controllers,
         viscous friction and DC motors exactly, Coulomb and Stribeck friction as their slope
         at v = 0 (a damper Fc / v_reg), LuGre as its pre-sliding spring sigma0 and damper
-        sigma1 + sigma2 (docs/method.md section 7.5)."""
-        return _linearize.linearize(self, at=at, inputs=inputs, outputs=outputs, time=time)
+        sigma1 + sigma2 (docs/method.md section 7.5).
+
+        ``spin`` = (Revolute pair on the ground, Omega [rad/s]): about the steady rotation, as
+        in :meth:`modes` (its relative equilibrium unless ``at`` gives it; the model's
+        ``gyroscopic`` matrix and centrifugal stiffness, docs/method.md section 7.6)."""
+        return _linearize.linearize(self, at=at, inputs=inputs, outputs=outputs, time=time,
+                                    spin=spin)
 
     def static(self, loads: Sequence = (), steps: int = 10, time: float = 0.0,
                tol: float = 1e-10, start: Optional[StaticResult] = None,
-               check_stability: bool = True, progress: bool = False) -> StaticResult:
+               check_stability: bool = True, progress: bool = False,
+               spin: Optional[tuple] = None) -> StaticResult:
         """Static equilibrium under gravity, the mechanism's wrenches at ``time`` and extra
         constant ``loads`` = [(target, wrench (tau, f), frame "world"|"body"), ...], reached in
         load increments of 1/``steps`` (halved when Newton fails, grown back after fast
@@ -318,9 +325,14 @@ class Mechanism(Builder):
         exists: the solve stops at Newton's first failure and the message names the pair or
         part, what moves and the generalized force; the error's ``free_motions`` lists them
         (FreeMotion; docs/method.md section 7.3, "No equilibrium"). A motion nothing resists on
-        which the loads do no work leaves the equilibrium not unique: one is returned."""
+        which the loads do no work leaves the equilibrium not unique: one is returned.
+
+        ``spin`` = (Revolute pair on the ground, Omega [rad/s]): the relative equilibrium of
+        the steady rotation at Omega about that pair's axis (the centrifugal wrenches join the
+        loads, scaled by the load steps; docs/method.md section 7.6), e.g. to pass to
+        ``modes(at=..., spin=...)``."""
         return _statics.static(self, loads=loads, steps=steps, time=time, tol=tol, start=start,
-                               check_stability=check_stability, progress=progress)
+                               check_stability=check_stability, progress=progress, spin=spin)
 
 
 def load(path) -> Mechanism:
