@@ -273,10 +273,12 @@ typedef struct {
  * controller is a source: its power u v is supplied (as an actuator's). */
 typedef enum {
   PHM_COMP_VISCOUS = 0, PHM_COMP_COULOMB = 1, PHM_COMP_STRIBECK = 2, PHM_COMP_LUGRE = 3,
-  PHM_COMP_MOTOR = 4, PHM_COMP_LINEAR = 5, PHM_NCOMP_KINDS = 6
+  PHM_COMP_MOTOR = 4, PHM_COMP_LINEAR = 5, PHM_COMP_PH = 6, PHM_NCOMP_KINDS = 7
 } phm_component_kind;
 #define PHM_COMP_NPAR 32 /* parameters per component                                       */
 #define PHM_COMP_MAXZ 4 /* internal states per component, at most                          */
+#define PHM_COMP_PH_MAXZ 2 /* a port-Hamiltonian controller's states: J, R, Q (n x n each),
+                            * B (n), d, xc* (n) within PHM_COMP_NPAR                        */
 
 typedef struct {
   int kind;          /* phm_component_kind                                                */

@@ -18,7 +18,7 @@ from . import analysis, fmu, graphs, io, linear, mechanism, mesh, mixed, se3, ti
 from .actuators import PD, Effort, Spring
 from . import components
 from .components import (CoulombFriction, DCMotor, LinearController, LuGreFriction,
-                         StribeckFriction, ViscousFriction)
+                         PortHamiltonianController, StribeckFriction, ViscousFriction)
 from .fmu import export_fmu
 from .frames import Body, FlexibleLink, Frame, rotation
 from .graphs import Graphs
@@ -49,7 +49,7 @@ __all__ = ["ModelError", "SolverError", "CostWarning", "info", "blas_threads", "
            "Momentum", "StabilityWarning", "AccuracyWarning", "PlausibilityWarning",
            "EquilibriumWarning", "FreeMotion", "UnattachedWarning", "components",
            "ViscousFriction", "CoulombFriction", "StribeckFriction", "LuGreFriction", "DCMotor",
-           "LinearController"]
+           "LinearController", "PortHamiltonianController"]
 
 def __getattr__(name: str):
     """``phmech.plot`` is imported on first use, so that ``import phmech`` does not import

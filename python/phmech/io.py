@@ -257,6 +257,7 @@ for _cls in (*(c for c in laws._CLASSES.values() if c is not laws.Function),
              section.Section, section.BeamProperties, components.ViscousFriction,
              components.CoulombFriction, components.StribeckFriction, components.LuGreFriction,
              components.DCMotor, components.LinearController,
+             components.PortHamiltonianController,
              *(getattr(pairs, t.name) for t in pairs.PAIR_TYPES)):
     register_dataclass(_cls)
 
