@@ -231,3 +231,32 @@ def test_not_at_rest_warns():
     w2 = (kp + K_P * np.cos(th)) / J_P
     assert md.equilibrium
     assert abs(md.omega[0] / np.sqrt(w2) - 1) < 1e-9
+
+
+def test_static_with_stateless_components():
+    """static() includes the components without states: a static-gain controller holding a
+    pendulum against gravity, K sin(theta) = kp (r - theta) (brentq): measured 3e-17 rad; the
+    modes there sqrt((kp + K cos theta) / J) to 1e-12; a current-driven motor's torque
+    eta n k i = K sin(theta): exact to round-off."""
+    from scipy.optimize import brentq
+    kp, r = 5.0, 0.5
+    m = ph.Mechanism(gravity=(0, 0, -G))
+    b = m.add_rigid_body("bob", MASS, np.diag([JC] * 3), com=(0, 0, -ARM))
+    m.add_pair("hub", ph.Revolute("y"), m.ground, b)
+    m.add_component("ctrl", "hub", ph.LinearController(D=[-kp, -0.1], reference=r))
+    m.add_component("visc", "hub", ph.ViscousFriction(0.3))           # zero at rest
+    st = m.static()
+    th = brentq(lambda t: -K_P * np.sin(t) - kp * (t - r), -1.0, 1.0)
+    R = st.poses[0][:3, :3]
+    assert abs(np.arctan2(R[0, 2], R[0, 0]) - th) < 1e-12
+    md = m.modes(1, at=st)
+    assert md.equilibrium
+    assert md.omega[0] == pytest.approx(np.sqrt((kp + K_P * np.cos(th)) / J_P), rel=1e-12)
+    m2 = ph.Mechanism(gravity=(0, 0, -G))
+    b = m2.add_rigid_body("bob", MASS, np.diag([JC] * 3), com=(0, 0, -ARM))
+    m2.add_pair("hub", ph.Revolute("y"), m2.ground, b)
+    kt, n, eta, i = 0.05, 20.0, 0.9, 2.0
+    m2.add_component("mot", "hub", ph.DCMotor(L=0.0, R=1.0, k=kt, ratio=n, efficiency=eta,
+                                              current=i))
+    R = m2.static().poses[0][:3, :3]
+    assert abs(np.arctan2(R[0, 2], R[0, 0]) - np.arcsin(eta * n * kt * i / K_P)) < 1e-12

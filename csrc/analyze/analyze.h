@@ -23,6 +23,8 @@ typedef struct {
   double *Kb;
   double *Mb; /* the mass in the same slots: carriers' inertias, consistent elements' couplings */
   double *sp; /* a steady rotation's (phm_model_set_spin) scratch: s_c, then (M s)_c (12 nc) */
+  int comps;  /* statics: the components' efforts at rest (their states at z0, x scale) join the
+               * forces and their stiffness the tangent (docs/method.md section 7.5) */
 } lin_t;
 
 /* L for model m (its graph and blocks: lin_graph). Allocates nothing (the four dense buffers it

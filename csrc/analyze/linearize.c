@@ -44,6 +44,12 @@ void lin_total_force(lin_t *L, const double *H, double *f) {
   phm_applied_pairs(m, NULL, H, NULL, NULL, L->time, L->tref, L->scale, f, NULL, NULL, NULL, NULL,
                     NULL);
   if (L->lam && m->ncons) phm_constraint_forces(m, H, L->time, L->tref, L->lam, f);
+  if (L->comps && m->ncomp) { /* at rest, their states at z0 (sp as scratch) */
+    memset(L->sp, 0, sizeof(double) * 6 * (size_t)m->nc);
+    phm_components_apply(m, NULL, H, NULL, NULL, NULL, NULL, L->time, L->tref, L->sp, NULL, NULL,
+                         NULL, NULL, NULL);
+    for (int i = 0; i < 6 * m->nc; i++) f[i] += L->scale * L->sp[i];
+  }
   lin_spin_force(L, H, f);
 }
 
@@ -184,6 +190,25 @@ void lin_closed_form_blocks(const lin_t *L, const double *H, double *Kb, double 
   if (m->has_spin) {
     spin_motion(L, H);
     spin_blocks(L, L->scale, Kb, NULL);
+  }
+  for (int ic = 0; L->comps && ic < m->ncomp; ic++) { /* statics: the components at rest */
+    const phm_component_desc *c = &m->comp[ic];
+    int sp = c->kind == PHM_COMP_LINEAR && c->spair >= 0 ? c->spair : c->pair;
+    int ab[2] = {m->pair[c->pair].a, m->pair[c->pair].b}, cs[2] = {m->pair[sp].a, m->pair[sp].b};
+    double w[12], Ku[144], B[12], gq[12], gt[12], Kz[12 * PHM_COMP_MAXZ], Fx[12 * PHM_COMP_MAXZ];
+    double Ft[12 * PHM_COMP_MAXZ], Fz[PHM_COMP_MAXZ * PHM_COMP_MAXZ];
+    phm_component_tangent(m, ic, NULL, H, NULL, NULL, NULL, L->time, L->tref, w, Ku, B, gq, gt, Kz,
+                          Fx, Ft, Fz);
+    for (int i = 0; i < 12; i++) w[i] *= L->scale;
+    for (int i = 0; i < 144; i++) Ku[i] *= L->scale;
+    add_lin_tangent(&sink, ab[0], ab[1], w, Ku, NULL); /* B u at fixed u, with the charts */
+    for (int r = 0; r < 2; r++) /* B du/d[delta] of the measured carriers */
+      for (int q = 0; q < 2; q++) {
+        int slot = ab[r] >= 0 && cs[q] >= 0 ? lin_slot(L, ab[r], cs[q]) : -1;
+        if (slot < 0) continue;
+        for (int i = 0; i < 6; i++)
+          for (int j = 0; j < 6; j++) Kb[36 * (size_t)slot + 6 * i + j] += L->scale * B[6 * r + i] * gq[6 * q + j];
+      }
   }
   double gn = fabs(m->gravity[0]) + fabs(m->gravity[1]) + fabs(m->gravity[2]);
   for (int c = 0; gn > 0 && c < m->nc; c++) {

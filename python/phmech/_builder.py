@@ -382,13 +382,18 @@ class Builder(LinkBuilder):
         self._acts.append(act)
 
     def _no_components(self, what: str) -> None:
-        """ModelError: static does not yet include the components with internal states (modes
-        and linearize do, linearized; simulate integrates them)."""
-        if self._desc.components:
-            names = ", ".join(repr(r["name"]) for r in self._desc.components)
-            raise ModelError(f"{what}: the components {names} (friction, motors, controllers) are "
-                             f"not part of the static analysis yet; simulate() includes them, and "
-                             f"modes() and linearize() linearized about the initial state")
+        """ModelError: static includes the components without states (friction, which is zero
+        at rest; a current-driven motor's torque; a static-gain LinearController's effort), not
+        yet those with states (LuGre, a voltage-driven motor, dynamic controllers), whose rest
+        value the states decide (modes and linearize include them, linearized; simulate
+        integrates them)."""
+        stateful = [r for r in self._desc.components if r["nstates"]]
+        if stateful:
+            names = ", ".join(repr(r["name"]) for r in stateful)
+            raise ModelError(f"{what}: the components {names} have states (LuGre bristles, a "
+                             f"motor current, controller states) and are not part of the static "
+                             f"analysis yet; simulate() includes them, and modes() and "
+                             f"linearize() linearized about the initial state")
 
     @_recorded
     def add_component(self, name: str, pair: str, component) -> None:

@@ -70,7 +70,9 @@ def static(mech, loads: Sequence = (), steps: int = 10, time: float = 0.0,
             if monitor is not None:
                 monitor.close()
         st = StaticResult(P, lam, it, mech._links, tuple(extra), steps=n_steps)
-        if check_stability and _model.potential_loads_only(mech, extra):
+        # with components the tangent's modes leave their stiffness out: no verdict
+        if check_stability and _model.potential_loads_only(mech, extra) and \
+                not mech._desc.components:
             st.lowest_omega = _lowest_omega(mech, model, P, lam, time)
             st.stable = bool(st.lowest_omega >= 0)
         return st
