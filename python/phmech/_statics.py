@@ -48,10 +48,19 @@ def static(mech, loads: Sequence = (), steps: int = 10, time: float = 0.0,
     time, tol = real("time", time), positive("tol", tol)
     poses = None if start is None else _model.start_poses(mech, start, "start")
     model = _model.build(mech, extra)
-    if S is not None:      # a steady rotation (docs/method.md 7.6) on this call's own model
-        _core.model_set_spin(model, S)
 
     def solve(n_steps: int) -> StaticResult:
+        """_solve with a steady rotation (docs/method.md 7.6) set on the model, and unset after
+        (a model may be kept for later analyses)."""
+        if S is None:
+            return _solve(n_steps)
+        _core.model_set_spin(model, S)
+        try:
+            return _solve(n_steps)
+        finally:
+            _core.model_set_spin(model, np.zeros(6))
+
+    def _solve(n_steps: int) -> StaticResult:
         monitor = _run.StaticMonitor() if progress else None
         try:
             P, lam, it = _core.model_static(model, poses, time, n_steps, tol, monitor)
