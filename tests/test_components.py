@@ -170,8 +170,10 @@ def test_bad_components_are_named():
     with pytest.raises(ph.ModelError, match="component 'lg'.*out of range"):
         m2.add_component("lg", "hub", ph.LuGreFriction(-1.0, 1, 1, 1, 1, 1))
     m2.add_component("d", "hub", ph.ViscousFriction(1.0))
-    with pytest.raises(ph.ModelError, match="modes: the components 'd'"):
-        m2.modes()
+    m2.static()                                   # stateless: zero at rest
+    m2.add_component("z", "hub", ph.LuGreFriction(1e3, 1.0, 0.1, 1.0, 1.5, 1e-3))
+    with pytest.raises(ph.ModelError, match="static: the components 'z' have states"):
+        m2.static()
 
 
 def test_components_are_saved_in_model_files(tmp_path):

@@ -22,6 +22,9 @@ typedef struct {
   int *ptr, *nbr;
   double *Kb;
   double *Mb; /* the mass in the same slots: carriers' inertias, consistent elements' couplings */
+  double *sp; /* a steady rotation's (phm_model_set_spin) scratch: s_c, then (M s)_c (12 nc) */
+  int comps;  /* statics: the components' efforts at rest (their states at z0, x scale) join the
+               * forces and their stiffness the tangent (docs/method.md section 7.5) */
 } lin_t;
 
 /* L for model m (its graph and blocks: lin_graph). Allocates nothing (the four dense buffers it
@@ -36,6 +39,9 @@ void lin_free(lin_t *L);
 phm_status lin_graph(lin_t *L, phm_error *err);
 /* Generalized forces at poses H: applied wrenches (x L->scale) + G^T L->lam (nc x 6, body frame). */
 void lin_total_force(lin_t *L, const double *H, double *f);
+/* Adds a steady rotation's centrifugal wrenches ad*_{s_c} (M s)_c (x L->scale) to f (nc x 6;
+ * phm_model_set_spin; nothing without). */
+void lin_spin_force(const lin_t *L, const double *H, double *f);
 /* L->Kb[q] = d f_r / d delta_c for block q = (row carrier r, column carrier nbr[q]) of the
  * coupling graph, in closed form (lin_closed_form_blocks). */
 void lin_force_jacobian_blocks(lin_t *L, const double *H);
@@ -43,6 +49,13 @@ void lin_force_jacobian_blocks(lin_t *L, const double *H);
  * actuators', loads' and springs') to Kb (df/ddelta; if not NULL) and their twist derivatives to
  * Db (df/dt: the damping; if not NULL). */
 void lin_closed_form_blocks(const lin_t *L, const double *H, double *Kb, double *Db);
+/* A steady rotation's gyroscopic blocks (docs/method.md section 7.6) at poses H into Gb (36 per
+ * graph slot, zeroed first): d f/d t of the inertial wrenches in the turning frame,
+ * ad*_{t_c} (M t)_c - (M ad_t s)_c at t = s. Zero without spin. */
+void lin_gyro_blocks(const lin_t *L, const double *H, double *Gb);
+/* K (6 x 6, row-major, leading dimension 6) += Kw (ldk; NULL: none) - 1/2 ad*_(.) w: a
+ * carrier's own block of f_c(delta) = dexp_{-delta}^T w_c(H_c exp(delta)) for a wrench w. */
+void lin_add_own_block(double *K, const double *Kw, int ldk, const double w[6]);
 
 /* The KKT matrix [K G^T; G 0] of the linearization (K: 6x6 blocks on the slots of the carrier
  * graph, G: the pairs' constraint rows) in compressed columns, with the source of every entry,
@@ -116,6 +129,8 @@ typedef struct {
   double *U;                /* n6c x n6c, column-major; U0 = U + rank n6c (column a contiguous) */
   const double *U0;
   double *Kr, *Dr, *Mr;     /* reduced stiffness, damping, mass (nr x nr, symmetrized) */
+  double *Gb, *Gr;          /* a steady rotation's gyroscopic blocks and -Z^T Gb Z (not
+                             * symmetrized; NULL without spin) */
 } lin_red_t;
 
 void lin_red_free(lin_red_t *R);

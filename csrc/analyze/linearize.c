@@ -17,12 +17,51 @@
 #include "linalg.h"
 #include "pose.h"
 
-/* Generalized forces at poses H: applied wrenches + G^T lambda (nc x 6, body frame). */
+/* A steady rotation S (phm_model_set_spin): each carrier's motion s_c = Ad_{H_c^-1} S and its
+ * momentum (M s)_c over the mass blocks into L->sp (s_c at 6 c, (M s)_c at 6 (nc + c)). */
+static void spin_motion(const lin_t *L, const double *H) {
+  const phm_model *m = L->m;
+  double *s = L->sp, *ms = L->sp + 6 * (size_t)m->nc;
+  for (int c = 0; c < m->nc; c++) {
+    double Hi[16], A[36];
+    phm_se3_inverse(H + 16 * c, Hi);
+    phm_se3_Ad(Hi, A);
+    phm_mv6(A, m->spin, s + 6 * c);
+  }
+  for (int c = 0; c < m->nc; c++)
+    for (int i = 0; i < 6; i++) {
+      double sum = 0;
+      for (int q = L->ptr[c]; q < L->ptr[c + 1]; q++)
+        for (int j = 0; j < 6; j++) sum += L->Mb[36 * (size_t)q + 6 * i + j] * s[6 * L->nbr[q] + j];
+      ms[6 * c + i] = sum;
+    }
+}
+
+/* Generalized forces at poses H: applied wrenches + G^T lambda (nc x 6, body frame), and with a
+ * steady rotation the centrifugal wrenches ad*_{s_c} (M s)_c (x L->scale). */
 void lin_total_force(lin_t *L, const double *H, double *f) {
   const phm_model *m = L->m;
   phm_applied_pairs(m, NULL, H, NULL, NULL, L->time, L->tref, L->scale, f, NULL, NULL, NULL, NULL,
                     NULL);
   if (L->lam && m->ncons) phm_constraint_forces(m, H, L->time, L->tref, L->lam, f);
+  if (L->comps && m->ncomp) { /* at rest, their states at z0 (sp as scratch) */
+    memset(L->sp, 0, sizeof(double) * 6 * (size_t)m->nc);
+    phm_components_apply(m, NULL, H, NULL, NULL, NULL, NULL, L->time, L->tref, L->sp, NULL, NULL,
+                         NULL, NULL, NULL);
+    for (int i = 0; i < 6 * m->nc; i++) f[i] += L->scale * L->sp[i];
+  }
+  lin_spin_force(L, H, f);
+}
+
+void lin_spin_force(const lin_t *L, const double *H, double *f) {
+  const phm_model *m = L->m;
+  if (!m->has_spin) return;
+  spin_motion(L, H);
+  for (int c = 0; c < m->nc; c++) {
+    double w[6];
+    phm_ad_dual_apply(L->sp + 6 * c, L->sp + 6 * ((size_t)m->nc + c), w);
+    for (int i = 0; i < 6; i++) f[6 * c + i] += L->scale * w[i];
+  }
 }
 
 int lin_slot(const lin_t *L, int r, int c) {
@@ -31,9 +70,67 @@ int lin_slot(const lin_t *L, int r, int c) {
   return -1;
 }
 
+/* out = X Y (6 x 6 row-major), or out += when add. */
+static void mm6(const double *X, const double *Y, double *out, int add) {
+  for (int i = 0; i < 6; i++)
+    for (int j = 0; j < 6; j++) {
+      double t = 0;
+      for (int k = 0; k < 6; k++) t += X[6 * i + k] * Y[6 * k + j];
+      out[6 * i + j] = add ? out[6 * i + j] + t : t;
+    }
+}
+
+/* The steady rotation's blocks at poses H (spin_motion done): with A_c = ad_{s_c}, Q_c = ad*_{s_c}
+ * and P_c x = ad*_x (M s)_c, the centrifugal wrenches' stiffness (x scale) into Kb -- slot
+ * (c, d): Q_c M_cd A_d, and on c's own P_c A_c with the chart factor of C_c = ad*_{s_c} (M s)_c
+ * -- or (Kb NULL) the gyroscopic blocks into Gb -- slot (c, d): Q_c M_cd - M_cd A_d, and on c's
+ * own P_c. */
+static void spin_blocks(const lin_t *L, double scale, double *Kb, double *Gb) {
+  const phm_model *m = L->m;
+  const double *s = L->sp, *ms = L->sp + 6 * (size_t)m->nc;
+  for (int c = 0; c < m->nc; c++) {
+    double Qc[36], Pc[36], Cc[6];
+    phm_se3_ad_dual(s + 6 * c, Qc);
+    for (int j = 0; j < 6; j++) {
+      double ej[6] = {0}, z[6];
+      ej[j] = 1.0;
+      phm_ad_dual_apply(ej, ms + 6 * c, z);
+      for (int i = 0; i < 6; i++) Pc[6 * i + j] = z[i];
+    }
+    phm_ad_dual_apply(s + 6 * c, ms + 6 * c, Cc);
+    for (int q = L->ptr[c]; q < L->ptr[c + 1]; q++) {
+      int d = L->nbr[q];
+      const double *Mq = L->Mb + 36 * (size_t)q;
+      double Ad[36], T[36], U[36];
+      phm_se3_ad(s + 6 * d, Ad);
+      mm6(Qc, Mq, T, 0);                  /* Q_c M_cd */
+      if (Kb) {
+        mm6(T, Ad, U, 0);                 /* Q_c M_cd A_d */
+        if (d == c) mm6(Pc, Ad, U, 1);    /* + P_c A_c */
+        for (int i = 0; i < 36; i++) Kb[36 * (size_t)q + i] += scale * U[i];
+        if (d == c) {
+          double w[6];
+          for (int i = 0; i < 6; i++) w[i] = scale * Cc[i];
+          lin_add_own_block(Kb + 36 * (size_t)q, NULL, 0, w);
+        }
+      } else {
+        mm6(Mq, Ad, U, 0);                /* M_cd A_d */
+        for (int i = 0; i < 36; i++) Gb[36 * (size_t)q + i] = T[i] - U[i] + (d == c ? Pc[i] : 0.0);
+      }
+    }
+  }
+}
+
+void lin_gyro_blocks(const lin_t *L, const double *H, double *Gb) {
+  memset(Gb, 0, sizeof(double) * 36 * (size_t)L->ptr[L->m->nc]);
+  if (!L->m->has_spin) return;
+  spin_motion(L, H);
+  spin_blocks(L, 1.0, NULL, Gb);
+}
+
 /* K += dw/ddelta (6 x 6) - 1/2 ad*_(.) w: a carrier's own block of f_c(delta) =
  * dexp_{-delta}^T w_c(H_c exp(delta)) for a wrench w (with its derivative Kw, NULL: none). */
-static void add_own_block(double *K, const double *Kw, int ldk, const double w[6]) {
+void lin_add_own_block(double *K, const double *Kw, int ldk, const double w[6]) {
   for (int j = 0; j < 6; j++) {
     double ej[6] = {0}, z[6];
     ej[j] = 1.0;
@@ -64,7 +161,7 @@ static void add_lin_tangent(void *ctx, int ca, int cb, const double w[12], const
           for (int j = 0; j < 6; j++) s->Db[36 * (size_t)q + 6 * i + j] += Kt[12 * (6 * bi + i) + 6 * bj + j];
       if (!s->Kb) continue;
       double *K = s->Kb + 36 * (size_t)q;
-      if (bi == bj) add_own_block(K, kx, 12, w + 6 * bi);
+      if (bi == bj) lin_add_own_block(K, kx, 12, w + 6 * bi);
       else
         for (int i = 0; i < 6; i++)
           for (int j = 0; j < 6; j++) K[6 * i + j] += kx[12 * i + j];
@@ -90,11 +187,34 @@ void lin_closed_form_blocks(const lin_t *L, const double *H, double *Kb, double 
   }
   phm_applied_tangent(m, NULL, H, NULL, NULL, L->time, L->tref, L->scale, add_lin_tangent, &sink);
   if (!Kb) return;
+  if (m->has_spin) {
+    spin_motion(L, H);
+    spin_blocks(L, L->scale, Kb, NULL);
+  }
+  for (int ic = 0; L->comps && ic < m->ncomp; ic++) { /* statics: the components at rest */
+    const phm_component_desc *c = &m->comp[ic];
+    int sp = c->kind == PHM_COMP_LINEAR && c->spair >= 0 ? c->spair : c->pair;
+    int ab[2] = {m->pair[c->pair].a, m->pair[c->pair].b}, cs[2] = {m->pair[sp].a, m->pair[sp].b};
+    double w[12], Ku[144], B[12], gq[12], gt[12], Kz[12 * PHM_COMP_MAXZ], Fx[12 * PHM_COMP_MAXZ];
+    double Ft[12 * PHM_COMP_MAXZ], Fz[PHM_COMP_MAXZ * PHM_COMP_MAXZ];
+    phm_component_tangent(m, ic, NULL, H, NULL, NULL, NULL, L->time, L->tref, w, Ku, B, gq, gt, Kz,
+                          Fx, Ft, Fz);
+    for (int i = 0; i < 12; i++) w[i] *= L->scale;
+    for (int i = 0; i < 144; i++) Ku[i] *= L->scale;
+    add_lin_tangent(&sink, ab[0], ab[1], w, Ku, NULL); /* B u at fixed u, with the charts */
+    for (int r = 0; r < 2; r++) /* B du/d[delta] of the measured carriers */
+      for (int q = 0; q < 2; q++) {
+        int slot = ab[r] >= 0 && cs[q] >= 0 ? lin_slot(L, ab[r], cs[q]) : -1;
+        if (slot < 0) continue;
+        for (int i = 0; i < 6; i++)
+          for (int j = 0; j < 6; j++) Kb[36 * (size_t)slot + 6 * i + j] += L->scale * B[6 * r + i] * gq[6 * q + j];
+      }
+  }
   double gn = fabs(m->gravity[0]) + fabs(m->gravity[1]) + fabs(m->gravity[2]);
   for (int c = 0; gn > 0 && c < m->nc; c++) {
     double w[6], Kg[36];
     phm_gravity_tangent(m, c, H + 16 * c, L->scale, w, Kg);
-    add_own_block(Kb + 36 * (size_t)lin_slot(L, c, c), Kg, 6, w);
+    lin_add_own_block(Kb + 36 * (size_t)lin_slot(L, c, c), Kg, 6, w);
   }
   for (int ip = 0; L->lam && ip < m->np; ip++) {
     const phm_pair_desc *pr = &m->pair[ip];
@@ -123,6 +243,7 @@ void lin_free(lin_t *L) {
   free(L->nbr);
   free(L->Kb);
   free(L->Mb);
+  free(L->sp);
 }
 
 /* The coupling graph of L's model and room for the force Jacobian blocks. */
@@ -132,7 +253,8 @@ phm_status lin_graph(lin_t *L, phm_error *err) {
   if (st) return st;
   L->Kb = calloc(36 * (size_t)L->ptr[m->nc] + 1, sizeof(double));
   L->Mb = calloc(36 * (size_t)L->ptr[m->nc] + 1, sizeof(double));
-  if (!L->Kb || !L->Mb) return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+  L->sp = calloc(12 * (size_t)m->nc + 1, sizeof(double));
+  if (!L->Kb || !L->Mb || !L->sp) return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
   for (int c = 0; c < m->nc; c++) {
     int q = lin_slot(L, c, c);
     if (q < 0) return PHM_FAIL(err, PHM_EINVAL, "carrier graph: carrier %d has no diagonal slot", c);

@@ -15,7 +15,7 @@
 void lin_red_free(lin_red_t *R) {
   lin_free(&R->L);
   free(R->H); free(R->Db); free(R->cmap); free(R->red); free(R->U);
-  free(R->Kr); free(R->Dr); free(R->Mr);
+  free(R->Kr); free(R->Dr); free(R->Mr); free(R->Gb); free(R->Gr);
 }
 
 /* K and D blocks at poses (NULL: H0) with constraint wrenches lambda (NULL: none), loads at time. */
@@ -42,12 +42,16 @@ phm_status lin_red_blocks(lin_red_t *R, const phm_model *m, const double *poses,
    * depend on the twists) */
   lin_closed_form_blocks(L, H, NULL, Db);
   for (size_t i = 0; i < (size_t)nb * 36; i++) Db[i] = -Db[i];
+  if (m->has_spin) { /* a steady rotation's gyroscopic blocks (linearize.c) */
+    if (!(R->Gb = malloc(sizeof(double) * 36 * (size_t)nb + 1))) return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+    lin_gyro_blocks(L, H, R->Gb);
+  }
   return PHM_OK;
 }
 
 /* out (nr x nr) += Z^T X Z block by block for the blocks Bw (36 per graph slot), then
- * symmetrized. */
-static void red_assemble(const lin_red_t *R, int nc, const double *Bw, double *out) {
+ * symmetrized if sym. */
+static void red_assemble(const lin_red_t *R, int nc, const double *Bw, double *out, int sym) {
   const int *ptr = R->L.ptr, *nbr = R->L.nbr, *red = R->red, *cmap = R->cmap;
   int nr = R->nr, n0 = R->n0, n6c = R->n6c;
   const double *U0 = R->U0;
@@ -91,7 +95,7 @@ static void red_assemble(const lin_red_t *R, int nc, const double *Bw, double *o
         }
       }
     }
-  for (int a = 0; a < nr; a++)
+  for (int a = 0; sym && a < nr; a++)
     for (int b = 0; b < a; b++) {
       double s = 0.5 * (out[(size_t)a * nr + b] + out[(size_t)b * nr + a]);
       out[(size_t)a * nr + b] = out[(size_t)b * nr + a] = s;
@@ -161,7 +165,12 @@ phm_status lin_red_reduce(lin_red_t *R, const phm_model *m, phm_error *err) {
   R->U0 = R->U ? R->U + (size_t)rank * n6c : NULL; /* column a: U0[a * n6c + i] */
   /* X_r = Z^T X Z block by block; (Kr, Dr) from the blocks, Mr from the block-diagonal mass */
   for (int w = 0; w < 3; w++)
-    red_assemble(R, nc, w == 0 ? Kb : w == 1 ? Db : R->L.Mb, w == 0 ? R->Kr : w == 1 ? R->Dr : R->Mr);
+    red_assemble(R, nc, w == 0 ? Kb : w == 1 ? Db : R->L.Mb, w == 0 ? R->Kr : w == 1 ? R->Dr : R->Mr, 1);
+  if (R->Gb) { /* -Z^T Gb Z: M q'' + (D + G) q' + K q = 0 */
+    if (!(R->Gr = calloc((size_t)nr * nr, sizeof(double)))) goto oom;
+    red_assemble(R, nc, R->Gb, R->Gr, 0);
+    for (size_t i = 0; i < (size_t)nr * nr; i++) R->Gr[i] = -R->Gr[i];
+  }
   if (!phm_all_finite(R->Kr, (size_t)nr * nr) || !phm_all_finite(R->Mr, (size_t)nr * nr) ||
       !phm_all_finite(R->Dr, (size_t)nr * nr))
     st = PHM_FAIL(err, PHM_ESOLVER, "linearization: the stiffness, damping or mass is not "

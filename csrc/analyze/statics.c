@@ -430,6 +430,7 @@ phm_status phm_static_monitored(const phm_model *m, const double *poses, double 
   if ((st = lin_kkt_build(&S, &L, err))) goto done;
   L.time = time;
   L.tref = phm_model_tref(m, time, NULL);
+  L.comps = 1; /* the components' efforts at rest (Python refuses those with states) */
   for (int c = 0; c < nc; c++) memcpy(poses_out + 16 * c, poses ? poses + 16 * c : m->car[c].H0, 16 * sizeof(double));
   int have = 0; /* S holds the factorization of the last Newton solve that converged */
   int pre_failed = 0;

@@ -91,6 +91,12 @@ void phm_model_pair_layout(const phm_model *model, int ip, int *row, int *m, int
  * closure changes only these). */
 phm_status phm_model_set_initial(phm_model *model, const double *H0, const double *t0,
                                  const double *x0, const int *drop, phm_error *err);
+/* The analyses (statics, modes, the linear model; not simulate) about a steady rotation with the
+ * world twist S (omega [rad/s], v [m/s] at the world origin; zero: none), in the frame that turns
+ * with it (docs/method.md section 7.6): every carrier's motion s_c = Ad_{H_c^-1} S adds the
+ * centrifugal wrenches ad*_{s_c} (M s)_c to the forces and their stiffness to the tangent, and
+ * the linear model gets the gyroscopic (Coriolis) matrix (phm_linear_components.G). */
+phm_status phm_model_set_spin(phm_model *model, const double S[6], phm_error *err);
 
 /* ---------------------------------------------------------------- pairs (csrc/model/pair_types.c, pair.c) */
 int phm_pair_type_count(void);                                   /* number of pair types          */
@@ -193,6 +199,13 @@ phm_status phm_linear_model(const phm_model *model, const double *poses, const d
                             double time, int nports, const phm_linear_port *ports, int *nr,
                             double *K, double *D, double *M, double *Z, double *B, phm_error *err);
 int phm_linear_port_columns(const phm_model *model, int nports, const phm_linear_port *ports); /* inputs of the ports */
+/* phm_linear_model with the components' linearized laws into *comp (phm_linear_components; NULL:
+ * phm_linear_model). */
+phm_status phm_linear_closed_loop(const phm_model *model, const double *poses,
+                                  const double *lambda, double time, int nports,
+                                  const phm_linear_port *ports, int *nr, double *K, double *D,
+                                  double *M, double *Z, double *B, phm_linear_components *comp,
+                                  phm_error *err);
 
 /* ---------------------------------------------------------------- statics (csrc/analyze/statics.c) */
 /* Static equilibrium under the loads and gravity at `time`, scaled from 0 to 1 in `steps` load

@@ -275,10 +275,13 @@ typedef struct {
  * controller is a source: its power u v is supplied (as an actuator's). */
 typedef enum {
   PHM_COMP_VISCOUS = 0, PHM_COMP_COULOMB = 1, PHM_COMP_STRIBECK = 2, PHM_COMP_LUGRE = 3,
-  PHM_COMP_MOTOR = 4, PHM_COMP_LINEAR = 5, PHM_COMP_CALLBACK = 6, PHM_NCOMP_KINDS = 7
+  PHM_COMP_MOTOR = 4, PHM_COMP_LINEAR = 5, PHM_COMP_CALLBACK = 6, PHM_COMP_PH = 7,
+  PHM_NCOMP_KINDS = 8
 } phm_component_kind;
 #define PHM_COMP_NPAR 32 /* parameters per component                                       */
 #define PHM_COMP_MAXZ 4 /* internal states per component, at most                          */
+#define PHM_COMP_PH_MAXZ 2 /* a port-Hamiltonian controller's states: J, R, Q (n x n each),
+                            * B (n), d, xc* (n) within PHM_COMP_NPAR                        */
 
 typedef struct {
   int kind;          /* phm_component_kind                                                */
@@ -462,6 +465,23 @@ typedef struct {
   int index;   /* pair, load or carrier index */
   double T[16]; /* PHM_PORT_FRAME: the frame's offset on its carrier (row-major 4x4) */
 } phm_linear_port;
+
+/* The components' part of a linear model (phm_linear_closed_loop; docs/method.md section 7.5):
+ * their laws (csrc/model/component.c) linearized at the point, at rest, in the reduced
+ * coordinates q of phm_linear_model: with f_c = Z^T (the components' wrenches) their reduced
+ * generalized forces and z (nz) their states, d f_c = -Kc dq - Dc dq' + Kz dz and
+ * dz' = Fq dq + Fv dq' + Fz dz. Caller-allocated, row-major: Kc, Dc with room for (6 nc)^2
+ * values, Kz for 6 nc x nz, Fq, Fv for nz x 6 nc, Fz nz x nz; f, fc: 6 nc (Z^T of all the
+ * generalized forces at the point, the mechanism's and the components', and the components'
+ * alone: the rest residual), zdot: nz (the states' rates there). z: the states at the point
+ * (NULL: the components' initial states). */
+typedef struct {
+  const double *z;
+  double *Kc, *Dc, *Kz, *Fq, *Fv, *Fz, *f, *fc, *zdot;
+  double *G; /* nr x nr (room for (6 nc)^2; may be NULL): a steady rotation's gyroscopic matrix
+              * (phm_model_set_spin; zero without): M q'' + (D + G) q' + K q = 0 */
+  double fmax; /* out: the largest entry of the carriers' wrenches at the point (f's scale) */
+} phm_linear_components;
 
 /* A motion of a mechanism that nothing resists and on which the loads do work at a rate that is
  * the same in every configuration (phm_static_free, csrc/analyze/static_free.c): then the

@@ -20,12 +20,13 @@
 static const char *const kind_name[PHM_NCOMP_KINDS] = {"viscous friction", "Coulomb friction",
                                                         "Stribeck friction", "LuGre friction",
                                                         "DC motor", "linear controller",
-                                                        "callback controller"};
+                                                        "callback controller",
+                                                        "port-Hamiltonian controller"};
 
 int phm_component_nstates(const phm_component_desc *c) {
   if (c->kind == PHM_COMP_LUGRE) return 1;
   if (c->kind == PHM_COMP_MOTOR) return c->input == 0 ? 1 : 0;
-  if (c->kind == PHM_COMP_LINEAR) return c->nx;
+  if (c->kind == PHM_COMP_LINEAR || c->kind == PHM_COMP_PH) return c->nx;
   return 0;
 }
 
@@ -70,6 +71,10 @@ phm_status phm_components_validate(const phm_model_desc *d, phm_error *err) {
       }
       break;
     case PHM_COMP_CALLBACK: ok = c->fn != NULL; break;
+    case PHM_COMP_PH: /* J skew, R and Q symmetric positive semidefinite: checked in Python */
+      ok = c->nx >= 1 && c->nx <= PHM_COMP_PH_MAXZ && phm_all_finite(p, PHM_COMP_NPAR) &&
+           p[3 * c->nx * c->nx + c->nx] >= 0;
+      break;
     case PHM_COMP_MOTOR:
       ok = (c->input == 0 || c->input == 1) && par_ok(p[0], 0, c->input == 0) && par_ok(p[1], 0, 0) &&
            par_ok(p[2], 0, 1) && isfinite(p[3]) && p[3] != 0 && par_ok(p[4], 0, 1) && p[4] <= 1 &&
@@ -277,6 +282,40 @@ void phm_component_eval(const phm_component_desc *c, double x, double v, const d
     double out[3] = {0, 0, 0};
     e->u = c->fn(c->ctx, time, x, v, 0, out) ? NAN : out[0];
     break;
+  }
+  case PHM_COMP_PH: { /* e = xc - xc*: xc' = (J - R) Q e + B v, u = -B^T Q e - d v */
+    int nx = c->nx;
+    const double *J = p, *R = J + nx * nx, *Q = R + nx * nx, *B = Q + nx * nx;
+    double d = B[nx], ee[PHM_COMP_PH_MAXZ], Qe[PHM_COMP_PH_MAXZ];
+    const double *xs = B + nx + 1;
+    for (int i = 0; i < nx; i++) ee[i] = z[i] - xs[i];
+    for (int i = 0; i < nx; i++) {
+      Qe[i] = 0;
+      for (int j = 0; j < nx; j++) Qe[i] += Q[nx * i + j] * ee[j];
+    }
+    e->u = -d * v;
+    e->du_v = -d;
+    e->Pd = d * v * v;
+    for (int i = 0; i < nx; i++) {
+      double f = B[i] * v;
+      for (int j = 0; j < nx; j++) {
+        double a = 0; /* ((J - R) Q)_ij */
+        for (int k = 0; k < nx; k++) a += (J[nx * i + k] - R[nx * i + k]) * Q[nx * k + j];
+        f += a * ee[j];
+        e->df_z[PHM_COMP_MAXZ * i + j] = a;
+        e->Pd += Qe[i] * R[nx * i + j] * Qe[j];
+      }
+      e->f[i] = f;
+      e->df_v[i] = B[i];
+      e->u -= B[i] * Qe[i];
+      e->V += 0.5 * ee[i] * Qe[i];
+    }
+    for (int j = 0; j < nx; j++) { /* du/dz_j = -(B^T Q)_j */
+      double s = 0;
+      for (int i = 0; i < nx; i++) s += B[i] * Q[nx * i + j];
+      e->du_z[j] = -s;
+    }
+    break; /* passive: no source (Ps = 0); dV/dt = -u v - Pd */
   }
   }
 }

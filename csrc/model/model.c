@@ -468,6 +468,18 @@ double phm_model_tref(const phm_model *m, double t, double *next_bp) {
   return t + 1.0;
 }
 
+phm_status phm_model_set_spin(phm_model *m, const double S[6], phm_error *err) {
+  phm_error_clear(err);
+  PHM_CHECK(m && S, err, PHM_EINVAL, "phm_model_set_spin: NULL argument");
+  PHM_CHECK(phm_all_finite(S, 6), err, PHM_EINVAL, "steady rotation: non-finite twist");
+  m->has_spin = 0;
+  for (int i = 0; i < 6; i++) {
+    m->spin[i] = S[i];
+    m->has_spin |= S[i] != 0;
+  }
+  return PHM_OK;
+}
+
 phm_status phm_model_set_initial(phm_model *m, const double *H0, const double *t0,
                                  const double *x0, const int *drop, phm_error *err) {
   phm_error_clear(err);

@@ -47,6 +47,8 @@ struct phm_model {
   int *comp_z;      /* ncomp: the first of its internal states among the nz                */
   int *pair_z, *pair_nz; /* np: the first internal state of the pair's components, and their count */
   int nz;           /* internal states of all components                                 */
+  int has_spin;     /* the analyses about a steady rotation (phm_model_set_spin)          */
+  double spin[6];   /* its world twist S (omega, v at the world origin); zero: none       */
 };
 
 /* tref for the interval [t, ...): midpoint between t and the next breakpoint (or t + 1). */

@@ -97,9 +97,10 @@ static PyObject *py_model_modes_count(PyObject *self, PyObject *args) {
  * (4, 4)) -> (K, D, M, Z, B, (nr, ncol)) of phm_linear_model, flat (Python reshapes). */
 static PyObject *py_model_linear(PyObject *self, PyObject *args) {
   (void)self;
-  PyObject *cap, *plist, *po = Py_None, *lo = Py_None;
+  PyObject *cap, *plist, *po = Py_None, *lo = Py_None, *zo = Py_None;
   double time = 0;
-  if (!PyArg_ParseTuple(args, "OO|OOd", &cap, &plist, &po, &lo, &time)) return NULL;
+  int withc = 0;
+  if (!PyArg_ParseTuple(args, "OO|OOdpO", &cap, &plist, &po, &lo, &time, &withc, &zo)) return NULL;
   phm_model *m = phm_py_get_model(cap);
   if (!m) return NULL;
   if (!PyList_Check(plist)) {
@@ -110,6 +111,7 @@ static PyObject *py_model_linear(PyObject *self, PyObject *args) {
   Py_ssize_t np_ = PyList_GET_SIZE(plist);
   phm_linear_port *ports = PyMem_Calloc((size_t)np_ + 1, sizeof(phm_linear_port));
   PyArrayObject *P = NULL, *L = NULL, *K = NULL, *D = NULL, *M = NULL, *Z = NULL, *B = NULL;
+  PyArrayObject *C[10] = {NULL}, *Zs = NULL; /* the components' blocks (phm_linear_components) */
   PyObject *res = NULL;
   if (!ports) return PyErr_NoMemory();
   for (Py_ssize_t i = 0; i < np_; i++) {
@@ -130,14 +132,31 @@ static PyObject *py_model_linear(PyObject *self, PyObject *args) {
   Z = (PyArrayObject *)PyArray_ZEROS(1, dnn, NPY_DOUBLE, 0);
   B = (PyArrayObject *)PyArray_ZEROS(1, db, NPY_DOUBLE, 0);
   if (!K || !D || !M || !Z || !B) goto fail;
+  phm_linear_components comp = {0};
+  int nz = phm_model_ncompstates(m);
+  if (withc) {
+    npy_intp sz[10] = {(npy_intp)n6 * n6, (npy_intp)n6 * n6, (npy_intp)n6 * nz, (npy_intp)n6 * nz,
+                       (npy_intp)n6 * nz, (npy_intp)nz * nz, n6, n6, nz, (npy_intp)n6 * n6};
+    for (int i = 0; i < 10; i++)
+      if (!(C[i] = (PyArrayObject *)PyArray_ZEROS(1, sz + i, NPY_DOUBLE, 0))) goto fail;
+    double **out[10] = {&comp.Kc, &comp.Dc, &comp.Kz, &comp.Fq, &comp.Fv, &comp.Fz, &comp.f, &comp.fc,
+                        &comp.zdot, &comp.G};
+    for (int i = 0; i < 10; i++) *out[i] = PyArray_DATA(C[i]);
+    if (zo != Py_None) {
+      npy_intp tail[1] = {nz};
+      if (!(Zs = phm_py_double_array(zo, "component states", tail, 1, 0))) goto fail;
+      comp.z = PyArray_DATA(Zs);
+    }
+  }
   {
     int nr = 0;
     phm_error err;
     phm_status st;
     Py_BEGIN_ALLOW_THREADS
-    st = phm_linear_model(m, P ? PyArray_DATA(P) : NULL, L ? PyArray_DATA(L) : NULL, time, (int)np_,
-                          ports, &nr, PyArray_DATA(K), PyArray_DATA(D), PyArray_DATA(M),
-                          PyArray_DATA(Z), PyArray_DATA(B), &err);
+    st = phm_linear_closed_loop(m, P ? PyArray_DATA(P) : NULL, L ? PyArray_DATA(L) : NULL, time,
+                                (int)np_, ports, &nr, PyArray_DATA(K), PyArray_DATA(D),
+                                PyArray_DATA(M), PyArray_DATA(Z), PyArray_DATA(B),
+                                withc ? &comp : NULL, &err);
     Py_END_ALLOW_THREADS
     if (st) {
       phm_py_raise(&err);
@@ -145,12 +164,18 @@ static PyObject *py_model_linear(PyObject *self, PyObject *args) {
     }
     /* flat buffers: the leading nr x nr (Z: 6 nc x nr, B: nr x ncol) values are the matrices */
     PyObject *sizes = Py_BuildValue("(ii)", nr, ncol);
-    if (sizes) res = Py_BuildValue("(OOOOON)", K, D, M, Z, B, sizes);
+    if (sizes && withc)
+      res = Py_BuildValue("(OOOOON(OOOOOOOOOiOd))", K, D, M, Z, B, sizes, C[0], C[1], C[2], C[3],
+                          C[4], C[5], C[6], C[7], C[8], nz, C[9], comp.fmax);
+    else if (sizes)
+      res = Py_BuildValue("(OOOOON)", K, D, M, Z, B, sizes);
   }
 fail:
   PyMem_Free(ports);
   Py_XDECREF(P); Py_XDECREF(L);
   Py_XDECREF(K); Py_XDECREF(D); Py_XDECREF(M); Py_XDECREF(Z); Py_XDECREF(B);
+  for (int i = 0; i < 10; i++) Py_XDECREF(C[i]);
+  Py_XDECREF(Zs);
   return res;
 }
 
@@ -294,9 +319,11 @@ PyMethodDef phm_py_analysis_methods[] = {
      "model_modes_count(model, shift, poses=None, lambda=None, time=0) -> (below, check): how many "
      "eigenvalues omega^2 lie below shift [(rad/s)^2] (phm_modes_count)"},
     {"model_linear", py_model_linear, METH_VARARGS,
-     "model_linear(model, ports, poses=None, lambda=None, time=0) -> (K, D, M, Z, B, (nr, ncol)): "
-     "flat buffers whose leading nr*nr (Z: 6nc*nr, B: nr*ncol) values are the row-major matrices "
-     "of phm_linear_model; ports: a list of (kind 0 pair | 1 load | 2 frame, index, T (4, 4))."},
+     "model_linear(model, ports, poses=None, lambda=None, time=0, components=False, z=None) -> (K, "
+     "D, M, Z, B, (nr, ncol)): flat buffers whose leading nr*nr (Z: 6nc*nr, B: nr*ncol) values are "
+     "the row-major matrices of phm_linear_model; ports: a list of (kind 0 pair | 1 load | 2 frame, "
+     "index, T (4, 4)). components: a 7th entry (Kc, Dc, Kz, Fq, Fv, Fz, f, fc, zdot, nz, G, fmax) of "
+     "phm_linear_closed_loop at the components' states z (nz; None: their initial states)."},
     {"model_static", py_model_static, METH_VARARGS,
      "model_static(model, poses=None, time=0, steps=1, tol=1e-10, monitor=None) -> (poses, lambda, "
      "iterations); monitor(load factor, iterations, load step) after each load step, truthy to stop; "

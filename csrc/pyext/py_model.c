@@ -310,6 +310,27 @@ static PyObject *py_model_set_initial(PyObject *self, PyObject *args) {
   return ok ? Py_NewRef(Py_None) : NULL;
 }
 
+/* model_set_spin(model, S (6,)): the analyses about a steady rotation with the world twist S
+ * (phm_model_set_spin; zeros: none). */
+static PyObject *py_model_set_spin(PyObject *self, PyObject *args) {
+  (void)self;
+  PyObject *cap, *so;
+  if (!PyArg_ParseTuple(args, "OO", &cap, &so)) return NULL;
+  phm_model *m = phm_py_get_model(cap);
+  if (!m) return NULL;
+  npy_intp shape[1] = {6};
+  PyArrayObject *S = phm_py_double_array(so, "spin twist", shape, 1, 0);
+  if (!S) return NULL;
+  phm_error err;
+  phm_status st = phm_model_set_spin(m, PyArray_DATA(S), &err);
+  Py_DECREF(S);
+  if (st) {
+    phm_py_raise(&err);
+    return NULL;
+  }
+  return Py_NewRef(Py_None);
+}
+
 static PyObject *py_model_sizes(PyObject *self, PyObject *cap) {
   (void)self;
   phm_model *m = phm_py_get_model(cap);
@@ -469,6 +490,9 @@ PyMethodDef phm_py_model_methods[] = {
      "model_set_initial(model, H0 (nc, 4, 4), t0 (nc, 6), x0 (npairs, 6), drop (npairs,)) -> None: "
      "a new initial state (poses, twists, joint coordinates, redundant-row masks) without "
      "rebuilding the model."},
+    {"model_set_spin", py_model_set_spin, METH_VARARGS,
+     "model_set_spin(model, S (6,)) -> None: statics, modes and the linear model about a steady "
+     "rotation with the world twist S (omega, v at the origin; zeros: none); simulate ignores it."},
     {"model_sizes", py_model_sizes, METH_O, "model_sizes(model) -> (ncarriers, nconstraints, njoints, nports, [(row, m, joint, k) per pair])."},
     
     {NULL, NULL, 0, NULL}};

@@ -18,7 +18,7 @@ static const phm_code actuator_kinds[] = {{"effort", PHM_ACT_EFFORT}, {"pd", PHM
 static const phm_code component_kinds[] = {
     {"viscous", PHM_COMP_VISCOUS}, {"coulomb", PHM_COMP_COULOMB}, {"stribeck", PHM_COMP_STRIBECK},
     {"lugre", PHM_COMP_LUGRE},     {"motor", PHM_COMP_MOTOR},       {"linear", PHM_COMP_LINEAR},
-    {"callback", PHM_COMP_CALLBACK}};
+    {"callback", PHM_COMP_CALLBACK}, {"ph", PHM_COMP_PH}};
 static const phm_code mass_kinds[] = {
     {"lumped", PHM_MASS_LUMPED}, {"consistent", PHM_MASS_CONSISTENT}, {"given", PHM_MASS_GIVEN}};
 /* The arrays of a simulation's result, in phm_sim_output's order; the value is the position

@@ -18,7 +18,8 @@ from . import analysis, fmu, graphs, io, linear, mechanism, mesh, mixed, se3, ti
 from .actuators import PD, Effort, Spring
 from . import components
 from .components import (CallbackController, CoulombFriction, DCMotor, LinearController,
-                         LuGreFriction, StribeckFriction, ViscousFriction)
+                         LuGreFriction, PortHamiltonianController, StribeckFriction,
+                         ViscousFriction)
 from . import controllers, sensors
 from .controllers import EffortOutput, MotorVoltageOutput, SampledController, WrenchOutput
 from .fmu import export_fmu
@@ -53,10 +54,10 @@ __all__ = ["ModelError", "SolverError", "CostWarning", "info", "blas_threads", "
            "Momentum", "StabilityWarning", "AccuracyWarning", "PlausibilityWarning",
            "EquilibriumWarning", "FreeMotion", "UnattachedWarning", "components",
            "ViscousFriction", "CoulombFriction", "StribeckFriction", "LuGreFriction", "DCMotor",
-           "LinearController", "sensors", "JointSensor", "FrameSensor", "TipDeflection",
-           "LinkStrain", "PairWrench", "ComponentState", "CallbackController", "controllers", "SampledController", "EffortOutput", "WrenchOutput",
-           "MotorVoltageOutput",
-           "ControllerError"]
+           "LinearController", "PortHamiltonianController", "sensors", "JointSensor",
+           "FrameSensor", "TipDeflection", "LinkStrain", "PairWrench", "ComponentState",
+           "CallbackController", "controllers", "SampledController", "EffortOutput",
+           "WrenchOutput", "MotorVoltageOutput", "ControllerError"]
 
 def __getattr__(name: str):
     """``phmech.plot`` is imported on first use, so that ``import phmech`` does not import

@@ -385,13 +385,18 @@ class Builder(LinkBuilder):
         self._acts.append(act)
 
     def _no_components(self, what: str) -> None:
-        """ModelError: the analyses (modes, linearize, static) do not yet include the components
-        with internal states, which only simulate integrates (issue 29, item 6)."""
-        if self._desc.components:
-            names = ", ".join(repr(r["name"]) for r in self._desc.components)
-            raise ModelError(f"{what}: the components {names} (friction, motors) are not part of "
-                             f"the linearized and static analyses yet; only simulate() includes "
-                             f"them")
+        """ModelError: static includes the components without states (friction, which is zero
+        at rest; a current-driven motor's torque; a static-gain LinearController's effort), not
+        yet those with states (LuGre, a voltage-driven motor, dynamic controllers), whose rest
+        value the states decide (modes and linearize include them, linearized; simulate
+        integrates them)."""
+        stateful = [r for r in self._desc.components if r["nstates"]]
+        if stateful:
+            names = ", ".join(repr(r["name"]) for r in stateful)
+            raise ModelError(f"{what}: the components {names} have states (LuGre bristles, a "
+                             f"motor current, controller states) and are not part of the static "
+                             f"analysis yet; simulate() includes them, and modes() and "
+                             f"linearize() linearized about the initial state")
 
     @_recorded
     def add_component(self, name: str, pair: str, component) -> None:

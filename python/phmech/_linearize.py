@@ -1,6 +1,7 @@
 """Mechanism.linearize: the linear port-Hamiltonian model (phmech.linear) about the initial
 configuration or a static equilibrium, from the core's reduced stiffness, damping and mass on the
-constraint manifold (``_core.model_linear``) and the input matrix of the chosen ports."""
+constraint manifold (``_core.model_linear``) and the input matrix of the chosen ports; with
+components, their linearized laws and states (the closed loop, docs/method.md section 7.5)."""
 from __future__ import annotations
 
 import warnings
@@ -14,17 +15,22 @@ from .results import StaticResult
 
 
 def linearize(mech, at: Optional[StaticResult] = None, inputs: Sequence = (),
-              outputs: Optional[Sequence] = None, time: float = 0.0):
+              outputs: Optional[Sequence] = None, time: float = 0.0, spin=None):
     """Mechanism.linearize of the builder ``mech`` (python/phmech/mechanism.py: its docstring
     gives the arguments, their units and what is returned)."""
-    mech._no_components("linearize")
     time = real("time", time)
     _model.check_linearization_time(mech, "linearize", time, at)
     model, poses, lam = _model.linearization_point(mech, at)
-    lin = linear.build(_core, model, mech._desc, list(inputs) if not isinstance(inputs, str)
-                       else [inputs], outputs, poses, lam, time)
+    try:
+        poses, lam = _modes.spun_point(mech, model, spin, at, time, poses, lam)
+        lin = linear.build(_core, model, mech._desc, list(inputs) if not isinstance(inputs, str)
+                           else [inputs], outputs, poses, lam, time, spin=spin is not None)
+    finally:
+        if spin is not None:
+            _core.model_set_spin(model, [0.0] * 6)
     where = mech._state.poses if poses is None else poses
-    eq = _modes.equilibrium_check(mech, model, where, time, at is not None)
+    eq = _modes.equilibrium_check(mech, model, where, time, at is not None) \
+        if not mech._desc.components and spin is None else _modes.rest_check(lin)
     if not eq:
         warnings.warn(f"linearize: the configuration is not a static equilibrium "
                       f"({eq.reason}): the model's stiffness K is the tangent there and "

@@ -12,7 +12,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 from . import _marshal, topology
-from ._checks import array
+from ._checks import array, real
 from ._errors import (AccuracyWarning, InitialValueWarning, ModelError, RedundantConstraintWarning,
                       StabilityWarning, UnattachedWarning, outside_stacklevel)
 from .results import StaticResult
@@ -248,3 +248,28 @@ def start_poses(mech, start, what) -> np.ndarray:
     return array(f"{what}.poses", start.poses, (len(mech._car), 4, 4),
                  f"finite poses of this mechanism's {len(mech._car)} carriers, shape "
                  f"({len(mech._car)}, 4, 4)")
+
+
+def spin_twist(mech, spin) -> np.ndarray:
+    """The world twist S (omega [rad/s], v [m/s] at the world origin) of a steady rotation
+    ``spin`` = (name of a revolute pair on the ground, Omega [rad/s]) about the pair's axis
+    (docs/method.md section 7.6); ModelError when the pair is not a revolute on the ground, or
+    gravity is not along the axis (the motion would not be steady)."""
+    if not isinstance(spin, (tuple, list)) or len(spin) != 2 or not isinstance(spin[0], str):
+        raise ModelError(f"spin: expected (revolute pair name, Omega [rad/s]) (got {spin!r})")
+    name, om = spin[0], real("spin: Omega", spin[1])
+    rows = [r for r in mech._desc.pairs if r["name"] == name]
+    if not rows:
+        raise ModelError(f"spin: unknown pair {name!r}")
+    row = rows[0]
+    if type(row["pair"]).__name__ != "Revolute" or (row["a"] >= 0 and row["b"] >= 0):
+        raise ModelError(f"spin: pair {name!r} must be a Revolute pair on the ground (the "
+                         f"mechanism turns about its axis)")
+    T = np.asarray(row["Ta"] if row["a"] < 0 else row["Tb"], dtype=float)
+    e, p = T[:3, 2], T[:3, 3]
+    g = np.asarray(mech._desc.gravity, dtype=float)
+    if np.linalg.norm(np.cross(g, e)) > 1e-12 * max(np.linalg.norm(g), 1e-300):
+        raise ModelError(f"spin: gravity {g.tolist()} is not along the axis of {name!r} "
+                         f"{e.tolist()}: a turning mechanism would not be in a steady state")
+    w = om * e
+    return np.concatenate([w, np.cross(p, w)])

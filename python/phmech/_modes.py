@@ -9,16 +9,18 @@ from typing import Optional
 
 import numpy as np
 
-from . import analysis, _core, _model
+from . import analysis, _core, linear, _model
 from ._checks import integer, real
 from ._errors import EquilibriumWarning, ModelError, SolverError, outside_stacklevel
 from .results import ModesResult, StaticResult
 
 
-def modes(mech, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0) -> ModesResult:
+def modes(mech, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0,
+          spin=None) -> ModesResult:
     """Mechanism.modes of the builder ``mech`` (python/phmech/mechanism.py: its docstring
     gives the arguments, their units and what is returned)."""
-    mech._no_components("modes")
+    if mech._desc.components or spin is not None:
+        return closed_loop_modes(mech, n, at, time, spin)
     n = integer("n", n, 1)
     time = real("time", time)
     _model.check_linearization_time(mech, "modes", time, at)
@@ -113,3 +115,85 @@ def frequencies(model, n: int, poses: np.ndarray, lam: np.ndarray, time: float =
     without its labels and its equilibrium check (phmech.mesh sizes meshes with them)."""
     om, _, _, nf = _core.model_modes(model, n, poses, lam, time)
     return om[:nf] / (2 * np.pi)
+
+
+def rest_check(lin):
+    """equilibrium_check's verdict for a mechanism with components, from its linear model ``lin``
+    (linear.LinearPortHamiltonian.at_rest: the forces with the components' efforts balance and
+    their states are still): a truthy/falsy object with a ``reason``."""
+    ok, reason = lin.at_rest()
+
+    class _Eq:
+        def __bool__(self):
+            return ok
+    e = _Eq()
+    e.reason = reason
+    return e
+
+
+def spun_point(mech, model, spin, at: Optional[StaticResult], time: float, poses, lam) -> tuple:
+    """With ``spin`` (pair name, Omega; _model.spin_twist) set on the core ``model``, the
+    steady rotation's relative equilibrium (the static solve with the centrifugal wrenches, 10
+    load steps in Omega^2 from the initial configuration) unless ``at`` gives it: (poses, lam).
+    Without spin: (poses, lam) unchanged."""
+    if spin is None:
+        return poses, lam
+    if mech._desc.components:
+        raise ModelError("spin: a steady rotation of a mechanism with components is not "
+                         "supported yet")
+    _core.model_set_spin(model, _model.spin_twist(mech, spin))
+    if at is None:
+        poses, lam, _ = _core.model_static(model, None, time, 10, 1e-10)
+    return poses, lam
+
+
+def closed_loop_modes(mech, n: int, at: Optional[StaticResult], time: float,
+                      spin=None) -> ModesResult:
+    """Mechanism.modes with components (docs/method.md section 7.5) or about a steady rotation
+    ``spin`` (section 7.6): the eigenvalues s [1/s] of the state matrix
+    (linear.LinearPortHamiltonian.A over (q, p, z)), one of each complex pair, the n of
+    smallest magnitude: omega = abs(s) [rad/s] (natural frequency), damping ratio
+    -Re(s)/abs(s) (negative: unstable), shapes the reduced part q of the eigenvector turned
+    real at its largest entry, unit modal mass, as carrier tangents."""
+    n = integer("n", n, 1)
+    time = real("time", time)
+    _model.check_linearization_time(mech, "modes", time, at)
+    model, poses, lam = _model.linearization_point(mech, at)
+    try:
+        poses, lam = spun_point(mech, model, spin, at, time, poses, lam)
+        lin = linear.build(_core, model, mech._desc, [], None, poses, lam, time,
+                           spin=spin is not None)
+    finally:
+        if spin is not None:
+            _core.model_set_spin(model, np.zeros(6))
+    s, V = np.linalg.eig(lin.A)
+    keep = s.imag >= -1e-12 * np.maximum(np.abs(s), 1e-300)     # one of each complex pair
+    s, V = s[keep], V[:, keep]
+    order = np.lexsort((s.imag, np.abs(s)))[:n]
+    s, V = s[order], V[:, order]
+    nr, nc = lin.nr, len(mech._car)
+    shapes = np.zeros((len(s), nc, 6))
+    for k in range(len(s)):
+        q = V[:nr, k]
+        if np.abs(q).max(initial=0.0) > 0:
+            j = int(np.argmax(np.abs(q)))
+            q = (q * np.conj(q[j]) / abs(q[j])).real
+            mm = q @ lin.mass @ q
+            q = q / np.sqrt(mm) if mm > 0 else q
+        else:
+            q = np.zeros(nr)
+        shapes[k] = (lin.basis @ q).reshape(nc, 6)
+    om = np.abs(s)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ze = np.where(om > 0, -s.real / np.where(om > 0, om, 1.0), 0.0)
+    where = mech._state.poses if poses is None else poses
+    eq = rest_check(lin)
+    if not eq:
+        warnings.warn(f"modes: the configuration is not a rest state of the mechanism with its "
+                      f"components or steady rotation ({eq.reason}): the poles are those of the "
+                      f"tangent there, not of small motions about a rest state", EquilibriumWarning,
+                      stacklevel=outside_stacklevel())
+    lab = analysis.label_modes(mech._desc, where, om, shapes)
+    return ModesResult(om, om / (2 * np.pi), ze, shapes, poses=np.array(where),
+                       equilibrium=bool(eq), poles=s, _links=dict(mech._links),
+                       _bodies=dict(mech._bodies), **lab)

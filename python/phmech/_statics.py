@@ -20,10 +20,11 @@ from .results import FreeMotion, StaticResult
 
 def static(mech, loads: Sequence = (), steps: int = 10, time: float = 0.0,
            tol: float = 1e-10, start: Optional[StaticResult] = None,
-           check_stability: bool = True, progress: bool = False) -> StaticResult:
+           check_stability: bool = True, progress: bool = False, spin=None) -> StaticResult:
     """Mechanism.static of the builder ``mech`` (python/phmech/mechanism.py: its docstring
     gives the arguments, their units and what is returned)."""
     mech._no_components("static")
+    S = None if spin is None else _model.spin_twist(mech, spin)
     extra = []
     if not isinstance(loads, (list, tuple)):
         raise ModelError(f"static loads: expected a list of (target, wrench, frame) tuples "
@@ -49,6 +50,17 @@ def static(mech, loads: Sequence = (), steps: int = 10, time: float = 0.0,
     model = _model.build(mech, extra)
 
     def solve(n_steps: int) -> StaticResult:
+        """_solve with a steady rotation (docs/method.md 7.6) set on the model, and unset after
+        (a model may be kept for later analyses)."""
+        if S is None:
+            return _solve(n_steps)
+        _core.model_set_spin(model, S)
+        try:
+            return _solve(n_steps)
+        finally:
+            _core.model_set_spin(model, np.zeros(6))
+
+    def _solve(n_steps: int) -> StaticResult:
         monitor = _run.StaticMonitor() if progress else None
         try:
             P, lam, it = _core.model_static(model, poses, time, n_steps, tol, monitor)
@@ -67,7 +79,9 @@ def static(mech, loads: Sequence = (), steps: int = 10, time: float = 0.0,
             if monitor is not None:
                 monitor.close()
         st = StaticResult(P, lam, it, mech._links, tuple(extra), steps=n_steps)
-        if check_stability and _model.potential_loads_only(mech, extra):
+        # with components the tangent's modes leave their stiffness out: no verdict
+        if check_stability and _model.potential_loads_only(mech, extra) and \
+                not mech._desc.components:
             st.lowest_omega = _lowest_omega(mech, model, P, lam, time)
             st.stable = bool(st.lowest_omega >= 0)
         return st

@@ -31,7 +31,13 @@ residual).
 
 ``CallbackController(f, jacobian=None, step=1e-7)``: u = f(t, y), y = (x, v) the coordinate and
 its rate, a Python function called inside the DAE (once per residual, and with its derivatives
-per Jacobian); a source like LinearController."""
+per Jacobian); a source like LinearController.
+
+``PortHamiltonianController(J, R, Q, B, damping, target, x0)``: a passive controller given as a
+port-Hamiltonian system (energy shaping and damping injection): states xc, energy
+H = (xc - target)^T Q (xc - target) / 2, xc' = (J - R) Q (xc - target) + B v,
+u = -B^T Q (xc - target) - damping v; its energy is stored (in ``res.energy``), its losses
+dissipated, and it supplies nothing: the ledger closes with it."""
 from __future__ import annotations
 
 import dataclasses
@@ -44,13 +50,15 @@ from ._errors import ControllerError, ModelError
 from .laws import Function, checked_law
 
 __all__ = ["ViscousFriction", "CoulombFriction", "StribeckFriction", "LuGreFriction", "DCMotor",
-           "LinearController", "CallbackController", "component_row"]
+           "LinearController", "CallbackController", "PortHamiltonianController",
+           "component_row"]
 
 #: the core's component kinds (csrc/include/phmech_types.h, phm_component_kind)
 _KINDS = {"viscous": 0, "coulomb": 1, "stribeck": 2, "lugre": 3, "motor": 4, "linear": 5,
-          "callback": 6}
-#: parameters and internal states per component, at most (PHM_COMP_NPAR, PHM_COMP_MAXZ)
-NPAR, MAXZ = 32, 4
+          "callback": 6, "ph": 7}
+#: parameters and internal states per component, at most (PHM_COMP_NPAR, PHM_COMP_MAXZ), and a
+#: port-Hamiltonian controller's states (PHM_COMP_PH_MAXZ)
+NPAR, MAXZ, PH_MAXZ = 32, 4, 2
 
 
 @dataclasses.dataclass(frozen=True)
@@ -223,6 +231,63 @@ class _Bad(Exception):
     """A callback controller's malformed answer (reported as a ControllerError)."""
 
 
+@dataclasses.dataclass(frozen=True)
+class PortHamiltonianController:
+    """A passive controller on the pair's coordinate given as a port-Hamiltonian system
+    (docs/method.md section 4.11; energy shaping and damping injection, control by
+    interconnection): its n states xc (n = 1 or 2) store H = (xc - target)^T Q (xc - target) / 2
+    and, with the coordinate's rate v [m/s or rad/s] at its port,
+
+        xc' = (J - R) Q (xc - target) + B v,     u = -B^T Q (xc - target) - damping v
+
+    (u the effort on the coordinate, N or N m). J (n, n) skew-symmetric, R (n, n) and Q (n, n)
+    symmetric positive semidefinite, B (n,), damping >= 0 [N s/m or N m s/rad]: a damper
+    injected at the port. Its power balance dH/dt = -u v - P_d, P_d = (Q e)^T R (Q e) + damping
+    v^2 >= 0: H is stored energy (with the elastic energy of ``res.energy``), P_d dissipated,
+    nothing supplied. With n = 1, J = R = 0, Q = kp, B = 1 and x0 the coordinate's initial
+    value, xc follows the coordinate (a Casimir: xc - x is constant) and the controller is a
+    virtual spring kp to ``target`` with the damper: a PD whose spring energy is in the ledger.
+    ``x0``: the initial states (zeros); ``target``: xc* (zeros)."""
+    J: object = ((0.0,),)
+    R: object = ((0.0,),)
+    Q: object = ((1.0,),)
+    B: object = (1.0,)
+    damping: float = 0.0
+    target: object = None
+    x0: object = None
+
+
+def _ph_row(what: str, comp) -> tuple:
+    """(par, z0, nstates) of a PortHamiltonianController; ModelError naming ``what``."""
+    Q = np.asarray(comp.Q, dtype=float) if np.size(comp.Q) else np.zeros((0, 0))
+    n = int(round(np.sqrt(Q.size)))
+    if not 1 <= n <= PH_MAXZ:
+        raise ModelError(f"{what}: {n} controller states; a port-Hamiltonian controller has 1 "
+                         f"to {PH_MAXZ}")
+    J = _matrix(f"{what}: J", comp.J, (n, n))
+    R = _matrix(f"{what}: R", comp.R, (n, n))
+    Q = _matrix(f"{what}: Q", comp.Q, (n, n))
+    B = _matrix(f"{what}: B", comp.B, (n,))
+    d = real(f"{what}: damping", comp.damping)
+    tol = 1e-12
+    if np.abs(J + J.T).max() > tol * max(np.abs(J).max(), 1.0):
+        raise ModelError(f"{what}: J must be skew-symmetric")
+    for nm, X in (("R", R), ("Q", Q)):
+        if np.abs(X - X.T).max() > tol * max(np.abs(X).max(), 1.0) or \
+                np.linalg.eigvalsh(0.5 * (X + X.T)).min() < -tol * max(np.abs(X).max(), 1.0):
+            raise ModelError(f"{what}: {nm} must be symmetric positive semidefinite")
+    if d < 0:
+        raise ModelError(f"{what}: damping must be >= 0 (got {d})")
+    xs = np.zeros(n) if comp.target is None else _matrix(f"{what}: target", comp.target, (n,))
+    z0 = np.zeros(MAXZ)
+    if comp.x0 is not None:
+        z0[:n] = _matrix(f"{what}: x0", comp.x0, (n,))
+    par = np.zeros(NPAR)
+    p = [*J.ravel(), *R.ravel(), *Q.ravel(), *B, d, *xs]
+    par[:len(p)] = p
+    return par, z0, n
+
+
 def _matrix(what: str, v, shape: tuple) -> np.ndarray:
     """``v`` as a finite float array of ``shape``; ModelError naming ``what`` otherwise."""
     try:
@@ -303,6 +368,11 @@ def component_row(name: str, pair_row: dict, index: int, comp,
         return dict(name=name, kind="callback", code=_KINDS["callback"], pair=index, coord=0,
                     par=par, input=0, z0=z0, law=checked_law(Function(call), what), nstates=0,
                     states=(), spair=-1, scoord=0, call=call)
+    if isinstance(comp, PortHamiltonianController):
+        par, z0, n = _ph_row(what, comp)
+        return dict(name=name, kind="ph", code=_KINDS["ph"], pair=index, coord=0, par=par,
+                    input=0, z0=z0, law=None, nstates=n, states=tuple(f"x{j}" for j in range(n)),
+                    spair=-1, scoord=0)
     if isinstance(comp, ViscousFriction):
         kind, p = "viscous", _params(what, comp, ("c",))
         ok = p[0] >= 0
@@ -329,8 +399,8 @@ def component_row(name: str, pair_row: dict, index: int, comp,
         z0[0] = real(f"{what}: i0", comp.i0)
     else:
         raise ModelError(f"{what}: expected ViscousFriction, CoulombFriction, StribeckFriction, "
-                         f"LuGreFriction, DCMotor, LinearController or CallbackController (got "
-                         f"{type(comp).__name__})")
+                         f"LuGreFriction, DCMotor, LinearController, CallbackController or "
+                         f"PortHamiltonianController (got {type(comp).__name__})")
     if not ok:
         raise ModelError(f"{what}: a parameter is out of range ({kind}: {p}; see "
                          f"phmech.components for each one's range)")

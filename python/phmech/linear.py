@@ -6,11 +6,12 @@ docs/user_guide.md "Linear port-Hamiltonian model")."""
 from __future__ import annotations
 
 import dataclasses
-from typing import List
+from typing import List, Optional
 
 import numpy as np
 
 from ._errors import ModelError
+from .components import state_layout
 from .frames import Body, Frame, frame_of
 
 __all__ = ["LinearPortHamiltonian", "Passivity"]
@@ -63,7 +64,24 @@ class LinearPortHamiltonian:
 
     ``stiffness`` K, ``damping`` Dr, ``mass`` M (nr x nr), ``basis`` Z (6 nc x nr: the reduced
     coordinates as the carriers' tangent coordinates (omega, v), body frames), ``inputs``,
-    ``outputs``: one label per column of B and row of C."""
+    ``outputs``: one label per column of B and row of C.
+
+    With components (``Mechanism.add_component``: controllers, motors, friction; docs/method.md
+    section 7.5) the state is x = (q, p, z), z their nz states (``states``: their labels,
+    "name.state"), and their laws linearized at the point, at rest, enter as: the change of
+    their reduced generalized forces -Kc dq - Dc dq/dt + Kz dz (``Kc``, ``Dc`` nr x nr, in
+    general not symmetric: a non-collocated controller; ``Kz`` nr x nz) and dz/dt = Fq q +
+    Fv dq/dt + Fz z (``Fq``, ``Fv`` nz x nr, ``Fz`` nz x nz). ``A`` is then the closed loop,
+    (J - R) Q + ``A_components``; J, R, Q, ``frequencies()`` and ``passivity()`` stay the
+    mechanism's own (a controller is in general not passive), B and C get nz zero rows and
+    columns. ``poles()``: the eigenvalues of A. ``rest_force``: Z^T of every generalized force at
+    the point (the mechanism's and the components'; zero at an equilibrium), ``rest_rates``:
+    dz/dt there.
+
+    About a steady rotation (``Mechanism.linearize(spin=...)``, docs/method.md section 7.6) the
+    state is that of the frame turning with it: K holds the centrifugal stiffness, and
+    ``gyroscopic`` G (nr x nr, skew-symmetric: Coriolis) enters A as M q'' + (D + G) q' + K q
+    = 0; ``poles()`` are then the rotating mechanism's."""
     stiffness: np.ndarray
     damping: np.ndarray
     mass: np.ndarray
@@ -73,6 +91,74 @@ class LinearPortHamiltonian:
     inputs: List[str]
     outputs: List[str]
     collocated: bool
+    Kc: Optional[np.ndarray] = None
+    Dc: Optional[np.ndarray] = None
+    Kz: Optional[np.ndarray] = None
+    Fq: Optional[np.ndarray] = None
+    Fv: Optional[np.ndarray] = None
+    Fz: Optional[np.ndarray] = None
+    states: List[str] = dataclasses.field(default_factory=list)
+    rest_force: Optional[np.ndarray] = None
+    rest_rates: Optional[np.ndarray] = None
+    rest_force_components: Optional[np.ndarray] = None
+    rest_states: Optional[np.ndarray] = None
+    gyroscopic: Optional[np.ndarray] = None
+    rest_scale: float = 0.0
+
+    def at_rest(self, rtol: float = 1e-6) -> tuple:
+        """(ok, reason): whether the point is a rest state of the mechanism with its components
+        (or in its steady rotation) -- the reduced generalized forces ``rest_force`` vanish
+        within ``rtol`` of ``rest_scale``, the largest constraint, centrifugal or component
+        wrench there (or within the round-off 100 eps max|K| of the stiffness, at least 1e-12 N
+        or N m, when there are none), and the components' states are still
+        (abs(dz/dt) <= rtol (1 + abs(z)) [unit of z per s]). Without components and spin:
+        (True, "")."""
+        if self.rest_force is None:
+            return True, ""
+        f, scale = self.rest_force, self.rest_scale
+        bad = np.abs(f).max(initial=0.0)
+        floor = max(1e-12, 100 * np.finfo(float).eps * np.abs(self.stiffness).max(initial=0.0))
+        if bad > max(rtol * scale, floor):
+            i = int(np.argmax(np.abs(f)))
+            return False, (f"the generalized forces with the components' efforts do not balance: "
+                           f"{bad:.3g} in reduced coordinate {i} (of {scale:.3g} applied)")
+        zr = np.abs(self.rest_rates) - rtol * (1 + np.abs(self.rest_states))
+        if zr.size and zr.max() > 0:
+            i = int(np.argmax(zr))
+            return False, (f"the component state {self.states[i]!r} moves: dz/dt = "
+                           f"{self.rest_rates[i]:.3g} per s there")
+        return True, ""
+
+    @property
+    def nz(self) -> int:
+        """The components' states (0 without components)."""
+        return 0 if self.Fz is None else self.Fz.shape[0]
+
+    @property
+    def A_components(self) -> np.ndarray:
+        """The components' part of A over x = (q, p, z) ((2 nr + nz) square; zero without
+        components)."""
+        n, nz = self.nr, self.nz
+        out = np.zeros((2 * n + nz, 2 * n + nz))
+        if self.gyroscopic is not None:
+            out[n:2 * n, n:2 * n] = -self.gyroscopic @ self._minv
+        if self.Kc is None:
+            return out
+        Mi = self._minv
+        out[n:2 * n, :n] = -self.Kc
+        out[n:2 * n, n:2 * n] -= self.Dc @ Mi
+        out[n:2 * n, 2 * n:] = self.Kz
+        out[2 * n:, :n] = self.Fq
+        out[2 * n:, n:2 * n] = self.Fv @ Mi
+        out[2 * n:, 2 * n:] = self.Fz
+        return out
+
+    def poles(self) -> np.ndarray:
+        """The eigenvalues s [1/s] of A (the closed loop with the components), by ascending
+        magnitude: a pole with Re s > 0 is unstable; s = -zeta omega +- i omega sqrt(1 - zeta^2)
+        for a mode of natural frequency omega [rad/s] and damping ratio zeta."""
+        s = np.linalg.eigvals(self.A).astype(complex)
+        return s[np.lexsort((s.imag, np.abs(s)))]
 
     @property
     def nr(self) -> int:
@@ -103,11 +189,12 @@ class LinearPortHamiltonian:
 
     @property
     def B(self) -> np.ndarray:
-        return np.vstack([np.zeros_like(self.Bq), self.Bq])
+        return np.vstack([np.zeros_like(self.Bq), self.Bq, np.zeros((self.nz, self.Bq.shape[1]))])
 
     @property
     def C(self) -> np.ndarray:
-        return np.hstack([np.zeros_like(self.Cq), self.Cq @ self._minv])
+        return np.hstack([np.zeros_like(self.Cq), self.Cq @ self._minv,
+                          np.zeros((self.Cq.shape[0], self.nz))])
 
     @property
     def D(self) -> np.ndarray:
@@ -115,8 +202,15 @@ class LinearPortHamiltonian:
 
     @property
     def A(self) -> np.ndarray:
-        """(J - R) Q."""
-        return (self.J - self.R) @ self.Q
+        """(J - R) Q, and with components the closed loop (J - R) Q + A_components over
+        x = (q, p, z)."""
+        A = (self.J - self.R) @ self.Q
+        if not self.nz and self.Kc is None and self.gyroscopic is None:
+            return A
+        n = 2 * self.nr
+        out = self.A_components
+        out[:n, :n] += A
+        return out
 
     def frequencies(self) -> np.ndarray:
         """Undamped natural frequencies [Hz], ascending: sqrt of the eigenvalues of (K, M) / 2 pi
@@ -152,8 +246,9 @@ class LinearPortHamiltonian:
             e = np.linalg.eigvalsh(blk)
             qmin = min(qmin, float(e.min() / max(np.abs(e).max(), 1e-300)))
         if self.collocated:
-            BQ = self.B.T @ self.Q
-            col = float(np.abs(self.C - BQ).max() / max(np.abs(BQ).max(), 1e-300))
+            n = 2 * self.nr                      # the mechanism's part (not its components')
+            BQ = self.B[:n].T @ self.Q
+            col = float(np.abs(self.C[:, :n] - BQ).max() / max(np.abs(BQ).max(), 1e-300))
         else:
             col = float("nan")
         dmin = float(np.linalg.eigvalsh(self.D + self.D.T).min()) if self.D.size else 0.0
@@ -184,7 +279,7 @@ class LinearPortHamiltonian:
             raise ModelError("to_control needs python-control (pip install control; or "
                              "pip install phmech[control]); to_statespace() needs only SciPy") from None
         n = self.nr
-        states = [f"q{i}" for i in range(n)] + [f"p{i}" for i in range(n)]
+        states = [f"q{i}" for i in range(n)] + [f"p{i}" for i in range(n)] + [z.replace(".", "_") for z in self.states]
         name = lambda s: s.replace(".", "_")                       # noqa: E731 ('.' is refused)
         return control.ss(self.A, self.B, self.C, self.D, inputs=[name(s) for s in self.inputs],
                           outputs=[name(s) for s in self.outputs], states=states)
@@ -266,15 +361,40 @@ def output_labels(labels: List[str]) -> List[str]:
     return out
 
 
-def build(core, model, desc, inputs, outputs, poses, lam, time) -> LinearPortHamiltonian:
-    """The LinearPortHamiltonian of a core model at poses/lam (None: its initial state)."""
+def component_states(desc) -> List[str]:
+    """The labels "name.state" of the components' states in the core's order
+    (components.state_layout)."""
+    rows = {r["name"]: r for r in desc.components}
+    out = [""] * sum(r["nstates"] for r in rows.values())
+    for nm, (first, count) in state_layout(desc.components).items():
+        for j in range(count):
+            out[first + j] = f"{nm}.{rows[nm]['states'][j]}"
+    return out
+
+
+def initial_states(desc) -> np.ndarray:
+    """The components' initial states (nz,) in the core's order (components.state_layout)."""
+    rows = {r["name"]: r for r in desc.components}
+    out = np.zeros(sum(r["nstates"] for r in rows.values()))
+    for nm, (first, count) in state_layout(desc.components).items():
+        out[first:first + count] = rows[nm]["z0"][:count]
+    return out
+
+
+def build(core, model, desc, inputs, outputs, poses, lam, time, z=None,
+          spin: bool = False) -> LinearPortHamiltonian:
+    """The LinearPortHamiltonian of a core model at poses/lam (None: its initial state); with the
+    description's components, their linearized laws at their states ``z`` (None: the initial
+    ones); ``spin``: the model turns steadily (_core.model_set_spin): its gyroscopic matrix."""
     pin, gin, lin = resolve_ports(desc, inputs, "linearize inputs")
     if outputs is None:
         pout, gout, lout, coll = [], [], output_labels(lin), True
     else:
         pout, gout, lout = resolve_ports(desc, outputs, "linearize outputs")
         lout, coll = output_labels(lout), False
-    K, D, M, Z, B, (nr, ncol) = core.model_linear(model, pin + pout, poses, lam, time)
+    withc = bool(desc.components) or spin
+    K, D, M, Z, B, (nr, ncol), *comp = core.model_linear(model, pin + pout, poses, lam, time,
+                                                          withc, z)
     nc6 = 6 * len(desc.carriers)
     F = B[:nr * ncol].reshape(nr, ncol)
     nin = sum(len(g) for g in gin)
@@ -282,7 +402,18 @@ def build(core, model, desc, inputs, outputs, poses, lam, time) -> LinearPortHam
     Fo = F[:, nin:]
     Cq = (np.stack([Fo[:, g].sum(axis=1) for g in gout], axis=0) if gout else np.zeros((0, nr))) \
         if not coll else Bq.T.copy()
+    extra = {}
+    if withc:
+        Kc, Dc, Kz, Fq, Fv, Fz, f, fc, zdot, nz, Gy, fmax = comp[0]
+        extra = dict(Kc=Kc[:nr * nr].reshape(nr, nr), Dc=Dc[:nr * nr].reshape(nr, nr),
+                     Kz=Kz[:nr * nz].reshape(nr, nz), Fq=Fq[:nz * nr].reshape(nz, nr),
+                     Fv=Fv[:nz * nr].reshape(nz, nr), Fz=Fz.reshape(nz, nz),
+                     states=component_states(desc), rest_force=f[:nr].copy(),
+                     rest_rates=zdot.copy(), rest_force_components=fc[:nr].copy(),
+                     rest_states=initial_states(desc) if z is None else np.asarray(z, float),
+                     gyroscopic=Gy[:nr * nr].reshape(nr, nr) if spin else None,
+                     rest_scale=float(fmax))
     return LinearPortHamiltonian(
         stiffness=K[:nr * nr].reshape(nr, nr), damping=D[:nr * nr].reshape(nr, nr),
         mass=M[:nr * nr].reshape(nr, nr), basis=Z[:nc6 * nr].reshape(nc6, nr), Bq=Bq, Cq=Cq,
-        inputs=lin, outputs=lout, collocated=coll)
+        inputs=lin, outputs=lout, collocated=coll, **extra)

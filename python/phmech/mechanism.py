@@ -223,7 +223,8 @@ class Mechanism(Builder):
         tol = self.frequency_tolerance if tolerance is None else tolerance
         return mesh.size_mechanism(self, band, tol, max_elements)[0]
 
-    def modes(self, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0) -> ModesResult:
+    def modes(self, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0,
+              spin: Optional[tuple] = None) -> ModesResult:
         """The ``n`` lowest linearized modes at the initial configuration, or at a static
         equilibrium ``at``: its constraint wrenches give the geometric stiffness, and the extra
         loads it was found under (``static(loads=...)``) act as they did there.
@@ -237,11 +238,30 @@ class Mechanism(Builder):
         ``time`` [s]: the loads act as at that time. When a driven pair's law has moved by then
         (its value or rate differs from t = 0's) a ModelError names the pair and the values:
         the initial configuration holds it at s(0), and modes there would be the t = 0 ones
-        (drive it with ``law.shifted(-time)`` and call modes() at time 0 instead)."""
-        return _modes.modes(self, n=n, at=at, time=time)
+        (drive it with ``law.shifted(-time)`` and call modes() at time 0 instead).
+
+        With components (``add_component``: controllers, motors, friction) the modes are the
+        closed loop's (docs/method.md section 7.5): the eigenvalues s [1/s] of
+        ``linearize().A`` with the components' laws linearized at rest and their states,
+        one of each complex pair, the ``n`` of smallest magnitude; ``omega`` = abs(s) [rad/s]
+        (natural frequency, >= 0), ``damping_ratio`` = -Re(s)/abs(s) (negative: unstable),
+        ``poles`` the s themselves, ``shapes`` the eigenvectors' displacement part turned real.
+        The EquilibriumWarning then checks the rest state with the components' efforts and
+        state rates (``LinearPortHamiltonian.at_rest``).
+
+        ``spin`` = (name of a Revolute pair on the ground, Omega [rad/s]): the modes about the
+        steady rotation of the whole mechanism at Omega about that pair's axis (drive the pair
+        with ``Linear(rate=Omega)``, or leave it free), in the frame turning with it
+        (docs/method.md section 7.6): the relative equilibrium first (a static solve with the
+        centrifugal wrenches, unless ``at`` gives it: ``static(spin=...)``), then the poles of
+        its linearization with centrifugal stiffness and Coriolis (gyroscopic) coupling, as
+        with components (``poles``; ``omega`` >= 0). Gravity must be zero or along the axis.
+        ``phmech.plot.campbell`` draws the frequencies against Omega."""
+        return _modes.modes(self, n=n, at=at, time=time, spin=spin)
 
     def linearize(self, at: Optional[StaticResult] = None, inputs: Sequence = (),
-                  outputs: Optional[Sequence] = None, time: float = 0.0):
+                  outputs: Optional[Sequence] = None, time: float = 0.0,
+                  spin: Optional[tuple] = None):
         """The linear port-Hamiltonian model (phmech.linear.LinearPortHamiltonian: J, R, Q, B,
         C, D, passivity(), to_statespace(), to_control()) about the initial configuration, or
         about a static equilibrium ``at`` (its constraint wrenches give the geometric stiffness
@@ -259,12 +279,25 @@ class Mechanism(Builder):
         acting at ``time`` (whose stiffness, e.g. of a world-fixed force on a rotating body, is
         in K); a driven pair whose law has moved by ``time`` is refused as in :meth:`modes`.
         About a configuration that is not a static equilibrium an EquilibriumWarning says so,
-        as :meth:`modes` does: K is the tangent there and x = 0 is no rest state."""
-        return _linearize.linearize(self, at=at, inputs=inputs, outputs=outputs, time=time)
+        as :meth:`modes` does: K is the tangent there and x = 0 is no rest state.
+
+        With components (``add_component``) their states join the state, x = (q, p, z), and
+        their laws linearized at rest at their initial states give A the closed loop
+        (``Kc``, ``Dc``, ``Kz``, ``Fq``, ``Fv``, ``Fz``; ``poles()``): linear controllers,
+        viscous friction and DC motors exactly, Coulomb and Stribeck friction as their slope
+        at v = 0 (a damper Fc / v_reg), LuGre as its pre-sliding spring sigma0 and damper
+        sigma1 + sigma2 (docs/method.md section 7.5).
+
+        ``spin`` = (Revolute pair on the ground, Omega [rad/s]): about the steady rotation, as
+        in :meth:`modes` (its relative equilibrium unless ``at`` gives it; the model's
+        ``gyroscopic`` matrix and centrifugal stiffness, docs/method.md section 7.6)."""
+        return _linearize.linearize(self, at=at, inputs=inputs, outputs=outputs, time=time,
+                                    spin=spin)
 
     def static(self, loads: Sequence = (), steps: int = 10, time: float = 0.0,
                tol: float = 1e-10, start: Optional[StaticResult] = None,
-               check_stability: bool = True, progress: bool = False) -> StaticResult:
+               check_stability: bool = True, progress: bool = False,
+               spin: Optional[tuple] = None) -> StaticResult:
         """Static equilibrium under gravity, the mechanism's wrenches at ``time`` and extra
         constant ``loads`` = [(target, wrench (tau, f), frame "world"|"body"), ...], reached in
         load increments of 1/``steps`` (halved when Newton fails, grown back after fast
@@ -292,9 +325,14 @@ class Mechanism(Builder):
         exists: the solve stops at Newton's first failure and the message names the pair or
         part, what moves and the generalized force; the error's ``free_motions`` lists them
         (FreeMotion; docs/method.md section 7.3, "No equilibrium"). A motion nothing resists on
-        which the loads do no work leaves the equilibrium not unique: one is returned."""
+        which the loads do no work leaves the equilibrium not unique: one is returned.
+
+        ``spin`` = (Revolute pair on the ground, Omega [rad/s]): the relative equilibrium of
+        the steady rotation at Omega about that pair's axis (the centrifugal wrenches join the
+        loads, scaled by the load steps; docs/method.md section 7.6), e.g. to pass to
+        ``modes(at=..., spin=...)``."""
         return _statics.static(self, loads=loads, steps=steps, time=time, tol=tol, start=start,
-                               check_stability=check_stability, progress=progress)
+                               check_stability=check_stability, progress=progress, spin=spin)
 
 
 def load(path) -> Mechanism:

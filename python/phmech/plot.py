@@ -31,7 +31,7 @@ from .frames import FlexibleLink
 from .results import ModesResult, SimulationResult
 
 __all__ = ["trajectory", "energy", "spectrum", "convergence", "sweep", "mode_shape", "modes",
-           "draw", "animate", "interactive"]
+           "campbell", "draw", "animate", "interactive"]
 
 _PLANES = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}
 _AXNAME = "xyz"
@@ -241,6 +241,38 @@ def convergence(sizes, errors, ax=None, labels=None, style: str = "-", order: Op
     ax.grid(True, which="both", alpha=0.3)
     if labels is not None or order is not None:
         ax.legend(fontsize=7, ncol=2)
+    return ax
+
+
+def campbell(mechanism, pair: str, speeds, n: int = 4, ax=None, orders=(1, 2),
+             hz: bool = False):
+    """A Campbell diagram: the ``n`` lowest frequencies of ``mechanism`` about its steady
+    rotation at each speed Omega of ``speeds`` [rad/s] about the Revolute pair ``pair`` on the
+    ground (``Mechanism.modes(n, spin=(pair, Omega))``: centrifugal stiffening, spin softening
+    and Coriolis coupling; docs/method.md section 7.6), against Omega, with the lines k Omega
+    of the ``orders`` k (a resonance where a frequency crosses one). ``hz``: frequencies in Hz
+    (omega / 2 pi) instead of rad/s. The frequencies are sorted at each speed (crossing modes
+    are not followed). Returns the Axes; its ``campbell`` attribute holds (speeds, omega
+    (len(speeds), n) [rad/s], nan where fewer modes exist)."""
+    W = np.asarray(speeds, dtype=float)
+    if W.ndim != 1 or W.size < 1 or not np.all(np.isfinite(W)):
+        raise ModelError(f"campbell: speeds must be a 1-D array of finite numbers [rad/s] (got "
+                         f"shape {W.shape})")
+    om = np.full((W.size, n), np.nan)
+    for i, w in enumerate(W):
+        o = np.sort(mechanism.modes(n, spin=(pair, float(w))).omega)[:n]
+        om[i, :o.size] = o
+    k = 1 / (2 * np.pi) if hz else 1.0
+    ax = ax if ax is not None else plt.subplots(figsize=(6.5, 4.2))[1]
+    for j in range(n):
+        ax.plot(W, k * om[:, j], "o-", ms=3, color=f"C{j % 10}", label=f"mode {j + 1}")
+    for q in orders:
+        ax.plot(W, k * q * W, "k:", lw=0.8)
+        ax.annotate(f"{q:g}x", (W[-1], k * q * W[-1]), fontsize=7)
+    ax.set(xlabel="speed Omega [rad/s]", ylabel="frequency [Hz]" if hz else "omega [rad/s]")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=7)
+    ax.campbell = (W, om)
     return ax
 
 

@@ -408,6 +408,9 @@ class ModesResult:
     poses: np.ndarray = None
     #: False when modes() found the configuration away from a static equilibrium (it warned)
     equilibrium: bool = True
+    #: with components (controllers, motors, friction) or a spin: the poles s [1/s], one per
+    #: mode (omega = abs(s), damping_ratio = -Re(s)/abs(s)); None otherwise
+    poles: np.ndarray = None
     _links: dict = dataclasses.field(default_factory=dict, repr=False)
     _bodies: dict = dataclasses.field(default_factory=dict, repr=False)
 
