@@ -20,6 +20,7 @@ import os
 import re
 import warnings
 from pathlib import Path
+from typing import Callable, Optional
 
 import pytest
 
@@ -39,14 +40,17 @@ def code_blocks(page: str) -> list[tuple[int, str]]:
             for m in _FENCE.finditer(text)]
 
 
-@pytest.mark.parametrize("page", PAGES)
-def test_page_blocks_run(page: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def run_blocks(page: str, stop: Optional[Callable[[], bool]] = None) -> None:
+    """Run the page's python blocks in order in one namespace, in the current directory (which
+    should hold a link ``tests`` to the repository's tests/, for the files the guide reads), with
+    warnings silenced; after each block, ``stop()`` (if given) may end the run early. A failing
+    block raises AssertionError naming the page and the block's line. Also used by
+    docs/figures/make_figures.py, which keeps the PNGs the blocks write."""
     import matplotlib
     matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
     blocks = code_blocks(page)
     assert blocks, f"{page}: no python blocks found"
-    (tmp_path / "tests").symlink_to(ROOT / "tests")
-    monkeypatch.chdir(tmp_path)
     ns: dict = {"__name__": "__docs__"}
     for line, src in blocks:
         code = compile(src, f"{page}:{line}", "exec")
@@ -56,5 +60,33 @@ def test_page_blocks_run(page: str, tmp_path: Path, monkeypatch: pytest.MonkeyPa
                 exec(code, ns)
             except Exception as exc:  # the block's page and line in the failure
                 raise AssertionError(f"{page}, block at line {line}: {exc!r}") from exc
-    import matplotlib.pyplot as plt
+        if stop is not None and stop():
+            break
     plt.close("all")
+
+
+#: a figure the guide shows, ![...](figures/NAME.png): docs/figures/NAME.png
+_SHOWN = re.compile(r"!\[[^\]]*\]\(figures/(?P<name>[\w.-]+\.png)\)")
+
+
+def shown_figures(page: str) -> list[str]:
+    """The file names of the figures ``page`` shows from docs/figures/, in page order."""
+    return [m.group("name") for m in _SHOWN.finditer((ROOT / page).read_text(encoding="utf-8"))]
+
+
+@pytest.mark.parametrize("page", PAGES)
+def test_page_blocks_run(page: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    (tmp_path / "tests").symlink_to(ROOT / "tests")
+    monkeypatch.chdir(tmp_path)
+    run_blocks(page)
+    # the figures the page shows are those its blocks write (docs/figures/make_figures.py
+    # copies them there)
+    for name in shown_figures(page):
+        assert (tmp_path / name).is_file(), f"{page}: no block writes {name}, which it shows"
+
+
+@pytest.mark.parametrize("page", PAGES)
+def test_shown_figures_are_in_the_repository(page: str) -> None:
+    for name in shown_figures(page):
+        assert (ROOT / "docs" / "figures" / name).is_file(), \
+            f"{page} shows figures/{name}: run docs/figures/make_figures.py"
