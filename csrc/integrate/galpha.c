@@ -327,6 +327,25 @@ static double galpha_error(const dae_t *d, galpha_t *g, double h, double hq, dou
  * and 0.41 s (the budget alone: 2.17, 84, 0.35 s, ledger 6.0e-5 -> 6.2e-5). */
 #define GALPHA_FIRST_MAX 30.0
 #define GALPHA_EXTRA_BUDGET 4
+/* One iteration in a rigid mechanism (no flexible link): there the predictor is ~1 tolerance
+ * off, not ~1e4 (no mesh vibrating between the band and the step's Nyquist frequency), and an
+ * aged matrix contracts by ~0.02 per iteration; so a step is accepted after its first
+ * correction when that correction times rho / (1 - rho) is within 0.33 tolerances (the test of
+ * the later iterations), rho = GALPHA_ONE_SAFETY times the first contraction last measured on
+ * this matrix (at least GALPHA_ONE_RATE_MIN, at most 0.9). The first contraction underestimates
+ * the later ones (see GALPHA_FIRST_MAX; on the chain of benchmarks/bench_scaling.py, n = 30,
+ * median 4.6x on fresh matrices), hence the factor; the matrix ages with the carriers'
+ * rotation, hence a step of two iterations, which measures it again, after every
+ * GALPHA_ONE_VERIFY steps of one. Never on a matrix not yet measured (a fresh one), nor in a
+ * restart. Measured on that chain (rtol 1e-4, 0.5 s; n = 10 / 30 / 100): Newton iterations
+ * 13 900 -> 9920, 11 780 -> 7224, 13 654 -> 8341, CPU -26 %, -27 %, -32 %, link-end errors
+ * 2.86e-7 -> 2.82e-7, 2.61e-7 -> 2.59e-7, 2.12e-7 -> 2.10e-7 m, ledgers 8.9e-8 -> 5.0e-8,
+ * 6.0e-9 -> 5.2e-9, 1.3e-9 -> 6.3e-10 (safety 5: fewer one-iteration steps for the same
+ * errors; no re-measurement: 1.03 iterations per step but ledger 2x). Flexible mechanisms keep
+ * two iterations (docs/integrators.md, "Why two iterations, not one"). */
+#define GALPHA_ONE_SAFETY 3.0
+#define GALPHA_ONE_VERIFY 8
+#define GALPHA_ONE_RATE_MIN 0.01
 /* the local error estimate below which it is Newton's noise, in Newton tolerances (run_galpha) */
 #define GALPHA_NOISE 0.25
 /* the summed estimates below which Newton's tolerance is not tightened, and the steps the run
@@ -378,6 +397,9 @@ typedef struct {
   double etry, htry, errn, emax, elocal; /* this step's attempts (galpha_error_test) */
   double grow_q, grow_qq; /* the last two accepted steps' estimates per unit step over h^2 (0: none) */
   int noise;              /* this step's estimate is at the level of Newton's noise */
+  int rigid;              /* adaptive, no flexible link: one-iteration steps (GALPHA_ONE_SAFETY) */
+  double rho1;            /* the last first contraction measured on this matrix (0: none yet) */
+  int since;              /* steps accepted on one iteration since rho1 was measured */
 } galpha_run;
 
 /* g's vectors, for galpha_open and galpha_close. */
@@ -532,6 +554,7 @@ static phm_status galpha_open(galpha_run *gr, dae_t *d, const phm_sim_options *o
   gr->wa = wa;
   gr->dP = dP;
   gr->filtered = filtered;
+  gr->rigid = adaptive && d->m->ne == 0;
   gr->t = tout[0];
   gr->hjac = gr->hq = gr->hqq = 0; /* hq = 0: no history */
   gr->fresh = 0;
@@ -635,6 +658,7 @@ static phm_status galpha_newton(galpha_run *gr, double t, double h, int *okp, ph
         goto done;
       }
       out->njac++;
+      gr->rho1 = 0; /* a new matrix: its contraction is measured before a step trusts it */
       corot_reference(d, cr, N_VGetArrayPointer(g->ya));
       extra = 0;
       hjac = h;
@@ -675,7 +699,21 @@ static phm_status galpha_newton(galpha_run *gr, double t, double h, int *okp, ph
     if (it == 0) {
       nrm0 = nrm_rate;
       if (nrm <= 0.033) { ok = 1; break; }
+      /* a rigid mechanism: one iteration when the contraction measured on this matrix says
+       * its iterate is converged (GALPHA_ONE_SAFETY) */
+      if (gr->rigid && gr->rho1 > 0 && !restart && !g->euler && gr->since < GALPHA_ONE_VERIFY) {
+        double rho = fmin(0.9, fmax(GALPHA_ONE_RATE_MIN, GALPHA_ONE_SAFETY * gr->rho1));
+        if (nrm * rho / (1.0 - rho) <= 0.33) {
+          ok = 1;
+          gr->since++;
+          break;
+        }
+      }
     } else {
+      if (it == 1 && gr->rigid && nrm0 > 0) { /* the matrix's contraction, measured again */
+        gr->rho1 = nrm_rate / nrm0;
+        gr->since = 0;
+      }
       /* pow(x, 1) is x: the first contraction without the call */
       double rate = nrm0 > 0 ? (it == 1 ? nrm_rate / nrm0 : pow(nrm_rate / nrm0, 1.0 / it)) : 0.0;
       if (rate > 0.9 && nrm_rate > 0.033) break; /* diverging (not round-off over round-off) */
