@@ -274,6 +274,12 @@ phm_status dae_planar_init(dae_t *d, const phm_model *m, int axis, phm_error *er
 dae_t *dae_full(dae_t *d);
 /* The full DAE's state of the reduced y (expanded into the planar data's buffer). */
 const double *dae_planar_state(dae_t *d, const double *y);
+/* 1 when every constraint row of pair ip that the model dropped is out of d's plane (no entry of
+ * its G on a kept twist component of either carrier: the rows python/phmech/planar.py's
+ * out_of_plane_rows drops), which the reduction holds exactly (the out-of-plane states keep
+ * their values); found at the full state yf (dae_planar_state) and time t on the pair's first
+ * call and kept (an in-plane motion does not turn a row into the plane). No allocation. */
+int dae_planar_drops_out_of_plane(dae_t *d, int ip, const double *yf, double t);
 /* dae_carrier_states of a planar d (its kept states). */
 void dae_planar_carrier_states(const dae_t *d, dae_carrier_layout *L);
 int dae_planar_residual(dae_t *d, double time, const double *y, const double *yp, double *F,

@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "phm_check.h"
+#include "pose.h"
 
 struct dae_planar {
   dae_t full;     /* the 3-D DAE of the model */
@@ -26,6 +27,8 @@ struct dae_planar {
   double *base;   /* full n: the dropped states' values (from the initial values) */
   double *fval;   /* full nnz: the full Jacobian's values */
   long *jmap;     /* reduced nnz: each reduced entry's place in the full pattern */
+  signed char *oop; /* np: every dropped row of the pair is out of the plane (1) or not (0);
+                     * -1: not yet known (dae_planar_drops_out_of_plane) */
 };
 
 dae_t *dae_full(dae_t *d) { return d->pl ? &d->pl->full : d; }
@@ -118,7 +121,9 @@ phm_status dae_planar_init(dae_t *d, const phm_model *m, int axis, phm_error *er
   pl->yp = calloc(nf + 1, sizeof(double));
   pl->F = calloc(nf + 1, sizeof(double));
   pl->base = calloc(nf + 1, sizeof(double));
-  if (!pl->y || !pl->yp || !pl->F || !pl->base) {
+  pl->oop = malloc((size_t)m->np + 1);
+  if (pl->oop) memset(pl->oop, -1, (size_t)m->np + 1);
+  if (!pl->y || !pl->yp || !pl->F || !pl->base || !pl->oop) {
     dae_free(d);
     return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
   }
@@ -129,7 +134,7 @@ void dae_planar_free(dae_t *d) {
   struct dae_planar *pl = d->pl;
   if (!pl) return;
   dae_free(&pl->full);
-  void *bufs[] = {pl->y, pl->yp, pl->F, pl->base, pl->fval, pl->jmap, pl};
+  void *bufs[] = {pl->y, pl->yp, pl->F, pl->base, pl->fval, pl->jmap, pl->oop, pl};
   for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) free(bufs[i]);
   d->pl = NULL;
 }
@@ -153,6 +158,29 @@ static dae_t *to_full(dae_t *d, const double *y, const double *yp) {
   expand(d, y, pl->y);
   if (yp) expand(d, yp, pl->yp);
   return &pl->full;
+}
+
+int dae_planar_drops_out_of_plane(dae_t *d, int ip, const double *yf, double t) {
+  struct dae_planar *pl = d->pl;
+  if (pl->oop[ip] >= 0) return pl->oop[ip];
+  const dae_t *f = &pl->full;
+  const phm_model *m = f->m;
+  const phm_pair_desc *pr = &m->pair[ip];
+  int mc = phm_pair_rows_full(pr), out = 1;
+  double Ha[16], Hb[16], g[PHM_MAXCON], Ga[6 * PHM_MAXCON], Gb[6 * PHM_MAXCON], W[36];
+  if (pr->a >= 0) phm_qp_to_H(yf + PHM_NSTATE * pr->a, yf + PHM_NSTATE * pr->a + 4, Ha);
+  if (pr->b >= 0) phm_qp_to_H(yf + PHM_NSTATE * pr->b, yf + PHM_NSTATE * pr->b + 4, Hb);
+  phm_pair_eval_full(m, ip, pr->a >= 0 ? Ha : NULL, pr->b >= 0 ? Hb : NULL,
+                     yf + f->ix + m->pair_j[ip], t, f->tref, g, Ga, Gb, W);
+  for (int r = 0; r < mc; r++) {
+    if (!(pr->drop >> r & 1)) continue;
+    for (int i = 4; i < PHM_NSTATE_PLANAR; i++) { /* the kept twist components */
+      int j = pl->keep[i] - 7;
+      if ((pr->a >= 0 && Ga[6 * r + j] != 0.0) || (pr->b >= 0 && Gb[6 * r + j] != 0.0)) out = 0;
+    }
+  }
+  pl->oop[ip] = (signed char)out;
+  return out;
 }
 
 const double *dae_planar_state(dae_t *d, const double *y) {

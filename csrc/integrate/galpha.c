@@ -189,6 +189,7 @@ static phm_status galpha_open(galpha_run *gr, dae_t *d, const phm_sim_options *o
   gr->wa = wa;
   gr->dP = dP;
   gr->filtered = filtered;
+  gr->rigid = adaptive && d->m->ne == 0;
   gr->t = tout[0];
   gr->hjac = gr->hq = gr->hqq = 0; /* hq = 0: no history */
   gr->fresh = 0;

@@ -84,6 +84,9 @@ typedef struct {
   double etry, htry, errn, emax, elocal; /* this step's attempts (galpha_error_test) */
   double grow_q, grow_qq; /* the last two accepted steps' estimates per unit step over h^2 (0: none) */
   int noise;              /* this step's estimate is at the level of Newton's noise */
+  int rigid;              /* adaptive, no flexible link: one-iteration steps (GALPHA_ONE_SAFETY) */
+  double rho1;            /* the last first contraction measured on this matrix (0: none yet) */
+  int since;              /* steps accepted on one iteration since rho1 was measured */
 } galpha_run;
 
 /* galpha_scheme.c */

@@ -31,6 +31,29 @@
  * and 0.41 s (the budget alone: 2.17, 84, 0.35 s, ledger 6.0e-5 -> 6.2e-5). */
 #define GALPHA_FIRST_MAX 30.0
 #define GALPHA_EXTRA_BUDGET 4
+/* One iteration in a rigid mechanism (no flexible link): there the predictor is ~1 tolerance
+ * off, not ~1e4 (no mesh vibrating between the band and the step's Nyquist frequency), and an
+ * aged matrix contracts by ~0.02 per iteration; so a step is accepted after its first
+ * correction when that correction times rho / (1 - rho) is within 0.33 tolerances (the test of
+ * the later iterations), rho = GALPHA_ONE_SAFETY times the first contraction last measured on
+ * this matrix (at least GALPHA_ONE_RATE_MIN, at most 0.9). The first contraction underestimates
+ * the later ones (see GALPHA_FIRST_MAX; on the chain of benchmarks/bench_scaling.py, n = 30,
+ * median 4.6x on fresh matrices), hence the factor; the matrix ages with the carriers'
+ * rotation, hence a step of two iterations, which measures it again, after every
+ * GALPHA_ONE_VERIFY steps of one. Never on a matrix not yet measured (a fresh one), nor in a
+ * restart. Measured on that chain (rtol 1e-4, 0.5 s; n = 10 / 30 / 100): Newton iterations
+ * 13 900 -> 10 636, 11 780 -> 7947, 13 654 -> 8420, CPU 0.76x, 0.73x, 0.67x, link-end errors
+ * 2.86e-7 -> 2.83e-7, 2.61e-7 -> 2.54e-7, 2.12e-7 -> 2.14e-7 m, ledgers 8.9e-8 -> 5.1e-8,
+ * 6.0e-9 -> 1.9e-9, 1.3e-9 -> 6.6e-10; the four-bar of benchmarks/scenes.py (2 s): 23 841 ->
+ * 20 207 iterations, the same CPU (its steps' fixed costs dominate), error 1.7e-6 -> 1.9e-6 of
+ * its scale, ledger 1.0e-6 -> 1.7e-6. With a safety of 3: 0.7x the chain's iterations but the
+ * four-bar's error 3.0e-6 (its estimates summed 0.15 -> 0.32: the iterates' Newton error, read
+ * by the estimate); 10: four-bar 1.8e-6, the chain's iterations 0.83x / 0.73x of 5's gain; no
+ * re-measurement: 1.03 iterations per step, the chain's ledger 2x. Flexible mechanisms keep
+ * two iterations (docs/integrators.md, "Why two iterations, not one"). */
+#define GALPHA_ONE_SAFETY 5.0
+#define GALPHA_ONE_VERIFY 8
+#define GALPHA_ONE_RATE_MIN 0.01
 /* the local error estimate below which it is Newton's noise, in Newton tolerances (run_galpha) */
 #define GALPHA_NOISE 0.25
 
@@ -109,6 +132,7 @@ static phm_status galpha_newton(galpha_run *gr, double t, double h, int *okp, ph
         goto done;
       }
       out->njac++;
+      gr->rho1 = 0; /* a new matrix: its contraction is measured before a step trusts it */
       galpha_corot_reference(d, cr, N_VGetArrayPointer(g->ya));
       extra = 0;
       hjac = h;
@@ -149,7 +173,21 @@ static phm_status galpha_newton(galpha_run *gr, double t, double h, int *okp, ph
     if (it == 0) {
       nrm0 = nrm_rate;
       if (nrm <= 0.033) { ok = 1; break; }
+      /* a rigid mechanism: one iteration when the contraction measured on this matrix says
+       * its iterate is converged (GALPHA_ONE_SAFETY) */
+      if (gr->rigid && gr->rho1 > 0 && !restart && !g->euler && gr->since < GALPHA_ONE_VERIFY) {
+        double rho = fmin(0.9, fmax(GALPHA_ONE_RATE_MIN, GALPHA_ONE_SAFETY * gr->rho1));
+        if (nrm * rho / (1.0 - rho) <= 0.33) {
+          ok = 1;
+          gr->since++;
+          break;
+        }
+      }
     } else {
+      if (it == 1 && gr->rigid && nrm0 > 0) { /* the matrix's contraction, measured again */
+        gr->rho1 = nrm_rate / nrm0;
+        gr->since = 0;
+      }
       /* pow(x, 1) is x: the first contraction without the call */
       double rate = nrm0 > 0 ? (it == 1 ? nrm_rate / nrm0 : pow(nrm_rate / nrm0, 1.0 / it)) : 0.0;
       if (rate > 0.9 && nrm_rate > 0.033) break; /* diverging (not round-off over round-off) */
