@@ -135,6 +135,12 @@ def test_function_law_values_derivatives_and_a_failure_inside_a_run():
                                             r"sensor lost") as e:
         m.simulate(0.1, 0.01)
     assert isinstance(e.value.__cause__, RuntimeError)
+    # ... with the trajectory up to it (it was dropped before): outputs 0 ... 0.05 s, the body
+    # pushed by 1 N from rest, x = t^2 / 2
+    res = e.value.result
+    assert "the trajectory up to 0.05 s is in this error's 'result' attribute" in str(e.value)
+    np.testing.assert_allclose(res.t, np.arange(6) * 0.01, atol=1e-15)
+    np.testing.assert_allclose(res.joint("slide")["x"][:, 0], res.t**2 / 2, rtol=1e-4, atol=1e-9)
 
 
 def test_bad_laws_are_refused_clearly():

@@ -135,11 +135,24 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
     PyErr_Restore(c.et, c.ev, c.etb);
     goto fail;
   }
-  if (phm_py_model_law_error(cap)) goto fail; /* a callable law raised: that, not the solver's failure */
+  /* a callable law raised: that error, not the solver's failure, returned with the outputs
+   * computed before it as "law_error" (python/phmech/_simulate.py raises it with the partial
+   * result attached, as a solver failure's) */
+  PyObject *law_error = NULL;
+  if (phm_py_model_law_error(cap)) {
+    PyObject *et, *ev, *etb;
+    PyErr_Fetch(&et, &ev, &etb);
+    PyErr_NormalizeException(&et, &ev, &etb);
+    if (ev && etb) PyException_SetTraceback(ev, etb);
+    Py_XDECREF(et);
+    Py_XDECREF(etb);
+    if (!ev) goto fail;
+    law_error = ev;
+  }
   /* a solver failure still returns what was computed (nout filled outputs), with the error's
    * kind and message: Python raises it with the partial result attached */
   int failed = st != PHM_OK && st != PHM_EINTERRUPT;
-  if (failed && (err.code == PHM_EINVAL || err.code == PHM_ENOMEM)) {
+  if (!law_error && failed && (err.code == PHM_EINVAL || err.code == PHM_ENOMEM)) {
     phm_py_raise(&err);
     goto fail;
   }
@@ -157,6 +170,8 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
                       "min_step", out.min_step, "noise_steps", out.nnoise, "newton_rtol", out.newton_rtol) : NULL;
   if (!rest || PyDict_Update(res, rest) < 0) Py_CLEAR(res);
   Py_XDECREF(rest);
+  if (res && PyDict_SetItemString(res, "law_error", law_error ? law_error : Py_None) < 0) Py_CLEAR(res);
+  Py_XDECREF(law_error);
 fail:
   for (int i = 0; i < PHM_NRESULT_FIELDS; i++) Py_XDECREF(ra[i]);
 fail0:

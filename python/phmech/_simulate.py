@@ -228,6 +228,13 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
     if failed:   # a callback controller's function failed: its error, with the trajectory
         failed[0].result = result
         raise failed[0]
+    law_error = r.get("law_error")
+    if law_error is not None:   # a Function law raised: its error, with the trajectory up to it
+        t_last = f"{result.t[-1]:.6g} s" if len(result.t) else "the start"
+        law_error.args = (f"{law_error.args[0]} (the trajectory up to {t_last} is in this "
+                          f"error's 'result' attribute{unsaved})",) + tuple(law_error.args[1:])
+        law_error.result = result
+        raise law_error
     if not r["error"]:
         _run.warn_if_inaccurate(result.stats)
         warn_implausible_strain(mech, result, model)
