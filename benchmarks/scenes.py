@@ -218,12 +218,13 @@ def run_scene(sc: Scene, t_end: float, reference: bool = True, cache: Optional[s
                 np.savez(cache, t=ref.t, cpu=out["reference_cpu_s"], ledger=out["reference_ledger_relative"],
                          **{"q_" + k: v for k, v in qr.items()})
         q = measure(res)
-        out["errors"] = {k: float(np.max(np.abs(q[k] - qr[k]))) / sc.scale[k] for k in q}
+        err = {k: float(np.max(np.abs(q[k] - qr[k]))) for k in q}
+        out["errors"] = {k: e / sc.scale[k] for k, e in err.items()}
         out["error"] = max(out["errors"].values())
         # the accuracy contract's figure (docs/user_guide.md, "Accuracy contract"): the error over
         # rtol times the quantity's scale plus atol; <= 1 keeps the contract
         rt, at = res.stats["rtol"], res.stats["atol"]
-        out["error_vs_tolerance"] = max(float(np.max(np.abs(q[k] - qr[k]))) / (rt * sc.scale[k] + at) for k in q)
+        out["error_vs_tolerance"] = max(e / (rt * sc.scale[k] + at) for k, e in err.items())
         if sc.frequency:
             f, fr = (dominant_frequency(r.t, x[sc.frequency][:, 0]) for r, x in ((res, q), (ref, qr)))
             out["frequency_hz"], out["reference_frequency_hz"] = f, fr

@@ -230,11 +230,7 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
         raise failed[0]
     law_error = r.get("law_error")
     if law_error is not None:   # a Function law raised: its error, with the trajectory up to it
-        t_last = f"{result.t[-1]:.6g} s" if len(result.t) else "the start"
-        law_error.args = (f"{law_error.args[0]} (the trajectory up to {t_last} is in this "
-                          f"error's 'result' attribute{unsaved})",) + tuple(law_error.args[1:])
-        law_error.result = result
-        raise law_error
+        raise _with_partial(law_error, result, unsaved)
     if not r["error"]:
         _run.warn_if_inaccurate(result.stats)
         warn_implausible_strain(mech, result, model)
@@ -245,7 +241,6 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
                 for msg in modal_validity(result, lk, T0, mech.frequency_tolerance):
                     warnings.warn(msg, AccuracyWarning, stacklevel=outside_stacklevel())
     if r["error"]:
-        t_last = f"{result.t[-1]:.6g} s" if len(result.t) else "the start"
         why = ""   # the output interval bounds the steps: say so
         if integrator == "ida":
             why = (f"; IDA takes at most {MAX_STEPS:.0e} steps between two outputs (dt_out = "
@@ -258,11 +253,17 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
                    f"1/(2 dt_out), dt_out = {dt:g} s" if 0.5 / dt >= band else
                    f"{_run.BAND_PER_SPAN:g} / span, the default's floor") + "): a higher band= shortens them")
         err = topology.constraint_error(mech._desc, r["error"]) or SolverError(r["error"])
-        err.args = (f"{err.args[0]} (the trajectory up to {t_last} is in this error's "
-                    f"'result' attribute{unsaved}{why})",)
-        err.result = result
-        raise err
+        raise _with_partial(err, result, unsaved + why)
     return result
+
+def _with_partial(err: Exception, result: SimulationResult, more: str = "") -> Exception:
+    """``err`` carrying the trajectory computed before it (``err.result``), its message saying
+    so (``more``: what follows, e.g. the remedy)."""
+    t_last = f"{result.t[-1]:.6g} s" if len(result.t) else "the start"
+    err.args = (f"{err.args[0]} (the trajectory up to {t_last} is in this error's 'result' "
+                f"attribute{more})",) + tuple(err.args[1:])
+    err.result = result
+    return err
 
 def _with_samples(mech, result: SimulationResult, sampler, rec) -> SimulationResult:
     """``result`` with its sensors' values and the controllers' samples."""
