@@ -384,7 +384,7 @@ class Builder(LinkBuilder):
         self._new_name(name)
         self._acts.append(act)
 
-    def _no_components(self, what: str) -> None:
+    def _refuse_stateful_components(self, what: str) -> None:
         """ModelError: static includes the components without states (friction, which is zero
         at rest; a current-driven motor's torque; a static-gain LinearController's effort), not
         yet those with states (LuGre, a voltage-driven motor, dynamic controllers), whose rest

@@ -23,7 +23,7 @@ def static(mech, loads: Sequence = (), steps: int = 10, time: float = 0.0,
            check_stability: bool = True, progress: bool = False, spin=None) -> StaticResult:
     """Mechanism.static of the builder ``mech`` (python/phmech/mechanism.py: its docstring
     gives the arguments, their units and what is returned)."""
-    mech._no_components("static")
+    mech._refuse_stateful_components("static")
     S = None if spin is None else _model.spin_twist(mech, spin)
     extra = []
     if not isinstance(loads, (list, tuple)):
