@@ -21,7 +21,10 @@ peak memory against problem size, with fitted exponents.
    revolute joints, redundant coordinates, generalized-alpha h = 1e-4, spectral radius 0.8,
    Newton tolerance 1e-10),
    MuJoCo (hinge chain in minimal coordinates, RK4 at dt = 1e-3 and 4e-3, Euler and implicitfast
-   at 1e-4: docs/perf_scaling.md compares phmech with the cheapest one at or below its error). Accuracy: largest error over the
+   at 1e-4: docs/perf_scaling.md compares phmech with the cheapest one at or below its error);
+   outside ``--smoke`` also ladders for matched error across levels (benchmarks/report.py
+   interpolates them): MuJoCo RK4 at 0.5 and 2 ms, phmech's default at rtol 1e-3 and 1e-5, IDA
+   (KLU) at rtol 1e-5 and 1e-8. Accuracy: largest error over the
    links' free-end positions at T against MuJoCo RK4 with dt = 1e-5 (checked against phmech at
    rtol 1e-10 for n <= 10); for long chains the end link is still nearly in free fall at T.
 
@@ -253,10 +256,10 @@ def runner(code: str, size: int, setting: float):
         return lambda T: ex_ge3d(size, T, setting)
     if code == "exudyn-ancf2d":
         return lambda T: ex_ancf(size, T, setting)
-    if code == "chain-phmech-default":
+    if code.startswith("chain-phmech-default"):    # chain-phmech-default[-rtol<r>]: the setting is rtol
         return lambda T: ph_chain(size, T, setting, "klu", default=True)
-    if code in ("chain-phmech-klu", "chain-phmech-dense"):
-        return lambda T: ph_chain(size, T, setting, code.rsplit("-", 1)[1])
+    if code.startswith(("chain-phmech-klu", "chain-phmech-dense")):   # [-rtol<r>]
+        return lambda T: ph_chain(size, T, setting, code.split("-")[2])
     if code == "chain-exudyn":
         return lambda T: ex_chain(size, T, setting)
     if code == "chain-mujoco":
@@ -402,6 +405,15 @@ def bench_chain(quick: bool, budget: float, runs, skipped, smoke: bool = False) 
              # reaches phmech's error (docs/perf_scaling.md)
              ("chain-mujoco-rk4-4ms", 4e-3, T, ns), ("chain-mujoco-euler", 1e-4, T, ns),
              ("chain-mujoco-implicitfast", 1e-4, T, ns)]
+    if not smoke:
+        # ladders, so that each code is compared with the others at matched error across error
+        # levels (benchmarks/report.py interpolates each ladder in log-log at fixed levels):
+        # MuJoCo RK4 (its best here: error ~ dt^4) at 0.5 / 1 / 2 / 4 ms, phmech's default at
+        # rtol 1e-3 / 1e-4 / 1e-5, IDA (KLU) at rtol 1e-5 / 1e-6 / 1e-8
+        cases += [("chain-mujoco-rk4-0.5ms", 5e-4, T, ns), ("chain-mujoco-rk4-2ms", 2e-3, T, ns),
+                  ("chain-phmech-default-rtol1e-3", 1e-3, T, ns),
+                  ("chain-phmech-default-rtol1e-5", 1e-5, T, ns),
+                  ("chain-phmech-klu-rtol1e-5", 1e-5, T, ns), ("chain-phmech-klu-rtol1e-8", 1e-8, T, ns)]
     sweep(cases, budget, runs, skipped)
     cases = [c for c in cases if not CODES or c[0] in CODES]
     refs = {}

@@ -168,7 +168,52 @@ def scaling(results: str) -> list:
         if m:
             lines += ["", f"{code} over the cheapest MuJoCo run at or below its error: "
                       + ", ".join(f"n = {n}: {r:.2f} (error {e:.0e} m, {c})" for n, r, e, c in m) + "."]
+    lv = chain_levels(d)
+    if lv:
+        groups = list(CHAIN_GROUPS)
+        lines += ["", "Chain at matched error: CPU s per simulated s of each ladder (the codes' settings) "
+                  "interpolated in log-log at the level (-- outside a ladder's measured errors), and the "
+                  "ratios to MuJoCo RK4:", "",
+                  "| n | error [m] | " + " | ".join(groups) + " | " + " | ".join(f"{g} / {groups[-1]}" for g in groups[:-1]) + " |",
+                  "|---" * (2 + 2 * len(groups) - 1) + "|"]
+        for n, lev, row in lv:
+            rk = row.get(groups[-1])
+            lines.append(f"| {n} | {lev:.0e} | " + " | ".join(f"{row[g]:.3g}" if row.get(g) else "--" for g in groups)
+                         + " | " + " | ".join(f"{row[g] / rk:.2f}" if row.get(g) and rk else "--" for g in groups[:-1]) + " |")
     return lines
+
+
+#: the chain's ladders (benchmarks/bench_scaling.py) and the levels they are compared at [m]
+CHAIN_GROUPS = {"phmech default": lambda c: c.startswith("chain-phmech-default"),
+                "phmech IDA (KLU)": lambda c: c.startswith("chain-phmech-klu"),
+                "MuJoCo RK4": lambda c: c == "chain-mujoco" or c.startswith("chain-mujoco-rk4")}
+CHAIN_LEVELS = (1e-6, 3e-7, 1e-7, 3e-8)
+
+
+def rate_at_error(runs: list, pred, n: int, level: float):
+    """CPU per simulated second of the runs of size n whose code satisfies pred, at link-end error
+    ``level`` [m]: log-log interpolation between the two neighbouring measured errors that bracket
+    it (None outside them: no extrapolation)."""
+    import math
+    pts = sorted((r["error_m"], r["cpu_per_sim_s"]) for r in runs
+                 if pred(r["code"]) and r["size"] == n and r.get("error_m", 0) > 0)
+    for (e0, c0), (e1, c1) in zip(pts, pts[1:]):
+        if e0 <= level <= e1:
+            w = math.log(level / e0) / math.log(e1 / e0) if e1 > e0 else 0.0
+            return math.exp(math.log(c0) + w * (math.log(c1) - math.log(c0)))
+    return next((c for e, c in pts if e == level), None)
+
+
+def chain_levels(sc: dict) -> list:
+    """(n, level, {group: CPU s/s at that error}) for every chain size and CHAIN_LEVELS level
+    where MuJoCo RK4's ladder and at least one of phmech's bracket the level."""
+    out = []
+    for n in sorted({r["size"] for r in sc["runs"] if r["code"].startswith("chain-")}):
+        for lev in CHAIN_LEVELS:
+            row = {g: rate_at_error(sc["runs"], p, n, lev) for g, p in CHAIN_GROUPS.items()}
+            if row["MuJoCo RK4"] and (row["phmech default"] or row["phmech IDA (KLU)"]):
+                out.append((n, lev, row))
+    return out
 
 
 def chain_matched(sc: dict, code: str = "chain-phmech-default") -> list:

@@ -111,6 +111,24 @@ def test_report(tmp_path):
     assert "| error" in pr.stdout
 
 
+def test_report_chain_levels():
+    """The chain's matched-error table interpolates each ladder in log-log, never beyond it."""
+    spec = importlib.util.spec_from_file_location("bench_report", BENCH / "report.py")
+    rep = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(rep)
+    # MuJoCo: error ~ dt^4, CPU ~ 1/dt; phmech's default: error 1e-6 and 1e-8 m at 1 and 10 s/s
+    runs = [dict(code=c, size=10, error_m=e, cpu_per_sim_s=r) for c, e, r in (
+        ("chain-mujoco-rk4-4ms", 16e-6, 1.0), ("chain-mujoco", 1e-6, 2.0), ("chain-mujoco-rk4-0.5ms", 1e-8 * 6.25, 4.0),
+        ("chain-phmech-default-rtol1e-3", 1e-6, 1.0), ("chain-phmech-default", 1e-8, 10.0))]
+    is_rk4 = rep.CHAIN_GROUPS["MuJoCo RK4"]
+    assert math.isclose(rep.rate_at_error(runs, is_rk4, 10, 1e-6), 2.0)
+    assert math.isclose(rep.rate_at_error(runs, is_rk4, 10, 4e-6), 2.0 ** 0.5)   # halfway in log error
+    assert rep.rate_at_error(runs, is_rk4, 10, 1e-8) is None        # below the ladder: no extrapolation
+    lv = {lev: row for n, lev, row in rep.chain_levels(dict(runs=runs))}
+    assert math.isclose(lv[1e-6]["phmech default"], 1.0) and math.isclose(lv[1e-7]["phmech default"], 10 ** 0.5)
+    assert 3e-8 not in lv       # beyond MuJoCo's ladder (6.25e-8 m at best)
+
+
 def test_bench_large(tmp_path):
     # the quick mode's smallest case (N = 100) over 0.2 s: ~15 s wall, most of it fresh interpreters
     out = run_script("bench_large.py", tmp_path)
