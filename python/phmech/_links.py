@@ -12,7 +12,7 @@ import numpy as np
 
 from . import io, se3
 from ._checks import array, positive_definite, real, section_slips
-from .description import mass_centre
+from .description import mass_centre, rigid_rotation_coupling
 from ._errors import ModelError, warn_plausibility
 from .fidelity import FIDELITIES, node_offsets, rigid_link_inertia
 from .frames import FlexibleLink, Frame, frame_of
@@ -200,6 +200,9 @@ class LinkBuilder:
         for k in range(N):
             self._el.append(dict(a=first + k, b=first + k + 1, h=h, K=K, D=Dm, eps=eps,
                                  mass=mass, Ms=I))
+        if mass == "consistent" and not np.any(kap):
+            # the elements' dispersion correction less its rigid-rotation part, exact rigid inertia
+            self._desc.couplings.append(dict(a=first, b=first + N, Mc=rigid_rotation_coupling(h, N, I)))
         if given is not None:
             for k in range(N + 1):
                 self._given[first + k] = np.array(self._car[first + k]["H0"])
