@@ -47,12 +47,13 @@ def stiffened(which: str, factor: float = 1e4, props=PROPS):
     return types.SimpleNamespace(stiffness=K, inertia=props.inertia, damping=None)
 
 
-def pendulum(fidelity: str, theta0: float, props=PROPS, elements: int = 8):
-    """A link hanging from a hinge about world y at the origin, released at ``theta0`` [rad];
-    returns (mechanism, link)."""
+def pendulum(fidelity: str, theta0: float, props=PROPS, elements: int = 8, mass: str = "consistent"):
+    """A link hanging from a hinge about world y at the origin, released at ``theta0`` [rad],
+    with element ``mass`` ("consistent" or "lumped"); returns (mechanism, link)."""
     m = ph.Mechanism(gravity=(0, 0, -G))
     down = m.ground.frame_at((0, 0, 0), ph.rotation("y", np.pi / 2))   # local x = world -z
-    lk = m.add_flexible_link("rod", L, props, elements=elements, start=down, fidelity=fidelity)
+    lk = m.add_flexible_link("rod", L, props, elements=elements, start=down, fidelity=fidelity,
+                             mass=mass)
     m.add_pair("hinge", ph.Revolute(axis="y"), down, lk.start, x0=theta0)
     return m, lk
 

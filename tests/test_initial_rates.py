@@ -55,19 +55,17 @@ def test_every_rod_node_starts_turning_with_the_rod_about_the_wrist_pin(run):
 
 
 def test_the_start_carries_the_kinetic_energy_of_the_rigid_kinematics(run):
-    """Crank about its pivot plus the rod about the wrist pin: 110.4 mJ (a start that left the
+    """Crank about its pivot plus the rod about the wrist pin: 110.1 mJ (a start that left the
     rod at rest had 80.3 mJ and a velocity jump at the crank pin). The rod's inertia about the
-    pin is its chain's: with consistent mass (the default) the continuum's m L^2/3 plus
-    m h^2/12 (its elements' fields turn rigidly, exactly; the blend's untransported velocity
-    difference adds rhoA h^3/12 per element: tests/test_fidelity.py,
-    test_nonlinear_period_is_the_chains_inertia_period); lumped mass, the trapezoid share of
+    pin is its chain's: with consistent mass (the default) the continuum's m L^2/3 exactly (its
+    elements' fields and the link's rigid-rotation coupling, docs/method.md section 4.2,
+    "Mass"; before the coupling m L^2/3 + m h^2/12); lumped mass, the trapezoid share of
     its mass (half a share at each end), has m L^2/3 + m h^2/6 (110.6 mJ), the continuum
     110.1 mJ."""
     m, crank, rod, slider, res = run
     J_crank = 1e-3 + 0.5 * (R / 2) ** 2
     mrod = STEEL.density * 0.005 * 0.02 * L
-    h = L / ELEMENTS
-    I_rod = mrod * L ** 2 / 3 + mrod * h ** 2 / 12
+    I_rod = mrod * L ** 2 / 3
     expected = 0.5 * J_crank * W ** 2 + 0.5 * I_rod * (W * R / L) ** 2
     # the rotary inertia of the rod's cross-sections adds ~1e-5 of it
     assert res.energy["kinetic"][0] == pytest.approx(expected, rel=1e-4)

@@ -38,10 +38,12 @@ def test_a_valid_description_builds_a_model():
 
 def test_couplings_are_optional():
     """model_new's couplings: left out, None or an empty set of columns are the same (no coupling
-    without an element); a coupling between carriers that are not there is refused by the core."""
+    without an element); a coupling between carriers that are not there is refused by the core.
+    The described link has one: its ends' rigid-rotation coupling (description.py)."""
     kw = described()
-    assert kw["couplings"]["Mc"].shape == (0, 12, 12)
-    for couplings in ("absent", None, kw["couplings"]):
+    assert kw["couplings"]["Mc"].shape == (1, 12, 12)
+    empty = dict(Mc=np.zeros((0, 12, 12)), carriers=np.zeros((0, 2)))
+    for couplings in ("absent", None, empty):
         args = {k: v for k, v in kw.items() if k != "couplings"}
         if couplings != "absent":
             args["couplings"] = couplings

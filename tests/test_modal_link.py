@@ -199,14 +199,15 @@ def test_a_spin_up_shows_the_modal_links_error_and_phmech_warns():
     """Kane's spin-up: the modal beam lacks centrifugal stiffening; at 10 s its tip lags by
     more than the nonlinear beam's (measured with 8 elements: -0.560 against -0.361 m; lumped
     mass: -0.562 against -0.364 m), and simulate warns that it spins faster (4.83 rad/s at
-    10 s) than its first frequency held at the hub (3.80 rad/s with 8 elements, as the exact
-    3.80; lumped mass 3.77) and deflects beyond its linear range. The nonlinear beam gets
-    neither warning."""
+    10 s) than its first frequency held at the hub (3.81 rad/s with 8 elements, the exact
+    3.80; lumped mass 3.77; 3.80 before the link's rigid-rotation coupling, docs/method.md
+    section 4.2) and deflects beyond its linear range. The nonlinear beam gets neither
+    warning."""
     t, y_modal, w_modal = kane_spin_up("modal")
     _, y_full, w_full = kane_spin_up("nonlinear")
     i = np.searchsorted(t, 10.0)
     assert abs(y_modal[i] - y_full[i]) >= 0.25 * abs(y_full[i])
-    assert any("spins at up to 4.8" in m and "first frequency held at its start (3.8 rad/s" in m
+    assert any("spins at up to 4.8" in m and "first frequency held at its start (3.81 rad/s" in m
                for m in w_modal)
     assert any("deflects by up to" in m for m in w_modal)
     assert not any("modal link" in m for m in w_full)

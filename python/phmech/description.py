@@ -177,6 +177,26 @@ class ModelDescription:
             [q["name"] for q in self.springs]
 
 
+def rigid_rotation_coupling(h: float, elements: int, Ms: np.ndarray) -> np.ndarray:
+    """The kinetic coupling (12x12, body twists of a straight link's first and last node) that
+    makes the consistent mass exact for the link's rigid motions [kg m^2, kg m, kg].
+
+    Each consistent element adds (h/12) d^T Ms d to twice its kinetic energy, d its nodes'
+    twist difference (csrc/model/element.c, phm_element_mass): it cancels the helix field's
+    leading dispersion error, but a rigid rotation omega gives every element the same
+    d = (0, omega x h e_x) and so a rotational inertia of rho A L h^2 / 12 too many (a 0.3 m
+    strip of 1 element swinging as a rigid rod ran 0.88 rad off it after 1 s). On a straight
+    uniform link the d telescope: their sum is D = t_last - t_first, and subtracting
+    (h / (12 N)) D^T W D (W: Ms's transverse translational block, the only one a rigid d
+    reaches) leaves the elements' sum minus N times the square of their mean: zero for a rigid
+    motion, >= 0 always (so the mass stays positive definite), and a motion with varying
+    d keeps its correction but its mean's (docs/method.md section 4.2, "Mass")."""
+    W = np.zeros((6, 6))
+    W[4:, 4:] = np.asarray(Ms, dtype=float)[4:, 4:]
+    c = -h / (12.0 * elements)
+    return np.block([[c * W, -c * W], [-c * W, c * W]])
+
+
 def mass_centre(M: np.ndarray, mass: float) -> np.ndarray:
     """The centre of mass [m] of a 6x6 spatial inertia M ((omega, v) order) of ``mass`` [kg]:
     M[:3, 3:] = mass hat(c) (add_rigid_body's layout), c from its skew part."""

@@ -11,8 +11,8 @@ Why the free link. With the consistent element mass (the default) the interior o
 h^2 dispersion error; its h^2 error comes from the ends, and with the sign of their support: a
 clamped end raises the frequencies, a free end lowers them, by about the same amount (Table I
 link, band 300 rad/s, 21 elements, against the exact Timoshenko values of phmech.timoshenko:
-clamped-clamped +0.26 ... +0.32 %, free-free -0.29 ... -0.44 %, and the cantilever, one end of
-each, within 0.085 % because they nearly cancel; its error is not even monotone in N). The free
+clamped-clamped +0.26 ... +0.32 %, free-free up to 0.43 %, and the cantilever, one end of
+each, within 0.066 % because they nearly cancel; its error is not even monotone in N). The free
 link has the largest error of the three and converges cleanly, towards order 2 from below (the
 estimate above is 0.2 ... 3.3 % over its true error from 6 elements on), and its choice is about
 the fewest that meets the tolerance on all three supports (15 elements for 1e-2, 46 for 1e-3;
