@@ -479,8 +479,9 @@ def build(core, model, desc, inputs, outputs, poses, lam, time, z=None,
         Cq = Bq.T.copy()
     else:
         nz = comp[0][9] if withc else 0
-        at = np.asarray(point_poses if poses is None else poses, dtype=float)
-        Cq, Cd, Cz = _output_rows(desc, entries, Fo, Z[:nc6 * nr].reshape(nc6, nr), at, nz)
+        at = point_poses if poses is None else poses
+        Cq, Cd, Cz = _output_rows(desc, entries, Fo, Z[:nc6 * nr].reshape(nc6, nr),
+                                  None if at is None else np.asarray(at, dtype=float), nz)
         if any(e[0] == "sensor" for e in entries):
             extra.update(Cd=Cd, Cz=Cz)
     if withc:
