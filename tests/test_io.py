@@ -288,3 +288,31 @@ def test_a_version_1_files_links_keep_their_lumped_mass(tmp_path):
     old, new = ph.load(tmp_path / "v1.json"), ph.load(tmp_path / "m.json")
     assert [e["mass"] for e in old._el] == ["lumped"] * 6 + ["consistent"] * 6
     assert [e["mass"] for e in new._el] == ["consistent"] * 12
+
+
+def test_modes_poles_round_trip(tmp_path):
+    """ModesResult.poles (with components or a spin: complex, s [1/s]) is written as its real and
+    imaginary parts and read back bit for bit; a result without poles reads back None."""
+    m = ph.Mechanism(gravity=(0, 0, 0))
+    b = m.add_rigid_body("b", 2.0, np.diag([1e-3, 1e-3, 1e-3]))
+    m.add_pair("slide", ph.Prismatic("x"), m.ground, b, actuator=ph.Spring(k=200.0, rest=0.0))
+    m.add_component("damper", "slide", ph.ViscousFriction(4.0))
+    md = m.modes(1)
+    # the damped oscillator m s^2 + c s + k = 0: s = -c/2m +- i sqrt(k/m - (c/2m)^2)
+    assert md.poles is not None and np.iscomplexobj(md.poles)
+    assert md.poles[0].real == pytest.approx(-1.0, rel=1e-9)
+    assert abs(md.poles[0].imag) == pytest.approx(np.sqrt(99.0), rel=1e-9)
+    md.to_netcdf(tmp_path / "p.nc")
+    back = ph.load_result(tmp_path / "p.nc")
+    assert_results_equal(md, back)
+    assert back.poles.dtype == complex and np.array_equal(back.poles, md.poles)
+    ds = md.to_xarray()
+    assert ds["poles"].dims == ("pole", "complex_part") and ds["poles"].attrs["units"] == "1/s"
+    np.testing.assert_array_equal(ds["poles"].sel(complex_part="imag"), md.poles.imag)
+    plain = ph.Mechanism(gravity=(0, 0, 0))
+    c = plain.add_rigid_body("c", 2.0, np.diag([1e-3, 1e-3, 1e-3]))
+    plain.add_pair("slide", ph.Prismatic("x"), plain.ground, c, actuator=ph.Spring(k=200.0, rest=0.0))
+    mp = plain.modes(1)
+    assert mp.poles is None
+    mp.to_netcdf(tmp_path / "q.nc")
+    assert ph.load_result(tmp_path / "q.nc").poles is None and "poles" not in mp.to_xarray()

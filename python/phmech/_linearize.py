@@ -24,7 +24,8 @@ def linearize(mech, at: Optional[StaticResult] = None, inputs: Sequence = (),
     try:
         poses, lam = _modes.spun_point(mech, model, spin, at, time, poses, lam)
         lin = linear.build(_core, model, mech._desc, list(inputs) if not isinstance(inputs, str)
-                           else [inputs], outputs, poses, lam, time, spin=spin is not None)
+                           else [inputs], outputs, poses, lam, time, spin=spin is not None,
+                           point_poses=mech._state.poses)
     finally:
         if spin is not None:
             _core.model_set_spin(model, [0.0] * 6)

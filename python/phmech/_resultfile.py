@@ -208,6 +208,11 @@ def modes_dataset(res):
         data["poses"] = (("carrier", "row", "col"), res.poses,
                          dict(units="1 (rotation), m (translation)", long_name="configuration"))
     coords = {"mode": np.arange(n), "carrier": np.arange(nc), "component": list(COMPONENTS)}
+    if res.poles is not None:   # complex: its real and imaginary parts (netCDF has no complex)
+        s = np.asarray(res.poles, dtype=complex)
+        data["poles"] = (("pole", "complex_part"), np.column_stack([s.real, s.imag]),
+                         dict(units="1/s", long_name="poles s (Re, Im) with components or a spin"))
+        coords["complex_part"] = ["real", "imag"]
     if res.strain_fractions is not None:
         coords["strain_kind"] = ["torsion", "bending-y", "bending-z", "axial"]
     meta = dict(kind=list(res.kind), participation=res.participation,
@@ -215,6 +220,14 @@ def modes_dataset(res):
                 links=_links_meta(res._links),
                 bodies={b.name: b.carrier for b in res._bodies.values()})
     return xr.Dataset(data, coords, _header("modes", meta))
+
+
+def complex_of(parts: np.ndarray) -> np.ndarray:
+    """Complex values from their (n, 2) real and imaginary parts, as modes_dataset stores the
+    poles (bit for bit)."""
+    out = np.empty(parts.shape[0], dtype=complex)
+    out.real, out.imag = parts[:, 0], parts[:, 1]
+    return out
 
 
 def static_dataset(res):

@@ -13,6 +13,7 @@ import numpy as np
 from ._errors import ModelError
 from .components import state_layout
 from .frames import Body, Frame, frame_of
+from .sensors import SENSOR_TYPES, joint_pair, output_row, sensor_rows
 
 __all__ = ["LinearPortHamiltonian", "Passivity"]
 
@@ -60,7 +61,11 @@ class LinearPortHamiltonian:
 
     J = [[0, I], [-I, 0]], R = diag(0, Dr), Q = diag(K, M^-1), B = [0; Bq] with Bq = Z^T F the
     reduced generalized forces per unit input, C = [0, Cq M^-1] with Cq = Fo^T Z the outputs'
-    velocity maps (Cq = Bq^T for the default, collocated outputs), D = 0.
+    velocity maps (Cq = Bq^T for the default, collocated outputs), D = 0. With sensors among the
+    outputs (Mechanism.linearize), C = [Cd, Cq M^-1, Cz]: ``Cd`` (ny x nr) the rows of the
+    displacement outputs (joint coordinates, frames' poses and positions, tip deflections,
+    strains: their change per unit q), ``Cq`` those of the rates (zero rows for the others),
+    ``Cz`` (ny x nz) those of the components' states.
 
     ``stiffness`` K, ``damping`` Dr, ``mass`` M (nr x nr), ``basis`` Z (6 nc x nr: the reduced
     coordinates as the carriers' tangent coordinates (omega, v), body frames), ``inputs``,
@@ -104,6 +109,8 @@ class LinearPortHamiltonian:
     rest_states: Optional[np.ndarray] = None
     gyroscopic: Optional[np.ndarray] = None
     rest_scale: float = 0.0
+    Cd: Optional[np.ndarray] = None
+    Cz: Optional[np.ndarray] = None
 
     def at_rest(self, rtol: float = 1e-6) -> tuple:
         """(ok, reason): whether the point is a rest state of the mechanism with its components
@@ -193,8 +200,11 @@ class LinearPortHamiltonian:
 
     @property
     def C(self) -> np.ndarray:
-        return np.hstack([np.zeros_like(self.Cq), self.Cq @ self._minv,
-                          np.zeros((self.Cq.shape[0], self.nz))])
+        """[Cd, Cq M^-1, Cz] over x = (q, p, z): y = Cd q + Cq dq/dt + Cz z."""
+        ny = self.Cq.shape[0]
+        return np.hstack([np.zeros_like(self.Cq) if self.Cd is None else self.Cd,
+                          self.Cq @ self._minv,
+                          np.zeros((ny, self.nz)) if self.Cz is None else self.Cz])
 
     @property
     def D(self) -> np.ndarray:
@@ -341,9 +351,11 @@ def resolve_ports(desc, items, what: str) -> tuple:
         else:
             avail = sorted([n for n, i in pairs.items() if desc.pairs[i]["k"] > 0]) + sorted(acts) + \
                 sorted(loads) + sorted(desc.bodies)
+            sens = f"; or its sensors (add_sensor): {', '.join(map(repr, desc.sensors)) or 'none'}, " \
+                f"or sensor objects (JointSensor, FrameSensor, ...)" if "outputs" in what else ""
             raise ModelError(f"{what}: unknown port {x!r}; ports are pairs with joint coordinates, "
                              f"actuators, wrenches, interactions and bodies (or Frame objects) of "
-                             f"this mechanism: {', '.join(map(repr, avail)) or 'none'}")
+                             f"this mechanism: {', '.join(map(repr, avail)) or 'none'}{sens}")
     return ports, groups, labels
 
 
@@ -381,17 +393,79 @@ def initial_states(desc) -> np.ndarray:
     return out
 
 
+def _outputs(desc, outputs) -> tuple:
+    """(core ports, entries, labels) of linearize's ``outputs``: per item ("port", its groups of
+    core columns, None) or ("sensor", the groups of its pair's columns (a JointSensor) or None,
+    its sensor row)."""
+    items = [outputs] if isinstance(outputs, (str, Frame, Body) + SENSOR_TYPES) else outputs
+    if not isinstance(items, (list, tuple)):
+        raise ModelError(f"linearize outputs: expected a list of port names, sensor names or "
+                         f"sensors (got {type(outputs).__name__})")
+    ports, entries, labels, col = [], [], [], 0
+    for x in items:
+        sens = output_row(desc, x)
+        groups, row = None, None
+        if sens is None:
+            p, g, lab = resolve_ports(desc, [x], "linearize outputs")
+            lab = output_labels(lab)
+        else:
+            (row, lab), p, g = sens, [], []
+            if row["kind"] == "joint":
+                name, j0 = joint_pair(desc, row["cols"][0])
+                p, g, _ = resolve_ports(desc, [name], "linearize outputs")
+                groups = [[col + g[c - j0][0]] for c in row["cols"]]
+        if sens is None:
+            groups = [[col + j for j in gi] for gi in g]
+        entries.append(("port" if sens is None else "sensor", groups, row))
+        ports += p
+        labels += lab
+        col += 1 + max((j for gi in g for j in gi), default=-1)
+    return ports, entries, labels
+
+
+def _output_rows(desc, entries, Fo: np.ndarray, Z: np.ndarray, poses: np.ndarray,
+                 nz: int) -> tuple:
+    """(Cq, Cd, Cz): the outputs' rows over dq/dt, q and z (python/phmech/linear.py's C)."""
+    nr = Z.shape[1]
+    cq, cd, cz = [], [], []
+    for kind, groups, row in entries:
+        if kind == "port":
+            v = np.stack([Fo[:, g].sum(axis=1) for g in groups], axis=0)
+            cq.append(v)
+            cd.append(np.zeros_like(v))
+            cz.append(np.zeros((len(v), nz)))
+            continue
+        pair = None if groups is None else np.stack([Fo[:, g[0]] for g in groups], axis=0)
+        first = state_layout(desc.components)[row["component"]][0] + row["index"] \
+            if row["kind"] == "state" else None
+        k, r = sensor_rows(row, poses, Z, pair, first)
+        n = row["size"]
+        zero = np.zeros((n, nr))
+        zr = np.zeros((n, nz))
+        if k == "z":
+            zr[0, r] = 1.0
+        cq.append(r if k == "v" else zero)
+        cd.append(r if k == "q" else zero)
+        cz.append(zr)
+    return tuple(np.concatenate(c, axis=0) if c else np.zeros((0, w)) for c, w in
+                 ((cq, nr), (cd, nr), (cz, nz)))
+
+
 def build(core, model, desc, inputs, outputs, poses, lam, time, z=None,
-          spin: bool = False) -> LinearPortHamiltonian:
-    """The LinearPortHamiltonian of a core model at poses/lam (None: its initial state); with the
-    description's components, their linearized laws at their states ``z`` (None: the initial
-    ones); ``spin``: the model turns steadily (_core.model_set_spin): its gyroscopic matrix."""
+          spin: bool = False, point_poses=None) -> LinearPortHamiltonian:
+    """The LinearPortHamiltonian of a core model at poses/lam (None: its initial state, whose
+    poses are ``point_poses``, for sensor outputs); with the description's components, their
+    linearized laws at their states ``z`` (None: the initial ones); ``spin``: the model turns
+    steadily (_core.model_set_spin): its gyroscopic matrix."""
     pin, gin, lin = resolve_ports(desc, inputs, "linearize inputs")
     if outputs is None:
-        pout, gout, lout, coll = [], [], output_labels(lin), True
+        pout, entries, lout, coll = [], [], output_labels(lin), True
     else:
-        pout, gout, lout = resolve_ports(desc, outputs, "linearize outputs")
-        lout, coll = output_labels(lout), False
+        pout, entries, lout = _outputs(desc, outputs)
+        coll = False
+        if spin and any(e[0] == "sensor" for e in entries):
+            raise ModelError("linearize outputs: sensors are not outputs about a steady rotation "
+                             "(spin); ports are")
     withc = bool(desc.components) or spin
     K, D, M, Z, B, (nr, ncol), *comp = core.model_linear(model, pin + pout, poses, lam, time,
                                                           withc, z)
@@ -400,12 +474,19 @@ def build(core, model, desc, inputs, outputs, poses, lam, time, z=None,
     nin = sum(len(g) for g in gin)
     Bq = np.stack([F[:, g].sum(axis=1) for g in gin], axis=1) if gin else np.zeros((nr, 0))
     Fo = F[:, nin:]
-    Cq = (np.stack([Fo[:, g].sum(axis=1) for g in gout], axis=0) if gout else np.zeros((0, nr))) \
-        if not coll else Bq.T.copy()
     extra = {}
+    if coll:
+        Cq = Bq.T.copy()
+    else:
+        nz = comp[0][9] if withc else 0
+        at = point_poses if poses is None else poses
+        Cq, Cd, Cz = _output_rows(desc, entries, Fo, Z[:nc6 * nr].reshape(nc6, nr),
+                                  None if at is None else np.asarray(at, dtype=float), nz)
+        if any(e[0] == "sensor" for e in entries):
+            extra.update(Cd=Cd, Cz=Cz)
     if withc:
         Kc, Dc, Kz, Fq, Fv, Fz, f, fc, zdot, nz, Gy, fmax = comp[0]
-        extra = dict(Kc=Kc[:nr * nr].reshape(nr, nr), Dc=Dc[:nr * nr].reshape(nr, nr),
+        extra.update(Kc=Kc[:nr * nr].reshape(nr, nr), Dc=Dc[:nr * nr].reshape(nr, nr),
                      Kz=Kz[:nr * nz].reshape(nr, nz), Fq=Fq[:nz * nr].reshape(nz, nr),
                      Fv=Fv[:nz * nr].reshape(nz, nr), Fz=Fz.reshape(nz, nz),
                      states=component_states(desc), rest_force=f[:nr].copy(),

@@ -274,8 +274,17 @@ class Mechanism(Builder):
         u = 1 applies the wrench as given), a body's name or a Frame/Body object (a wrench
         (tau [N m], f [N]) in the frame's axes at its origin). ``outputs``: None for the
         collocated outputs (the inputs' power conjugates: joint rates, the load's velocity along
-        its wrench, the frame's body twist (omega, v); y^T u is the power supplied), or port
-        names as for inputs (their power-conjugate velocities). The inputs perturb the loads
+        its wrench, the frame's body twist (omega, v); y^T u is the power supplied), or a list of
+        port names as for inputs (their power-conjugate velocities, labelled "<pair>.rate",
+        "<frame>.omega_x", ...) and sensors -- a sensor's name (``add_sensor``) or a sensor
+        object (``JointSensor``, ``FrameSensor``, ``TipDeflection``, ``LinkStrain``,
+        ``ComponentState``; labelled "<pair>.x" / "<pair>.rate", "<link>.tip[i]", ...): their
+        changes to first order, in the sensor's units per unit state -- joint coordinates [rad or
+        m], a frame's pose [-, m] and position [m], tip deflections [rad, m] and strains [1/m,
+        -] over the displacements q (C = [Cd, Cq M^-1, Cz], ``Cd``), joint rates [rad/s or m/s],
+        twists [rad/s, m/s] and velocities [m/s] over the rates, component states over z
+        (``Cz``). A PairWrench is refused (no state), and sensors about a steady rotation
+        (``spin``). The inputs perturb the loads
         acting at ``time`` (whose stiffness, e.g. of a world-fixed force on a rotating body, is
         in K); a driven pair whose law has moved by ``time`` is refused as in :meth:`modes`.
         About a configuration that is not a static equilibrium an EquilibriumWarning says so,

@@ -534,6 +534,7 @@ def load_result(path):
                            participation=meta.get("participation", []),
                            strain_participation=meta.get("strain_participation", []),
                            poses=opt("poses"), equilibrium=meta.get("equilibrium", True),
+                           poles=_resultfile.complex_of(a("poles")) if "poles" in ds else None,
                            _links=_resultfile._links_from(meta.get("links", {})),
                            _bodies={n: Body(n, c) for n, c in meta.get("bodies", {}).items()})
     if kind == "static":

@@ -26,7 +26,13 @@
 
 A sensor's value is a flat array; ``res.sensors[name]`` is (nt, size) (a pose (nt, 4, 4)).
 Values come from the run's outputs (``sensor_values``): NumPy on the poses, twists and joint
-arrays, no call into the core."""
+arrays, no call into the core.
+
+Sensors (by name, or sensor objects) are also outputs of ``Mechanism.linearize``: their rows of
+C (``sensor_rows``), the first order of their values in H = H0 exp(xi) -- displacements (joint
+coordinates, poses, positions, tip deflections, strains) over the reduced coordinates q, rates
+(joint rates, twists, velocities) over dq/dt, component states over z; a PairWrench is no state
+of the linear model and is refused."""
 from __future__ import annotations
 
 import dataclasses
@@ -39,7 +45,7 @@ from ._errors import ModelError
 from .frames import FlexibleLink, frame_of
 
 __all__ = ["JointSensor", "FrameSensor", "TipDeflection", "LinkStrain", "PairWrench",
-           "ComponentState", "sensor_row", "sensor_values"]
+           "ComponentState", "sensor_row", "sensor_values", "sensor_rows"]
 
 #: FrameSensor quantities -> their size
 _FRAME_QUANTITIES = {"pose": 16, "position": 3, "twist": 6, "velocity": 3}
@@ -228,3 +234,99 @@ def sensor_values(row: dict, r: dict, column: dict, states: dict) -> np.ndarray:
     # strain: log(Ha^-1 Hb) / h - eps_hat
     Ha, Hb = poses[:, column[row["a"]]], poses[:, column[row["b"]]]
     return se3.log(se3.inverse(Ha) @ Hb) / row["h"] - row["eps_hat"]
+
+
+# ------------------------------------------------ as outputs of Mechanism.linearize (linear.py)
+SENSOR_TYPES = (JointSensor, FrameSensor, TipDeflection, LinkStrain, PairWrench, ComponentState)
+
+
+def output_row(desc, x) -> Optional[tuple]:
+    """(row, labels) of an output item that is a sensor -- an added sensor's name or a sensor
+    object (phmech.sensors) -- or None for a port."""
+    if isinstance(x, str) and x in desc.sensors:
+        row = desc.sensors[x]
+        return row, [x] if row["size"] == 1 else [f"{x}[{i}]" for i in range(row["size"])]
+    if not isinstance(x, SENSOR_TYPES):
+        return None
+    row = sensor_row(f"{type(x).__name__} output", x, desc)
+    if isinstance(x, JointSensor):
+        k = next(p["k"] for p in desc.pairs if p["name"] == x.pair)
+        first = row["cols"][0] - (x.coordinate or 0)
+        end = ".rate" if x.rate else ".x"
+        return row, [(x.pair if k == 1 else f"{x.pair}[{c - first}]") + end for c in row["cols"]]
+    base = {FrameSensor: lambda: f"{row['frame'].name or 'frame'}.{x.quantity}",
+            TipDeflection: lambda: f"{desc.links[_link_name(x.link)].name}.tip",
+            LinkStrain: lambda: f"{desc.links[_link_name(x.link)].name}.strain",
+            PairWrench: lambda: f"{x.pair}.wrench",
+            ComponentState: lambda: f"{x.component}.{x.state}"}[type(x)]()
+    return row, [base] if row["size"] == 1 else [f"{base}[{i}]" for i in range(row["size"])]
+
+
+def _link_name(link) -> str:
+    return link if isinstance(link, str) else link.name
+
+
+def joint_pair(desc, col: int) -> tuple:
+    """(pair name, its first joint column) of the joint column ``col``."""
+    j0 = 0
+    for p in desc.pairs:
+        if j0 <= col < j0 + p["k"]:
+            return p["name"], j0
+        j0 += p["k"]
+    raise ModelError(f"joint column {col} is in no pair")       # pragma: no cover
+
+
+def _frame_disp(f, Z: np.ndarray) -> np.ndarray:
+    """The tangent displacements (6, nr) of frame ``f`` per reduced coordinate, in its own axes:
+    Ad(T^-1) Z_c (H_c exp(xi) T = H_c T exp(Ad(T^-1) xi)); zero on the ground."""
+    if f.carrier < 0:
+        return np.zeros((6, Z.shape[1]))
+    return se3.Ad(se3.inverse(f.T)) @ Z[6 * f.carrier:6 * f.carrier + 6]
+
+
+def sensor_rows(row: dict, poses: np.ndarray, Z: np.ndarray, pair_rows: Optional[np.ndarray],
+                state_col: Optional[int]) -> tuple:
+    """(kind, rows) of a sensor's linearization at ``poses`` (ncarriers, 4, 4) on the reduced
+    coordinates Z (6 nc x nr): kind "q" (its change is rows @ dq: a displacement), "v" (rows @
+    dq/dt: a rate) or "z" (the component state ``state_col``). ``pair_rows`` (ncoords of the
+    pair, nr): a JointSensor's pair's joint-rate map, which is also its coordinates' tangent.
+    Frames, tips and strains: first order in H = H0 exp(xi) (se3.dexp for the logarithms)."""
+    kind = row["kind"]
+    if kind == "joint":
+        return ("v" if row["rate"] else "q"), pair_rows
+    if kind == "state":
+        return "z", state_col
+    if kind == "wrench":
+        raise ModelError(f"linearize outputs: {row['name']!r} (PairWrench): a constraint wrench "
+                         f"is no state of the linear model; outputs are joint coordinates and "
+                         f"rates, frames' poses, positions, twists and velocities, tip "
+                         f"deflections, strains and component states")
+
+    def pose(f):
+        return f.T if f.carrier < 0 else poses[f.carrier] @ f.T
+    if kind == "frame":
+        f, q = row["frame"], row["quantity"]
+        x, H = _frame_disp(f, Z), pose(f)
+        if q == "twist":
+            return "v", x
+        if q == "velocity":
+            return "v", H[:3, :3] @ x[3:]
+        if q == "position":
+            return "q", H[:3, :3] @ x[3:]
+        return "q", np.einsum("ij,njk->nik", H, se3.hat(x.T)).reshape(-1, 16).T   # pose
+    if kind == "tip":
+        Hs, He = pose(row["start"]), pose(row["end"])
+        xs, xe = _frame_disp(row["start"], Z), _frame_disp(row["end"], Z)
+        rel = se3.inverse(Hs @ row["T0"]) @ He
+        d = se3.Ad(se3.inverse(He) @ Hs) @ xs            # the start's motion in the end's axes
+        phi = se3.log(rel[:3, :3])
+        rot = row["T0"][:3, :3] @ se3.dexp_inv(-phi) @ (xe[:3] - d[:3])
+        r = Hs[:3, :3].T @ (He[:3, 3] - Hs[:3, 3])       # the end from the start, start axes
+        disp = se3.hat(r) @ xs[:3] + Hs[:3, :3].T @ He[:3, :3] @ xe[3:] - xs[3:]
+        return "q", np.vstack([rot, disp])
+    # strain: log(Ha^-1 Hb) / h - eps_hat
+    Ha, Hb = poses[row["a"]], poses[row["b"]]
+    za, zb = Z[6 * row["a"]:6 * row["a"] + 6], Z[6 * row["b"]:6 * row["b"] + 6]
+    G = se3.inverse(Ha) @ Hb
+    phi = se3.log(G)
+    return "q", se3.dexp_inv(-phi) @ (zb - se3.Ad(se3.inverse(G)) @ za) / row["h"]
