@@ -69,13 +69,16 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
     band_given = band is not None
     # the default band: what the outputs can show, but never below BAND_PER_SPAN / span
     # (docs/user_guide.md, "Accuracy contract"): outputs are samples, not steps; and, for the
-    # adaptive generalized-alpha, (DEFAULT_RTOL / rtol)^(1/3) times higher below the default
-    # rtol: the modes above the band are damped, not resolved, and what that leaves in the
-    # resolved motion must shrink with the tolerance too (the README's arm + strip: rtol 1e-4 ->
-    # 1e-6 gained 22x on the tip with a 500 Hz band at both, 63x with 2.3 kHz at 1e-6)
+    # adaptive generalized-alpha on a mechanism with elements, (DEFAULT_RTOL / rtol)^(1/3) times
+    # higher below the default rtol: the modes above the band are damped, not resolved, and what
+    # that leaves in the resolved motion must shrink with the tolerance too (the README's arm +
+    # strip: rtol 1e-4 -> 1e-6 gained 22x on the tip with a 500 Hz band at both, 63x with 2.3 kHz
+    # at 1e-6). A rigid mechanism's estimate sees all its motion whatever the band, whose only
+    # role there, the twists' absolute tolerance (galpha_scheme.c), it would loosen (the 2 deg
+    # pendulum at rtol 1e-6: 1.11 -> 1.48x its tolerance)
     if band is None:
         band = max(0.5 / dt, _run.BAND_PER_SPAN / (t1 - t0))
-        if adaptive and rtol < DEFAULT_RTOL:
+        if adaptive and rtol < DEFAULT_RTOL and mech._desc.elements:
             band *= (DEFAULT_RTOL / rtol) ** (1.0 / 3.0)
     else:
         band = positive("band", band)
