@@ -25,6 +25,8 @@ from .results import ENERGY_NAMES, SimulationResult, StaticResult
 #: the adaptive generalized-alpha's default local error tolerance and spectral radius at
 #: infinity (docs/integrators.md: measured on benchmarks/scenes.py)
 DEFAULT_RTOL = 1e-4
+#: the rtol below which the default band stops growing (see simulate: the band)
+RTOL_BAND_FLOOR = 1e-6
 DEFAULT_RHO_INF = 0.9
 #: steps an integrator takes at most between two output times (csrc/include/phmech_types.h,
 #: phm_sim_options max_steps: its default)
@@ -75,11 +77,14 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
     # strip: rtol 1e-4 -> 1e-6 gained 22x on the tip with a 500 Hz band at both, 63x with 2.3 kHz
     # at 1e-6). A rigid mechanism's estimate sees all its motion whatever the band, whose only
     # role there, the twists' absolute tolerance (galpha_scheme.c), it would loosen (the 2 deg
-    # pendulum at rtol 1e-6: 1.11 -> 1.48x its tolerance)
+    # pendulum at rtol 1e-6: 1.11 -> 1.48x its tolerance). No higher than rtol 1e-6's 4.6x: a
+    # band that takes in a mesh mode whose rates the estimate does not see resolves it badly
+    # (tests/test_linearize_outputs.py's arm at rtol 1e-8 against its linear model: 2.4e-5 with
+    # bands of 2 and 4.6 kHz, 9.4e-5 at 7 kHz, 2.4e-3 at 10.8 kHz, (1e-4/1e-8)^(1/3) x 500 Hz)
     if band is None:
         band = max(0.5 / dt, _run.BAND_PER_SPAN / (t1 - t0))
         if adaptive and rtol < DEFAULT_RTOL and mech._desc.elements:
-            band *= (DEFAULT_RTOL / rtol) ** (1.0 / 3.0)
+            band *= (DEFAULT_RTOL / max(rtol, RTOL_BAND_FLOOR)) ** (1.0 / 3.0)
     else:
         band = positive("band", band)
     if integrator == "generalized-alpha":
