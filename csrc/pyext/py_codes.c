@@ -50,9 +50,40 @@ static PyObject *py_codes(PyObject *self, PyObject *noargs) {
   return d;
 }
 
+/* result_fields() -> [{name, dims, unit, noun, text}, ...]: the table of result quantities
+ * (csrc/include/phmech_results.h) in its order, dims the names of one output's dimensions. */
+static PyObject *py_result_fields(PyObject *self, PyObject *noargs) {
+  (void)self;
+  (void)noargs;
+  PyObject *list = PyList_New(PHM_NRESULT_FIELDS);
+  for (int f = 0; list && f < PHM_NRESULT_FIELDS; f++) {
+    const phm_result_field *r = phm_result_field_at(f);
+    long shape[3];
+    const char *names[3] = {NULL, NULL, NULL};
+    int nd = phm_result_shape(NULL, -1, f, shape, names);
+    PyObject *dims = PyTuple_New(nd), *d = NULL;
+    for (int k = 0; dims && k < nd; k++) {
+      PyObject *s = PyUnicode_FromString(names[k]);
+      if (!s) Py_CLEAR(dims);
+      else PyTuple_SET_ITEM(dims, k, s);
+    }
+    if (dims)
+      d = Py_BuildValue("{s:s,s:O,s:s,s:s,s:s}", "name", r->name, "dims", dims, "unit", r->unit,
+                        "noun", r->noun, "text", r->text);
+    Py_XDECREF(dims);
+    if (!d) Py_CLEAR(list);
+    else PyList_SET_ITEM(list, f, d);
+  }
+  return list;
+}
+
 PyMethodDef phm_py_codes_methods[] = {
     {"codes", py_codes, METH_NOARGS,
      "codes() -> dict: the core's code tables, from its C enums: pair_types, law_kinds, "
      "integrators, actuator_kinds, mass_kinds ({name: code}, names lower case) and result_fields "
      "(list: the names of the arrays simulate returns, in the core's order)."},
+    {"result_fields", py_result_fields, METH_NOARGS,
+     "result_fields() -> [dict(name, dims, unit, noun, text)]: the table of result quantities "
+     "(csrc/include/phmech_results.h) in the core's order; dims names one output's dimensions "
+     "(e.g. ('pair', 'component'))."},
     {NULL, NULL, 0, NULL}};
