@@ -1,8 +1,8 @@
 /* output.c -- what a simulation hands back at each output time (the table of result quantities,
  * csrc/include/phmech_results.h): each array's shape, and record(), which fills them: the
  * recorded poses and twists, multipliers, joint coordinates, rates and efforts, pair wrenches,
- * port energies, the energy ledger and each pair's constraint residual; every output checked
- * finite before it counts. */
+ * port energies, the energy ledger, each pair's constraint residual and each element's strain
+ * energy; every output checked finite before it counts. */
 #include "dae.h"
 
 #include <math.h>
@@ -23,6 +23,7 @@ int phm_result_shape(const phm_model *m, int nrecord, int f, long dims[3], const
   case PHM_OVER_PAIRS: n = m ? m->np : 0; names[0] = "pair"; break;
   case PHM_OVER_PORTS: n = m ? m->nport : 0; names[0] = "port"; break;
   case PHM_OVER_COMPONENT_STATES: n = m ? m->nz : 0; names[0] = "component_state"; break;
+  case PHM_OVER_ELEMENTS: n = m ? m->ne : 0; names[0] = "element"; break;
   }
   dims[0] = n;
   switch (r->item) {
@@ -108,6 +109,12 @@ static void record(dae_t *d, const double *y, phm_sim_output *out, int iout, dou
     memcpy(out->port_energy + (size_t)iout * m->nport, y + d->ie + 2, sizeof(double) * (size_t)m->nport);
   double e[3];
   phm_model_energy(m, D->H, D->tw, e);
+  if (out->strain_energy) /* each element's part of e[1], as phm_model_energy sums it */
+    for (int ie = 0; ie < m->ne; ie++) {
+      const phm_element_desc *el = &m->el[ie];
+      out->strain_energy[(size_t)iout * m->ne + ie] =
+          phm_element_energy(el, D->H + 16 * el->a, D->H + 16 * el->b);
+    }
   if (out->components && m->nz)
     memcpy(out->components + (size_t)iout * m->nz, y + d->iz, sizeof(double) * (size_t)m->nz);
   if (m->ncomp) { /* the components' storage (bristles, inductances) with the elastic energy */

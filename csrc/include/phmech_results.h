@@ -35,7 +35,10 @@
   X(COMPONENTS, components, PHM_OVER_COMPONENT_STATES, PHM_ITEM_SCALAR, "A, m, rad, ...",             \
     "component states", "components' internal states")                                                \
   X(CONSTRAINT_RESIDUAL, constraint_residual, PHM_OVER_PAIRS, PHM_ITEM_SCALAR, "rad or m (per row)",  \
-    "constraint residuals", "largest position constraint residual abs(g) of each pair's kept rows")
+    "constraint residuals", "largest position constraint residual abs(g) of each pair's kept rows") \
+  X(STRAIN_ENERGY, strain_energy, PHM_OVER_ELEMENTS, PHM_ITEM_SCALAR, "J", "strain energies",         \
+    "elastic strain energy of each beam element (the links' elements in the order added, each "       \
+    "link's from its start); with the springs' and components' they sum to energy['elastic']")
 
 /* What one output's entries of a result array run over; their count: phm_result_shape. */
 typedef enum {
@@ -45,7 +48,8 @@ typedef enum {
   PHM_OVER_JOINTS,           /* the joint coordinates of all pairs (phm_model_njoints)          */
   PHM_OVER_PAIRS,            /* the pairs                                                       */
   PHM_OVER_PORTS,            /* the ports (phm_model_nports)                                    */
-  PHM_OVER_COMPONENT_STATES  /* the components' internal states (phm_model_ncompstates)         */
+  PHM_OVER_COMPONENT_STATES, /* the components' internal states (phm_model_ncompstates)        */
+  PHM_OVER_ELEMENTS          /* the beam elements (phm_model_nelements)                         */
 } phm_result_over;
 /* What each entry is. */
 typedef enum {
