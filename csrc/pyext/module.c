@@ -36,6 +36,26 @@ PyObject *phm_py_raise(const phm_error *err) {
   return NULL;
 }
 
+PyObject *phm_py_str_tuple(const char *const *s, int n) {
+  PyObject *t = PyTuple_New(n);
+  for (int i = 0; t && i < n; i++) {
+    PyObject *v = PyUnicode_FromString(s[i] ? s[i] : "");
+    if (!v) Py_CLEAR(t);
+    else PyTuple_SET_ITEM(t, i, v);
+  }
+  return t;
+}
+
+PyObject *phm_py_int_list(const int *v, int n) {
+  PyObject *l = PyList_New(n);
+  for (int i = 0; l && i < n; i++) {
+    PyObject *o = PyLong_FromLong(v[i]);
+    if (!o) Py_CLEAR(l);
+    else PyList_SET_ITEM(l, i, o);
+  }
+  return l;
+}
+
 PyArrayObject *phm_py_double_array(PyObject *obj, const char *what, const npy_intp *tail, int ntail,
                                    int stack) {
   /* Convert with NumPy's natural dtype first, so strings, bytes, complex numbers and objects

@@ -12,11 +12,8 @@
  * and nothing held. */
 static int linearization_point(const phm_model *m, PyObject *po, PyObject *lo, PyArrayObject **P,
                                PyArrayObject **L) {
-  *P = *L = NULL;
-  if (po != Py_None) {
-    npy_intp tail[3] = {phm_model_ncarriers(m), 4, 4};
-    if (!(*P = phm_py_double_array(po, "poses", tail, 3, 0))) return -1;
-  }
+  *L = NULL;
+  if (phm_py_model_poses(m, po, "poses", 1, P) < 0) return -1;
   if (lo != Py_None) {
     npy_intp tail[1] = {phm_model_nconstraints(m)};
     if (!(*L = phm_py_double_array(lo, "constraint wrenches", tail, 1, 0))) {
@@ -192,11 +189,8 @@ static PyObject *py_model_static(PyObject *self, PyObject *args) {
   phm_model *m = phm_py_get_model(cap);
   if (!m) return NULL;
   int nc = phm_model_ncarriers(m), nk = phm_model_nconstraints(m);
-  PyArrayObject *P = NULL;
-  if (po != Py_None) {
-    npy_intp tail[3] = {nc, 4, 4};
-    if (!(P = phm_py_double_array(po, "poses", tail, 3, 0))) return NULL;
-  }
+  PyArrayObject *P;
+  if (phm_py_model_poses(m, po, "poses", 1, &P) < 0) return NULL;
   npy_intp dp[3] = {nc, 4, 4}, dl[1] = {nk};
   PyArrayObject *poses = (PyArrayObject *)PyArray_ZEROS(3, dp, NPY_DOUBLE, 0);
   PyArrayObject *lam = (PyArrayObject *)PyArray_ZEROS(1, dl, NPY_DOUBLE, 0);
@@ -254,11 +248,8 @@ static PyObject *py_model_static_free(PyObject *self, PyObject *args) {
     return NULL;
   }
   int nc = phm_model_ncarriers(m), nl = phm_model_nloads(m);
-  PyArrayObject *P = NULL;
-  if (po != Py_None) {
-    npy_intp tail[3] = {nc, 4, 4};
-    if (!(P = phm_py_double_array(po, "poses", tail, 3, 0))) return NULL;
-  }
+  PyArrayObject *P;
+  if (phm_py_model_poses(m, po, "poses", 1, &P) < 0) return NULL;
   phm_free_motion *fm = PyMem_Calloc((size_t)nmax, sizeof *fm);
   unsigned char *mv = PyMem_Calloc((size_t)nmax * (size_t)nc + 1, 1);
   double *lw = PyMem_Calloc((size_t)nmax * (size_t)nl + 1, sizeof(double));

@@ -61,12 +61,7 @@ static PyObject *py_result_fields(PyObject *self, PyObject *noargs) {
     long shape[3];
     const char *names[3] = {NULL, NULL, NULL};
     int nd = phm_result_shape(NULL, -1, f, shape, names);
-    PyObject *dims = PyTuple_New(nd), *d = NULL;
-    for (int k = 0; dims && k < nd; k++) {
-      PyObject *s = PyUnicode_FromString(names[k]);
-      if (!s) Py_CLEAR(dims);
-      else PyTuple_SET_ITEM(dims, k, s);
-    }
+    PyObject *dims = phm_py_str_tuple(names, nd), *d = NULL;
     if (dims)
       d = Py_BuildValue("{s:s,s:O,s:s,s:s,s:s}", "name", r->name, "dims", dims, "unit", r->unit,
                         "noun", r->noun, "text", r->text);

@@ -22,6 +22,13 @@ phm_model *phm_py_get_model(PyObject *cap) {
   return (phm_model *)PyCapsule_GetPointer(cap, PHM_PY_MODEL_CAPSULE);
 }
 
+int phm_py_model_poses(const phm_model *m, PyObject *po, const char *what, int optional, PyArrayObject **P) {
+  npy_intp tail[3] = {phm_model_ncarriers(m), 4, 4};
+  *P = NULL;
+  if (optional && po == Py_None) return 0;
+  return (*P = phm_py_double_array(po, what, tail, 3, 0)) ? 0 : -1;
+}
+
 /* An index or enumeration code given as float64 (the columns of python/phmech/_marshal.py): it
  * must be a whole number representable as int (the core then checks its range); converting
  * anything else to int would truncate (1.5 -> carrier 1) or be undefined behaviour (1e20, C11
@@ -280,12 +287,14 @@ static PyObject *py_model_sizes(PyObject *self, PyObject *cap) {
   if (!m) return NULL;
   int np_ = phm_model_npairs(m);
   PyObject *lay = PyList_New(np_);
-  if (!lay) return NULL;
-  for (int ip = 0; ip < np_; ip++) {
+  for (int ip = 0; lay && ip < np_; ip++) {
     int row, mc, j, k;
     phm_model_pair_layout(m, ip, &row, &mc, &j, &k);
-    PyList_SET_ITEM(lay, ip, Py_BuildValue("iiii", row, mc, j, k));
+    PyObject *t = Py_BuildValue("iiii", row, mc, j, k);
+    if (!t) Py_CLEAR(lay);
+    else PyList_SET_ITEM(lay, ip, t);
   }
+  if (!lay) return NULL;
   return Py_BuildValue("iiiiNi", phm_model_ncarriers(m), phm_model_nconstraints(m),
                        phm_model_njoints(m), phm_model_nports(m), lay, phm_model_ncompstates(m));
 }
@@ -294,9 +303,9 @@ static PyObject *py_model_sizes(PyObject *self, PyObject *cap) {
  * as arrays in *P, *X; 0, or -1 with an exception set and nothing held. */
 static int poses_and_references(const phm_model *m, PyObject *po, PyObject *xo, PyArrayObject **P,
                                 PyArrayObject **X) {
-  npy_intp tail[3] = {phm_model_ncarriers(m), 4, 4}, tj[1] = {phm_model_njoints(m)};
+  npy_intp tj[1] = {phm_model_njoints(m)};
   *X = NULL;
-  if (!(*P = phm_py_double_array(po, "poses", tail, 3, 0))) return -1;
+  if (phm_py_model_poses(m, po, "poses", 0, P) < 0) return -1;
   if (xo != Py_None && !(*X = phm_py_double_array(xo, "joint references", tj, 1, 0))) {
     Py_CLEAR(*P);
     return -1;

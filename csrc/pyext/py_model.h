@@ -14,6 +14,11 @@
 /* The model in a capsule made by model_new, or NULL with an exception set. */
 phm_model *phm_py_get_model(PyObject *cap);
 
+/* The (ncarriers, 4, 4) poses of model m given as `po` (named `what` in messages), a new array in
+ * *P; when `optional`, None gives NULL (the model's initial poses). 0, or -1 with an exception
+ * set. */
+int phm_py_model_poses(const phm_model *m, PyObject *po, const char *what, int optional, PyArrayObject **P);
+
 /* v as a whole int (the `what` of row i in the message), 0; or -1 with ModelError set. */
 int phm_py_to_int(double v, const char *what, npy_intp i, int *out);
 

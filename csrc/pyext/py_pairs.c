@@ -5,20 +5,6 @@
 
 #include <string.h>
 
-static PyObject *str_tuple(const char *const *s, int n) {
-  PyObject *t = PyTuple_New(n);
-  if (!t) return NULL;
-  for (int i = 0; i < n; i++) {
-    PyObject *v = PyUnicode_FromString(s[i] ? s[i] : "");
-    if (!v) {
-      Py_DECREF(t);
-      return NULL;
-    }
-    PyTuple_SET_ITEM(t, i, v);
-  }
-  return t;
-}
-
 static PyObject *py_pair_types(PyObject *self, PyObject *noargs) {
   (void)self;
   (void)noargs;
@@ -28,7 +14,7 @@ static PyObject *py_pair_types(PyObject *self, PyObject *noargs) {
   for (int i = 0; i < n; i++) {
     const phm_pair_type_info *t = phm_pair_type(i);
     int k = 6 - t->m;
-    PyObject *units = str_tuple(t->units, k), *dirs = str_tuple(t->directions, t->m);
+    PyObject *units = phm_py_str_tuple(t->units, k), *dirs = phm_py_str_tuple(t->directions, t->m);
     PyObject *d = units && dirs ? Py_BuildValue("{s:i,s:s,s:i,s:i,s:s,s:O,s:O,s:O,s:i,s:s}", "code", i,
                                                 "name", t->name, "k", k, "m", t->m, "params",
                                                 t->params, "units", units, "directions", dirs,

@@ -66,15 +66,7 @@ static PyObject *py_model_planar(PyObject *self, PyObject *args) {
     for (int k = 0; k < 3; k++) why[k][0] = '\0';
     if (phm_planar_check(m, PyArray_DATA(P), PyArray_DATA(T), nm, &axis, drop, why, &err)) phm_py_raise(&err);
     else if (!phm_py_model_law_error(cap)) {
-      PyObject *masks = Py_NewRef(Py_None);
-      if (axis >= 0) {
-        Py_SETREF(masks, PyList_New(np_));
-        for (int ip = 0; masks && ip < np_; ip++) {
-          PyObject *v = PyLong_FromLong(drop[ip]);
-          if (!v) Py_CLEAR(masks);
-          else PyList_SET_ITEM(masks, ip, v);
-        }
-      }
+      PyObject *masks = axis >= 0 ? phm_py_int_list(drop, np_) : Py_NewRef(Py_None);
       if (masks)
         res = Py_BuildValue("NN(NNN)", axis >= 0 ? PyLong_FromLong(axis) : Py_NewRef(Py_None), masks,
                             why_or_none(why[0]), why_or_none(why[1]), why_or_none(why[2]));
@@ -233,15 +225,7 @@ static PyObject *py_planar_rows(PyObject *self, PyObject *args) {
   phm_error err;
   if (!drop) PyErr_NoMemory();
   else if (phm_planar_rows(&s, k, drop, &err)) phm_py_raise(&err);
-  else if ((res = PyList_New(s.np)))
-    for (int ip = 0; ip < s.np; ip++) {
-      PyObject *v = PyLong_FromLong(drop[ip]);
-      if (!v) {
-        Py_CLEAR(res);
-        break;
-      }
-      PyList_SET_ITEM(res, ip, v);
-    }
+  else res = phm_py_int_list(drop, s.np);
   PyMem_Free(drop);
   PyMem_Free(ints);
   Py_DECREF(G);

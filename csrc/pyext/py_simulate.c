@@ -52,10 +52,7 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
     PyErr_Format(phm_py_ModelError, "output times: %ld of them, at most %d", (long)nout, INT_MAX);
     return NULL;
   }
-  if (po != Py_None) {
-    npy_intp tail[3] = {nc, 4, 4};
-    if (!(P = phm_py_double_array(po, "initial poses", tail, 3, 0))) goto fail0;
-  }
+  if (phm_py_model_poses(m, po, "initial poses", 1, &P) < 0) goto fail0;
   if (twi != Py_None) {
     npy_intp tail[2] = {nc, 6};
     if (!(T = phm_py_double_array(twi, "initial twists", tail, 2, 0))) goto fail0;

@@ -31,6 +31,11 @@ PyObject *phm_py_raise(const phm_error *err);
 PyArrayObject *phm_py_double_array(PyObject *obj, const char *what, const npy_intp *tail, int ntail,
                                    int stack);
 
+/* A tuple of the n strings s (NULL entries as ""), or a list of the n ints v: a new reference, or
+ * NULL with an exception set (csrc/pyext/module.c). */
+PyObject *phm_py_str_tuple(const char *const *s, int n);
+PyObject *phm_py_int_list(const int *v, int n);
+
 /* Method tables of the binding files. */
 extern PyMethodDef phm_py_se3_methods[];
 extern PyMethodDef phm_py_mixed_methods[];
