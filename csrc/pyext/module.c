@@ -46,15 +46,19 @@ PyObject *phm_py_str_tuple(const char *const *s, int n) {
   return t;
 }
 
-PyObject *phm_py_int_list(const int *v, int n) {
+PyObject *phm_py_list(int n, PyObject *(*item)(int i, const void *ctx), const void *ctx) {
   PyObject *l = PyList_New(n);
   for (int i = 0; l && i < n; i++) {
-    PyObject *o = PyLong_FromLong(v[i]);
+    PyObject *o = item(i, ctx);
     if (!o) Py_CLEAR(l);
     else PyList_SET_ITEM(l, i, o);
   }
   return l;
 }
+
+static PyObject *int_item(int i, const void *v) { return PyLong_FromLong(((const int *)v)[i]); }
+
+PyObject *phm_py_int_list(const int *v, int n) { return phm_py_list(n, int_item, v); }
 
 PyArrayObject *phm_py_double_array(PyObject *obj, const char *what, const npy_intp *tail, int ntail,
                                    int stack) {
