@@ -84,7 +84,8 @@ fmi3Instance fmi3InstantiateScheduledExecution(fmi3String instanceName, fmi3Stri
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 
-/* get and set of the variable types other than Float64 (phmech's FMUs have none) */
+/* get and set of the variable types other than Float64, Binary and Clock (phmech's FMUs have
+ * only Float64 variables) */
 #define FMI3_OTHER_TYPES(X) \
   X(Float32) X(Int8) X(UInt8) X(Int16) X(UInt16) X(Int32) X(UInt32) X(Int64) X(UInt64) X(Boolean) X(String)
 #define GET_AND_SET_UNSUPPORTED(T)                                                                   \
