@@ -50,7 +50,7 @@ def test_python_reads_its_codes_from_the_core():
     assert dict(_codes.INTEGRATORS) == codes["integrators"]
     assert dict(_codes.ACTUATOR_KINDS) == codes["actuator_kinds"]
     assert dict(_codes.MASS_KINDS) == codes["mass_kinds"]
-    assert list(_codes.RESULT_FIELDS) == codes["result_fields"]
+    assert [f.name for f in _codes.RESULT_FIELDS] == codes["result_fields"]
 
 
 def test_result_fields_are_the_arrays_simulate_returns():

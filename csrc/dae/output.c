@@ -1,6 +1,8 @@
-/* output.c -- what a simulation hands back at each output time: the recorded poses and twists,
- * multipliers, joint coordinates, rates and efforts, pair wrenches, port energies, the energy
- * ledger and each pair's constraint residual; every output checked finite before it counts. */
+/* output.c -- what a simulation hands back at each output time (the table of result quantities,
+ * csrc/include/phmech_results.h): each array's shape, and record(), which fills them: the
+ * recorded poses and twists, multipliers, joint coordinates, rates and efforts, pair wrenches,
+ * port energies, the energy ledger, each pair's constraint residual and each element's strain
+ * energy; every output checked finite before it counts. */
 #include "dae.h"
 
 #include <math.h>
@@ -9,36 +11,48 @@
 #include "phm_check.h"
 #include "linalg.h"
 
+int phm_result_shape(const phm_model *m, int nrecord, int f, long dims[3], const char *names[3]) {
+  const phm_result_field *r = phm_result_field_at(f);
+  if (!r) return 0;
+  long n = 0;
+  switch (r->over) {
+  case PHM_OVER_RECORDED: n = m ? (nrecord >= 0 ? nrecord : m->nc) : 0; names[0] = "carrier"; break;
+  case PHM_OVER_CONSTRAINTS: n = m ? m->ncons : 0; names[0] = "constraint"; break;
+  case PHM_OVER_ENERGIES: n = PHM_NENERGY; names[0] = "energy_kind"; break;
+  case PHM_OVER_JOINTS: n = m ? m->nj : 0; names[0] = "joint"; break;
+  case PHM_OVER_PAIRS: n = m ? m->np : 0; names[0] = "pair"; break;
+  case PHM_OVER_PORTS: n = m ? m->nport : 0; names[0] = "port"; break;
+  case PHM_OVER_COMPONENT_STATES: n = m ? m->nz : 0; names[0] = "component_state"; break;
+  case PHM_OVER_ELEMENTS: n = m ? m->ne : 0; names[0] = "element"; break;
+  }
+  dims[0] = n;
+  switch (r->item) {
+  case PHM_ITEM_SCALAR: return 1;
+  case PHM_ITEM_SCREW: dims[1] = 6; names[1] = "component"; return 2;
+  case PHM_ITEM_POSE: dims[1] = dims[2] = 4; names[1] = "row"; names[2] = "col"; return 3;
+  }
+  return 0;
+}
+
 /* Output iout must be finite: a NaN or inf in a result is never handed back silently. PHM_OK, or
  * PHM_ESOLVER naming the quantity (output iout is then not counted as done). */
 static phm_status check_output(const dae_t *d, const phm_sim_output *out, int iout, double time,
                                phm_error *err) {
-  const phm_model *m = d->m;
-  size_t nr = out->record ? (size_t)out->nrecord : (size_t)m->nc, i = (size_t)iout;
-  struct {
-    const char *name;
-    const double *base;
-    size_t n;
-  } q[] = {{"poses", out->poses, 16 * nr},
-           {"twists", out->twists, 6 * nr},
-           {"constraint wrenches", out->lambda, (size_t)m->ncons},
-           {"energies", out->energy, PHM_NENERGY},
-           {"joint coordinates", out->joints, (size_t)m->nj},
-           {"joint rates", out->joint_rates, (size_t)m->nj},
-           {"actuator efforts", out->efforts, (size_t)m->nj},
-           {"pair wrenches", out->pwrench, 6 * (size_t)m->np},
-           {"port energies", out->ports, (size_t)m->nport},
-           {"component states", out->components, (size_t)m->nz},
-           {"constraint residuals", out->constraint_residual, (size_t)m->np}};
-  for (size_t k = 0; k < sizeof q / sizeof q[0]; k++) {
-    if (!q[k].base || !q[k].n) continue;
-    long j = phm_first_nonfinite(q[k].base + i * q[k].n, q[k].n);
+  const int nrecord = out->record ? out->nrecord : -1;
+  for (int f = 0; f < PHM_NRESULT_FIELDS; f++) {
+    long dims[3];
+    const char *names[3];
+    size_t n = 1;
+    for (int k = phm_result_shape(d->m, nrecord, f, dims, names); k > 0; k--) n *= (size_t)dims[k - 1];
+    if (!out->field[f] || !n) continue;
+    const double *o = out->field[f] + (size_t)iout * n;
+    long j = phm_first_nonfinite(o, n);
     if (j >= 0)
       return PHM_FAIL(err, PHM_ESOLVER,
                            "non-finite %s at t = %.9g s (entry %ld is %g): the model's numbers "
                            "overflow double precision (check for huge or tiny masses, stiffnesses, "
                            "loads, lengths or initial values)",
-                           q[k].name, time, j, q[k].base[i * q[k].n + (size_t)j]);
+                           phm_result_field_at(f)->noun, time, j, o[j]);
   }
   return PHM_OK;
 }
@@ -60,8 +74,8 @@ static void record(dae_t *d, const double *y, phm_sim_output *out, int iout, dou
     if (out->poses) memcpy(out->poses + (size_t)iout * 16 * nc, D->H, sizeof(double) * 16 * nc);
     if (out->twists) memcpy(out->twists + (size_t)iout * 6 * nc, D->tw, sizeof(double) * 6 * nc);
   }
-  if (out->lambda && m->ncons)
-    memcpy(out->lambda + (size_t)iout * m->ncons, y + d->il, sizeof(double) * m->ncons);
+  if (out->constraint_wrenches && m->ncons)
+    memcpy(out->constraint_wrenches + (size_t)iout * m->ncons, y + d->il, sizeof(double) * m->ncons);
   for (int i = d->im; i < d->n; i++) out->max_mu = fmax(out->max_mu, fabs(y[i]));
   /* every pair once: joint coordinates and rates, constraint wrenches, the actuators' efforts,
    * and the position constraints g when their residuals are asked for */
@@ -74,9 +88,9 @@ static void record(dae_t *d, const double *y, phm_sim_output *out, int iout, dou
       if (out->joints) out->joints[(size_t)iout * m->nj + j0 + c] = p->x[c];
       if (out->joint_rates) out->joint_rates[(size_t)iout * m->nj + j0 + c] = p->xdot[c];
     }
-    if (out->pwrench)
+    if (out->pair_wrenches)
       phm_pair_wrench(m, ip, p, y + d->il + m->pair_row[ip],
-                      out->pwrench + ((size_t)iout * m->np + ip) * 6);
+                      out->pair_wrenches + ((size_t)iout * m->np + ip) * 6);
     if (out->constraint_residual) {
       double r = 0.0;
       for (int k = 0; k < m->pair_m[ip]; k++) r = fmax(r, fabs(p->g[k]));
@@ -91,10 +105,16 @@ static void record(dae_t *d, const double *y, phm_sim_output *out, int iout, dou
                            NULL, D->eff, NULL, NULL, NULL, NULL);
     memcpy(out->efforts + (size_t)iout * m->nj, D->eff, sizeof(double) * (size_t)m->nj);
   }
-  if (out->ports && m->nport)
-    memcpy(out->ports + (size_t)iout * m->nport, y + d->ie + 2, sizeof(double) * (size_t)m->nport);
+  if (out->port_energy && m->nport)
+    memcpy(out->port_energy + (size_t)iout * m->nport, y + d->ie + 2, sizeof(double) * (size_t)m->nport);
   double e[3];
   phm_model_energy(m, D->H, D->tw, e);
+  if (out->strain_energy) /* each element's part of e[1], as phm_model_energy sums it */
+    for (int ie = 0; ie < m->ne; ie++) {
+      const phm_element_desc *el = &m->el[ie];
+      out->strain_energy[(size_t)iout * m->ne + ie] =
+          phm_element_energy(el, D->H + 16 * el->a, D->H + 16 * el->b);
+    }
   if (out->components && m->nz)
     memcpy(out->components + (size_t)iout * m->nz, y + d->iz, sizeof(double) * (size_t)m->nz);
   if (m->ncomp) { /* the components' storage (bristles, inductances) with the elastic energy */

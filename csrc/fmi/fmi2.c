@@ -157,37 +157,35 @@ static fmi2Status unsupported(fmi2Component comp, const char *what) {
   fmu_log(comp, fmi2Error, "%s is not supported by phmech FMUs", what);
   return fmi2Error;
 }
-fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *s) { (void)s; return unsupported(c, "fmi2GetFMUstate"); }
-fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate s) { (void)s; return unsupported(c, "fmi2SetFMUstate"); }
-fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *s) { (void)s; return unsupported(c, "fmi2FreeFMUstate"); }
+/* Each logs its name (__func__) and returns fmi2Error; their parameters are unused. */
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *s) { return unsupported(c, __func__); }
+fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate s) { return unsupported(c, __func__); }
+fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *s) { return unsupported(c, __func__); }
 fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate s, size_t *n) {
-  (void)s; (void)n;
-  return unsupported(c, "fmi2SerializedFMUstateSize");
+  return unsupported(c, __func__);
 }
 fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate s, fmi2Byte b[], size_t n) {
-  (void)s; (void)b; (void)n;
-  return unsupported(c, "fmi2SerializeFMUstate");
+  return unsupported(c, __func__);
 }
 fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte b[], size_t n, fmi2FMUstate *s) {
-  (void)s; (void)b; (void)n;
-  return unsupported(c, "fmi2DeSerializeFMUstate");
+  return unsupported(c, __func__);
 }
 fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference u[], size_t nu,
-                                        const fmi2ValueReference z[], size_t nz, const fmi2Real dv[],
-                                        fmi2Real dz[]) {
-  (void)u; (void)nu; (void)z; (void)nz; (void)dv; (void)dz;
-  return unsupported(c, "fmi2GetDirectionalDerivative");
+                                        const fmi2ValueReference z[], size_t nz,
+                                        const fmi2Real dv[], fmi2Real dz[]) {
+  return unsupported(c, __func__);
 }
 fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t n,
                                        const fmi2Integer order[], const fmi2Real v[]) {
-  (void)vr; (void)n; (void)order; (void)v;
-  return unsupported(c, "fmi2SetRealInputDerivatives");
+  return unsupported(c, __func__);
 }
 fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t n,
                                         const fmi2Integer order[], fmi2Real v[]) {
-  (void)vr; (void)n; (void)order; (void)v;
-  return unsupported(c, "fmi2GetRealOutputDerivatives");
+  return unsupported(c, __func__);
 }
+#pragma GCC diagnostic pop
 
 fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h, fmi2Boolean noSetFMUStatePriorToCurrentPoint) {
   (void)noSetFMUStatePriorToCurrentPoint;
@@ -208,10 +206,11 @@ fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h, fmi2Boolean no
   return fmu_advance(c, c->t + h);
 }
 
-fmi2Status fmi2CancelStep(fmi2Component c) { return unsupported(c, "fmi2CancelStep"); }
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+fmi2Status fmi2CancelStep(fmi2Component c) { return unsupported(c, __func__); }
 fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind k, fmi2Status *v) {
-  (void)k; (void)v;
-  return unsupported(c, "fmi2GetStatus");
+  return unsupported(c, __func__);
 }
 fmi2Status fmi2GetRealStatus(fmi2Component comp, const fmi2StatusKind k, fmi2Real *v) {
   fmu *c = comp;
@@ -223,14 +222,12 @@ fmi2Status fmi2GetRealStatus(fmi2Component comp, const fmi2StatusKind k, fmi2Rea
   return unsupported(c, "fmi2GetRealStatus");
 }
 fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind k, fmi2Integer *v) {
-  (void)k; (void)v;
-  return unsupported(c, "fmi2GetIntegerStatus");
+  return unsupported(c, __func__);
 }
 fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind k, fmi2Boolean *v) {
-  (void)k; (void)v;
-  return unsupported(c, "fmi2GetBooleanStatus");
+  return unsupported(c, __func__);
 }
 fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind k, fmi2String *v) {
-  (void)k; (void)v;
-  return unsupported(c, "fmi2GetStringStatus");
+  return unsupported(c, __func__);
 }
+#pragma GCC diagnostic pop

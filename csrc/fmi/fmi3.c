@@ -13,11 +13,7 @@ static fmi3Status unsupported3(fmi3Instance inst, const char *what) {
 }
 
 fmi3Status fmi3SetDebugLogging(fmi3Instance inst, fmi3Boolean on, size_t n, const fmi3String cats[]) {
-  (void)n;
-  (void)cats;
-  if (!inst) return fmi3Error;
-  ((fmu *)inst)->logging = on;
-  return fmi3OK;
+  return (fmi3Status)fmi2SetDebugLogging(inst, on, n, cats);
 }
 
 fmi3Instance fmi3InstantiateCoSimulation(fmi3String name, fmi3String token, fmi3String resources,
@@ -82,307 +78,182 @@ fmi3Instance fmi3InstantiateScheduledExecution(fmi3String instanceName, fmi3Stri
   return NULL; /* co-simulation only */
 }
 
-fmi3Status fmi3EnterEventMode(fmi3Instance instance) {
-  
-  return unsupported3(instance, "fmi3EnterEventMode");
-}
+/* ---------------------------------------------------------------- unsupported
+ * The rest of the FMI 3.0 API, which an FMU must export: each function logs its name (__func__)
+ * and returns fmi3Error; their parameters are unused. */
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-parameter"
 
-fmi3Status fmi3GetFloat32(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Float32 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetFloat32");
-}
+/* get and set of the variable types other than Float64, Binary and Clock (phmech's FMUs have
+ * only Float64 variables) */
+#define FMI3_OTHER_TYPES(X) \
+  X(Float32) X(Int8) X(UInt8) X(Int16) X(UInt16) X(Int32) X(UInt32) X(Int64) X(UInt64) X(Boolean) X(String)
+#define GET_AND_SET_UNSUPPORTED(T)                                                                   \
+  fmi3Status fmi3Get##T(fmi3Instance instance, const fmi3ValueReference valueReferences[],          \
+                        size_t nValueReferences, fmi3##T values[], size_t nValues) {                \
+    return unsupported3(instance, __func__);                                                         \
+  }                                                                                                  \
+  fmi3Status fmi3Set##T(fmi3Instance instance, const fmi3ValueReference valueReferences[],          \
+                        size_t nValueReferences, const fmi3##T values[], size_t nValues) {          \
+    return unsupported3(instance, __func__);                                                         \
+  }
+FMI3_OTHER_TYPES(GET_AND_SET_UNSUPPORTED)
 
-fmi3Status fmi3GetInt8(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Int8 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetInt8");
+fmi3Status fmi3EnterEventMode(fmi3Instance instance) { return unsupported3(instance, __func__); }
+fmi3Status fmi3GetBinary(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                         size_t nValueReferences, size_t valueSizes[], fmi3Binary values[],
+                         size_t nValues) { return unsupported3(instance, __func__); }
+fmi3Status fmi3GetClock(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                        size_t nValueReferences, fmi3Clock values[]) {
+  return unsupported3(instance, __func__);
 }
-
-fmi3Status fmi3GetUInt8(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3UInt8 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetUInt8");
+fmi3Status fmi3SetBinary(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                         size_t nValueReferences, const size_t valueSizes[],
+                         const fmi3Binary values[], size_t nValues) {
+  return unsupported3(instance, __func__);
 }
-
-fmi3Status fmi3GetInt16(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Int16 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetInt16");
+fmi3Status fmi3SetClock(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                        size_t nValueReferences, const fmi3Clock values[]) {
+  return unsupported3(instance, __func__);
 }
-
-fmi3Status fmi3GetUInt16(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3UInt16 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetUInt16");
+fmi3Status fmi3GetNumberOfVariableDependencies(fmi3Instance instance,
+                                               fmi3ValueReference valueReference,
+                                               size_t* nDependencies) {
+  return unsupported3(instance, __func__);
 }
-
-fmi3Status fmi3GetInt32(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Int32 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetInt32");
+fmi3Status fmi3GetVariableDependencies(fmi3Instance instance, fmi3ValueReference dependent,
+                                       size_t elementIndicesOfDependent[],
+                                       fmi3ValueReference independents[],
+                                       size_t elementIndicesOfIndependents[],
+                                       fmi3DependencyKind dependencyKinds[], size_t nDependencies) {
+  return unsupported3(instance, __func__);
 }
-
-fmi3Status fmi3GetUInt32(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3UInt32 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetUInt32");
-}
-
-fmi3Status fmi3GetInt64(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Int64 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetInt64");
-}
-
-fmi3Status fmi3GetUInt64(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3UInt64 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetUInt64");
-}
-
-fmi3Status fmi3GetBoolean(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Boolean values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetBoolean");
-}
-
-fmi3Status fmi3GetString(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3String values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetString");
-}
-
-fmi3Status fmi3GetBinary(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, size_t valueSizes[], fmi3Binary values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)valueSizes; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetBinary");
-}
-
-fmi3Status fmi3GetClock(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Clock values[]) {
-  (void)valueReferences; (void)nValueReferences; (void)values;
-  return unsupported3(instance, "fmi3GetClock");
-}
-
-fmi3Status fmi3SetFloat32(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Float32 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3SetFloat32");
-}
-
-fmi3Status fmi3SetInt8(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Int8 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3SetInt8");
-}
-
-fmi3Status fmi3SetUInt8(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3UInt8 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3SetUInt8");
-}
-
-fmi3Status fmi3SetInt16(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Int16 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3SetInt16");
-}
-
-fmi3Status fmi3SetUInt16(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3UInt16 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3SetUInt16");
-}
-
-fmi3Status fmi3SetInt32(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Int32 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3SetInt32");
-}
-
-fmi3Status fmi3SetUInt32(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3UInt32 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3SetUInt32");
-}
-
-fmi3Status fmi3SetInt64(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Int64 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3SetInt64");
-}
-
-fmi3Status fmi3SetUInt64(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3UInt64 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3SetUInt64");
-}
-
-fmi3Status fmi3SetBoolean(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Boolean values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3SetBoolean");
-}
-
-fmi3Status fmi3SetString(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3String values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3SetString");
-}
-
-fmi3Status fmi3SetBinary(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const size_t valueSizes[], const fmi3Binary values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)valueSizes; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3SetBinary");
-}
-
-fmi3Status fmi3SetClock(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Clock values[]) {
-  (void)valueReferences; (void)nValueReferences; (void)values;
-  return unsupported3(instance, "fmi3SetClock");
-}
-
-fmi3Status fmi3GetNumberOfVariableDependencies(fmi3Instance instance, fmi3ValueReference valueReference, size_t* nDependencies) {
-  (void)valueReference; (void)nDependencies;
-  return unsupported3(instance, "fmi3GetNumberOfVariableDependencies");
-}
-
-fmi3Status fmi3GetVariableDependencies(fmi3Instance instance, fmi3ValueReference dependent, size_t elementIndicesOfDependent[], fmi3ValueReference independents[], size_t elementIndicesOfIndependents[], fmi3DependencyKind dependencyKinds[], size_t nDependencies) {
-  (void)dependent; (void)elementIndicesOfDependent; (void)independents; (void)elementIndicesOfIndependents; (void)dependencyKinds; (void)nDependencies;
-  return unsupported3(instance, "fmi3GetVariableDependencies");
-}
-
 fmi3Status fmi3GetFMUState(fmi3Instance instance, fmi3FMUState* FMUState) {
-  (void)FMUState;
-  return unsupported3(instance, "fmi3GetFMUState");
+  return unsupported3(instance, __func__);
 }
-
 fmi3Status fmi3SetFMUState(fmi3Instance instance, fmi3FMUState FMUState) {
-  (void)FMUState;
-  return unsupported3(instance, "fmi3SetFMUState");
+  return unsupported3(instance, __func__);
 }
-
 fmi3Status fmi3FreeFMUState(fmi3Instance instance, fmi3FMUState* FMUState) {
-  (void)FMUState;
-  return unsupported3(instance, "fmi3FreeFMUState");
+  return unsupported3(instance, __func__);
 }
-
 fmi3Status fmi3SerializedFMUStateSize(fmi3Instance instance, fmi3FMUState FMUState, size_t* size) {
-  (void)FMUState; (void)size;
-  return unsupported3(instance, "fmi3SerializedFMUStateSize");
+  return unsupported3(instance, __func__);
 }
-
-fmi3Status fmi3SerializeFMUState(fmi3Instance instance, fmi3FMUState FMUState, fmi3Byte serializedState[], size_t size) {
-  (void)FMUState; (void)serializedState; (void)size;
-  return unsupported3(instance, "fmi3SerializeFMUState");
+fmi3Status fmi3SerializeFMUState(fmi3Instance instance, fmi3FMUState FMUState,
+                                 fmi3Byte serializedState[], size_t size) {
+  return unsupported3(instance, __func__);
 }
-
-fmi3Status fmi3DeserializeFMUState(fmi3Instance instance, const fmi3Byte serializedState[], size_t size, fmi3FMUState* FMUState) {
-  (void)serializedState; (void)size; (void)FMUState;
-  return unsupported3(instance, "fmi3DeserializeFMUState");
+fmi3Status fmi3DeserializeFMUState(fmi3Instance instance, const fmi3Byte serializedState[],
+                                   size_t size, fmi3FMUState* FMUState) {
+  return unsupported3(instance, __func__);
 }
-
-fmi3Status fmi3GetDirectionalDerivative(fmi3Instance instance, const fmi3ValueReference unknowns[], size_t nUnknowns, const fmi3ValueReference knowns[], size_t nKnowns, const fmi3Float64 seed[], size_t nSeed, fmi3Float64 sensitivity[], size_t nSensitivity) {
-  (void)unknowns; (void)nUnknowns; (void)knowns; (void)nKnowns; (void)seed; (void)nSeed; (void)sensitivity; (void)nSensitivity;
-  return unsupported3(instance, "fmi3GetDirectionalDerivative");
+fmi3Status fmi3GetDirectionalDerivative(fmi3Instance instance, const fmi3ValueReference unknowns[],
+                                        size_t nUnknowns, const fmi3ValueReference knowns[],
+                                        size_t nKnowns, const fmi3Float64 seed[], size_t nSeed,
+                                        fmi3Float64 sensitivity[], size_t nSensitivity) {
+  return unsupported3(instance, __func__);
 }
-
-fmi3Status fmi3GetAdjointDerivative(fmi3Instance instance, const fmi3ValueReference unknowns[], size_t nUnknowns, const fmi3ValueReference knowns[], size_t nKnowns, const fmi3Float64 seed[], size_t nSeed, fmi3Float64 sensitivity[], size_t nSensitivity) {
-  (void)unknowns; (void)nUnknowns; (void)knowns; (void)nKnowns; (void)seed; (void)nSeed; (void)sensitivity; (void)nSensitivity;
-  return unsupported3(instance, "fmi3GetAdjointDerivative");
+fmi3Status fmi3GetAdjointDerivative(fmi3Instance instance, const fmi3ValueReference unknowns[],
+                                    size_t nUnknowns, const fmi3ValueReference knowns[],
+                                    size_t nKnowns, const fmi3Float64 seed[], size_t nSeed,
+                                    fmi3Float64 sensitivity[], size_t nSensitivity) {
+  return unsupported3(instance, __func__);
 }
-
 fmi3Status fmi3EnterConfigurationMode(fmi3Instance instance) {
-  
-  return unsupported3(instance, "fmi3EnterConfigurationMode");
+  return unsupported3(instance, __func__);
 }
-
 fmi3Status fmi3ExitConfigurationMode(fmi3Instance instance) {
-  
-  return unsupported3(instance, "fmi3ExitConfigurationMode");
+  return unsupported3(instance, __func__);
 }
-
-fmi3Status fmi3GetIntervalDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Float64 intervals[], fmi3IntervalQualifier qualifiers[]) {
-  (void)valueReferences; (void)nValueReferences; (void)intervals; (void)qualifiers;
-  return unsupported3(instance, "fmi3GetIntervalDecimal");
+fmi3Status fmi3GetIntervalDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                                  size_t nValueReferences, fmi3Float64 intervals[],
+                                  fmi3IntervalQualifier qualifiers[]) {
+  return unsupported3(instance, __func__);
 }
-
-fmi3Status fmi3GetIntervalFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3UInt64 counters[], fmi3UInt64 resolutions[], fmi3IntervalQualifier qualifiers[]) {
-  (void)valueReferences; (void)nValueReferences; (void)counters; (void)resolutions; (void)qualifiers;
-  return unsupported3(instance, "fmi3GetIntervalFraction");
+fmi3Status fmi3GetIntervalFraction(fmi3Instance instance,
+                                   const fmi3ValueReference valueReferences[],
+                                   size_t nValueReferences, fmi3UInt64 counters[],
+                                   fmi3UInt64 resolutions[], fmi3IntervalQualifier qualifiers[]) {
+  return unsupported3(instance, __func__);
 }
-
-fmi3Status fmi3GetShiftDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Float64 shifts[]) {
-  (void)valueReferences; (void)nValueReferences; (void)shifts;
-  return unsupported3(instance, "fmi3GetShiftDecimal");
+fmi3Status fmi3GetShiftDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                               size_t nValueReferences, fmi3Float64 shifts[]) {
+  return unsupported3(instance, __func__);
 }
-
-fmi3Status fmi3GetShiftFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3UInt64 counters[], fmi3UInt64 resolutions[]) {
-  (void)valueReferences; (void)nValueReferences; (void)counters; (void)resolutions;
-  return unsupported3(instance, "fmi3GetShiftFraction");
+fmi3Status fmi3GetShiftFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                                size_t nValueReferences, fmi3UInt64 counters[],
+                                fmi3UInt64 resolutions[]) {
+  return unsupported3(instance, __func__);
 }
-
-fmi3Status fmi3SetIntervalDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Float64 intervals[]) {
-  (void)valueReferences; (void)nValueReferences; (void)intervals;
-  return unsupported3(instance, "fmi3SetIntervalDecimal");
+fmi3Status fmi3SetIntervalDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                                  size_t nValueReferences, const fmi3Float64 intervals[]) {
+  return unsupported3(instance, __func__);
 }
-
-fmi3Status fmi3SetIntervalFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3UInt64 counters[], const fmi3UInt64 resolutions[]) {
-  (void)valueReferences; (void)nValueReferences; (void)counters; (void)resolutions;
-  return unsupported3(instance, "fmi3SetIntervalFraction");
+fmi3Status fmi3SetIntervalFraction(fmi3Instance instance,
+                                   const fmi3ValueReference valueReferences[],
+                                   size_t nValueReferences, const fmi3UInt64 counters[],
+                                   const fmi3UInt64 resolutions[]) {
+  return unsupported3(instance, __func__);
 }
-
-fmi3Status fmi3SetShiftDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Float64 shifts[]) {
-  (void)valueReferences; (void)nValueReferences; (void)shifts;
-  return unsupported3(instance, "fmi3SetShiftDecimal");
+fmi3Status fmi3SetShiftDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                               size_t nValueReferences, const fmi3Float64 shifts[]) {
+  return unsupported3(instance, __func__);
 }
-
-fmi3Status fmi3SetShiftFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3UInt64 counters[], const fmi3UInt64 resolutions[]) {
-  (void)valueReferences; (void)nValueReferences; (void)counters; (void)resolutions;
-  return unsupported3(instance, "fmi3SetShiftFraction");
+fmi3Status fmi3SetShiftFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                                size_t nValueReferences, const fmi3UInt64 counters[],
+                                const fmi3UInt64 resolutions[]) {
+  return unsupported3(instance, __func__);
 }
-
 fmi3Status fmi3EvaluateDiscreteStates(fmi3Instance instance) {
-  
-  return unsupported3(instance, "fmi3EvaluateDiscreteStates");
+  return unsupported3(instance, __func__);
 }
-
-fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean* discreteStatesNeedUpdate, fmi3Boolean* terminateSimulation, fmi3Boolean* nominalsOfContinuousStatesChanged, fmi3Boolean* valuesOfContinuousStatesChanged, fmi3Boolean* nextEventTimeDefined, fmi3Float64* nextEventTime) {
-  (void)discreteStatesNeedUpdate; (void)terminateSimulation; (void)nominalsOfContinuousStatesChanged; (void)valuesOfContinuousStatesChanged; (void)nextEventTimeDefined; (void)nextEventTime;
-  return unsupported3(instance, "fmi3UpdateDiscreteStates");
+fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean* discreteStatesNeedUpdate,
+                                    fmi3Boolean* terminateSimulation,
+                                    fmi3Boolean* nominalsOfContinuousStatesChanged,
+                                    fmi3Boolean* valuesOfContinuousStatesChanged,
+                                    fmi3Boolean* nextEventTimeDefined, fmi3Float64* nextEventTime) {
+  return unsupported3(instance, __func__);
 }
-
 fmi3Status fmi3EnterContinuousTimeMode(fmi3Instance instance) {
-  
-  return unsupported3(instance, "fmi3EnterContinuousTimeMode");
+  return unsupported3(instance, __func__);
 }
-
-fmi3Status fmi3CompletedIntegratorStep(fmi3Instance instance, fmi3Boolean noSetFMUStatePriorToCurrentPoint, fmi3Boolean* enterEventMode, fmi3Boolean* terminateSimulation) {
-  (void)noSetFMUStatePriorToCurrentPoint; (void)enterEventMode; (void)terminateSimulation;
-  return unsupported3(instance, "fmi3CompletedIntegratorStep");
+fmi3Status fmi3CompletedIntegratorStep(fmi3Instance instance,
+                                       fmi3Boolean noSetFMUStatePriorToCurrentPoint,
+                                       fmi3Boolean* enterEventMode,
+                                       fmi3Boolean* terminateSimulation) {
+  return unsupported3(instance, __func__);
 }
-
 fmi3Status fmi3SetTime(fmi3Instance instance, fmi3Float64 time) {
-  (void)time;
-  return unsupported3(instance, "fmi3SetTime");
+  return unsupported3(instance, __func__);
 }
-
-fmi3Status fmi3SetContinuousStates(fmi3Instance instance, const fmi3Float64 continuousStates[], size_t nContinuousStates) {
-  (void)continuousStates; (void)nContinuousStates;
-  return unsupported3(instance, "fmi3SetContinuousStates");
+fmi3Status fmi3SetContinuousStates(fmi3Instance instance, const fmi3Float64 continuousStates[],
+                                   size_t nContinuousStates) {
+  return unsupported3(instance, __func__);
 }
-
-fmi3Status fmi3GetContinuousStateDerivatives(fmi3Instance instance, fmi3Float64 derivatives[], size_t nContinuousStates) {
-  (void)derivatives; (void)nContinuousStates;
-  return unsupported3(instance, "fmi3GetContinuousStateDerivatives");
-}
-
-fmi3Status fmi3GetEventIndicators(fmi3Instance instance, fmi3Float64 eventIndicators[], size_t nEventIndicators) {
-  (void)eventIndicators; (void)nEventIndicators;
-  return unsupported3(instance, "fmi3GetEventIndicators");
-}
-
-fmi3Status fmi3GetContinuousStates(fmi3Instance instance, fmi3Float64 continuousStates[], size_t nContinuousStates) {
-  (void)continuousStates; (void)nContinuousStates;
-  return unsupported3(instance, "fmi3GetContinuousStates");
-}
-
-fmi3Status fmi3GetNominalsOfContinuousStates(fmi3Instance instance, fmi3Float64 nominals[], size_t nContinuousStates) {
-  (void)nominals; (void)nContinuousStates;
-  return unsupported3(instance, "fmi3GetNominalsOfContinuousStates");
-}
-
+/* model exchange's arrays of states, their derivatives and nominals, and event indicators */
+#define FMI3_MODEL_EXCHANGE_ARRAYS(X) \
+  X(GetContinuousStates) X(GetContinuousStateDerivatives) X(GetNominalsOfContinuousStates) X(GetEventIndicators)
+#define GET_ARRAY_UNSUPPORTED(F)                                                                     \
+  fmi3Status fmi3##F(fmi3Instance instance, fmi3Float64 values[], size_t nValues) {                 \
+    return unsupported3(instance, __func__);                                                         \
+  }
+FMI3_MODEL_EXCHANGE_ARRAYS(GET_ARRAY_UNSUPPORTED)
 fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance instance, size_t* nEventIndicators) {
-  (void)nEventIndicators;
-  return unsupported3(instance, "fmi3GetNumberOfEventIndicators");
+  return unsupported3(instance, __func__);
 }
-
 fmi3Status fmi3GetNumberOfContinuousStates(fmi3Instance instance, size_t* nContinuousStates) {
-  (void)nContinuousStates;
-  return unsupported3(instance, "fmi3GetNumberOfContinuousStates");
+  return unsupported3(instance, __func__);
+}
+fmi3Status fmi3GetOutputDerivatives(fmi3Instance instance,
+                                    const fmi3ValueReference valueReferences[],
+                                    size_t nValueReferences, const fmi3Int32 orders[],
+                                    fmi3Float64 values[], size_t nValues) {
+  return unsupported3(instance, __func__);
+}
+fmi3Status fmi3ActivateModelPartition(fmi3Instance instance, fmi3ValueReference clockReference,
+                                      fmi3Float64 activationTime) {
+  return unsupported3(instance, __func__);
 }
 
-fmi3Status fmi3GetOutputDerivatives(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Int32 orders[], fmi3Float64 values[], size_t nValues) {
-  (void)valueReferences; (void)nValueReferences; (void)orders; (void)values; (void)nValues;
-  return unsupported3(instance, "fmi3GetOutputDerivatives");
-}
-
-fmi3Status fmi3ActivateModelPartition(fmi3Instance instance, fmi3ValueReference clockReference, fmi3Float64 activationTime) {
-  (void)clockReference; (void)activationTime;
-  return unsupported3(instance, "fmi3ActivateModelPartition");
-}
+#pragma GCC diagnostic pop

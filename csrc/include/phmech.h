@@ -153,6 +153,13 @@ phm_status phm_planar_check(const phm_model *model, const double *H, const doubl
 phm_status phm_simulate(const phm_model *model, const double *poses0, const double *twists0,
                         const double *tout, int nout, const phm_sim_options *opt,
                         phm_sim_output *out, phm_error *err);
+/* The result quantities (csrc/include/phmech_results.h, PHM_RESULT_FIELDS): row `f` of the table
+ * (csrc/util/codes.c; NULL if out of range), and one output's shape of array `f` for `model`
+ * with `nrecord` recorded carriers (< 0: all): dims[0] entries of `over`, then an item's dims,
+ * with the dimensions' names (csrc/dae/output.c). Returns the number of dims (1 to 3); 0 for an
+ * unknown field. model NULL: the names only (dims 0 where they depend on the model). */
+const phm_result_field *phm_result_field_at(int f);
+int phm_result_shape(const phm_model *model, int nrecord, int f, long dims[3], const char *names[3]);
 
 /* ---------------------------------------------------------------- integrators (csrc/integrate/integrators.c) */
 int phm_integrator_count(void);                  /* rows of the table of integrators (codes 0..count-1) */

@@ -505,57 +505,8 @@ typedef struct {
 
 #define PHM_NENERGY 7 /* kinetic, elastic, gravity, dissipated, supplied, total, ledger residual */
 
-/* Caller-allocated output for nout times (arrays may be NULL to skip). */
-typedef struct {
-  const int *record; /* carriers stored in poses/twists, in this order; NULL: all, nrecord = nc */
-  int nrecord;
-  double *poses;   /* [nout][nrecord][16]                              */
-  double *twists;  /* [nout][nrecord][6]                               */
-  double *lambda;  /* [nout][nconstraints]                             */
-  double *energy;  /* [nout][PHM_NENERGY]                              */
-  double *joints;  /* [nout][njoints] joint coordinates x              */
-  double *joint_rates;  /* [nout][njoints] joint rates xdot                 */
-  double *efforts; /* [nout][njoints] sum of the actuators' efforts u  */
-  double *pwrench; /* [nout][npairs][6] constraint wrench W^C lambda on b, frame F_b */
-  double *ports;   /* [nout][nports] energy supplied through each port, J (actuators: int u.xdot;
-                    * loads: int w.t; springs: minus the dissipated energy)              */
-  double *components; /* [nout][ncompstates] the components' internal states (phm_model_ncompstates) */
-  double *constraint_residual; /* [nout][npairs] each pair's position constraint residual: the
-                    * largest |g| of its kept rows (rad for rotation rows, m for translation
-                    * rows; 0 for a pair without rows) */
-  int nout_done;   /* outputs filled                                    */
-  long nsteps, nres, njac, nniters, netf, nncf; /* integrator statistics (IDA or GALPHA) */
-  long nfloor;     /* adaptive GALPHA: steps accepted above the tolerance (at the refinement's
-                    * limit, 1/(PHM_REFINE_MAX PHM_BAND_STEPS band))                  */
-  double err_ratio, t_err_ratio; /* adaptive GALPHA: the largest error estimate of an accepted
-                    * step over its tolerance (per unit step: <= 1 keeps the contract) and
-                    * the time that step ended [s]                                      */
-  double min_step; /* adaptive GALPHA: the shortest step taken [s]                      */
-  long nnoise;     /* adaptive GALPHA: steps accepted with an estimate above the tolerance
-                    * per unit step but at the level of Newton's noise (galpha.c)         */
-  double err_est;  /* adaptive GALPHA: sum over steps of the max-norm local error estimate of
-                    * the configuration (m, rad-like units): a bound of the global error
-                    * without error propagation                                       */
-  double err_sum;  /* adaptive GALPHA: sum over steps of the local error estimate in tolerances
-                    * (WRMS, weights rtol |y| + atol): the accumulated error without error
-                    * propagation, <= 1 when the contract holds (Newton's noise-accepted
-                    * steps included: a systematic Newton error adds up step after step) */
-  double newton_rtol; /* adaptive GALPHA: Newton's relative tolerance at the end (PHM_NEWTON_RTOL,
-                    * tightened while the summed estimates run ahead: galpha.c)          */
-  double last_step; int last_order;             /* last step [s] and order (BDF order; GALPHA: 2) */
-  double max_mu;   /* the largest |mu| at the outputs (the position constraints' multipliers,
-                    * docs/method.md section 6.2: 0 for the exact solution, rad/s and m/s) */
-  double wall_time;                             /* seconds             */
-} phm_sim_output;
-
-/* The arrays of a simulation's result (phm_sim_output's arrays, in its order), by position in
- * the result-field table (csrc/util/codes.c names them). */
-enum {
-  PHM_RESULT_POSES = 0, PHM_RESULT_TWISTS = 1, PHM_RESULT_LAMBDA = 2, PHM_RESULT_ENERGY = 3,
-  PHM_RESULT_JOINTS = 4, PHM_RESULT_JOINT_RATES = 5, PHM_RESULT_EFFORTS = 6,
-  PHM_RESULT_PAIR_WRENCHES = 7, PHM_RESULT_PORTS = 8, PHM_RESULT_COMPONENTS = 9,
-  PHM_RESULT_CONSTRAINT_RESIDUAL = 10, PHM_NRESULT_FIELDS = 11
-};
+/* The result quantities (PHM_RESULT_FIELDS) and a simulation's output, phm_sim_output. */
+#include "phmech_results.h"
 
 /* ---------------------------------------------------------------- code tables (csrc/util/codes.c) */
 /* One named value of an enum (name lower case, as the enum's). */

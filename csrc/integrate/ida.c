@@ -75,17 +75,16 @@ static int ledger_free(SUNLinearSolver S) {
   return 0;
 }
 
-/* A direct solver that is u->inner plus the ledger's correction (NULL: out of memory). */
+/* A direct solver that is u->inner plus the ledger's correction (NULL: out of memory); the
+ * operations it does not name stay unset, as SUNLinSolNewEmpty leaves them. */
+static const struct _generic_SUNLinearSolver_Ops ledger_ops = {
+    .gettype = ledger_gettype, .initialize = ledger_initialize, .setup = ledger_setup,
+    .solve = ledger_solve,     .lastflag = ledger_lastflag,     .free = ledger_free};
 static SUNLinearSolver ledger_wrap(ida_ud *u, SUNContext ctx) {
   SUNLinearSolver S = SUNLinSolNewEmpty(ctx);
   if (!S) return NULL;
   S->content = u;
-  S->ops->gettype = ledger_gettype;
-  S->ops->initialize = ledger_initialize;
-  S->ops->setup = ledger_setup;
-  S->ops->solve = ledger_solve;
-  S->ops->lastflag = ledger_lastflag;
-  S->ops->free = ledger_free;
+  *S->ops = ledger_ops;
   return S;
 }
 

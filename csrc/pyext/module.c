@@ -36,6 +36,30 @@ PyObject *phm_py_raise(const phm_error *err) {
   return NULL;
 }
 
+PyObject *phm_py_str_tuple(const char *const *s, int n) {
+  PyObject *t = PyTuple_New(n);
+  for (int i = 0; t && i < n; i++) {
+    PyObject *v = PyUnicode_FromString(s[i] ? s[i] : "");
+    if (!v) Py_CLEAR(t);
+    else PyTuple_SET_ITEM(t, i, v);
+  }
+  return t;
+}
+
+PyObject *phm_py_list(int n, PyObject *(*item)(int i, const void *ctx), const void *ctx) {
+  PyObject *l = PyList_New(n);
+  for (int i = 0; l && i < n; i++) {
+    PyObject *o = item(i, ctx);
+    if (!o) Py_CLEAR(l);
+    else PyList_SET_ITEM(l, i, o);
+  }
+  return l;
+}
+
+static PyObject *int_item(int i, const void *v) { return PyLong_FromLong(((const int *)v)[i]); }
+
+PyObject *phm_py_int_list(const int *v, int n) { return phm_py_list(n, int_item, v); }
+
 PyArrayObject *phm_py_double_array(PyObject *obj, const char *what, const npy_intp *tail, int ntail,
                                    int stack) {
   /* Convert with NumPy's natural dtype first, so strings, bytes, complex numbers and objects

@@ -12,11 +12,8 @@
  * and nothing held. */
 static int linearization_point(const phm_model *m, PyObject *po, PyObject *lo, PyArrayObject **P,
                                PyArrayObject **L) {
-  *P = *L = NULL;
-  if (po != Py_None) {
-    npy_intp tail[3] = {phm_model_ncarriers(m), 4, 4};
-    if (!(*P = phm_py_double_array(po, "poses", tail, 3, 0))) return -1;
-  }
+  *L = NULL;
+  if (phm_py_model_poses(m, po, "poses", 1, P) < 0) return -1;
   if (lo != Py_None) {
     npy_intp tail[1] = {phm_model_nconstraints(m)};
     if (!(*L = phm_py_double_array(lo, "constraint wrenches", tail, 1, 0))) {
@@ -192,11 +189,8 @@ static PyObject *py_model_static(PyObject *self, PyObject *args) {
   phm_model *m = phm_py_get_model(cap);
   if (!m) return NULL;
   int nc = phm_model_ncarriers(m), nk = phm_model_nconstraints(m);
-  PyArrayObject *P = NULL;
-  if (po != Py_None) {
-    npy_intp tail[3] = {nc, 4, 4};
-    if (!(P = phm_py_double_array(po, "poses", tail, 3, 0))) return NULL;
-  }
+  PyArrayObject *P;
+  if (phm_py_model_poses(m, po, "poses", 1, &P) < 0) return NULL;
   npy_intp dp[3] = {nc, 4, 4}, dl[1] = {nk};
   PyArrayObject *poses = (PyArrayObject *)PyArray_ZEROS(3, dp, NPY_DOUBLE, 0);
   PyArrayObject *lam = (PyArrayObject *)PyArray_ZEROS(1, dl, NPY_DOUBLE, 0);
@@ -238,6 +232,39 @@ static PyObject *py_model_static(PyObject *self, PyObject *args) {
   return res;
 }
 
+/* What phm_static_free found: its motions, each one's moving carriers (nc flags) and loads' work
+ * (nl values). */
+typedef struct {
+  const phm_free_motion *fm;
+  const unsigned char *mv;
+  const double *lw;
+  int nc, nl;
+} free_motions;
+
+/* Motion k of the free_motions `ctx` as a dict (model_static_free). */
+static PyObject *free_motion_dict(int k, const void *ctx) {
+  const free_motions *f = ctx;
+  const phm_free_motion *fm = f->fm + k;
+  npy_intp d6[1] = {6}, dn[1] = {f->nc}, dl[1] = {f->nl};
+  PyArrayObject *tw = (PyArrayObject *)PyArray_SimpleNew(1, d6, NPY_DOUBLE);
+  PyArrayObject *mo = (PyArrayObject *)PyArray_SimpleNew(1, dn, NPY_BOOL);
+  PyArrayObject *lo = (PyArrayObject *)PyArray_SimpleNew(1, dl, NPY_DOUBLE);
+  PyObject *d = NULL;
+  if (tw && mo && lo) {
+    memcpy(PyArray_DATA(tw), fm->twist, sizeof fm->twist);
+    for (int c = 0; c < f->nc; c++) ((npy_bool *)PyArray_DATA(mo))[c] = f->mv[(size_t)k * f->nc + c] != 0;
+    if (f->nl) memcpy(PyArray_DATA(lo), f->lw + (size_t)k * f->nl, sizeof(double) * (size_t)f->nl);
+    d = Py_BuildValue("{s:i,s:i,s:i,s:O,s:d,s:d,s:d,s:d,s:O,s:O}", "pair", fm->pair, "coord",
+                      fm->coord, "carrier", fm->carrier, "twist", tw, "force", fm->force, "gravity",
+                      fm->gravity, "effort", fm->effort, "mass", fm->mass, "moving", mo,
+                      "load_work", lo);
+  }
+  Py_XDECREF(tw);
+  Py_XDECREF(mo);
+  Py_XDECREF(lo);
+  return d;
+}
+
 /* model_static_free(model, poses=None, time=0, nmax=8) -> [dict(pair, coord, carrier, twist (6,),
  * force, gravity, effort, mass, moving (nc,) bool, load_work (nloads,)), ...]: the motions that
  * nothing resists and on which the loads do work (phm_static_free); [] when none is found. */
@@ -254,11 +281,8 @@ static PyObject *py_model_static_free(PyObject *self, PyObject *args) {
     return NULL;
   }
   int nc = phm_model_ncarriers(m), nl = phm_model_nloads(m);
-  PyArrayObject *P = NULL;
-  if (po != Py_None) {
-    npy_intp tail[3] = {nc, 4, 4};
-    if (!(P = phm_py_double_array(po, "poses", tail, 3, 0))) return NULL;
-  }
+  PyArrayObject *P;
+  if (phm_py_model_poses(m, po, "poses", 1, &P) < 0) return NULL;
   phm_free_motion *fm = PyMem_Calloc((size_t)nmax, sizeof *fm);
   unsigned char *mv = PyMem_Calloc((size_t)nmax * (size_t)nc + 1, 1);
   double *lw = PyMem_Calloc((size_t)nmax * (size_t)nl + 1, sizeof(double));
@@ -278,31 +302,8 @@ static PyObject *py_model_static_free(PyObject *self, PyObject *args) {
     phm_py_raise(&err);
     goto done;
   }
-  if (!(res = PyList_New(n))) goto done;
-  for (int k = 0; k < n; k++) {
-    npy_intp d6[1] = {6}, dn[1] = {nc}, dl[1] = {nl};
-    PyArrayObject *tw = (PyArrayObject *)PyArray_SimpleNew(1, d6, NPY_DOUBLE);
-    PyArrayObject *mo = (PyArrayObject *)PyArray_SimpleNew(1, dn, NPY_BOOL);
-    PyArrayObject *lo = (PyArrayObject *)PyArray_SimpleNew(1, dl, NPY_DOUBLE);
-    PyObject *d = NULL;
-    if (tw && mo && lo) {
-      memcpy(PyArray_DATA(tw), fm[k].twist, sizeof fm[k].twist);
-      for (int c = 0; c < nc; c++) ((npy_bool *)PyArray_DATA(mo))[c] = mv[(size_t)k * nc + c] != 0;
-      if (nl) memcpy(PyArray_DATA(lo), lw + (size_t)k * nl, sizeof(double) * (size_t)nl);
-      d = Py_BuildValue("{s:i,s:i,s:i,s:O,s:d,s:d,s:d,s:d,s:O,s:O}", "pair", fm[k].pair, "coord",
-                        fm[k].coord, "carrier", fm[k].carrier, "twist", tw, "force", fm[k].force,
-                        "gravity", fm[k].gravity, "effort", fm[k].effort, "mass", fm[k].mass,
-                        "moving", mo, "load_work", lo);
-    }
-    Py_XDECREF(tw);
-    Py_XDECREF(mo);
-    Py_XDECREF(lo);
-    if (!d) {
-      Py_CLEAR(res);
-      goto done;
-    }
-    PyList_SET_ITEM(res, k, d);
-  }
+  free_motions f = {fm, mv, lw, nc, nl};
+  res = phm_py_list(n, free_motion_dict, &f);
 done:
   PyMem_Free(fm);
   PyMem_Free(mv);

@@ -50,9 +50,36 @@ static PyObject *py_codes(PyObject *self, PyObject *noargs) {
   return d;
 }
 
+/* Row f of the table of result quantities as a dict (result_fields). */
+static PyObject *result_field_dict(int f, const void *ctx) {
+  (void)ctx;
+  const phm_result_field *r = phm_result_field_at(f);
+  long shape[3];
+  const char *names[3] = {NULL, NULL, NULL};
+  int nd = phm_result_shape(NULL, -1, f, shape, names);
+  PyObject *dims = phm_py_str_tuple(names, nd);
+  PyObject *d = dims ? Py_BuildValue("{s:s,s:O,s:s,s:s,s:s}", "name", r->name, "dims", dims, "unit",
+                                     r->unit, "noun", r->noun, "text", r->text)
+                     : NULL;
+  Py_XDECREF(dims);
+  return d;
+}
+
+/* result_fields() -> [{name, dims, unit, noun, text}, ...]: the table of result quantities
+ * (csrc/include/phmech_results.h) in its order, dims the names of one output's dimensions. */
+static PyObject *py_result_fields(PyObject *self, PyObject *noargs) {
+  (void)self;
+  (void)noargs;
+  return phm_py_list(PHM_NRESULT_FIELDS, result_field_dict, NULL);
+}
+
 PyMethodDef phm_py_codes_methods[] = {
     {"codes", py_codes, METH_NOARGS,
      "codes() -> dict: the core's code tables, from its C enums: pair_types, law_kinds, "
      "integrators, actuator_kinds, mass_kinds ({name: code}, names lower case) and result_fields "
      "(list: the names of the arrays simulate returns, in the core's order)."},
+    {"result_fields", py_result_fields, METH_NOARGS,
+     "result_fields() -> [dict(name, dims, unit, noun, text)]: the table of result quantities "
+     "(csrc/include/phmech_results.h) in the core's order; dims names one output's dimensions "
+     "(e.g. ('pair', 'component'))."},
     {NULL, NULL, 0, NULL}};

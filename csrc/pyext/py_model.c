@@ -22,6 +22,13 @@ phm_model *phm_py_get_model(PyObject *cap) {
   return (phm_model *)PyCapsule_GetPointer(cap, PHM_PY_MODEL_CAPSULE);
 }
 
+int phm_py_model_poses(const phm_model *m, PyObject *po, const char *what, int optional, PyArrayObject **P) {
+  npy_intp tail[3] = {phm_model_ncarriers(m), 4, 4};
+  *P = NULL;
+  if (optional && po == Py_None) return 0;
+  return (*P = phm_py_double_array(po, what, tail, 3, 0)) ? 0 : -1;
+}
+
 /* An index or enumeration code given as float64 (the columns of python/phmech/_marshal.py): it
  * must be a whole number representable as int (the core then checks its range); converting
  * anything else to int would truncate (1.5 -> carrier 1) or be undefined behaviour (1e20, C11
@@ -37,62 +44,14 @@ int phm_py_to_int(double v, const char *what, npy_intp i, int *out) {
   return 0;
 }
 
-static const column carrier_columns[] = {
-    SCALAR("mass", "carrier masses", phm_carrier_desc, mass),
-    MATRIX("M", "carrier inertias", phm_carrier_desc, M, 6, 6),
-    VECTOR("com", "centres of mass", phm_carrier_desc, com, 3),
-    MATRIX("H0", "carrier poses", phm_carrier_desc, H0, 4, 4),
-    VECTOR("t0", "carrier twists", phm_carrier_desc, t0, 6),
-};
-static const column element_columns[] = {
-    SCALAR("h", "element lengths", phm_element_desc, h),
-    INDEX2("nodes", "element nodes", phm_element_desc, a, b, "element"),
-    MATRIX("K", "element stiffness", phm_element_desc, K, 6, 6),
-    MATRIX("D", "element damping", phm_element_desc, D, 6, 6),
-    VECTOR("eps_hat", "element unstressed strain", phm_element_desc, eps_hat, 6),
-    INDEX("mass", "element mass kinds", phm_element_desc, mass, "mass kind of element"),
-    MATRIX("Ms", "element section inertias", phm_element_desc, Ms, 6, 6),
-    MATRIX("Mc", "element mass couplings", phm_element_desc, Mc, 12, 12),
-};
-static const column pair_columns[] = {
-    INDEX("type", "pair types", phm_pair_desc, type, "pair type of pair"),
-    INDEX2("carriers", "pair carriers", phm_pair_desc, a, b, "pair"),
-    MATRIX("Ta", "pair frames Ta", phm_pair_desc, Ta, 4, 4),
-    MATRIX("Tb", "pair frames Tb", phm_pair_desc, Tb, 4, 4),
-    FLAG("driven", "pair driven flags", phm_pair_desc, driven),
-    VECTOR("axis", "pair motion axes", phm_pair_desc, axis, 6),
-    LAW("law", "pair laws", phm_pair_desc, law, "pair motion law", LAW_IF_DRIVEN),
-    {"xlaws", "pair joint laws", COL_XLAWS, 0, {0}, {offsetof(phm_pair_desc, xlaw), 0}, "pair joint law", 0},
-    SCALAR("pitch", "pair pitches", phm_pair_desc, pitch),
-    VECTOR("x0", "pair initial coordinates", phm_pair_desc, x0, 6),
-    FLAG("has_x0", "pair x0 flags", phm_pair_desc, has_x0),
-    {"drop", "pair drop masks", COL_DROP, 0, {0}, {offsetof(phm_pair_desc, drop), 0}, NULL, 0},
-};
-static const column load_columns[] = {
-    INDEX("carrier", "load carriers", phm_load_desc, carrier, "load"),
-    FLAG("world", "load frames", phm_load_desc, world),
-    VECTOR("point", "load points", phm_load_desc, point, 3),
-    VECTOR("w", "load wrenches", phm_load_desc, w, 6),
-    LAW("law", "load laws", phm_load_desc, law, "load law", LAW_ALWAYS),
-    INDEX("reaction", "load reactions", phm_load_desc, reaction, "reaction of load"),
-};
-static const column actuator_columns[] = {
-    INDEX("pair", "actuator pairs", phm_actuator_desc, pair, "pair of actuator"),
-    INDEX("kind", "actuator kinds", phm_actuator_desc, kind, "kind of actuator"),
-    VECTOR("vec", "actuator vectors", phm_actuator_desc, vec, 6),
-    VECTOR("kp", "actuator kp", phm_actuator_desc, kp, 6),
-    VECTOR("kd", "actuator kd", phm_actuator_desc, kd, 6),
-    VECTOR("x_set", "actuator set points", phm_actuator_desc, x_set, 6),
-    LAW("law", "actuator laws", phm_actuator_desc, law, "actuator law", LAW_OR_NONE),
-};
-static const column spring_columns[] = {
-    SCALAR("k", "spring stiffnesses", phm_spring_desc, k),
-    INDEX2("carriers", "spring carriers", phm_spring_desc, a, b, "spring"),
-    VECTOR("pa", "spring points a", phm_spring_desc, pa, 3),
-    VECTOR("pb", "spring points b", phm_spring_desc, pb, 3),
-    SCALAR("c", "spring damping coefficients", phm_spring_desc, c),
-    SCALAR("rest_length", "spring rest lengths", phm_spring_desc, d0),
-};
+/* Every column of every kind (csrc/pyext/py_model.h); the couplings and components only
+ * model_new reads. */
+static const column carrier_columns[] = {PHM_PY_CARRIER_COLUMNS(PHM_PY_KEEP, PHM_PY_KEEP)};
+static const column element_columns[] = {PHM_PY_ELEMENT_COLUMNS(PHM_PY_KEEP, PHM_PY_KEEP)};
+static const column pair_columns[] = {PHM_PY_PAIR_COLUMNS(PHM_PY_KEEP, PHM_PY_KEEP)};
+static const column load_columns[] = {PHM_PY_LOAD_COLUMNS(PHM_PY_KEEP, PHM_PY_KEEP)};
+static const column actuator_columns[] = {PHM_PY_ACTUATOR_COLUMNS(PHM_PY_KEEP, PHM_PY_KEEP)};
+static const column spring_columns[] = {PHM_PY_SPRING_COLUMNS(PHM_PY_KEEP, PHM_PY_KEEP)};
 
 static const column coupling_columns[] = {
     MATRIX("Mc", "mass couplings", phm_coupling_desc, Mc, 12, 12),
@@ -112,17 +71,8 @@ static const column component_columns[] = {
     LAW("law", "component laws", phm_component_desc, law, "component law", LAW_OR_NONE),
 };
 
-enum { NKINDS = 8 };
-static const component COMPONENTS[NKINDS] = {
-    KIND("carriers", "carrier", phm_carrier_desc, carrier_columns),
-    KIND("elements", "element", phm_element_desc, element_columns),
-    KIND("pairs", "pair", phm_pair_desc, pair_columns),
-    KIND("loads", "load", phm_load_desc, load_columns),
-    KIND("actuators", "actuator", phm_actuator_desc, actuator_columns),
-    KIND("springs", "spring", phm_spring_desc, spring_columns),
-    KIND("couplings", "coupling", phm_coupling_desc, coupling_columns),
-    KIND("components", "component", phm_component_desc, component_columns),
-};
+static const component COMPONENTS[] = {PHM_PY_COMPONENT_KINDS(PHM_PY_KEEP, PHM_PY_KEEP)};
+enum { NKINDS = sizeof COMPONENTS / sizeof COMPONENTS[0] };
 
 /* The numeric column `col` (an array of shape (n, tail)) into the n structs at `items`. */
 static int fill_numbers(const component *cp, const column *col, PyArrayObject *a, npy_intp n, char *items) {
@@ -337,12 +287,14 @@ static PyObject *py_model_sizes(PyObject *self, PyObject *cap) {
   if (!m) return NULL;
   int np_ = phm_model_npairs(m);
   PyObject *lay = PyList_New(np_);
-  if (!lay) return NULL;
-  for (int ip = 0; ip < np_; ip++) {
+  for (int ip = 0; lay && ip < np_; ip++) {
     int row, mc, j, k;
     phm_model_pair_layout(m, ip, &row, &mc, &j, &k);
-    PyList_SET_ITEM(lay, ip, Py_BuildValue("iiii", row, mc, j, k));
+    PyObject *t = Py_BuildValue("iiii", row, mc, j, k);
+    if (!t) Py_CLEAR(lay);
+    else PyList_SET_ITEM(lay, ip, t);
   }
+  if (!lay) return NULL;
   return Py_BuildValue("iiiiNi", phm_model_ncarriers(m), phm_model_nconstraints(m),
                        phm_model_njoints(m), phm_model_nports(m), lay, phm_model_ncompstates(m));
 }
@@ -351,9 +303,9 @@ static PyObject *py_model_sizes(PyObject *self, PyObject *cap) {
  * as arrays in *P, *X; 0, or -1 with an exception set and nothing held. */
 static int poses_and_references(const phm_model *m, PyObject *po, PyObject *xo, PyArrayObject **P,
                                 PyArrayObject **X) {
-  npy_intp tail[3] = {phm_model_ncarriers(m), 4, 4}, tj[1] = {phm_model_njoints(m)};
+  npy_intp tj[1] = {phm_model_njoints(m)};
   *X = NULL;
-  if (!(*P = phm_py_double_array(po, "poses", tail, 3, 0))) return -1;
+  if (phm_py_model_poses(m, po, "poses", 0, P) < 0) return -1;
   if (xo != Py_None && !(*X = phm_py_double_array(xo, "joint references", tj, 1, 0))) {
     Py_CLEAR(*P);
     return -1;

@@ -5,45 +5,27 @@
 
 #include <string.h>
 
-static PyObject *str_tuple(const char *const *s, int n) {
-  PyObject *t = PyTuple_New(n);
-  if (!t) return NULL;
-  for (int i = 0; i < n; i++) {
-    PyObject *v = PyUnicode_FromString(s[i] ? s[i] : "");
-    if (!v) {
-      Py_DECREF(t);
-      return NULL;
-    }
-    PyTuple_SET_ITEM(t, i, v);
-  }
-  return t;
+/* Pair type i as a dict (pair_types). */
+static PyObject *pair_type_dict(int i, const void *ctx) {
+  (void)ctx;
+  const phm_pair_type_info *t = phm_pair_type(i);
+  int k = 6 - t->m;
+  PyObject *units = phm_py_str_tuple(t->units, k), *dirs = phm_py_str_tuple(t->directions, t->m);
+  PyObject *d = units && dirs ? Py_BuildValue("{s:i,s:s,s:i,s:i,s:s,s:O,s:O,s:O,s:i,s:s}", "code", i,
+                                              "name", t->name, "k", k, "m", t->m, "params",
+                                              t->params, "units", units, "directions", dirs,
+                                              "drivable", t->drivable ? Py_True : Py_False,
+                                              "xdrivable", t->xdrivable, "doc", t->doc)
+                              : NULL;
+  Py_XDECREF(units);
+  Py_XDECREF(dirs);
+  return d;
 }
 
 static PyObject *py_pair_types(PyObject *self, PyObject *noargs) {
   (void)self;
   (void)noargs;
-  int n = phm_pair_type_count();
-  PyObject *list = PyList_New(n);
-  if (!list) return NULL;
-  for (int i = 0; i < n; i++) {
-    const phm_pair_type_info *t = phm_pair_type(i);
-    int k = 6 - t->m;
-    PyObject *units = str_tuple(t->units, k), *dirs = str_tuple(t->directions, t->m);
-    PyObject *d = units && dirs ? Py_BuildValue("{s:i,s:s,s:i,s:i,s:s,s:O,s:O,s:O,s:i,s:s}", "code", i,
-                                                "name", t->name, "k", k, "m", t->m, "params",
-                                                t->params, "units", units, "directions", dirs,
-                                                "drivable", t->drivable ? Py_True : Py_False,
-                                                "xdrivable", t->xdrivable, "doc", t->doc)
-                                  : NULL;
-    Py_XDECREF(units);
-    Py_XDECREF(dirs);
-    if (!d) {
-      Py_DECREF(list);
-      return NULL;
-    }
-    PyList_SET_ITEM(list, i, d);
-  }
-  return list;
+  return phm_py_list(phm_pair_type_count(), pair_type_dict, NULL);
 }
 
 /* The type code and pitch arguments, checked. */

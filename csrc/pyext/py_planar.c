@@ -66,15 +66,7 @@ static PyObject *py_model_planar(PyObject *self, PyObject *args) {
     for (int k = 0; k < 3; k++) why[k][0] = '\0';
     if (phm_planar_check(m, PyArray_DATA(P), PyArray_DATA(T), nm, &axis, drop, why, &err)) phm_py_raise(&err);
     else if (!phm_py_model_law_error(cap)) {
-      PyObject *masks = Py_NewRef(Py_None);
-      if (axis >= 0) {
-        Py_SETREF(masks, PyList_New(np_));
-        for (int ip = 0; masks && ip < np_; ip++) {
-          PyObject *v = PyLong_FromLong(drop[ip]);
-          if (!v) Py_CLEAR(masks);
-          else PyList_SET_ITEM(masks, ip, v);
-        }
-      }
+      PyObject *masks = axis >= 0 ? phm_py_int_list(drop, np_) : Py_NewRef(Py_None);
       if (masks)
         res = Py_BuildValue("NN(NNN)", axis >= 0 ? PyLong_FromLong(axis) : Py_NewRef(Py_None), masks,
                             why_or_none(why[0]), why_or_none(why[1]), why_or_none(why[2]));
@@ -87,45 +79,16 @@ static PyObject *py_model_planar(PyObject *self, PyObject *args) {
   return res;
 }
 
-/* The columns planar_check reads of _marshal.components (others are ignored). */
-static const column planar_carrier_columns[] = {
-    SCALAR("mass", "carrier masses", phm_carrier_desc, mass),
-    MATRIX("M", "carrier inertias", phm_carrier_desc, M, 6, 6),
-    VECTOR("com", "centres of mass", phm_carrier_desc, com, 3),
-};
-static const column planar_element_columns[] = {
-    MATRIX("K", "element stiffness", phm_element_desc, K, 6, 6),
-    MATRIX("D", "element damping", phm_element_desc, D, 6, 6),
-    MATRIX("Ms", "element section inertias", phm_element_desc, Ms, 6, 6),
-    MATRIX("Mc", "element mass couplings", phm_element_desc, Mc, 12, 12),
-    VECTOR("eps_hat", "element unstressed strain", phm_element_desc, eps_hat, 6),
-};
-static const column planar_pair_columns[] = {
-    INDEX2("carriers", "pair carriers", phm_pair_desc, a, b, "pair"),
-    FLAG("driven", "pair driven flags", phm_pair_desc, driven),
-    {"xlaws", "pair joint laws", COL_XLAWS, 0, {0}, {offsetof(phm_pair_desc, xlaw), 0}, "pair joint law", 0},
-};
-static const column planar_load_columns[] = {
-    VECTOR("w", "load wrenches", phm_load_desc, w, 6),
-    VECTOR("point", "load points", phm_load_desc, point, 3),
-};
-static const column planar_actuator_columns[] = {
-    INDEX("pair", "actuator pairs", phm_actuator_desc, pair, "pair of actuator"),
-};
-static const column planar_spring_columns[] = {
-    INDEX2("carriers", "spring carriers", phm_spring_desc, a, b, "spring"),
-    VECTOR("pa", "spring points a", phm_spring_desc, pa, 3),
-    VECTOR("pb", "spring points b", phm_spring_desc, pb, 3),
-};
-enum { NPLANAR = 6 };
-static const component PLANAR_COMPONENTS[NPLANAR] = {
-    KIND("carriers", "carrier", phm_carrier_desc, planar_carrier_columns),
-    KIND("elements", "element", phm_element_desc, planar_element_columns),
-    KIND("pairs", "pair", phm_pair_desc, planar_pair_columns),
-    KIND("loads", "load", phm_load_desc, planar_load_columns),
-    KIND("actuators", "actuator", phm_actuator_desc, planar_actuator_columns),
-    KIND("springs", "spring", phm_spring_desc, planar_spring_columns),
-};
+/* The columns planar_check reads of _marshal.components (others are ignored): those of
+ * csrc/pyext/py_model.h marked BOTH, of the first six kinds. */
+static const column carrier_columns[] = {PHM_PY_CARRIER_COLUMNS(PHM_PY_SKIP, PHM_PY_KEEP)};
+static const column element_columns[] = {PHM_PY_ELEMENT_COLUMNS(PHM_PY_SKIP, PHM_PY_KEEP)};
+static const column pair_columns[] = {PHM_PY_PAIR_COLUMNS(PHM_PY_SKIP, PHM_PY_KEEP)};
+static const column load_columns[] = {PHM_PY_LOAD_COLUMNS(PHM_PY_SKIP, PHM_PY_KEEP)};
+static const column actuator_columns[] = {PHM_PY_ACTUATOR_COLUMNS(PHM_PY_SKIP, PHM_PY_KEEP)};
+static const column spring_columns[] = {PHM_PY_SPRING_COLUMNS(PHM_PY_SKIP, PHM_PY_KEEP)};
+static const component PLANAR_COMPONENTS[] = {PHM_PY_COMPONENT_KINDS(PHM_PY_SKIP, PHM_PY_KEEP)};
+enum { NPLANAR = sizeof PLANAR_COMPONENTS / sizeof PLANAR_COMPONENTS[0] };
 
 /* The rows of a scene from a dense G (nrow, 6 nc) and a layout [(row, m, joint, k) per pair]:
  * blocks of every carrier (nblk = nc); np pairs. Allocates s->Gcar and the layout (PyMem_Free
@@ -262,15 +225,7 @@ static PyObject *py_planar_rows(PyObject *self, PyObject *args) {
   phm_error err;
   if (!drop) PyErr_NoMemory();
   else if (phm_planar_rows(&s, k, drop, &err)) phm_py_raise(&err);
-  else if ((res = PyList_New(s.np)))
-    for (int ip = 0; ip < s.np; ip++) {
-      PyObject *v = PyLong_FromLong(drop[ip]);
-      if (!v) {
-        Py_CLEAR(res);
-        break;
-      }
-      PyList_SET_ITEM(res, ip, v);
-    }
+  else res = phm_py_int_list(drop, s.np);
   PyMem_Free(drop);
   PyMem_Free(ints);
   Py_DECREF(G);

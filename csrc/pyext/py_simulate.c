@@ -1,6 +1,6 @@
 /* py_simulate.c -- model_simulate (csrc/integrate/simulate.c, phm_simulate): its options (filled by
- * field name; the callbacks between outputs: py_run.c), the result arrays (named from the
- * result-field table, csrc/util/codes.c) and statistics. */
+ * field name; the callbacks between outputs: py_run.c), the result arrays (named and shaped by the
+ * table of result quantities, csrc/include/phmech_results.h) and statistics. */
 #include "py_model.h"
 
 #include <limits.h>
@@ -38,8 +38,7 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
     return NULL;
   phm_model *m = phm_py_get_model(cap);
   if (!m) return NULL;
-  int nc = phm_model_ncarriers(m), nk = phm_model_nconstraints(m), nj = phm_model_njoints(m),
-      npt = phm_model_nports(m), npr = phm_model_npairs(m);
+  int nc = phm_model_ncarriers(m);
   PyArrayObject *tout = phm_py_double_array(to, "output times", NULL, 0, 1), *P = NULL, *T = NULL;
   if (!tout) return NULL;
   if (PyArray_NDIM(tout) != 1 || PyArray_DIM(tout, 0) < 1) {
@@ -53,10 +52,7 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
     PyErr_Format(phm_py_ModelError, "output times: %ld of them, at most %d", (long)nout, INT_MAX);
     return NULL;
   }
-  if (po != Py_None) {
-    npy_intp tail[3] = {nc, 4, 4};
-    if (!(P = phm_py_double_array(po, "initial poses", tail, 3, 0))) goto fail0;
-  }
+  if (phm_py_model_poses(m, po, "initial poses", 1, &P) < 0) goto fail0;
   if (twi != Py_None) {
     npy_intp tail[2] = {nc, 6};
     if (!(T = phm_py_double_array(twi, "initial twists", tail, 2, 0))) goto fail0;
@@ -79,23 +75,16 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
       }
     }
   }
-  /* the result arrays, in the result-field table's order (csrc/util/codes.c) */
-  npy_intp dims[PHM_NRESULT_FIELDS][4] = {
-      [PHM_RESULT_POSES] = {nout, nrec, 4, 4}, [PHM_RESULT_TWISTS] = {nout, nrec, 6},
-      [PHM_RESULT_LAMBDA] = {nout, nk},        [PHM_RESULT_ENERGY] = {nout, PHM_NENERGY},
-      [PHM_RESULT_JOINTS] = {nout, nj},        [PHM_RESULT_JOINT_RATES] = {nout, nj},
-      [PHM_RESULT_EFFORTS] = {nout, nj},       [PHM_RESULT_PAIR_WRENCHES] = {nout, npr, 6},
-      [PHM_RESULT_PORTS] = {nout, npt},        [PHM_RESULT_COMPONENTS] = {nout, phm_model_ncompstates(m)},
-      [PHM_RESULT_CONSTRAINT_RESIDUAL] = {nout, npr}};
-  static const int ndims[PHM_NRESULT_FIELDS] = {[PHM_RESULT_POSES] = 4, [PHM_RESULT_TWISTS] = 3,
-                                                [PHM_RESULT_LAMBDA] = 2, [PHM_RESULT_ENERGY] = 2,
-                                                [PHM_RESULT_JOINTS] = 2, [PHM_RESULT_JOINT_RATES] = 2,
-                                                [PHM_RESULT_EFFORTS] = 2, [PHM_RESULT_PAIR_WRENCHES] = 3,
-                                                [PHM_RESULT_PORTS] = 2, [PHM_RESULT_COMPONENTS] = 2,
-                                                [PHM_RESULT_CONSTRAINT_RESIDUAL] = 2};
+  /* the result arrays, in the table's order (csrc/include/phmech_results.h), zeros */
   PyArrayObject *ra[PHM_NRESULT_FIELDS] = {NULL};
-  for (int i = 0; i < PHM_NRESULT_FIELDS; i++)
-    if (!(ra[i] = (PyArrayObject *)PyArray_ZEROS(ndims[i], dims[i], NPY_DOUBLE, 0))) goto fail;
+  for (int f = 0; f < PHM_NRESULT_FIELDS; f++) {
+    long shape[3];
+    const char *names[3];
+    int nd = phm_result_shape(m, (int)nrec, f, shape, names);
+    npy_intp dims[4] = {nout};
+    for (int k = 0; k < nd; k++) dims[k + 1] = shape[k];
+    if (!(ra[f] = (PyArrayObject *)PyArray_ZEROS(nd + 1, dims, NPY_DOUBLE, 0))) goto fail;
+  }
   if (arr != Py_None) { /* the arrays the run fills, output by output (a checkpoint reads the
                          * first i + 1 of them at output i: dae_emit_output stores before it calls) */
     PyObject *d = result_arrays(tout, ra), *r = d ? PyObject_CallFunctionObjArgs(arr, d, NULL) : NULL;
@@ -114,17 +103,7 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
   memset(&out, 0, sizeof out);
   out.record = R ? (const int *)PyArray_DATA(R) : NULL;
   out.nrecord = (int)nrec;
-  out.poses = PyArray_DATA(ra[PHM_RESULT_POSES]);
-  out.twists = PyArray_DATA(ra[PHM_RESULT_TWISTS]);
-  out.lambda = PyArray_DATA(ra[PHM_RESULT_LAMBDA]);
-  out.energy = PyArray_DATA(ra[PHM_RESULT_ENERGY]);
-  out.joints = PyArray_DATA(ra[PHM_RESULT_JOINTS]);
-  out.joint_rates = PyArray_DATA(ra[PHM_RESULT_JOINT_RATES]);
-  out.efforts = PyArray_DATA(ra[PHM_RESULT_EFFORTS]);
-  out.pwrench = PyArray_DATA(ra[PHM_RESULT_PAIR_WRENCHES]);
-  out.ports = PyArray_DATA(ra[PHM_RESULT_PORTS]);
-  out.components = PyArray_DATA(ra[PHM_RESULT_COMPONENTS]);
-  out.constraint_residual = PyArray_DATA(ra[PHM_RESULT_CONSTRAINT_RESIDUAL]);
+  for (int f = 0; f < PHM_NRESULT_FIELDS; f++) out.field[f] = PyArray_DATA(ra[f]);
   phm_error err;
   phm_status st;
   Py_BEGIN_ALLOW_THREADS

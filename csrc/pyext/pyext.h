@@ -31,6 +31,13 @@ PyObject *phm_py_raise(const phm_error *err);
 PyArrayObject *phm_py_double_array(PyObject *obj, const char *what, const npy_intp *tail, int ntail,
                                    int stack);
 
+/* A tuple of the n strings s (NULL entries as ""), a list of the n ints v, or the list
+ * [item(0, ctx), ..., item(n - 1, ctx)] (item: a new reference, or NULL with an exception set):
+ * a new reference, or NULL with an exception set (csrc/pyext/module.c). */
+PyObject *phm_py_str_tuple(const char *const *s, int n);
+PyObject *phm_py_int_list(const int *v, int n);
+PyObject *phm_py_list(int n, PyObject *(*item)(int i, const void *ctx), const void *ctx);
+
 /* Method tables of the binding files. */
 extern PyMethodDef phm_py_se3_methods[];
 extern PyMethodDef phm_py_mixed_methods[];

@@ -1,11 +1,12 @@
 /* codes.c -- THE name tables of the core's enums (csrc/include/phmech_types.h): time-law kinds,
  * actuator kinds, element mass kinds, and the names of the arrays a simulation returns
- * (phm_sim_output). One row per enum value, its name the enum's, lower case. The pair types and
+ * (phm_sim_output, from csrc/include/phmech_results.h). One row per enum value, its name the enum's, lower case. The pair types and
  * the integrators have their own tables (csrc/model/pair_types.c, csrc/integrate/integrators.c). phmech._core.codes() (csrc/pyext/py_pairs.c)
  * hands these to Python, so that no code is retyped by hand across the boundary;
  * tests/c/test_codes.c checks each row against its enum constant. */
 #include "phmech.h"
 
+#include <stddef.h>
 #include <string.h>
 
 static const phm_code law_kinds[] = {
@@ -21,15 +22,24 @@ static const phm_code component_kinds[] = {
     {"callback", PHM_COMP_CALLBACK}, {"ph", PHM_COMP_PH}};
 static const phm_code mass_kinds[] = {
     {"lumped", PHM_MASS_LUMPED}, {"consistent", PHM_MASS_CONSISTENT}, {"given", PHM_MASS_GIVEN}};
-/* The arrays of a simulation's result, in phm_sim_output's order; the value is the position
- * (csrc/pyext/py_simulate.c allocates and names them from this table). */
-static const phm_code result_fields[] = {
-    {"poses", PHM_RESULT_POSES},     {"twists", PHM_RESULT_TWISTS},   {"lambda", PHM_RESULT_LAMBDA},
-    {"energy", PHM_RESULT_ENERGY},   {"joints", PHM_RESULT_JOINTS},   {"joint_rates", PHM_RESULT_JOINT_RATES},
-    {"efforts", PHM_RESULT_EFFORTS}, {"pair_wrenches", PHM_RESULT_PAIR_WRENCHES},
-    {"ports", PHM_RESULT_PORTS},     {"components", PHM_RESULT_COMPONENTS},
-    {"constraint_residual", PHM_RESULT_CONSTRAINT_RESIDUAL},
-};
+/* The arrays of a simulation's result, from the table of result quantities
+ * (csrc/include/phmech_results.h); the value is the position (csrc/pyext/py_simulate.c allocates
+ * and names them from this table). */
+#define RESULT_CODE(NAME, name, over, item, unit, noun, text) {#name, PHM_RESULT_##NAME},
+static const phm_code result_fields[] = {PHM_RESULT_FIELDS(RESULT_CODE)};
+#define RESULT_ROW(NAME, name, over, item, unit, noun, text) {#name, unit, noun, text, over, item},
+static const phm_result_field result_rows[] = {PHM_RESULT_FIELDS(RESULT_ROW)};
+/* each named array of phm_sim_output is its field[] at the table's position */
+#define SAME_POINTER(NAME, name, over, item, unit, noun, text)                                       \
+  _Static_assert(offsetof(phm_sim_output, name) ==                                                  \
+                     offsetof(phm_sim_output, field) + PHM_RESULT_##NAME * sizeof(double *),        \
+                 "phm_sim_output." #name " is field[PHM_RESULT_" #NAME "]");
+PHM_RESULT_FIELDS(SAME_POINTER)
+
+const phm_result_field *phm_result_field_at(int f) {
+  return f >= 0 && f < PHM_NRESULT_FIELDS ? &result_rows[f] : NULL;
+}
+
 
 #define ROWS(a) (int)(sizeof(a) / sizeof(a[0]))
 static const phm_code_table tables[] = {

@@ -8,12 +8,13 @@ layer import ``phmech._core`` (docs/architecture.md, "Python layers")."""
 from __future__ import annotations
 
 from types import MappingProxyType
+from typing import NamedTuple
 
 from . import _core
 from ._core import element_mass, law_eval, pair_coordinates, pair_pose, pair_types
 
 __all__ = ["PAIR_TYPES", "LAW_KINDS", "INTEGRATORS", "ACTUATOR_KINDS", "MASS_KINDS",
-           "RESULT_FIELDS", "element_mass", "law_eval", "pair_coordinates", "pair_pose",
+           "ResultField", "RESULT_FIELDS", "element_mass", "law_eval", "pair_coordinates", "pair_pose",
            "pair_types"]
 
 _CODES = _core.codes()
@@ -28,5 +29,19 @@ INTEGRATORS = MappingProxyType(dict(_CODES["integrators"]))
 ACTUATOR_KINDS = MappingProxyType(dict(_CODES["actuator_kinds"]))
 #: element mass kind name -> phm_element_mass_kind ("lumped", "consistent", "given")
 MASS_KINDS = MappingProxyType(dict(_CODES["mass_kinds"]))
-#: the names of the arrays a simulation returns, in phm_sim_output's order
-RESULT_FIELDS = tuple(_CODES["result_fields"])
+
+
+class ResultField(NamedTuple):
+    """One row of the table of result quantities (csrc/include/phmech_results.h): the array
+    ``name`` a simulation returns, ``dims`` the names of one output's dimensions (e.g.
+    ``("pair", "component")``), its ``unit``, the ``noun`` messages name it by and ``text``, one
+    line saying what it holds."""
+    name: str
+    dims: tuple
+    unit: str
+    noun: str
+    text: str
+
+
+#: the arrays a simulation returns, in phm_sim_output's order (_core.result_fields())
+RESULT_FIELDS = tuple(ResultField(**f) for f in _core.result_fields())

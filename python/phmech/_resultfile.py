@@ -8,6 +8,7 @@ import json
 
 import numpy as np
 
+from ._codes import RESULT_FIELDS
 from ._errors import ModelError, __version__
 from .frames import FlexibleLink, MeshChoice, ModalChoice
 from .io import atomic_write, encode_value
@@ -20,6 +21,19 @@ RESULT_SCHEMA_VERSION = 2   # 2: the element mass couplings (consistent and moda
 def _version() -> str:
     return __version__
 
+
+#: the core's arrays a SimulationResult assembles itself (python/phmech/_simulate.py): dicts by
+#: name, and the multipliers and pair wrenches of every row when some are left out as redundant
+ASSEMBLED = ("constraint_wrenches", "energy", "pair_wrenches", "port_energy", "components")
+#: the others, which it holds as the core wrote them: one attribute and one file variable each,
+#: named, shaped and described by the table of result quantities (csrc/include/phmech_results.h)
+HELD_FIELDS = tuple(f for f in RESULT_FIELDS if f.name not in ASSEMBLED)
+
+
+def _attrs(name: str) -> dict:
+    """The netCDF attributes of the core's array ``name``: its unit and text from the table."""
+    f = next(f for f in RESULT_FIELDS if f.name == name)
+    return dict(units=f.unit, long_name=f.text)
 
 #: the six components of a twist (omega, v) or a wrench (tau, f): angular part first
 COMPONENTS = ("ang_x", "ang_y", "ang_z", "lin_x", "lin_y", "lin_z")
@@ -101,35 +115,20 @@ def simulation_dataset(res):
     pair_names = sorted(res._pairs, key=lambda n: res._pairs[n]["index"])
     ports = list(res.port_energy)
     data = {
-        "poses": (("time", "carrier", "row", "col"), res.poses,
-                  dict(units="1 (rotation), m (translation)",
-                       long_name="world pose of each carrier frame (4x4 homogeneous)")),
-        "twists": (("time", "carrier", "component"), res.twists,
-                   dict(units="rad/s (ang), m/s (lin)", long_name="body twist (omega, v)")),
         "constraint_wrenches": (("time", "constraint"), res.constraint_wrenches,
-                                dict(units="N m or N", long_name="constraint multipliers")),
-        "joints": (("time", "joint"), res.joints,
-                   dict(units="rad or m (joint_unit)", long_name="joint coordinates")),
-        "joint_rates": (("time", "joint"), res.joint_rates,
-                        dict(units="rad/s or m/s (joint_unit per s)", long_name="joint rates")),
-        "efforts": (("time", "joint"), res.efforts,
-                    dict(units="N m or N", long_name="actuator efforts on the joint coordinates")),
-        "pair_wrenches": (("time", "pair", "component"), res.pair_wrenches,
-                          dict(units="N m (ang), N (lin)",
-                               long_name="constraint wrench on frame b of each pair, in F_b")),
-        **({} if res.constraint_residual is None else {"constraint_residual": (
-            ("time", "pair"), res.constraint_residual,
-            dict(units="rad or m (per row)", long_name="largest position constraint residual "
-                 "|g| of each pair's kept rows"))}),
+                                _attrs("constraint_wrenches")),
+        "pair_wrenches": (("time", "pair", "component"), res.pair_wrenches, _attrs("pair_wrenches")),
         "port_energy": (("time", "port"), np.column_stack([res.port_energy[p] for p in ports])
-                        if ports else np.zeros((nt, 0)),
-                        dict(units="J", long_name="energy supplied through each port")),
+                        if ports else np.zeros((nt, 0)), _attrs("port_energy")),
         "inertia": (("model_carrier", "inertia_row", "inertia_col"), res._inertia,
                     dict(units="kg m^2, kg m, kg", long_name="6x6 spatial inertia, carrier frame")),
         "mass": (("model_carrier",), res._mass, dict(units="kg")),
         "com": (("model_carrier", "xyz"), res._com,
                 dict(units="m", long_name="centre of mass in carrier coordinates")),
     }
+    for f in HELD_FIELDS:   # None: a file from before the quantity
+        if getattr(res, f.name) is not None:
+            data[f.name] = (("time",) + f.dims, getattr(res, f.name), _attrs(f.name))
     if res._couplings is not None and len(res._couplings):
         data["coupled_nodes"] = (("coupled_element", "end"), res._coupled_nodes,
                                  dict(long_name="node carriers of the consistent-mass elements"))
@@ -143,7 +142,7 @@ def simulation_dataset(res):
     kinds = list(res.energy)
     data["energy"] = (("time", "energy_kind"),
                       np.column_stack([res.energy[k] for k in kinds]) if kinds else np.zeros((nt, 0)),
-                      dict(units="J", long_name="energies and the energy ledger residual"))
+                      _attrs("energy"))
     coords = {
         "time": ("time", res.t, dict(units="s")),
         "carrier": ("carrier", rec), "carrier_name": ("carrier", [names[c] for c in rec]),

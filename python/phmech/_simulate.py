@@ -18,6 +18,7 @@ from ._errors import (AccuracyWarning, ModelError, PlausibilityWarning, SolverEr
 from .components import state_layout
 from .fidelity import modal_validity
 from .frames import Body, FlexibleLink, Frame, frame_of
+from ._resultfile import HELD_FIELDS
 from .results import ENERGY_NAMES, SimulationResult, StaticResult
 
 
@@ -355,9 +356,9 @@ def _simulation_result(mech, r: dict, k: int, tout, model, drop_masks, rec, band
     ``stats`` the core's statistics and the run's options."""
     e = r["energy"][:k]
     energy = {nm: e[:, i].copy() for i, nm in enumerate(ENERGY_NAMES)}
-    ports = {nm: r["ports"][:k, i].copy() for i, nm in enumerate(mech._desc.port_names())}
+    ports = {nm: r["port_energy"][:k, i].copy() for i, nm in enumerate(mech._desc.port_names())}
     layout = _core.model_sizes(model)[4]
-    lam, pw = r["lambda"][:k], r["pair_wrenches"][:k]
+    lam, pw = r["constraint_wrenches"][:k], r["pair_wrenches"][:k]
     if plane is not None and mech.redundant_constraints and k > 0:
         lam, pw, layout = postprocess.min_norm_multipliers(
             mech._desc, plane[2], plane[1], r["poses"][:k], r["joints"][:k], lam, tout[:k])
@@ -382,13 +383,10 @@ def _simulation_result(mech, r: dict, k: int, tout, model, drop_masks, rec, band
         for key in ("error_estimate", "error_sum", "floor_steps", "error_ratio", "error_ratio_time",
                     "noise_steps", "min_step", "newton_rtol"):
             stats.pop(key, None)
-    return SimulationResult(t=tout[:k], poses=r["poses"][:k], twists=r["twists"][:k],
-                            constraint_wrenches=lam, energy=energy, stats=stats,
+    return SimulationResult(t=tout[:k], constraint_wrenches=lam, energy=energy, stats=stats,
                             interrupted=interrupted, _links=dict(mech._links),
-                            port_energy=ports, joints=r["joints"][:k],
-                            joint_rates=r["joint_rates"][:k], efforts=r["efforts"][:k],
-                            pair_wrenches=pw, _pairs=pairs,
-                            constraint_residual=r["constraint_residual"][:k],
+                            port_energy=ports, pair_wrenches=pw, _pairs=pairs,
+                            **{f.name: r[f.name][:k] for f in HELD_FIELDS},
                             redundant_constraints=list(mech.redundant_constraints),
                             carriers=None if rec is None else np.array(rec),
                             _inertia=np.array([c["M"] for c in mech._car], dtype=float),

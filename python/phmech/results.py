@@ -15,6 +15,7 @@ from typing import NamedTuple, Optional, Union
 import numpy as np
 
 from . import _resultfile, se3
+from ._resultfile import HELD_FIELDS
 from .io import decode_value
 from .analysis import MODE_KIND_TEXT, mac
 from ._errors import ModelError
@@ -81,8 +82,25 @@ class Momentum(NamedTuple):
     angular: np.ndarray
 
 
+#: The core's arrays a SimulationResult holds as the core wrote them, one attribute each, named
+#: by the table of result quantities (csrc/include/phmech_results.h; _resultfile.HELD_FIELDS):
+#: a new quantity of the core is an attribute, a file variable and a line of the docs with no
+#: change here. None: not computed (a file from before the quantity).
+_CoreArrays = dataclasses.make_dataclass(
+    "_CoreArrays", [(f.name, Optional[np.ndarray], dataclasses.field(default=None))
+                    for f in HELD_FIELDS], kw_only=True)
+_CoreArrays.__module__ = __name__
+
+
+def _core_arrays_doc() -> str:
+    """The docstring's list of the core's arrays, from the table (its dims, unit and text)."""
+    rows = [f"    - ``{f.name}`` (time, {', '.join(f.dims)}) [{f.unit}]: {f.text}" for f in HELD_FIELDS]
+    return ("\n\n    The arrays as the core computes them at each output (csrc/include/"
+            "phmech_results.h), None\n    when not computed:\n\n" + "\n".join(rows) + "\n")
+
+
 @dataclasses.dataclass
-class SimulationResult:
+class SimulationResult(_CoreArrays):
     """Sampled solution. ``poses`` (nt, ncarriers, 4, 4), ``twists`` (nt, ncarriers, 6) body
     twists, ``constraint_wrenches`` (nt, nconstraints), ``energy`` dict of (nt,) arrays [J]
     (kinetic, elastic, gravity, dissipated, supplied, total, ledger = E - E0 - (supplied -
@@ -105,8 +123,6 @@ class SimulationResult:
     it. All three need the poses and twists of the carriers asked for: after
     ``simulate(record=...)`` only what was recorded can be asked for (ModelError otherwise)."""
     t: np.ndarray
-    poses: np.ndarray
-    twists: np.ndarray
     constraint_wrenches: np.ndarray
     energy: dict
     stats: dict
@@ -121,16 +137,8 @@ class SimulationResult:
     #: sampled controller name -> {"t": sample times (ns,) [s], "y": its inputs (ns, ny), "u":
     #: its outputs (ns, nu)} (python/phmech/controllers.py)
     controllers: dict = dataclasses.field(default_factory=dict)
-    joints: np.ndarray = None
-    joint_rates: np.ndarray = None
-    efforts: np.ndarray = None
     pair_wrenches: np.ndarray = None
     _pairs: dict = dataclasses.field(default_factory=dict)
-    #: (nt, npairs): each pair's position constraint residual at each output, the largest abs(g) of
-    #: the constraint rows the DAE keeps for it [rad for a rotation row, m for a translation
-    #: row; 0 for a pair without rows] -- how closely the integrator holds the pair together
-    #: (computed by the core at each output, csrc/dae/output.c; None in files from before it)
-    constraint_residual: np.ndarray = None
     #: (pair, direction) rows left out of the DAE as redundant; when non-empty,
     #: ``constraint_wrenches`` holds the minimum-norm multipliers of ALL rows (see
     #: postprocess.min_norm_multipliers) and ``pair_wrenches`` the matching pair wrenches.
@@ -150,6 +158,7 @@ class SimulationResult:
     #: per coupling: a consistent element's h, section mass per length and centre of mass (3),
     #: zeros for a given one (description.mass_couplings; centre_of_mass places its mass)
     _coupled_fields: np.ndarray = None
+    __doc__ += _core_arrays_doc()
 
     def _frame(self, x) -> Frame:
         """A body, frame, link end or body's name as a Frame of the simulated mechanism."""
@@ -549,15 +558,13 @@ def load_result(path):
     ports = [str(x) for x in ds["port"].values]
     sensors, ctrls = _resultfile.sensors_and_controllers(ds, meta)
     return SimulationResult(
-        t=a("time"), poses=a("poses"), twists=a("twists"),
-        constraint_wrenches=a("constraint_wrenches"),
+        t=a("time"), constraint_wrenches=a("constraint_wrenches"),
         energy={str(k): a("energy")[:, i].copy() for i, k in enumerate(ds["energy_kind"].values)},
         stats=decode_value(meta["stats"]),
         interrupted=bool(meta["interrupted"]), _links=_resultfile._links_from(meta["links"]),
         port_energy={p_: a("port_energy")[:, i].copy() for i, p_ in enumerate(ports)},
-        joints=a("joints"), joint_rates=a("joint_rates"), efforts=a("efforts"),
         pair_wrenches=a("pair_wrenches"), _pairs=decode_value(meta["pairs"]),
-        constraint_residual=a("constraint_residual") if "constraint_residual" in ds else None,
+        **{f.name: a(f.name) if f.name in ds else None for f in HELD_FIELDS},
         redundant_constraints=decode_value(meta["redundant"]),
         carriers=a("carrier") if meta["recorded"] else None,
         _inertia=a("inertia"), _mass=a("mass"), _com=a("com"), _bodies=bodies,

@@ -4,6 +4,7 @@
 #include "check.h"
 
 #include <ctype.h>
+#include <string.h>
 
 static int value_of(const char *table, const char *name) {
   const phm_code_table *t = phm_code_table_named(table);
@@ -31,8 +32,23 @@ static void rows_match_the_enums(void) {
   CHECK(r && r->nrows == PHM_NRESULT_FIELDS, "one result field per phm_sim_output array");
   for (int i = 0; r && i < r->nrows; i++)
     CHECK(r->rows[i].value == i, "result field %s at its position %d", r->rows[i].name, i);
-  CHECK(value_of("result_fields", "poses") == PHM_RESULT_POSES && value_of("result_fields", "ports") == PHM_RESULT_PORTS,
+  CHECK(value_of("result_fields", "poses") == PHM_RESULT_POSES &&
+            value_of("result_fields", "port_energy") == PHM_RESULT_PORT_ENERGY,
         "result fields named");
+  /* the rows of the table of result quantities (csrc/include/phmech_results.h): named as the
+   * code table, each with a shape whose dimensions are named */
+  for (int i = 0; r && i < r->nrows; i++) {
+    const phm_result_field *f = phm_result_field_at(i);
+    long dims[3];
+    const char *names[3] = {NULL, NULL, NULL};
+    int nd = phm_result_shape(NULL, -1, i, dims, names);
+    CHECK(f && strcmp(f->name, r->rows[i].name) == 0 && f->unit[0] && f->noun[0] && f->text[0],
+          "result field %d described (%s)", i, r->rows[i].name);
+    CHECK(nd >= 1 && nd <= 3 && names[0] && (nd < 2 || names[1]) && (nd < 3 || names[2]),
+          "result field %s: %d named dimensions", r->rows[i].name, nd);
+  }
+  CHECK(phm_result_field_at(-1) == NULL && phm_result_field_at(PHM_NRESULT_FIELDS) == NULL,
+        "result fields out of range are NULL");
 }
 
 static void tables_are_well_formed(void) {

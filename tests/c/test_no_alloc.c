@@ -211,13 +211,13 @@ static void run(const phm_model *m, const char *name, phm_sim_options opt) {
   memset(&out, 0, sizeof out);
   out.poses = malloc(sizeof(double) * NOUT * 16 * (size_t)nc);
   out.twists = malloc(sizeof(double) * NOUT * 6 * (size_t)nc);
-  out.lambda = malloc(sizeof(double) * NOUT * (size_t)(nk + 1));
+  out.constraint_wrenches = malloc(sizeof(double) * NOUT * (size_t)(nk + 1));
   out.energy = malloc(sizeof(double) * NOUT * PHM_NENERGY);
   out.joints = malloc(sizeof(double) * NOUT * (size_t)(nj + 1));
   out.joint_rates = malloc(sizeof(double) * NOUT * (size_t)(nj + 1));
   out.efforts = malloc(sizeof(double) * NOUT * (size_t)(nj + 1));
-  out.pwrench = malloc(sizeof(double) * NOUT * 6 * (size_t)np);
-  out.ports = malloc(sizeof(double) * NOUT * (size_t)(nport + 1));
+  out.pair_wrenches = malloc(sizeof(double) * NOUT * 6 * (size_t)np);
+  out.port_energy = malloc(sizeof(double) * NOUT * (size_t)(nport + 1));
   opt.progress = first_output;
   at_first_output = -1;
   phm_error err;
@@ -237,13 +237,13 @@ static void run(const phm_model *m, const char *name, phm_sim_options opt) {
          out.nsteps, at_first_output - before, after - at_first_output);
   free(out.poses);
   free(out.twists);
-  free(out.lambda);
+  free(out.constraint_wrenches);
   free(out.energy);
   free(out.joints);
   free(out.joint_rates);
   free(out.efforts);
-  free(out.pwrench);
-  free(out.ports);
+  free(out.pair_wrenches);
+  free(out.port_energy);
 }
 
 int main(void) {
