@@ -308,7 +308,7 @@ def dispersion_coefficient_r(treat, a, b, theta=0.02):
 
 def cantilever_statics(N, beam, treat, load):
     """Relative errors (tip deflection, tip rotation) of the cantilever clamped at s = 0 under a unit
-    tip force ("tip_force"), tip moment ("tip_moment") or uniform load on lumped nodal shares
+    tip force ("tip_force"), tip moment ("tip_moment"), force at node N // 2 ("mid_force") or uniform load on lumped nodal shares
     ("uniform", phmech's gravity: node masses) or consistent with the helix field ("uniform_helix":
     the same plus end moments +-h^2/12 per unit load), against the exact Timoshenko solution."""
     L, EI, kGA, rhoA, rhoI = beam
@@ -321,6 +321,10 @@ def cantilever_statics(N, beam, treat, load):
     elif load == "tip_moment":
         f[2 * N + 1] = 1.0
         exact = (L**2 / (2 * EI), L / EI)
+    elif load == "mid_force":  # at node N // 2: a jump of the shear inside the link
+        a = (N // 2) * h
+        f[2 * (N // 2)] = 1.0
+        exact = (a * a * (3 * L - a) / (6 * EI) + a / kGA, a * a / (2 * EI))
     else:
         f[0::2] = h
         f[0] = f[2 * N] = h / 2
@@ -396,17 +400,22 @@ def rigid_inertia_study(smoke: bool) -> dict:
     print("\nTable I cantilever statics: relative errors (tip deflection, tip rotation)")
     for tname, t in treats.items():
         res["statics"][tname] = {}
-        for load in ("tip_force", "tip_moment", "uniform", "uniform_helix"):
-            e = {N: cantilever_statics(N, beam, t, load) for N in NS_STATIC}
+        for load in ("tip_force", "tip_moment", "mid_force", "uniform", "uniform_helix"):
+            e = {N: cantilever_statics(N, beam, t, load) for N in NS_STATIC if N >= 2 or load != "mid_force"}
             res["statics"][tname][load] = {str(N): list(v) for N, v in e.items()}
             print(f"  {tname:20s} {load:10s} " + "  ".join(f"N={N}: {v[0]:+.2e} {v[1]:+.2e}" for N, v in e.items()))
         res["rigid"][tname] = {str(N): rigid_checks(N, beam, t) for N in (1, 2, 4, 10)}
+        # the strain-space stiffness I - beta A stays positive definite: its smallest eigenvalue
+        res["rigid"][tname]["min_eig_strain_stiffness_N100"] = float(np.min(np.linalg.eigvalsh(
+            strain_smoothing(100, t[1], END_RULES[t[2]], END_RULES[t[3]]))))
     print("\nRigid motion (Table I): relative excess of the turn-about-end inertia at N = 1, 2, 4, 10; "
           "max |K v_rigid|/max|K|")
     for tname in treats:
         r = res["rigid"][tname]
         print(f"  {tname:20s} " + " ".join(f"{r[str(N)]['turn_about_end']:+.2e}" for N in (1, 2, 4, 10))
-              + f"   translation {r['10']['translation']:+.1e}   Kv {max(max(v for k, v in r[n].items() if k.endswith('_Kv')) for n in r):.1e}")
+              + f"   translation {r['10']['translation']:+.1e}   Kv "
+              + f"{max(v for n in ('1', '2', '4', '10') for k, v in r[n].items() if k.endswith('_Kv')):.1e}"
+              + f"   min eig(I - beta A), N = 100: {r['min_eig_strain_stiffness_N100']:.3f}")
     return res
 
 
