@@ -17,6 +17,11 @@ Mass treatments (per element, w and phi blocks; alpha = weight of the consistent
     "helix_avg": helix mass + (lumped - consistent)/2 (both w and phi blocks).
 
 Reference: phmech.timoshenko.frequencies (exact), cantilever clamped at s = 0.
+
+Second part (rigid_inertia_study, docs/mass_matrix_study.md "Exact rigid inertia with c = 0"):
+d6 against d6 + the link-level subtraction and the helix mass + a strain-difference stiffness
+(beta = 1/12) with several end rules: Bloch c, clamped-free / clamped-clamped / free-free
+frequencies at N = 4 ... 100, cantilever statics, rigid-motion checks.
 A Bloch-wave (infinite lattice) dispersion check measures the leading error coefficient
 c in  omega_h/omega - 1 = c theta^2 + O(theta^4),  theta = k h, for several (a, b).
 
@@ -203,7 +208,8 @@ RIGID_TREATMENTS = {
                    "as e1, antisymmetric ghost strain beyond each end (s = 3)"),
     "e1_free_antisym": ("helix", BETA, "none", "antisym", False,
                         "as e1, s = 1 at a clamped end, s = 3 at a free end (by support)"),
-    "e1_drop": ("helix", BETA, "drop", "drop", False, "as e1, the end pairs dropped (w = 0): end elements uncorrected"),
+    "e1_drop": ("helix", BETA, "drop", "drop", False,
+                "as e1, the end pairs dropped (w = 0): end elements uncorrected"),
     "e2_pair4/3": ("helix", BETA, "pair4/3", "pair4/3", False,
                    "as e1, the end pairs weighted w = 4/3 (patch test kept; w* measured 1.31-1.34 for "
                    "mode 1 on every beam and support, N = 60: it nearly cancels the ends' h^3 term)"),
@@ -236,9 +242,10 @@ def strain_smoothing(N: int, beta: float, end0=(1.0, 1.0), end1=(1.0, 1.0)) -> n
     return np.eye(N) - beta * A
 
 
-def assemble(N, beam, treat, supports=("clamped", "free")):
-    """Global K [N/m-type], M [kg-type] (dofs w_0, phi_0, ..., w_N, phi_N) of a treatment; the end
-    rules follow the supports (start, end) of the beam."""
+def assemble(N: int, beam: tuple, treat: tuple,
+             supports: tuple = ("clamped", "free")) -> tuple[np.ndarray, np.ndarray]:
+    """Global K [N/m, N, N m] and M [kg, kg m, kg m^2] (dofs w_0 [m], phi_0 [rad], ..., w_N, phi_N)
+    of a RIGID_TREATMENTS entry; the end rules follow the supports (start, end) of the beam."""
     L, EI, kGA, rhoA, rhoI = beam
     mass, beta, s_clamped, s_free, link_fix = treat[:5]
     h = L / N
@@ -256,7 +263,7 @@ def assemble(N, beam, treat, supports=("clamped", "free")):
     return K, M
 
 
-def element_mass(h, beam, mass):
+def element_mass(h: float, beam: tuple, mass: str) -> np.ndarray:
     """Element mass (4x4, dofs w1, phi1, w2, phi2) of "helix", "d6" or "helix_rate"."""
     L, EI, kGA, rhoA, rhoI = beam
     _, Me = element_matrices(h, EI, kGA, rhoA, rhoI, None, None, 0.0, "avg" if mass == "d6" else True)
@@ -266,8 +273,9 @@ def element_mass(h, beam, mass):
     return Me
 
 
-def bc_frequencies(N, beam, treat, bc, nmodes=NMODES):
-    """The first nmodes non-zero frequencies [rad/s] of the beam under bc (free-free: after the two rigid modes)."""
+def bc_frequencies(N: int, beam: tuple, treat: tuple, bc: str, nmodes: int = NMODES) -> np.ndarray:
+    """The first nmodes non-zero frequencies [rad/s] of the beam under bc (free-free: after the
+    two rigid modes)."""
     sup = {"clamped-free": ("clamped", "free"), "clamped-clamped": ("clamped", "clamped"),
            "free-free": ("free", "free")}[bc]
     K, M = assemble(N, beam, treat, sup)
@@ -280,7 +288,7 @@ def bc_frequencies(N, beam, treat, bc, nmodes=NMODES):
     return np.sqrt(np.abs(lam[skip:]))
 
 
-def bloch_error(treat, a, b, theta):
+def bloch_error(treat: tuple, a: float, b: float, theta: float) -> float:
     """omega_h/omega - 1 on the bending branch of the infinite lattice at theta = k h (k = 3; L = 1
     scale: EI = 1, rhoA = 1, kGA = 1/a, rhoI = b) for a RIGID_TREATMENTS entry: the strain
     differences multiply the stiffness symbol by 1 - 4 beta sin^2(theta/2); the link-level fix is
@@ -299,18 +307,19 @@ def bloch_error(treat, a, b, theta):
     return wd / wc - 1.0
 
 
-def dispersion_coefficient_r(treat, a, b, theta=0.02):
+def dispersion_coefficient_r(treat: tuple, a: float, b: float, theta: float = 0.02) -> float:
     """c of omega_h/omega - 1 ~ c theta^2 (as dispersion_coefficient: Richardson on 2 thetas)."""
     c1 = bloch_error(treat, a, b, theta) / theta**2
     c2 = bloch_error(treat, a, b, theta / 2) / (theta / 2) ** 2
     return (4 * c2 - c1) / 3.0
 
 
-def cantilever_statics(N, beam, treat, load):
+def cantilever_statics(N: int, beam: tuple, treat: tuple, load: str) -> tuple[float, float]:
     """Relative errors (tip deflection, tip rotation) of the cantilever clamped at s = 0 under a unit
-    tip force ("tip_force"), tip moment ("tip_moment"), force at node N // 2 ("mid_force") or uniform load on lumped nodal shares
-    ("uniform", phmech's gravity: node masses) or consistent with the helix field ("uniform_helix":
-    the same plus end moments +-h^2/12 per unit load), against the exact Timoshenko solution."""
+    tip force ("tip_force"), tip moment ("tip_moment"), force at node N // 2 ("mid_force") or uniform
+    load on lumped nodal shares ("uniform", phmech's gravity: node masses) or consistent with the
+    helix field ("uniform_helix": the same plus end moments +-h^2/12 per unit load), against the
+    exact Timoshenko solution."""
     L, EI, kGA, rhoA, rhoI = beam
     K, _ = assemble(N, beam, treat, ("clamped", "free"))
     h, n = L / N, 2 * N + 2
@@ -336,7 +345,7 @@ def cantilever_statics(N, beam, treat, load):
     return u[2 * N] / exact[0] - 1.0, u[2 * N + 1] / exact[1] - 1.0
 
 
-def rigid_checks(N, beam, treat):
+def rigid_checks(N: int, beam: tuple, treat: tuple) -> dict:
     """Rigid-motion exactness: relative excess of the kinetic energy of a unit translation and of a
     unit turn about s = 0 and about the middle (exact: rhoA L, rhoA L^3/3 + rhoI L, rhoA L^3/12 + rhoI L),
     and max |K v| of the rigid motions over the stiffness scale (free-free)."""
@@ -359,7 +368,8 @@ def rigid_inertia_study(smoke: bool) -> dict:
     with c = 0" of docs/mass_matrix_study.md)."""
     ns = (4, 10) if smoke else NS_R
     beams = {"tableI": BEAMS["tableI"]} if smoke else BEAMS
-    treats = {k: RIGID_TREATMENTS[k] for k in (("d6", "d6_link", "e1_none") if smoke else RIGID_TREATMENTS)}
+    names = ("d6", "d6_link", "e1_none", "e2_pair4/3") if smoke else tuple(RIGID_TREATMENTS)
+    treats = {k: RIGID_TREATMENTS[k] for k in names}
     res = {"description": "helix mass + strain-difference stiffness (beta = 1/12) vs d6 and d6 + the "
                           "link-level subtraction; errors in percent, static errors relative",
            "beta": BETA, "end_rules_s_w": END_RULES, "N": list(ns), "N_static": list(NS_STATIC),
@@ -403,7 +413,8 @@ def rigid_inertia_study(smoke: bool) -> dict:
         for load in ("tip_force", "tip_moment", "mid_force", "uniform", "uniform_helix"):
             e = {N: cantilever_statics(N, beam, t, load) for N in NS_STATIC if N >= 2 or load != "mid_force"}
             res["statics"][tname][load] = {str(N): list(v) for N, v in e.items()}
-            print(f"  {tname:20s} {load:10s} " + "  ".join(f"N={N}: {v[0]:+.2e} {v[1]:+.2e}" for N, v in e.items()))
+            print(f"  {tname:20s} {load:10s} "
+                  + "  ".join(f"N={N}: {v[0]:+.2e} {v[1]:+.2e}" for N, v in e.items()))
         res["rigid"][tname] = {str(N): rigid_checks(N, beam, t) for N in (1, 2, 4, 10)}
         # the strain-space stiffness I - beta A stays positive definite: its smallest eigenvalue
         res["rigid"][tname]["min_eig_strain_stiffness_N100"] = float(np.min(np.linalg.eigvalsh(
@@ -423,7 +434,9 @@ def main():
     import argparse
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="accepted for make bench (the study is short)")
-    ap.add_argument("--smoke", action="store_true", help="one beam, meshes 9 and 21 (tests/test_benchmarks_smoke.py)")
+    ap.add_argument("--smoke", action="store_true",
+                    help="one beam, meshes 9 and 21; the rigid-inertia part on the cantilever at "
+                         "N = 4 and 10, four treatments (tests/test_benchmarks_smoke.py)")
     a = ap.parse_args()
     global NS, BEAMS
     if a.smoke:
