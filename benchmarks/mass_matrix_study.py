@@ -17,6 +17,11 @@ Mass treatments (per element, w and phi blocks; alpha = weight of the consistent
     "helix_avg": helix mass + (lumped - consistent)/2 (both w and phi blocks).
 
 Reference: phmech.timoshenko.frequencies (exact), cantilever clamped at s = 0.
+
+Second part (rigid_inertia_study, docs/mass_matrix_study.md "Exact rigid inertia with c = 0"):
+d6 against d6 + the link-level subtraction and the helix mass + a strain-difference stiffness
+(beta = 1/12) with several end rules: Bloch c, clamped-free / clamped-clamped / free-free
+frequencies at N = 4 ... 100, cantilever statics, rigid-motion checks.
 A Bloch-wave (infinite lattice) dispersion check measures the leading error coefficient
 c in  omega_h/omega - 1 = c theta^2 + O(theta^4),  theta = k h, for several (a, b).
 
@@ -155,11 +160,283 @@ def dispersion_coefficient(treat, a, b, theta=0.02):
     return (4 * c2 - c1) / 3.0  # remove the theta^4 part
 
 
+# -------------------------------------------------------------------------------------------------
+# Exact rigid inertia with c = 0: a stiffness-side correction (issue 27, "rigid_inertia" entry)
+# -------------------------------------------------------------------------------------------------
+# d6's blend term (h/12) d^T Ms d is not zero for a rigid turn (d = omega h per element): the link
+# gets rhoA L h^2/12 too much rotational inertia.  "d6_link" is the link-level fix (subtract
+# (h/(12 N)) rhoA (v_N - v_0)^2 on the end nodes' transverse velocities: rigid motion exact, but
+# the mean of the d_e loses its correction).  The alternative measured here keeps the helix mass
+# (exact for rigid motion) and moves the dispersion correction to the stiffness, as a term that
+# vanishes for rigid motion AND for uniform strain:
+#
+#     V = sum_e h/2 eps_e^T C eps_e - beta h/2 [ sum_(e=0..N-2) (eps_(e+1) - eps_e)^T C (eps_(e+1) - eps_e)
+#                                              + (s_0 - 1) eps_0^T C eps_0 + (s_1 - 1) eps_(N-1)^T C eps_(N-1) ],
+#
+# i.e. the strain-space stiffness C (x) (I - beta A_s), A_s the 1-D Laplacian whose two corner
+# entries are s_0, s_1 (any s keeps it symmetric: only the diagonal corners differ).  A Bloch wave
+# multiplies the stiffness symbol by 1 - 4 beta sin^2(theta/2) ~ 1 - beta theta^2, and the helix
+# mass multiplies omega^2 by 1 + theta^2/12 for every (a, b): beta = 1/12 gives c = 0.
+# End rules s (the strain "ghost" beyond the end): 1 "none" (only the interior pairs; a mirrored
+# ghost eps_(-1) = eps_0 gives the same), 0 "off" (the end element's own term removed), 2 "zero"
+# (ghost eps_(-1) = 0), 3 "antisym" (ghost eps_(-1) = -eps_0: the stress through zero at the end,
+# a free end's).  Only s = 1 keeps A_s 1 = 0, i.e. the patch test (a uniform strain is uniform).
+# A second end parameter that keeps it: the weight w of the end pair ((eps_1 - eps_0) counted w
+# times; w = 2 is the energy of a linearly extrapolated ghost, w = 0 drops the end elements).
+# END_RULES: name -> (s, w).
+BETA = 1.0 / 12.0
+END_RULES = {"none": (1.0, 1.0), "off": (0.0, 1.0), "zero": (2.0, 1.0), "antisym": (3.0, 1.0),
+             "drop": (1.0, 0.0), "pair4/3": (1.0, 4.0 / 3.0), "pair1.5": (1.0, 1.5)}
+NS_R = (4, 10, 21, 50, 100)
+NS_STATIC = (1, 2, 4, 10, 21)
+BCS = ("clamped-free", "clamped-clamped", "free-free")
+
+# name -> (mass, beta, end rule at a clamped end, end rule at a free end, link-level fix, rationale)
+RIGID_TREATMENTS = {
+    "d4_helix": ("helix", 0.0, "none", "none", False, "helix mass alone: rigid-exact, c = +1/24"),
+    "d6": ("d6", 0.0, "none", "none", False, "phmech's consistent mass: helix + (h/12) d^T Ms d"),
+    "d6_link": ("d6", 0.0, "none", "none", True,
+                "d6 - (h/(12N)) rhoA (v_N - v_0)^2: the link-level fix (branch inertia)"),
+    "d7_helix_strainrate": ("helix_rate", 0.0, "none", "none", False,
+                            "control: helix + (h/12) (h de/dt)^T Ms (h de/dt), the rigid-invariant "
+                            "(transported) form of d6's term"),
+    "e1_none": ("helix", BETA, "none", "none", False,
+                "helix + strain-difference stiffness, interior pairs only (s = 1 both ends)"),
+    "e1_off": ("helix", BETA, "off", "off", False, "as e1, the end elements' own terms removed (s = 0)"),
+    "e1_zero": ("helix", BETA, "zero", "zero", False, "as e1, zero ghost strain beyond each end (s = 2)"),
+    "e1_antisym": ("helix", BETA, "antisym", "antisym", False,
+                   "as e1, antisymmetric ghost strain beyond each end (s = 3)"),
+    "e1_free_antisym": ("helix", BETA, "none", "antisym", False,
+                        "as e1, s = 1 at a clamped end, s = 3 at a free end (by support)"),
+    "e1_drop": ("helix", BETA, "drop", "drop", False,
+                "as e1, the end pairs dropped (w = 0): end elements uncorrected"),
+    "e2_pair4/3": ("helix", BETA, "pair4/3", "pair4/3", False,
+                   "as e1, the end pairs weighted w = 4/3 (patch test kept; w* measured 1.31-1.34 for "
+                   "mode 1 on every beam and support, N = 60: it nearly cancels the ends' h^3 term)"),
+    "e2_pair1.5": ("helix", BETA, "pair1.5", "pair1.5", False,
+                   "as e1, the end pairs weighted w = 1.5 (patch test kept; better on modes 3-5 at N = 21)"),
+}
+
+
+def strain_operator(N: int, h: float) -> np.ndarray:
+    """B (2N x 2(N+1)): the element strains (gamma_e, kappa_e) [-, 1/m] of the nodal (w, phi) [m, rad]."""
+    B = np.zeros((2 * N, 2 * N + 2))
+    for e in range(N):
+        B[2 * e, 2 * e:2 * e + 4] = (-1.0 / h, -0.5, 1.0 / h, -0.5)
+        B[2 * e + 1, 2 * e + 1] = -1.0 / h
+        B[2 * e + 1, 2 * e + 3] = 1.0 / h
+    return B
+
+
+def strain_smoothing(N: int, beta: float, end0=(1.0, 1.0), end1=(1.0, 1.0)) -> np.ndarray:
+    """I - beta A (N x N): A the Laplacian of the interior strain differences, each end's pair
+    weighted w and its corner moved by s - 1 (end = (s, w); (1, 1): the plain interior pairs)."""
+    A = np.zeros((N, N))
+    for e in range(N - 1):
+        w = 1.0
+        if e == 0 or e == N - 2:
+            w = 0.5 * (end0[1] + end1[1]) if N == 2 else (end0[1] if e == 0 else end1[1])
+        A[e:e + 2, e:e + 2] += w * np.array([[1.0, -1.0], [-1.0, 1.0]])
+    A[0, 0] += end0[0] - 1.0
+    A[N - 1, N - 1] += end1[0] - 1.0
+    return np.eye(N) - beta * A
+
+
+def assemble(N: int, beam: tuple, treat: tuple,
+             supports: tuple = ("clamped", "free")) -> tuple[np.ndarray, np.ndarray]:
+    """Global K [N/m, N, N m] and M [kg, kg m, kg m^2] (dofs w_0 [m], phi_0 [rad], ..., w_N, phi_N)
+    of a RIGID_TREATMENTS entry; the end rules follow the supports (start, end) of the beam."""
+    L, EI, kGA, rhoA, rhoI = beam
+    mass, beta, s_clamped, s_free, link_fix = treat[:5]
+    h = L / N
+    rule = {"clamped": END_RULES[s_clamped], "free": END_RULES[s_free]}
+    B = strain_operator(N, h)
+    K = h * B.T @ np.kron(strain_smoothing(N, beta, rule[supports[0]], rule[supports[1]]),
+                          np.diag([kGA, EI])) @ B
+    Me = element_mass(h, beam, mass)
+    M = np.zeros_like(K)
+    for e in range(N):
+        M[2 * e:2 * e + 4, 2 * e:2 * e + 4] += Me
+    if link_fix:
+        c = rhoA * h / (12.0 * N)
+        M[np.ix_([0, 2 * N], [0, 2 * N])] -= c * np.array([[1.0, -1.0], [-1.0, 1.0]])
+    return K, M
+
+
+def element_mass(h: float, beam: tuple, mass: str) -> np.ndarray:
+    """Element mass (4x4, dofs w1, phi1, w2, phi2) of "helix", "d6" or "helix_rate"."""
+    L, EI, kGA, rhoA, rhoI = beam
+    _, Me = element_matrices(h, EI, kGA, rhoA, rhoI, None, None, 0.0, "avg" if mass == "d6" else True)
+    if mass == "helix_rate":
+        Be = strain_operator(1, h)  # (gamma, kappa) of the element; h Be v = the transported difference
+        Me = Me + (h / 12.0) * (h * Be).T @ np.diag([rhoA, rhoI]) @ (h * Be)
+    return Me
+
+
+def bc_frequencies(N: int, beam: tuple, treat: tuple, bc: str, nmodes: int = NMODES) -> np.ndarray:
+    """The first nmodes non-zero frequencies [rad/s] of the beam under bc (free-free: after the
+    two rigid modes)."""
+    sup = {"clamped-free": ("clamped", "free"), "clamped-clamped": ("clamped", "clamped"),
+           "free-free": ("free", "free")}[bc]
+    K, M = assemble(N, beam, treat, sup)
+    n = 2 * N + 2
+    keep = {"clamped-free": range(2, n), "clamped-clamped": range(2, n - 2), "free-free": range(n)}[bc]
+    skip = 2 if bc == "free-free" else 0
+    keep = list(keep)
+    lam = eigh(K[np.ix_(keep, keep)], M[np.ix_(keep, keep)], eigvals_only=True,
+               subset_by_index=[0, skip + nmodes - 1])
+    return np.sqrt(np.abs(lam[skip:]))
+
+
+def bloch_error(treat: tuple, a: float, b: float, theta: float) -> float:
+    """omega_h/omega - 1 on the bending branch of the infinite lattice at theta = k h (k = 3; L = 1
+    scale: EI = 1, rhoA = 1, kGA = 1/a, rhoI = b) for a RIGID_TREATMENTS entry: the strain
+    differences multiply the stiffness symbol by 1 - 4 beta sin^2(theta/2); the link-level fix is
+    O(1/N), nothing on the infinite lattice."""
+    k = 3.0
+    h = theta / k
+    Ke, _ = element_matrices(h, 1.0, 1.0 / a, 1.0, b, 0.0, 0.0, 0.0, False)
+    Me = element_mass(h, (1.0, 1.0, 1.0 / a, 1.0, b), treat[0])
+    T = np.zeros((4, 2), complex)
+    T[0, 0] = T[1, 1] = 1.0
+    T[2, 0] = T[3, 1] = np.exp(1j * theta)
+    Kb = T.conj().T @ Ke @ T * (1.0 - 4.0 * treat[1] * math.sin(theta / 2) ** 2)
+    wd = np.sqrt(np.min(eigh(Kb, T.conj().T @ Me @ T, eigvals_only=True)))
+    Kc = np.array([[k * k / a, -1j * k / a], [1j * k / a, 1.0 / a + k * k]])
+    wc = np.sqrt(np.min(eigh(Kc, np.diag([1.0, b]), eigvals_only=True)))
+    return wd / wc - 1.0
+
+
+def dispersion_coefficient_r(treat: tuple, a: float, b: float, theta: float = 0.02) -> float:
+    """c of omega_h/omega - 1 ~ c theta^2 (as dispersion_coefficient: Richardson on 2 thetas)."""
+    c1 = bloch_error(treat, a, b, theta) / theta**2
+    c2 = bloch_error(treat, a, b, theta / 2) / (theta / 2) ** 2
+    return (4 * c2 - c1) / 3.0
+
+
+def cantilever_statics(N: int, beam: tuple, treat: tuple, load: str) -> tuple[float, float]:
+    """Relative errors (tip deflection, tip rotation) of the cantilever clamped at s = 0 under a unit
+    tip force ("tip_force"), tip moment ("tip_moment"), force at node N // 2 ("mid_force") or uniform
+    load on lumped nodal shares ("uniform", phmech's gravity: node masses) or consistent with the
+    helix field ("uniform_helix": the same plus end moments +-h^2/12 per unit load), against the
+    exact Timoshenko solution."""
+    L, EI, kGA, rhoA, rhoI = beam
+    K, _ = assemble(N, beam, treat, ("clamped", "free"))
+    h, n = L / N, 2 * N + 2
+    f = np.zeros(n)
+    if load == "tip_force":
+        f[2 * N] = 1.0
+        exact = (L**3 / (3 * EI) + L / kGA, L**2 / (2 * EI))
+    elif load == "tip_moment":
+        f[2 * N + 1] = 1.0
+        exact = (L**2 / (2 * EI), L / EI)
+    elif load == "mid_force":  # at node N // 2: a jump of the shear inside the link
+        a = (N // 2) * h
+        f[2 * (N // 2)] = 1.0
+        exact = (a * a * (3 * L - a) / (6 * EI) + a / kGA, a * a / (2 * EI))
+    else:
+        f[0::2] = h
+        f[0] = f[2 * N] = h / 2
+        if load == "uniform_helix":  # the load consistent with the helix field: end moments +-h^2/12
+            f[1], f[2 * N + 1] = h * h / 12, -h * h / 12
+        exact = (L**4 / (8 * EI) + L**2 / (2 * kGA), L**3 / (6 * EI))
+    u = np.zeros(n)
+    u[2:] = np.linalg.solve(K[2:, 2:], f[2:])
+    return u[2 * N] / exact[0] - 1.0, u[2 * N + 1] / exact[1] - 1.0
+
+
+def rigid_checks(N: int, beam: tuple, treat: tuple) -> dict:
+    """Rigid-motion exactness: relative excess of the kinetic energy of a unit translation and of a
+    unit turn about s = 0 and about the middle (exact: rhoA L, rhoA L^3/3 + rhoI L, rhoA L^3/12 + rhoI L),
+    and max |K v| of the rigid motions over the stiffness scale (free-free)."""
+    L, EI, kGA, rhoA, rhoI = beam
+    K, M = assemble(N, beam, treat, ("free", "free"))
+    x = np.linspace(0.0, L, N + 1)
+    out = {}
+    for name, v, ex in (("translation", np.ravel(np.column_stack([np.ones(N + 1), np.zeros(N + 1)])), rhoA * L),
+                        ("turn_about_end", np.ravel(np.column_stack([x, np.ones(N + 1)])),
+                         rhoA * L**3 / 3 + rhoI * L),
+                        ("turn_about_middle", np.ravel(np.column_stack([x - L / 2, np.ones(N + 1)])),
+                         rhoA * L**3 / 12 + rhoI * L)):
+        out[name] = float(v @ M @ v / ex - 1.0)
+        out[name + "_Kv"] = float(np.max(np.abs(K @ v)) / np.max(np.abs(K)))
+    return out
+
+
+def rigid_inertia_study(smoke: bool) -> dict:
+    """The measured comparison of the treatments of RIGID_TREATMENTS (section "Exact rigid inertia
+    with c = 0" of docs/mass_matrix_study.md)."""
+    ns = (4, 10) if smoke else NS_R
+    beams = {"tableI": BEAMS["tableI"]} if smoke else BEAMS
+    names = ("d6", "d6_link", "e1_none", "e2_pair4/3") if smoke else tuple(RIGID_TREATMENTS)
+    treats = {k: RIGID_TREATMENTS[k] for k in names}
+    res = {"description": "helix mass + strain-difference stiffness (beta = 1/12) vs d6 and d6 + the "
+                          "link-level subtraction; errors in percent, static errors relative",
+           "beta": BETA, "end_rules_s_w": END_RULES, "N": list(ns), "N_static": list(NS_STATIC),
+           "treatments": {k: {"mass": t[0], "beta": t[1], "clamped_end": t[2], "free_end": t[3],
+                              "link_fix": t[4], "rationale": t[5]} for k, t in treats.items()},
+           "dispersion": {}, "bloch_theta4": {}, "frequencies": {}, "statics": {}, "rigid": {}}
+    cases = [(1e-6, 1e-6), (1e-6, 0.1), (0.1, 1e-6), (0.1, 0.1), (1.0, 1.0), (0.01, 0.003)]
+    print("\n=== exact rigid inertia with c = 0 ===\nBloch c (theta^2 coefficient) at (a, b):")
+    print(f"{'':22s}" + " ".join(f"a={a:.0e},b={b:.0e}" for a, b in cases))
+    for tname, t in treats.items():
+        cs = [dispersion_coefficient_r(t, a, b) for a, b in cases]
+        res["dispersion"][tname] = {f"a={a},b={b}": c for (a, b), c in zip(cases, cs)}
+        res["bloch_theta4"][tname] = {f"theta={th}": 100 * bloch_error(t, 0.0078, 0.0025, th)
+                                      for th in (0.5, 1.0, 1.5)}
+        print(f"{tname:22s}" + " ".join(f"{c:+15.5f}" for c in cs)
+              + "  | Table I err % at theta .5/1/1.5: "
+              + " ".join(f"{x:+.3f}" for x in res["bloch_theta4"][tname].values()))
+    for bname, beam in beams.items():
+        L, EI, kGA, rhoA, rhoI = beam
+        res["frequencies"][bname] = {}
+        for bc in (("clamped-free",) if smoke else BCS):
+            ref = exact_frequencies(NMODES, L, EI, kGA, rhoA, rhoI, bc=bc)
+            rb = res["frequencies"][bname][bc] = {"exact_rad_s": ref.tolist(), "treatments": {}}
+            print(f"\n{bname} {bc}: errors % (N = " + ", ".join(map(str, ns)) + "), order of the last pair")
+            for tname, t in treats.items():
+                err = {N: (bc_frequencies(N, beam, t, bc) / ref - 1.0) * 100.0 for N in ns}
+                od = {f"{n1}-{n2}": (np.log(np.abs(err[n1]) / np.abs(err[n2])) / np.log(n2 / n1)).tolist()
+                      for n1, n2 in zip(ns[:-1], ns[1:])}
+                rb["treatments"][tname] = {"errors_percent": {str(N): err[N].tolist() for N in ns},
+                                           "orders": od,
+                                           "max_abs_percent": {str(N): float(np.max(np.abs(err[N]))) for N in ns}}
+                for N in ns:
+                    if N in (4, 10, 21) or N == ns[-1]:
+                        print(f"  {tname:20s} N={N:3d}: " + " ".join(f"{x:+8.3f}" for x in err[N])
+                              + (f"  order {ns[-2]}->{ns[-1]}: " + " ".join(f"{x:4.1f}" for x in od[list(od)[-1]])
+                                 if N == ns[-1] else ""))
+    beam = BEAMS["tableI"]
+    print("\nTable I cantilever statics: relative errors (tip deflection, tip rotation)")
+    for tname, t in treats.items():
+        res["statics"][tname] = {}
+        for load in ("tip_force", "tip_moment", "mid_force", "uniform", "uniform_helix"):
+            e = {N: cantilever_statics(N, beam, t, load) for N in NS_STATIC if N >= 2 or load != "mid_force"}
+            res["statics"][tname][load] = {str(N): list(v) for N, v in e.items()}
+            print(f"  {tname:20s} {load:10s} "
+                  + "  ".join(f"N={N}: {v[0]:+.2e} {v[1]:+.2e}" for N, v in e.items()))
+        res["rigid"][tname] = {str(N): rigid_checks(N, beam, t) for N in (1, 2, 4, 10)}
+        # the strain-space stiffness I - beta A stays positive definite: its smallest eigenvalue
+        res["rigid"][tname]["min_eig_strain_stiffness_N100"] = float(np.min(np.linalg.eigvalsh(
+            strain_smoothing(100, t[1], END_RULES[t[2]], END_RULES[t[3]]))))
+    print("\nRigid motion (Table I): relative excess of the turn-about-end inertia at N = 1, 2, 4, 10; "
+          "max |K v_rigid|/max|K|")
+    for tname in treats:
+        r = res["rigid"][tname]
+        print(f"  {tname:20s} " + " ".join(f"{r[str(N)]['turn_about_end']:+.2e}" for N in (1, 2, 4, 10))
+              + f"   translation {r['10']['translation']:+.1e}   Kv "
+              + f"{max(v for n in ('1', '2', '4', '10') for k, v in r[n].items() if k.endswith('_Kv')):.1e}"
+              + f"   min eig(I - beta A), N = 100: {r['min_eig_strain_stiffness_N100']:.3f}")
+    return res
+
+
 def main():
     import argparse
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="accepted for make bench (the study is short)")
-    ap.add_argument("--smoke", action="store_true", help="one beam, meshes 9 and 21 (tests/test_benchmarks_smoke.py)")
+    ap.add_argument("--smoke", action="store_true",
+                    help="one beam, meshes 9 and 21; the rigid-inertia part on the cantilever at "
+                         "N = 4 and 10, four treatments (tests/test_benchmarks_smoke.py)")
     a = ap.parse_args()
     global NS, BEAMS
     if a.smoke:
@@ -207,6 +484,7 @@ def main():
         cs = [dispersion_coefficient(treat, a, b) for a, b in cases]
         results["dispersion"][tname] = {f"a={a},b={b}": c for (a, b), c in zip(cases, cs)}
         print(f"{tname:22s}" + " ".join(f"{c:+15.5f}" for c in cs))
+    results["rigid_inertia"] = rigid_inertia_study(a.smoke)
 
     out = pathlib.Path(os.environ.get("BENCH_RESULTS") or pathlib.Path(__file__).resolve().parent / "results") \
         / "mass_matrix_study.json"
