@@ -58,6 +58,7 @@ TABLE = (
     ("sweep", "extras", False),         # parameter sweeps
     ("studies", "extras", False),       # the paper's studies
     ("_plotdata", "extras", False),     # what plot draws, in world coordinates (NumPy)
+    ("_plotaxes", "extras", False),     # plot's Axes, artists and plotly traces
     ("plot", "extras", False),          # matplotlib / plotly
     ("fmu", "extras", False),           # FMU export
     ("_urdfparse", "extras", False),    # a URDF file read: tree, inertias, joint frames
