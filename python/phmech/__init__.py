@@ -29,8 +29,10 @@ from .laws import (Constant, Cycloidal, Function, Linear, Motion, PiecewisePolyn
                    Pulse, Sine, Spline, Step, Sum, Table, Trapezoidal, law_from_data)
 from .linear import LinearPortHamiltonian, Passivity
 from .mechanism import Mechanism, load
-from .pairs import (Cylindrical, Fixed, Free, Helical, Planar, Prismatic, Revolute, Spherical,
-                    Universal)
+from . import pairs as _pairs
+# every pair type of the core's table (csrc/model/pair_types.c), by its class name: a new type
+# needs no line here
+from .pairs import *  # noqa: F401,F403
 from .results import (FreeMotion, InitialAdjustment, InitialConfiguration, ModesResult, Momentum,
                       SimulationResult, StaticResult, load_result)
 from .sensors import (ComponentState, FrameSensor, JointSensor, LinkStrain, PairWrench,
@@ -45,8 +47,7 @@ __all__ = ["ModelError", "SolverError", "CostWarning", "info", "blas_threads", "
            "sweep", "linear", "LinearPortHamiltonian", "Passivity", "urdf", "load_urdf", "URDFRobot",
            "fmu", "export_fmu",
            "Material", "Section", "BeamProperties", "table1_properties",
-           "Mechanism", "Frame", "Body", "FlexibleLink", "rotation", "Fixed", "Revolute", "Prismatic",
-           "Helical", "Cylindrical", "Universal", "Spherical", "Planar", "Free", "Effort", "PD",
+           "Mechanism", "Frame", "Body", "FlexibleLink", "rotation", *_pairs.__all__, "Effort", "PD",
            "Spring", "Motion", "Constant", "Step", "Pulse", "Sine", "Table", "Cycloidal", "Linear",
            "Trapezoidal", "Spline", "PiecewisePolynomial", "Sum", "Product", "Function", "law_from_data",
            "SimulationResult", "ModesResult", "StaticResult", "Graphs", "RedundantConstraintWarning",
