@@ -17,7 +17,7 @@
 /* Type codes: the rows of the table below, in this order. */
 enum {
   PAIR_FIXED, PAIR_REVOLUTE, PAIR_PRISMATIC, PAIR_HELICAL, PAIR_CYLINDRICAL, PAIR_UNIVERSAL,
-  PAIR_SPHERICAL, PAIR_PLANAR, PAIR_FREE, PAIR_NTYPES
+  PAIR_SPHERICAL, PAIR_PLANAR, PAIR_FREE, PAIR_SLOT, PAIR_NTYPES
 };
 
 static const phm_pair_type_info pair_table[PAIR_NTYPES] = {
@@ -53,6 +53,10 @@ static const phm_pair_type_info pair_table[PAIR_NTYPES] = {
      "Free pair (no constraint): x = (rotation vector, position of F_b in F_a); xdot = (angular "
      "velocity in F_b, dp/dt in F_a). Useful to measure or actuate a relative motion.",
      0x38, 7},
+    {"slot", 4, "", {"rad", "m"}, {"tau_x", "tau_y", "f_y", "f_z"}, 0, 3,
+     "Slot pair: F_b turns about the common z axis and slides along F_a's x axis; x = (angle "
+     "[rad], displacement [m]).",
+     3, 1},
 };
 
 int phm_pair_type_count(void) { return PAIR_NTYPES; }
@@ -257,6 +261,14 @@ PAIR_KIN_INLINE void pair_kin(int tan, int type, double pitch, const double h[16
     put(xx, dx, 3, p[0]); put(xx, dx, 4, p[1]); put(xx, dx, 5, p[2]);
     for (int j = 0; j < 3; j++) setcol(Pl, dP, 3 + j, 3, R[j][0], R[j][1], R[j][2]);
     break;
+  case PAIR_SLOT:
+    put(gg, dg, 0, R[2][1]); put(gg, dg, 1, neg(R[2][0])); put(gg, dg, 2, p[1]); put(gg, dg, 3, p[2]);
+    setcol(Wl, dW, 0, 0, c1, c0, c0); setcol(Wl, dW, 1, 0, c0, c1, c0);
+    setcol(Wl, dW, 2, 3, R[1][0], R[1][1], R[1][2]); setcol(Wl, dW, 3, 3, R[2][0], R[2][1], R[2][2]);
+    setcol(Pl, dP, 0, 0, c0, c0, c1); setcol(Pl, dP, 1, 3, R[0][0], R[0][1], R[0][2]);
+    put(xx, dx, 0, near_pq(th, xref, 0));
+    put(xx, dx, 1, p[0]);
+    break;
   default: break; /* a type without its case here has no kinematics: phm_model_create refuses it */
   }
   int mm = (type >= 0 && type < PAIR_NTYPES) ? pair_table[type].m : 0;
@@ -380,9 +392,11 @@ void phm_pair_type_pose(int type, double pitch, const double *x, double h[16]) {
   case PAIR_SPHERICAL: z[0] = x[0]; z[1] = x[1]; z[2] = x[2]; break;
   case PAIR_PLANAR: z[2] = x[0]; break;
   case PAIR_FREE: z[0] = x[0]; z[1] = x[1]; z[2] = x[2]; break;
+  case PAIR_SLOT: z[2] = x[0]; break;
   default: break;
   }
   phm_se3_exp(z, h);
+  if (type == PAIR_SLOT) h[3] = x[1];
   if (type == PAIR_PLANAR) { h[3] = x[1]; h[7] = x[2]; }
   if (type == PAIR_FREE) { h[3] = x[3]; h[7] = x[4]; h[11] = x[5]; }
 }

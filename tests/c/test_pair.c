@@ -10,11 +10,11 @@
 /* The rows of the pair table (csrc/model/pair_types.c) in its order; the first case checks them by name. */
 enum {
   PHM_PAIR_FIXED, PHM_PAIR_REVOLUTE, PHM_PAIR_PRISMATIC, PHM_PAIR_HELICAL, PHM_PAIR_CYLINDRICAL,
-  PHM_PAIR_UNIVERSAL, PHM_PAIR_SPHERICAL, PHM_PAIR_PLANAR, PHM_PAIR_FREE, PAIR_TYPES
+  PHM_PAIR_UNIVERSAL, PHM_PAIR_SPHERICAL, PHM_PAIR_PLANAR, PHM_PAIR_FREE, PHM_PAIR_SLOT, PAIR_TYPES
 };
 static const char *const pair_names[PAIR_TYPES] = {"fixed", "revolute", "prismatic", "helical",
                                                    "cylindrical", "universal", "spherical",
-                                                   "planar", "free"};
+                                                   "planar", "free", "slot"};
 static const double I4[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
 
 /* Forward kinematics h(x) of each pair type, written from the table's docs (independent of
@@ -36,6 +36,10 @@ static void pair_fk(int type, double pitch, const double *x, double h[16]) {
     z[2] = x[0]; phm_se3_exp(z, B);
     memcpy(h, B, sizeof B);
     h[3] = x[1]; h[7] = x[2];
+    break;
+  case PHM_PAIR_SLOT: /* Rz(x0), then x1 along F_a's x */
+    z[2] = x[0]; phm_se3_exp(z, h);
+    h[3] = x[1];
     break;
   case PHM_PAIR_FREE:
     z[0] = x[0]; z[1] = x[1]; z[2] = x[2]; phm_se3_exp(z, h);
