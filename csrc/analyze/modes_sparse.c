@@ -219,8 +219,8 @@ static void ritz_vectors(const double *A, const int *order, const double *Y, dou
  * cable (sigma0 -360 (rad/s)^2, its lambda_1 0.14 and lambda_11 28: 391 iterations; 6 at 300
  * elements). lambda_1 <= lam1 = sigma + 1/theta_1 (theta_1 the largest Ritz value of the
  * inverse operator, all positive: Courant-Fischer), so tau = -max(4 lam1, 1e-3 |sigma0|) stays
- * below the lowest mode and, for lam1 > 0, at least as far from zero as from it; the floor keeps
- * rigid-body modes at zero 1e-12 tr K / tr M away (1e-3 of the first shift). Taken when tau is
+ * below zero and the lowest mode, within 5 lam1 of it; the floor keeps rigid-body modes at zero
+ * 1e-12 tr K / tr M away from the shift (1e-3 of the first shift's distance). Taken when tau is
  * closer to zero than sigma / 10 and certified at tau with nothing below it; otherwise the
  * factorization at sigma is restored. Returns 1 when the shift moved. */
 static int sparse_reshift(sparse_t *P, double sigma0, double theta1) {
