@@ -1,6 +1,8 @@
-"""Large models (issue 31, item 4): a hanging steel riser of N = 100 ... 10 000 elements driven
+"""Large models (issue 31, item 4): a hanging steel riser of N = 30 ... 10 000 elements driven
 at its top, run with phmech's defaults; CPU per simulated second, peak memory, steps, Newton
-iterations, error, the scaling exponent, and Exudyn's figure on the same problem.
+iterations, error, the scaling exponents over N = 30 ... 10 000 and 100 ... 10 000, static()'s
+CPU, and Exudyn's figures on the same problem (the JSON's ``summary``: both at N = 100, 1000,
+10 000).
 
     python benchmarks/bench_large.py [--quick | --smoke] [--budget S] [--no-exudyn]
 
@@ -26,9 +28,10 @@ four material points s = L/4, L/2, 3L/4, L from their reference over the outputs
   the whole span.
 
 Exudyn (``--no-exudyn``: not run): ``ObjectBeamGeometricallyExact2D`` (the same section values,
-planar Simo-Reissner: the like-for-like element) with its sparse solver (EigenSparse), static
-equilibrium (SolveStatic) then generalized-alpha (spectral radius 0.9, as phmech's default
-rho_inf) at a fixed step; top coordinates held by CoordinateConstraints, x driven through an
+planar Simo-Reissner: the like-for-like element) with its sparse solver (EigenSparse), from the
+analytic hanging equilibrium (its SolveStatic does not converge here), generalized-alpha
+(spectral radius 0.9, as phmech's default rho_inf) at a fixed step, Newton relative tolerance
+EX_NEWTON_RTOL (EX_NEWTON_RTOL_LARGE from N = 10 000 on: below it, its Newton stalls); top coordinates held by CoordinateConstraints, x driven through an
 ``offsetUserFunction`` (as benchmarks/run.py's whipped rod). Matched error: at N_CAL the steps
 EX_STEPS are run over T_REF and the largest whose error (against phmech's reference at that N)
 is at most phmech's default's is used for every N.
@@ -64,6 +67,9 @@ POINTS = (0.25, 0.5, 0.75, 1.0)          # material points (fractions of L) the 
 EX_STEPS = (1e-2, 5e-3, 2e-3, 1e-3)      # Exudyn steps tried at N_CAL [s]
 EX_RHO = 0.9
 EX_NEWTON_RTOL = 1e-6                    # Exudyn's Newton tolerance (its default 1e-8 stalls)
+EX_NEWTON_RTOL_LARGE = (10000, 1e-5)     # from this N on (there 1e-6 stalls too)
+EXPONENT_RANGES = ((30, 10000), (100, 10000))   # the CPU/s exponents reported (issue 31)
+SUMMARY_SIZES = (100, 1000, 10000)              # the sizes of the JSON's summary
 
 
 def properties():
@@ -106,6 +112,13 @@ def phmech_riser(N: int, T: float, rtol: float | None = None) -> dict:
                 error_sum=float(s.get("error_sum", float("nan"))), static_lowest_omega=float(st.lowest_omega))
 
 
+def exudyn_newton_rtol(N: int) -> float:
+    """Exudyn's Newton relative tolerance at N elements: EX_NEWTON_RTOL, or from
+    EX_NEWTON_RTOL_LARGE's N on its looser value (at N = 10 000 its Newton stalls at 1.05e-6
+    relative from t = 0.016 s, its steps then cut to 1.2e-7 s: the run did not finish)."""
+    return EX_NEWTON_RTOL_LARGE[1] if N >= EX_NEWTON_RTOL_LARGE[0] else EX_NEWTON_RTOL
+
+
 def exudyn_riser(N: int, T: float, h: float) -> dict:
     """Exudyn GE2D riser along -y, gravity -y, top node clamped, x driven; (x, y) of the points."""
     import exudyn as exu
@@ -140,7 +153,7 @@ def exudyn_riser(N: int, T: float, h: float) -> dict:
     # Newton: its default relative tolerance 1e-8 is below the round-off of this stiff cable's
     # residual from N = 300 on (it stalls at 1.5e-8; the step is then cut to 6e-8 s and the run
     # would take hours)
-    ss.timeIntegration.newton.relativeTolerance = EX_NEWTON_RTOL
+    ss.timeIntegration.newton.relativeTolerance = exudyn_newton_rtol(N)
     c1 = time.process_time()
     # the initial state: the hanging equilibrium, axial displacement u(s) = w (L s - s^2 / 2) / EA
     # (w the weight per length), exact at the nodes of linear elements under a distributed load
@@ -160,7 +173,7 @@ def exudyn_riser(N: int, T: float, h: float) -> dict:
     d = [np.asarray(mbs.GetSensorStoredData(s)) for s in sens]
     pts = np.stack([x[:, 1:3] for x in d], axis=1)       # (nt, 4, 2): x, y
     return dict(build_cpu_s=c1 - c0, static_cpu_s=c2 - c1, sim_cpu_s=c3 - c2, t=d[0][:, 0].tolist(),
-                points=pts.tolist(), h=h, **exudyn_stats(mbs, T, h))
+                points=pts.tolist(), h=h, newton_rtol=exudyn_newton_rtol(N), **exudyn_stats(mbs, T, h))
 
 
 def point(code: str, N: int, T: float, setting: float) -> dict:
@@ -219,18 +232,36 @@ def slim(r: dict) -> dict:
 
 
 def fit_all(runs: list, base: dict) -> dict:
-    """Per code: the CPU/s exponent over all its N (least squares in log-log), the local slopes
-    between neighbouring N and the exponent of the peak RSS above the baseline."""
+    """Per code: the CPU/s exponent over all its N (least squares in log-log), over each of
+    EXPONENT_RANGES (``cpu_exponents``, "30-10000": the fit on the runs within; None with fewer
+    than two, ``fitted_on`` names them), the local slopes between neighbouring N and the
+    exponent of the peak RSS above the baseline."""
     fits = {}
     for code in ("phmech", "exudyn"):
         rs = sorted((r for r in runs if r["code"] == code), key=lambda r: r["N"])
         if len(rs) >= 2:
+            ranges = {f"{lo}-{hi}": [r for r in rs if lo <= r["N"] <= hi] for lo, hi in EXPONENT_RANGES}
             fits[code] = dict(cpu_exponent=fit_exponent(rs), fitted_on=[r["N"] for r in rs],
+                              cpu_exponents={k: dict(exponent=fit_exponent(v), fitted_on=[r["N"] for r in v])
+                                             for k, v in ranges.items()},
                               local_slopes=[float(np.log(b["cpu_per_sim_s"] / a_["cpu_per_sim_s"]) / np.log(b["N"] / a_["N"]))
                                             for a_, b in zip(rs, rs[1:])],
                               memory_exponent_above_baseline=fit_exponent(
                                   [dict(N=r["N"], cpu_per_sim_s=max(r["maxrss_MB"] - base[code], 1e-3)) for r in rs]))
     return fits
+
+
+def summary(runs: list) -> dict:
+    """Per code, at each of SUMMARY_SIZES it ran: CPU per simulated s, peak RSS [MB], static
+    CPU [s] (for Exudyn: setting its initial state), steps and Newton iterations."""
+    out = {}
+    for code in ("phmech", "exudyn"):
+        at = {str(r["N"]): dict(cpu_per_sim_s=r["cpu_per_sim_s"], maxrss_MB=r["maxrss_MB"], static_cpu_s=r["static_cpu_s"],
+                                steps=r["steps"], newton_iterations=r.get("newton_iterations"))
+              for r in runs if r["code"] == code and r["N"] in SUMMARY_SIZES}
+        if at:
+            out[code] = dict(sorted(at.items(), key=lambda kv: int(kv[0])))
+    return out
 
 
 def merge_point(code: str, N: int, budget: float) -> None:
@@ -245,6 +276,7 @@ def merge_point(code: str, N: int, budget: float) -> None:
     d["runs"] = [x for x in d["runs"] if not (x["code"] == code and x["N"] == N)] + [r]
     d["skipped"] = [x for x in d["skipped"] if not (x["code"] == code and x["N"] == N)]
     d["fits"] = fit_all(d["runs"], d["baseline_rss_MB"])
+    d["summary"] = summary(d["runs"])
     write_json("bench_large", d)
     plot(d, "bench_large")
     print(f"{code} N={N}: CPU/s {r['cpu_per_sim_s']:.4g}, static {r['static_cpu_s']:.3g} s, steps {r['steps']}, "
@@ -275,7 +307,7 @@ def main() -> None:
     elif a.quick:
         Ns, T, T_ref, N_cal = [100, 300], 1.0, 0.5, 100
     else:
-        Ns, T, T_ref, N_cal = [100, 300, 1000, 3000, 10000], 5.0, 1.0, 300
+        Ns, T, T_ref, N_cal = [30, 100, 300, 1000, 3000, 10000], 5.0, 1.0, 300
     Ns = a.sizes or Ns
     ex = have("exudyn") and not a.no_exudyn
     base = dict(phmech=baseline_rss("numpy, phmech"))
@@ -298,31 +330,48 @@ def main() -> None:
               f"RSS {r['maxrss_MB']:.0f} MB, {r['wall_s']:.0f} s wall", flush=True)
 
     print(f"phmech defaults over T = {T} s; references at rtol {REF_RTOL} over {T_ref} s", flush=True)
-    last = None
+    last = None          # (N, wall of its default run [s])
+    ref_ratio = None     # the last reference's wall over its default run's
     for N in Ns:
         if skip_over_budget("phmech", N, last):
             continue
         try:
             r = run_point("phmech", N, T, 0.0, a.budget)
-            ref = run_point("phmech", N, T_ref, REF_RTOL, a.budget)
         except (RuntimeError, subprocess.TimeoutExpired) as e:
             skipped.append(dict(code="phmech", N=N, reason=str(e)[-300:]))
             print(f"  phmech N={N}: failed ({skipped[-1]['reason']})", flush=True)
             continue
+        runs.append(r)
+        last = (N, r["wall_s"])
+        # its reference (rtol REF_RTOL over T_ref): skipped when predicted over the budget from
+        # the last one's wall ratio; the point keeps its figures and its error against the
+        # common reference, without a time error
+        ref, why = None, None
+        if ref_ratio is not None and r["wall_s"] * ref_ratio > a.budget:
+            why = f"predicted wall {r['wall_s'] * ref_ratio:.0f} s > budget {a.budget:.0f} s"
+        else:
+            try:
+                ref = run_point("phmech", N, T_ref, REF_RTOL, a.budget)
+            except (RuntimeError, subprocess.TimeoutExpired) as e:
+                why = str(e)[-300:]
+        if ref is None:
+            skipped.append(dict(code="phmech reference", N=N, reason=f"{why}: no time error at this N"))
+            show(r, f"no reference ({why})")
+            continue
         r["time_error"] = deviation(r, ref, T_ref)
         refs[N] = ref
-        runs.append(r)
+        ref_ratio = ref["wall_s"] / max(r["wall_s"], 1e-3)
         show(r, f"time error {r['time_error']:.2e} L")
         show(ref, f"reference (rtol {REF_RTOL}, {T_ref} s)")
-        last = (N, r["wall_s"] + ref["wall_s"])
     ph_runs = [r for r in runs if r["code"] == "phmech"]
     finest = max(ph_runs, key=lambda r: r["N"]) if ph_runs else None
-    ref = refs[finest["N"]] if finest else None        # the common reference
+    ref_N = max(refs) if refs else None
+    ref = refs[ref_N] if refs else None        # the common reference: the finest N's that has one
     for r in ph_runs:
         r["mesh_error"] = deviation(r, finest, T) if r is not finest else None
-        r["error"] = deviation(r, ref, T_ref)
+        r["error"] = deviation(r, ref, T_ref) if ref is not None else None
     check = None
-    if ph_runs and not a.smoke:
+    if ph_runs and not a.smoke and ph_runs[0]["N"] in refs:
         n0 = ph_runs[0]["N"]
         tight = run_point("phmech", n0, T_ref, REF_RTOL / 10, a.budget)
         check = dict(N=n0, rtol=REF_RTOL / 10, reference_vs_tighter=deviation(refs[n0], tight, T_ref),
@@ -377,8 +426,8 @@ def main() -> None:
     ex_runs = [r for r in runs if r["code"] == "exudyn" and "error" in r]
     front = pareto([r["cpu_per_sim_s"] for r in ex_runs], [r["error"] for r in ex_runs])
     for r in ph_runs:
-        c = cpu_at_error(front, r["error"]) if r["error"] > 0 else None
-        if c is None and front and r["error"] >= front[0][1]:
+        c = cpu_at_error(front, r["error"]) if r["error"] else None
+        if c is None and front and r["error"] and r["error"] >= front[0][1]:
             c = front[0][0]              # at or above Exudyn's coarsest error: its cheapest point
         r["exudyn_cpu_per_sim_s_at_error"] = c
         r["ratio_to_exudyn"] = None if c is None else r["cpu_per_sim_s"] / c
@@ -390,22 +439,25 @@ def main() -> None:
         phmech_call="m.static(); m.simulate(T, dt_out, initial=static): defaults (default integrator, rtol 1e-4)",
         exudyn_setting=f"ObjectBeamGeometricallyExact2D, EigenSparse, initial state the analytic hanging equilibrium "
                        f"(its SolveStatic does not converge here), generalized-alpha spectral radius {EX_RHO}, Newton "
-                       f"relative tolerance {EX_NEWTON_RTOL} (its default 1e-8 stalls), fixed step h = {ex_h} s (the "
+                       f"relative tolerance {EX_NEWTON_RTOL} (its default 1e-8 stalls; {EX_NEWTON_RTOL_LARGE[1]:g} from N = "
+                       f"{EX_NEWTON_RTOL_LARGE[0]} on, where 1e-6 stalls), fixed step h = {ex_h} s (the "
                        f"largest of {list(EX_STEPS)} whose error at N = {N_cal} over {T_ref} s is within 10 % of the "
                        f"smallest step's)" if ex else None,
         error=f"max over outputs t <= {T_ref} s and the material points s/L = {list(POINTS)} of |p - p_ref| / L, p_ref: "
-              f"phmech at the finest N ({finest['N'] if finest else None}), rtol {REF_RTOL} (both codes)",
+              f"phmech at the finest N with a reference ({ref_N}), rtol {REF_RTOL} (both codes)",
         time_error=f"the same against phmech at the same N, rtol {REF_RTOL}",
         mesh_error=f"the same over the whole span against the finest N ({finest['N'] if finest else None}) with defaults",
         rate="CPU per simulated s = simulate() CPU / T (time.process_time; its set-up included)",
         T=T, T_ref=T_ref, dt_out=DT_OUT, N_cal=N_cal, exudyn_h=ex_h, exudyn_calibration=cal,
         reference_check=check, baseline_rss_MB=base, machine=machine(), runs=[slim(r) for r in runs],
-        references=[slim(r) for r in refs.values()], skipped=skipped, fits=fits, quick=a.quick, smoke=a.smoke,
+        references=[slim(r) for r in refs.values()], skipped=skipped, fits=fits, summary=summary(runs),
+        quick=a.quick, smoke=a.smoke,
         wall_s=time.time() - w0)
     name = "bench_large" + ("_smoke" if a.smoke else "_quick" if a.quick else "")
     write_json(name, out)
     plot(out, name)
     print(f"fits: {json.dumps(fits)}")
+    print(f"summary: {json.dumps(out['summary'])}")
     print(f"bench_large done in {time.time() - w0:.0f} s wall", flush=True)
 
 

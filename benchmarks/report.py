@@ -360,7 +360,10 @@ def large(results: str) -> list:
     for code in ("phmech", "exudyn"):
         f = d["fits"].get(code)
         if f:
-            lines += ["", f"{code}: CPU/s ~ N^{f['cpu_exponent']:.2f} over N = {f['fitted_on']} (local slopes "
+            ranges = "".join(f"; over N = {k.replace('-', ' ... ')}: N^{v['exponent']:.2f}"
+                             for k, v in (f.get("cpu_exponents") or {}).items()
+                             if v["exponent"] is not None and v["fitted_on"] != f["fitted_on"])
+            lines += ["", f"{code}: CPU/s ~ N^{f['cpu_exponent']:.2f} over N = {f['fitted_on']}{ranges} (local slopes "
                       + ", ".join(f"{v:.2f}" for v in f["local_slopes"]) + "); peak RSS above the baseline "
                       f"({d['baseline_rss_MB'][code]:.0f} MB) ~ N^{f['memory_exponent_above_baseline']:.2f}."]
     added = [f"N = {r['N']} ({r['code']}): {r['added_by']}" for r in d["runs"] if r.get("added_by")]

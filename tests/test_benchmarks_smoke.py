@@ -140,6 +140,9 @@ def test_bench_large(tmp_path):
     # the defaults against the rtol 1e-6 reference: the motion of 0.2 s is small, its error far below 1e-4 L
     assert math.isfinite(r["error"]) and r["error"] < 1e-4, r
     assert not d["skipped"], d["skipped"]
+    # the summary at N = 100 (of 100, 1000, 10 000): CPU/s, peak memory and static() CPU
+    s = d["summary"]["phmech"]["100"]
+    assert s["cpu_per_sim_s"] == r["cpu_per_sim_s"] and s["maxrss_MB"] == r["maxrss_MB"] and s["static_cpu_s"] >= 0
     if have("exudyn"):
         ex = [r for r in d["runs"] if r["code"] == "exudyn"]
         assert len(ex) == 1 and math.isfinite(ex[0]["error"]) and ex[0]["error"] < 1e-3, ex
