@@ -103,8 +103,8 @@ class LinkBuilder:
         both ends 0.32 % against 0.39 %, free 0.43 % against 1.3 %), its energy balance stays
         exact and momentum is conserved; its inertia for a rigid turn about a point is the
         continuum's (lumped: plus rhoA L h^2/6); a run costs 9-17 % more at equal N
-        (docs/user_guide.md, "Consistent mass (the default) and lumped mass"). ``centre_of_mass`` places its mass
-        along the elements' fields (SimulationResult.centre_of_mass); gravity acts on the node
+        (docs/user_guide.md, "Consistent mass (the default) and lumped mass").
+        ``centre_of_mass`` places its mass along the elements' fields (SimulationResult.centre_of_mass); gravity acts on the node
         masses, as with lumped mass."""
         if not isinstance(fidelity, str) or fidelity not in FIDELITIES:
             raise ModelError(f"link {name!r}: unknown fidelity {fidelity!r} (available: "
