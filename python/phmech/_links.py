@@ -104,8 +104,8 @@ class LinkBuilder:
         exact and momentum is conserved; its inertia for a rigid turn about a point is the
         continuum's (lumped: plus rhoA L h^2/6); a run costs 9-17 % more at equal N
         (docs/user_guide.md, "Consistent mass (the default) and lumped mass").
-        ``centre_of_mass`` places its mass along the elements' fields (SimulationResult.centre_of_mass); gravity acts on the node
-        masses, as with lumped mass."""
+        ``centre_of_mass`` places its mass along the elements' fields
+        (SimulationResult.centre_of_mass); gravity acts on the node masses, as with lumped mass."""
         if not isinstance(fidelity, str) or fidelity not in FIDELITIES:
             raise ModelError(f"link {name!r}: unknown fidelity {fidelity!r} (available: "
                              f"{', '.join(map(repr, FIDELITIES))})")
