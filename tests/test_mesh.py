@@ -57,9 +57,11 @@ def support_error(N: int, support: str, mass: str) -> float:
 def test_the_choice_meets_the_tolerance_with_at_most_half_again_the_fewest_elements(tolerance, mass):
     """The estimate is the free link's (mesh.py): right for any support, because the ends set
     the error (consistent mass has no interior h^2 error; a clamped end raises the frequencies,
-    a free one lowers them). Measured, consistent (the default): 15 elements for 1e-2 (errors
-    free-free 8.4e-3, clamped-clamped 6.4e-3, clamped-free 1.3e-3; the fewest meeting 1e-2 on
-    all three: 14), 46 for 1e-3 (9.5e-4, 6.5e-4, 2.1e-4; fewest 45). Lumped: 25 (9.1e-3, 2.7e-3,
+    a free one lowers them). Measured, consistent (the default) with a straight link's
+    rigid-rotation coupling: 14 elements for 1e-2 (errors free-free 9.2e-3, clamped-clamped
+    7.4e-3, clamped-free 9.8e-4) and 45 for 1e-3 (9.5e-4, 6.8e-4, 1.7e-4); the fewest and the
+    cantilever's figures below are from before that coupling (15 and 46 chosen then; errors
+    8.4e-3, 6.4e-3, 1.3e-3 and 9.5e-4, 6.5e-4, 2.1e-4; fewest 14 and 45). Lumped: 25 (9.1e-3, 2.7e-3,
     4.9e-3; fewest 24) and 78 (9.5e-4, 2.8e-4, 5.0e-4; fewest 76). The cantilever alone is not
     the measure for consistent mass: its clamped and free ends' errors nearly cancel (its
     fewest: 7 for 1e-2 and 9 for 1e-3, where the clamped-clamped link is 3.8e-2 and 2.0e-2
@@ -113,9 +115,9 @@ def test_sized_meets_the_tolerance_on_its_own_supports_with_at_most_half_again_t
         support, tolerance, mass):
     """Issue 13's measure: the Table I beam, a band of 300 rad/s, checked against the exact
     Timoshenko frequencies. sized() measures the mechanism's own modes against a refined
-    reference, so the cantilever gets what the cantilever needs (consistent mass: 7 elements for
-    1e-2 and 9 for 1e-3, its fewest; the free link's estimate of choose_elements gives it 15 and
-    46). Its error bound must hold: the exact error is within ``estimated_error``."""
+    reference, so the cantilever gets what the cantilever needs (consistent mass, before the
+    link's rigid-rotation coupling: 7 elements for 1e-2 and 9 for 1e-3, its fewest; the free
+    link's estimate of choose_elements gives it 14 and 45 now). Its error bound must hold: the exact error is within ``estimated_error``."""
     m2 = held(4, support, mass).sized(band=BAND, tolerance=tolerance)
     N = m2.sizing.elements["beam"]
     assert m2.links["beam"].elements == N

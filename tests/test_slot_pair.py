@@ -22,11 +22,14 @@ def test_a_body_falls_along_the_slot_and_keeps_its_spin(tmp_path):
 
 
 def test_the_slot_holds_the_other_four_directions():
-    """Gravity across the slot: the body stays on the slot's axis (the constraint wrench's f_y,
-    f_z carry the weight)."""
+    """Gravity across the slot and a centre of mass off it, so that the weight pulls the origin
+    off the axis and twists the body about x and y: the body stays on the slot's axis, turned
+    about z only (the constraint wrench's f_y_a, f_z_a, tau_x, tau_y hold it)."""
     m = ph.Mechanism(gravity=(0, -9.81, -9.81))
-    b = m.add_rigid_body("b", 1.0, np.diag([0.01, 0.01, 0.02]), com=(0, 0.1, 0))
+    b = m.add_rigid_body("b", 1.0, np.diag([0.01, 0.01, 0.02]), com=(0.1, 0.1, 0.05))
     m.add_pair("s", ph.Slot(), m.ground, b)
     r = m.simulate(0.5, 0.05)
-    p = r.poses[:, b.carrier, :3, 3]
-    assert np.abs(p[:, 1:]).max() < 1e-9
+    H = r.poses[:, b.carrier]
+    assert np.abs(H[:, 1:3, 3]).max() < 1e-9                       # on F_a's x axis
+    assert np.abs(H[:, 2, 2] - 1.0).max() < 1e-9                    # z stays z: no tilt
+    assert np.abs(r.joint("s")["x"][:, 0]).max() > 1e-3             # it does turn about z

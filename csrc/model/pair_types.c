@@ -53,9 +53,9 @@ static const phm_pair_type_info pair_table[PAIR_NTYPES] = {
      "Free pair (no constraint): x = (rotation vector, position of F_b in F_a); xdot = (angular "
      "velocity in F_b, dp/dt in F_a). Useful to measure or actuate a relative motion.",
      0x38, 7},
-    {"slot", 4, "", {"rad", "m"}, {"tau_x", "tau_y", "f_y", "f_z"}, 0, 3,
+    {"slot", 4, "", {"rad", "m"}, {"tau_x", "tau_y", "f_y_a", "f_z_a"}, 0, 3,
      "Slot pair: F_b turns about the common z axis and slides along F_a's x axis; x = (angle "
-     "[rad], displacement [m]).",
+     "[rad], displacement [m]); its forces f_y_a, f_z_a are along F_a's y and z.",
      3, 1},
 };
 

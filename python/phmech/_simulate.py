@@ -75,7 +75,7 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
     # adaptive generalized-alpha on a mechanism with elements, (DEFAULT_RTOL / rtol)^(1/3) times
     # higher below the default rtol: the modes above the band are damped, not resolved, and what
     # that leaves in the resolved motion must shrink with the tolerance too (the README's arm +
-    # strip: rtol 1e-4 -> 1e-6 gained 22x on the tip with a 500 Hz band at both, 63x with 2.3 kHz
+    # strip: rtol 1e-4 -> 1e-6 gained 23x on the tip with a 500 Hz band at both, 63x with 2.3 kHz
     # at 1e-6). A rigid mechanism's estimate sees all its motion whatever the band, whose only
     # role there, the twists' absolute tolerance (galpha_scheme.c), it would loosen (the 2 deg
     # pendulum at rtol 1e-6: 1.11 -> 1.48x its tolerance). No higher than rtol 1e-6's 4.6x: a
@@ -269,7 +269,8 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
             why = (f"; the steps were at most {1.0 / (_run.BAND_MAX_STEPS * band):.3g} s, from "
                    f"the {band:.4g} Hz band (" + ("band=" if band_given else
                    f"1/(2 dt_out), dt_out = {dt:g} s" if 0.5 / dt >= band else
-                   f"{_run.BAND_PER_SPAN:g} / span, the default's floor") + "): a higher band= shortens them")
+                   f"{_run.BAND_PER_SPAN:g} / span, the default's floor" if _run.BAND_PER_SPAN / (t1 - t0) >= band
+                   else f"the default's, raised for rtol {rtol:g}") + "): a higher band= shortens them")
         err = topology.constraint_error(mech._desc, r["error"]) or SolverError(r["error"])
         raise _with_partial(err, result, unsaved + why)
     return result

@@ -22,7 +22,8 @@ Neither changes them. Rows are dicts (units: SI, poses 4x4, twists (omega, v), w
 - springs: name, a, b, pa, pb [m, frame coordinates], kcd (k [N/m], c [N s/m], rest length [m]
   or None for the initial distance)
 - couplings: a, b (carriers), Mc (12x12 kinetic coupling of their body twists without an
-  element: a modal link's modes with its ends, phmech.fidelity.modal_sliders)
+  element: a modal link's modes with its ends, phmech.fidelity.modal_sliders; a straight
+  consistent-mass link's first and last node, rigid_rotation_coupling)
 """
 from __future__ import annotations
 
@@ -187,12 +188,15 @@ def rigid_rotation_coupling(h: float, elements: int, Ms: np.ndarray) -> np.ndarr
     d = (0, omega x h e_x) and so a rotational inertia of rho A L h^2 / 12 too many (a 0.3 m
     strip of 1 element swinging as a rigid rod ran 0.88 rad off it after 1 s). On a straight
     uniform link the d telescope: their sum is D = t_last - t_first, and subtracting
-    (h / (12 N)) D^T W D (W: Ms's transverse translational block, the only one a rigid d
-    reaches) leaves the elements' sum minus N times the square of their mean: zero for a rigid
-    motion, >= 0 always (so the mass stays positive definite), and a motion with varying
-    d keeps its correction but its mean's (docs/method.md section 4.2, "Mass")."""
-    W = np.zeros((6, 6))
-    W[4:, 4:] = np.asarray(Ms, dtype=float)[4:, 4:]
+    (h / (12 N)) D^T W D leaves the elements' sum minus N times the square of their mean, zero
+    for a rigid motion, where d reaches only the transverse translations (docs/method.md
+    section 4.2, "Mass"). W is Ms without its block on (omega, v_x): the transverse block a
+    rigid d needs, and, for a section whose centre of mass is off the axis, its coupling to the
+    rotations, without which the rest would be indefinite. The link's form is then N times the
+    variance of the d on Ms plus (1/N) D^T S D, S = Ms's (omega, v_x) block: >= 0, so the mass
+    stays positive definite."""
+    W = np.array(Ms, dtype=float)
+    W[:4, :4] = 0.0
     c = -h / (12.0 * elements)
     return np.block([[c * W, -c * W], [-c * W, c * W]])
 

@@ -152,7 +152,8 @@ def _options(mechanism, integrator: str, rtol: Optional[float], atol: Optional[f
         adaptive = step is None
         if adaptive and band is None:
             raise ModelError("export_fmu: the adaptive generalized-alpha needs band= [Hz] (the highest "
-                             "frequency to resolve; simulate's default is 1/(2 dt_out)), or give step=")
+                             "frequency to resolve; simulate's default is 1/(2 dt_out), at least 50 / span, "
+                             "raised below rtol 1e-4 with flexible links), or give step=")
         rtol = (DEFAULT_RTOL if adaptive else 1e-8) if rtol is None else float(rtol)
         atol = rtol * 1e-2 if atol is None else float(atol)
         rho = DEFAULT_RHO_INF if rho_inf is None else float(rho_inf)

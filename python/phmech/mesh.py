@@ -15,9 +15,10 @@ clamped-clamped +0.26 ... +0.32 %, free-free up to 0.43 %, and the cantilever, o
 each, within 0.066 % because they nearly cancel; its error is not even monotone in N). The free
 link has the largest error of the three and converges cleanly, towards order 2 from below (the
 estimate above is 0.2 ... 3.3 % over its true error from 6 elements on), and its choice is about
-the fewest that meets the tolerance on all three supports (15 elements for 1e-2, 46 for 1e-3;
-the fewest: 14 and 45; tests/test_mesh.py). Estimating on the cantilever would pick 7 and 9, where the clamped-clamped
-link is 3.8e-2 and 2.0e-2 off. With lumped mass the interior error dominates and the free link's
+the fewest that meets the tolerance on all three supports (14 elements for 1e-2, 45 for 1e-3
+with a straight link's rigid-rotation coupling; before it 15 and 46, the fewest 14 and 45;
+tests/test_mesh.py). Estimating on the cantilever picked 7 and 9 before that coupling, where the
+clamped-clamped link is 3.8e-2 and 2.0e-2 off. With lumped mass the interior error dominates and the free link's
 error is about twice the cantilever's (25 and 78 elements; fewest on all three supports 24 and
 76). A mechanism's modes couple links and bodies, and a link much shorter than the wavelengths
 of the band needs few elements whatever it carries. ``Mechanism(band=...,

@@ -158,7 +158,7 @@ class SimulationResult(_CoreArrays):
     #: per coupling: a consistent element's h, section mass per length and centre of mass (3),
     #: zeros for a given one (description.mass_couplings; centre_of_mass places its mass)
     _coupled_fields: np.ndarray = None
-    __doc__ += _core_arrays_doc()
+    __doc__ = (__doc__ or "") + _core_arrays_doc()   # python -OO strips docstrings
 
     def _frame(self, x) -> Frame:
         """A body, frame, link end or body's name as a Frame of the simulated mechanism."""
