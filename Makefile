@@ -121,7 +121,8 @@ docs: build $(DOCS_STAMP)
 	$(PY) -m sphinx -W --keep-going -E -b html docs build/docs/html
 	@echo "documentation: build/docs/html/index.html"
 
-# A self-contained binary wheel in dist/: phmech built as for .venv, then `auditwheel repair`
+# A self-contained binary wheel in dist/: phmech built as for .venv (in its build directory,
+# build/py: the same configuration, so nothing is compiled twice), then `auditwheel repair`
 # copies every shared library the extension needs beyond glibc (SUNDIALS IDA and its KLU solver,
 # KLU and the SuiteSparse parts it uses, LAPACK, BLAS, libgfortran, libquadmath) into
 # phmech.libs/ inside the wheel, under the most compatible manylinux tag this machine's glibc
@@ -135,7 +136,7 @@ $(WHEEL_STAMP): tools/requirements-wheel.txt $(STAMP)
 
 wheel: sysdeps $(WHEEL_STAMP)
 	@rm -rf build/wheel-raw && rm -f dist/phmech-*.whl
-	$(PY) -m pip wheel -q --no-build-isolation --no-deps -w build/wheel-raw -Cbuild-dir=build/wheel .
+	$(PY) -m pip wheel -q --no-build-isolation --no-deps -w build/wheel-raw -Cbuild-dir=build/py .
 	PATH="$(abspath $(VENV))/bin:$$PATH" $(VENV)/bin/auditwheel repair -w dist build/wheel-raw/phmech-*.whl
 	@ls -l dist/phmech-*.whl
 

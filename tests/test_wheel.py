@@ -2,7 +2,7 @@
 the demo and takes every shared library beyond glibc from inside itself (phmech.libs/), not from
 the Debian development packages this machine happens to have.
 
-Slow-ish (~1 min: the wheel's build reuses build/wheel, the venv's PyPI packages come from pip's
+Slow-ish (~1 min: the wheel is built in the venv's build directory build/py, the venv's PyPI packages come from pip's
 cache), so it is one test that checks all three."""
 import os
 import re
