@@ -69,7 +69,6 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
     atol = rtol * 1e-2 if atol is None else real("atol", atol)
     if rtol <= 0 or atol <= 0:
         raise ModelError("rtol and atol must be > 0")
-    band_given = band is not None
     # the default band: what the outputs can show, but never below BAND_PER_SPAN / span
     # (docs/user_guide.md, "Accuracy contract"): outputs are samples, not steps; and, for the
     # adaptive generalized-alpha on a mechanism with elements, (DEFAULT_RTOL / rtol)^(1/3) times
@@ -82,12 +81,17 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
     # band that takes in a mesh mode whose rates the estimate does not see resolves it badly
     # (tests/test_linearize_outputs.py's arm at rtol 1e-8 against its linear model: 2.4e-5 with
     # bands of 2 and 4.6 kHz, 9.4e-5 at 7 kHz, 2.4e-3 at 10.8 kHz, (1e-4/1e-8)^(1/3) x 500 Hz)
+    # band_from: where the band came from, for the message of a run its steps could not finish
     if band is None:
         band = max(0.5 / dt, _run.BAND_PER_SPAN / (t1 - t0))
+        band_from = (f"1/(2 dt_out), dt_out = {dt:g} s" if 0.5 / dt >= band else
+                     f"{_run.BAND_PER_SPAN:g} / span, the default's floor")
         if adaptive and rtol < DEFAULT_RTOL and mech._desc.elements:
             band *= (DEFAULT_RTOL / max(rtol, RTOL_BAND_FLOOR)) ** (1.0 / 3.0)
+            band_from = f"the default's, raised for rtol {rtol:g}"
     else:
         band = positive("band", band)
+        band_from = "band="
     if integrator == "generalized-alpha":
         if step is not None:
             step = positive("step", step)
@@ -267,10 +271,7 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
                     if error_test == "all" else "")) if "TOO_MUCH_WORK" in r["error"] else ""
         elif adaptive:
             why = (f"; the steps were at most {1.0 / (_run.BAND_MAX_STEPS * band):.3g} s, from "
-                   f"the {band:.4g} Hz band (" + ("band=" if band_given else
-                   f"1/(2 dt_out), dt_out = {dt:g} s" if 0.5 / dt >= band else
-                   f"{_run.BAND_PER_SPAN:g} / span, the default's floor" if _run.BAND_PER_SPAN / (t1 - t0) >= band
-                   else f"the default's, raised for rtol {rtol:g}") + "): a higher band= shortens them")
+                   f"the {band:.4g} Hz band ({band_from}): a higher band= shortens them")
         err = topology.constraint_error(mech._desc, r["error"]) or SolverError(r["error"])
         raise _with_partial(err, result, unsaved + why)
     return result
