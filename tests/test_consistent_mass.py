@@ -192,6 +192,21 @@ def test_the_stiffened_arm_and_strip_is_the_rigid_double_pendulum():
     assert np.max(np.abs(a2 - ex[1])) <= 1e-4
 
 
+def rigid_energies(props, L, N, t0):
+    """(kinetic energy of the rigid twist t0 at the start of a straight link of N elements,
+    carried to every node (node k at x = k L / N: t_k = Ad_(g_k^-1) t0), from its carriers and
+    couplings (ModelDescription.mass_times); the same twist's energy in the rigid link,
+    fidelity='rigid', the integral of the section inertia) [J]."""
+    m = ph.Mechanism()
+    lk = m.add_flexible_link("s", L, props, elements=N)
+    rigid = ph.Mechanism()
+    M_rigid = rigid._car[rigid.add_flexible_link("s", L, props, elements=N, fidelity="rigid").nodes[0]]["M"]
+    v = np.zeros((len(m._car), 6))
+    for k, c in enumerate(lk.nodes):
+        v[c] = se3.Ad(se3.inverse(se3.translation([k * L / N, 0, 0]))) @ t0
+    return 0.5 * np.sum(v * m._desc.mass_times(v)), 0.5 * t0 @ M_rigid @ t0
+
+
 def test_the_links_mass_is_exact_for_every_rigid_motion():
     """Round-off patch test of the mass itself: for rigid twists of a straight 5-element link
     (a random body twist at its start carried to every node), the kinetic energy from its
@@ -200,18 +215,11 @@ def test_the_links_mass_is_exact_for_every_rigid_motion():
     keeps a positive energy."""
     rng = np.random.default_rng(3)
     props = ph.BeamProperties.from_material(ph.Section.rectangle(STRIP_W, STRIP_T), STIFF_STEEL)
+    for _ in range(5):
+        T, T_rigid = rigid_energies(props, 0.3, 5, rng.standard_normal(6))
+        assert T == pytest.approx(T_rigid, rel=1e-12)
     m = ph.Mechanism()
     lk = m.add_flexible_link("s", 0.3, props, elements=5)
-    rigid = ph.Mechanism()
-    rl = rigid.add_flexible_link("s", 0.3, props, elements=5, fidelity="rigid")
-    M_rigid = rigid._car[rl.nodes[0]]["M"]
-    for _ in range(5):
-        t0 = rng.standard_normal(6)
-        v = np.zeros((len(m._car), 6))
-        for k, c in enumerate(lk.nodes):   # node k at x = 0.06 k: t_k = Ad_(g_k^-1) t0
-            v[c] = se3.Ad(se3.inverse(se3.translation([0.06 * k, 0, 0]))) @ t0
-        T = 0.5 * np.sum(v * m._desc.mass_times(v))
-        assert T == pytest.approx(0.5 * t0 @ M_rigid @ t0, rel=1e-12)
     v = np.zeros((len(m._car), 6))
     v[lk.nodes, 5] = np.sin(np.linspace(0, 3, len(lk.nodes)))
     assert np.sum(v * m._desc.mass_times(v)) > 0
@@ -236,14 +244,8 @@ def test_a_section_off_its_axis_keeps_the_mass_positive_definite_and_rigid_motio
         warnings.simplefilter("ignore")
         M = m.linearize().mass
     assert np.linalg.eigvalsh(M).min() > 0
-    rigid = ph.Mechanism()
-    rl = rigid.add_flexible_link("s", 1.0, props, elements=N, fidelity="rigid")
-    M_rigid = rigid._car[rl.nodes[0]]["M"]
-    t0 = np.array([0.3, -0.7, 1.1, 0.2, 0.5, -0.4])
-    v = np.zeros((len(m._car), 6))
-    for k, cr in enumerate(lk.nodes):
-        v[cr] = se3.Ad(se3.inverse(se3.translation([k / N, 0, 0]))) @ t0
-    assert 0.5 * np.sum(v * m._desc.mass_times(v)) == pytest.approx(0.5 * t0 @ M_rigid @ t0, rel=1e-12)
+    T, T_rigid = rigid_energies(props, 1.0, N, np.array([0.3, -0.7, 1.1, 0.2, 0.5, -0.4]))
+    assert T == pytest.approx(T_rigid, rel=1e-12)
 
 
 def test_save_and_load_keep_the_mass_model(tmp_path):
