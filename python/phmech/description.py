@@ -122,8 +122,9 @@ class ModelDescription:
     def mass_couplings(self) -> dict:
         """The consistent-mass elements' node carriers ``_coupled_nodes`` (ne, 2) and couplings
         ``_couplings`` (ne, 12, 12) in their nodes' body twists, then the couplings without an
-        element (a modal link's modes), from the core's kernel
-        (phm_element_mass; what the simulation integrated), for a result's momentum; and
+        element (a modal link's modes, a straight link's rigid-rotation coupling), from the
+        core's kernel (phm_element_mass; what the simulation integrated), for a result's
+        momentum; and
         ``_coupled_fields`` (ne, 5): a consistent element's length h, section mass per length and
         section centre of mass (3), whose constant-strain field places the element's mass for
         ``centre_of_mass`` (zeros for a given coupling: its mass stays on its carriers). Made
