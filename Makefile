@@ -44,8 +44,14 @@ ctest: sysdeps $(STAMP)
 	$(VENV)/bin/meson compile -C build/check-release
 	$(VENV)/bin/meson test -C build/check-release --print-errorlogs
 
+# pytest-xdist: one worker per core (PYTEST_WORKERS=0 runs in this process); --dist loadfile
+# keeps each file in one worker, since tests/test_fuzz.py's last test counts the models its
+# module built
+PYTEST_WORKERS ?= auto
+PYTEST_PAR     := -n $(PYTEST_WORKERS) --dist loadfile
+
 pytest: build
-	$(PY) -m pytest -q tests
+	$(PY) -m pytest -q $(PYTEST_PAR) tests
 
 # the docs too (Sphinx with warnings as errors), so that they cannot break unseen
 test: ctest pytest sanitize docs
@@ -78,7 +84,7 @@ sanitize: sysdeps $(STAMP)
 	$(SAN_ENV) LD_PRELOAD="$(SAN_PRELOAD)" PYTHONPATH=$(SAN_DIR)/pkg PHMECH_FUZZ_LIMIT=60 \
 	  $(PY) -c "import phmech; assert '$(SAN_DIR)' in phmech.__file__, phmech.__file__; print('sanitized phmech:', phmech.__file__)"
 	$(SAN_ENV) LD_PRELOAD="$(SAN_PRELOAD)" PYTHONPATH=$(SAN_DIR)/pkg PHMECH_FUZZ_LIMIT=60 \
-	  $(PY) -m pytest -q -p no:cacheprovider $(SAN_TESTS)
+	  $(PY) -m pytest -q -p no:cacheprovider $(PYTEST_PAR) $(SAN_TESTS)
 
 # SUNDIALS 7 (not part of `make test`, whose builds use Debian's 6.4.1): the core and the extension
 # built in build/sun7 against the SUNDIALS 7.x installed at SUNDIALS7_PREFIX (release flags and
