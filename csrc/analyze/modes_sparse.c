@@ -222,17 +222,27 @@ static void ritz_vectors(const double *A, const int *order, const double *Y, dou
  * below zero and the lowest mode, within 5 lam1 of it; the floor keeps rigid-body modes at zero
  * 1e-12 tr K / tr M away from the shift (1e-3 of the first shift's distance). Taken when tau is
  * closer to zero than sigma / 10 and certified at tau with nothing below it; otherwise the
- * factorization at sigma is restored. Returns 1 when the shift moved. */
-static int sparse_reshift(sparse_t *P, double sigma0, double theta1) {
+ * factorization at sigma is restored. *moved = 1 when the shift moved. Returns PHM_OK, or
+ * PHM_ESOLVER when the factorization at sigma could not be restored (P is then unusable). */
+static phm_status sparse_reshift(sparse_t *P, double sigma0, double theta1, int *moved,
+                                 phm_error *err) {
   double sigma = P->sigma;
-  if (P->below != 0 || !(theta1 > 0)) return 0;
+  *moved = 0;
+  if (P->below != 0 || !(theta1 > 0)) return PHM_OK;
   double lam1 = sigma + 1.0 / theta1;
-  if (!(lam1 > 0)) return 0;
+  if (!(lam1 > 0)) return PHM_OK;
   double tau = -fmax(4.0 * lam1, 1e-3 * fabs(sigma0));
-  if (!(tau > 0.1 * sigma)) return 0;
-  if (!sparse_shift(P, tau) && P->below == 0 && P->check < PHM_INERTIA_CHECK) return 1;
-  sparse_shift(P, sigma); /* factored there before: the same factors, count and certificate */
-  return 0;
+  if (!(tau > 0.1 * sigma)) return PHM_OK;
+  if (!sparse_shift(P, tau) && P->below == 0 && P->check < PHM_INERTIA_CHECK) {
+    *moved = 1;
+    return PHM_OK;
+  }
+  /* factored there before: the same factors, count and certificate */
+  if (sparse_shift(P, sigma))
+    return PHM_FAIL(err, PHM_ESOLVER, "modes: the KKT matrix at the shift %.6g (rad/s)^2, "
+                    "factored there before, could not be factored again after a trial shift to "
+                    "%.6g (rad/s)^2", sigma, tau);
+  return PHM_OK;
 }
 
 /* The lowest nf modes by subspace iteration with shift-invert on the constraint manifold at
@@ -320,7 +330,11 @@ static phm_status modes_sparse(sparse_t *P, const double *Db, int nf, int b, int
     /* Ritz vectors X = Y Z (ordered) and the next subspace W Z (MY reused as scratch) */
     ritz_vectors(A, order, Y, W, X, MY, b, n6);
     for (int k = 0; k < b; k++) ev2[k] = ev[order[k]];
-    if (reshift && !converged && shifts < 3 && sparse_reshift(P, sigma0, ev[order[0]])) {
+    int moved = 0;
+    if (reshift && !converged && shifts < 3 &&
+        (st = sparse_reshift(P, sigma0, ev[order[0]], &moved, err)))
+      goto done;
+    if (moved) {
       sigma = P->sigma;
       shifts++;
       settled = it + 1; /* the next iteration's theta are the new operator's: none to compare */
