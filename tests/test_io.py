@@ -202,6 +202,31 @@ def test_netcdf_round_trip_and_xarray_layout(tmp_path):
         ph.load_result(tmp_path / "x.nc")
 
 
+def test_a_missing_array_is_none_only_when_the_writer_held_none(tmp_path):
+    # load_result: an array the written result did not hold reads as None (a file from a phmech
+    # before that quantity of the core: the result schema version does not change when one is
+    # added); one its writer held (the file's "held" list; before the list, the five every
+    # phmech wrote) is a damaged file: ModelError naming it (it read as None, or a KeyError)
+    r = manipulator().simulate(0.02, 0.005)
+    ds = r.to_xarray()
+    meta = json.loads(ds.attrs["phmech_meta"])
+    assert meta["held"] == [f.name for f in ph._resultfile.HELD_FIELDS]
+    del meta["held"]
+    old = ds.drop_vars(["strain_energy", "constraint_residual"])
+    old.attrs["phmech_meta"] = json.dumps(meta)    # an older file: no list, no newer quantities
+    old.to_netcdf(tmp_path / "old.nc", engine="h5netcdf")
+    back = ph.load_result(tmp_path / "old.nc")
+    assert back.strain_energy is None and back.constraint_residual is None
+    np.testing.assert_array_equal(back.poses, r.poses)
+    for name, what in (("strain_energy", ds), ("poses", old), ("inertia", ds)):
+        what.drop_vars(name).to_netcdf(tmp_path / f"no_{name}.nc", engine="h5netcdf")
+        with pytest.raises(ph.ModelError, match=f"no variable '{name}', which its writer wrote"):
+            ph.load_result(tmp_path / f"no_{name}.nc")
+    md = manipulator().modes(3)
+    md.to_xarray().drop_vars("omega").to_netcdf(tmp_path / "m.nc", engine="h5netcdf")
+    with pytest.raises(ph.ModelError, match="modes result file has no variable 'omega'"):
+        ph.load_result(tmp_path / "m.nc")
+
 def test_results_pickle(tmp_path):
     m = pendulum()
     for r in (m.simulate(0.02, 0.01), m.modes(1), m.static(steps=1)):

@@ -191,3 +191,50 @@ def test_x0_places_a_link_through_the_spanning_tree():
     np.testing.assert_allclose(r.tip(lk)[0], [np.cos(0.5), np.sin(0.5), 0.0], atol=1e-12)
     assert r.energy["elastic"][0] < 1e-20
     np.testing.assert_allclose(r.joint("p")["x"][0], 0.5, atol=1e-12)
+
+
+def _bindings_of_package_init() -> dict:
+    """Each name that phmech/__init__.py binds at its top level -> the list of places that bind
+    it: ("module", its name) for ``from .m import a`` and ``from . import m``, the module's
+    ``__all__`` for ``from .m import *``, ("phmech", line) for its own defs and assignments."""
+    import ast
+    import importlib
+    tree = ast.parse(open(pm.__file__, encoding="utf-8").read())
+    out: dict = {}
+    for node in tree.body:
+        if isinstance(node, ast.ImportFrom) and node.level == 1:
+            for al in node.names:
+                if al.name == "*":
+                    mod = importlib.import_module(f"phmech.{node.module}")
+                    for n in mod.__all__:
+                        out.setdefault(n, []).append((node.module, n))
+                elif node.module is None:   # from . import m [as n]
+                    out.setdefault(al.asname or al.name, []).append((al.name, None))
+                else:
+                    out.setdefault(al.asname or al.name, []).append((node.module, al.name))
+        elif isinstance(node, (ast.FunctionDef, ast.ClassDef)):
+            out.setdefault(node.name, []).append(("phmech", node.lineno))
+        elif isinstance(node, ast.Assign):
+            for t in node.targets:
+                if isinstance(t, ast.Name):
+                    out.setdefault(t.id, []).append(("phmech", node.lineno))
+    return out
+
+
+def test_no_public_name_is_bound_twice():
+    # phmech/__init__.py takes the pair classes with `from .pairs import *` (a pair type added to
+    # the core's table, csrc/model/pair_types.c, needs no line there): a pair class named like
+    # another public name (a law's "Linear", a component's "DCMotor") would silently replace it,
+    # or be replaced by a later import. Every top-level name of the package is bound once, each
+    # public one listed once in __all__, and is its module's object
+    import collections
+    import importlib
+    twice = {n: w for n, w in _bindings_of_package_init().items() if len(w) > 1}
+    assert not twice, f"phmech/__init__.py binds these names more than once: {twice}"
+    listed = [n for n, c in collections.Counter(pm.__all__).items() if c > 1]
+    assert not listed, f"listed more than once in phmech.__all__: {listed}"
+    for name, [(module, attr)] in _bindings_of_package_init().items():
+        if module != "phmech" and attr is not None:
+            assert getattr(pm, name) is getattr(importlib.import_module(f"phmech.{module}"), attr), name
+    # the pair classes are all exported, under their own names
+    assert set(pm.pairs.__all__) <= set(pm.__all__)

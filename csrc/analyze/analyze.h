@@ -148,9 +148,9 @@ void lin_red_project(const lin_red_t *R, int nc, const double *f, double *y);
 /* The nf lowest modes of R's blocks (lin_red_blocks) on the sparse path with a block of b
  * vectors, verified by the count of eigenvalues below its shift; *ok = 0: not verified and not
  * sliced (slice = 0), for the dense path to redo. PHM_ESINGULAR (no message): the KKT matrix at
- * the shift is singular. */
+ * the shift is singular. *stats: its iterations and shifts (phm_modes_stats; method not set). */
 phm_status modes_sparse_path(lin_red_t *R, const phm_model *m, int nf, int b, int slice,
                              double *omega, double *zeta, double *shapes, int *ok,
-                             phm_error *err);
+                             phm_modes_stats *stats, phm_error *err);
 
 #endif

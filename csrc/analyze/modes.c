@@ -161,8 +161,11 @@ done:
 /* ---------------------------------------------------------------- modes */
 phm_status phm_modes(const phm_model *m, const double *poses, const double *lambda, double time,
                      int nmodes, int method, double *omega, double *zeta, double *shapes,
-                     int *nfound, phm_error *err) {
+                     int *nfound, phm_modes_stats *stats, phm_error *err) {
   phm_error_clear(err);
+  phm_modes_stats own;
+  if (!stats) stats = &own;
+  memset(stats, 0, sizeof *stats);
   if (!m || !omega || !nfound) return PHM_FAIL(err, PHM_EINVAL, "phm_modes: NULL argument");
   if (nmodes < 1) return PHM_FAIL(err, PHM_EINVAL, "number of modes must be >= 1 (got %d)", nmodes);
   PHM_CHECK(method >= PHM_MODES_AUTO && method <= PHM_MODES_SPARSE, err, PHM_EINVAL,
@@ -189,9 +192,10 @@ phm_status phm_modes(const phm_model *m, const double *poses, const double *lamb
      * redoes it densely where that is affordable (PHM_DENSE_MODES_MAX manifold coordinates),
      * the sparse method and larger models slice the spectrum */
     int slice = method == PHM_MODES_SPARSE || n6 - nk > PHM_DENSE_MODES_MAX, ok = 0;
-    st = modes_sparse_path(&R, m, nmodes, block, slice, omega, zeta, shapes, &ok, err);
+    st = modes_sparse_path(&R, m, nmodes, block, slice, omega, zeta, shapes, &ok, stats, err);
     if (st == PHM_OK && ok) {
       *nfound = nmodes;
+      stats->method = PHM_MODES_SPARSE;
       goto done;
     }
     if (st != PHM_OK && st != PHM_ESINGULAR) goto done;
@@ -202,6 +206,8 @@ phm_status phm_modes(const phm_model *m, const double *poses, const double *lamb
     }
     st = PHM_OK; /* singular KKT matrix (dependent constraint rows here), or unverified: dense */
   }
+  memset(stats, 0, sizeof *stats);
+  stats->method = PHM_MODES_DENSE;
   st = modes_dense(&R, m, nmodes, omega, zeta, shapes, nfound, err);
 done:
   lin_red_free(&R);

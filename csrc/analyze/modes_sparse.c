@@ -222,17 +222,27 @@ static void ritz_vectors(const double *A, const int *order, const double *Y, dou
  * below zero and the lowest mode, within 5 lam1 of it; the floor keeps rigid-body modes at zero
  * 1e-12 tr K / tr M away from the shift (1e-3 of the first shift's distance). Taken when tau is
  * closer to zero than sigma / 10 and certified at tau with nothing below it; otherwise the
- * factorization at sigma is restored. Returns 1 when the shift moved. */
-static int sparse_reshift(sparse_t *P, double sigma0, double theta1) {
+ * factorization at sigma is restored. *moved = 1 when the shift moved. Returns PHM_OK, or
+ * PHM_ESOLVER when the factorization at sigma could not be restored (P is then unusable). */
+static phm_status sparse_reshift(sparse_t *P, double sigma0, double theta1, int *moved,
+                                 phm_error *err) {
   double sigma = P->sigma;
-  if (P->below != 0 || !(theta1 > 0)) return 0;
+  *moved = 0;
+  if (P->below != 0 || !(theta1 > 0)) return PHM_OK;
   double lam1 = sigma + 1.0 / theta1;
-  if (!(lam1 > 0)) return 0;
+  if (!(lam1 > 0)) return PHM_OK;
   double tau = -fmax(4.0 * lam1, 1e-3 * fabs(sigma0));
-  if (!(tau > 0.1 * sigma)) return 0;
-  if (!sparse_shift(P, tau) && P->below == 0 && P->check < PHM_INERTIA_CHECK) return 1;
-  sparse_shift(P, sigma); /* factored there before: the same factors, count and certificate */
-  return 0;
+  if (!(tau > 0.1 * sigma)) return PHM_OK;
+  if (!sparse_shift(P, tau) && P->below == 0 && P->check < PHM_INERTIA_CHECK) {
+    *moved = 1;
+    return PHM_OK;
+  }
+  /* factored there before: the same factors, count and certificate */
+  if (sparse_shift(P, sigma))
+    return PHM_FAIL(err, PHM_ESOLVER, "modes: the KKT matrix at the shift %.6g (rad/s)^2, "
+                    "factored there before, could not be factored again after a trial shift to "
+                    "%.6g (rad/s)^2", sigma, tau);
+  return PHM_OK;
 }
 
 /* The lowest nf modes by subspace iteration with shift-invert on the constraint manifold at
@@ -245,10 +255,11 @@ static int sparse_reshift(sparse_t *P, double sigma0, double theta1) {
  * values are below sigma; the result is the nf lowest of the whole spectrum when that is
  * P->below, the number of eigenvalues below sigma (then the block holds them all, and the
  * nearest above). With `reshift`, when nothing is below sigma, the shift moves towards zero as
- * the iteration goes (sparse_reshift). Returns PHM_OK or an error. */
+ * the iteration goes (sparse_reshift). stats: its iterations added, its moves of the shift
+ * and its last shift set. Returns PHM_OK or an error. */
 static phm_status modes_sparse(sparse_t *P, const double *Db, int nf, int b, int reshift,
                                double *omega, double *zeta, double *shapes, int *nbelow,
-                               phm_error *err) {
+                               phm_modes_stats *stats, phm_error *err) {
   const phm_model *m = P->m;
   lin_t *L = P->L;
   int nc = m->nc, n6 = 6 * nc, nk = m->ncons, N = n6 + nk;
@@ -286,7 +297,8 @@ static phm_status modes_sparse(sparse_t *P, const double *Db, int nf, int b, int
   if ((st = apply_op(L, &P->S, P->sc, W, W, b, n6, nk, rhs, err))) goto done; /* W = Op(random) */
   int converged = 0, settled = 0, shifts = 0;
   const double sigma0 = sigma;
-  for (int it = 0; it < 1000 && !converged; it++) {
+  int it = 0;
+  for (; it < 1000 && !converged; it++) {
     /* Y = W, M-orthonormal (modified Gram-Schmidt, twice) */
     if ((st = m_orthonormalize(L, W, Y, MY, b, n6, err))) goto done;
     /* W = (K - sigma M)^-1 M Y; T = Y^T M W has the eigenvalues theta = 1/(lambda - sigma), the
@@ -320,13 +332,20 @@ static phm_status modes_sparse(sparse_t *P, const double *Db, int nf, int b, int
     /* Ritz vectors X = Y Z (ordered) and the next subspace W Z (MY reused as scratch) */
     ritz_vectors(A, order, Y, W, X, MY, b, n6);
     for (int k = 0; k < b; k++) ev2[k] = ev[order[k]];
-    if (reshift && !converged && shifts < 3 && sparse_reshift(P, sigma0, ev[order[0]])) {
+    int moved = 0;
+    if (reshift && !converged && shifts < 3 &&
+        (st = sparse_reshift(P, sigma0, ev[order[0]], &moved, err)))
+      goto done;
+    if (moved) {
       sigma = P->sigma;
       shifts++;
       settled = it + 1; /* the next iteration's theta are the new operator's: none to compare */
       for (int j = 0; j < b; j++) prev[j] = INFINITY;
     }
   }
+  stats->iterations += it;
+  stats->reshifts += shifts;
+  stats->shift = sigma;
   if (!converged) {
     st = PHM_FAIL(err, PHM_ESOLVER, "modes: subspace iteration did not converge in 1000 iterations");
     goto done;
@@ -362,7 +381,7 @@ done:
  * PHM_ESINGULAR (no message): the KKT matrix at sigma is singular. */
 phm_status modes_sparse_path(lin_red_t *R, const phm_model *m, int nf, int b, int slice,
                               double *omega, double *zeta, double *shapes, int *ok,
-                              phm_error *err) {
+                              phm_modes_stats *stats, phm_error *err) {
   sparse_t P;
   int nb = 0, n6 = 6 * m->nc;
   double *oB = NULL, *zB = NULL, *sB = NULL;
@@ -370,10 +389,11 @@ phm_status modes_sparse_path(lin_red_t *R, const phm_model *m, int nf, int b, in
   phm_status st = sparse_init(&P, m, &R->L, R->H, R->L.Kb, err);
   if (st || (st = sparse_shift(&P, -1e-9 * P.scale))) goto done;
   double sigma = P.sigma;
+  stats->shift0 = stats->shift = sigma;
   int below = P.below;
   double check = P.check;
   if (below >= 0 && check < PHM_INERTIA_CHECK && below < b) {
-    if ((st = modes_sparse(&P, R->Db, nf, b, 1, omega, zeta, shapes, &nb, err))) goto done;
+    if ((st = modes_sparse(&P, R->Db, nf, b, 1, omega, zeta, shapes, &nb, stats, err))) goto done;
     if (nb == below) {
       *ok = 1;
       goto done;
@@ -428,7 +448,7 @@ phm_status modes_sparse_path(lin_red_t *R, const phm_model *m, int nf, int b, in
     st = PHM_FAIL(err, PHM_ENOMEM, "out of memory");
     goto done;
   }
-  if ((st = modes_sparse(&P, R->Db, nB, b, 0, oB, zB, sB, &nbB, err))) goto done;
+  if ((st = modes_sparse(&P, R->Db, nB, b, 0, oB, zB, sB, &nbB, stats, err))) goto done;
   if (nbB != 0) {
     st = PHM_FAIL(err, PHM_ESOLVER, "modes: the subspace iteration at the shift %.6g (rad/s)^2, "
                   "below every eigenvalue, returned %d below it", lo, nbB);

@@ -179,10 +179,11 @@ phm_status phm_sim_defaults(int integrator, phm_sim_options *opt, phm_error *err
  * unstable mode far from the shift, docs/validation.md finding 9), AUTO redoes it densely up to
  * PHM_DENSE_MODES_MAX manifold coordinates, and beyond them, or with _SPARSE, lowers the shift
  * until nothing is below it (spectrum slicing); a count that cannot be certified is then an
- * error (PHM_ESOLVER), never an unverified result. */
+ * error (PHM_ESOLVER), never an unverified result. stats (NULL: not wanted): the path taken,
+ * the sparse path's iterations and shifts (phm_modes_stats). */
 phm_status phm_modes(const phm_model *model, const double *poses, const double *lambda,
                      double time, int nmodes, int method, double *omega, double *zeta,
-                     double *shapes, int *nfound, phm_error *err);
+                     double *shapes, int *nfound, phm_modes_stats *stats, phm_error *err);
 
 /* How many eigenvalues lambda = omega^2 [(rad/s)^2] of the linearization at poses (NULL: H0)
  * with constraint wrenches lambda (NULL: zero), loads at `time`, lie below `shift`: the inertia

@@ -452,6 +452,18 @@ enum { PHM_MODES_AUTO = 0, PHM_MODES_DENSE = 1, PHM_MODES_SPARSE = 2 };
 /* The dense path's shift-inverted pencil (csrc/analyze/modes.c) gives the modes whose
  * theta = 1/(lambda - sigma) is above this fraction of the first's: relative accuracy ~ eps/this. */
 #define PHM_MODES_RESOLVED 1e-6
+/* What phm_modes did (its optional `stats`): the path whose modes it returned and, on the
+ * sparse path, its subspace iterations (every run: the first, and the spectrum slicing's), how
+ * often the first run moved its shift towards the lowest eigenvalue (sparse_reshift,
+ * csrc/analyze/modes_sparse.c) and its first and last shifts [(rad/s)^2]. Zeros on the dense
+ * path. */
+typedef struct {
+  int method;     /* PHM_MODES_DENSE or PHM_MODES_SPARSE: the path that gave the modes */
+  int iterations; /* subspace iterations of the sparse path                              */
+  int reshifts;   /* moves of its shift during the first run                             */
+  double shift0;  /* its first shift, -1e-9 tr K / tr M [(rad/s)^2]                      */
+  double shift;   /* the shift of its last iteration [(rad/s)^2]                         */
+} phm_modes_stats;
 
 /* A port of the linear port-Hamiltonian model (phm_linear_model, docs/method.md section 7.4):
  * the generalized forces per unit input of the joint efforts of pair `index` (k inputs, the

@@ -46,15 +46,19 @@ static PyObject *py_model_modes(PyObject *self, PyObject *args) {
   PyObject *res = NULL;
   if (om && ze && sh) {
     int nf = 0;
+    phm_modes_stats ms;
     phm_error err;
     phm_status st;
     Py_BEGIN_ALLOW_THREADS
     st = phm_modes(m, P ? PyArray_DATA(P) : NULL, L ? PyArray_DATA(L) : NULL, time, n, method,
-                   PyArray_DATA(om), PyArray_DATA(ze), PyArray_DATA(sh), &nf, &err);
+                   PyArray_DATA(om), PyArray_DATA(ze), PyArray_DATA(sh), &nf, &ms, &err);
     Py_END_ALLOW_THREADS
     if (phm_py_model_law_error(cap)) res = NULL;
     else if (st) phm_py_raise(&err);
-    else res = Py_BuildValue("OOOi", om, ze, sh, nf);
+    else
+      res = Py_BuildValue("OOOi{s:i,s:i,s:i,s:d,s:d}", om, ze, sh, nf, "method", ms.method,
+                          "iterations", ms.iterations, "reshifts", ms.reshifts, "shift0",
+                          ms.shift0, "shift", ms.shift);
   }
   Py_XDECREF(om);
   Py_XDECREF(ze);
@@ -315,7 +319,8 @@ done:
 PyMethodDef phm_py_analysis_methods[] = {
     {"model_modes", py_model_modes, METH_VARARGS,
      "model_modes(model, n, poses=None, lambda=None, time=0, method=0) -> (omega, zeta, shapes, "
-     "nfound); method 0 auto, 1 dense, 2 sparse (phm_modes)."},
+     "nfound, stats); method 0 auto, 1 dense, 2 sparse (phm_modes); stats: dict of "
+     "phm_modes_stats (method, iterations, reshifts, shift0, shift)."},
     {"model_modes_count", py_model_modes_count, METH_VARARGS,
      "model_modes_count(model, shift, poses=None, lambda=None, time=0) -> (below, check): how many "
      "eigenvalues omega^2 lie below shift [(rad/s)^2] (phm_modes_count)"},

@@ -26,7 +26,7 @@ def modes(mech, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0
     _model.check_linearization_time(mech, "modes", time, at)
     model, poses, lam = _model.linearization_point(mech, at)
     # at most 6 per carrier exist: asking for more allocates no more than that
-    om, ze, sh, nf = _core.model_modes(model, min(n, 6 * len(mech._car)), poses, lam, time)
+    om, ze, sh, nf, _ = _core.model_modes(model, min(n, 6 * len(mech._car)), poses, lam, time)
     where = mech._state.poses if poses is None else poses
     eq = _equilibrium(mech, model, where, time, at)
     if not eq and np.any(om[:nf] < 0):
@@ -113,7 +113,7 @@ def frequencies(model, n: int, poses: np.ndarray, lam: np.ndarray, time: float =
     """The ``n`` lowest frequencies [Hz] of the core ``model`` linearized at ``poses`` with
     multipliers ``lam`` (_model.linearization_point) at ``time`` [s]: what modes computes,
     without its labels and its equilibrium check (phmech.mesh sizes meshes with them)."""
-    om, _, _, nf = _core.model_modes(model, n, poses, lam, time)
+    om, _, _, nf, _ = _core.model_modes(model, n, poses, lam, time)
     return om[:nf] / (2 * np.pi)
 
 

@@ -28,6 +28,9 @@ ASSEMBLED = ("constraint_wrenches", "energy", "pair_wrenches", "port_energy", "c
 #: the others, which it holds as the core wrote them: one attribute and one file variable each,
 #: named, shaped and described by the table of result quantities (csrc/include/phmech_results.h)
 HELD_FIELDS = tuple(f for f in RESULT_FIELDS if f.name not in ASSEMBLED)
+#: the held arrays every result file has had (each written unconditionally before the table of
+#: result quantities): required in a file that does not list its own (phmech_meta "held")
+ALWAYS_HELD = ("poses", "twists", "joints", "joint_rates", "efforts")
 
 
 def _attrs(name: str) -> dict:
@@ -173,6 +176,7 @@ def simulation_dataset(res):
                                     dict(units="N m, N or wrench factor",
                                          long_name=f"outputs of controller {n}"))
     meta = dict(stats=encode_value(dict(res.stats)), interrupted=bool(res.interrupted),
+                held=[f.name for f in HELD_FIELDS if getattr(res, f.name) is not None],
                 sensors={n: list(np.shape(v)[1:]) for n, v in res.sensors.items()},
                 controllers=list(res.controllers),
                 recorded=res.carriers is not None,

@@ -517,7 +517,16 @@ class StaticResult:
 def load_result(path):
     """The SimulationResult, ModesResult or StaticResult in the netCDF file ``path`` (written by
     ``to_netcdf`` or a checkpoint), equal to the one written. ModelError when the file is not a
-    phmech result or has a newer result schema than this phmech reads."""
+    phmech result, has a newer result schema than this phmech reads, or lacks a variable that
+    its writer wrote (a damaged file; the error names the variable).
+
+    An array the result did not hold when written reads as None, as it was: a SimulationResult's
+    core array from a file written by a phmech before that quantity (e.g. ``strain_energy``,
+    ``constraint_residual``; the result schema version does not change when the core adds one),
+    a ModesResult's ``poses``, ``poles``, ``strain_fractions`` and ``elastic_fraction`` when it
+    had none. A file names the core arrays it holds (its ``phmech_meta`` "held"); one from before
+    that list must hold ``poses``, ``twists``, ``joints``, ``joint_rates`` and ``efforts``, which
+    every phmech wrote."""
     import xarray as xr
     p = os.fspath(path)
     try:
@@ -534,7 +543,12 @@ def load_result(path):
                          f"result schema versions up to {_resultfile.RESULT_SCHEMA_VERSION}: upgrade phmech")
     kind = ds.attrs.get("kind")
     meta = json.loads(ds.attrs.get("phmech_meta", "{}"))
-    a = lambda name: np.ascontiguousarray(ds[name].values)   # noqa: E731
+
+    def a(name: str) -> np.ndarray:
+        if name not in ds:
+            raise ModelError(f"{p}: this {kind} result file has no variable {name!r}, which its "
+                             f"writer wrote (a damaged file?)")
+        return np.ascontiguousarray(ds[name].values)
     if kind == "modes":
         opt = lambda name: a(name) if name in ds else None   # noqa: E731
         return ModesResult(a("omega"), a("frequency"), a("damping_ratio"), a("shapes"),
@@ -555,7 +569,8 @@ def load_result(path):
     if kind != "simulation":
         raise ModelError(f"{p}: unknown result kind {kind!r}")
     bodies = {n: Body(n, c) for n, c in meta["bodies"].items()}
-    ports = [str(x) for x in ds["port"].values]
+    held = meta.get("held", _resultfile.ALWAYS_HELD)
+    ports = [str(x) for x in a("port")]
     sensors, ctrls = _resultfile.sensors_and_controllers(ds, meta)
     return SimulationResult(
         t=a("time"), constraint_wrenches=a("constraint_wrenches"),
@@ -564,7 +579,8 @@ def load_result(path):
         interrupted=bool(meta["interrupted"]), _links=_resultfile._links_from(meta["links"]),
         port_energy={p_: a("port_energy")[:, i].copy() for i, p_ in enumerate(ports)},
         pair_wrenches=a("pair_wrenches"), _pairs=decode_value(meta["pairs"]),
-        **{f.name: a(f.name) if f.name in ds else None for f in HELD_FIELDS},
+        # an array the writer did not hold: None (a file from before its quantity)
+        **{f.name: a(f.name) if f.name in ds or f.name in held else None for f in HELD_FIELDS},
         redundant_constraints=decode_value(meta["redundant"]),
         carriers=a("carrier") if meta["recorded"] else None,
         _inertia=a("inertia"), _mass=a("mass"), _com=a("com"), _bodies=bodies,
