@@ -149,8 +149,9 @@ void lin_red_project(const lin_red_t *R, int nc, const double *f, double *y);
  * (nr x nf, column-major, unit modal mass), ascending: dsygvx on the pencil shift-inverted, the
  * unresolved modes on the direct one (modes.c). split: solved block by block on the connected
  * components of the coupling graph of Kr and Mr (entries below DBL_EPSILON sqrt(|X_aa X_bb|) do
- * not couple: modes.c's SPLIT_TOL), each block's nf lowest merged; 0: as one problem. *nblocks
- * (may be NULL): the number of blocks solved. */
+ * not couple: modes.c's SPLIT_TOL), each block's nf lowest merged (a block whose solve fails:
+ * the whole problem instead); 0: as one problem. *nblocks (may be NULL): the number of blocks
+ * solved. */
 phm_status modes_dense_eigs(int nr, const double *Kr, const double *Mr, int nf, int split,
                             double *ev, double *Y, int *nblocks, phm_error *err);
 
