@@ -104,10 +104,10 @@ done:
  * permutation) block diagonal, and the eigenpairs of (Kr, Mr) are those of the blocks, each
  * eigenvector zero outside its block. The blocks are the connected components of the coupling
  * graph: coordinates a != b are coupled when |X_ab| > SPLIT_TOL sqrt(|X_aa X_bb|) for X = Kr or
- * Mr. SPLIT_TOL = DBL_EPSILON: an entry left out is below the componentwise backward error of the
- * Cholesky factorization dsygvx applies to the pencil's B (at least (n + 1) eps sqrt(B_aa B_bb)
- * per entry; B = Kr - sigma Mr or Mr: an entry dropped from both Kr and Mr is below eps
- * sqrt(B_aa B_bb) there too, Cauchy-Schwarz, for Kr_aa >= 0), and relative to its row's and
+ * Mr. SPLIT_TOL = DBL_EPSILON: an entry left out is within the bound on the componentwise
+ * backward error of the Cholesky factorization dsygvx makes of the pencil's B, about (n + 1) eps
+ * sqrt(B_aa B_bb) per entry (B = Kr - sigma Mr or Mr: an entry dropped from both Kr and Mr is
+ * below eps sqrt(B_aa B_bb) there too, Cauchy-Schwarz, for Kr_aa >= 0), and relative to its row's and
  * column's own scales, not the matrix's norm, so it cannot hide a small stiffness coupling of
  * soft directions; the Table I cantilever's and planar models' decoupled entries are exact zeros
  * (benchmarks/bench_overhead.py). A zero diagonal (a massless or unloaded direction) keeps every

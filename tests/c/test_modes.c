@@ -6,8 +6,8 @@
  * the whole solve's, bit for bit); random symmetric pencils with planted blocks on interleaved
  * coordinates, cross entries below the coupling threshold (left out: the planted blocks) and one
  * above it (two blocks merged), with and without a singular Kr. Eigenvalues to 1e-9 relative
- * (of max(|lambda_k|, 1e-9 lambda_max): zero ones), eigenvectors as M-inner products
- * |y_split^T Mr y_whole| = 1 - 1e-7 and unit modal mass. */
+ * (of max(|lambda_k|, 1e-6 max_a |K_aa| / M_aa): zero ones), eigenvectors of separated
+ * eigenvalues as M-inner products |y_split^T Mr y_whole| = 1 - 1e-7, and unit modal mass. */
 #include <float.h>
 
 #include "check.h"
