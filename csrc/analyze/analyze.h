@@ -144,6 +144,17 @@ void lin_red_expand(const lin_red_t *R, int nc, const double *y, double *x);
 /* y = Z^T f: carrier wrenches f (6 nc) as reduced generalized forces y (nr). */
 void lin_red_project(const lin_red_t *R, int nc, const double *f, double *y);
 
+/* ---------------------------------------------------------------- dense modes (modes.c) */
+/* The nf (<= nr) lowest eigenpairs of Kr y = lambda Mr y (nr x nr, symmetric) into ev (nr) and Y
+ * (nr x nf, column-major, unit modal mass), ascending: dsygvx on the pencil shift-inverted, the
+ * unresolved modes on the direct one (modes.c). split: solved block by block on the connected
+ * components of the coupling graph of Kr and Mr (entries below DBL_EPSILON sqrt(|X_aa X_bb|) do
+ * not couple: modes.c's SPLIT_TOL), each block's nf lowest merged (a block whose solve fails:
+ * the whole problem instead); 0: as one problem. *nblocks (may be NULL): the number of blocks
+ * solved. */
+phm_status modes_dense_eigs(int nr, const double *Kr, const double *Mr, int nf, int split,
+                            double *ev, double *Y, int *nblocks, phm_error *err);
+
 /* ---------------------------------------------------------------- sparse modes (modes_sparse.c) */
 /* The nf lowest modes of R's blocks (lin_red_blocks) on the sparse path with a block of b
  * vectors, verified by the count of eigenvalues below its shift; *ok = 0: not verified and not
