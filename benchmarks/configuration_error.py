@@ -19,7 +19,8 @@ route of scenes.py). ``error_sum`` is the run's summed estimate (what the contra
     python benchmarks/configuration_error.py [--only NAME ...] [--t-end T] [--options 'rtol=1e-5']
                                              [--reference ida]
 
-writes benchmarks/results/configuration_error.json (docs/integrators.md, "Cost").
+writes benchmarks/results/configuration_error.json (configuration_error_ida.json with IDA;
+docs/integrators.md, "Limits").
 """
 from __future__ import annotations
 
@@ -126,12 +127,12 @@ def main(argv=None):
             continue
         r = run(sc, a.dt, a.reference, a.ref_step, options, a.t_end)
         rows.append(r)
-        print(f"{sc.name:32s} steps {r['steps']:6d} CPU {r['cpu_s']:5.2f} s  error_sum {r['error_sum']:.2f}  "
+        print(f"{sc.name:32s} steps {r['steps']:6d} CPU {r['cpu_s']:5.2f} s  error_sum {r['error_sum'] or 0:.2f}  "
               f"configuration vs tolerance: in-band {r['in_band']:.3f} (t {r['in_band_time']:.3f} s), "
               f"raw {r['raw']:.3f}; band quantities {r['band_quantities_vs_tolerance']:.3f}", flush=True)
     res = os.environ.get("BENCH_RESULTS") or os.path.join(HERE, "results")
     os.makedirs(res, exist_ok=True)
-    path = os.path.join(res, "configuration_error.json")
+    path = os.path.join(res, "configuration_error.json" if a.reference == "fixed" else "configuration_error_ida.json")
     if not options and not a.t_end:
         with open(path, "w") as f:
             from run import machine
