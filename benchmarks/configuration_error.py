@@ -17,7 +17,7 @@ quaternions with the reference's sign. The reference: the fixed-step generalized
 route of scenes.py). ``error_sum`` is the run's summed estimate (what the contract bounds).
 
     python benchmarks/configuration_error.py [--only NAME ...] [--t-end T] [--options 'rtol=1e-5']
-                                             [--reference ida]
+                                             [--reference ida] [--smoke]      (make validate)
 
 writes benchmarks/results/configuration_error.json (configuration_error_ida.json with IDA;
 docs/integrators.md, "Limits").
@@ -118,10 +118,14 @@ def main(argv=None):
     ap.add_argument("--reference", choices=["fixed", "ida"], default="fixed")
     ap.add_argument("--ref-step", type=float, default=5e-6, help="the fixed-step reference's step [s]")
     ap.add_argument("--t-end", type=float, default=0.0, help="horizon [s] (default: the scene's)")
+    ap.add_argument("--smoke", action="store_true",
+                    help="the cantilever over 0.05 s, reference step 20 us (tests/test_benchmarks_smoke.py)")
     ap.add_argument("--options", default="", help="simulate options of the run, e.g. 'rtol=1e-5'")
     a = ap.parse_args(argv)
     options = eval(f"dict({a.options})")
     rows = []
+    if a.smoke:
+        a.only, a.t_end, a.ref_step = ["cantilever + tip mass, impulse"], 0.05, 2e-5
     for sc in S.SCENES:
         if sc.name not in a.only:
             continue
@@ -133,7 +137,7 @@ def main(argv=None):
     res = os.environ.get("BENCH_RESULTS") or os.path.join(HERE, "results")
     os.makedirs(res, exist_ok=True)
     path = os.path.join(res, "configuration_error.json" if a.reference == "fixed" else "configuration_error_ida.json")
-    if not options and not a.t_end:
+    if not options and (a.smoke or not a.t_end):
         with open(path, "w") as f:
             from run import machine
             json.dump(dict(scenes=rows, machine=machine()), f, indent=1)
