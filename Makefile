@@ -162,6 +162,7 @@ $(VALIDATE_STAMP): tools/requirements-validate.txt $(STAMP)
 	@touch $@
 
 # integrator_contract.py: the long versions of tests/accuracy/test_integrator_contract.py.
+# configuration_error.py: scenes.py's flexible scenes in the accuracy contract's own norm (~1 min).
 validate: build $(VALIDATE_STAMP)
 	@mkdir -p benchmarks/results
 	$(PY) examples/timoshenko_table.py --json --plot benchmarks/results/timoshenko_convergence.png > benchmarks/results/timoshenko_table.json
@@ -171,6 +172,7 @@ validate: build $(VALIDATE_STAMP)
 	$(PY) benchmarks/sizing.py
 	$(PY) benchmarks/validate_urdf.py
 	$(PY) benchmarks/integrator_contract.py
+	$(PY) benchmarks/configuration_error.py
 
 # Work-precision benchmarks against Exudyn, MuJoCo and PyElastica (pinned in
 # benchmarks/requirements.txt, installed into .venv here, not for `make test`);

@@ -94,6 +94,12 @@ def test_scenes(tmp_path):
     assert len(sc["scenes"]) == 1 and math.isfinite(sc["scenes"][0]["error"])
 
 
+def test_configuration_error(tmp_path):
+    run_script("configuration_error.py", tmp_path)
+    r = load(tmp_path, "configuration_error.json")["scenes"][0]
+    assert r["steps"] > 0 and 0 <= r["in_band"] <= r["raw"] * 10 and math.isfinite(r["in_band"])
+
+
 def test_mass_matrix_study(tmp_path):
     run_script("mass_matrix_study.py", tmp_path)
     # the smoke writes its own file, not the full run's (benchmarks/results/ keeps the full one)
