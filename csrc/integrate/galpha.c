@@ -42,7 +42,7 @@ void galpha_release(void *work) { free(work); }
   {&(g)->y0, &(g)->yp0, &(g)->Y, &(g)->Yp, &(g)->ya, &(g)->ypa, &(g)->Ra, &(g)->R, &(g)->dY,      \
    &(g)->w, &(g)->yq, &(g)->ypq, &(g)->yqq, &(g)->wa, &(g)->z1, &(g)->z2, &(g)->z2q, &(g)->z2qq,  \
    &(g)->z1n, &(g)->z2n, &(g)->fm, &(g)->le, &(g)->ge, &(g)->gep, &(g)->gy, &(g)->gya,         \
-   &(g)->gypa, &(g)->gR}
+   &(g)->gypa, &(g)->gR, &(g)->gdy}
 
 /* The run's step-size limits, first step and Newton's tolerance factor, from the options. */
 static void galpha_limits(galpha_run *gr, const phm_sim_options *opt, const double *tout, int nout) {

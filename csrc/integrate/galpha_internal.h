@@ -32,7 +32,7 @@ typedef struct {
    * (le: galpha_error's, 0 where none), the propagated error of the states and of their rates
    * (ge, gep), the largest |y| of each state so far (gy: its scale), and the scratch of one
    * tangent step (gya, gypa: the perturbed stage; gR: its residual, then the correction) */
-  N_Vector le, ge, gep, gy, gya, gypa, gR;
+  N_Vector le, ge, gep, gy, gya, gypa, gR, gdy;
 } galpha_t;
 
 /* the twists' absolute tolerance in the error estimate, in atol times the band's angular
@@ -97,6 +97,8 @@ typedef struct {
   double rho1;            /* the last first contraction measured on this matrix (0: none yet) */
   int since;              /* steps accepted on one iteration since rho1 was measured */
   int global;             /* the global error estimate is propagated (galpha_global.c) */
+  double grho;            /* the last contraction of its iteration measured on this matrix (0: none) */
+  long gjac, gsince;      /* the matrix it was measured on (out->njac then), steps since */
 } galpha_run;
 
 /* galpha_scheme.c */
