@@ -39,7 +39,10 @@
 void galpha_global_open(galpha_run *gr) {
   galpha_t *g = &gr->g;
   gr->global = gr->rigid && !getenv("PHM_NO_GLOBAL"); /* TEMP measurement */
-  if (!gr->global) return;
+  if (!gr->global) {
+    if (gr->adaptive) gr->out->glob_err = -1.0; /* not estimated */
+    return;
+  }
   N_VConst(0.0, g->ge);
   N_VConst(0.0, g->gep);
   N_VConst(0.0, g->le);

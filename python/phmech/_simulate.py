@@ -257,6 +257,7 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
         _run.warn_if_inaccurate(result.stats)
         warn_implausible_strain(mech, result, model)
         _run.warn_if_above_tolerance(result.stats)
+        _run.warn_if_global_error(result.stats)
         for lk in mech._links.values():
             if lk.fidelity == "modal":
                 T0 = se3.exp(lk.length * mech._desc.link_unstressed_strain(lk))
@@ -383,8 +384,11 @@ def _simulation_result(mech, r: dict, k: int, tout, model, drop_masks, rec, band
         stats["newton_iters_per_step"] = stats["nonlinear_iters"] / max(1, stats["steps"])
     if not stats["adaptive"]:
         for key in ("error_estimate", "error_sum", "floor_steps", "error_ratio", "error_ratio_time",
-                    "noise_steps", "min_step", "newton_rtol"):
+                    "noise_steps", "min_step", "newton_rtol", "global_error_estimate",
+                    "global_error_time"):
             stats.pop(key, None)
+    elif stats.get("global_error_estimate", 0.0) < 0:   # flexible links: not estimated
+        stats["global_error_estimate"] = stats["global_error_time"] = None
     return SimulationResult(t=tout[:k], constraint_wrenches=lam, energy=energy, stats=stats,
                             interrupted=interrupted, _links=dict(mech._links),
                             port_energy=ports, pair_wrenches=pw, _pairs=pairs,
