@@ -40,7 +40,10 @@ void galpha_global_open(galpha_run *gr) {
   galpha_t *g = &gr->g;
   gr->global = gr->rigid && !getenv("PHM_NO_GLOBAL"); /* TEMP measurement */
   if (!gr->global) {
-    if (gr->adaptive) gr->out->glob_err = -1.0; /* not estimated */
+    if (gr->adaptive) { /* not estimated */
+      gr->out->glob_err = -1.0;
+      gr->out->glob_state = -1;
+    }
     return;
   }
   N_VConst(0.0, g->ge);
@@ -65,6 +68,7 @@ phm_status galpha_global_step(galpha_run *gr, double h, phm_error *err) {
   const double *ya = N_VGetArrayPointer(g->ya), *ypa = N_VGetArrayPointer(g->ypa);
   const double *Y = gr->Y, *le = N_VGetArrayPointer(g->le), *wa = gr->wa;
   double af = g->euler ? 1.0 : g->af, t = gr->t, worst = 0.0;
+  int iw = 0;
   double atol_twist = g->wc > 0 ? GALPHA_TWIST_ATOL * g->wc * opt->atol : opt->atol;
   /* the predictor dy = e + h e' (the multipliers': their last e), its stage (the scheme's rates
    * at the predictor are y0' + e': the stage's too) and end */
@@ -107,12 +111,16 @@ phm_status galpha_global_step(galpha_run *gr, double h, phm_error *err) {
     e[i] = dy[i] + le[i];
     ymax[i] = fmax(ymax[i], fabs(Y[i]));
     double r = fabs(e[i]) / (opt->rtol * ymax[i] + (wa[i] < 0 ? atol_twist : opt->atol));
-    worst = fmax(worst, r);
+    if (r > worst) {
+      worst = r;
+      iw = i;
+    }
   }
   for (int i = il; i < n; i++) e[i] = dy[i] + R[i];
   if (worst > out->glob_err) {
     out->glob_err = worst;
     out->t_glob_err = t + h;
+    out->glob_state = iw;
   }
   return PHM_OK;
 }
