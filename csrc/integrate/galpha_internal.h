@@ -32,7 +32,7 @@ typedef struct {
    * (le: galpha_error's, 0 where none), the propagated error of the states and of their rates
    * (ge, gep), the largest |y| of each state so far (gy: its scale), and the scratch of one
    * tangent step (gya, gypa: the perturbed stage; gR: its residual, then the correction) */
-  N_Vector le, ge, gep, gy, gya, gypa, gR, gdy;
+  N_Vector le, ge, gep, gy, gya, gypa, gR, gdy, gRc, gl, gyam, gypam;
 } galpha_t;
 
 /* the twists' absolute tolerance in the error estimate, in atol times the band's angular
@@ -80,6 +80,7 @@ typedef struct {
   const phm_sim_options *opt;
   phm_sim_output *out;
   int n, adaptive, filtered;
+  int nout;               /* the output times (tout[nout - 1]: the run's end) */
   galpha_t g;
   galpha_corot cr;
   SUNMatrix Js, A;
@@ -97,6 +98,9 @@ typedef struct {
   double rho1;            /* the last first contraction measured on this matrix (0: none yet) */
   int since;              /* steps accepted on one iteration since rho1 was measured */
   int global;             /* the global error estimate is propagated (galpha_global.c) */
+  double gH, gtm;         /* its block so far [s], the time of the block's stage (gyam, gypam) */
+  double gta, gHx;        /* the block's start [s] and expected length [s] */
+  int gcount;             /* and its steps */
   double grho;            /* the last contraction of its iteration measured on this matrix (0: none) */
   long gjac, gsince;      /* the matrix it was measured on (out->njac then), steps since */
 } galpha_run;
@@ -119,6 +123,6 @@ phm_status galpha_attempt(galpha_run *gr, double *hp, phm_error *err);
 
 /* galpha_global.c */
 void galpha_global_open(galpha_run *gr);
-phm_status galpha_global_step(galpha_run *gr, double h, phm_error *err);
+phm_status galpha_global_step(galpha_run *gr, double h, int last, phm_error *err);
 
 #endif
