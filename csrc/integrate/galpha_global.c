@@ -29,7 +29,6 @@
 #include "galpha_internal.h"
 
 #include <math.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include "phm_check.h"
@@ -41,7 +40,7 @@
  * header). */
 void galpha_global_open(galpha_run *gr) {
   galpha_t *g = &gr->g;
-  gr->global = gr->rigid && !getenv("PHM_NO_GLOBAL"); /* TEMP measurement */
+  gr->global = gr->rigid;
   if (!gr->global) {
     if (gr->adaptive) { /* not estimated */
       gr->out->glob_err = -1.0;

@@ -128,10 +128,6 @@ def warn_if_global_error(stats: dict, stacklevel: Optional[int] = None) -> None:
         return
     rtol, atol = stats["rtol"], stats["atol"]
     where = stats.get("global_error_state")
-    if os.environ.get("PHM_GE_LOG"):   # TEMP measurement
-        import traceback
-        with open(os.environ["PHM_GE_LOG"], "a") as f:
-            f.write(f"{os.environ.get('PYTEST_CURRENT_TEST')} g {g:.3g} esum {stats.get('error_sum'):.3g} rtol {rtol:g} {where} {traceback.format_stack()[-4][:300]!r}\n")
     warnings.warn(
         f"simulate: the estimated global error reached {g:.3g} times the tolerance (rtol "
         f"{rtol:.3g}, atol {atol:.3g}: |error| <= rtol max|y| + atol per coordinate) at t = "
