@@ -276,3 +276,20 @@ def test_compound_pendulum_warns_or_is_within_tolerance(deg, rtol):
     assert rt == pytest.approx(rtol / (3 * g), rel=0.05)   # printed to 2 digits
     r2, _ = run(m, 5.0, 0.05, rtol=rt, atol=rt / 100)
     assert np.abs(r2.joint("hinge")["x"][:, 0] - exact(r2.t)).max() <= tol(rtol)
+
+
+def test_global_error_estimate_where_it_is_made():
+    """stats['global_error_estimate']: a float for a rigid mechanism under the default
+    integrator, None with flexible links (not estimated: csrc/integrate/galpha_global.c), absent
+    for IDA and the fixed step."""
+    m, _ = compound_pendulum(np.radians(30))
+    r, _ = run(m, 0.5, 0.05)
+    assert 0.0 < r.stats["global_error_estimate"] < 1.0
+    assert r.stats["global_error_state"] in ("the orientation of body 'rod'", "the twist of body "
+                                             "'rod'", "the position of body 'rod'",
+                                             "joint coordinate 0 of pair 'hinge'")
+    assert "global_error_estimate" not in m.simulate(0.5, 0.05, integrator="ida").stats
+    assert "global_error_estimate" not in m.simulate(0.5, 0.05, step=1e-3).stats
+    m2, _ = arm_strip()
+    r2, _ = run(m2, 0.02, 1e-3)
+    assert r2.stats["global_error_estimate"] is None and r2.stats["global_error_state"] is None
