@@ -132,8 +132,8 @@ def test_chain_of_100_within_tolerance(chain_runs):
     IDA at 1e-11). Measured: 4.1e-7 m (rtol 1e-4, 4874 steps), 3.9e-9 m (1e-6, 54 093 steps)
     on the link ends. Per coordinate it is not within rtol: its global error estimate warns
     (9.0 at rtol 1e-4, 7.8 at 1e-6, in the twist of link 36), and the truth per coordinate is
-    9.6 and 9.0 (a twist; joint coordinate 36: 7.4x at rtol 1e-4, 1.1e-5 rad on an amplitude of 5.5e-3
-    rad): the warning must be true, and its figure near it."""
+    9.6 and 9.0 (a twist; joint coordinate 36: 7.4x at rtol 1e-4, 1.1e-5 rad on an amplitude of
+    5.5e-3 rad): the warning must be true, and its figure near it."""
     for rtol, (err, stats, w, worst) in chain_runs.items():
         glob = [x for x in w if "estimated global error" in str(x.message)]
         assert_sum_within_tolerance(stats, [x for x in w if x not in glob], rtol)
