@@ -107,7 +107,7 @@ phm_status galpha_global_step(galpha_run *gr, double h, int last, phm_error *err
   gr->gcount = 0;
   double atol_twist = g->wc > 0 ? GALPHA_TWIST_ATOL * g->wc * opt->atol : opt->atol;
   /* the predictor dy = e + H e' (the multipliers': their last e), its stage (the tangent's rates
-   * at the predictor are e': the stage's too) and end, at the last step's stage and end */
+   * at the predictor are e': the stage's too) at the block's stage, and its end at the block's */
   for (int i = 0; i < il; i++) {
     dy[i] = i < ie ? e[i] + H * ep[i] : 0.0;
     ya2[i] = yam[i] + e[i] + af * H * ep[i];
