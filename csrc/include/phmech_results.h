@@ -104,6 +104,13 @@ typedef struct {
                     * (WRMS, weights rtol |y| + atol): the accumulated error without error
                     * propagation, <= 1 when the contract holds (Newton's noise-accepted
                     * steps included: a systematic Newton error adds up step after step) */
+  double glob_err, t_glob_err; /* adaptive GALPHA: the largest global error estimate over the
+                    * run (the local estimates propagated along the linearized steps,
+                    * csrc/integrate/galpha_global.c), in tolerances (max over the
+                    * configuration states of |e| / (rtol max|y| + atol)), when [s], and
+                    * that state's index in the DAE's state vector (-1 with flexible links:
+                    * not estimated)                                                    */
+  long glob_state;
   double newton_rtol; /* adaptive GALPHA: Newton's relative tolerance at the end (PHM_NEWTON_RTOL,
                     * tightened while the summed estimates run ahead: galpha.c)          */
   double last_step; int last_order;             /* last step [s] and order (BDF order; GALPHA: 2) */

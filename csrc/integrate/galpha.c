@@ -41,7 +41,9 @@ void galpha_release(void *work) { free(work); }
 #define GALPHA_VECTORS(g)                                                                        \
   {&(g)->y0, &(g)->yp0, &(g)->Y, &(g)->Yp, &(g)->ya, &(g)->ypa, &(g)->Ra, &(g)->R, &(g)->dY,      \
    &(g)->w, &(g)->yq, &(g)->ypq, &(g)->yqq, &(g)->wa, &(g)->z1, &(g)->z2, &(g)->z2q, &(g)->z2qq,  \
-   &(g)->z1n, &(g)->z2n, &(g)->fm}
+   &(g)->z1n, &(g)->z2n, &(g)->fm, &(g)->le, &(g)->ge, &(g)->gep, &(g)->gy, &(g)->gya,         \
+   &(g)->gypa, &(g)->gR, &(g)->gdy, &(g)->gRc, &(g)->gl, \
+   &(g)->gyam, &(g)->gypam}
 
 /* The run's step-size limits, first step and Newton's tolerance factor, from the options. */
 static void galpha_limits(galpha_run *gr, const phm_sim_options *opt, const double *tout, int nout) {
@@ -120,6 +122,7 @@ static phm_status galpha_open(galpha_run *gr, dae_t *d, const phm_sim_options *o
                               SUNContext ctx, N_Vector yy, N_Vector yp, const double *tout,
                               int nout, phm_error *err) {
   int n = gr->n = d->n;
+  gr->nout = nout;
   gr->d = d;
   gr->opt = opt;
   phm_status st = PHM_OK;
@@ -205,6 +208,7 @@ static phm_status galpha_open(galpha_run *gr, dae_t *d, const phm_sim_options *o
    * that step) since it was computed, and whether the next step attempt refreshes it (see
    * GALPHA_EXTRA_BUDGET) */
   gr->extra = gr->refresh = 0;
+  galpha_global_open(gr);
 done:
   return st;
 }
@@ -290,6 +294,7 @@ static phm_status galpha_accept(galpha_run *gr, double h, double target, const d
     (*iout)++;
     *steps_out = 0;
   }
+  if (gr->global && (st = galpha_global_step(gr, h, t1 == tout[gr->nout - 1], err))) goto done; /* galpha_global.c */
   gr->t = t1;
   gr->hqq = gr->hq;
   gr->hq = g->euler ? 0 : h; /* no history across the Euler step (its y0' is not this scheme's) */

@@ -28,7 +28,16 @@ typedef struct {
   N_Vector z1, z2, z2q, z2qq, z1n, z2n;
   N_Vector fm; /* 1 on the states the estimate sees through the filter, 0 on the others */
   double wc; /* its corner [rad/s]: 2 pi PHM_FILTER_BAND band (0: no filter) */
+  /* the global error estimate (galpha_global.c): the local estimates of this attempt per state
+   * (le: galpha_error's, 0 where none), the propagated error of the states and of their rates
+   * (ge, gep), the largest |y| of each state so far (gy: its scale), and the scratch of one
+   * tangent step (gya, gypa: the perturbed stage; gR: its residual, then the correction) */
+  N_Vector le, ge, gep, gy, gya, gypa, gR, gdy, gRc, gl, gyam, gypam;
 } galpha_t;
+
+/* the twists' absolute tolerance in the error estimate, in atol times the band's angular
+ * frequency (galpha_error; the global estimate's too, galpha_global.c) */
+#define GALPHA_TWIST_ATOL 0.1
 
 /* The fixed step's iteration matrix co-rotated with the carriers. Modified Newton keeps a
  * matrix for many steps (the fixed step refreshes it only when Newton fails), and in the world
@@ -71,6 +80,7 @@ typedef struct {
   const phm_sim_options *opt;
   phm_sim_output *out;
   int n, adaptive, filtered;
+  int nout;               /* the output times (tout[nout - 1]: the run's end) */
   galpha_t g;
   galpha_corot cr;
   SUNMatrix Js, A;
@@ -87,6 +97,12 @@ typedef struct {
   int rigid;              /* adaptive, no flexible link: one-iteration steps (GALPHA_ONE_SAFETY) */
   double rho1;            /* the last first contraction measured on this matrix (0: none yet) */
   int since;              /* steps accepted on one iteration since rho1 was measured */
+  int global;             /* the global error estimate is propagated (galpha_global.c) */
+  double gH, gtm;         /* its block so far [s], the time of the block's stage (gyam, gypam) */
+  double gta, gHx;        /* the block's start [s] and expected length [s] */
+  int gcount;             /* and its steps */
+  double grho;            /* the last contraction of its iteration measured on this matrix (0: none) */
+  long gjac, gsince;      /* the matrix it was measured on (out->njac then), steps since */
 } galpha_run;
 
 /* galpha_scheme.c */
@@ -104,5 +120,9 @@ double galpha_error(const dae_t *d, galpha_t *g, double h, double hq, double hqq
 
 /* galpha_step.c */
 phm_status galpha_attempt(galpha_run *gr, double *hp, phm_error *err);
+
+/* galpha_global.c */
+void galpha_global_open(galpha_run *gr);
+phm_status galpha_global_step(galpha_run *gr, double h, int last, phm_error *err);
 
 #endif

@@ -177,9 +177,6 @@ void galpha_corot_apply(const dae_t *d, const galpha_corot *cr, int tr, double *
     }
 }
 
-/* the twists' absolute tolerance in the error estimate, in atol times the band's angular
- * frequency (galpha_error) */
-#define GALPHA_TWIST_ATOL 0.1
 /* Local error estimate of a converged step h (previous steps hq, hqq; 0: not there), WRMS-normed
  * with the error weights of the configuration states (poses, joint coordinates; twists, ledger
  * integrals and multipliers are left out): the trapezoidal local error h^3 y'''/12, with y''' = 6
@@ -204,6 +201,7 @@ double galpha_error(const dae_t *d, galpha_t *g, double h, double hq, double hqq
   const double *zq = N_VGetArrayPointer(g->z2q), *zqq = N_VGetArrayPointer(g->z2qq);
   double *z1n = N_VGetArrayPointer(g->z1n), *z2n = N_VGetArrayPointer(g->z2n);
   const double *wa = N_VGetArrayPointer(g->wa), *fm = N_VGetArrayPointer(g->fm);
+  double *le = N_VGetArrayPointer(g->le); /* each state's estimate, for galpha_global.c */
   /* no band (wc = 0): no filter, z = y */
   double x = g->wc * h, ex = x > 0 ? exp(-x) : 0.0, ix = x > 0 ? 1.0 / x : 0.0;
   int est = hq > 0 && hqq > 0;
@@ -236,10 +234,14 @@ double galpha_error(const dae_t *d, galpha_t *g, double h, double hq, double hqq
     }
     z1n[i] = a;
     z2n[i] = b;
-    if (!est) continue;
+    if (!est) {
+      le[i] = 0.0;
+      continue;
+    }
     double d10 = (b - z2[i]) * ih, d0q = (z2[i] - zq[i]) * ihq, dqq = (zq[i] - zqq[i]) * ihqq;
     double dd2a = (d10 - d0q) * ia, dd2b = (d0q - dqq) * ib;
     double e = c3 * (dd2a - dd2b);
+    le[i] = e;
     double wgt = rtol * fabs(Y[i]) + (wa[i] < 0 ? atol_twist : atol);
     sum += (e / wgt) * (e / wgt);
     mx = fmax(mx, fabs(e));

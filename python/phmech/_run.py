@@ -107,6 +107,41 @@ def warn_if_above_tolerance(stats: dict, stacklevel: Optional[int] = None) -> No
         stacklevel=stacklevel or outside_stacklevel())
 
 
+#: stats['global_error_estimate'] (the local estimates carried along the linearized motion,
+#: csrc/integrate/galpha_global.c: the largest over the run of a configuration state's error
+#: over rtol times its largest magnitude plus atol) above which a run warns. Measured on a compound pendulum over 5 s
+#: (tests/accuracy/test_integrator_contract.py; true error over rtol amp + atol, estimate):
+#: 2 deg rtol 1e-4 0.86 and 0.96; 30 deg 0.63 and 0.70; 2 deg rtol 1e-6 1.11 and 1.08 (warned);
+#: 170 deg rtol 1e-4 7.8 and 13.4 (warned).
+GLOBAL_ERROR_WARN = 1.0
+
+
+def warn_if_global_error(stats: dict, stacklevel: Optional[int] = None) -> None:
+    """AccuracyWarning when the adaptive generalized-alpha's global error estimate
+    (``stats['global_error_estimate']``, rigid mechanisms) exceeds GLOBAL_ERROR_WARN, naming the
+    estimate, the tolerance, when, and the rtol that would bring the error within this run's
+    tolerance (docs/user_guide.md, "Accuracy contract")."""
+    if not (stats.get("adaptive") and stats.get("integrator") == "generalized-alpha"):
+        return
+    g = stats.get("global_error_estimate")
+    if g is None or not g > GLOBAL_ERROR_WARN:
+        return
+    rtol, atol = stats["rtol"], stats["atol"]
+    where = stats.get("global_error_state")
+    warnings.warn(
+        f"simulate: the estimated global error reached {g:.3g} times the tolerance (rtol "
+        f"{rtol:.3g}, atol {atol:.3g}: |error| <= rtol max|y| + atol per coordinate) at t = "
+        f"{stats['global_error_time']:.6g} s" + (f", in {where}" if where else "") +
+        f" (stats['global_error_estimate']: the steps' local error estimates carried along the "
+        f"linearized motion, which amplifies them; summed without it they reach "
+        f"{stats.get('error_sum') or 0:.3g}, stats['error_sum']), so the result is probably not "
+        f"within rtol. The step control holds the summed local errors to a share of rtol and "
+        f"the motion multiplies them, so the error scales with rtol: rtol={rtol / (3 * g):.2g} "
+        f"and atol={atol / (3 * g):.2g} should bring it within this run's tolerance (that run "
+        f"then measures its own estimate against its tighter one)",
+        AccuracyWarning, stacklevel=stacklevel or outside_stacklevel())
+
+
 def band_floor(band: float) -> float:
     """The smallest step [s] the adaptive integrator takes for accuracy's sake, for a band [Hz]."""
     return 1.0 / (BAND_STEPS * band)

@@ -132,7 +132,12 @@ class Mechanism(Builder):
         may have added up beyond rtol, and an AccuracyWarning says so), ``newton_rtol``
         (Newton's relative tolerance at the end: 1e-7, or min(rtol, 1e-7), tightened 10x at a
         time down to 1e-11 while error_sum runs ahead of its share of the tolerance, in a run on
-        course for at most 3e5 steps), ``min_step`` [s] (the shortest step); and ``energy_scale`` [J], ``ledger_relative`` (the largest absolute
+        course for at most 3e5 steps), ``global_error_estimate`` (in a rigid mechanism: the
+        local estimates carried along the linearized motion, the largest over the run of a
+        configuration state's error over rtol times its largest magnitude plus atol, in
+        tolerances: above 1 an
+        AccuracyWarning says so; None with flexible links, where it is not estimated) and
+        ``global_error_time`` [s] (when), ``min_step`` [s] (the shortest step); and ``energy_scale`` [J], ``ledger_relative`` (the largest absolute
         energy ledger residual / energy_scale), ``numerical_dissipation`` [J] (energy the
         integrator removed, from the ledger) and ``max_mu`` (the largest multiplier of the
         position constraints at the outputs, a velocity correction [m/s, rad/s] that is zero for
