@@ -211,19 +211,29 @@ class RunMonitor:
         if mean_h < floor / 30 and projected > 30.0:
             self.warned = True
             f_res = 1.0 / (BAND_STEPS * mean_h)
-            advice = ("The default integrator (integrator='generalized-alpha' without step=) damps "
-                      "vibrations above the band instead of resolving them."
-                      if self.integrator == "ida" else
-                      "The error estimate asks for steps below the band's floor to keep rtol "
-                      "(motion faster than the band, or a tight rtol/atol), or the options given "
-                      "ask for them (a small max_step or step, a large band=): a looser rtol, or "
-                      "a band= that covers the motion, costs less (docs/user_guide.md, "
-                      "\"Accuracy contract\").")
+            if self.integrator == "ida":
+                why = (f"the integrator is resolving vibrations up to about {_hz(f_res)}, far "
+                       f"above what the output can show")
+                advice = ("The default integrator (integrator='generalized-alpha' without step=) "
+                          "damps vibrations above the band instead of resolving them.")
+            else:
+                # the error estimate sets these steps: they resolve the motion it sees (a fast
+                # one, or a long run: the local errors are summed over the whole run, so for
+                # the same motion the steps shrink as 1 / sqrt(span))
+                why = (f"the error estimate asks for them to keep rtol over the whole run "
+                       f"({_duration(self.t_end - self.t_start)} simulated; at {BAND_STEPS} steps "
+                       f"per period they would resolve {_hz(f_res)})")
+                advice = ("Such steps come from motion faster than the band, a long run (the "
+                          "local errors are summed over the run: for the same motion the steps "
+                          "shrink as 1/sqrt(t_end - t_start), and the phase of an oscillation is "
+                          "held over every period), a tight rtol/atol, or options that ask for "
+                          "them (a small max_step or step, a large band=): a looser rtol, or a "
+                          "band= that covers the motion, costs less (docs/user_guide.md, "
+                          "\"Accuracy contract\").")
             warnings.warn(
                 f"simulate: the mean step so far is {mean_h:.2g} s, {floor / mean_h:.0f}x smaller "
-                f"than the {floor:.2g} s that the {self.band:.4g} Hz band needs: the integrator is "
-                f"resolving vibrations up to about {_hz(f_res)}, far above what the output can "
-                f"show. At this rate the run will take about {_duration(projected)} of CPU. "
+                f"than the {floor:.2g} s that the {self.band:.4g} Hz band needs: {why}. At this "
+                f"rate the run will take about {_duration(projected)} of CPU. "
                 + advice, CostWarning, stacklevel=outside_stacklevel())
 
     def _maybe_print(self) -> None:
