@@ -342,6 +342,15 @@ def test_sensors_and_samples_in_a_result_file(tmp_path):
         assert np.array_equal(back.sensors[n], r.sensors[n])
     for q in "tyu":
         assert np.array_equal(back.controllers["pd"][q], r.controllers["pd"][q])
+    # a file whose metadata lists sensors and controllers but lacks their variables is damaged:
+    # a ModelError naming the variable (was a bare KeyError)
+    import xarray as xr
+    with xr.open_dataset(tmp_path / "r.nc", engine="h5netcdf") as ds:
+        ds.load()
+    for name in ("sensor_values", "controller0_u"):
+        ds.drop_vars(name).to_netcdf(tmp_path / f"no_{name}.nc", engine="h5netcdf")
+        with pytest.raises(ph.ModelError, match=f"no variable '{name}', which its writer wrote"):
+            ph.load_result(tmp_path / f"no_{name}.nc")
 
 
 @pytest.mark.parametrize("rate", [1000.0, 250.0])

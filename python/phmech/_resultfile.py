@@ -273,17 +273,18 @@ def simulation_dataframe(res):
     return pd.DataFrame(cols, index=pd.Index(res.t, name="time"))
 
 
-def sensors_and_controllers(ds, meta: dict) -> tuple:
+def sensors_and_controllers(read, meta: dict) -> tuple:
     """(sensors, controllers) of a dataset, as SimulationResult holds them (none in older
-    files)."""
+    files); ``read(name)``: a variable's values, or ModelError naming it when the file lacks it
+    (the file's metadata lists these sensors and controllers, so their variables were written)."""
     sensors, ctrls, j = {}, {}, 0
     for n, shape in meta.get("sensors", {}).items():
         size = int(np.prod(shape))
-        v = np.asarray(ds["sensor_values"].values)[:, j:j + size]
+        v = np.asarray(read("sensor_values"))[:, j:j + size]
         sensors[n] = np.ascontiguousarray(v.reshape((v.shape[0], *shape)))
         j += size
     for i, n in enumerate(meta.get("controllers", [])):
-        ctrls[n] = {q: np.ascontiguousarray(ds[f"controller{i}_{q}"].values) for q in "tyu"}
+        ctrls[n] = {q: np.ascontiguousarray(read(f"controller{i}_{q}")) for q in "tyu"}
     return sensors, ctrls
 
 

@@ -571,7 +571,7 @@ def load_result(path):
     bodies = {n: Body(n, c) for n, c in meta["bodies"].items()}
     held = meta.get("held", _resultfile.ALWAYS_HELD)
     ports = [str(x) for x in a("port")]
-    sensors, ctrls = _resultfile.sensors_and_controllers(ds, meta)
+    sensors, ctrls = _resultfile.sensors_and_controllers(a, meta)
     return SimulationResult(
         t=a("time"), constraint_wrenches=a("constraint_wrenches"),
         energy={str(k): a("energy")[:, i].copy() for i, k in enumerate(ds["energy_kind"].values)},
