@@ -15,11 +15,16 @@ since what lies above the band is damped, not controlled. Quaternions are compar
 quaternions with the reference's sign. The reference: the fixed-step generalized-alpha at
 ``--ref-step`` (5 us; self-convergence), or IDA (``--reference ida``, the scene's reference
 route of scenes.py). ``error_sum`` is the run's summed estimate (what the contract bounds).
+``rot_raw``/``rot_in_band``: the same in a rotation-aware norm (each carrier's orientation error
+as the rotation vector of R_ref^T R [rad], weighed by rtol x 1 rad + atol; positions and joints
+as above); ``rotj_*``: that with the joint coordinates' scale at least 1 (rad or m)
+(benchmarks/results/history.md, 2026-12-07, a prototype; not the contract's norm).
 
     python benchmarks/configuration_error.py [--only NAME ...] [--t-end T] [--options 'rtol=1e-5']
                                              [--reference ida] [--smoke]      (make validate)
 
-writes benchmarks/results/configuration_error.json (configuration_error_ida.json with IDA;
+writes benchmarks/results/configuration_error.json (configuration_error_ida.json with IDA, a
+``_smoke`` file with --smoke;
 docs/integrators.md, "Limits").
 """
 from __future__ import annotations
@@ -78,6 +83,32 @@ def contract_error(y: np.ndarray, yr: np.ndarray, nc: int, rtol: float, atol: fl
     return out
 
 
+def rotation_error(y: np.ndarray, yr: np.ndarray, res_poses: np.ndarray, ref_poses: np.ndarray,
+                   nc: int, rtol: float, atol: float, band: float, dt: float) -> dict:
+    """The same in the rotation-aware norm: every carrier's position (rtol |p_ref| + atol), its
+    orientation error as the rotation vector of R_ref^T R [rad] (3 entries weighed by
+    rtol * 1 rad + atol), and the joint coordinates (rtol |y_ref| + atol)."""
+    nt = len(y)
+    R = res_poses[..., :3, :3].reshape(-1, 3, 3)
+    Rr = ref_poses[..., :3, :3].reshape(-1, 3, 3)
+    rv = Rotation.from_matrix(np.einsum("nji,njk->nik", Rr, R)).as_rotvec().reshape(nt, 3 * nc)
+    pe = y[:, :3 * nc] - yr[:, :3 * nc]
+    je = y[:, 7 * nc:] - yr[:, 7 * nc:]
+    e = np.concatenate([pe, rv, je], axis=1)
+    w = np.concatenate([rtol * np.abs(yr[:, :3 * nc]) + atol, np.full((nt, 3 * nc), rtol + atol),
+                        rtol * np.abs(yr[:, 7 * nc:]) + atol], axis=1)
+    wj = w.copy()  # the joint coordinates' scale at least 1 (rad or m): "rotj"
+    wj[:, 6 * nc:] = rtol * np.maximum(np.abs(yr[:, 7 * nc:]), 1.0) + atol
+    b, a = butter(4, band, fs=1.0 / dt)
+    out = {}
+    for name, d in (("rotj_raw", e / wj * w), ("rotj_in_band", filtfilt(b, a, e / wj * w, axis=0)),
+                    ("rot_raw", e), ("rot_in_band", filtfilt(b, a, e, axis=0))):
+        rms = np.sqrt(np.mean((d / w) ** 2, axis=1))
+        out[name] = float(rms.max())
+        out[name + "_time"] = float(np.argmax(rms) * dt)
+    return out
+
+
 def run(sc: S.Scene, dt: float, reference: str, ref_step: float, options: dict,
         t_end: float = 0.0) -> dict:
     """One scene: its default run and the reference at outputs every ``dt`` [s] over ``t_end``
@@ -104,7 +135,9 @@ def run(sc: S.Scene, dt: float, reference: str, ref_step: float, options: dict,
     out = dict(scene=sc.name, t_end=t_end, band=band, dt_out=dt, options=options, steps=int(st["steps"]),
                cpu_s=cpu, error_sum=st.get("error_sum"), reference=reference,
                reference_step=ref_step if reference != "ida" else None, reference_cpu_s=ref_cpu)
-    out.update(contract_error(configuration(res), configuration(ref), nc, rtol, atol, band, dt))
+    y, yr = configuration(res), configuration(ref)
+    out.update(contract_error(y, yr, nc, rtol, atol, band, dt))
+    out.update(rotation_error(y, yr, res.poses, ref.poses, nc, rtol, atol, band, dt))
     q, qr = measure(res), measure(ref)
     out["band_quantities_vs_tolerance"] = max(float(np.max(np.abs(q[k] - qr[k]))) / (rtol * sc.scale[k] + atol)
                                               for k in q)
@@ -133,10 +166,12 @@ def main(argv=None):
         rows.append(r)
         print(f"{sc.name:32s} steps {r['steps']:6d} CPU {r['cpu_s']:5.2f} s  error_sum {r['error_sum'] or 0:.2f}  "
               f"configuration vs tolerance: in-band {r['in_band']:.3f} (t {r['in_band_time']:.3f} s), "
-              f"raw {r['raw']:.3f}; band quantities {r['band_quantities_vs_tolerance']:.3f}", flush=True)
+              f"raw {r['raw']:.3f}; rotation norm: in-band {r['rot_in_band']:.3f}, raw {r['rot_raw']:.3f}; band quantities {r['band_quantities_vs_tolerance']:.3f}", flush=True)
     res = os.environ.get("BENCH_RESULTS") or os.path.join(HERE, "results")
     os.makedirs(res, exist_ok=True)
-    path = os.path.join(res, "configuration_error.json" if a.reference == "fixed" else "configuration_error_ida.json")
+    # a smoke run writes its own file: never the committed full run's
+    stem = "configuration_error" + ("" if a.reference == "fixed" else "_ida") + ("_smoke" if a.smoke else "")
+    path = os.path.join(res, stem + ".json")
     if not options and (a.smoke or not a.t_end):
         with open(path, "w") as f:
             from run import machine

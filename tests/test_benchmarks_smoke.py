@@ -96,8 +96,9 @@ def test_scenes(tmp_path):
 
 def test_configuration_error(tmp_path):
     run_script("configuration_error.py", tmp_path)
-    r = load(tmp_path, "configuration_error.json")["scenes"][0]
+    r = load(tmp_path, "configuration_error_smoke.json")["scenes"][0]
     assert r["steps"] > 0 and 0 <= r["in_band"] <= r["raw"] * 10 and math.isfinite(r["in_band"])
+    assert not (tmp_path / "configuration_error.json").exists()   # the full run's file untouched
 
 
 def test_mass_matrix_study(tmp_path):
