@@ -294,6 +294,34 @@ static inline int pair_code(const char *name) {
   return -1;
 }
 
+/* A straight beam of n elements along x from the origin, L long: n + 1 unit carriers
+ * (carrier_unit) at x = c L / n, n elements of diagonal stiffness k (torsion, bending y and z,
+ * axial, shear y and z; no damping, no mass of their own) unstrained when straight, and in
+ * `clamp` (may be NULL) a fixed pair of the ground to carrier 0 at identity frames. */
+static inline void straight_beam(int n, double L, const double k[6], phm_carrier_desc *car,
+                                 phm_element_desc *el, phm_pair_desc *clamp) {
+  double h = L / n;
+  for (int c = 0; c <= n; c++) {
+    carrier_unit(&car[c]);
+    car[c].H0[3] = c * h;
+  }
+  for (int e = 0; e < n; e++) {
+    memset(&el[e], 0, sizeof el[e]);
+    el[e].a = e;
+    el[e].b = e + 1;
+    el[e].h = h;
+    for (int i = 0; i < 6; i++) el[e].K[7 * i] = k[i];
+    el[e].eps_hat[3] = 1.0;
+  }
+  if (clamp) {
+    memset(clamp, 0, sizeof *clamp);
+    for (int i = 0; i < 4; i++) clamp->Ta[5 * i] = clamp->Tb[5 * i] = 1.0;
+    clamp->type = pair_code("fixed");
+    clamp->a = -1;
+    clamp->b = 0;
+  }
+}
+
 /* The model of a description; NULL, and a failure recorded, if phm_model_create refuses it. */
 static inline phm_model *create_model(const phm_model_desc *d) {
   phm_model *m = NULL;

@@ -22,26 +22,10 @@ static phm_model *cantilever(void) {
   phm_carrier_desc car[NE + 1];
   phm_element_desc el[NE];
   phm_pair_desc pair;
-  memset(el, 0, sizeof el);
-  memset(&pair, 0, sizeof pair);
-  double h = 1.0 / NE, md[6] = {0.013, 0.021, 0.034, 1.0, 1.0, 1.0};
-  for (int c = 0; c <= NE; c++) {
-    carrier_unit(&car[c]);
+  const double md[6] = {0.013, 0.021, 0.034, 1.0, 1.0, 1.0}, k[6] = {3.1, 1.0, 5.3, 70.0, 40.0, 60.0};
+  straight_beam(NE, 1.0, k, car, el, &pair);
+  for (int c = 0; c <= NE; c++)
     for (int i = 0; i < 6; i++) car[c].M[7 * i] = md[i];
-    car[c].H0[3] = c * h;
-  }
-  for (int e = 0; e < NE; e++) {
-    double k[6] = {3.1, 1.0, 5.3, 70.0, 40.0, 60.0};
-    el[e].a = e;
-    el[e].b = e + 1;
-    el[e].h = h;
-    for (int i = 0; i < 6; i++) el[e].K[7 * i] = k[i];
-    el[e].eps_hat[3] = 1.0;
-  }
-  for (int i = 0; i < 4; i++) pair.Ta[5 * i] = pair.Tb[5 * i] = 1.0;
-  pair.type = pair_code("fixed");
-  pair.a = -1;
-  pair.b = 0;
   phm_model_desc d = {.ncarriers = NE + 1, .carriers = car, .nelements = NE, .elements = el,
                       .npairs = 1, .pairs = &pair};
   return create_model(&d);

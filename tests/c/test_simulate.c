@@ -124,9 +124,9 @@ static phm_model *cantilever(double kappa, double beta) {
   phm_pair_desc clamp;
   const double h = CANT_L / NEL, rhoA = 0.1, J = 1e-3;
   const double K[6] = {1.0, CANT_EI, CANT_EI, 100.0, 50.0, 50.0}; /* GJ, EI, EI, EA, GA, GA */
-  for (int i = 0; i <= NEL; i++) {
+  straight_beam(NEL, CANT_L, K, car, el, &clamp);
+  for (int i = 0; i <= NEL; i++) { /* lumped mass; bent to curvature kappa about z */
     double x[6] = {0, 0, kappa * h * i, h * i, 0, 0}, w = (i == 0 || i == NEL) ? 0.5 : 1.0;
-    carrier_unit(&car[i]);
     for (int k = 0; k < 3; k++) {
       car[i].M[7 * k] = w * J;
       car[i].M[7 * (3 + k)] = w * rhoA * h;
@@ -134,23 +134,8 @@ static phm_model *cantilever(double kappa, double beta) {
     car[i].mass = w * rhoA * h;
     phm_se3_exp(x, car[i].H0);
   }
-  for (int e = 0; e < NEL; e++) {
-    memset(&el[e], 0, sizeof el[e]);
-    el[e].a = e;
-    el[e].b = e + 1;
-    el[e].h = h;
-    for (int k = 0; k < 6; k++) {
-      el[e].K[7 * k] = K[k];
-      el[e].D[7 * k] = beta * K[k];
-    }
-    el[e].eps_hat[3] = 1.0;
-  }
-  memset(&clamp, 0, sizeof clamp);
-  clamp.type = pair_code("fixed");
-  clamp.a = -1;
-  clamp.b = 0;
-  eye(4, clamp.Ta);
-  eye(4, clamp.Tb);
+  for (int e = 0; e < NEL; e++)
+    for (int k = 0; k < 6; k++) el[e].D[7 * k] = beta * K[k];
   phm_model_desc d = {.ncarriers = NEL + 1, .carriers = car, .nelements = NEL, .elements = el,
                       .npairs = 1, .pairs = &clamp};
   return create_model(&d);

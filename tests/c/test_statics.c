@@ -19,24 +19,8 @@ static phm_model *cantilever_model(int n, double stiff, int tip) {
   phm_element_desc *el = calloc((size_t)n, sizeof *el);
   phm_pair_desc pair;
   phm_load_desc load;
-  memset(&pair, 0, sizeof pair);
-  double h = 1.0 / n, ks = stiff * 1.0;
-  for (int c = 0; c <= n; c++) {
-    carrier_unit(&car[c]);
-    car[c].H0[3] = c * h;
-  }
-  for (int e = 0; e < n; e++) {
-    el[e].a = e;
-    el[e].b = e + 1;
-    el[e].h = h;
-    double k[6] = {ks, 1.0, ks, ks, ks, ks};
-    for (int i = 0; i < 6; i++) el[e].K[7 * i] = k[i];
-    el[e].eps_hat[3] = 1.0;
-  }
-  for (int i = 0; i < 4; i++) pair.Ta[5 * i] = pair.Tb[5 * i] = 1.0;
-  pair.type = pair_code("fixed");
-  pair.a = -1;
-  pair.b = 0;
+  const double k[6] = {stiff, 1.0, stiff, stiff, stiff, stiff};
+  straight_beam(n, 1.0, k, car, el, &pair);
   load = (phm_load_desc){.carrier = n, .reaction = -1, .w = {0, -2.0 * CHECK_PI, 0, 0, 0, 0},
                          .world = 0, .law = {.kind = PHM_LAW_CONSTANT, .amplitude = 1.0}};
   if (tip) {
