@@ -105,7 +105,7 @@ phm_status galpha_global_step(galpha_run *gr, double h, int last, phm_error *err
   int iw = 0;
   gr->gH = 0;
   gr->gcount = 0;
-  double atol_twist = g->wc > 0 ? GALPHA_TWIST_ATOL * g->wc * opt->atol : opt->atol;
+  double atol_twist = galpha_twist_atol(g, opt->atol);
   /* the predictor dy = e + H e' (the multipliers': their last e), its stage (the tangent's rates
    * at the predictor are e': the stage's too) at the block's stage, and its end at the block's */
   for (int i = 0; i < il; i++) {

@@ -39,6 +39,12 @@ typedef struct {
  * frequency (galpha_error; the global estimate's too, galpha_global.c) */
 #define GALPHA_TWIST_ATOL 0.1
 
+/* The absolute tolerance of a twist in the error estimates, for the configuration's atol:
+ * GALPHA_TWIST_ATOL wc atol, or atol without a band (galpha_error explains the choice). */
+static inline double galpha_twist_atol(const galpha_t *g, double atol) {
+  return g->wc > 0 ? GALPHA_TWIST_ATOL * g->wc * atol : atol;
+}
+
 /* The fixed step's iteration matrix co-rotated with the carriers. Modified Newton keeps a
  * matrix for many steps (the fixed step refreshes it only when Newton fails), and in the world
  * coordinates of the poses (q, p) it ages with the carriers' rotation: an element's stiff axial

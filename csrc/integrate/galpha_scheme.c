@@ -222,7 +222,7 @@ double galpha_error(const dae_t *d, galpha_t *g, double h, double hq, double hqq
    * itself (1/s) the chain of 100 links of tests/accuracy/ (rtol 1e-4, 0.5 s) took 2.5x the
    * steps to end 9e-8 m off instead of 4e-7 (its tolerance is 1e-3 m); with 1 wc the pendulum
    * at 2 deg ended 2.6x rtol off (0.1 wc: 1.2x, 0.93x of rtol amp + atol). */
-  double atol_twist = g->wc > 0 ? GALPHA_TWIST_ATOL * g->wc * atol : atol;
+  double atol_twist = galpha_twist_atol(g, atol);
   for (int i = 0; i < d->ie; i++) {
     if (wa[i] < 0 && fm[i] != 0.0) continue; /* a twist, filtered */
     double a = Y[i], b = Y[i];
