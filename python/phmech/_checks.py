@@ -23,6 +23,8 @@ def _kind(value) -> str:
 def real(name: str, value) -> float:
     """``value`` as a finite float, or ModelError naming ``name``. Accepts Python and NumPy real
     numbers (bool included) and 0-d real arrays; refuses strings, complex numbers and arrays."""
+    if type(value) is float and math.isfinite(value):   # the common case, without the tests below
+        return value
     if isinstance(value, np.ndarray) and value.ndim == 0 and value.dtype.kind in "biuf":
         value = value[()]
     if not isinstance(value, (numbers.Real, np.bool_)) or isinstance(value, (str, bytes)):
@@ -46,6 +48,8 @@ def positive(name: str, value) -> float:
 
 def integer(name: str, value, minimum: int = None) -> int:
     """``value`` as an int (Python or NumPy integer, not bool), >= ``minimum`` if given."""
+    if type(value) is int and (minimum is None or value >= minimum):   # the common case
+        return value
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)) or \
             (minimum is not None and value < minimum):
         at_least = f" >= {minimum}" if minimum is not None else ""

@@ -27,9 +27,10 @@ def modes(mech, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0
     model, poses, lam = _model.linearization_point(mech, at)
     # at most 6 per carrier exist: asking for more allocates no more than that
     om, ze, sh, nf, _ = _core.model_modes(model, min(n, 6 * len(mech._car)), poses, lam, time)
+    om, ze, sh = om[:nf], ze[:nf], sh[:nf]
     where = mech._state.poses if poses is None else poses
     eq = _equilibrium(mech, model, where, time, at)
-    if not eq and np.any(om[:nf] < 0):
+    if not eq and np.any(om < 0):
         neg = "; its negative eigenvalues lambda show as negative frequencies -sqrt(-lambda)"
     else:
         neg = ("; a negative eigenvalue lambda of the tangent would show as a negative "
@@ -40,8 +41,8 @@ def modes(mech, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0
                       f"frequencies of small vibrations about a rest state" + neg +
                       ". For vibrations about the equilibrium use modes(at=m.static(...)).",
                       EquilibriumWarning, stacklevel=outside_stacklevel())
-    lab = _labels(mech, where, om[:nf], sh[:nf], at)
-    return ModesResult(om[:nf], om[:nf] / (2 * np.pi), ze[:nf], sh[:nf], poses=np.array(where),
+    lab = _labels(mech, where, om, sh, at)
+    return ModesResult(om, om / (2 * np.pi), ze, sh, poses=np.array(where),
                        equilibrium=bool(eq), _links=dict(mech._links),
                        _bodies=dict(mech._bodies), **lab)
 
@@ -69,8 +70,16 @@ def _labels(mech, poses, omega, shapes, at: Optional[StaticResult]) -> dict:
         last = keep["labels"] = (key, analysis.label_modes(mech._desc, poses, omega, shapes,
                                                            _geometry(mech, poses, at)))
     # copies: a caller changing its result's labels changes neither the kept ones nor others'
-    return {k: v.copy() if isinstance(v, np.ndarray) else
-            [dict(d) if isinstance(d, dict) else d for d in v] for k, v in last[1].items()}
+    # (each field is an array, a list of str or a list of dicts: one test per field, not per item)
+    out = {}
+    for k, v in last[1].items():
+        if isinstance(v, np.ndarray):
+            out[k] = v.copy()
+        elif v and isinstance(v[0], dict):
+            out[k] = [d.copy() for d in v]
+        else:
+            out[k] = list(v)
+    return out
 
 def _geometry(mech, poses, at: Optional[StaticResult]):
     """analysis.element_geometry at ``poses``; at the initial configuration (``at`` None) made
