@@ -1,0 +1,334 @@
+/* tree_aba.c -- the tree integrator's model (tree_internal.h): which models it takes, their tree of
+ * bodies and joints, and the O(n) articulated-body algorithm (Featherstone) in body frames.
+ *
+ * Body c hangs from its parent p (or the ground) by the pair whose b side it is: its pose
+ * H_c = H_p Ta h(q_c) Tb^-1 (h: phm_pair_type_pose), its twist v_c = X_c v_p + S_c qd_c with
+ * X_c = Ad_{H_c^-1 H_p} and S_c = Ad_Tb psi (psi: the type's constant motion subspace in F_b),
+ * its acceleration a_c = X_c a_p + S_c qdd_c + c_c with c_c = ad_{v_c} (S_c qd_c). Its momentum
+ * balance is the DAE's (csrc/dae/residual.c): M a - ad*_v (M v) = wr + (the joint's wrench) -
+ * (its children's, carried back by X^T); wr: every applied wrench of phm_applied (gravity,
+ * springs, loads, actuators' efforts on both sides of their pair) and the stateless components'. */
+#include "tree_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "phm_check.h"
+#include "pose.h"
+
+void tree_free(tree_work *w) {
+  void *p[] = {w->order, w->par, w->pair, w->k, w->j0, w->S, w->Ta, w->Tbi, w->H, w->v, w->cb,
+               w->X, w->IA, w->pA, w->U, w->Dinv, w->u, w->acc, w->wr, w->pport, w->y, w->y1,
+               w->yt, w->err, w->ydae, w->isrt};
+  for (size_t i = 0; i < sizeof p / sizeof p[0]; i++) free(p[i]);
+  for (int i = 0; i < 7; i++) free(w->ks[i]);
+  for (int i = 0; i < 5; i++) free(w->rc[i]);
+  memset(w, 0, sizeof *w);
+}
+
+/* The type's motion subspace in F_b (constant: h = exp(sum psi_c x_c) with commuting psi_c), or
+ * -1 if it has none of that kind. */
+static int type_psi(const char *name, double pitch, double psi[6 * TREE_MAXK]) {
+  memset(psi, 0, sizeof(double) * 6 * TREE_MAXK);
+  if (!strcmp(name, "fixed")) return 0;
+  if (!strcmp(name, "revolute")) { psi[2] = 1; return 1; }
+  if (!strcmp(name, "prismatic")) { psi[5] = 1; return 1; }
+  if (!strcmp(name, "helical")) { psi[2] = 1; psi[5] = pitch; return 1; }
+  if (!strcmp(name, "cylindrical")) { psi[2] = 1; psi[6 + 5] = 1; return 2; }
+  return -1;
+}
+
+phm_status tree_build(const dae_t *d, tree_work *w, phm_error *err) {
+  memset(w, 0, sizeof *w);
+  const phm_model *m = d->m;
+  const char *why = "the tree integrator takes trees of rigid bodies in joint coordinates";
+  if (d->pl) return PHM_FAIL(err, PHM_EINVAL, "%s in 3-D: planar=False", why);
+  if (m->ne) return PHM_FAIL(err, PHM_EINVAL, "%s: the model has %d beam element(s) (flexible)", why, m->ne);
+  if (m->nmc) return PHM_FAIL(err, PHM_EINVAL, "%s: the model has %d kinetic coupling(s) between carriers (consistent element masses, motors' rotor inertias)", why, m->nmc);
+  if (m->nz) return PHM_FAIL(err, PHM_EINVAL, "%s: the model's components have %d internal state(s) (LuGre, motor currents, controllers)", why, m->nz);
+  if (m->ncons != m->ncons_full) return PHM_FAIL(err, PHM_EINVAL, "%s: %d constraint row(s) are dropped as redundant (a closed loop)", why, m->ncons_full - m->ncons);
+  int nc = m->nc;
+  w->m = m;
+  w->nb = nc;
+  w->nj = m->nj;
+  w->nled = d->il - d->ie;
+  w->N = 2 * m->nj + w->nled;
+#define ALLOC(p, cnt, T) if (!((p) = calloc((size_t)(cnt) + 1, sizeof(T)))) goto nomem
+  ALLOC(w->order, nc, int); ALLOC(w->par, nc, int); ALLOC(w->pair, nc, int);
+  ALLOC(w->k, nc, int); ALLOC(w->j0, nc, int); ALLOC(w->isrt, nc, int);
+  ALLOC(w->S, 6 * TREE_MAXK * nc, double); ALLOC(w->Ta, 16 * nc, double); ALLOC(w->Tbi, 16 * nc, double);
+  ALLOC(w->H, 16 * nc, double); ALLOC(w->v, 6 * nc, double); ALLOC(w->cb, 6 * nc, double);
+  ALLOC(w->X, 36 * nc, double); ALLOC(w->IA, 36 * nc, double); ALLOC(w->pA, 6 * nc, double);
+  ALLOC(w->U, 6 * TREE_MAXK * nc, double); ALLOC(w->Dinv, TREE_MAXK * TREE_MAXK * nc, double);
+  ALLOC(w->u, TREE_MAXK * nc, double); ALLOC(w->acc, 6 * nc, double); ALLOC(w->wr, 6 * nc, double);
+  ALLOC(w->pport, m->nport, double);
+  ALLOC(w->y, w->N, double); ALLOC(w->y1, w->N, double); ALLOC(w->yt, w->N, double);
+  ALLOC(w->err, w->N, double); ALLOC(w->ydae, d->n, double);
+  for (int i = 0; i < 7; i++) ALLOC(w->ks[i], w->N, double);
+  for (int i = 0; i < 5; i++) ALLOC(w->rc[i], w->N, double);
+#undef ALLOC
+  for (int c = 0; c < nc; c++) w->pair[c] = -1;
+  for (int ip = 0; ip < m->np; ip++) {
+    const phm_pair_desc *pr = &m->pair[ip];
+    const phm_pair_type_info *ti = phm_pair_type(pr->type);
+    double psi[6 * TREE_MAXK];
+    int k = ti ? type_psi(ti->name, pr->pitch, psi) : -1;
+    if (pr->driven || pr->xdriven) {
+      tree_free(w);
+      return PHM_FAIL(err, PHM_EINVAL, "%s: pair %d prescribes a motion (%s)", why, ip,
+                      pr->driven ? "driven" : "joint coordinates following laws");
+    }
+    if (k < 0) {
+      tree_free(w);
+      return PHM_FAIL(err, PHM_EINVAL, "%s: pair %d is %s, whose motion subspace is not constant "
+                      "(supported: fixed, revolute, prismatic, helical, cylindrical)", why, ip,
+                      ti ? ti->name : "of an unknown type");
+    }
+    if (pr->b < 0 || pr->a == pr->b) {
+      tree_free(w);
+      return PHM_FAIL(err, PHM_EINVAL, "%s: pair %d has %s as its side b (the child body must be "
+                      "side b, its parent or the ground side a)", why, ip, pr->b < 0 ? "the ground" : "its side a");
+    }
+    if (w->pair[pr->b] >= 0) {
+      tree_free(w);
+      return PHM_FAIL(err, PHM_EINVAL, "%s: carrier %d is side b of pairs %d and %d (a closed "
+                      "loop, or a body held twice)", why, pr->b, w->pair[pr->b], ip);
+    }
+    int c = pr->b;
+    w->pair[c] = ip;
+    w->par[c] = pr->a;
+    w->k[c] = k;
+    w->j0[c] = m->pair_j[ip];
+    double A[36];
+    phm_se3_Ad(pr->Tb, A);
+    for (int s = 0; s < k; s++) phm_mv6(A, psi + 6 * s, w->S + 6 * TREE_MAXK * c + 6 * s);
+    memcpy(w->Ta + 16 * c, pr->Ta, sizeof(double) * 16);
+    phm_se3_inverse(pr->Tb, w->Tbi + 16 * c);
+  }
+  for (int c = 0; c < nc; c++)
+    if (w->pair[c] < 0) {
+      tree_free(w);
+      return PHM_FAIL(err, PHM_EINVAL, "%s: carrier %d is side b of no pair (a free body, or "
+                      "one held only as side a)", why, c);
+    }
+  /* order: parents first (each carrier's depth below the ground; a cycle never reaches it) */
+  int no = 0;
+  for (int c = 0; c < nc; c++) w->isrt[c] = 0; /* 0 unplaced, 1 placed */
+  for (int pass = 0; no < nc; pass++) {
+    int placed = 0;
+    for (int c = 0; c < nc; c++)
+      if (!w->isrt[c] && (w->par[c] < 0 || w->isrt[w->par[c]])) {
+        w->isrt[c] = 1;
+        w->order[no++] = c;
+        placed = 1;
+      }
+    if (!placed) {
+      int c = 0;
+      while (w->isrt[c]) c++;
+      tree_free(w);
+      return PHM_FAIL(err, PHM_EINVAL, "%s: carrier %d is on a closed loop of pairs not attached "
+                      "to the ground", why, c);
+    }
+    (void)pass;
+  }
+  return PHM_OK;
+nomem:
+  tree_free(w);
+  return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+}
+
+/* ad_v x */
+static inline void ad_apply(const double v[6], const double x[6], double out[6]) {
+  const double *om = v, *vv = v + 3, *xw = x, *xv = x + 3;
+  out[0] = om[1] * xw[2] - om[2] * xw[1];
+  out[1] = om[2] * xw[0] - om[0] * xw[2];
+  out[2] = om[0] * xw[1] - om[1] * xw[0];
+  out[3] = vv[1] * xw[2] - vv[2] * xw[1] + om[1] * xv[2] - om[2] * xv[1];
+  out[4] = vv[2] * xw[0] - vv[0] * xw[2] + om[2] * xv[0] - om[0] * xv[2];
+  out[5] = vv[0] * xw[1] - vv[1] * xw[0] + om[0] * xv[1] - om[1] * xv[0];
+}
+
+/* B += X^T A X for 6x6 X = Ad_g, A symmetric (row-major). */
+static void congruence_add(const double X[36], const double A[36], double B[36]) {
+  double AX[36];
+  for (int i = 0; i < 6; i++)
+    for (int j = 0; j < 6; j++) {
+      double s = 0;
+      for (int l = 0; l < 6; l++) s += A[6 * i + l] * X[6 * l + j];
+      AX[6 * i + j] = s;
+    }
+  for (int i = 0; i < 6; i++)
+    for (int j = i; j < 6; j++) {
+      double s = 0;
+      for (int l = 0; l < 6; l++) s += X[6 * l + i] * AX[6 * l + j];
+      B[6 * i + j] += s;
+      if (j != i) B[6 * j + i] += s;
+    }
+}
+
+int tree_eval(tree_work *w, double t, double tref, const double *Y, double *dY) {
+  const phm_model *m = w->m;
+  const int nb = w->nb, nj = w->nj;
+  const double *q = Y, *qd = Y + nj;
+  /* pass 1, parents first: poses, twists, velocity-product accelerations */
+  for (int o = 0; o < nb; o++) {
+    const int c = w->order[o], p = w->par[c], k = w->k[c], ip = w->pair[c];
+    const double *S = w->S + 6 * TREE_MAXK * c;
+    double h[16], Fa[16], Fh[16], g[16];
+    double *Hc = w->H + 16 * c, *vc = w->v + 6 * c, *X = w->X + 36 * c;
+    if (k) phm_pair_type_pose(m->pair[ip].type, m->pair[ip].pitch, q + w->j0[c], h);
+    else {
+      memset(h, 0, sizeof h);
+      h[0] = h[5] = h[10] = h[15] = 1;
+    }
+    if (p >= 0) phm_se3_compose(w->H + 16 * p, w->Ta + 16 * c, Fa);
+    else memcpy(Fa, w->Ta + 16 * c, sizeof Fa);
+    phm_se3_compose(Fa, h, Fh);
+    phm_se3_compose(Fh, w->Tbi + 16 * c, Hc);
+    double Sq[6] = {0};
+    for (int s = 0; s < k; s++)
+      for (int i = 0; i < 6; i++) Sq[i] += S[6 * s + i] * qd[w->j0[c] + s];
+    if (p >= 0) {
+      phm_inv_compose(Hc, w->H + 16 * p, g);
+      phm_se3_Ad(g, X);
+      phm_mv6(X, w->v + 6 * p, vc);
+    } else {
+      memset(X, 0, sizeof(double) * 36);
+      memset(vc, 0, sizeof(double) * 6);
+    }
+    for (int i = 0; i < 6; i++) vc[i] += Sq[i];
+    ad_apply(vc, Sq, w->cb + 6 * c);
+  }
+  /* the applied wrenches at these poses and twists, and the ledger's power rates */
+  double Pd = 0, Ps = 0;
+  phm_applied(m, w->H, w->v, q, t, tref, 1.0, w->wr, NULL, &Pd, &Ps, w->pport, NULL);
+  if (m->ncomp)
+    phm_components_apply(m, NULL, w->H, w->v, q, NULL, NULL, t, tref, w->wr, NULL, NULL, NULL, &Pd, &Ps);
+  /* articulated inertias and biases: own part, parents first */
+  for (int c = 0; c < nb; c++) {
+    double Mv[6], adm[6];
+    const double *M = m->car[c].M;
+    memcpy(w->IA + 36 * c, M, sizeof(double) * 36);
+    phm_mv6(M, w->v + 6 * c, Mv);
+    phm_ad_dual_apply(w->v + 6 * c, Mv, adm);
+    for (int i = 0; i < 6; i++) w->pA[6 * c + i] = -adm[i] - w->wr[6 * c + i];
+  }
+  /* pass 2, children first */
+  for (int o = nb - 1; o >= 0; o--) {
+    const int c = w->order[o], p = w->par[c], k = w->k[c];
+    const double *S = w->S + 6 * TREE_MAXK * c, *IA = w->IA + 36 * c, *pA = w->pA + 6 * c;
+    double *U = w->U + 6 * TREE_MAXK * c, *Di = w->Dinv + TREE_MAXK * TREE_MAXK * c, *u = w->u + TREE_MAXK * c;
+    double D[TREE_MAXK * TREE_MAXK];
+    for (int s = 0; s < k; s++) {
+      phm_mv6(IA, S + 6 * s, U + 6 * s);
+      u[s] = -phm_dot(S + 6 * s, pA, 6);
+    }
+    for (int s = 0; s < k; s++)
+      for (int r = 0; r < k; r++) D[k * s + r] = phm_dot(S + 6 * s, U + 6 * r, 6);
+    if (k == 1) {
+      if (!(D[0] > 0)) return 1;
+      Di[0] = 1.0 / D[0];
+    } else if (k == 2) {
+      double det = D[0] * D[3] - D[1] * D[2];
+      if (!(D[0] > 0) || !(det > 0)) return 1;
+      Di[0] = D[3] / det; Di[1] = -D[1] / det; Di[2] = -D[2] / det; Di[3] = D[0] / det;
+    }
+    if (p < 0) continue;
+    double Ia[36], pa[6], Du[TREE_MAXK] = {0}, Ic[6];
+    memcpy(Ia, IA, sizeof Ia);
+    for (int s = 0; s < k; s++)
+      for (int r = 0; r < k; r++) Du[s] += Di[k * s + r] * u[r];
+    for (int s = 0; s < k; s++)
+      for (int r = 0; r < k; r++) {
+        double f = Di[k * s + r];
+        for (int i = 0; i < 6; i++)
+          for (int j = 0; j < 6; j++) Ia[6 * i + j] -= U[6 * s + i] * f * U[6 * r + j];
+      }
+    phm_mv6(Ia, w->cb + 6 * c, Ic);
+    for (int i = 0; i < 6; i++) {
+      pa[i] = pA[i] + Ic[i];
+      for (int s = 0; s < k; s++) pa[i] += U[6 * s + i] * Du[s];
+    }
+    const double *X = w->X + 36 * c;
+    congruence_add(X, Ia, w->IA + 36 * p);
+    double Xp[6];
+    phm_mtv6(X, pa, Xp);
+    for (int i = 0; i < 6; i++) w->pA[6 * p + i] += Xp[i];
+  }
+  /* pass 3, parents first: accelerations */
+  for (int o = 0; o < nb; o++) {
+    const int c = w->order[o], p = w->par[c], k = w->k[c];
+    const double *S = w->S + 6 * TREE_MAXK * c, *U = w->U + 6 * TREE_MAXK * c;
+    const double *Di = w->Dinv + TREE_MAXK * TREE_MAXK * c, *u = w->u + TREE_MAXK * c;
+    double *a = w->acc + 6 * c;
+    if (p >= 0) phm_mv6(w->X + 36 * c, w->acc + 6 * p, a);
+    else memset(a, 0, sizeof(double) * 6);
+    for (int i = 0; i < 6; i++) a[i] += w->cb[6 * c + i];
+    double r[TREE_MAXK];
+    for (int s = 0; s < k; s++) r[s] = u[s] - phm_dot(U + 6 * s, a, 6);
+    for (int s = 0; s < k; s++) {
+      double qdd = 0;
+      for (int l = 0; l < k; l++) qdd += Di[k * s + l] * r[l];
+      if (dY) dY[nj + w->j0[c] + s] = qdd;
+      for (int i = 0; i < 6; i++) a[i] += S[6 * s + i] * qdd;
+    }
+  }
+  if (dY) {
+    memcpy(dY, qd, sizeof(double) * (size_t)nj);
+    double *L = dY + 2 * nj;
+    L[0] = Pd;
+    L[1] = Ps;
+    for (int i = 0; i < m->nport; i++) L[2 + i] = w->pport[i];
+  }
+  return 0;
+}
+
+void tree_lambda(tree_work *w, double t, double tref, const double *Y, double *lam) {
+  const phm_model *m = w->m;
+  for (int c = 0; c < w->nb; c++) {
+    const int ip = w->pair[c], p = w->par[c], mr = m->pair_m[ip];
+    /* the joint's wrench on c: f = IA a + pA (its articulated balance) */
+    double f[6], Ga[6];
+    phm_mv6(w->IA + 36 * c, w->acc + 6 * c, f);
+    for (int i = 0; i < 6; i++) f[i] += w->pA[6 * c + i];
+    (void)Ga;
+    phm_pair_data pd;
+    phm_pair_evaluate(m, ip, p >= 0 ? w->H + 16 * p : NULL, w->H + 16 * c,
+                      p >= 0 ? w->v + 6 * p : NULL, w->v + 6 * c, Y + w->j0[c], t, tref,
+                      PHM_PAIR_ROWS, &pd);
+    /* least squares of Gb^T lam = f: (Gb Gb^T) lam = Gb f, by Gaussian elimination with
+     * partial pivoting (mr <= 6) */
+    double A[PHM_MAXCON * PHM_MAXCON], b[PHM_MAXCON];
+    for (int r = 0; r < mr; r++) {
+      b[r] = phm_dot(pd.Gb + 6 * r, f, 6);
+      for (int s = 0; s < mr; s++) A[mr * r + s] = phm_dot(pd.Gb + 6 * r, pd.Gb + 6 * s, 6);
+    }
+    for (int col = 0; col < mr; col++) {
+      int piv = col;
+      for (int r = col + 1; r < mr; r++)
+        if (fabs(A[mr * r + col]) > fabs(A[mr * piv + col])) piv = r;
+      if (piv != col) {
+        for (int s = 0; s < mr; s++) {
+          double tmp = A[mr * col + s];
+          A[mr * col + s] = A[mr * piv + s];
+          A[mr * piv + s] = tmp;
+        }
+        double tmp = b[col];
+        b[col] = b[piv];
+        b[piv] = tmp;
+      }
+      for (int r = col + 1; r < mr; r++) {
+        double f2 = A[mr * r + col] / A[mr * col + col];
+        for (int s = col; s < mr; s++) A[mr * r + s] -= f2 * A[mr * col + s];
+        b[r] -= f2 * b[col];
+      }
+    }
+    for (int r = mr - 1; r >= 0; r--) {
+      double s = b[r];
+      for (int l = r + 1; l < mr; l++) s -= A[mr * r + l] * b[l];
+      b[r] = s / A[mr * r + r];
+    }
+    memcpy(lam + m->pair_row[ip], b, sizeof(double) * (size_t)mr);
+  }
+}
