@@ -1,0 +1,131 @@
+"""integrator="tree" (csrc/integrate/tree.c, tree_aba.c): a rigid tree in joint coordinates,
+articulated-body dynamics and Dormand-Prince 5(4). Checked against a closed form (the large-
+amplitude pendulum), against IDA (a 10-link chain), by its energy ledger, and by the models it
+refuses."""
+import numpy as np
+import pytest
+from scipy.special import ellipj, ellipk
+
+import phmech as ph
+from phmech import se3
+
+G = 9.81
+
+
+def chain(n: int, L: float = 0.1, mass: float = 0.1, axes: str = "z"):
+    """n slender links (the chain of benchmarks/bench_scaling.py), horizontal at the start,
+    gravity -y, link i's revolute axis axes[i % len(axes)]; returns the mechanism and the links'
+    end frames."""
+    m = ph.Mechanism(gravity=(0, -G, 0))
+    prev, ends = ph.Frame(-1, np.eye(4)), []
+    inertia = np.diag((0.5 * mass * 0.005 ** 2, mass * L ** 2 / 12, mass * L ** 2 / 12))
+    for i in range(n):
+        b = m.add_rigid_body(f"l{i}", mass, inertia, com=(L / 2, 0, 0))
+        m.add_pair(f"k{i}", ph.Revolute(axes[i % len(axes)]), prev, b, x0=0.0)
+        prev = ph.Frame(b.carrier, se3.translation([L, 0, 0]))
+        ends.append(prev)
+    return m, ends
+
+
+def test_pendulum_at_170_degrees_matches_the_elliptic_closed_form():
+    """A physical pendulum released from rest 170 deg from hanging: theta(t) = 2 asin(k sn(K -
+    w0 t | k^2)), k = sin(theta0 / 2), w0^2 = m g d / I_pivot, over 1.5 periods."""
+    mass, d, Ic = 2.0, 0.7, 0.03
+    m = ph.Mechanism(gravity=(0, -G, 0))
+    b = m.add_rigid_body("bob", mass, np.diag((0.01, 0.02, Ic)), com=(d, 0, 0))
+    th0 = np.radians(170.0)
+    m.add_pair("pivot", ph.Revolute("z"), ph.Frame(-1, np.eye(4)), b, x0=th0 - np.pi / 2)
+    w0 = np.sqrt(mass * G * d / (Ic + mass * d ** 2))
+    k = np.sin(th0 / 2)
+    K = ellipk(k ** 2)
+    period = 4 * K / w0
+    errs = []
+    for rtol in (1e-8, 1e-10):
+        r = m.simulate(1.5 * period, period / 40, rtol=rtol, integrator="tree")
+        exact = 2 * np.arcsin(k * ellipj(K - w0 * r.t, k ** 2)[0])
+        theta = r.joints[:, 0] + np.pi / 2
+        assert np.ptp(theta) > 2 * th0 * 0.99       # it swings through the bottom to -170 deg
+        errs.append(np.abs(theta - exact).max())
+        # the joint rate from the energy: theta'^2 = 4 w0^2 (sin^2(theta0/2) - sin^2(theta/2))
+        rate_exact = 2 * w0 * np.sqrt(np.clip(k ** 2 - np.sin(exact / 2) ** 2, 0, None))
+        assert np.abs(np.abs(r.joint_rates[:, 0]) - rate_exact).max() < 1e3 * rtol * w0
+    # measured 3.5e-6 and 3.2e-8 rad (IDA at the same rtol: 3.0e-4 and 2.0e-6): the error
+    # follows the tolerance
+    assert errs[0] < 1e-5 and errs[1] < 1e-7, errs
+
+
+def test_ten_link_chain_matches_ida():
+    """The tree integrator and IDA on the same 10-link chain at rtol 1e-10: every link's end,
+    the twists and the multipliers."""
+    m, ends = chain(10)
+    ri = m.simulate(0.3, 0.02, rtol=1e-10, integrator="ida")
+    rt = m.simulate(0.3, 0.02, rtol=1e-10, integrator="tree")
+    pi = np.array([ri.position(e) for e in ends])
+    pt = np.array([rt.position(e) for e in ends])
+    assert np.ptp(pt[-1, :, 1]) > 0.1                  # the chain falls
+    # measured 1.8e-11 m, 5.2e-10 rad, lambda 3.9e-8 of its largest
+    assert np.abs(pi - pt).max() < 1e-9
+    assert np.abs(ri.joints - rt.joints).max() < 1e-8
+    lam_i, lam_t = ri.constraint_wrenches, rt.constraint_wrenches
+    assert np.abs(lam_i - lam_t).max() < 1e-6 * np.abs(lam_i).max()
+
+
+def test_conservative_chain_keeps_its_ledger():
+    """No dissipation and no sources: the ledger residual (energy drift) stays at the
+    integrator's error, nothing dissipated or supplied."""
+    m, _ = chain(5, axes="zy")      # axes z, y, z, ...: a spatial motion
+    r = m.simulate(1.0, 0.01, rtol=1e-9, integrator="tree")
+    E = r.energy
+    scale = np.abs(E["gravity"]).max()
+    assert np.abs(E["kinetic"]).max() > 0.1 * scale            # it moves
+    # measured 1.7e-9 J of 1.2 J
+    assert np.abs(E["ledger"]).max() < 1e-8 * scale, np.abs(E["ledger"]).max() / scale
+    assert np.abs(E["dissipated"]).max() == 0 and np.abs(E["supplied"]).max() == 0
+
+
+def test_a_damped_joint_dissipates_what_the_ledger_counts():
+    """A joint damper (a viscous component without states): the energy it takes is the
+    ledger's dissipated energy, and the run is IDA's."""
+    m, _ = chain(3)
+    m.add_component("damper", "k1", ph.ViscousFriction(0.002))
+    r = m.simulate(0.5, 0.01, rtol=1e-9, integrator="tree")
+    ri = m.simulate(0.5, 0.01, rtol=1e-10, integrator="ida")
+    assert r.energy["dissipated"][-1] > 1e-4 * np.abs(r.energy["gravity"]).max()
+    # measured: 0.016 J dissipated, ledger 2.9e-11 J, 6.5e-11 J from IDA's
+    assert np.abs(r.energy["ledger"]).max() < 1e-9
+    assert abs(r.energy["dissipated"][-1] - ri.energy["dissipated"][-1]) < 1e-9
+    assert abs(r.energy["total"][-1] - ri.energy["total"][-1]) < 1e-8
+
+
+@pytest.mark.filterwarnings("ignore::phmech.RedundantConstraintWarning")   # the loop's
+@pytest.mark.parametrize("build, reason", [
+    ("flexible", "beam element"),
+    ("spherical", "spherical, whose motion subspace is not constant"),
+    ("loop", "closed loop"),
+])
+def test_ineligible_models_are_refused_with_their_reason(build, reason):
+    m = ph.Mechanism(gravity=(0, -G, 0))
+    g = ph.Frame(-1, np.eye(4))
+    if build == "flexible":
+        from phmech.section import TABLE1, table1_properties
+        link = m.add_flexible_link("beam", TABLE1["L"], table1_properties(), elements=2)
+        m.add_pair("root", ph.Fixed(), m.ground, link.start)
+    elif build == "spherical":
+        b = m.add_rigid_body("b", 1.0, np.eye(3) * 1e-3, com=(0.5, 0, 0))
+        m.add_pair("s", ph.Spherical(), g, b)
+    else:   # a four-bar: a closed loop
+        m, _ = chain(3)
+        m.add_pair("close", ph.Revolute("z"), ph.Frame(2, se3.translation([0.1, 0, 0])),
+                   ph.Frame(-1, se3.translation([0.3, 0, 0])))
+    with pytest.raises(ValueError, match=reason):
+        m.simulate(0.1, 0.01, integrator="tree")
+
+
+def test_options_that_do_not_apply_are_refused():
+    m, _ = chain(2)
+    with pytest.raises(ValueError, match="ida"):
+        m.simulate(0.1, 0.01, integrator="tree", error_test="configuration")
+    with pytest.raises(ValueError, match="planar"):
+        m.simulate(0.1, 0.01, integrator="tree", planar=True)
+    with pytest.raises(ValueError, match="step="):
+        m.simulate(0.1, 0.01, integrator="tree", step=1e-3)
