@@ -149,22 +149,78 @@ static inline void ad_apply(const double v[6], const double x[6], double out[6])
   out[5] = vv[0] * xw[1] - vv[1] * xw[0] + om[0] * xv[1] - om[1] * xv[0];
 }
 
-/* B += X^T A X for 6x6 X = Ad_g, A symmetric (row-major). */
-static void congruence_add(const double X[36], const double A[36], double B[36]) {
-  double AX[36];
-  for (int i = 0; i < 6; i++)
-    for (int j = 0; j < 6; j++) {
-      double s = 0;
-      for (int l = 0; l < 6; l++) s += A[6 * i + l] * X[6 * l + j];
-      AX[6 * i + j] = s;
+/* The transforms of g = (R, p) = H_c^-1 H_p (4x4, first three rows read) without forming Ad_g:
+ * Ad_g x = (R w, p x R w + R v) on a twist x = (w, v); Ad_g^T f = (R^T (tau - p x f), R^T f) on a
+ * wrench f = (tau, f). */
+static inline void cross3(const double a[3], const double b[3], double c[3]) {
+  c[0] = a[1] * b[2] - a[2] * b[1];
+  c[1] = a[2] * b[0] - a[0] * b[2];
+  c[2] = a[0] * b[1] - a[1] * b[0];
+}
+static inline void Ad_apply(const double g[16], const double x[6], double y[6]) {
+  double pc[3];
+  for (int i = 0; i < 3; i++) {
+    y[i] = g[4 * i] * x[0] + g[4 * i + 1] * x[1] + g[4 * i + 2] * x[2];
+    y[3 + i] = g[4 * i] * x[3] + g[4 * i + 1] * x[4] + g[4 * i + 2] * x[5];
+  }
+  const double p[3] = {g[3], g[7], g[11]};
+  cross3(p, y, pc);
+  for (int i = 0; i < 3; i++) y[3 + i] += pc[i];
+}
+static inline void AdT_apply(const double g[16], const double f[6], double y[6]) {
+  const double p[3] = {g[3], g[7], g[11]};
+  double pc[3], t[3];
+  cross3(p, f + 3, pc);
+  for (int i = 0; i < 3; i++) t[i] = f[i] - pc[i];
+  for (int i = 0; i < 3; i++) {
+    y[i] = g[i] * t[0] + g[4 + i] * t[1] + g[8 + i] * t[2];
+    y[3 + i] = g[i] * f[3] + g[4 + i] * f[4] + g[8 + i] * f[5];
+  }
+}
+
+/* B += X^T A X for X = Ad_g = [[I, 0], [P, I]] diag(R, R) (P = hat(p)), A symmetric 6x6
+ * (row-major), in 3x3 blocks: the shift S^T A S = [[A11 + Y P - P A12^T, Y], [Y^T, A22]] with
+ * Y = A12 - P A22, then R^T (each block) R. */
+static void congruence_add(const double g[16], const double A[36], double B[36]) {
+  double A11[9], A12[9], A22[9], P[9], Y[9], S11[9];
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) {
+      A11[3 * i + j] = A[6 * i + j];
+      A12[3 * i + j] = A[6 * i + 3 + j];
+      A22[3 * i + j] = A[6 * (3 + i) + 3 + j];
     }
-  for (int i = 0; i < 6; i++)
-    for (int j = i; j < 6; j++) {
+  const double px = g[3], py = g[7], pz = g[11];
+  P[0] = 0; P[1] = -pz; P[2] = py;
+  P[3] = pz; P[4] = 0; P[5] = -px;
+  P[6] = -py; P[7] = px; P[8] = 0;
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) {
       double s = 0;
-      for (int l = 0; l < 6; l++) s += X[6 * l + i] * AX[6 * l + j];
-      B[6 * i + j] += s;
-      if (j != i) B[6 * j + i] += s;
+      for (int l = 0; l < 3; l++) s += P[3 * i + l] * A22[3 * l + j];
+      Y[3 * i + j] = A12[3 * i + j] - s;
     }
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) {
+      double s = A11[3 * i + j];
+      for (int l = 0; l < 3; l++) s += Y[3 * i + l] * P[3 * l + j] - P[3 * i + l] * A12[3 * j + l];
+      S11[3 * i + j] = s;
+    }
+  const double *blk[3] = {S11, Y, A22};
+  const int off[3][2] = {{0, 0}, {0, 3}, {3, 3}};
+  for (int b = 0; b < 3; b++) {
+    const double *M = blk[b];
+    double MR[9];
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++)
+        MR[3 * i + j] = M[3 * i] * g[j] + M[3 * i + 1] * g[4 + j] + M[3 * i + 2] * g[8 + j];
+    const int r0 = off[b][0], c0 = off[b][1];
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) {
+        double s = g[i] * MR[j] + g[4 + i] * MR[3 + j] + g[8 + i] * MR[6 + j];
+        B[6 * (r0 + i) + c0 + j] += s;
+        if (b == 1) B[6 * (c0 + j) + r0 + i] += s;
+      }
+  }
 }
 
 int tree_eval(tree_work *w, double t, double tref, const double *Y, double *dY) {
@@ -175,7 +231,7 @@ int tree_eval(tree_work *w, double t, double tref, const double *Y, double *dY) 
   for (int o = 0; o < nb; o++) {
     const int c = w->order[o], p = w->par[c], k = w->k[c], ip = w->pair[c];
     const double *S = w->S + 6 * TREE_MAXK * c;
-    double h[16], Fa[16], Fh[16], g[16];
+    double h[16], Fa[16], Fh[16];
     double *Hc = w->H + 16 * c, *vc = w->v + 6 * c, *X = w->X + 36 * c;
     if (k) phm_pair_type_pose(m->pair[ip].type, m->pair[ip].pitch, q + w->j0[c], h);
     else {
@@ -190,9 +246,8 @@ int tree_eval(tree_work *w, double t, double tref, const double *Y, double *dY) 
     for (int s = 0; s < k; s++)
       for (int i = 0; i < 6; i++) Sq[i] += S[6 * s + i] * qd[w->j0[c] + s];
     if (p >= 0) {
-      phm_inv_compose(Hc, w->H + 16 * p, g);
-      phm_se3_Ad(g, X);
-      phm_mv6(X, w->v + 6 * p, vc);
+      phm_inv_compose(Hc, w->H + 16 * p, X); /* g = H_c^-1 H_p: X = Ad_g */
+      Ad_apply(X, w->v + 6 * p, vc);
     } else {
       memset(X, 0, sizeof(double) * 36);
       memset(vc, 0, sizeof(double) * 6);
@@ -253,7 +308,7 @@ int tree_eval(tree_work *w, double t, double tref, const double *Y, double *dY) 
     const double *X = w->X + 36 * c;
     congruence_add(X, Ia, w->IA + 36 * p);
     double Xp[6];
-    phm_mtv6(X, pa, Xp);
+    AdT_apply(X, pa, Xp);
     for (int i = 0; i < 6; i++) w->pA[6 * p + i] += Xp[i];
   }
   /* pass 3, parents first: accelerations */
@@ -262,7 +317,7 @@ int tree_eval(tree_work *w, double t, double tref, const double *Y, double *dY) 
     const double *S = w->S + 6 * TREE_MAXK * c, *U = w->U + 6 * TREE_MAXK * c;
     const double *Di = w->Dinv + TREE_MAXK * TREE_MAXK * c, *u = w->u + TREE_MAXK * c;
     double *a = w->acc + 6 * c;
-    if (p >= 0) phm_mv6(w->X + 36 * c, w->acc + 6 * p, a);
+    if (p >= 0) Ad_apply(w->X + 36 * c, w->acc + 6 * p, a);
     else memset(a, 0, sizeof(double) * 6);
     for (int i = 0; i < 6; i++) a[i] += w->cb[6 * c + i];
     double r[TREE_MAXK];
