@@ -2,7 +2,9 @@
  * bodies and joints, and the O(n) articulated-body algorithm (Featherstone) in body frames.
  *
  * Body c hangs from its parent p (or the ground) by the pair whose b side it is: its pose
- * H_c = H_p Ta h(q_c) Tb^-1 (h: phm_pair_type_pose), its twist v_c = X_c v_p + S_c qd_c with
+ * H_c = H_p L_c with L_c = Ta h(q_c) Tb^-1 (h: phm_pair_type_pose, a rotation about and a
+ * translation along z for the types taken, so L_c is linear in cos, sin of the angle and in the
+ * slide: precomputed), its twist v_c = X_c v_p + S_c qd_c with
  * X_c = Ad_{H_c^-1 H_p} and S_c = Ad_Tb psi (psi: the type's constant motion subspace in F_b),
  * its acceleration a_c = X_c a_p + S_c qdd_c + c_c with c_c = ad_{v_c} (S_c qd_c). Its momentum
  * balance is the DAE's (csrc/dae/residual.c): M a - ad*_v (M v) = wr + (the joint's wrench) -
@@ -18,7 +20,7 @@
 #include "pose.h"
 
 void tree_free(tree_work *w) {
-  void *p[] = {w->order, w->par, w->pair, w->k, w->j0, w->S, w->Ta, w->Tbi, w->H, w->v, w->cb,
+  void *p[] = {w->order, w->par, w->pair, w->k, w->j0, w->S, w->K, w->ds, w->ti, w->di, w->H, w->v, w->cb,
                w->X, w->IA, w->pA, w->U, w->Dinv, w->u, w->acc, w->wr, w->pport, w->y, w->y1,
                w->yt, w->err, w->ydae, w->isrt};
   for (size_t i = 0; i < sizeof p / sizeof p[0]; i++) free(p[i]);
@@ -28,14 +30,18 @@ void tree_free(tree_work *w) {
 }
 
 /* The type's motion subspace in F_b (constant: h = exp(sum psi_c x_c) with commuting psi_c), or
- * -1 if it has none of that kind. */
-static int type_psi(const char *name, double pitch, double psi[6 * TREE_MAXK]) {
+ * -1 if it has none of that kind; its angle's coordinate *ti and slide's *di, *ds (see
+ * tree_work.K). */
+static int type_psi(const char *name, double pitch, double psi[6 * TREE_MAXK], int *ti, int *di,
+                    double *ds) {
   memset(psi, 0, sizeof(double) * 6 * TREE_MAXK);
+  *ti = *di = -1;
+  *ds = 0.0;
   if (!strcmp(name, "fixed")) return 0;
-  if (!strcmp(name, "revolute")) { psi[2] = 1; return 1; }
-  if (!strcmp(name, "prismatic")) { psi[5] = 1; return 1; }
-  if (!strcmp(name, "helical")) { psi[2] = 1; psi[5] = pitch; return 1; }
-  if (!strcmp(name, "cylindrical")) { psi[2] = 1; psi[6 + 5] = 1; return 2; }
+  if (!strcmp(name, "revolute")) { psi[2] = 1; *ti = 0; return 1; }
+  if (!strcmp(name, "prismatic")) { psi[5] = 1; *di = 0; *ds = 1; return 1; }
+  if (!strcmp(name, "helical")) { psi[2] = 1; psi[5] = pitch; *ti = 0; *di = 0; *ds = pitch; return 1; }
+  if (!strcmp(name, "cylindrical")) { psi[2] = 1; psi[6 + 5] = 1; *ti = 0; *di = 1; *ds = 1; return 2; }
   return -1;
 }
 
@@ -57,7 +63,8 @@ phm_status tree_build(const dae_t *d, tree_work *w, phm_error *err) {
 #define ALLOC(p, cnt, T) if (!((p) = calloc((size_t)(cnt) + 1, sizeof(T)))) goto nomem
   ALLOC(w->order, nc, int); ALLOC(w->par, nc, int); ALLOC(w->pair, nc, int);
   ALLOC(w->k, nc, int); ALLOC(w->j0, nc, int); ALLOC(w->isrt, nc, int);
-  ALLOC(w->S, 6 * TREE_MAXK * nc, double); ALLOC(w->Ta, 16 * nc, double); ALLOC(w->Tbi, 16 * nc, double);
+  ALLOC(w->S, 6 * TREE_MAXK * nc, double); ALLOC(w->K, 64 * nc, double); ALLOC(w->ds, nc, double);
+  ALLOC(w->ti, nc, int); ALLOC(w->di, nc, int);
   ALLOC(w->H, 16 * nc, double); ALLOC(w->v, 6 * nc, double); ALLOC(w->cb, 6 * nc, double);
   ALLOC(w->X, 36 * nc, double); ALLOC(w->IA, 36 * nc, double); ALLOC(w->pA, 6 * nc, double);
   ALLOC(w->U, 6 * TREE_MAXK * nc, double); ALLOC(w->Dinv, TREE_MAXK * TREE_MAXK * nc, double);
@@ -72,8 +79,9 @@ phm_status tree_build(const dae_t *d, tree_work *w, phm_error *err) {
   for (int ip = 0; ip < m->np; ip++) {
     const phm_pair_desc *pr = &m->pair[ip];
     const phm_pair_type_info *ti = phm_pair_type(pr->type);
-    double psi[6 * TREE_MAXK];
-    int k = ti ? type_psi(ti->name, pr->pitch, psi) : -1;
+    double psi[6 * TREE_MAXK], ds;
+    int tj, dj;
+    int k = ti ? type_psi(ti->name, pr->pitch, psi, &tj, &dj, &ds) : -1;
     if (pr->driven || pr->xdriven) {
       tree_free(w);
       return PHM_FAIL(err, PHM_EINVAL, "%s: pair %d prescribes a motion (%s)", why, ip,
@@ -103,8 +111,33 @@ phm_status tree_build(const dae_t *d, tree_work *w, phm_error *err) {
     double A[36];
     phm_se3_Ad(pr->Tb, A);
     for (int s = 0; s < k; s++) phm_mv6(A, psi + 6 * s, w->S + 6 * TREE_MAXK * c + 6 * s);
-    memcpy(w->Ta + 16 * c, pr->Ta, sizeof(double) * 16);
-    phm_se3_inverse(pr->Tb, w->Tbi + 16 * c);
+    w->ti[c] = tj;
+    w->di[c] = dj;
+    w->ds[c] = ds;
+    /* h = P0 + cos P1 + sin P2 + d P3: P0 = diag(0, 0, 1, 1), P1 = diag(1, 1, 0, 0), P2 the
+     * rotation's sine part (-1 at (0, 1), 1 at (1, 0)), P3 the translation along z (1 at (2, 3)) */
+    double P[4][16] = {{0}}, Tbi[16];
+    P[0][10] = P[0][15] = 1;
+    P[1][0] = P[1][5] = 1;
+    P[2][1] = -1;
+    P[2][4] = 1;
+    P[3][11] = 1;
+    phm_se3_inverse(pr->Tb, Tbi);
+    for (int e = 0; e < 4; e++) {
+      double TP[16];
+      for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 4; j++) {
+          double sum = 0;
+          for (int l = 0; l < 4; l++) sum += pr->Ta[4 * i + l] * P[e][4 * l + j];
+          TP[4 * i + j] = sum;
+        }
+      for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 4; j++) {
+          double sum = 0;
+          for (int l = 0; l < 4; l++) sum += TP[4 * i + l] * Tbi[4 * l + j];
+          w->K[64 * c + 16 * e + 4 * i + j] = sum;
+        }
+    }
   }
   for (int c = 0; c < nc; c++)
     if (w->pair[c] < 0) {
@@ -229,29 +262,35 @@ int tree_eval(tree_work *w, double t, double tref, const double *Y, double *dY) 
   const double *q = Y, *qd = Y + nj;
   /* pass 1, parents first: poses, twists, velocity-product accelerations */
   for (int o = 0; o < nb; o++) {
-    const int c = w->order[o], p = w->par[c], k = w->k[c], ip = w->pair[c];
+    const int c = w->order[o], p = w->par[c], k = w->k[c];
     const double *S = w->S + 6 * TREE_MAXK * c;
-    double h[16], Fa[16], Fh[16];
     double *Hc = w->H + 16 * c, *vc = w->v + 6 * c, *X = w->X + 36 * c;
-    if (k) phm_pair_type_pose(m->pair[ip].type, m->pair[ip].pitch, q + w->j0[c], h);
-    else {
-      memset(h, 0, sizeof h);
-      h[0] = h[5] = h[10] = h[15] = 1;
+    /* L = Ta h Tb^-1, H_c = H_p L, and g = H_c^-1 H_p = L^-1 (into X) */
+    const double *K = w->K + 64 * c, *qc = q + w->j0[c];
+    const double th = w->ti[c] >= 0 ? qc[w->ti[c]] : 0.0, d = w->di[c] >= 0 ? w->ds[c] * qc[w->di[c]] : 0.0;
+    const double cs = w->ti[c] >= 0 ? cos(th) : 1.0, sn = w->ti[c] >= 0 ? sin(th) : 0.0;
+    double L[12];
+    for (int i = 0; i < 12; i++) L[i] = K[i] + cs * K[16 + i] + sn * K[32 + i] + d * K[48 + i];
+    if (p >= 0) {
+      const double *Hp = w->H + 16 * p;
+      for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 4; j++)
+          Hc[4 * i + j] = Hp[4 * i] * L[j] + Hp[4 * i + 1] * L[4 + j] + Hp[4 * i + 2] * L[8 + j];
+        Hc[4 * i + 3] += Hp[4 * i + 3];
+      }
+    } else
+      memcpy(Hc, L, sizeof(double) * 12);
+    Hc[12] = Hc[13] = Hc[14] = 0.0;
+    Hc[15] = 1.0;
+    for (int i = 0; i < 3; i++) { /* X = (R^T, -R^T p) of L */
+      for (int j = 0; j < 3; j++) X[4 * i + j] = L[4 * j + i];
+      X[4 * i + 3] = -(L[i] * L[3] + L[4 + i] * L[7] + L[8 + i] * L[11]);
     }
-    if (p >= 0) phm_se3_compose(w->H + 16 * p, w->Ta + 16 * c, Fa);
-    else memcpy(Fa, w->Ta + 16 * c, sizeof Fa);
-    phm_se3_compose(Fa, h, Fh);
-    phm_se3_compose(Fh, w->Tbi + 16 * c, Hc);
     double Sq[6] = {0};
     for (int s = 0; s < k; s++)
       for (int i = 0; i < 6; i++) Sq[i] += S[6 * s + i] * qd[w->j0[c] + s];
-    if (p >= 0) {
-      phm_inv_compose(Hc, w->H + 16 * p, X); /* g = H_c^-1 H_p: X = Ad_g */
-      Ad_apply(X, w->v + 6 * p, vc);
-    } else {
-      memset(X, 0, sizeof(double) * 36);
-      memset(vc, 0, sizeof(double) * 6);
-    }
+    if (p >= 0) Ad_apply(X, w->v + 6 * p, vc); /* X = Ad_g */
+    else memset(vc, 0, sizeof(double) * 6);
     for (int i = 0; i < 6; i++) vc[i] += Sq[i];
     ad_apply(vc, Sq, w->cb + 6 * c);
   }

@@ -16,7 +16,11 @@ typedef struct {
   /* the tree: carriers in an order where every parent comes before its children */
   int *order, *par, *pair, *k, *j0;
   double *S;          /* 6 TREE_MAXK per carrier: its joint's motion subspace in its body frame */
-  double *Ta, *Tbi;   /* 16 per carrier: its pair's Ta and Tb^-1                               */
+  /* its pair's local transform L = Ta h(q) Tb^-1 = K0 + cos(th) K1 + sin(th) K2 + d K3 (16 each,
+   * 64 per carrier), the angle th = q[ti] (ti < 0: th = 0) and the slide d = ds q[di] (di < 0:
+   * d = 0) of its joint coordinates (h = rotation th about z, translation d along z) */
+  double *K, *ds;
+  int *ti, *di;
   /* one evaluation (tree_eval); per carrier */
   double *H, *v, *cb, *X, *IA, *pA, *U, *Dinv, *u, *acc, *wr, *pport;
   /* the Runge-Kutta's vectors (N each) */
