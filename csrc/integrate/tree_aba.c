@@ -330,15 +330,24 @@ int tree_eval(tree_work *w, double t, double tref, const double *Y, double *dY) 
     }
     if (p < 0) continue;
     double Ia[36], pa[6], Du[TREE_MAXK] = {0}, Ic[6];
-    memcpy(Ia, IA, sizeof Ia);
-    for (int s = 0; s < k; s++)
-      for (int r = 0; r < k; r++) Du[s] += Di[k * s + r] * u[r];
-    for (int s = 0; s < k; s++)
-      for (int r = 0; r < k; r++) {
-        double f = Di[k * s + r];
-        for (int i = 0; i < 6; i++)
-          for (int j = 0; j < 6; j++) Ia[6 * i + j] -= U[6 * s + i] * f * U[6 * r + j];
+    if (k == 1) { /* the common case: a rank-one update, unrolled */
+      const double f = Di[0];
+      Du[0] = f * u[0];
+      for (int i = 0; i < 6; i++) {
+        const double fu = f * U[i];
+        for (int j = 0; j < 6; j++) Ia[6 * i + j] = IA[6 * i + j] - fu * U[j];
       }
+    } else {
+      memcpy(Ia, IA, sizeof Ia);
+      for (int s = 0; s < k; s++)
+        for (int r = 0; r < k; r++) Du[s] += Di[k * s + r] * u[r];
+      for (int s = 0; s < k; s++)
+        for (int r = 0; r < k; r++) {
+          double f = Di[k * s + r];
+          for (int i = 0; i < 6; i++)
+            for (int j = 0; j < 6; j++) Ia[6 * i + j] -= U[6 * s + i] * f * U[6 * r + j];
+        }
+    }
     phm_mv6(Ia, w->cb + 6 * c, Ic);
     for (int i = 0; i < 6; i++) {
       pa[i] = pA[i] + Ic[i];
