@@ -176,3 +176,13 @@ def test_laws_with_breakpoints_match_ida():
     assert np.abs(ri.joints - rt.joints).max() < 1e-8
     assert abs(ri.energy["supplied"][-1] - rt.energy["supplied"][-1]) < 1e-9
     assert np.abs(rt.energy["ledger"]).max() < 1e-9
+
+
+def test_a_callback_stops_the_run_at_an_output():
+    """The outputs go through the DAE's output routine: a callback that asks to stop ends the
+    run there, with the outputs so far (as IDA's and the generalized-alpha's)."""
+    m, _ = chain(3)
+    seen = []
+    r = m.simulate(0.5, 0.05, integrator="tree", callback=lambda t, i: seen.append(t) or i >= 3)
+    assert len(r.t) == 4 and np.allclose(r.t, [0, 0.05, 0.1, 0.15])
+    assert np.allclose(seen, r.t)
