@@ -186,3 +186,14 @@ def test_a_callback_stops_the_run_at_an_output():
     r = m.simulate(0.5, 0.05, integrator="tree", callback=lambda t, i: seen.append(t) or i >= 3)
     assert len(r.t) == 4 and np.allclose(r.t, [0, 0.05, 0.1, 0.15])
     assert np.allclose(seen, r.t)
+
+
+def test_sampled_controllers_are_refused():
+    m = ph.Mechanism(gravity=(0, -G, 0))
+    b = m.add_rigid_body("bob", 1.0, np.diag([0.02, 0.02, 0.02]), com=(0, -0.5, 0))
+    m.add_pair("hinge", ph.Revolute("z"), m.ground, b, x0=[0.01])
+    m.add_sensor("q", ph.JointSensor("hinge"))
+    m.add_controller("p", ph.SampledController(lambda t, y, s: ((-5 * y[0],), s), 100.0,
+                                               inputs=["q"], outputs=["hinge"]))
+    with pytest.raises(ValueError, match="tree integrator takes no sampled controllers"):
+        m.simulate(0.1, 0.01, integrator="tree")
