@@ -137,7 +137,7 @@ phm_status run_tree(dae_t *d, const phm_sim_options *opt, void *work, SUNContext
   long nfev = 0, nacc = 0, nrej = 0, steps_iv = 0;
   int fresh = 1, reject = 0, iout = 1, stop = 0;
   phm_status st = PHM_OK;
-  double hmin_seen = INFINITY;
+  double hmin_seen = INFINITY, hlast = 0.0;
   while (iout < nout) {
     if (fresh) { /* a piece's first stage and step */
       if (tree_eval(w, t, tref, w->y, w->ks[0])) goto singular;
@@ -186,6 +186,7 @@ phm_status run_tree(dae_t *d, const phm_sim_options *opt, void *work, SUNContext
       nacc++;
       steps_iv++;
       hmin_seen = fmin(hmin_seen, h);
+      hlast = h;
       /* the outputs in (t, tn]: the continuous extension */
       int need = iout < nout && tout[iout] <= tn;
       if (need) {
@@ -240,6 +241,8 @@ phm_status run_tree(dae_t *d, const phm_sim_options *opt, void *work, SUNContext
     h = fmin(hnew, hmax);
   }
 done:
+  out->last_step = hlast;
+  out->last_order = 5;
   out->nsteps = nacc;
   out->nres = nfev;
   out->netf = nrej;

@@ -212,7 +212,12 @@ class RunMonitor:
         if mean_h < floor / 30 and projected > 30.0:
             self.warned = True
             f_res = 1.0 / (BAND_STEPS * mean_h)
-            if self.integrator == "ida":
+            if self.integrator == "tree":
+                why = (f"the tree integrator's explicit steps follow the model's fastest motion "
+                       f"(about {_hz(f_res)}: a stiff spring, a friction's regularization)")
+                advice = ("The implicit integrators (the default, or integrator='ida') take "
+                          "stiff models with longer steps.")
+            elif self.integrator == "ida":
                 why = (f"the integrator is resolving vibrations up to about {_hz(f_res)}, far "
                        f"above what the output can show")
                 advice = ("The default integrator (integrator='generalized-alpha' without step=) "

@@ -179,7 +179,8 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
         _plane(mech, model, poses, twists, planar is True)
     if plane is not None:   # the run and its result read the planar model
         model = plane[2]
-    run = dict(linear_solver=linear_solver, integrator=integrator, adaptive=adaptive,
+    run = dict(linear_solver=None if integrator == "tree" else linear_solver,
+               integrator=integrator, adaptive=adaptive,
                rtol=rtol, atol=atol, planar=None if plane is None else _planar.AXES[plane[0]])
     sim_model = model if plane is None else plane[2]
 
