@@ -227,3 +227,17 @@ def test_bodies_listed_before_their_parents_with_a_spring_and_initial_rates():
     assert np.abs(lam_i - lam_t).max() < 1e-7 * np.abs(lam_i).max()
     assert np.abs(rt.energy["ledger"]).max() < 1e-9
     assert abs(rt.energy["dissipated"][-1] - ri.energy["dissipated"][-1]) < 1e-9
+
+
+def test_an_output_at_a_breakpoint_reads_the_piece_that_ends_there():
+    """An effort stepping on at an output time: that output's effort and multipliers are the
+    left limit's, the piece that ends there, as IDA's (which restarts after that output); the
+    next output has the new effort."""
+    m, _ = chain(2)
+    m.add_actuator("push", "k1", ph.Effort(ph.Step(0.1, 0.05)))
+    ri = m.simulate(0.2, 0.05, rtol=1e-10, integrator="ida")
+    rt = m.simulate(0.2, 0.05, rtol=1e-10, integrator="tree")
+    assert np.isclose(rt.t[2], 0.1) and rt.efforts[2, 1] == 0.0 and rt.efforts[3, 1] == 0.05
+    assert np.abs(ri.efforts - rt.efforts).max() == 0.0
+    lam_i, lam_t = ri.constraint_wrenches, rt.constraint_wrenches
+    assert np.abs(lam_i - lam_t).max() < 1e-7 * np.abs(lam_i).max()

@@ -147,12 +147,14 @@ phm_status run_tree(dae_t *d, const phm_sim_options *opt, void *work, SUNContext
     }
     double tend = fmin(tout[nout - 1], nbp);
     int last = 0;
-    if (t + h >= tend * (1 - 4 * DBL_EPSILON) - 4 * DBL_EPSILON * fabs(tend) || t + h > tend) {
+    if (t + 1.01 * h >= tend) { /* the last step to tend, stretched up to 1 % (dopri5's rule) */
       h = tend - t;
       last = 1;
     }
-    if (!(h > 16 * DBL_EPSILON * fmax(fabs(t), 1e-300)))
-      return PHM_FAIL(err, PHM_ESOLVER, "tree: step size %g too small at t = %.9g s", h, t);
+    if (!(h > 16 * DBL_EPSILON * fmax(fabs(t), 1e-300))) {
+      st = PHM_FAIL(err, PHM_ESOLVER, "tree: step size %g too small at t = %.9g s", h, t);
+      goto done;
+    }
     double *k1 = w->ks[0], *k2 = w->ks[1], *k3 = w->ks[2], *k4 = w->ks[3], *k5 = w->ks[4],
            *k6 = w->ks[5], *k7 = w->ks[6], *y = w->y, *yt = w->yt, *y1 = w->y1;
     for (int i = 0; i < N; i++) yt[i] = y[i] + h * A21 * k1[i];
@@ -187,6 +189,9 @@ phm_status run_tree(dae_t *d, const phm_sim_options *opt, void *work, SUNContext
       steps_iv++;
       hmin_seen = fmin(hmin_seen, h);
       hlast = h;
+      /* a breakpoint at tn: the laws' next piece from there on; an output at tn still reads the
+       * piece that ends there (its left limit, as IDA's, which restarts after that output) */
+      const int bp = last && tn >= nbp;
       /* the outputs in (t, tn]: the continuous extension */
       int need = iout < nout && tout[iout] <= tn;
       if (need) {
@@ -221,7 +226,7 @@ phm_status run_tree(dae_t *d, const phm_sim_options *opt, void *work, SUNContext
       t = tn;
       if (reject) hnew = fmin(hnew, h);
       reject = 0;
-      if (last && t >= nbp && iout < nout) { /* a breakpoint: the laws' next piece */
+      if (bp) { /* the next piece: its tref, a fresh first stage */
         tref = d->tref = phm_model_tref(m, t, &nbp);
         fresh = 1;
       }
@@ -249,6 +254,7 @@ done:
   out->min_step = isfinite(hmin_seen) ? hmin_seen : 0.0;
   return st;
 singular:
-  return PHM_FAIL(err, PHM_ESINGULAR, "tree: a joint's articulated inertia is not positive at "
-                  "t = %.9g s (a body without mass or inertia along its joint's motion)", t);
+  st = PHM_FAIL(err, PHM_ESINGULAR, "tree: a joint's articulated inertia is not positive at "
+                "t = %.9g s (a body without mass or inertia along its joint's motion)", t);
+  goto done;
 }
