@@ -241,3 +241,40 @@ def test_an_output_at_a_breakpoint_reads_the_piece_that_ends_there():
     assert np.abs(ri.efforts - rt.efforts).max() == 0.0
     lam_i, lam_t = ri.constraint_wrenches, rt.constraint_wrenches
     assert np.abs(lam_i - lam_t).max() < 1e-7 * np.abs(lam_i).max()
+
+
+def test_random_trees_match_ida():
+    """Random trees of five bodies: random pair types among those taken (axes x, y or z),
+    random frames, random inertias and centres of mass, bodies in random order, joint springs
+    on the prismatic and cylindrical pairs; against IDA at rtol 1e-10. Measured over the first
+    12 trees of this sequence (4 run here): poses within 4.9e-10, twists 1.3e-8, lambda 6.0e-8
+    of its largest, ledger 6.2e-11 J."""
+    rng = np.random.default_rng(1)
+    types = [lambda ax: ph.Revolute(ax), lambda ax: ph.Prismatic(ax),
+             lambda ax: ph.Helical(ax, pitch=0.05), lambda ax: ph.Cylindrical(ax), lambda ax: ph.Fixed()]
+    for trial in range(4):
+        m = ph.Mechanism(gravity=(0, -G, 0))
+        bodies = []
+        for i in range(5):
+            R = se3.exp(np.concatenate([rng.normal(size=3), np.zeros(3)]))[:3, :3]
+            J = R @ np.diag(rng.uniform(2e-3, 3e-3, 3)) @ R.T
+            bodies.append(m.add_rigid_body(f"b{i}", rng.uniform(0.2, 1.0), J,
+                                           com=rng.uniform(-0.1, 0.1, 3)))
+        perm = rng.permutation(5)
+        for k, i in enumerate(perm):
+            parent = -1 if k == 0 else perm[rng.integers(0, k)]
+            T = se3.exp(np.concatenate([rng.uniform(-1, 1, 3), rng.uniform(-0.2, 0.2, 3)]))
+            a = ph.Frame(-1 if parent < 0 else bodies[parent].carrier, T)
+            ti = rng.integers(0, 4 if k == 0 else 5)   # the root moves
+            m.add_pair(f"p{i}", types[ti](rng.choice(["x", "y", "z"])), a, bodies[i])
+            if ti == 1:
+                m.add_actuator(f"s{i}", f"p{i}", ph.Spring(20.0, 0.1))
+            elif ti == 3:
+                m.add_actuator(f"s{i}", f"p{i}", ph.Spring([20.0, 20.0], [0.1, 0.1]))
+        ri = m.simulate(0.3, 0.05, rtol=1e-10, integrator="ida")
+        rt = m.simulate(0.3, 0.05, rtol=1e-10, integrator="tree")
+        assert np.abs(ri.poses - rt.poses).max() < 1e-8, trial
+        assert np.abs(ri.twists - rt.twists).max() < 1e-7, trial
+        lam_i, lam_t = ri.constraint_wrenches, rt.constraint_wrenches
+        assert np.abs(lam_i - lam_t).max() < 1e-6 * np.abs(lam_i).max(), trial
+        assert np.abs(rt.energy["ledger"]).max() < 1e-8, trial
