@@ -17,14 +17,17 @@ peak memory against problem size, with fitted exponents.
    revolute pairs with parallel axes (z), first pivot to ground, released from horizontal under
    gravity -y, simulated T = 0.5 s (short: the multi-link chain is chaotic). phmech
    ``Mechanism`` (the default integrator at rtol 1e-4, ``chain-phmech-default``; IDA with KLU and
-   dense, rtol 1e-6), Exudyn (3-D rigid bodies with Euler parameters +
+   dense, rtol 1e-6; ``integrator="tree"``, joint coordinates and Dormand-Prince 5(4), rtol 1e-6,
+   ``chain-phmech-tree``), Exudyn (3-D rigid bodies with Euler parameters +
    revolute joints, redundant coordinates, generalized-alpha h = 1e-4, spectral radius 0.8,
    Newton tolerance 1e-10),
    MuJoCo (hinge chain in minimal coordinates, RK4 at dt = 1e-3 and 4e-3, Euler and implicitfast
    at 1e-4: docs/perf_scaling.md compares phmech with the cheapest one at or below its error);
    outside ``--smoke`` also ladders for matched error across levels (benchmarks/report.py
    interpolates them): MuJoCo RK4 at 0.5 and 2 ms, phmech's default at rtol 1e-3 and 1e-5, IDA
-   (KLU) at rtol 1e-5 and 1e-8. Accuracy: largest error over the
+   (KLU) at rtol 1e-5 and 1e-8, the tree integrator at rtol 1e-3, 1e-4, 1e-5 and 1e-7; the JSON's
+   ``chain_at_matched_error`` holds each ladder's rate at fixed error levels and its ratio to
+   MuJoCo RK4's. Accuracy: largest error over the
    links' free-end positions at T against MuJoCo RK4 with dt = 1e-5 (checked against phmech at
    rtol 1e-10 for n <= 10); for long chains the end link is still nearly in free fall at T.
 
@@ -178,8 +181,10 @@ def ex_ge3d(N: int, T: float, h: float):
 
 
 # ------------------------------------------------------------------ chain models (tip of end link at T)
-def ph_chain(n: int, T: float, rtol: float, solver: str, default: bool = False):
-    """phmech chain: IDA (every state in its error test) at ``rtol``, or the default integrator."""
+def ph_chain(n: int, T: float, rtol: float, solver: str, default: bool = False, tree: bool = False):
+    """phmech chain: IDA (every state in its error test) at ``rtol``, the default integrator, or
+    (``tree``) the tree integrator (joint coordinates, articulated-body algorithm, Dormand-Prince
+    5(4): csrc/integrate/tree.c)."""
     import phmech as ph
     from phmech import se3
     m = ph.Mechanism(gravity=(0, -G, 0))
@@ -190,7 +195,8 @@ def ph_chain(n: int, T: float, rtol: float, solver: str, default: bool = False):
         prev = ph.Frame(b.carrier, se3.translation([LINK_L, 0, 0]))
         ends.append(prev)
     t0 = time.process_time()
-    r = m.simulate(T, CHAIN_DT_OUT, rtol=rtol, linear_solver=solver, **(dict(band=0.5 / CHAIN_DT_OUT) if default else dict(integrator="ida")))
+    r = m.simulate(T, CHAIN_DT_OUT, rtol=rtol, **(dict(integrator="tree") if tree else dict(
+        linear_solver=solver, **(dict(band=0.5 / CHAIN_DT_OUT) if default else dict(integrator="ida")))))
     c = time.process_time() - t0
     return c, np.array([r.position(e)[-1, :2] for e in ends]), dict(r.stats)
 
@@ -258,6 +264,8 @@ def runner(code: str, size: int, setting: float):
         return lambda T: ex_ancf(size, T, setting)
     if code.startswith("chain-phmech-default"):    # chain-phmech-default[-rtol<r>]: the setting is rtol
         return lambda T: ph_chain(size, T, setting, "klu", default=True)
+    if code.startswith("chain-phmech-tree"):      # chain-phmech-tree[-rtol<r>]: the setting is rtol
+        return lambda T: ph_chain(size, T, setting, "", tree=True)
     if code.startswith(("chain-phmech-klu", "chain-phmech-dense")):   # [-rtol<r>]
         return lambda T: ph_chain(size, T, setting, code.split("-")[2])
     if code == "chain-exudyn":
@@ -399,7 +407,7 @@ def bench_chain(quick: bool, budget: float, runs, skipped, smoke: bool = False) 
     ns = [3] if smoke else [1, 3, 10, 30] if quick else [1, 3, 10, 30, 100]
     T = 0.1 if smoke else CHAIN_T
     cases = [("chain-phmech-default", 1e-4, T, ns), ("chain-phmech-klu", 1e-6, T, ns),
-             ("chain-phmech-dense", 1e-6, T, ns),
+             ("chain-phmech-dense", 1e-6, T, ns), ("chain-phmech-tree", 1e-6, T, ns),
              ("chain-exudyn", EX_H_CHAIN, T, ns), ("chain-mujoco", MJ_DT, T, ns),
              # MuJoCo's other integrators and steps: the table picks, per n, the cheapest that
              # reaches phmech's error (docs/perf_scaling.md)
@@ -413,7 +421,10 @@ def bench_chain(quick: bool, budget: float, runs, skipped, smoke: bool = False) 
         cases += [("chain-mujoco-rk4-0.5ms", 5e-4, T, ns), ("chain-mujoco-rk4-2ms", 2e-3, T, ns),
                   ("chain-phmech-default-rtol1e-3", 1e-3, T, ns),
                   ("chain-phmech-default-rtol1e-5", 1e-5, T, ns),
-                  ("chain-phmech-klu-rtol1e-5", 1e-5, T, ns), ("chain-phmech-klu-rtol1e-8", 1e-8, T, ns)]
+                  ("chain-phmech-klu-rtol1e-5", 1e-5, T, ns), ("chain-phmech-klu-rtol1e-8", 1e-8, T, ns),
+                  # the tree integrator (error ~ 3e-3 rtol m at n = 100): rtol 1e-3 ... 1e-7
+                  ("chain-phmech-tree-rtol1e-3", 1e-3, T, ns), ("chain-phmech-tree-rtol1e-4", 1e-4, T, ns),
+                  ("chain-phmech-tree-rtol1e-5", 1e-5, T, ns), ("chain-phmech-tree-rtol1e-7", 1e-7, T, ns)]
     sweep(cases, budget, runs, skipped)
     cases = [c for c in cases if not CODES or c[0] in CODES]
     refs = {}
@@ -523,6 +534,14 @@ def main() -> None:
         chain_reference=refs, machine=info, runs=runs, skipped=skipped, fits=fits,
         wall_s=time.time() - t0, quick=a.quick, smoke=a.smoke,
         dt_out=dict(elements=ELEM_DT_OUT, chain=CHAIN_DT_OUT))
+    # the chain at matched error: each ladder's CPU s/s interpolated at fixed error levels, and
+    # its ratio to MuJoCo RK4's (benchmarks/report.py, chain_levels)
+    from report import CHAIN_GROUPS, chain_levels
+    mj = list(CHAIN_GROUPS)[-1]
+    out["chain_at_matched_error"] = [
+        dict(size=n, error_m=lev, cpu_per_sim_s=row,
+             ratio_to_mujoco_rk4={g: row[g] / row[mj] for g in row if g != mj and row.get(g) and row.get(mj)})
+        for n, lev, row in chain_levels(out)]
     write_json("bench_scaling", out)
     plot(out)
     print(f"fits: {json.dumps(fits, indent=1)}")

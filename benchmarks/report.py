@@ -163,7 +163,7 @@ def scaling(results: str) -> list:
         lines.append("")
     lines.append("CPU s per simulated s; chain: (max link-end error at T against "
                  + (d["chain_reference"][0]["code"] if d.get("chain_reference") else "?") + ").")
-    for code in ("chain-phmech-default", "chain-phmech-klu"):
+    for code in ("chain-phmech-default", "chain-phmech-klu", "chain-phmech-tree"):
         m = chain_matched(d, code)
         if m:
             lines += ["", f"{code} over the cheapest MuJoCo run at or below its error: "
@@ -186,6 +186,7 @@ def scaling(results: str) -> list:
 #: the chain's ladders (benchmarks/bench_scaling.py) and the levels they are compared at [m]
 CHAIN_GROUPS = {"phmech default": lambda c: c.startswith("chain-phmech-default"),
                 "phmech IDA (KLU)": lambda c: c.startswith("chain-phmech-klu"),
+                "phmech tree": lambda c: c.startswith("chain-phmech-tree"),
                 "MuJoCo RK4": lambda c: c == "chain-mujoco" or c.startswith("chain-mujoco-rk4")}
 CHAIN_LEVELS = (1e-6, 3e-7, 1e-7, 3e-8)
 
@@ -211,7 +212,7 @@ def chain_levels(sc: dict) -> list:
     for n in sorted({r["size"] for r in sc["runs"] if r["code"].startswith("chain-")}):
         for lev in CHAIN_LEVELS:
             row = {g: rate_at_error(sc["runs"], p, n, lev) for g, p in CHAIN_GROUPS.items()}
-            if row["MuJoCo RK4"] and (row["phmech default"] or row["phmech IDA (KLU)"]):
+            if row["MuJoCo RK4"] and (row["phmech default"] or row["phmech IDA (KLU)"] or row["phmech tree"]):
                 out.append((n, lev, row))
     return out
 

@@ -62,7 +62,8 @@ def test_bench_scaling(tmp_path):
     out = run_script("bench_scaling.py", tmp_path)
     sc = load(tmp_path, "bench_scaling.json")
     codes = {r["code"] for r in sc["runs"]}
-    assert {"phmech-default", "phmech-klu", "chain-phmech-default", "chain-phmech-klu"} <= codes, out
+    assert {"phmech-default", "phmech-klu", "chain-phmech-default", "chain-phmech-klu",
+            "chain-phmech-tree"} <= codes, out
     # the default integrator's band no longer follows T: the T run takes more steps than the T/5
     # run (both took the same before, and the rate was a floor: 1e-9 / (0.8 T))
     for r in sc["runs"]:

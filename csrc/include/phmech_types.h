@@ -387,7 +387,11 @@ enum { PHM_ERRTEST_ALL = 0, PHM_ERRTEST_CONFIGURATION = 1 };
 #define PHM_NEWTON_RTOL_MIN 1e-11
 /* The integrators' codes: the position of each in the table of integrators
  * (csrc/integrate/integrators.c; phm_integrator_name, phm_sim_defaults). */
-enum { PHM_INTEGRATOR_IDA = 0, PHM_INTEGRATOR_GALPHA = 1 };
+/* TREE: a tree of rigid bodies in joint coordinates (no elements, loops, prescribed motions or
+ * components with states; csrc/integrate/tree_aba.c lists what it takes), its articulated-body
+ * dynamics integrated by the explicit Dormand-Prince 5(4) pair with local error control on
+ * rtol, atol over the joint coordinates and rates (max_step, max_steps; no other option). */
+enum { PHM_INTEGRATOR_IDA = 0, PHM_INTEGRATOR_GALPHA = 1, PHM_INTEGRATOR_TREE = 2 };
 
 /* IDA's own options (phm_sim_options.ida). */
 typedef struct {
@@ -414,7 +418,7 @@ typedef struct {
   phm_callback interrupt; /* called at each output; non-zero: stop with PHM_EINTERRUPT      */
   phm_callback progress;  /* called at each output; non-zero: stop quietly (PHM_OK)         */
   void *ctx;
-  int integrator;         /* PHM_INTEGRATOR_IDA (0) or PHM_INTEGRATOR_GALPHA                */
+  int integrator;         /* PHM_INTEGRATOR_IDA (0), _GALPHA (1) or _TREE (2)               */
   phm_monitor monitor;    /* may be NULL; called with ctx                                   */
   int planar;             /* 0: 3-D; 1, 2, 3: the planar DAE, every carrier moving in the plane
                            * normal to world x, y, z (checked by the caller, who dropped the

@@ -49,6 +49,14 @@ phm_status run_galpha(dae_t *d, const phm_sim_options *opt, void *work, SUNConte
                       N_Vector yy, N_Vector yp, const double *tout, int nout, double E0[1],
                       double nbp, phm_sim_output *out, phm_error *err);
 
+/* tree.c (tree_aba.c): rigid trees in joint coordinates, explicit Dormand-Prince 5(4) */
+phm_status tree_check(const phm_sim_options *opt, phm_error *err);
+phm_status tree_setup(dae_t *d, const phm_sim_options *opt, void **work, phm_error *err);
+void tree_release(void *work);
+phm_status run_tree(dae_t *d, const phm_sim_options *opt, void *work, SUNContext ctx, N_Vector yy,
+                    N_Vector yp, const double *tout, int nout, double E0[1], double nbp,
+                    phm_sim_output *out, phm_error *err);
+
 /* ---------------------------------------------------------------- klu.c */
 /* After a Jacobian into J, the matrix of the KLU solver LS: drop its entries zero in every call
  * so far (dae_jacobian_prune) and, when the kept pattern grew, have KLU analyse it again. 0 on

@@ -12,6 +12,7 @@ static const phm_integrator integrators[] = {
     [PHM_INTEGRATOR_GALPHA] = {"generalized-alpha",
                                {.galpha = {.step = 0.0, .rho_inf = 1.0, .adaptive = 0, .band = 0.0}},
                                1, galpha_check, galpha_setup, galpha_release, run_galpha},
+    [PHM_INTEGRATOR_TREE] = {"tree", {.rtol = 0.0}, 0, tree_check, tree_setup, tree_release, run_tree},
 };
 #define NINTEGRATORS (int)(sizeof(integrators) / sizeof(integrators[0]))
 

@@ -32,7 +32,7 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
   if (opt->linear_solver != 0 && opt->linear_solver != 1)
     return PHM_FAIL(err, PHM_EINVAL, "unknown linear solver %d (0 dense, 1 KLU)", opt->linear_solver);
   const phm_integrator *ig = phm_integrator_get(opt->integrator);
-  if (!ig) return PHM_FAIL(err, PHM_EINVAL, "unknown integrator %d (0 IDA, 1 generalized-alpha)", opt->integrator);
+  if (!ig) return PHM_FAIL(err, PHM_EINVAL, "unknown integrator %d (0 IDA, 1 generalized-alpha, 2 tree)", opt->integrator);
   phm_status st = ig->check(opt, err);
   if (st) return st;
   double t_start = now();

@@ -48,8 +48,9 @@ def warn_if_inaccurate(stats: dict, stacklevel: Optional[int] = None) -> None:
             advice = (f"with a fixed step this means the step is too large for the motion (or "
                       f"rho_inf damps too much), or the Newton tolerance rtol "
                       f"({stats.get('rtol', 0.0):.3g}) is too loose: use a smaller step= or rtol=")
-        elif stats.get("integrator") == "ida":
-            advice = "with IDA this means its tolerances are too loose: use a smaller rtol="
+        elif stats.get("integrator") in ("ida", "tree"):
+            advice = (f"with {'IDA' if stats.get('integrator') == 'ida' else 'the tree integrator'} "
+                      f"this means its tolerances are too loose: use a smaller rtol=")
         else:
             advice = (f"with the default integrator this means the outputs, and so the band "
                       f"({stats['band']:.3g} Hz), are too coarse for the motion (stiff links "
@@ -211,7 +212,12 @@ class RunMonitor:
         if mean_h < floor / 30 and projected > 30.0:
             self.warned = True
             f_res = 1.0 / (BAND_STEPS * mean_h)
-            if self.integrator == "ida":
+            if self.integrator == "tree":
+                why = (f"the tree integrator's explicit steps follow the model's fastest motion "
+                       f"(about {_hz(f_res)}: a stiff spring, a friction's regularization)")
+                advice = ("The implicit integrators (the default, or integrator='ida') take "
+                          "stiff models with longer steps.")
+            elif self.integrator == "ida":
                 why = (f"the integrator is resolving vibrations up to about {_hz(f_res)}, far "
                        f"above what the output can show")
                 advice = ("The default integrator (integrator='generalized-alpha' without step=) "

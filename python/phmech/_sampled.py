@@ -79,9 +79,11 @@ def plan(mech, tout: np.ndarray, integrator: str, checkpoint) -> Optional[Plan]:
         return None
     names = ", ".join(repr(c["name"]) for c in ctrls)
     if integrator != "generalized-alpha":
+        why = ("the tree integrator takes no sampled controllers" if integrator == "tree" else
+               "IDA restarts at a breakpoint before its output, where the controller would set "
+               "its new value")
         raise ModelError(f"controllers {names}: sampled controllers run with "
-                         f"integrator='generalized-alpha' (IDA restarts at a breakpoint before its "
-                         f"output, where the controller would set its new value)")
+                         f"integrator='generalized-alpha' ({why})")
     if checkpoint is not None:
         raise ModelError(f"controllers {names}: checkpoint= is not supported with sampled "
                          f"controllers yet")

@@ -60,7 +60,8 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
             else "dense"
     if not isinstance(linear_solver, str) or linear_solver not in solvers:
         raise ModelError(f"unknown linear_solver {linear_solver!r} (available: 'auto', 'dense', 'klu')")
-    #: the core's integrators by their one name (_codes.INTEGRATORS: "ida", "generalized-alpha")
+    #: the core's integrators by their one name (_codes.INTEGRATORS: "ida", "generalized-alpha",
+    #: "tree")
     integrators = INTEGRATORS
     if not isinstance(integrator, str) or integrator not in integrators:
         raise ModelError(f"unknown integrator {integrator!r} (available: {', '.join(map(repr, integrators))})")
@@ -105,8 +106,16 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
             raise ModelError("max_step applies to integrator='ida' and to the adaptive "
                              "generalized-alpha (without step=)")
     elif step is not None:
-        raise ModelError("step= applies to integrator='generalized-alpha' (IDA chooses its own steps; "
-                         "use max_step to bound them)")
+        raise ModelError("step= applies to integrator='generalized-alpha' (IDA and tree choose "
+                         "their own steps; use max_step to bound them)")
+    if integrator == "tree":
+        # a tree of rigid bodies in joint coordinates (csrc/integrate/tree.c): explicit
+        # Dormand-Prince 5(4) on rtol, atol; the core refuses the models it does not take
+        if not (isinstance(error_test, str) and error_test == "all") or max_order is not None:
+            raise ModelError("error_test and max_order apply to integrator='ida' only")
+        if planar is True:
+            raise ModelError("planar=True does not apply to integrator='tree' (it integrates "
+                             "the joint coordinates of the 3-D model)")
     tests = {"all": 0, "configuration": 1}
     if not isinstance(error_test, str) or error_test not in tests:
         raise ModelError(f"unknown error_test {error_test!r} (available: 'all', 'configuration')")
@@ -165,12 +174,13 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
     # scene), and with the dense LU the spline-driven revolute of
     # tests/test_driven_pairs.py ended its spin-up 1.6e-4 N m off in its torque (3-D 6.7e-5,
     # the test's bound 1.3e-4: where IDA's steps land near the breakpoint)
-    auto_ok = integrator != "ida"
+    auto_ok = integrator == "generalized-alpha"
     plane = None if planar is False or (planar is None and not auto_ok) else \
         _plane(mech, model, poses, twists, planar is True)
     if plane is not None:   # the run and its result read the planar model
         model = plane[2]
-    run = dict(linear_solver=linear_solver, integrator=integrator, adaptive=adaptive,
+    run = dict(linear_solver=None if integrator == "tree" else linear_solver,
+               integrator=integrator, adaptive=adaptive,
                rtol=rtol, atol=atol, planar=None if plane is None else _planar.AXES[plane[0]])
     sim_model = model if plane is None else plane[2]
 

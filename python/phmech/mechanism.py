@@ -165,6 +165,15 @@ class Mechanism(Builder):
           crank angle after 2 s ("all": 2.8e-6 at order 2, 7.6e-7 at order 5). Keep it for
           flexible links whose mesh vibrations "all" would resolve. ``max_step`` [s] bounds
           the steps (IDA and adaptive generalized-alpha).
+        - ``integrator="tree"``: a tree of rigid bodies in joint coordinates (O(n)
+          articulated-body algorithm, explicit Dormand-Prince 5(4) with local error control on
+          ``rtol`` (default 1e-8) and ``atol`` over the joint coordinates and rates). It takes
+          rigid bodies each hanging as side b of one fixed, revolute, prismatic, helical or
+          cylindrical pair from its parent or the ground, and refuses (ValueError naming the
+          reason) beam elements, closed loops, prescribed motions, components with internal
+          states and sampled controllers. Every result field is the other integrators' (the
+          multipliers from each joint's wrench); ``max_step`` bounds the steps; the run is 3-D
+          (``planar`` does not apply). Not for stiff models: its steps follow the fastest motion.
 
         ``linear_solver``: ``"auto"`` (KLU sparse for the generalized-alpha, and for IDA with 6
         or more carriers, else dense), ``"dense"`` or ``"klu"``; both factor the same

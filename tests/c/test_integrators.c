@@ -6,7 +6,10 @@
 #include "integrate.h"
 
 static void rows_are_found_by_code(void) {
-  CHECK(phm_integrator_count() == 2, "two integrators (%d)", phm_integrator_count());
+  CHECK(phm_integrator_count() == 3, "three integrators (%d)", phm_integrator_count());
+  const phm_integrator *tr = phm_integrator_get(PHM_INTEGRATOR_TREE);
+  CHECK(tr && strcmp(tr->name, "tree") == 0 && tr->run == run_tree && !tr->per_step,
+        "PHM_INTEGRATOR_TREE is \"tree\"");
   const phm_integrator *ida = phm_integrator_get(PHM_INTEGRATOR_IDA);
   const phm_integrator *ga = phm_integrator_get(PHM_INTEGRATOR_GALPHA);
   CHECK(ida && strcmp(ida->name, "ida") == 0, "PHM_INTEGRATOR_IDA is \"ida\"");

@@ -246,6 +246,55 @@ static void run(const phm_model *m, const char *name, phm_sim_options opt) {
   free(out.port_energy);
 }
 
+/* A rigid tree for the tree integrator: two links on revolute pairs about z (ground -> 0 -> 1),
+ * a PD actuator on the second with the Table set point (breakpoints inside the run), a spring
+ * from link 1 to the ground, gravity. */
+static phm_model *build_tree(void) {
+  static phm_carrier_desc car[2];
+  static phm_pair_desc pr[2];
+  static phm_actuator_desc act[1];
+  static phm_spring_desc spr[1];
+  memset(car, 0, sizeof car);
+  memset(pr, 0, sizeof pr);
+  memset(act, 0, sizeof act);
+  memset(spr, 0, sizeof spr);
+  for (int c = 0; c < 2; c++) {
+    for (int i = 0; i < 3; i++) car[c].M[7 * i] = 1e-3;
+    for (int i = 3; i < 6; i++) car[c].M[7 * i] = 0.1;
+    car[c].mass = 0.1;
+    for (int i = 0; i < 4; i++) car[c].H0[5 * i] = 1.0;
+    car[c].H0[3] = 0.2 * c;
+    pr[c].type = type_code("revolute");
+    pr[c].a = c - 1;
+    pr[c].b = c;
+    for (int i = 0; i < 4; i++) pr[c].Ta[5 * i] = pr[c].Tb[5 * i] = 1.0;
+    pr[c].Ta[3] = c ? 0.2 : 0.0;
+  }
+  act[0].pair = 1;
+  act[0].kind = PHM_ACT_PD;
+  act[0].vec[0] = 1.0;
+  act[0].kp[0] = 5.0;
+  act[0].kd[0] = 0.1;
+  act[0].law.kind = PHM_LAW_TABLE;
+  act[0].law.ntable = 3;
+  act[0].law.table = setpoint_table;
+  spr[0].a = 1;
+  spr[0].b = -1;
+  spr[0].pa[0] = 0.1;
+  spr[0].pb[0] = 0.3;
+  spr[0].pb[1] = 0.1;
+  spr[0].k = 20.0;
+  spr[0].c = 0.05;
+  spr[0].d0 = 0.05;
+  phm_model_desc d = {.ncarriers = 2, .carriers = car, .npairs = 2, .pairs = pr,
+                      .gravity = {0, -9.81, 0}, .nactuators = 1, .actuators = act,
+                      .nsprings = 1, .springs = spr};
+  phm_model *m = NULL;
+  phm_error err;
+  if (phm_model_create(&d, &m, &err) != PHM_OK) printf("  tree model: %s\n", err.msg);
+  return m;
+}
+
 int main(void) {
   phm_model *m = build(PHM_MASS_LUMPED, 0);
   CHECK(m != NULL, "%s", "model created");
@@ -311,6 +360,17 @@ int main(void) {
   run(m, "planar: IDA, KLU", o);
   o.linear_solver = 0;
   run(m, "planar: IDA, dense", o);
+
+  phm_model_free(m);
+
+  /* the tree integrator (csrc/integrate/tree.c): its steps, dense outputs and restarts at the
+   * breakpoints work in its set-up's scratch */
+  m = build_tree();
+  CHECK(m != NULL, "%s", "rigid tree model created");
+  if (!m) return 1;
+  o = base;
+  o.integrator = PHM_INTEGRATOR_TREE;
+  run(m, "tree", o);
 
   /* the counters see the core's own calls: a least-squares solve without a workspace allocates */
   double A[4] = {2, 0, 0, 1}, b[2] = {1, 1};
