@@ -332,6 +332,16 @@ def headline(results: str) -> list:
                          f"{sc['machine'].get('date_utc', '?')} UTC) a rigid chain's CPU per simulated second, phmech's default integrator over the cheapest "
                          "MuJoCo run (RK4, Euler, implicitfast at the steps of `docs/perf_scaling.md`) whose link-end "
                          "error is at or below phmech's (phmech's error in brackets): " + ", ".join(bits))
+        # the issue's sizes (below n = 10 a tree run's CPU is under the clock's resolution)
+        tree: dict = {}
+        for n, lev, row in chain_levels(sc):
+            if n >= 10 and row["phmech tree"] and row["MuJoCo RK4"]:
+                tree.setdefault(n, []).append(row["phmech tree"] / row["MuJoCo RK4"])
+        if tree:
+            parts.append("with `simulate(integrator=\"tree\")` (rigid trees in joint coordinates, "
+                         "`docs/integrators.md`), CPU over MuJoCo RK4's interpolated at the same link-end "
+                         f"error ({' / '.join(f'{v:.0e}' for v in CHAIN_LEVELS)} m): "
+                         + ", ".join(f"n = {n}: {min(r):.2f}-{max(r):.2f}" for n, r in tree.items()))
     return ["; ".join(parts) + "."]
 
 
