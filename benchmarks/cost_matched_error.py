@@ -32,7 +32,7 @@ The baseline build is another installation of phmech (a worktree's .venv built f
 commit); its worker runs this file with that interpreter and this tree's scene definitions.
 
     python benchmarks/cost_matched_error.py --baseline-python /path/to/old/.venv/bin/python
-                                            [--only NAME ...] [--repeats 3] [--smoke]
+                                            [--only NAME ...] [--repeats 3] [--mass lumped] [--smoke]
 
 writes benchmarks/results/cost_matched_error.json (``_smoke`` with --smoke: the double pendulum
 over 0.3 s, one repeat; without a baseline interpreter (``--baseline-python`` or the environment
@@ -50,6 +50,7 @@ import sys
 import tempfile
 import time
 from types import SimpleNamespace
+from typing import Optional
 
 import numpy as np
 
@@ -75,9 +76,15 @@ def worker() -> None:
     import phmech as ph
     import scenes as S
     by_name = {sc.name: sc for sc in S.SCENES}
+    add_link = ph.Mechanism.add_flexible_link
     for line in sys.stdin:
         job = json.loads(line)
         sc = by_name[job["scene"]]
+        mass = job.get("mass")
+        # --mass: every flexible link of the scene with that mass matrix ("lumped": the same in
+        # both builds, to every digit at a fixed step; the consistent mass changed since ac73c91)
+        ph.Mechanism.add_flexible_link = add_link if mass is None else \
+            (lambda self, *a, **k: add_link(self, *a, **dict(k, mass=mass)))
         m, measure = sc.build()
         caught = []
         try:
@@ -109,8 +116,8 @@ def worker() -> None:
 class Worker:
     """One build's worker process."""
 
-    def __init__(self, python: str, tmp: str, name: str):
-        self.name, self.tmp, self.n = name, tmp, 0
+    def __init__(self, python: str, tmp: str, name: str, mass: Optional[str] = None):
+        self.name, self.tmp, self.n, self.mass = name, tmp, 0, mass
         self.log = open(os.path.join(tmp, f"{name}.log"), "w")
         self.proc = subprocess.Popen([python, os.path.abspath(__file__), "--worker"], stdin=subprocess.PIPE,
                                      stdout=subprocess.PIPE, stderr=self.log, text=True, cwd=HERE)
@@ -118,7 +125,8 @@ class Worker:
     def run(self, scene: str, t_end: float, options: dict) -> dict:
         self.n += 1
         out = os.path.join(self.tmp, f"{self.name}_{self.n}.npz")
-        self.proc.stdin.write(json.dumps(dict(scene=scene, t_end=t_end, options=options, out=out)) + "\n")
+        job = dict(scene=scene, t_end=t_end, options=options, out=out, mass=self.mass)
+        self.proc.stdin.write(json.dumps(job) + "\n")
         self.proc.stdin.flush()
         line = self.proc.stdout.readline()
         if not line:
@@ -170,8 +178,12 @@ def errors(a: dict, ref: dict, scale: dict) -> dict:
 
 def interpolate(ladder: list, target: float, key: str) -> dict:
     """CPU at error ``target`` in log-log between the first two consecutive rungs (loose to
-    tight) whose errors bracket it; the rungs' "cpu_s" are their medians."""
+    tight) whose errors bracket it, or the loosest rung's if it is already as accurate (a bound);
+    the rungs' "cpu_s" are their medians."""
     rungs = [r for r in ladder if "errors" in r]
+    if rungs and rungs[0]["errors"][key] <= target:
+        return dict(cpu_s=rungs[0]["cpu_s"], rtol=rungs[0]["rtol"], between=[rungs[0]["rtol"]],
+                    bound="at most")
     for lo, hi in zip(rungs, rungs[1:]):
         e0, e1 = lo["errors"][key], hi["errors"][key]
         if e0 >= target >= e1 and e0 > e1:
@@ -179,9 +191,6 @@ def interpolate(ladder: list, target: float, key: str) -> dict:
             cpu = math.exp((1 - w) * math.log(lo["cpu_s"]) + w * math.log(hi["cpu_s"]))
             rt = math.exp((1 - w) * math.log(lo["rtol"]) + w * math.log(hi["rtol"]))
             return dict(cpu_s=cpu, rtol=rt, between=[lo["rtol"], hi["rtol"]], bound=None)
-    if rungs and rungs[0]["errors"][key] <= target:   # the loosest rung is already as accurate
-        return dict(cpu_s=rungs[0]["cpu_s"], rtol=rungs[0]["rtol"], between=[rungs[0]["rtol"]],
-                    bound="at most")
     return dict(cpu_s=None, rtol=None, between=[], bound="not reached")
 
 
@@ -326,6 +335,9 @@ def main(argv=None):
                     help="the older build's interpreter (default: $PHMECH_BASELINE_PYTHON)")
     ap.add_argument("--only", nargs="*", default=None, help="scene names (default: all of scenes.py)")
     ap.add_argument("--repeats", type=int, default=3, help="interleaved timing rounds (median)")
+    ap.add_argument("--mass", choices=["lumped", "consistent"], default=None,
+                    help="every flexible link with this mass matrix (default: the scenes' own, "
+                         "consistent); writes cost_matched_error_<mass>.json")
     ap.add_argument("--smoke", action="store_true",
                     help=f"the {SMOKE_SCENE} over {SMOKE_T_END} s, one round (tests/test_benchmarks_smoke.py)")
     a = ap.parse_args(argv)
@@ -340,7 +352,8 @@ def main(argv=None):
     scenes = [sc for sc in S.SCENES if a.only is None or sc.name in a.only]
     rows, todo = [], {}
     with tempfile.TemporaryDirectory() as tmp:
-        base, main_w = Worker(baseline, tmp, "baseline"), Worker(sys.executable, tmp, "main")
+        base = Worker(baseline, tmp, "baseline", a.mass)
+        main_w = Worker(sys.executable, tmp, "main", a.mass)
         try:
             for sc in scenes:
                 t_end = SMOKE_T_END if a.smoke else sc.t_end
@@ -381,14 +394,15 @@ def main(argv=None):
     print("(?: the references' own error is above 0.3 of the error matched: not resolved)")
     out_dir = os.environ.get("BENCH_RESULTS") or os.path.join(HERE, "results")
     os.makedirs(out_dir, exist_ok=True)
-    path = os.path.join(out_dir, "cost_matched_error" + ("_smoke" if a.smoke else "") + ".json")
+    path = os.path.join(out_dir, "cost_matched_error" + (f"_{a.mass}" if a.mass else "") +
+                        ("_smoke" if a.smoke else "") + ".json")
     from run import machine
     base_info = subprocess.run([baseline, "-c", "import phmech, os; print(os.path.dirname(phmech.__file__))"],
                                capture_output=True, text=True).stdout.strip()
     with open(path, "w") as f:
         json.dump(dict(baseline_python=baseline, baseline_phmech=base_info,
                        baseline_is_self=os.path.realpath(baseline) == os.path.realpath(sys.executable),
-                       ladder=LADDER, repeats=a.repeats, smoke=a.smoke,
+                       ladder=LADDER, repeats=a.repeats, smoke=a.smoke, mass=a.mass,
                        norm_weights=dict(rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL), scenes=rows,
                        machine=machine()), f, indent=1, default=float)
     print(f"results: {path}")
