@@ -17,6 +17,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[1]
 BENCH = ROOT / "benchmarks"
 
@@ -167,3 +169,23 @@ def test_bench_overhead(tmp_path):
     assert all(0 < r["core_cpu_s"] <= r["cpu_s"] * 1.5 for r in d["runs"]), d["runs"]
     if have("exudyn"):
         assert [r["N"] for r in d["exudyn"]] == [3, 5, 9]
+
+
+def test_cost_matched_error(tmp_path, monkeypatch):
+    # without a baseline interpreter the smoke compares this build with itself: the same runs, so
+    # the same references and errors, and the matched-error interpolation lands on the default rung
+    monkeypatch.delenv("PHMECH_BASELINE_PYTHON", raising=False)
+    run_script("cost_matched_error.py", tmp_path)
+    d = load(tmp_path, "cost_matched_error_smoke.json")
+    assert d["baseline_is_self"] and not (tmp_path / "cost_matched_error.json").exists()
+    r = d["scenes"][0]
+    assert r["reference"]["agreement"] == {"band": 0.0, "contract": 0.0}
+    assert r["baseline"]["errors"] == r["main"]["errors"]
+    # the check (scenes.py's reference, 10x looser) is closer to the reference than the default
+    # run is (measured 0.19 of it: the reference, 10x tighter again, is what errors are against)
+    assert r["reference"]["main_check"]["band"] < 0.5 * r["main"]["errors"]["band"]
+    # the default run keeps the contract on its band quantities
+    assert 0 < r["main"]["vs_tolerance"]["band"] < 1
+    for key in ("band", "contract"):
+        m = r["matched"][key]
+        assert m["bound"] is None and m["rtol"] == pytest.approx(1e-4) and m["ratio"] > 0, m
