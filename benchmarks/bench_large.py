@@ -70,6 +70,7 @@ EX_NEWTON_RTOL = 1e-6                    # Exudyn's Newton tolerance (its defaul
 EX_NEWTON_RTOL_LARGE = (10000, 1e-5)     # from this N on (there 1e-6 stalls too)
 EXPONENT_RANGES = ((30, 10000), (100, 10000))   # the CPU/s exponents reported (issue 31)
 SUMMARY_SIZES = (100, 1000, 10000)              # the sizes of the JSON's summary
+BAND_BOUND_FACTOR = 1.1    # a run within 10 % of band_cap_steps is band-bound (its steps set by T)
 
 
 def properties():
@@ -106,10 +107,22 @@ def phmech_riser(N: int, T: float, rtol: float | None = None) -> dict:
     nodes = [int(round(p * N)) for p in POINTS]
     pts = np.stack([r.position(b.node(k))[:, [0, 2]] for k in nodes], axis=1)   # (nt, 4, 2): x, z
     s = r.stats
+    cap = band_cap_steps(T, float(s["band"]))
     return dict(build_cpu_s=c1 - c0, static_cpu_s=c2 - c1, sim_cpu_s=c3 - c2, t=r.t.tolist(),
                 points=pts.tolist(), steps=int(s["steps"]), newton_iterations=int(s["nonlinear_iters"]),
-                jacobians=int(s["jacobian_evals"]), band_hz=float(s["band"]),
+                jacobians=int(s["jacobian_evals"]), band_hz=float(s["band"]), band_cap_steps=cap,
+                band_bound=bool(s["steps"] <= BAND_BOUND_FACTOR * cap),
                 error_sum=float(s.get("error_sum", float("nan"))), static_lowest_omega=float(st.lowest_omega))
+
+
+def band_cap_steps(T: float, band: float) -> int:
+    """The steps of a run whose every step is the default integrator's largest, 1/(BAND_MAX_STEPS
+    band) (python/phmech/_run.py): its step count when the band, not the accuracy, sets the steps.
+    The default band is at least BAND_PER_SPAN / T, so such a run takes ~600 steps whatever T (the
+    smoke's 0.2 s: 607) and its CPU per simulated second measures the band, not the problem; the
+    full run's 5 s takes ~7000-7500 accuracy-bound steps at every N (benchmarks/results/bench_large.json)"""
+    from phmech import _run
+    return int(np.ceil(T * _run.BAND_MAX_STEPS * band - 1e-9))
 
 
 def exudyn_newton_rtol(N: int) -> float:
@@ -242,6 +255,8 @@ def fit_all(runs: list, base: dict) -> dict:
         if len(rs) >= 2:
             ranges = {f"{lo}-{hi}": [r for r in rs if lo <= r["N"] <= hi] for lo, hi in EXPONENT_RANGES}
             fits[code] = dict(cpu_exponent=fit_exponent(rs), fitted_on=[r["N"] for r in rs],
+                              # a band-bound run's steps are set by T, not by the problem's accuracy
+                              band_bound_runs=[r["N"] for r in rs if r.get("band_bound")],
                               cpu_exponents={k: dict(exponent=fit_exponent(v), fitted_on=[r["N"] for r in v])
                                              for k, v in ranges.items()},
                               local_slopes=[float(np.log(b["cpu_per_sim_s"] / a_["cpu_per_sim_s"]) / np.log(b["N"] / a_["N"]))
@@ -361,7 +376,7 @@ def main() -> None:
         r["time_error"] = deviation(r, ref, T_ref)
         refs[N] = ref
         ref_ratio = ref["wall_s"] / max(r["wall_s"], 1e-3)
-        show(r, f"time error {r['time_error']:.2e} L")
+        show(r, f"time error {r['time_error']:.2e} L" + (" (band-bound steps)" if r["band_bound"] else ""))
         show(ref, f"reference (rtol {REF_RTOL}, {T_ref} s)")
     ph_runs = [r for r in runs if r["code"] == "phmech"]
     finest = max(ph_runs, key=lambda r: r["N"]) if ph_runs else None

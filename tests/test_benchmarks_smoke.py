@@ -152,6 +152,9 @@ def test_bench_large(tmp_path):
     # the defaults against the rtol 1e-6 reference: the motion of 0.2 s is small, its error far below 1e-4 L
     assert math.isfinite(r["error"]) and r["error"] < 1e-4, r
     assert not d["skipped"], d["skipped"]
+    # 0.2 s: the default band is 50 / 0.2 s = 250 Hz and every step its largest, 1/(12 x 250 Hz):
+    # ~600 steps, set by T (the full run's 5 s takes ~12x that, set by its accuracy)
+    assert r["band_hz"] == 250.0 and r["band_cap_steps"] == 600 and r["band_bound"], r
     # the summary at N = 100 (of 100, 1000, 10 000): CPU/s, peak memory and static() CPU
     s = d["summary"]["phmech"]["100"]
     assert s["cpu_per_sim_s"] == r["cpu_per_sim_s"] and s["maxrss_MB"] == r["maxrss_MB"] and s["static_cpu_s"] >= 0
@@ -189,3 +192,18 @@ def test_cost_matched_error(tmp_path, monkeypatch):
     for key in ("band", "contract"):
         m = r["matched"][key]
         assert m["bound"] is None and m["rtol"] == pytest.approx(1e-4) and m["ratio"] > 0, m
+
+
+def test_scaling_ab(tmp_path):
+    # this checkout as "before" and "after", N = 30 and 100 over 0.2 s, interleaved
+    run_script("scaling_ab.py", tmp_path)
+    d = load(tmp_path, "scaling_ab_smoke.json")
+    assert [(r["variant"], r["N"]) for r in d["runs"]] == [("before", 30), ("after", 30), ("before", 100), ("after", 100)]
+    f = d["fits"]
+    # the same code: the same steps and Newton iterations at each N (the CPU differs by the load)
+    for n in ("30", "100"):
+        b, a = f["before"]["points"][n], f["after"]["points"][n]
+        assert b["steps"] == a["steps"] > 0 and b["newton_iterations"] == a["newton_iterations"], (b, a)
+    assert f["after"]["exponents"]["30-10000"]["fitted_on"] == [30, 100]
+    assert math.isfinite(f["after"]["exponents"]["30-10000"]["exponent"])
+    assert f["after"]["exponents"]["100-10000"]["exponent"] is None       # one point: no fit

@@ -319,7 +319,7 @@ static void jacobian_closed_form(dae_t *d, double time, double cj, const double 
   const phm_data *D = &d->data;
   double gn = fabs(m->gravity[0]) + fabs(m->gravity[1]) + fabs(m->gravity[2]);
   for (int c = 0; c < m->nc; c++) {
-    const double *q = y + PHM_NSTATE * c, *t = q + 7, *Hc = D->H + 16 * c, *M = m->car[c].M;
+    const double *q = y + PHM_NSTATE * c, *t = q + 7, *Hc = D->H + 16 * c, *M = m->car[m->car_u[c]].M;
     const double *gm = D->gm + 6 * c;
     int o = PHM_NSTATE * c;
     double B[PHM_NSTATE * PHM_NSTATE] = {0}; /* rows and columns: the carrier's 13 states */
@@ -373,18 +373,18 @@ static void jacobian_closed_form(dae_t *d, double time, double cj, const double 
     add_block(d, val, o, PHM_NSTATE, o, PHM_NSTATE, B, PHM_NSTATE);
   }
   dae_sink sink = {d, y, val};
-  for (int ie = 0; ie < m->ne; ie++) {
-    const phm_element_desc *e = &m->el[ie];
+  for (int ie = 0; ie < m->ne; ie++) { /* section data shared as in phm_applied_pairs */
+    const phm_element_desc *e = &m->el[m->el_sec[ie]];
+    const int a = m->el_ab[2 * ie], b = m->el_ab[2 * ie + 1];
     double w[12], Kx[144], Ct[144];
-    phm_element_tangent(e, D->H + 16 * e->a, D->H + 16 * e->b, D->tw + 6 * e->a, D->tw + 6 * e->b,
-                        w, w + 6, Kx, Ct);
-    add_wrench_tangent(&sink, e->a, e->b, w, Kx, Ct);
+    phm_element_tangent(e, D->H + 16 * a, D->H + 16 * b, D->tw + 6 * a, D->tw + 6 * b, w, w + 6, Kx, Ct);
+    add_wrench_tangent(&sink, a, b, w, Kx, Ct);
   }
   static const double Kzero[144];
   for (int k = 0; k < m->nmc; k++) { /* consistent masses: -Kt into the twists (a "wrench" -f) */
     const int ca = m->mc_a[k], cb = m->mc_b[k];
     double f[12], Kt[144];
-    phm_element_inertia(m->mc + 144 * (size_t)k, m->mc_rows + 12 * (size_t)k, D->tw + 6 * ca, D->tw + 6 * cb,
+    phm_element_inertia(phm_mc(m, k), phm_mc_rows(m, k), D->tw + 6 * ca, D->tw + 6 * cb,
                         yp + PHM_NSTATE * ca + 7, yp + PHM_NSTATE * cb + 7, cj, f, Kt);
     for (int i = 0; i < 144; i++) Kt[i] = -Kt[i];
     add_wrench_tangent(&sink, ca, cb, f, Kzero, Kt);

@@ -167,16 +167,17 @@ int dae_residual_rows(dae_t *d, double time, const double *y, const double *yp, 
         Fc[4 + i] = ypq[4 + i] - (Hc[4 * i] * v[0] + Hc[4 * i + 1] * v[1] + Hc[4 * i + 2] * v[2]);
     }
     double Mt[6], adm[6], Mtd[6];
-    phm_mv6(d->m->car[c].M, t, Mt);
+    const double *M = d->m->car[d->m->car_u[c]].M; /* shared when identical (phm_model.car_u) */
+    phm_mv6(M, t, Mt);
     phm_ad_dual_apply(t, Mt, adm);
-    phm_mv6(d->m->car[c].M, ypc + 7, Mtd);
+    phm_mv6(M, ypc + 7, Mtd);
     for (int i = 0; i < 6; i++) Fc[7 + i] = Mtd[i] - adm[i] - D->wr[6 * c + i] - D->gl[6 * c + i];
     for (int i = 0; i < 6; i++) Ps += D->gl[6 * c + i] * t[i]; /* power of constraint wrenches */
   }
   for (int k = 0; k < m->nmc; k++) { /* consistent element masses couple their nodes' balances */
     const int ca = m->mc_a[k], cb = m->mc_b[k];
     double f[12];
-    phm_element_inertia(m->mc + 144 * (size_t)k, m->mc_rows + 12 * (size_t)k, D->tw + 6 * ca, D->tw + 6 * cb,
+    phm_element_inertia(phm_mc(m, k), phm_mc_rows(m, k), D->tw + 6 * ca, D->tw + 6 * cb,
                         yp + PHM_NSTATE * ca + 7, yp + PHM_NSTATE * cb + 7, 0.0, f, NULL);
     for (int i = 0; i < 6; i++) {
       F[PHM_NSTATE * ca + 7 + i] += f[i];

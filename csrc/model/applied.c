@@ -148,7 +148,7 @@ void phm_load_wrench(const phm_model *m, int il, const double *H, double s, doub
  * so df/domega = scale m hat(R^T g) =: F, d(r x f)/domega = hat(r) F, nothing in translation. */
 void phm_gravity_tangent(const phm_model *m, int c, const double Hc[16], double scale, double w[6],
                          double Kg[36]) {
-  const phm_carrier_desc *cd = &m->car[c];
+  const phm_carrier_desc *cd = &m->car[m->car_u[c]]; /* its mass and com: shared when identical */
   const double *g = m->gravity, *r = cd->com;
   double f[3], gb[3];
   for (int i = 0; i < 3; i++) { /* R^T g */
@@ -208,17 +208,19 @@ void phm_applied_pairs(const phm_model *m, const phm_pair_data *pd, const double
   if (effort && m->nj) memset(effort, 0, sizeof(double) * (size_t)m->nj);
   double V = 0, Pd = 0, Ps = 0;
   for (int ie = 0; ie < m->ne; ie++) {
-    const phm_element_desc *e = &m->el[ie];
+    /* its section data from the first bit-identical element's (phm_model.el_sec) */
+    const phm_element_desc *e = &m->el[m->el_sec[ie]];
+    const int a = m->el_ab[2 * ie], b = m->el_ab[2 * ie + 1];
     double wa[6], wb[6], v, p;
     /* an undamped element's twists only make its (zero) viscous stress and power: not passed */
     int tv = tw && m->el_damped[ie];
-    phm_element_eval(e, H + 16 * e->a, H + 16 * e->b, tv ? tw + 6 * e->a : NULL,
-                     tv ? tw + 6 * e->b : NULL, wa, wb, &v, &p, NULL);
+    phm_element_eval(e, H + 16 * a, H + 16 * b, tv ? tw + 6 * a : NULL, tv ? tw + 6 * b : NULL,
+                     wa, wb, &v, &p, NULL);
     V += v;
     Pd += p;
     for (int i = 0; i < 6; i++) {
-      wr[6 * e->a + i] += wa[i];
-      wr[6 * e->b + i] += wb[i];
+      wr[6 * a + i] += wa[i];
+      wr[6 * b + i] += wb[i];
     }
   }
   double gn = fabs(m->gravity[0]) + fabs(m->gravity[1]) + fabs(m->gravity[2]);

@@ -48,6 +48,10 @@ void phm_model_free(phm_model *m) {
   free(m->car);
   free(m->el);
   free(m->el_damped);
+  free(m->el_ab);
+  free(m->car_u);
+  free(m->el_sec);
+  free(m->mc_u);
   free(m->mc_a);
   free(m->mc_b);
   free(m->mc);
@@ -288,6 +292,9 @@ static phm_model *model_alloc(const phm_model_desc *d) {
   m->car = malloc(sizeof *m->car * (size_t)m->nc);
   m->el = malloc(sizeof *m->el * (size_t)(m->ne + 1));
   m->el_damped = calloc((size_t)(m->ne + 1), 1);
+  m->el_ab = malloc(sizeof(int) * (size_t)(2 * m->ne + 1));
+  m->car_u = malloc(sizeof(int) * (size_t)(m->nc + 1));
+  m->el_sec = malloc(sizeof(int) * (size_t)(m->ne + 1));
   m->pair = malloc(sizeof *m->pair * (size_t)(m->np + 1));
   m->pair_row = malloc(sizeof(int) * (size_t)(m->np + 1));
   m->pair_m = malloc(sizeof(int) * (size_t)(m->np + 1));
@@ -300,7 +307,7 @@ static phm_model *model_alloc(const phm_model_desc *d) {
   m->pair_AdTbi = malloc(sizeof(double) * (size_t)(36 * m->np + 1));
   m->act = malloc(sizeof *m->act * (size_t)(m->na + 1));
   m->spr = malloc(sizeof *m->spr * (size_t)(m->ns + 1));
-  if (!m->car || !m->el || !m->el_damped || !m->pair || !m->pair_row || !m->pair_m || !m->load ||
+  if (!m->car || !m->car_u || !m->el || !m->el_damped || !m->el_ab || !m->el_sec || !m->pair || !m->pair_row || !m->pair_m || !m->load ||
       !m->pair_j || !m->pair_k || !m->xref0 || !m->act || !m->spr || !m->pair_sel || !m->pair_rowf || !m->pair_AdTbi) {
     phm_model_free(m);
     return NULL;
@@ -315,6 +322,16 @@ static void copy_components(phm_model *m, const phm_model_desc *d) {
   if (m->ne) memcpy(m->el, d->elements, sizeof *m->el * (size_t)m->ne);
   for (int i = 0; i < m->ne; i++)
     for (int k = 0; k < 36; k++) m->el_damped[i] |= m->el[i].D[k] != 0.0;
+  for (int i = 0; i < m->ne; i++) {
+    m->el_ab[2 * i] = m->el[i].a;
+    m->el_ab[2 * i + 1] = m->el[i].b;
+    /* the section data the element's kernels read, shared with the last distinct element's when
+     * bit-identical (a mesh's neighbours: one comparison per element, no search) */
+    const phm_element_desc *e = &m->el[i], *u = i > 0 ? &m->el[m->el_sec[i - 1]] : NULL;
+    m->el_sec[i] = u && !memcmp(&e->h, &u->h, sizeof e->h) && !memcmp(e->K, u->K, sizeof e->K) &&
+                           !memcmp(e->D, u->D, sizeof e->D) && !memcmp(e->eps_hat, u->eps_hat, sizeof e->eps_hat)
+                       ? m->el_sec[i - 1] : i;
+  }
   if (m->np) memcpy(m->pair, d->pairs, sizeof *m->pair * (size_t)m->np);
   for (int i = 0; i < m->np; i++) { /* constant: computed once, read by every pair evaluation */
     double Tbi[16];
@@ -337,7 +354,8 @@ static int mass_couplings(phm_model *m, const phm_model_desc *d) {
   m->mc_b = malloc(sizeof(int) * (size_t)(m->nmc + 1));
   m->mc = malloc(sizeof(double) * 144 * (size_t)(m->nmc + 1));
   m->mc_rows = malloc(sizeof(unsigned short) * 12 * (size_t)(m->nmc + 1));
-  if (!m->mc_a || !m->mc_b || !m->mc || !m->mc_rows) return -1;
+  m->mc_u = malloc(sizeof(int) * (size_t)(m->nmc + 1));
+  if (!m->mc_a || !m->mc_b || !m->mc || !m->mc_rows || !m->mc_u) return -1;
   int k = 0;
   for (int i = 0; i < m->ne; i++)
     if (m->el[i].mass != PHM_MASS_LUMPED) {
@@ -353,7 +371,12 @@ static int mass_couplings(phm_model *m, const phm_model_desc *d) {
     memcpy(m->mc + 144 * (size_t)k, d->couplings[i].Mc, 144 * sizeof(double));
   }
   phm_components_inertia(m, k);
-  for (k = 0; k < m->nmc; k++) phm_mass_rows(m->mc + 144 * (size_t)k, m->mc_rows + 12 * (size_t)k);
+  for (k = 0; k < m->nmc; k++) {
+    phm_mass_rows(m->mc + 144 * (size_t)k, m->mc_rows + 12 * (size_t)k);
+    /* shared with the last distinct coupling's when bit-identical (see el_sec) */
+    int u = k > 0 ? m->mc_u[k - 1] : -1;
+    m->mc_u[k] = u >= 0 && !memcmp(m->mc + 144 * (size_t)k, m->mc + 144 * (size_t)u, 144 * sizeof(double)) ? u : k;
+  }
   return 0;
 }
 
@@ -433,6 +456,12 @@ phm_status phm_model_create(const phm_model_desc *d, phm_model **out, phm_error 
   if (phm_components_copy(m, d) || mass_couplings(m, d) || copy_laws(m, d)) {
     phm_model_free(m);
     return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
+  }
+  for (int c = 0; c < m->nc; c++) { /* after the components' rotor inertias (mass_couplings) */
+    const phm_carrier_desc *a = &m->car[c], *u = c > 0 ? &m->car[m->car_u[c - 1]] : NULL;
+    m->car_u[c] = u && !memcmp(a->M, u->M, sizeof a->M) && !memcmp(&a->mass, &u->mass, sizeof a->mass) &&
+                          !memcmp(a->com, u->com, sizeof a->com)
+                      ? m->car_u[c - 1] : c;
   }
   pair_layout(m);
   m->nport = m->na + m->nl + m->ns;

@@ -14,6 +14,13 @@ struct phm_model {
   phm_carrier_desc *car;
   phm_element_desc *el;
   unsigned char *el_damped; /* ne: the element's section damping D is not zero */
+  int *car_u;       /* nc: the first carrier whose M, mass and com are bit-identical to this one's:
+                     * the residual's inertia and gravity read those at car_u[c] (see el_sec) */
+  int *el_ab;       /* 2 per element: its carriers a, b (el[i].a, .b, packed for the hot loops) */
+  int *el_sec;      /* ne: the first element whose h, K, D and eps_hat are bit-identical to this
+                     * one's (phm_model_share): the residual reads those from el[el_sec[i]], so a
+                     * uniform mesh's loop reads one element's 2 kB, not N of them (measured:
+                     * docs/perf_scaling.md, "Memory per step") */
   phm_pair_desc *pair;
   int *pair_row;    /* first constraint row of each pair */
   int *pair_m;      /* constraint rows of each pair      */
@@ -42,6 +49,8 @@ struct phm_model {
   double *mc;       /* nmc x 144: their couplings Mc (phm_element_mass, or given), once  */
   unsigned short *mc_rows; /* nmc x 12: row i's nonzero columns j of Mc (bit j); a straight
                             * element's couple 40 of the 144 pairs of twist components       */
+  int *mc_u;        /* nmc: the first coupling whose Mc is bit-identical to this one's: the hot
+                     * loops read Mc and its rows at mc_u[k] (see el_sec)                   */
   int ncomp;        /* components with internal states (component.c), grouped by pair   */
   phm_component_desc *comp;
   int *comp_z;      /* ncomp: the first of its internal states among the nz                */
@@ -50,6 +59,12 @@ struct phm_model {
   int has_spin;     /* the analyses about a steady rotation (phm_model_set_spin)          */
   double spin[6];   /* its world twist S (omega, v at the world origin); zero: none       */
 };
+
+/* Coupling k's Mc and its rows as the hot loops read them: the first bit-identical one's. */
+static inline const double *phm_mc(const phm_model *m, int k) { return m->mc + 144 * (size_t)m->mc_u[k]; }
+static inline const unsigned short *phm_mc_rows(const phm_model *m, int k) {
+  return m->mc_rows + 12 * (size_t)m->mc_u[k];
+}
 
 /* tref for the interval [t, ...): midpoint between t and the next breakpoint (or t + 1). */
 double phm_model_tref(const phm_model *m, double t, double *next_bp);
