@@ -192,8 +192,11 @@ phm_status run_tree(dae_t *d, const phm_sim_options *opt, void *work, SUNContext
       /* a breakpoint at tn: the laws' next piece from there on; an output at tn still reads the
        * piece that ends there (its left limit, as IDA's, which restarts after that output) */
       const int bp = last && tn >= nbp;
-      /* the outputs in (t, tn]: the continuous extension */
-      int need = iout < nout && tout[iout] <= tn;
+      /* the outputs in (t, tn]: the continuous extension; one within round-off after tn is
+       * tn's (outputs i dt put simulate(0.3, 0.05)'s last at 0.30000000000000004, and a law's
+       * breakpoint at 0.3 would leave a step of 5.6e-17 s to it) */
+      const double tn_out = tn + 16 * DBL_EPSILON * fabs(tn);
+      int need = iout < nout && tout[iout] <= tn_out;
       if (need) {
         for (int i = 0; i < N; i++) {
           double dy = y1[i] - y[i], bspl = h * k1[i] - dy;
@@ -204,7 +207,7 @@ phm_status run_tree(dae_t *d, const phm_sim_options *opt, void *work, SUNContext
           w->rc[4][i] = h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]);
         }
       }
-      while (iout < nout && tout[iout] <= tn) {
+      while (iout < nout && tout[iout] <= tn_out) {
         const double *Yo = y1;
         if (tout[iout] < tn) {
           double th = (tout[iout] - t) / h, th1 = 1 - th;
