@@ -235,3 +235,26 @@ def test_trapezoidal_drives_a_slider_and_refuses_bad_limits():
     for bad in (dict(max_velocity=0.0), dict(max_acceleration=-1.0)):
         with pytest.raises(ph.ModelError, match="Trapezoidal max_velocity and max_acceleration"):
             m.add_pair("rail2", ph.Prismatic("x"), m.ground, body, driven=ph.Trapezoidal(**bad))
+
+
+@pytest.mark.parametrize("integrator, rtol", [("tree", 1e-8), ("ida", 1e-10), ("generalized-alpha", 1e-6)])
+def test_a_breakpoint_at_the_last_output(integrator, rtol):
+    """A law switching at t_end: the outputs i dt put simulate(0.3, 0.05)'s last at
+    0.30000000000000004, 5.6e-17 s after the breakpoint the steps land on; that output is the
+    breakpoint's (its left limit: the torque still 0). Before, the tree integrator stopped with
+    "step size 5.55e-17 too small" and IDA with IDA_ILL_INPUT (tout too close to t0). Against
+    the free pendulum's motion (SciPy DOP853): I theta'' = -m g c cos(theta), I = 0.01 + 0.25
+    kg m^2, m g c = 4.905 N m; measured 1.2e-9 (tree), 8.4e-10 (IDA) and 1.9e-7 rad (the default
+    integrator at rtol 1e-6, whose contract is rtol max|x| + atol: 8.4e-7 rad here)."""
+    from scipy.integrate import solve_ivp
+    m = ph.Mechanism(gravity=(0, -9.81, 0))
+    b = m.add_rigid_body("bob", 1.0, np.diag((1e-2,) * 3), com=(0.5, 0, 0))
+    m.add_pair("hinge", ph.Revolute("z"), m.ground, b, x0=0.0)
+    m.add_actuator("push", "hinge", ph.Effort(ph.Step(0.3, 0.05)))
+    r = m.simulate(0.3, 0.05, rtol=rtol, integrator=integrator)
+    assert len(r.t) == 7 and not r.interrupted
+    ex = solve_ivp(lambda _, s: [s[1], -4.905 * np.cos(s[0]) / 0.26], (0, r.t[-1]), [0.0, 0.0],
+                   t_eval=r.t, rtol=1e-12, atol=1e-14, method="DOP853").y[0]
+    err = np.abs(r.joint("hinge")["x"][:, 0] - ex).max()
+    bound = rtol * np.abs(ex).max() + rtol / 100 if integrator == "generalized-alpha" else 1e-7
+    assert err <= bound, (err, bound)

@@ -279,20 +279,3 @@ def test_random_trees_match_ida():
         assert np.abs(lam_i - lam_t).max() < 1e-6 * np.abs(lam_i).max(), trial
         assert np.abs(rt.energy["ledger"]).max() < 1e-8, trial
 
-
-def test_a_breakpoint_at_the_last_output():
-    """A law switching at t_end: the outputs i dt put simulate(0.3, 0.05)'s last at
-    0.30000000000000004, 5.6e-17 s after the breakpoint the steps land on; that output is the
-    breakpoint's (its left limit: the torque still 0), not a step of 5.6e-17 s, which stopped
-    the run ("step size too small") before. Against the free pendulum's motion (SciPy DOP853):
-    I theta'' = -m g c cos(theta), I = 0.01 + 0.25 kg m^2, m g c = 4.905 N m; measured 1.2e-9 rad."""
-    from scipy.integrate import solve_ivp
-    m = ph.Mechanism(gravity=(0, -9.81, 0))
-    b = m.add_rigid_body("bob", 1.0, np.diag((1e-2,) * 3), com=(0.5, 0, 0))
-    m.add_pair("hinge", ph.Revolute("z"), m.ground, b, x0=0.0)
-    m.add_actuator("push", "hinge", ph.Effort(ph.Step(0.3, 0.05)))
-    r = m.simulate(0.3, 0.05, rtol=1e-8, integrator="tree")
-    assert len(r.t) == 7 and not r.interrupted
-    ex = solve_ivp(lambda _, s: [s[1], -4.905 * np.cos(s[0]) / 0.26], (0, r.t[-1]), [0.0, 0.0],
-                   t_eval=r.t, rtol=1e-12, atol=1e-14, method="DOP853").y[0]
-    assert np.abs(r.joint("hinge")["x"][:, 0] - ex).max() <= 1e-7
