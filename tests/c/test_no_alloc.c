@@ -64,6 +64,18 @@ static void translation(double H[16], double x) {
   H[3] = x;
 }
 
+/* A PD actuator on pair 1's first coordinate following setpoint_table (its breakpoints). */
+static void pd_on_pair1(phm_actuator_desc *a, double kp, double kd) {
+  a->pair = 1;
+  a->kind = PHM_ACT_PD;
+  a->vec[0] = 1.0;
+  a->kp[0] = kp;
+  a->kd[0] = kd;
+  a->law.kind = PHM_LAW_TABLE;
+  a->law.ntable = 3;
+  a->law.table = setpoint_table;
+}
+
 static phm_model *build(int mass, int planar) {
   static phm_carrier_desc car[NC];
   static phm_element_desc el[NE];
@@ -113,14 +125,7 @@ static phm_model *build(int mass, int planar) {
   pr[1].a = NE;
   pr[1].b = NC - 1;
   memset(act, 0, sizeof act);
-  act[0].pair = 1;
-  act[0].kind = PHM_ACT_PD;
-  act[0].vec[0] = 1.0;
-  act[0].kp[0] = 2.0;
-  act[0].kd[0] = 0.05;
-  act[0].law.kind = PHM_LAW_TABLE;
-  act[0].law.ntable = 3;
-  act[0].law.table = setpoint_table;
+  pd_on_pair1(&act[0], 2.0, 0.05);
   memset(spr, 0, sizeof spr);
   spr[0].a = NC - 1;
   spr[0].b = -1;
@@ -270,14 +275,7 @@ static phm_model *build_tree(void) {
     for (int i = 0; i < 4; i++) pr[c].Ta[5 * i] = pr[c].Tb[5 * i] = 1.0;
     pr[c].Ta[3] = c ? 0.2 : 0.0;
   }
-  act[0].pair = 1;
-  act[0].kind = PHM_ACT_PD;
-  act[0].vec[0] = 1.0;
-  act[0].kp[0] = 5.0;
-  act[0].kd[0] = 0.1;
-  act[0].law.kind = PHM_LAW_TABLE;
-  act[0].law.ntable = 3;
-  act[0].law.table = setpoint_table;
+  pd_on_pair1(&act[0], 5.0, 0.1);
   spr[0].a = 1;
   spr[0].b = -1;
   spr[0].pa[0] = 0.1;
