@@ -171,17 +171,6 @@ nomem:
   return PHM_FAIL(err, PHM_ENOMEM, "out of memory");
 }
 
-/* ad_v x */
-static inline void ad_apply(const double v[6], const double x[6], double out[6]) {
-  const double *om = v, *vv = v + 3, *xw = x, *xv = x + 3;
-  out[0] = om[1] * xw[2] - om[2] * xw[1];
-  out[1] = om[2] * xw[0] - om[0] * xw[2];
-  out[2] = om[0] * xw[1] - om[1] * xw[0];
-  out[3] = vv[1] * xw[2] - vv[2] * xw[1] + om[1] * xv[2] - om[2] * xv[1];
-  out[4] = vv[2] * xw[0] - vv[0] * xw[2] + om[2] * xv[0] - om[0] * xv[2];
-  out[5] = vv[0] * xw[1] - vv[1] * xw[0] + om[0] * xv[1] - om[1] * xv[0];
-}
-
 /* The transforms of g = (R, p) = H_c^-1 H_p (4x4, first three rows read) without forming Ad_g:
  * Ad_g x = (R w, p x R w + R v) on a twist x = (w, v); Ad_g^T f = (R^T (tau - p x f), R^T f) on a
  * wrench f = (tau, f). */
@@ -292,7 +281,7 @@ int tree_eval(tree_work *w, double t, double tref, const double *Y, double *dY) 
     if (p >= 0) Ad_apply(X, w->v + 6 * p, vc); /* X = Ad_g */
     else memset(vc, 0, sizeof(double) * 6);
     for (int i = 0; i < 6; i++) vc[i] += Sq[i];
-    ad_apply(vc, Sq, w->cb + 6 * c);
+    phm_ad_apply(vc, Sq, w->cb + 6 * c);
   }
   /* the applied wrenches at these poses and twists, and the ledger's power rates */
   double Pd = 0, Ps = 0;

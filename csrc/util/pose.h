@@ -20,6 +20,18 @@ static inline void phm_inv_compose(const double A[16], const double B[16], doubl
   h[15] = 1.0;
 }
 
+/* out = ad_t x for twists t = (omega, v), x = (w, u): (omega x w, v x w + omega x u), the twists'
+ * bracket (docs/method.md section 3.4); phm_ad_dual_apply is its transpose. */
+static inline void phm_ad_apply(const double t[6], const double x[6], double out[6]) {
+  const double *om = t, *v = t + 3, *w = x, *u = x + 3;
+  out[0] = om[1] * w[2] - om[2] * w[1];
+  out[1] = om[2] * w[0] - om[0] * w[2];
+  out[2] = om[0] * w[1] - om[1] * w[0];
+  out[3] = v[1] * w[2] - v[2] * w[1] + om[1] * u[2] - om[2] * u[1];
+  out[4] = v[2] * w[0] - v[0] * w[2] + om[2] * u[0] - om[0] * u[2];
+  out[5] = v[0] * w[1] - v[1] * w[0] + om[0] * u[1] - om[1] * u[0];
+}
+
 /* out = ad*_t mm = ad_t^T mm for a momentum mm = (L, P) and a twist t = (omega, v):
  * (-omega x L - v x P, -omega x P) (docs/method.md section 3.4): the gyroscopic term. */
 static inline void phm_ad_dual_apply(const double t[6], const double mm[6], double out[6]) {
