@@ -29,6 +29,17 @@ void tree_free(tree_work *w) {
   memset(w, 0, sizeof *w);
 }
 
+/* C = A B for general 4x4 matrices (row-major): the P_e below are not poses, so
+ * phm_se3_compose, which takes the last rows as (0, 0, 0, 1), does not apply. */
+static void mul4(const double A[16], const double B[16], double C[16]) {
+  for (int i = 0; i < 4; i++)
+    for (int j = 0; j < 4; j++) {
+      double sum = 0;
+      for (int l = 0; l < 4; l++) sum += A[4 * i + l] * B[4 * l + j];
+      C[4 * i + j] = sum;
+    }
+}
+
 /* The type's motion subspace in F_b (constant: h = exp(sum psi_c x_c) with commuting psi_c), or
  * -1 if it has none of that kind; its angle's coordinate *ti and slide's *di, *ds (see
  * tree_work.K). */
@@ -125,18 +136,8 @@ phm_status tree_build(const dae_t *d, tree_work *w, phm_error *err) {
     phm_se3_inverse(pr->Tb, Tbi);
     for (int e = 0; e < 4; e++) {
       double TP[16];
-      for (int i = 0; i < 4; i++)
-        for (int j = 0; j < 4; j++) {
-          double sum = 0;
-          for (int l = 0; l < 4; l++) sum += pr->Ta[4 * i + l] * P[e][4 * l + j];
-          TP[4 * i + j] = sum;
-        }
-      for (int i = 0; i < 4; i++)
-        for (int j = 0; j < 4; j++) {
-          double sum = 0;
-          for (int l = 0; l < 4; l++) sum += TP[4 * i + l] * Tbi[4 * l + j];
-          w->K[64 * c + 16 * e + 4 * i + j] = sum;
-        }
+      mul4(pr->Ta, P[e], TP);
+      mul4(TP, Tbi, w->K + 64 * c + 16 * e);
     }
   }
   for (int c = 0; c < nc; c++)
@@ -148,7 +149,7 @@ phm_status tree_build(const dae_t *d, tree_work *w, phm_error *err) {
   /* order: parents first (each carrier's depth below the ground; a cycle never reaches it) */
   int no = 0;
   for (int c = 0; c < nc; c++) w->isrt[c] = 0; /* 0 unplaced, 1 placed */
-  for (int pass = 0; no < nc; pass++) {
+  while (no < nc) {
     int placed = 0;
     for (int c = 0; c < nc; c++)
       if (!w->isrt[c] && (w->par[c] < 0 || w->isrt[w->par[c]])) {
@@ -163,7 +164,6 @@ phm_status tree_build(const dae_t *d, tree_work *w, phm_error *err) {
       return PHM_FAIL(err, PHM_EINVAL, "%s: carrier %d is on a closed loop of pairs not attached "
                       "to the ground", why, c);
     }
-    (void)pass;
   }
   return PHM_OK;
 nomem:
