@@ -405,12 +405,7 @@ phm_status dae_consistent_ic(dae_t *d, double time, double *H, double *tw, const
   /* write y and yp */
   for (int c = 0; c < nc; c++) {
     double *yc = y + PHM_NSTATE * c, *ypc = yp + PHM_NSTATE * c;
-    phm_H_to_qp(H + 16 * c, yc, yc + 4);
-    if (qprev) {
-      const double *qo = qprev + PHM_NSTATE * c;
-      if (yc[0] * qo[0] + yc[1] * qo[1] + yc[2] * qo[2] + yc[3] * qo[3] < 0)
-        for (int i = 0; i < 4; i++) yc[i] = -yc[i];
-    }
+    phm_H_to_qp_near(H + 16 * c, qprev ? qprev + PHM_NSTATE * c : NULL, yc, yc + 4);
     memcpy(yc + 7, tw + 6 * c, 6 * sizeof(double));
     const double *q = yc, *w = tw + 6 * c, *v = tw + 6 * c + 3, *Hc = H + 16 * c;
     ypc[0] = -0.5 * (q[1] * w[0] + q[2] * w[1] + q[3] * w[2]);

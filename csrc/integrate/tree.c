@@ -89,21 +89,17 @@ static double first_step(tree_work *w, double t, double tref, double hmax, doubl
 /* The DAE's state of the tree's state Y at time t into w->ydae (d's layout), the quaternions'
  * signs continued from those already there. */
 static void dae_state(tree_work *w, const dae_t *d, double t, double tref, const double *Y) {
-  const phm_model *m = w->m;
   double *y = w->ydae;
   tree_eval(w, t, tref, Y, NULL);
   for (int c = 0; c < w->nb; c++) {
-    double qn[4], *yc = y + PHM_NSTATE * c;
-    phm_H_to_qp(w->H + 16 * c, qn, yc + 4);
-    double s = qn[0] * yc[0] + qn[1] * yc[1] + qn[2] * yc[2] + qn[3] * yc[3];
-    for (int i = 0; i < 4; i++) yc[i] = s < 0 ? -qn[i] : qn[i];
+    double *yc = y + PHM_NSTATE * c;
+    phm_H_to_qp_near(w->H + 16 * c, yc, yc, yc + 4);
     memcpy(yc + 7, w->v + 6 * c, sizeof(double) * 6);
   }
   memcpy(y + d->ix, Y, sizeof(double) * (size_t)w->nj);
   memcpy(y + d->ie, Y + 2 * w->nj, sizeof(double) * (size_t)w->nled);
   tree_lambda(w, t, tref, Y, y + d->il);
   for (int i = d->im; i < d->n; i++) y[i] = 0.0;
-  (void)m;
 }
 
 phm_status run_tree(dae_t *d, const phm_sim_options *opt, void *work, SUNContext ctx,

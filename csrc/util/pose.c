@@ -25,6 +25,13 @@ void phm_H_to_qp(const double H[16], double q[4], double p[3]) {
   phm_quat_from_rot(R, q);
 }
 
+void phm_H_to_qp_near(const double H[16], const double *qprev, double q[4], double p[3]) {
+  double qn[4];
+  phm_H_to_qp(H, qn, p);
+  const int flip = qprev && qn[0] * qprev[0] + qn[1] * qprev[1] + qn[2] * qprev[2] + qn[3] * qprev[3] < 0;
+  for (int i = 0; i < 4; i++) q[i] = flip ? -qn[i] : qn[i];
+}
+
 void phm_retract(double H[16], const double delta[6]) {
   double E[16], HE[16];
   phm_se3_exp(delta, E);

@@ -1,11 +1,14 @@
 /* pose.h -- the SE(3) helpers of the core's inner loops: a carrier's pose H as the state stores
- * it (unit quaternion q, position p), the retraction used by every Newton update on SE(3)
+ * it (unit quaternion q, position p; its sign continued), the retraction used by every Newton update on SE(3)
  * (csrc/util/pose.c), and ad*_t applied to a momentum. */
 #ifndef PHM_POSE_H
 #define PHM_POSE_H
 
 void phm_qp_to_H(const double q[4], const double p[3], double H[16]);
 void phm_H_to_qp(const double H[16], double q[4], double p[3]);
+/* phm_H_to_qp with q's sign that of qprev's hemisphere (q and -q are the same rotation: a state
+ * keeps its quaternions continuous along a run); qprev NULL: as phm_H_to_qp; it may be q. */
+void phm_H_to_qp_near(const double H[16], const double *qprev, double q[4], double p[3]);
 void phm_retract(double H[16], const double delta[6]); /* H <- H exp(delta) */
 
 /* h = A^-1 B (A, B: their first three rows read): R_A^T R_B, R_A^T p_B + (-R_A^T p_A), the
