@@ -536,8 +536,7 @@ def main() -> None:
         dt_out=dict(elements=ELEM_DT_OUT, chain=CHAIN_DT_OUT))
     # the chain at matched error: each ladder's CPU s/s interpolated at fixed error levels, and
     # its ratio to MuJoCo RK4's (benchmarks/report.py, chain_levels)
-    from report import CHAIN_GROUPS, chain_levels
-    mj = list(CHAIN_GROUPS)[-1]
+    from report import CHAIN_PEER as mj, chain_levels
     out["chain_at_matched_error"] = [
         dict(size=n, error_m=lev, cpu_per_sim_s=row,
              ratio_to_mujoco_rk4={g: row[g] / row[mj] for g in row if g != mj and row.get(g) and row.get(mj)})

@@ -188,6 +188,8 @@ CHAIN_GROUPS = {"phmech default": lambda c: c.startswith("chain-phmech-default")
                 "phmech IDA (KLU)": lambda c: c.startswith("chain-phmech-klu"),
                 "phmech tree": lambda c: c.startswith("chain-phmech-tree"),
                 "MuJoCo RK4": lambda c: c == "chain-mujoco" or c.startswith("chain-mujoco-rk4")}
+#: the group of CHAIN_GROUPS the others' ratios are to
+CHAIN_PEER = "MuJoCo RK4"
 CHAIN_LEVELS = (1e-6, 3e-7, 1e-7, 3e-8)
 
 
@@ -212,7 +214,7 @@ def chain_levels(sc: dict) -> list:
     for n in sorted({r["size"] for r in sc["runs"] if r["code"].startswith("chain-")}):
         for lev in CHAIN_LEVELS:
             row = {g: rate_at_error(sc["runs"], p, n, lev) for g, p in CHAIN_GROUPS.items()}
-            if row["MuJoCo RK4"] and (row["phmech default"] or row["phmech IDA (KLU)"] or row["phmech tree"]):
+            if row[CHAIN_PEER] and any(v for g, v in row.items() if g != CHAIN_PEER):
                 out.append((n, lev, row))
     return out
 
@@ -335,8 +337,8 @@ def headline(results: str) -> list:
         # the issue's sizes (below n = 10 a tree run's CPU is under the clock's resolution)
         tree: dict = {}
         for n, lev, row in chain_levels(sc):
-            if n >= 10 and row["phmech tree"] and row["MuJoCo RK4"]:
-                tree.setdefault(n, []).append(row["phmech tree"] / row["MuJoCo RK4"])
+            if n >= 10 and row["phmech tree"] and row[CHAIN_PEER]:
+                tree.setdefault(n, []).append(row["phmech tree"] / row[CHAIN_PEER])
         if tree:
             parts.append("with `simulate(integrator=\"tree\")` (rigid trees in joint coordinates, "
                          "`docs/integrators.md`), CPU over MuJoCo RK4's interpolated at the same link-end "
