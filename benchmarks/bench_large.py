@@ -239,6 +239,12 @@ def fit_exponent(rs: list) -> float | None:
     return float(np.polyfit(np.log([r["N"] for r in rs]), np.log([r["cpu_per_sim_s"] for r in rs]), 1)[0])
 
 
+def local_slopes(rs: list) -> list:
+    """d log(CPU/s) / d log N between consecutive runs of ``rs`` (sorted by N)."""
+    return [float(np.log(b["cpu_per_sim_s"] / a["cpu_per_sim_s"]) / np.log(b["N"] / a["N"]))
+            for a, b in zip(rs, rs[1:])]
+
+
 def slim(r: dict) -> dict:
     """A point without its trajectories (the JSON keeps the errors, not the samples)."""
     return {k: v for k, v in r.items() if k not in ("t", "points")}
@@ -259,8 +265,7 @@ def fit_all(runs: list, base: dict) -> dict:
                               band_bound_runs=[r["N"] for r in rs if r.get("band_bound")],
                               cpu_exponents={k: dict(exponent=fit_exponent(v), fitted_on=[r["N"] for r in v])
                                              for k, v in ranges.items()},
-                              local_slopes=[float(np.log(b["cpu_per_sim_s"] / a_["cpu_per_sim_s"]) / np.log(b["N"] / a_["N"]))
-                                            for a_, b in zip(rs, rs[1:])],
+                              local_slopes=local_slopes(rs),
                               memory_exponent_above_baseline=fit_exponent(
                                   [dict(N=r["N"], cpu_per_sim_s=max(r["maxrss_MB"] - base[code], 1e-3)) for r in rs]))
     return fits

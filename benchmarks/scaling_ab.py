@@ -26,11 +26,11 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
+from bench_large import EXPONENT_RANGES as RANGES, fit_exponent, local_slopes  # noqa: E402
 from run import machine, write_json  # noqa: E402
 
 SIZES = (30, 100, 300, 1000, 3000, 10000)
 T_FULL = 5.0
-RANGES = ((30, 10000), (100, 10000))
 
 
 def point(checkout: str, N: int, T: float) -> dict:
@@ -44,12 +44,6 @@ def point(checkout: str, N: int, T: float) -> dict:
     return r
 
 
-def exponent(rs: list) -> float | None:
-    if len(rs) < 2:
-        return None
-    return float(np.polyfit(np.log([r["N"] for r in rs]), np.log([r["cpu_per_sim_s"] for r in rs]), 1)[0])
-
-
 def fits(runs: list) -> dict:
     """Per variant: exponents over RANGES (least squares in log-log), local slopes, and per N
     CPU/s, steps, Newton iterations, peak RSS (the last run of each N when repeated)."""
@@ -60,10 +54,9 @@ def fits(runs: list) -> dict:
         if not rs:
             continue
         out[v] = dict(
-            exponents={f"{lo}-{hi}": dict(exponent=exponent([r for r in rs if lo <= r["N"] <= hi]),
+            exponents={f"{lo}-{hi}": dict(exponent=fit_exponent([r for r in rs if lo <= r["N"] <= hi]),
                                           fitted_on=[r["N"] for r in rs if lo <= r["N"] <= hi]) for lo, hi in RANGES},
-            local_slopes=[float(np.log(b["cpu_per_sim_s"] / a["cpu_per_sim_s"]) / np.log(b["N"] / a["N"]))
-                          for a, b in zip(rs, rs[1:])],
+            local_slopes=local_slopes(rs),
             points={str(r["N"]): dict(cpu_per_sim_s=r["cpu_per_sim_s"], steps=r["steps"],
                                       newton_iterations=r["newton_iterations"], jacobians=r.get("jacobians"),
                                       maxrss_MB=r["maxrss_MB"], static_cpu_s=r["static_cpu_s"],
