@@ -65,15 +65,20 @@ def configuration(res) -> np.ndarray:
     return np.concatenate(parts, axis=1)
 
 
+def contract_terms(y: np.ndarray, yr: np.ndarray, nc: int, rtol: float, atol: float) -> tuple:
+    """(e, w): the error y - yr with y's quaternions (columns 3 nc .. 7 nc) given yr's sign, and
+    the contract's weights rtol |yr| + atol."""
+    y = y.copy()
+    q, qr = y[:, 3 * nc:7 * nc].reshape(-1, nc, 4), yr[:, 3 * nc:7 * nc].reshape(-1, nc, 4)
+    y[:, 3 * nc:7 * nc] = (q * np.sign(np.sum(q * qr, axis=-1, keepdims=True))).reshape(-1, 4 * nc)
+    return y - yr, rtol * np.abs(yr) + atol
+
+
 def contract_error(y: np.ndarray, yr: np.ndarray, nc: int, rtol: float, atol: float,
                    band: float, dt: float) -> dict:
     """The largest over the outputs of the RMS of (y - yr) / (rtol |yr| + atol), raw and
     low-passed at ``band`` [Hz]; the quaternions (columns 3 nc .. 7 nc) take yr's sign."""
-    y = y.copy()
-    q, qr = y[:, 3 * nc:7 * nc].reshape(-1, nc, 4), yr[:, 3 * nc:7 * nc].reshape(-1, nc, 4)
-    y[:, 3 * nc:7 * nc] = (q * np.sign(np.sum(q * qr, axis=-1, keepdims=True))).reshape(-1, 4 * nc)
-    w = rtol * np.abs(yr) + atol
-    e = y - yr
+    e, w = contract_terms(y, yr, nc, rtol, atol)
     b, a = butter(4, band, fs=1.0 / dt)
     out = {}
     for name, d in (("raw", e), ("in_band", filtfilt(b, a, e, axis=0))):

@@ -162,13 +162,11 @@ def band_vs_tolerance(a: dict, ref: dict, scale: dict, rtol: float, atol: float)
 def contract_norm(a: dict, ref: dict, rtol: float = DEFAULT_RTOL, atol: float = DEFAULT_ATOL) -> float:
     """configuration_error.py's norm, raw: the largest over the outputs of the RMS over the
     configuration of (y - y_ref) / (rtol |y_ref| + atol), quaternions with the reference's sign."""
-    from configuration_error import configuration
+    from configuration_error import configuration, contract_terms
     y = configuration(SimpleNamespace(t=a["t"], poses=a["poses"], joints=a["joints"]))
     yr = configuration(SimpleNamespace(t=ref["t"], poses=ref["poses"], joints=ref["joints"]))
-    nc = a["poses"].shape[1]
-    q, qr = y[:, 3 * nc:7 * nc].reshape(-1, nc, 4), yr[:, 3 * nc:7 * nc].reshape(-1, nc, 4)
-    y[:, 3 * nc:7 * nc] = (q * np.sign(np.sum(q * qr, axis=-1, keepdims=True))).reshape(-1, 4 * nc)
-    rms = np.sqrt(np.mean(((y - yr) / (rtol * np.abs(yr) + atol)) ** 2, axis=1))
+    e, w = contract_terms(y, yr, a["poses"].shape[1], rtol, atol)
+    rms = np.sqrt(np.mean((e / w) ** 2, axis=1))
     return float(rms.max())
 
 
