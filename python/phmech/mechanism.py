@@ -138,8 +138,10 @@ class Mechanism(Builder):
         tolerances: above 1 an
         AccuracyWarning says so; None with flexible links, where it is not estimated) and
         ``global_error_time`` [s] (when), ``min_step`` [s] (the shortest step); and ``energy_scale`` [J], ``ledger_relative`` (the largest absolute
-        energy ledger residual / energy_scale), ``numerical_dissipation`` [J] (energy the
-        integrator removed, from the ledger) and ``max_mu`` (the largest multiplier of the
+        energy ledger residual / energy_scale; above 4e-3 an AccuracyWarning), ``numerical_dissipation``
+        [J] (energy the integrator removed by the end of the run, from the ledger; above 20 rtol
+        of energy_scale an AccuracyWarning with the default integrator: docs/user_guide.md,
+        "Energy ledger") and ``max_mu`` (the largest multiplier of the
         position constraints at the outputs, a velocity correction [m/s, rad/s] that is zero for
         the exact motion: docs/method.md section 6.2).
 
