@@ -85,3 +85,16 @@ def test_a_monitor_flag_without_a_truth_value_neither_stops_nor_breaks_the_run(m
     m.add_pair("k", ph.Revolute("z"), m.ground, b, x0=0.3)
     res = m.simulate(0.05, 1e-2, integrator="generalized-alpha", step=1e-3)
     assert len(res.t) == 6 and res.t[-1] == pytest.approx(0.05)   # ran to its end
+
+
+def test_a_callback_that_stops_the_run_marks_it_interrupted():
+    # results.py documents ``interrupted`` as "stopped by Ctrl-C or the callback": a run the
+    # callback stopped at 0.3 s of 1 s is not a whole run (it read False before 2026-12-07)
+    m = ph.Mechanism(gravity=(0, 0, -9.81))
+    b = m.add_rigid_body("rod", 1.0, np.diag([1e-4, 1 / 12, 1 / 12]), com=(0.5, 0, 0))
+    m.add_pair("pivot", ph.Revolute(axis="y"), m.ground, b)
+    for integrator in ("generalized-alpha", "ida", "tree"):
+        r = m.simulate(1.0, 0.01, callback=lambda t, i: t >= 0.3, integrator=integrator)
+        assert r.interrupted and r.t[-1] == pytest.approx(0.3) and len(r.t) == 31, integrator
+        r = m.simulate(0.1, 0.01, callback=lambda t, i: False, integrator=integrator)
+        assert not r.interrupted and len(r.t) == 11, integrator

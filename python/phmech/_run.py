@@ -204,6 +204,7 @@ class RunMonitor:
         self.printed = False
         self.bar = None          # the tqdm progress bar, made at the first update
         self.terminated = False  # set by SIGTERM (sigterm_as_interrupt)
+        self.stopped = False     # the user's callback returned True
         self.checkpoint = checkpoint
 
     # core -> Python: between outputs
@@ -230,7 +231,9 @@ class RunMonitor:
             self.checkpoint.output(i, self.steps, time.perf_counter() - self.wall0)
         if self.terminated:
             return True
-        return bool(self.user(t, i)) if self.user is not None else False
+        if self.user is not None and self.user(t, i):
+            self.stopped = True
+        return self.stopped
 
     def _fraction(self) -> float:
         return (self.t - self.t_start) / (self.t_end - self.t_start)

@@ -235,7 +235,8 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
         _sampled.release(mech)
     monitor.finish(r["stats"]["steps"])
     if sampler is None:
-        result = assemble(r, r["nout"], r["stats"], bool(r["interrupted"]) or monitor.terminated)
+        result = assemble(r, r["nout"], r["stats"],
+                          bool(r["interrupted"]) or monitor.stopped or monitor.terminated)
     elif sampler.error is not None:   # the outputs up to the failed sample, all of them
         result = _with_samples(mech, assemble(r, r["nout"], r["stats"], True, run_tout),
                                sampler, rec)
@@ -245,7 +246,7 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
         idx = np.flatnonzero(ctl.user[:r["nout"]] >= 0)
         result = _with_samples(mech, assemble(_sampled.keep(r, idx, len(run_tout)), len(idx),
                                               r["stats"], bool(r["interrupted"]) or
-                                              monitor.terminated), sampler, rec)
+                                              monitor.stopped or monitor.terminated), sampler, rec)
     if sampler is None and mech._desc.sensors:
         result.sensors = _sampled.result_sensors(mech, result, rec)
     if sampler is not None and result.stats.get("global_error_estimate") is not None:

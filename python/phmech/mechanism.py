@@ -98,7 +98,7 @@ class Mechanism(Builder):
 
         ``initial``: start from these poses (e.g. a StaticResult) at rest instead of the
         modelled initial state. ``callback(t, i)`` is called at each output; return True to
-        stop. Ctrl-C, or SIGTERM (a batch system's time limit), stops the run and returns what
+        stop (the result then ends at that output, ``interrupted`` True). Ctrl-C, or SIGTERM (a batch system's time limit), stops the run and returns what
         was computed (``interrupted`` = True). A solver failure raises ``phmech.SolverError``
         whose ``result`` attribute holds the trajectory computed up to the failure. ``record``:
         bodies, links (all their nodes) or frames whose poses and twists are stored (default:
