@@ -31,7 +31,8 @@ BAND_PER_SPAN = 50.0
 #: kinetic plus elastic energy, the work supplied and dissipated) above which a run warns
 #: (AccuracyWarning).
 #: Measured with the defaults (docs/user_guide.md, "Energy ledger"): the scenes of
-#: benchmarks/scenes.py stay at or below 6.3e-4 (the manipulator; the others below 4e-5); the
+#: benchmarks/scenes.py stay at or below 1.65e-4 (the manipulator; the others below 5e-6;
+#: 6.3e-4 before issue 27's fixes of the default integrator; measured 2026-12-07); the
 #: steel strip swinging at dt_out = 0.05 s (tests/hard, finding 5 of docs/validation.md) reaches
 #: 3.2e-2 with 186 times its stretch, a pendulum at a fixed 0.05 s step with rho_inf 0 loses
 #: 1.9e-2 of its energy (tests/accuracy/test_ledger.py). The issue-27 four-bar (0.14 J lost, 10 J
