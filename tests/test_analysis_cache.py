@@ -261,3 +261,13 @@ def test_strict_set_after_a_call_raises_on_the_moves_it_warned_about():
             m.modes(1)
         m.strict = False
         same_modes(m.modes(1), first)
+
+
+def test_a_result_keeps_the_tables_of_its_own_call():
+    m, b = double_pendulum()
+    first = m.modes(2)
+    c = m.add_rigid_body("c", 1.0, np.diag([1e-3, 1e-3, 1e-3]))
+    m.add_pair("k3", ph.Revolute("y"), ph.Frame(b.carrier, se3.translation([0.0, 0.0, -0.5])), c)
+    after = m.modes(2)
+    assert set(first._bodies) == {"a", "b"} and set(after._bodies) == {"a", "b", "c"}
+    assert set(first.participation[0]) == {"a", "b"} and set(after.participation[0]) == {"a", "b", "c"}

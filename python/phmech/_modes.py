@@ -43,11 +43,15 @@ def modes(mech, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0
                       ". For vibrations about the equilibrium use modes(at=m.static(...)).",
                       EquilibriumWarning, stacklevel=outside_stacklevel())
     f, lab = _labels(mech, keep, where, om, sh, at)
+    # the link and body tables as they are now (a later add_* makes a new keep): one copy
+    # per initial configuration, which its results only read
+    tables = keep.get("tables")
+    if tables is None:
+        tables = keep["tables"] = (dict(mech._links), dict(mech._bodies))
     # positional: a dataclass's keywords cost ~1 us a call here (field order: ModesResult)
     return ModesResult(om, f, ze, sh, lab["kind"], lab["strain_fractions"],
                        lab["elastic_fraction"], lab["participation"],
-                       lab["strain_participation"], np.array(where), bool(eq), None,
-                       dict(mech._links), dict(mech._bodies))
+                       lab["strain_participation"], np.array(where), bool(eq), None, *tables)
 
 def _equilibrium(mech, keep: dict, model, poses, time: float, at: Optional[StaticResult]):
     """equilibrium_check of ``poses``; at the initial configuration (``at`` None), or at a
