@@ -32,8 +32,10 @@ _BUILT: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 def built(mech) -> dict:
     """What the analyses built from the mechanism's current initial configuration
     (``mech._state``, dropped by every add_*) and gravity, kept between calls: ``model``, the
-    core model without extra loads (build), and what other layers store (simulate's planar
-    model, modes' equilibrium check, the labels' element geometry). A new, empty dict when the
+    core model without extra loads (build), the messages of the moves (_report) and of the
+    linearization's warnings (linearization_point_kept), and what other layers store
+    (simulate's planar model; modes' equilibrium check, labels with their frequencies, element
+    geometry, link and body tables). A new, empty dict when the
     state, the gravity or the description's rows changed since (``ModelDescription.version``:
     a sampled controller's run sets its output laws in place) -- nothing stale is reused."""
     desc = mech._desc
