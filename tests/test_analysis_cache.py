@@ -271,3 +271,21 @@ def test_a_result_keeps_the_tables_of_its_own_call():
     after = m.modes(2)
     assert set(first._bodies) == {"a", "b"} and set(after._bodies) == {"a", "b", "c"}
     assert set(first.participation[0]) == {"a", "b"} and set(after.participation[0]) == {"a", "b", "c"}
+
+
+def test_modes_builds_its_result_in_the_field_order_of_modes_result():
+    # _modes.modes passes ModesResult's fields positionally (keywords cost ~1 us a call), the
+    # labels in _modes.LABEL_FIELDS' order: both must stay those of the dataclass and of
+    # analysis.label_modes
+    import dataclasses
+    from phmech import _modes, analysis
+    from phmech.results import ModesResult
+    assert [f.name for f in dataclasses.fields(ModesResult)] == [
+        "omega", "frequency", "damping_ratio", "shapes", *_modes.LABEL_FIELDS, "poses",
+        "equilibrium", "poles", "_links", "_bodies"]
+    m, _ = cantilever(N=2)
+    r = m.modes(2)
+    lab = analysis.label_modes(m._desc, r.poses, r.omega, r.shapes)
+    assert set(lab) == set(_modes.LABEL_FIELDS)
+    for k in _modes.LABEL_FIELDS:
+        assert type(getattr(r, k)) is type(lab[k])

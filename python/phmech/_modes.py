@@ -48,10 +48,9 @@ def modes(mech, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0
     tables = keep.get("tables")
     if tables is None:
         tables = keep["tables"] = (dict(mech._links), dict(mech._bodies))
-    # positional: a dataclass's keywords cost ~1 us a call here (field order: ModesResult)
-    return ModesResult(om, f, ze, sh, lab["kind"], lab["strain_fractions"],
-                       lab["elastic_fraction"], lab["participation"],
-                       lab["strain_participation"], np.array(where), bool(eq), None, *tables)
+    # positional: a dataclass's keywords cost ~1 us a call here (ModesResult's field order:
+    # tests/test_analysis_cache.py checks it)
+    return ModesResult(om, f, ze, sh, *lab, np.array(where), bool(eq), None, *tables)
 
 def _equilibrium(mech, keep: dict, model, poses, time: float, at: Optional[StaticResult]):
     """equilibrium_check of ``poses``; at the initial configuration (``at`` None), or at a
@@ -69,11 +68,16 @@ def _equilibrium(mech, keep: dict, model, poses, time: float, at: Optional[Stati
         eq = done[key] = equilibrium_check(mech, model, poses, time, at is not None)
     return eq
 
+#: analysis.label_modes' fields, in the order of ModesResult's fields after ``shapes``
+LABEL_FIELDS = ("kind", "strain_fractions", "elastic_fraction", "participation",
+                "strain_participation")
+
 def _labels(mech, keep: dict, poses, omega, shapes, at: Optional[StaticResult]) -> tuple:
-    """(frequencies [Hz], labels): ``omega`` / 2 pi and analysis.label_modes of these modes.
-    The last of both are kept in ``keep`` (the mechanism's _model.built) with the
-    configuration (``at``, or None: the initial one), omega and shapes they were made from,
-    and a call that finds the same ones, bit for bit, gets copies of them."""
+    """(frequencies [Hz], labels): ``omega`` / 2 pi and analysis.label_modes of these modes,
+    its fields listed in LABEL_FIELDS' order. The last of both are kept in ``keep`` (the
+    mechanism's _model.built) with the configuration (``at``, or None: the initial one), omega
+    and shapes they were made from, and a call that finds the same ones, bit for bit, gets
+    copies of them."""
     key = (None if at is None else np.asarray(poses, dtype=float).tobytes(), omega.tobytes(),
            shapes.tobytes())
     last = keep.get("labels")
@@ -81,9 +85,9 @@ def _labels(mech, keep: dict, poses, omega, shapes, at: Optional[StaticResult]) 
         lab = analysis.label_modes(mech._desc, poses, omega, shapes,
                                    _geometry(mech, keep, poses, at))
         last = keep["labels"] = (key, omega / (2 * np.pi),
-                                 [(k, v, _copier(v)) for k, v in lab.items()])
+                                 [(lab[k], _copier(lab[k])) for k in LABEL_FIELDS])
     # copies: a caller changing its result's labels changes neither the kept ones nor others'
-    return last[1].copy(), {k: copy(v) for k, v, copy in last[2]}
+    return last[1].copy(), [copy(v) for v, copy in last[2]]
 
 def _copier(value):
     """How _labels copies a field of analysis.label_modes' dict (an array, a list of str or a
