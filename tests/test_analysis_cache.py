@@ -174,3 +174,118 @@ def test_modes_at_static_results_keep_their_own_checks_and_labels():
     with pytest.warns(ph.EquilibriumWarning):
         assert not m.modes(3, at=off).equilibrium
     assert m.modes(3, at=st).equilibrium
+
+
+def double_pendulum(gravity=(0.0, 0.0, -9.81)):
+    """benchmarks/bench_overhead.py's double pendulum: two bars hanging along -z on revolutes
+    about y (an equilibrium under that gravity)."""
+    m = ph.Mechanism(gravity=gravity)
+    J = np.diag([0.5 ** 2 / 12, 0.5 ** 2 / 12, 1e-4])
+    a = m.add_rigid_body("a", 1.0, J, com=(0.0, 0.0, -0.25))
+    b = m.add_rigid_body("b", 1.0, J, com=(0.0, 0.0, -0.25))
+    m.add_pair("k1", ph.Revolute("y"), m.ground, a)
+    m.add_pair("k2", ph.Revolute("y"), ph.Frame(a.carrier, se3.translation([0.0, 0.0, -0.5])), b)
+    return m, b
+
+
+def warned(call):
+    """call()'s result and the categories of the warnings it gave."""
+    with warnings.catch_warnings(record=True) as w:
+        warnings.simplefilter("always")
+        out = call()
+    return out, {x.category for x in w}
+
+
+def test_a_gravity_changed_in_place_after_a_call_is_honoured():
+    m, _ = double_pendulum()
+    first, cats = warned(lambda: m.modes(2))
+    assert first.equilibrium and not cats
+    m.gravity[:] = (-9.81, 0.0, 0.0)   # in place: the array the mechanism holds
+    fresh, _ = double_pendulum(gravity=(-9.81, 0.0, 0.0))
+    for _ in range(2):
+        with pytest.warns(ph.EquilibriumWarning):
+            a = m.modes(2)
+        assert not a.equilibrium
+    with pytest.warns(ph.EquilibriumWarning):
+        same_modes(a, fresh.modes(2))
+    assert not np.array_equal(a.omega, first.omega)
+
+
+def test_changed_arguments_after_a_call_are_checked_again():
+    m, b = double_pendulum()
+    two = m.modes(2)
+    one = m.modes(1)        # other frequencies: other labels, not the kept ones
+    assert one.omega.shape == (1,) and len(one.kind) == len(one.participation) == 1
+    same_modes(m.modes(2), two)
+    with pytest.raises(ph.ModelError, match="n must be an integer >= 1"):
+        m.modes(0)
+    with pytest.raises(ph.ModelError, match="time must be finite"):
+        m.modes(2, time=float("nan"))
+    with pytest.raises(ph.ModelError, match="at must be a StaticResult"):
+        m.modes(2, at="initial")
+    # a driven pair whose law has moved by the time asked is refused after a call at t = 0
+    c = m.add_rigid_body("c", 1.0, np.diag([1e-3, 1e-3, 1e-3]))
+    m.add_pair("k3", ph.Revolute("z"), ph.Frame(b.carrier, se3.translation([0.0, 0.0, -0.5])), c,
+               driven=ph.Linear(rate=1.0))
+    m.modes(2)
+    with pytest.raises(ph.ModelError, match=r"modes\(time=1\): pair 'k3' is driven"):
+        m.modes(2, time=1.0)
+
+
+def test_the_linearization_warnings_follow_an_add_after_a_call_and_come_at_every_call():
+    m, b = double_pendulum()
+    _, cats = warned(lambda: m.modes(2))
+    assert not cats
+    m.add_wrench("push", b, (0.0, 0.0, 0.0, 0.0, 0.0, -1.0), frame="body")   # along the bar
+    for _ in range(2):
+        with pytest.warns(ph.StabilityWarning, match=r"follower loads \['push'\]"):
+            m.modes(2)
+    # a body light beyond what double precision resolves next to the bars
+    dust = m.add_rigid_body("dust", 1e-15, np.diag([1e-18, 1e-18, 1e-18]))
+    m.add_pair("k3", ph.Revolute("y"), ph.Frame(b.carrier, se3.translation([0.0, 0.0, -0.5])), dust)
+    for _ in range(2):
+        _, cats = warned(lambda: m.modes(2))
+        assert {ph.StabilityWarning, ph.AccuracyWarning} <= cats
+
+
+def test_strict_set_after_a_call_raises_on_the_moves_it_warned_about():
+    from test_closed_chains import rocker_angles
+    from test_initial_adjustments import fourbar
+    m, _, _ = fourbar(k4_x0=rocker_angles(0.6)[0] + 0.2)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ph.RedundantConstraintWarning)
+        with pytest.warns(ph.InitialValueWarning, match="joint 'k4' given 1.48786 rad"):
+            first = m.modes(1)
+        m.strict = True
+        with pytest.raises(ph.ModelError, match=r"joint 'k4' given 1\.48786 rad.*strict=True"):
+            m.modes(1)
+        m.strict = False
+        same_modes(m.modes(1), first)
+
+
+def test_a_result_keeps_the_tables_of_its_own_call():
+    m, b = double_pendulum()
+    first = m.modes(2)
+    c = m.add_rigid_body("c", 1.0, np.diag([1e-3, 1e-3, 1e-3]))
+    m.add_pair("k3", ph.Revolute("y"), ph.Frame(b.carrier, se3.translation([0.0, 0.0, -0.5])), c)
+    after = m.modes(2)
+    assert set(first._bodies) == {"a", "b"} and set(after._bodies) == {"a", "b", "c"}
+    assert set(first.participation[0]) == {"a", "b"} and set(after.participation[0]) == {"a", "b", "c"}
+
+
+def test_modes_builds_its_result_in_the_field_order_of_modes_result():
+    # _modes.modes passes ModesResult's fields positionally (keywords cost ~1 us a call), the
+    # labels in _modes.LABEL_FIELDS' order: both must stay those of the dataclass and of
+    # analysis.label_modes
+    import dataclasses
+    from phmech import _modes, analysis
+    from phmech.results import ModesResult
+    assert [f.name for f in dataclasses.fields(ModesResult)] == [
+        "omega", "frequency", "damping_ratio", "shapes", *_modes.LABEL_FIELDS, "poses",
+        "equilibrium", "poles", "_links", "_bodies"]
+    m, _ = cantilever(N=2)
+    r = m.modes(2)
+    lab = analysis.label_modes(m._desc, r.poses, r.omega, r.shapes)
+    assert set(lab) == set(_modes.LABEL_FIELDS)
+    for k in _modes.LABEL_FIELDS:
+        assert type(getattr(r, k)) is type(lab[k])

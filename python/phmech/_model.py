@@ -32,15 +32,18 @@ _BUILT: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 def built(mech) -> dict:
     """What the analyses built from the mechanism's current initial configuration
     (``mech._state``, dropped by every add_*) and gravity, kept between calls: ``model``, the
-    core model without extra loads (build), and what other layers store (simulate's planar
-    model, modes' equilibrium check, the labels' element geometry). A new, empty dict when the
+    core model without extra loads (build), the messages of the moves (_report) and of the
+    linearization's warnings (linearization_point_kept), and what other layers store
+    (simulate's planar model; modes' equilibrium check, labels with their frequencies, element
+    geometry, link and body tables). A new, empty dict when the
     state, the gravity or the description's rows changed since (``ModelDescription.version``:
     a sampled controller's run sets its output laws in place) -- nothing stale is reused."""
-    g = np.asarray(mech._desc.gravity, dtype=float).tobytes()
-    v = mech._desc.version
+    desc = mech._desc
+    g = np.asarray(desc.gravity, dtype=float).tobytes()
     c = _BUILT.get(mech)
-    if c is None or c["_state"] is not mech._state or c["_gravity"] != g or c["_version"] != v:
-        c = {"_state": mech._state, "_gravity": g, "_version": v}
+    if c is None or c["_state"] is not mech._state or c["_gravity"] != g or \
+            c["_version"] != desc.version:
+        c = {"_state": mech._state, "_gravity": g, "_version": desc.version}
         _BUILT[mech] = c
     return c
 
@@ -53,6 +56,10 @@ def initial_state(mech, extra_loads: Sequence[dict] = ()):
     on moves beyond tolerance, at every call. Overflow in these steps (given lengths,
     positions, x0 or rates beyond what double precision can square) is a ModelError, never
     a NaN passed on."""
+    return _initial_state(mech, extra_loads)[:2]
+
+def _initial_state(mech, extra_loads: Sequence[dict]) -> tuple:
+    """initial_state's (InitialState, model) and the mechanism's ``built`` dict."""
     if not mech._car:
         raise ModelError("the mechanism is empty")
     model = None
@@ -64,24 +71,24 @@ def initial_state(mech, extra_loads: Sequence[dict] = ()):
             raise ModelError(f"initial configuration: {e} while placing the carriers and closing "
                              f"the loops: the model's lengths, positions, x0 or xdot0 are beyond "
                              f"what double precision can handle") from None
-    _report(mech, mech._state)
+    keep = built(mech)
+    _report(mech, mech._state, keep)
     if model is not None and not extra_loads:
-        built(mech)["model"] = model
-    return mech._state, model
+        keep["model"] = model
+    return mech._state, model, keep
 
-def _report(mech, state: topology.InitialState) -> None:
+def _report(mech, state: topology.InitialState, keep: dict) -> None:
     """Publish the redundant rows, the adjustments and the free groups of ``state``; warn
     about them (once per distinct message) or raise ModelError with ``strict`` (moves only:
-    a free body may be meant)."""
+    a free body may be meant). ``keep``: the mechanism's ``built`` dict, where the message
+    about the moves is kept."""
     mech.redundant_constraints = list(state.redundant)
     mech.initial_adjustments = list(state.adjustments)
     _warn_unattached(mech, state.unattached)
-    moved = [a for a in state.adjustments if a.exceeds]
-    if moved:
-        msg = ("initial configuration: closing the loops moved given initial values beyond "
-               "their tolerance: " + "; ".join(str(a) for a in moved) +
-               ". Give consistent x0, xdot0 and poses; Mechanism.initial_adjustments lists every "
-               "given value and how far it moved")
+    msg = keep.get("moves_message")
+    if msg is None:
+        msg = keep["moves_message"] = _moves_message(state)
+    if msg:
         if mech.strict:
             raise ModelError(msg + " (Mechanism(strict=True))")
         if mech._warned_initial != msg:
@@ -94,11 +101,22 @@ def _report(mech, state: topology.InitialState) -> None:
                       f"directions left out of the DAE (pair, direction in F_b): {dropped}",
                       RedundantConstraintWarning, stacklevel=outside_stacklevel())
 
+def _moves_message(state: topology.InitialState) -> str:
+    """The message about the given initial values that closing the loops moved beyond their
+    tolerance ("" when none did)."""
+    moved = [a for a in state.adjustments if a.exceeds]
+    if not moved:
+        return ""
+    return ("initial configuration: closing the loops moved given initial values beyond "
+            "their tolerance: " + "; ".join(str(a) for a in moved) +
+            ". Give consistent x0, xdot0 and poses; Mechanism.initial_adjustments lists every "
+            "given value and how far it moved")
+
 def _warn_unattached(mech, groups: list) -> None:
     """Publish the free groups (topology.FreeGroup rows) in ``unattached`` and warn about
     them (UnattachedWarning, pointing at the caller outside phmech), once per distinct set
     of groups."""
-    mech.unattached = [g.names for g in groups]
+    mech.unattached = [g.names for g in groups] if groups else []
     if mech.unattached and mech._warned_unattached != mech.unattached:
         mech._warned_unattached = mech.unattached
         warnings.warn(topology.unattached_message(mech._desc, groups), UnattachedWarning,
@@ -115,6 +133,11 @@ def build(mech, extra_loads: Sequence[dict] = ()):
     gravity (kept in ``built(mech)``; analyses only read it: one that changes a model, as
     simulate's planar one, works on its own); with them, once per call (or none when finding
     the initial configuration built it)."""
+    return _build(mech, extra_loads)[0]
+
+def _warn_modal_gravity(mech) -> None:
+    """build's AccuracyWarnings about modal links under gravity (their condensed weight, their
+    preload left out), at every build."""
     if (mech._modal_gravity_miss or mech._modal_preload) and np.any(mech._desc.gravity):
         for nm, miss in mech._modal_gravity_miss.items():
             if miss > mech.frequency_tolerance:
@@ -135,52 +158,75 @@ def build(mech, extra_loads: Sequence[dict] = ()):
                               f"stiffness), which a modal link leaves out (its gravity points "
                               f"even shift it the other way); use fidelity='nonlinear' for it "
                               f"if it hangs or stands", AccuracyWarning, stacklevel=outside_stacklevel())
-    state, model = initial_state(mech, extra_loads)
-    keep = built(mech) if not extra_loads else {}
+
+def _build(mech, extra_loads: Sequence[dict]) -> tuple:
+    """build's model and the mechanism's ``built`` dict (looked up once: an analysis called
+    again and again on a small model pays for every lookup)."""
+    _warn_modal_gravity(mech)
+    state, model, keep = _initial_state(mech, extra_loads)
+    if extra_loads:
+        if model is None:
+            model = _marshal.core_model(mech._desc, state.poses, state.twists, state.x0,
+                                        state.drop_masks, state.frames_a, extra_loads)
+        return model, keep
     if model is None:
         model = keep.get("model")
-    if model is None:
-        model = _marshal.core_model(mech._desc, state.poses, state.twists, state.x0,
-                                    state.drop_masks, state.frames_a, extra_loads)
-    if not extra_loads:
-        keep["model"] = model
-    return model
+        if model is None:
+            model = keep["model"] = _marshal.core_model(mech._desc, state.poses, state.twists,
+                                                        state.x0, state.drop_masks,
+                                                        state.frames_a, ())
+    return model, keep
 
 def linearization_point(mech, at: Optional[StaticResult]) -> tuple:
     """(core model, poses, constraint wrenches) of a linearization at the initial state (poses
     and wrenches None) or at the static equilibrium ``at``, with the extra loads it was
     found under."""
+    return linearization_point_kept(mech, at)[:3]
+
+def linearization_point_kept(mech, at: Optional[StaticResult]) -> tuple:
+    """linearization_point's (model, poses, constraint wrenches) and the mechanism's ``built``
+    dict (for what the caller keeps there, without looking it up again)."""
     if at is not None and not isinstance(at, StaticResult):
         raise ModelError(f"at must be a StaticResult (Mechanism.static) or None (got "
                          f"{type(at).__name__})")
-    model = build(mech, () if at is None else at.loads)
+    model, keep = _build(mech, () if at is None else at.loads)
+    # the follower loads' names and the masses' message: made once per initial configuration
+    # (what they are made from, the load rows and the carriers' masses, change only with it);
+    # the warnings issued at every call
+    warns = keep.get("linearization_warnings")
+    if warns is None:
+        warns = keep["linearization_warnings"] = _linearization_warnings(mech)
+    for msg, category in warns:
+        warnings.warn(msg, category, stacklevel=outside_stacklevel())
+    if at is None:
+        return model, None, None, keep
+    poses = start_poses(mech, at, "at")
+    lam = array("at.constraint_wrenches", at.constraint_wrenches,
+                np.shape(at.constraint_wrenches))
+    return model, poses, lam, keep
+
+def _linearization_warnings(mech) -> list:
+    """(message, category) of the warnings every linearization of this initial configuration
+    issues: follower loads (StabilityWarning) and unresolvable masses (AccuracyWarning)."""
+    out = []
     followers = follower_loads(mech)
     if followers:
-        warnings.warn(f"the follower loads {followers} (body-frame wrenches) have a "
-                      "non-symmetric load stiffness, which the linearization (modes(), "
-                      "linearize()) symmetrizes: it treats them as dead loads and cannot show "
-                      "flutter; simulate to see how the mechanism moves under them",
-                      StabilityWarning, stacklevel=outside_stacklevel())
-    warn_unresolvable_masses(mech)
-    poses = None if at is None else start_poses(mech, at, "at")
-    lam = None if at is None else array("at.constraint_wrenches", at.constraint_wrenches,
-                                        np.shape(at.constraint_wrenches))
-    return model, poses, lam
-
-def warn_unresolvable_masses(mech) -> None:
-    """AccuracyWarning when the carriers' masses span more than MASS_RATIO_RESOLVED (4.5e12):
-    the modes of the lightest carriers are then below what double precision resolves (a link
-    of density 1e-300 hinged to a 1 kg body gave 1.4e9 rad/s for bending modes of ~1e153
-    rad/s, without a word: tests/test_fuzz_findings.py). The message is made once per
-    initial configuration (built), the warning issued at every call."""
-    keep = built(mech)
-    if "mass_warning" not in keep:
-        keep["mass_warning"] = _unresolvable_masses(mech)
-    if keep["mass_warning"]:
-        warnings.warn(keep["mass_warning"], AccuracyWarning, stacklevel=outside_stacklevel())
+        out.append((f"the follower loads {followers} (body-frame wrenches) have a "
+                    "non-symmetric load stiffness, which the linearization (modes(), "
+                    "linearize()) symmetrizes: it treats them as dead loads and cannot show "
+                    "flutter; simulate to see how the mechanism moves under them",
+                    StabilityWarning))
+    masses = _unresolvable_masses(mech)
+    if masses:
+        out.append((masses, AccuracyWarning))
+    return out
 
 def _unresolvable_masses(mech) -> str:
-    """warn_unresolvable_masses' message, or "" when the masses are resolved."""
+    """The AccuracyWarning of a linearization when the carriers' masses span more than
+    MASS_RATIO_RESOLVED (4.5e12): the modes of the lightest carriers are then below what double
+    precision resolves (a link of density 1e-300 hinged to a 1 kg body gave 1.4e9 rad/s for
+    bending modes of ~1e153 rad/s, without a word: tests/test_fuzz_findings.py); "" when the
+    masses are resolved."""
     # massless carriers have no modes of their own: left out
     masses = np.array([c["mass"] if c["mass"] > 0 else np.inf for c in mech._car] + [np.inf])
     light = int(np.argmin(masses))

@@ -24,69 +24,89 @@ def modes(mech, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0
     n = integer("n", n, 1)
     time = real("time", time)
     _model.check_linearization_time(mech, "modes", time, at)
-    model, poses, lam = _model.linearization_point(mech, at)
+    model, poses, lam, keep = _model.linearization_point_kept(mech, at)
     # at most 6 per carrier exist: asking for more allocates no more than that
     om, ze, sh, nf, _ = _core.model_modes(model, min(n, 6 * len(mech._car)), poses, lam, time)
-    om, ze, sh = om[:nf], ze[:nf], sh[:nf]
+    if nf < len(om):
+        om, ze, sh = om[:nf], ze[:nf], sh[:nf]
     where = mech._state.poses if poses is None else poses
-    eq = _equilibrium(mech, model, where, time, at)
-    if not eq and np.any(om < 0):
-        neg = "; its negative eigenvalues lambda show as negative frequencies -sqrt(-lambda)"
-    else:
-        neg = ("; a negative eigenvalue lambda of the tangent would show as a negative "
-               "frequency -sqrt(-lambda)")
+    eq = _equilibrium(mech, keep, model, where, time, at)
     if not eq:
+        if np.any(om < 0):
+            neg = "; its negative eigenvalues lambda show as negative frequencies -sqrt(-lambda)"
+        else:
+            neg = ("; a negative eigenvalue lambda of the tangent would show as a negative "
+                   "frequency -sqrt(-lambda)")
         warnings.warn(f"modes: the configuration is not a static equilibrium ({eq.reason}): "
                       f"the values are the eigenvalues of the tangent stiffness there, not the "
                       f"frequencies of small vibrations about a rest state" + neg +
                       ". For vibrations about the equilibrium use modes(at=m.static(...)).",
                       EquilibriumWarning, stacklevel=outside_stacklevel())
-    lab = _labels(mech, where, om, sh, at)
-    return ModesResult(om, om / (2 * np.pi), ze, sh, poses=np.array(where),
-                       equilibrium=bool(eq), _links=dict(mech._links),
-                       _bodies=dict(mech._bodies), **lab)
+    f, lab = _labels(mech, keep, where, om, sh, at)
+    # the link and body tables as they are now (a later add_* makes a new keep): one copy
+    # per initial configuration, which its results only read
+    tables = keep.get("tables")
+    if tables is None:
+        tables = keep["tables"] = (dict(mech._links), dict(mech._bodies))
+    # positional: a dataclass's keywords cost ~1 us a call here (ModesResult's field order:
+    # tests/test_analysis_cache.py checks it)
+    return ModesResult(om, f, ze, sh, *lab, np.array(where), bool(eq), None, *tables)
 
-def _equilibrium(mech, model, poses, time: float, at: Optional[StaticResult]):
+def _equilibrium(mech, keep: dict, model, poses, time: float, at: Optional[StaticResult]):
     """equilibrium_check of ``poses``; at the initial configuration (``at`` None), or at a
     StaticResult found without extra loads (the model is then the mechanism's), made once per
-    time [s] and poses and kept (_model.built) until the mechanism changes."""
+    time [s] and poses and kept in ``keep`` (the mechanism's _model.built) until the mechanism
+    changes."""
     if at is not None and at.loads:
         return equilibrium_check(mech, model, poses, time, True)
-    keep = _model.built(mech).setdefault("equilibrium", {})
+    done = keep.get("equilibrium")
+    if done is None:
+        done = keep["equilibrium"] = {}
     key = (time, None if at is None else np.asarray(poses, dtype=float).tobytes())
-    if key not in keep:
-        keep[key] = equilibrium_check(mech, model, poses, time, at is not None)
-    return keep[key]
+    eq = done.get(key)
+    if eq is None:
+        eq = done[key] = equilibrium_check(mech, model, poses, time, at is not None)
+    return eq
 
-def _labels(mech, poses, omega, shapes, at: Optional[StaticResult]) -> dict:
-    """analysis.label_modes of these modes. The last labels are kept (_model.built) with the
-    configuration (``at``, or None: the initial one), frequencies and shapes they were made
-    from, and a call that finds the same ones, bit for bit, gets copies of them."""
-    keep = _model.built(mech)
+#: analysis.label_modes' fields, in the order of ModesResult's fields after ``shapes``
+LABEL_FIELDS = ("kind", "strain_fractions", "elastic_fraction", "participation",
+                "strain_participation")
+
+def _labels(mech, keep: dict, poses, omega, shapes, at: Optional[StaticResult]) -> tuple:
+    """(frequencies [Hz], labels): ``omega`` / 2 pi and analysis.label_modes of these modes,
+    its fields listed in LABEL_FIELDS' order. The last of both are kept in ``keep`` (the
+    mechanism's _model.built) with the configuration (``at``, or None: the initial one), omega
+    and shapes they were made from, and a call that finds the same ones, bit for bit, gets
+    copies of them."""
     key = (None if at is None else np.asarray(poses, dtype=float).tobytes(), omega.tobytes(),
            shapes.tobytes())
     last = keep.get("labels")
     if last is None or last[0] != key:
-        last = keep["labels"] = (key, analysis.label_modes(mech._desc, poses, omega, shapes,
-                                                           _geometry(mech, poses, at)))
+        lab = analysis.label_modes(mech._desc, poses, omega, shapes,
+                                   _geometry(mech, keep, poses, at))
+        last = keep["labels"] = (key, omega / (2 * np.pi),
+                                 [(lab[k], _copier(lab[k])) for k in LABEL_FIELDS])
     # copies: a caller changing its result's labels changes neither the kept ones nor others'
-    # (each field is an array, a list of str or a list of dicts: one test per field, not per item)
-    out = {}
-    for k, v in last[1].items():
-        if isinstance(v, np.ndarray):
-            out[k] = v.copy()
-        elif v and isinstance(v[0], dict):
-            out[k] = [d.copy() for d in v]
-        else:
-            out[k] = list(v)
-    return out
+    return last[1].copy(), [copy(v) for v, copy in last[2]]
 
-def _geometry(mech, poses, at: Optional[StaticResult]):
+def _copier(value):
+    """How _labels copies a field of analysis.label_modes' dict (an array, a list of str or a
+    list of dicts): one test per field, made when the labels are."""
+    if isinstance(value, np.ndarray):
+        return np.ndarray.copy
+    if value and isinstance(value[0], dict):
+        return _copy_dicts
+    return list
+
+def _copy_dicts(value: list) -> list:
+    """A new list of copies of the dicts in ``value``."""
+    return list(map(dict.copy, value))
+
+def _geometry(mech, keep: dict, poses, at: Optional[StaticResult]):
     """analysis.element_geometry at ``poses``; at the initial configuration (``at`` None) made
-    once and kept (_model.built) until the mechanism changes."""
+    once and kept in ``keep`` (the mechanism's _model.built) until the mechanism changes."""
     if at is not None:
         return analysis.element_geometry(mech._desc, poses)
-    keep = _model.built(mech)
     if "element_geometry" not in keep:
         keep["element_geometry"] = analysis.element_geometry(mech._desc, poses)
     return keep["element_geometry"]

@@ -275,7 +275,7 @@ class Mechanism(Builder):
         its linearization with centrifugal stiffness and Coriolis (gyroscopic) coupling, as
         with components (``poles``; ``omega`` >= 0). Gravity must be zero or along the axis.
         ``phmech.plot.campbell`` draws the frequencies against Omega."""
-        return _modes.modes(self, n=n, at=at, time=time, spin=spin)
+        return _modes.modes(self, n, at, time, spin)
 
     def linearize(self, at: Optional[StaticResult] = None, inputs: Sequence = (),
                   outputs: Optional[Sequence] = None, time: float = 0.0,
