@@ -21,6 +21,14 @@ def linearize(mech, at: Optional[StaticResult] = None, inputs: Sequence = (),
     time = real("time", time)
     _model.check_linearization_time(mech, "linearize", time, at)
     model, poses, lam = _model.linearization_point(mech, at)
+    eq = None
+    if spin is None:
+        eq = _modes.equilibrium_check(mech, model, mech._state.poses if poses is None else poses,
+                                      time, at is not None)
+        if lam is None:   # the initial configuration: the constraint wrenches it holds
+            lam = eq.lam
+        if mech._desc.components:   # their verdict is the linear model's (rest_check)
+            eq = None
     try:
         poses, lam = _modes.spun_point(mech, model, spin, at, time, poses, lam)
         lin = linear.build(_core, model, mech._desc, list(inputs) if not isinstance(inputs, str)
@@ -29,9 +37,8 @@ def linearize(mech, at: Optional[StaticResult] = None, inputs: Sequence = (),
     finally:
         if spin is not None:
             _core.model_set_spin(model, [0.0] * 6)
-    where = mech._state.poses if poses is None else poses
-    eq = _modes.equilibrium_check(mech, model, where, time, at is not None) \
-        if not mech._desc.components and spin is None else _modes.rest_check(lin)
+    if eq is None:
+        eq = _modes.rest_check(lin)
     if not eq:
         warnings.warn(f"linearize: the configuration is not a static equilibrium "
                       f"({eq.reason}): the model's stiffness K is the tangent there and "

@@ -25,12 +25,14 @@ def modes(mech, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0
     time = real("time", time)
     _model.check_linearization_time(mech, "modes", time, at)
     model, poses, lam, keep = _model.linearization_point_kept(mech, at)
+    where = mech._state.poses if poses is None else poses
+    eq = _equilibrium(mech, keep, model, where, time, at)
+    if lam is None:   # the initial configuration: the constraint wrenches its equilibrium holds
+        lam = eq.lam
     # at most 6 per carrier exist: asking for more allocates no more than that
     om, ze, sh, nf, _ = _core.model_modes(model, min(n, 6 * len(mech._car)), poses, lam, time)
     if nf < len(om):
         om, ze, sh = om[:nf], ze[:nf], sh[:nf]
-    where = mech._state.poses if poses is None else poses
-    eq = _equilibrium(mech, keep, model, where, time, at)
     if not eq:
         if np.any(om < 0):
             neg = "; its negative eigenvalues lambda show as negative frequencies -sqrt(-lambda)"
@@ -115,16 +117,20 @@ def equilibrium_check(mech, model, poses, time, at_given: bool):
     """Whether ``poses`` is a static equilibrium: a static solve at the full load started there
     (no load steps: Newton, else pseudo-transient continuation) must not move any carrier by
     more than 1e-6 of the mechanism's size [m] or 1e-6 rad.
-    Returns a truthy/falsy object with a ``reason``. A solve that fails (a free mechanism is
-    singular) tells nothing: then the check passes."""
+    Returns a truthy/falsy object with a ``reason`` and, when it holds, ``lam``: the constraint
+    wrenches that balance the loads there (what a StaticResult's ``constraint_wrenches`` are),
+    without which a linearization at the initial configuration (``at`` None) leaves out the
+    constraint forces' geometric stiffness (a hanging pendulum's gravity stiffness: its
+    frequencies were 0 and 0.65 Hz instead of 0.43 and 1.14 Hz). A solve that fails (a free
+    mechanism is singular) tells nothing: then the check passes, with ``lam`` None."""
     class _Eq:
-        def __init__(mech, ok, reason=""):
-            mech.ok, mech.reason = ok, reason
+        def __init__(mech, ok, reason="", lam=None):
+            mech.ok, mech.reason, mech.lam = ok, reason, lam
 
         def __bool__(mech):
             return mech.ok
     try:
-        P, _, _ = _core.model_static(model, poses, time, 0, 1e-10)
+        P, lam, _ = _core.model_static(model, poses, time, 0, 1e-10)
     except (SolverError, ModelError):
         return _Eq(True)
     size = max([1.0] + [lk.length for lk in mech._links.values()])
@@ -133,7 +139,7 @@ def equilibrium_check(mech, model, poses, time, at_given: bool):
     dth = np.arccos(np.clip((np.trace(rel, axis1=1, axis2=2) - 1) / 2, -1, 1))
     c = int(np.argmax(dp / size + dth))
     if dp[c] <= 1e-6 * size and dth[c] <= 1e-6:
-        return _Eq(True)
+        return _Eq(True, lam=lam)
     return _Eq(False, f"a static solve from it moves {mech._desc.carrier_name(c)} by "
                       f"{dp[c]:.3g} m and {dth[c]:.3g} rad")
 
@@ -188,6 +194,8 @@ def closed_loop_modes(mech, n: int, at: Optional[StaticResult], time: float,
     time = real("time", time)
     _model.check_linearization_time(mech, "modes", time, at)
     model, poses, lam = _model.linearization_point(mech, at)
+    if lam is None and spin is None:   # the initial configuration: the wrenches it holds
+        lam = equilibrium_check(mech, model, mech._state.poses, time, False).lam
     try:
         poses, lam = spun_point(mech, model, spin, at, time, poses, lam)
         lin = linear.build(_core, model, mech._desc, [], None, poses, lam, time,
