@@ -25,8 +25,8 @@ def linearize(mech, at: Optional[StaticResult] = None, inputs: Sequence = (),
     if spin is None:
         eq = _modes.equilibrium_check(mech, model, mech._state.poses if poses is None else poses,
                                       time, at is not None)
-        if lam is None:   # the initial configuration: the constraint wrenches it holds
-            lam = eq.lam
+        if at is None and eq.poses is not None:   # at the equilibrium the check found there
+            poses, lam = eq.poses, eq.lam
         if mech._desc.components:   # their verdict is the linear model's (rest_check)
             eq = None
     try:

@@ -27,8 +27,9 @@ def modes(mech, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0
     model, poses, lam, keep = _model.linearization_point_kept(mech, at)
     where = mech._state.poses if poses is None else poses
     eq = _equilibrium(mech, keep, model, where, time, at)
-    if lam is None:   # the initial configuration: the constraint wrenches its equilibrium holds
-        lam = eq.lam
+    if at is None and eq.poses is not None:   # at the equilibrium the check found there
+        poses, lam = eq.poses, eq.lam
+        where = poses
     # at most 6 per carrier exist: asking for more allocates no more than that
     om, ze, sh, nf, _ = _core.model_modes(model, min(n, 6 * len(mech._car)), poses, lam, time)
     if nf < len(om):
@@ -117,15 +118,18 @@ def equilibrium_check(mech, model, poses, time, at_given: bool):
     """Whether ``poses`` is a static equilibrium: a static solve at the full load started there
     (no load steps: Newton, else pseudo-transient continuation) must not move any carrier by
     more than 1e-6 of the mechanism's size [m] or 1e-6 rad.
-    Returns a truthy/falsy object with a ``reason`` and, when it holds, ``lam``: the constraint
-    wrenches that balance the loads there (what a StaticResult's ``constraint_wrenches`` are),
-    without which a linearization at the initial configuration (``at`` None) leaves out the
-    constraint forces' geometric stiffness (a hanging pendulum's gravity stiffness: its
-    frequencies were 0 and 0.65 Hz instead of 0.43 and 1.14 Hz). A solve that fails (a free
-    mechanism is singular) tells nothing: then the check passes, with ``lam`` None."""
+    Returns a truthy/falsy object with a ``reason`` and, when it holds, the equilibrium that
+    solve found within those bounds, ``poses`` and ``lam`` (what a StaticResult's poses and
+    ``constraint_wrenches`` are): a linearization at the initial configuration (``at`` None) is
+    made there, with the constraint wrenches' and the loaded links' geometric stiffness (a
+    hanging pendulum's gravity stiffness through its joints: 0 and 0.65 Hz instead of 0.43 and
+    1.14 Hz without them; a steel strip hanging with 1 kg at its end, whose 7e-7 m stretch is
+    within the bounds, 3.3 % high at its unstretched start). A solve that fails (a free
+    mechanism is singular) tells nothing: then the check passes, with ``poses`` and ``lam``
+    None."""
     class _Eq:
-        def __init__(mech, ok, reason="", lam=None):
-            mech.ok, mech.reason, mech.lam = ok, reason, lam
+        def __init__(mech, ok, reason="", poses=None, lam=None):
+            mech.ok, mech.reason, mech.poses, mech.lam = ok, reason, poses, lam
 
         def __bool__(mech):
             return mech.ok
@@ -139,7 +143,7 @@ def equilibrium_check(mech, model, poses, time, at_given: bool):
     dth = np.arccos(np.clip((np.trace(rel, axis1=1, axis2=2) - 1) / 2, -1, 1))
     c = int(np.argmax(dp / size + dth))
     if dp[c] <= 1e-6 * size and dth[c] <= 1e-6:
-        return _Eq(True, lam=lam)
+        return _Eq(True, poses=P, lam=lam)
     return _Eq(False, f"a static solve from it moves {mech._desc.carrier_name(c)} by "
                       f"{dp[c]:.3g} m and {dth[c]:.3g} rad")
 
@@ -194,8 +198,10 @@ def closed_loop_modes(mech, n: int, at: Optional[StaticResult], time: float,
     time = real("time", time)
     _model.check_linearization_time(mech, "modes", time, at)
     model, poses, lam = _model.linearization_point(mech, at)
-    if lam is None and spin is None:   # the initial configuration: the wrenches it holds
-        lam = equilibrium_check(mech, model, mech._state.poses, time, False).lam
+    if at is None and spin is None:   # at the equilibrium the check finds there (modes above)
+        eq = equilibrium_check(mech, model, mech._state.poses, time, False)
+        if eq.poses is not None:
+            poses, lam = eq.poses, eq.lam
     try:
         poses, lam = spun_point(mech, model, spin, at, time, poses, lam)
         lin = linear.build(_core, model, mech._desc, [], None, poses, lam, time,

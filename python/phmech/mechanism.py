@@ -246,9 +246,9 @@ class Mechanism(Builder):
         """The ``n`` lowest linearized modes at the initial configuration, or at a static
         equilibrium ``at``: its constraint wrenches give the geometric stiffness, and the extra
         loads it was found under (``static(loads=...)``) act as they did there. At the initial
-        configuration, when it is an equilibrium, the constraint wrenches are those of the
-        equilibrium check's static solve there (a pendulum's gravity stiffness comes through
-        them).
+        configuration, when it passes the equilibrium check, the modes are those of the
+        equilibrium its static solve found there (within 1e-6 of it), with that equilibrium's
+        constraint wrenches and stresses (a pendulum's gravity stiffness comes through them).
 
         Each mode is labelled (``kind``: bending-y, bending-z, torsion, axial or rigid-body, with
         energy shares and participations; phmech.analysis.label_modes, ModesResult). When the
@@ -286,8 +286,8 @@ class Mechanism(Builder):
         """The linear port-Hamiltonian model (phmech.linear.LinearPortHamiltonian: J, R, Q, B,
         C, D, passivity(), to_statespace(), to_control()) about the initial configuration, or
         about a static equilibrium ``at`` (its constraint wrenches give the geometric stiffness
-        and its extra loads act, as in ``modes``; at an initial configuration in equilibrium,
-        the wrenches of the equilibrium check's static solve), on the constraint manifold: the reduced
+        and its extra loads act, as in ``modes``; at an initial configuration that passes the
+        equilibrium check, about the equilibrium its static solve found there), on the constraint manifold: the reduced
         coordinates are the null space of the constraint Jacobian that ``modes`` uses, so the
         model's undamped frequencies are the modes' (docs/method.md section 7.4).
 
