@@ -104,6 +104,10 @@ typedef struct {
                     * (WRMS, weights rtol |y| + atol): the accumulated error without error
                     * propagation, <= 1 when the contract holds (Newton's noise-accepted
                     * steps included: a systematic Newton error adds up step after step) */
+  double err_sum_max; /* adaptive GALPHA: sum over steps of the largest state's local error
+                    * estimate in its own tolerance: a bound on any one configuration state's
+                    * accumulated error without error propagation (err_sum averages each step's
+                    * over every state, idle ones included)                              */
   double glob_err, t_glob_err; /* adaptive GALPHA: the largest global error estimate over the
                     * run (the local estimates propagated along the linearized steps,
                     * csrc/integrate/galpha_global.c), in tolerances (max over the

@@ -232,7 +232,7 @@ static phm_status galpha_accept(galpha_run *gr, double h, double target, const d
   phm_sim_output *out = gr->out;
   galpha_t *g = &gr->g;
   int n = gr->n, adaptive = gr->adaptive;
-  double t = gr->t, errn = gr->errn, emax = gr->emax, elocal = gr->elocal;
+  double t = gr->t, errn = gr->errn, emax = gr->emax, ewmax = gr->ewmax, elocal = gr->elocal;
   double hmax = gr->hmax, hlow = gr->hlow, h0 = gr->h0, span = gr->span;
   double *Y = gr->Y, *Yp = gr->Yp, *y0 = gr->y0, *yp0 = gr->yp0;
   double *yq = gr->yq, *ypq = gr->ypq, *yqq = gr->yqq;
@@ -258,6 +258,7 @@ static phm_status galpha_accept(galpha_run *gr, double h, double target, const d
     if (h < out->min_step || out->min_step == 0) out->min_step = h;
     out->err_est += emax;
     out->err_sum += elocal;
+    out->err_sum_max += ewmax;
     if (gr->noise && gr->newton_tol > gr->newton_min &&
         out->err_sum > fmax(GALPHA_PACE_START, (t1 - tout[0]) / span) && /* see newton_min */
         span <= GALPHA_PACE_MAX_STEPS * h)

@@ -97,7 +97,7 @@ typedef struct {
   double t, h0;           /* the time reached, the proposed step */
   double hjac, hq, hqq;   /* the step the matrix was made for (0: none), the last two steps */
   int fresh, restart, extra, refresh; /* see galpha_open */
-  double etry, htry, errn, emax, elocal; /* this step's attempts (galpha_error_test) */
+  double etry, htry, errn, emax, ewmax, elocal; /* this step's attempts (galpha_error_test) */
   double grow_q, grow_qq; /* the last two accepted steps' estimates per unit step over h^2 (0: none) */
   int noise;              /* this step's estimate is at the level of Newton's noise */
   int rigid;              /* adaptive, no flexible link: one-iteration steps (GALPHA_ONE_SAFETY) */
@@ -122,7 +122,7 @@ void galpha_corot_reference(const dae_t *d, galpha_corot *cr, const double *ya);
 int galpha_corot_set(const dae_t *d, galpha_corot *cr, const double *ya);
 void galpha_corot_apply(const dae_t *d, const galpha_corot *cr, int tr, double *v);
 double galpha_error(const dae_t *d, galpha_t *g, double h, double hq, double hqq, double rtol,
-                    double atol, double *emax);
+                    double atol, double *emax, double *ewmax);
 
 /* galpha_step.c */
 phm_status galpha_attempt(galpha_run *gr, double *hp, phm_error *err);

@@ -192,10 +192,11 @@ void galpha_corot_apply(const dae_t *d, const galpha_corot *cr, int tr, double *
  * amplitude in the poses and a large one in the rates (by omega).
  * Fills g->z1n, g->z2n (the filter at t1, kept by the caller when the step is accepted).
  * Returns -1 without enough history (the first two steps after a start or a breakpoint).
- * *emax: the max-norm estimate. */
+ * *emax: the max-norm estimate; *ewmax: the largest state's estimate in its own tolerance (the
+ * WRMS norm averages it with every other state's, idle ones included). */
 double galpha_error(const dae_t *d, galpha_t *g, double h, double hq, double hqq,
-                           double rtol, double atol, double *emax) {
-  *emax = 0;
+                           double rtol, double atol, double *emax, double *ewmax) {
+  *emax = *ewmax = 0;
   const double *Y = N_VGetArrayPointer(g->Y), *y0 = N_VGetArrayPointer(g->y0);
   const double *z1 = N_VGetArrayPointer(g->z1), *z2 = N_VGetArrayPointer(g->z2);
   const double *zq = N_VGetArrayPointer(g->z2q), *zqq = N_VGetArrayPointer(g->z2qq);
@@ -205,7 +206,7 @@ double galpha_error(const dae_t *d, galpha_t *g, double h, double hq, double hqq
   /* no band (wc = 0): no filter, z = y */
   double x = g->wc * h, ex = x > 0 ? exp(-x) : 0.0, ix = x > 0 ? 1.0 / x : 0.0;
   int est = hq > 0 && hqq > 0;
-  double sum = 0, mx = 0;
+  double sum = 0, mx = 0, mxw = 0;
   int cnt = 0;
   /* reciprocals once: six divisions per state per step were ~5 % of a flexible scene's CPU */
   double ih = 1.0 / h, ihq = est ? 1.0 / hq : 0, ihqq = est ? 1.0 / hqq : 0;
@@ -245,9 +246,11 @@ double galpha_error(const dae_t *d, galpha_t *g, double h, double hq, double hqq
     double wgt = rtol * fabs(Y[i]) + (wa[i] < 0 ? atol_twist : atol);
     sum += (e / wgt) * (e / wgt);
     mx = fmax(mx, fabs(e));
+    mxw = fmax(mxw, fabs(e) / wgt);
     cnt++;
   }
   *emax = mx;
+  *ewmax = mxw;
   if (!est) return -1.0;
   return cnt ? sqrt(sum / (cnt + d->ncfg_drop)) : 0.0;
 }

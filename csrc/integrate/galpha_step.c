@@ -232,7 +232,7 @@ static int galpha_error_test(galpha_run *gr, double *hp) {
    * cantilever (benchmarks/scenes.py): per step, its 149 Hz mode (4 % of the energy, in
    * the 500 Hz band) drifted a full period off in 1 s and the tip 17 um off IDA; per unit
    * step 6.7 um, at the band's floor step. */
-  gr->errn = galpha_error(d, g, h, hq, hqq, opt->rtol, opt->atol, &gr->emax);
+  gr->errn = galpha_error(d, g, h, hq, hqq, opt->rtol, opt->atol, &gr->emax, &gr->ewmax);
   /* Newton's noise: a converged iterate is within ~0.33 of Newton's tolerance, newton_tol
    * times the estimate's, and a third difference of such noise reads as <= 0.22 of it; a
    * local estimate below GALPHA_NOISE newton_tol is that noise, not the step's error, and
@@ -295,7 +295,7 @@ phm_status galpha_attempt(galpha_run *gr, double *hp, phm_error *err) {
   int halvings = 0;
   gr->etry = -1; /* the last attempt at this t that failed the error test */
   gr->htry = 0;
-  gr->errn = gr->emax = gr->elocal = 0;
+  gr->errn = gr->emax = gr->ewmax = gr->elocal = 0;
   gr->noise = 0;
   for (;;) { /* one step of size h (halved on Newton failure, shortened on error-test failure) */
     /* predictor: y' (and the multipliers) extrapolated linearly from the last two steps */

@@ -137,14 +137,14 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
   }
   res = result_arrays(tout, ra);
   PyObject *rest = res ? Py_BuildValue("{s:i,s:i,s:s,"
-                      "s:{s:l,s:l,s:l,s:l,s:l,s:l,s:d,s:d,s:i,s:l,s:d,s:d,s:d,s:d,s:d,s:d,s:l,s:d,s:d,s:d,s:l}}",
+                      "s:{s:l,s:l,s:l,s:l,s:l,s:l,s:d,s:d,s:i,s:l,s:d,s:d,s:d,s:d,s:d,s:d,s:d,s:l,s:d,s:d,s:d,s:l}}",
                       "nout", out.nout_done,
                       "interrupted", st == PHM_EINTERRUPT, "error", failed ? err.msg : "",
                       "stats", "steps", out.nsteps,
                       "residual_evals", out.nres, "jacobian_evals", out.njac, "nonlinear_iters",
                       out.nniters, "error_test_fails", out.netf, "nonlinear_conv_fails", out.nncf,
                       "wall_time", out.wall_time, "last_step", out.last_step, "last_order", out.last_order,
-                      "floor_steps", out.nfloor, "error_estimate", out.err_est, "error_sum", out.err_sum, "max_mu", out.max_mu,
+                      "floor_steps", out.nfloor, "error_estimate", out.err_est, "error_sum", out.err_sum, "error_sum_max", out.err_sum_max, "max_mu", out.max_mu,
                       "error_ratio", out.err_ratio, "error_ratio_time", out.t_err_ratio,
                       "min_step", out.min_step, "noise_steps", out.nnoise, "newton_rtol", out.newton_rtol,
                       "global_error_estimate", out.glob_err, "global_error_time", out.t_glob_err,

@@ -129,7 +129,9 @@ class Mechanism(Builder):
         did not lower the estimate, in a rigid mechanism, or the estimate was within Newton's
         tolerance: docs/user_guide.md, "Accuracy contract"), ``error_sum`` (the accepted steps'
         local estimates summed, in tolerances: above 1 the errors of the noise-accepted steps
-        may have added up beyond rtol, and an AccuracyWarning says so), ``newton_rtol``
+        may have added up beyond rtol, and an AccuracyWarning says so), ``error_sum_max`` (each
+        step's largest configuration state's estimate in its own tolerance, summed: above 6, in
+        a run without a global error estimate, an AccuracyWarning), ``newton_rtol``
         (Newton's relative tolerance at the end: 1e-7, or min(rtol, 1e-7), tightened 10x at a
         time down to 1e-11 while error_sum runs ahead of its share of the tolerance, in a run on
         course for at most 3e5 steps), ``global_error_estimate`` (in a rigid mechanism: the

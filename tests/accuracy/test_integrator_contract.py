@@ -2,6 +2,7 @@
 measured items 1 and 2): each scene against an independent reference, within the contract's
 tolerance, or the warning with its figures. Short horizons here; the long versions in
 benchmarks/integrator_contract.py (`make validate`)."""
+import re
 import warnings
 
 import numpy as np
@@ -381,3 +382,30 @@ def test_flexible_spatial_four_bar_within_tolerance():
             assert f <= 1.0 or w, (rtol, p, f)
         err[rtol] = np.abs(r.joint("k1")["x"] - ref.joint("k1")["x"]).max()
     assert err[1e-6] * 30 <= err[1e-4], err
+
+
+def test_an_idle_flexible_link_does_not_hide_a_pendulums_error():
+    """The accuracy audit of 2026-12-07 (F1): the compound pendulum at 30 deg (0.63x its
+    tolerance alone) beside a steel rod hanging still from a clamp 2 m away, 40 elements: the
+    root-mean-square estimate averages the pendulum's error with the rod's ~500 idle states, the
+    steps grew, and the pendulum ended 6.5x its tolerance (rtol amp + atol) with error_sum 0.48
+    and no warning (160 elements: 14.8x). error_sum_max (each step's largest state) reaches 6.1
+    and warns, and the rtol it names brings the pendulum within the tolerance first asked."""
+    amp = np.radians(30.0)
+    m, exact = compound_pendulum(amp)
+    props = ph.BeamProperties.from_material(ph.Section.circle(0.01),
+                                            ph.Material(E=210e9, nu=0.3, density=7850.0))
+    f = m.ground.frame_at((-2.0, 0, 0), ph.rotation("y", np.pi / 2))
+    rod = m.add_flexible_link("idle_rod", 0.5, props, elements=40, start=f)
+    m.add_pair("clamp", ph.Fixed(), f, rod.start)
+    tol = RTOL * amp + RTOL / 100
+    with pytest.warns(ph.AccuracyWarning, match=r"largest configuration state's local error "
+                      r"estimates add up to [\d.]+ times") as w:
+        r = m.simulate(5.0, 0.05)
+    err = np.abs(r.joint("hinge")["x"][:, 0] - exact(r.t)).max()
+    assert err > 3 * tol and r.stats["error_sum"] < 1 < 6 < r.stats["error_sum_max"]
+    remedy = float(re.search(r"rtol=([\d.e+-]+) brings", str(w[0].message)).group(1))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ph.AccuracyWarning)
+        r = m.simulate(5.0, 0.05, rtol=remedy)
+    assert np.abs(r.joint("hinge")["x"][:, 0] - exact(r.t)).max() <= tol
