@@ -244,9 +244,10 @@ double galpha_error(const dae_t *d, galpha_t *g, double h, double hq, double hqq
     double e = c3 * (dd2a - dd2b);
     le[i] = e;
     double wgt = rtol * fabs(Y[i]) + (wa[i] < 0 ? atol_twist : atol);
-    sum += (e / wgt) * (e / wgt);
+    double r = e / wgt;
+    sum += r * r;
     mx = fmax(mx, fabs(e));
-    mxw = fmax(mxw, fabs(e) / wgt);
+    mxw = fmax(mxw, fabs(r));
     cnt++;
   }
   *emax = mx;
