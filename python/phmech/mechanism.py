@@ -124,7 +124,8 @@ class Mechanism(Builder):
         configuration, max norm: a bound without error propagation), ``error_ratio`` (the
         largest local estimate of an accepted step over its tolerance, per unit step: <= 1
         keeps the contract) and ``error_ratio_time`` [s] (when that step ended), ``floor_steps``
-        (steps accepted above the tolerance at the refinement's limit; > 0 warns),
+        (steps accepted above the tolerance at the refinement's limit; with error_sum > 1
+        they warn),
         ``noise_steps`` (steps accepted above the tolerance per unit step where a shorter step
         did not lower the estimate, in a rigid mechanism, or the estimate was within Newton's
         tolerance: docs/user_guide.md, "Accuracy contract"), ``error_sum`` (the accepted steps'
