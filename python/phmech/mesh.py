@@ -289,11 +289,16 @@ def size_mechanism(mech, band: float, tolerance: float, max_elements: int = 256)
         return bool(_modes.equilibrium_check(mech, model0, mech._state.poses, 0.0, False))
 
     def frequencies(counts: dict, n_band=None):
-        """The mesh's modes [Hz] (those of Mechanism.modes, without its labels and its
-        equilibrium check): the lowest n_band, or (None) all up to just above the band."""
+        """The mesh's modes [Hz] (those of Mechanism.modes, without its labels: at the
+        equilibrium its check finds at the initial configuration, when it passes, with that
+        equilibrium's constraint wrenches and stresses): the lowest n_band, or (None) all up to
+        just above the band."""
         tried[0] += 1
         m = build(counts)
         model, poses, lam = _model.linearization_point(m, None)
+        eq = _modes.equilibrium_check(m, model, m._state.poses, 0.0, False)
+        if eq.poses is not None:
+            poses, lam = eq.poses, eq.lam
         available = 6 * len(m._car)
         n = min(available, 8 if n_band is None else n_band)
         while True:
