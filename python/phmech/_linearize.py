@@ -20,13 +20,10 @@ def linearize(mech, at: Optional[StaticResult] = None, inputs: Sequence = (),
     gives the arguments, their units and what is returned)."""
     time = real("time", time)
     _model.check_linearization_time(mech, "linearize", time, at)
-    model, poses, lam = _model.linearization_point(mech, at)
+    model, poses, lam, keep = _model.linearization_point_kept(mech, at)
     eq = None
-    if spin is None:
-        eq = _modes.equilibrium_check(mech, model, mech._state.poses if poses is None else poses,
-                                      time, at is not None)
-        if at is None and eq.poses is not None:   # at the equilibrium the check found there
-            poses, lam = eq.poses, eq.lam
+    if spin is None:   # spun_point finds the relative equilibrium instead
+        poses, lam, eq = _modes.equilibrium_point(mech, keep, model, poses, lam, time, at)
         if mech._desc.components:   # their verdict is the linear model's (rest_check)
             eq = None
     try:

@@ -25,11 +25,8 @@ def modes(mech, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0
     time = real("time", time)
     _model.check_linearization_time(mech, "modes", time, at)
     model, poses, lam, keep = _model.linearization_point_kept(mech, at)
+    poses, lam, eq = equilibrium_point(mech, keep, model, poses, lam, time, at)
     where = mech._state.poses if poses is None else poses
-    eq = _equilibrium(mech, keep, model, where, time, at)
-    if at is None and eq.poses is not None:   # at the equilibrium the check found there
-        poses, lam = eq.poses, eq.lam
-        where = poses
     # at most 6 per carrier exist: asking for more allocates no more than that
     om, ze, sh, nf, _ = _core.model_modes(model, min(n, 6 * len(mech._car)), poses, lam, time)
     if nf < len(om):
@@ -54,6 +51,18 @@ def modes(mech, n: int = 5, at: Optional[StaticResult] = None, time: float = 0.0
     # positional: a dataclass's keywords cost ~1 us a call here (ModesResult's field order:
     # tests/test_analysis_cache.py checks it)
     return ModesResult(om, f, ze, sh, *lab, np.array(where), bool(eq), None, *tables)
+
+def equilibrium_point(mech, keep: dict, model, poses, lam, time: float,
+                      at: Optional[StaticResult]) -> tuple:
+    """(poses, lam, eq) of a linearization at linearization_point_kept's ``poses`` and ``lam``
+    (None, None: the initial configuration) at ``time`` [s]: ``eq`` its equilibrium check
+    (_equilibrium), and at the initial configuration, when the check passes, the equilibrium
+    its static solve found there with that equilibrium's constraint wrenches (equilibrium_check
+    says why)."""
+    eq = _equilibrium(mech, keep, model, mech._state.poses if poses is None else poses, time, at)
+    if at is None and eq.poses is not None:
+        return eq.poses, eq.lam, eq
+    return poses, lam, eq
 
 def _equilibrium(mech, keep: dict, model, poses, time: float, at: Optional[StaticResult]):
     """equilibrium_check of ``poses``; at the initial configuration (``at`` None), or at a
@@ -197,11 +206,9 @@ def closed_loop_modes(mech, n: int, at: Optional[StaticResult], time: float,
     n = integer("n", n, 1)
     time = real("time", time)
     _model.check_linearization_time(mech, "modes", time, at)
-    model, poses, lam = _model.linearization_point(mech, at)
-    if at is None and spin is None:   # at the equilibrium the check finds there (modes above)
-        eq = equilibrium_check(mech, model, mech._state.poses, time, False)
-        if eq.poses is not None:
-            poses, lam = eq.poses, eq.lam
+    model, poses, lam, built = _model.linearization_point_kept(mech, at)
+    if spin is None and at is None:   # with spin, spun_point finds the relative equilibrium
+        poses, lam, _ = equilibrium_point(mech, built, model, poses, lam, time, at)
     try:
         poses, lam = spun_point(mech, model, spin, at, time, poses, lam)
         lin = linear.build(_core, model, mech._desc, [], None, poses, lam, time,

@@ -400,9 +400,9 @@ def _simulation_result(mech, r: dict, k: int, tout, model, drop_masks, rec, band
     if "nonlinear_iters" in stats:
         stats["newton_iters_per_step"] = stats["nonlinear_iters"] / max(1, stats["steps"])
     if not stats["adaptive"]:
-        for key in ("error_estimate", "error_sum", "error_sum_max", "floor_steps", "error_ratio", "error_ratio_time",
-                    "noise_steps", "min_step", "newton_rtol", "global_error_estimate",
-                    "global_error_time"):
+        for key in ("error_estimate", "error_sum", "error_sum_max", "floor_steps", "error_ratio",
+                    "error_ratio_time", "noise_steps", "min_step", "newton_rtol",
+                    "global_error_estimate", "global_error_time"):
             stats.pop(key, None)
     elif stats.get("global_error_estimate", 0.0) < 0:   # flexible links: not estimated
         stats["global_error_estimate"] = stats["global_error_time"] = None

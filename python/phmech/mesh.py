@@ -295,10 +295,8 @@ def size_mechanism(mech, band: float, tolerance: float, max_elements: int = 256)
         just above the band."""
         tried[0] += 1
         m = build(counts)
-        model, poses, lam = _model.linearization_point(m, None)
-        eq = _modes.equilibrium_check(m, model, m._state.poses, 0.0, False)
-        if eq.poses is not None:
-            poses, lam = eq.poses, eq.lam
+        model, poses, lam, keep = _model.linearization_point_kept(m, None)
+        poses, lam, _ = _modes.equilibrium_point(m, keep, model, poses, lam, 0.0, None)
         available = 6 * len(m._car)
         n = min(available, 8 if n_band is None else n_band)
         while True:
