@@ -54,6 +54,12 @@ LEDGER_WARN = 4e-3
 LEDGER_RTOL_WARN = 20.0
 
 
+def default_integrator(stats: dict) -> bool:
+    """Whether a run's ``stats`` are the default integrator's (the adaptive generalized-alpha),
+    the one whose error estimate the warnings below read."""
+    return bool(stats.get("adaptive")) and stats.get("integrator") == "generalized-alpha"
+
+
 def warn_if_inaccurate(stats: dict, stacklevel: Optional[int] = None) -> None:
     """AccuracyWarning when ``stats['ledger_relative']`` (from :func:`quality`) exceeds
     LEDGER_WARN, or, with the adaptive default integrator, when the energy it removed or added
@@ -81,7 +87,7 @@ def warn_if_inaccurate(stats: dict, stacklevel: Optional[int] = None) -> None:
             f"the integrator created or destroyed that much energy, so the trajectory is "
             f"doubtful; {advice}", AccuracyWarning, stacklevel=stacklevel or outside_stacklevel())
         return
-    if not (stats.get("integrator") == "generalized-alpha" and stats.get("adaptive")):
+    if not default_integrator(stats):
         return
     rtol = stats.get("rtol") or 0.0
     drift = stats.get("numerical_dissipation_relative") or 0.0
@@ -128,7 +134,7 @@ def warn_if_above_tolerance(stats: dict, stacklevel: Optional[int] = None) -> No
     stayed above the tolerance at the refinement's limit (``stats['floor_steps']`` > 0: a step
     1/(REFINE_MAX BAND_STEPS band) long), naming the estimate reached, the tolerance asked, when,
     and the remedy (docs/user_guide.md, "Accuracy contract")."""
-    if not (stats.get("adaptive") and stats.get("integrator") == "generalized-alpha"):
+    if not default_integrator(stats):
         return
     acc = stats.get("error_sum") or 0.0
     if acc > ERROR_SUM_WARN:
@@ -187,7 +193,7 @@ def warn_if_global_error(stats: dict, stacklevel: Optional[int] = None) -> None:
     (``stats['global_error_estimate']``, rigid mechanisms) exceeds GLOBAL_ERROR_WARN, naming the
     estimate, the tolerance, when, and the rtol that would bring the error within this run's
     tolerance (docs/user_guide.md, "Accuracy contract")."""
-    if not (stats.get("adaptive") and stats.get("integrator") == "generalized-alpha"):
+    if not default_integrator(stats):
         return
     g = stats.get("global_error_estimate")
     if g is None or not g > GLOBAL_ERROR_WARN:
