@@ -130,10 +130,12 @@ ERROR_SUM_MAX_WARN = 6.0
 
 
 def warn_if_above_tolerance(stats: dict, stacklevel: Optional[int] = None) -> None:
-    """AccuracyWarning when the adaptive generalized-alpha accepted steps whose error estimate
-    stayed above the tolerance at the refinement's limit (``stats['floor_steps']`` > 0: a step
-    1/(REFINE_MAX BAND_STEPS band) long), naming the estimate reached, the tolerance asked, when,
-    and the remedy (docs/user_guide.md, "Accuracy contract")."""
+    """The default integrator's AccuracyWarnings on its summed local estimates
+    (docs/user_guide.md, "Accuracy contract"): ``stats['error_sum']`` above ERROR_SUM_WARN;
+    ``stats['error_sum_max']`` above ERROR_SUM_MAX_WARN where no global estimate is made; and
+    steps accepted above the tolerance at the refinement's limit (``stats['floor_steps']``: a
+    step 1/(REFINE_MAX BAND_STEPS band) long) when they take error_sum above ERROR_SUM_WARN,
+    naming the estimate reached, the tolerance asked, when, and the remedy."""
     if not default_integrator(stats):
         return
     acc = stats.get("error_sum") or 0.0
