@@ -9,9 +9,10 @@ from typing import Optional
 
 import numpy as np
 
-from . import analysis, _core, linear, _model
+from . import analysis, _core, linear, _model, se3
 from ._checks import integer, real
-from ._errors import EquilibriumWarning, ModelError, SolverError, outside_stacklevel
+from ._errors import (AccuracyWarning, EquilibriumWarning, ModelError, SolverError,
+                      outside_stacklevel)
 from .results import ModesResult, StaticResult
 
 
@@ -163,6 +164,103 @@ def frequencies(model, n: int, poses: np.ndarray, lam: np.ndarray, time: float =
     without its labels and its equilibrium check (phmech.mesh sizes meshes with them)."""
     om, _, _, nf, _ = _core.model_modes(model, n, poses, lam, time)
     return om[:nf] / (2 * np.pi)
+
+
+#: the largest mechanism (6 x carriers) whose released state simulate decomposes into modes,
+#: and the modes it asks for first (then 4x as many, once): the core's shift-invert solver
+#: (a strip of 100 / 199 / 500 elements: 0.04 / 0.07 / 0.19 s for 20 modes, 0.48 / 0.97 /
+#: 2.3 s for 80)
+RELEASE_MAX_DOF = 6000
+RELEASE_MODES = 24
+#: a mode the released state needs is taken into the band with this margin: the estimate's
+#: filter sees a mode at the band's frequency halved (csrc/integrate/galpha_scheme.c)
+RELEASE_BAND_MARGIN = 1.25
+#: ... and the band is raised at most this many times: beyond, simulate warns instead
+RELEASE_BAND_MAX_RAISE = 20.0
+
+
+def release_band(mech, initial: StaticResult, time: float, band: float, rtol: float,
+                 atol: float, given: bool = False):
+    """The band [Hz] a run started from ``initial``, a static equilibrium under extra loads the
+    run does not have (a release: the loads let go at ``time`` [s]), needs for the modes the
+    release sets ringing, or None when the default ``band`` [Hz] holds them (or the check does
+    not apply: no extra loads, no flexible link, more than RELEASE_MAX_DOF degrees of freedom,
+    or a release that is not a small vibration about the mechanism's own equilibrium).
+
+    The default integrator resolves the motion up to the band and leaves what lies above it to
+    the scheme, neither resolved nor estimated (csrc/integrate/galpha_scheme.c). A released
+    deflection rings in every mode it holds: the README's strip (0.2 m, 10 elements) bent by
+    0.1 N at its tip and released, sampled every 0.01 s (band 50 Hz), holds 1.9e-5 m of its
+    131 Hz mode at the tip, and ended 5.5x its tolerance off (tests/accuracy/). So: the
+    deflection u (body-frame twists from the unloaded equilibrium near ``initial`` to it) in
+    the mass-normalized modes there, c = Phi^T M u; what the modes up to f leave of it, in
+    tolerances (per carrier and component: rtol max|position| + atol, rotations rtol + atol),
+    is an upper bound of the error their leaving out can make (on the strip 1.4-4x the error
+    measured at bands of 50 .. 1000 Hz). The band becomes RELEASE_BAND_MARGIN times the
+    frequency of the lowest mode that brings it within 1, at most RELEASE_BAND_MAX_RAISE times
+    ``band``; beyond, an AccuracyWarning. A band the caller ``given`` is kept, with an
+    AccuracyWarning when the modes above it hold more than the tolerance. Returns (band, where it
+    came from) or None."""
+    desc = mech._desc
+    if not initial.loads or not desc.elements or 6 * len(mech._car) > RELEASE_MAX_DOF:
+        return None
+    model = _model.build(mech)
+    loaded = np.asarray(initial.poses, dtype=float)
+    try:
+        P, lam, _ = _core.model_static(model, loaded, time, 0, 1e-10)
+    except (SolverError, ModelError):
+        return None
+    u = se3.log(se3.inverse(P) @ loaded)
+    size = max(float(np.ptp(P[:, :3, 3], axis=0).max()), 1e-12)
+    if np.abs(u[:, :3]).max() > 0.2 or np.abs(u[:, 3:]).max() > 0.2 * size:
+        return None   # not a small vibration about the equilibrium: no modal picture
+    tol_p = rtol * np.abs(P[:, :3, 3]).max(axis=0) + atol
+    for n in (RELEASE_MODES, 4 * RELEASE_MODES):
+        try:
+            om, _, shapes, nf, _ = _core.model_modes(model, min(n, 6 * len(mech._car)), P, lam,
+                                                     time)
+        except (SolverError, ModelError):
+            return None
+        f, ratio = om[:nf] / (2 * np.pi), _left_after_modes(desc, P, u, shapes[:nf], tol_p,
+                                                            rtol + atol)
+        if ratio[-1] <= 1.0 or nf < n:   # the modes that hold it, or every mode there is
+            break
+    inside = int(np.searchsorted(f, band, side="right"))            # modes 0..inside-1 <= band
+    above = float(ratio[inside])
+    if above <= 1.0:
+        return None
+    enough = np.flatnonzero(ratio[1:] <= 1.0)
+    need = RELEASE_BAND_MARGIN * f[enough[0]] if len(enough) else np.inf
+    raised = float(min(need, RELEASE_BAND_MAX_RAISE * band))
+    why = (f"the released state's modes above {band:.4g} Hz ({'band=' if given else '1/(2 dt_out) or the default'}) "
+           f"hold {above:.3g} times the tolerance")
+    if given:
+        warnings.warn(f"simulate: {why}; they are neither resolved nor estimated above the band "
+                      f"(band={need:.4g} holds them, or leave band to its default)",
+                      AccuracyWarning, stacklevel=outside_stacklevel())
+        return None
+    if need > raised:
+        left = float(ratio[int(np.searchsorted(f, raised, side="right"))])
+        top = (f" (band={need:.4g} holds them)" if np.isfinite(need) else
+               f" (the {len(f)} lowest modes, up to {f[-1]:.4g} Hz, leave {ratio[-1]:.3g} times "
+               f"the tolerance)")
+        warnings.warn(f"simulate: {why}; the band is raised to {raised:.4g} Hz, "
+                      f"{RELEASE_BAND_MAX_RAISE:g}x, and what lies above it, {left:.3g} times the "
+                      f"tolerance, is neither resolved nor estimated{top}",
+                      AccuracyWarning, stacklevel=outside_stacklevel())
+    return raised, f"{why}, raised to {raised:.4g} Hz to resolve them"
+
+
+def _left_after_modes(desc, P, u, phi, tol_p, tol_r) -> np.ndarray:
+    """What of the deflection ``u`` (ncarriers, 6: body-frame twists from the poses ``P``) the
+    mass-normalized modes ``phi`` (n, ncarriers, 6) leave, before any and after each of them in
+    turn: (n + 1,) the largest component in tolerances (positions in the world frame against
+    ``tol_p`` (3,) [m], rotations against ``tol_r`` [rad])."""
+    c = np.einsum("nci,ci->n", desc.mass_times(phi), u)
+    left = np.concatenate([u[None], u[None] - np.cumsum(c[:, None, None] * phi, axis=0)])
+    moved = np.einsum("cij,kcj->kci", P[:, :3, :3], left[:, :, 3:])
+    return np.maximum(np.abs(moved / tol_p).max(axis=(1, 2)),
+                      np.abs(left[:, :, :3]).max(axis=(1, 2)) / tol_r)
 
 
 def rest_check(lin):

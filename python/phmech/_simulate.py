@@ -10,7 +10,7 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from . import _core, _marshal, _model, planar as _planar, postprocess, _run, _sampled, se3, topology
+from . import _core, _marshal, _model, _modes, planar as _planar, postprocess, _run, _sampled, se3, topology
 from ._checks import fibre_strain, positive, real, strain_bound
 from ._codes import INTEGRATORS
 from ._errors import (AccuracyWarning, ModelError, PlausibilityWarning, SolverError,
@@ -93,6 +93,10 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
     else:
         band = positive("band", band)
         band_from = "band="
+    if adaptive and isinstance(initial, StaticResult):   # a release: the modes it rings in
+        raised = _modes.release_band(mech, initial, t0, band, rtol, atol, band_from == "band=")
+        if raised is not None:
+            band, band_from = raised
     if integrator == "generalized-alpha":
         if step is not None:
             step = positive("step", step)
