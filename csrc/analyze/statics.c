@@ -403,7 +403,7 @@ phm_status phm_static_monitored(const phm_model *m, const double *poses, double 
                                 double *lambda_out, int *iters, double *reached, phm_error *err) {
   phm_error_clear(err);
   if (!m || !poses_out) return PHM_FAIL(err, PHM_EINVAL, "phm_static: NULL argument");
-  if (steps < 0) return PHM_FAIL(err, PHM_EINVAL, "load steps must be >= 0 (got %d)", steps);
+  if (steps < -1) return PHM_FAIL(err, PHM_EINVAL, "load steps must be >= -1 (got %d)", steps);
   if (!(tol > 0)) return PHM_FAIL(err, PHM_EINVAL, "tolerance must be > 0 (got %g)", tol);
   int nc = m->nc, n6 = 6 * nc, nk = m->ncons, N = n6 + nk, it = 0;
   double s = 0; /* the load factor reached */
@@ -434,13 +434,20 @@ phm_status phm_static_monitored(const phm_model *m, const double *poses, double 
   for (int c = 0; c < nc; c++) memcpy(poses_out + 16 * c, poses ? poses + 16 * c : m->car[c].H0, 16 * sizeof(double));
   int have = 0; /* S holds the factorization of the last Newton solve that converged */
   int pre_failed = 0;
-  if (steps == 0) {
+  if (steps <= 0) {
     /* no load stepping: Newton at the full load from the start, pseudo-transient continuation
      * if it fails (whether the start is an equilibrium: Mechanism.modes' check; with load
      * stepping, an unloaded state would be found first, and one full load step from there can
-     * land on another branch than the start's, as from the post-buckled elastica's) */
+     * land on another branch than the start's, as from the post-buckled elastica's); steps = -1:
+     * Newton only (the equilibrium next to a start that rings, python/phmech/_modes.py: a
+     * continuation's would be far from it, and found slowly) */
     L.scale = 1.0;
     if (newton(&L, &S, poses_out, lam, tol, 50, &w, &it, &have)) {
+      if (steps < 0) {
+        st = PHM_FAIL(err, PHM_ESOLVER, "static equilibrium: Newton at the full load from the "
+                      "start failed (%d iterations; no continuation asked)", it);
+        goto done;
+      }
       if ((st = no_equilibrium(m, poses_out, time, err))) goto done;
       if (ptc(&L, &S, poses_out, lam, tol, 500, &w, &it)) {
         st = PHM_FAIL(err, PHM_ESOLVER, "static equilibrium: Newton at the full load from the "

@@ -333,7 +333,7 @@ PyMethodDef phm_py_analysis_methods[] = {
     {"model_static", py_model_static, METH_VARARGS,
      "model_static(model, poses=None, time=0, steps=1, tol=1e-10, monitor=None) -> (poses, lambda, "
      "iterations); monitor(load factor, iterations, load step) after each load step, truthy to stop; "
-     "steps=0: the full load at once from poses (no unloaded start)."},
+     "steps=0: the full load at once from poses (no unloaded start); steps=-1: the same, Newton only (no continuation)."},
     {"model_static_free", py_model_static_free, METH_VARARGS,
      "model_static_free(model, poses=None, time=0, nmax=8) -> list of dicts (pair, coord, carrier, "
      "twist, force, gravity, effort, mass, moving, load_work): motions nothing resists on which the "

@@ -166,89 +166,119 @@ def frequencies(model, n: int, poses: np.ndarray, lam: np.ndarray, time: float =
     return om[:nf] / (2 * np.pi)
 
 
-#: the largest mechanism (6 x carriers) whose released state simulate decomposes into modes,
-#: and the modes it asks for first (then 4x as many, once): the core's shift-invert solver
-#: (a strip of 100 / 199 / 500 elements: 0.04 / 0.07 / 0.19 s for 20 modes, 0.48 / 0.97 /
+#: the largest mechanism (6 x carriers) whose starting deflection simulate decomposes into
+#: modes, and the modes it asks for first (then 4x as many, once): the core's shift-invert
+#: solver (a strip of 100 / 199 / 500 elements: 0.04 / 0.07 / 0.19 s for 20 modes, 0.48 / 0.97 /
 #: 2.3 s for 80)
-RELEASE_MAX_DOF = 6000
-RELEASE_MODES = 24
-#: a mode the released state needs is taken into the band with this margin: the estimate's
-#: filter sees a mode at the band's frequency halved (csrc/integrate/galpha_scheme.c)
-RELEASE_BAND_MARGIN = 1.25
+RINGING_MAX_DOF = 6000
+RINGING_MODES = 24
+#: a mode the start needs is taken into the band with this margin: the estimate's filter
+#: (csrc/integrate/galpha_scheme.c) sees a mode at f through its two stages at 1 / (1 + (f /
+#: band)^2) of its weight, 0.8 at half the band (the strip started straight under gravity:
+#: its 131 Hz mode at 1.25x: 1.48x its tolerance; 1.5x: 1.06x)
+RINGING_BAND_MARGIN = 2.0
 #: ... and the band is raised at most this many times: beyond, simulate warns instead
-RELEASE_BAND_MAX_RAISE = 20.0
+RINGING_BAND_MAX_RAISE = 20.0
 
 
-def release_band(mech, initial: StaticResult, time: float, band: float, rtol: float,
+def ringing_band(mech, initial: Optional[StaticResult], time: float, band: float, rtol: float,
                  atol: float, given: bool = False):
-    """The band [Hz] a run started from ``initial``, a static equilibrium under extra loads the
-    run does not have (a release: the loads let go at ``time`` [s]), needs for the modes the
-    release sets ringing, or None when the default ``band`` [Hz] holds them (or the check does
-    not apply: no extra loads, no flexible link, more than RELEASE_MAX_DOF degrees of freedom,
-    or a release that is not a small vibration about the mechanism's own equilibrium).
+    """The band [Hz] a run needs for the modes its start sets ringing, or None when ``band``
+    [Hz] holds them or the check does not apply. A start rings when it is at rest away from the
+    equilibrium of the run's own loads at ``time`` [s]: a release (``initial`` a StaticResult
+    found under extra loads, which the run lets go) or the initial configuration at rest (a
+    structure started undeformed under gravity). Not checked: no flexible link, more than
+    RINGING_MAX_DOF degrees of freedom, a start that moves, ``initial`` an equilibrium of the
+    run's loads, or a start that is not a small vibration about an equilibrium next to it (a
+    mechanism that swings or falls: no modal picture).
 
     The default integrator resolves the motion up to the band and leaves what lies above it to
-    the scheme, neither resolved nor estimated (csrc/integrate/galpha_scheme.c). A released
-    deflection rings in every mode it holds: the README's strip (0.2 m, 10 elements) bent by
-    0.1 N at its tip and released, sampled every 0.01 s (band 50 Hz), holds 1.9e-5 m of its
-    131 Hz mode at the tip, and ended 5.5x its tolerance off (tests/accuracy/). So: the
-    deflection u (body-frame twists from the unloaded equilibrium near ``initial`` to it) in
-    the mass-normalized modes there, c = Phi^T M u; what the modes up to f leave of it, in
-    tolerances (per carrier and component: rtol max|position| + atol, rotations rtol + atol),
-    is an upper bound of the error their leaving out can make (on the strip 1.4-4x the error
-    measured at bands of 50 .. 1000 Hz). The band becomes RELEASE_BAND_MARGIN times the
-    frequency of the lowest mode that brings it within 1, at most RELEASE_BAND_MAX_RAISE times
-    ``band``; beyond, an AccuracyWarning. A band the caller ``given`` is kept, with an
-    AccuracyWarning when the modes above it hold more than the tolerance. Returns (band, where it
-    came from) or None."""
+    the scheme, neither resolved nor estimated (csrc/integrate/galpha_scheme.c). A deflection let
+    go rings in every mode it holds: the README's strip (0.2 m, 10 elements) bent by 0.1 N at
+    its tip and released, sampled every 0.01 s (band 50 Hz), holds 1.9e-5 m of its 131 Hz mode
+    at the tip and ended 5.5x its tolerance off; started straight under gravity, 3.7x
+    (tests/accuracy/). So: the deflection u (body-frame twists from the equilibrium next to the
+    start to the start) in the mass-normalized modes there, c = Phi^T M u; what the modes up to
+    f leave of it, in tolerances (per carrier and component: rtol max|position| + atol,
+    rotations rtol + atol), bounds the error their leaving out can make (on the released strip
+    1.4-4x the error measured at bands of 50 .. 1000 Hz). The band becomes RINGING_BAND_MARGIN
+    times the frequency of the lowest mode that brings it within 1, at most
+    RINGING_BAND_MAX_RAISE times ``band``, when the modes above 1/RINGING_BAND_MARGIN of the
+    default ``band`` hold more than 1; beyond, an AccuracyWarning. A band the caller ``given``
+    is kept, with an AccuracyWarning when the modes above it hold more than the tolerance. Returns (band, where it came from) or None."""
     desc = mech._desc
-    if not initial.loads or not desc.elements or 6 * len(mech._car) > RELEASE_MAX_DOF:
+    if not desc.elements or 6 * len(mech._car) > RINGING_MAX_DOF:
         return None
-    model = _model.build(mech)
-    loaded = np.asarray(initial.poses, dtype=float)
-    try:
-        P, lam, _ = _core.model_static(model, loaded, time, 0, 1e-10)
-    except (SolverError, ModelError):
-        return None
-    u = se3.log(se3.inverse(P) @ loaded)
-    size = max(float(np.ptp(P[:, :3, 3], axis=0).max()), 1e-12)
-    if np.abs(u[:, :3]).max() > 0.2 or np.abs(u[:, 3:]).max() > 0.2 * size:
-        return None   # not a small vibration about the equilibrium: no modal picture
-    tol_p = rtol * np.abs(P[:, :3, 3]).max(axis=0) + atol
-    for n in (RELEASE_MODES, 4 * RELEASE_MODES):
-        try:
-            om, _, shapes, nf, _ = _core.model_modes(model, min(n, 6 * len(mech._car)), P, lam,
-                                                     time)
-        except (SolverError, ModelError):
+    if initial is not None:
+        if not initial.loads:
+            return None   # an equilibrium of the run's own loads
+        start, what = np.asarray(initial.poses, dtype=float), "released state"
+    else:
+        state = _model.initial_state(mech)[0]
+        if np.any(state.twists):
             return None
-        f, ratio = om[:nf] / (2 * np.pi), _left_after_modes(desc, P, u, shapes[:nf], tol_p,
-                                                            rtol + atol)
-        if ratio[-1] <= 1.0 or nf < n:   # the modes that hold it, or every mode there is
-            break
-    inside = int(np.searchsorted(f, band, side="right"))            # modes 0..inside-1 <= band
+        start, what = state.poses, "start at rest"
+    model, keep = _model.build(mech), _model.built(mech)
+    found = _start_modes(model, keep, start, time, RINGING_MODES, len(mech._car))
+    if found is None:
+        return None
+    P, u, f, phi = found
+    tol_p = rtol * np.abs(P[:, :3, 3]).max(axis=0) + atol
+    ratio = _left_after_modes(desc, P, u, phi, tol_p, rtol + atol)
+    if ratio[-1] > 1.0 and len(f) == RINGING_MODES:   # more modes hold it: 4x as many, once
+        P, u, f, phi = _start_modes(model, keep, start, time, 4 * RINGING_MODES, len(mech._car))
+        ratio = _left_after_modes(desc, P, u, phi, tol_p, rtol + atol)
+    # the modes a default band holds: up to band / RINGING_BAND_MARGIN (modes 0..inside-1); a
+    # band given: up to itself (a warning names what lies above it)
+    inside = int(np.searchsorted(f, band if given else band / RINGING_BAND_MARGIN, side="right"))
     above = float(ratio[inside])
     if above <= 1.0:
         return None
     enough = np.flatnonzero(ratio[1:] <= 1.0)
-    need = RELEASE_BAND_MARGIN * f[enough[0]] if len(enough) else np.inf
-    raised = float(min(need, RELEASE_BAND_MAX_RAISE * band))
-    why = (f"the released state's modes above {band:.4g} Hz ({'band=' if given else '1/(2 dt_out) or the default'}) "
-           f"hold {above:.3g} times the tolerance")
+    need = RINGING_BAND_MARGIN * f[enough[0]] if len(enough) else np.inf
+    raised = float(min(need, RINGING_BAND_MAX_RAISE * band))
     if given:
-        warnings.warn(f"simulate: {why}; they are neither resolved nor estimated above the band "
-                      f"(band={need:.4g} holds them, or leave band to its default)",
+        warnings.warn(f"simulate: the {what}'s modes above the band (band={band:.4g} Hz) hold "
+                      f"{above:.3g} times the tolerance; they are neither resolved nor estimated "
+                      f"(band={need:.4g} resolves them, or leave band to its default)",
                       AccuracyWarning, stacklevel=outside_stacklevel())
         return None
+    why = (f"the {what}'s modes above {band / RINGING_BAND_MARGIN:.4g} Hz, 1/"
+           f"{RINGING_BAND_MARGIN:g} of the default band ({band:.4g} Hz), hold {above:.3g} times "
+           f"the tolerance")
     if need > raised:
-        left = float(ratio[int(np.searchsorted(f, raised, side="right"))])
+        left = float(ratio[int(np.searchsorted(f, raised / RINGING_BAND_MARGIN, side="right"))])
         top = (f" (band={need:.4g} holds them)" if np.isfinite(need) else
                f" (the {len(f)} lowest modes, up to {f[-1]:.4g} Hz, leave {ratio[-1]:.3g} times "
                f"the tolerance)")
         warnings.warn(f"simulate: {why}; the band is raised to {raised:.4g} Hz, "
-                      f"{RELEASE_BAND_MAX_RAISE:g}x, and what lies above it, {left:.3g} times the "
+                      f"{RINGING_BAND_MAX_RAISE:g}x, and what lies above it, {left:.3g} times the "
                       f"tolerance, is neither resolved nor estimated{top}",
                       AccuracyWarning, stacklevel=outside_stacklevel())
     return raised, f"{why}, raised to {raised:.4g} Hz to resolve them"
+
+
+def _start_modes(model, keep: dict, start: np.ndarray, time: float, n: int, ncar: int):
+    """(P, u, f, phi) of ringing_band for the poses ``start`` at ``time`` [s]: the equilibrium
+    ``P`` the core ``model``'s static solve finds from them (Newton only), the deflection ``u`` (ncarriers, 6)
+    from it, and the ``n`` lowest modes there (``f`` [Hz], mass-normalized shapes ``phi``); None
+    when the solve fails or moves the poses by more than 0.2 rad or 0.2 of the mechanism's size
+    (no small vibration about it). Kept in ``keep`` (the mechanism's _model.built) per start,
+    time and n: a run called again on the same start solves nothing."""
+    done = keep.setdefault("ringing", {})
+    key = (start.tobytes(), time, n)
+    if key not in done:
+        done[key] = None
+        try:
+            P, lam, _ = _core.model_static(model, start, time, -1, 1e-10)
+            u = se3.log(se3.inverse(P) @ start)
+            size = max(float(np.ptp(P[:, :3, 3], axis=0).max()), 1e-12)
+            if np.abs(u[:, :3]).max() <= 0.2 and np.abs(u[:, 3:]).max() <= 0.2 * size:
+                om, _, shapes, nf, _ = _core.model_modes(model, min(n, 6 * ncar), P, lam, time)
+                done[key] = (P, u, om[:nf] / (2 * np.pi), shapes[:nf])
+        except (SolverError, ModelError):
+            pass
+    return done[key]
 
 
 def _left_after_modes(desc, P, u, phi, tol_p, tol_r) -> np.ndarray:

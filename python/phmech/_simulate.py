@@ -93,8 +93,9 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
     else:
         band = positive("band", band)
         band_from = "band="
-    if adaptive and isinstance(initial, StaticResult):   # a release: the modes it rings in
-        raised = _modes.release_band(mech, initial, t0, band, rtol, atol, band_from == "band=")
+    if adaptive and (initial is None or isinstance(initial, StaticResult)):
+        # the modes a start away from equilibrium rings in (a release, a start at rest)
+        raised = _modes.ringing_band(mech, initial, t0, band, rtol, atol, band_from == "band=")
         if raised is not None:
             band, band_from = raised
     if integrator == "generalized-alpha":

@@ -92,8 +92,9 @@ static void tip_load_reuses_its_factorizations(void) {
     }
 }
 
-/* steps = 0 from an equilibrium at the full load: one tangent, whose step is below the
- * tolerance, and the poses as given (with load steps the solve would unload it first). */
+/* steps = 0 (and -1, Newton alone) from an equilibrium at the full load: one tangent, whose step
+ * is below the tolerance, and the poses as given (with load steps the solve would unload it
+ * first). */
 static void zero_steps_leave_an_equilibrium_in_place(void) {
   int n = 12, it = 0;
   phm_model *m = cantilever_model(n, 1.0, 0);
@@ -105,8 +106,13 @@ static void zero_steps_leave_an_equilibrium_in_place(void) {
     check("poses kept", maxdiff(16 * (n + 1), P, P2), 1e-12);
     CHECK(it == 1, "%d Newton iterations", it);
   }
-  check_refused("steps = -1", phm_static(m, P, 0.0, -1, 1e-10, P2, lam, &it, &err), PHM_EINVAL,
-                &err, "load steps must be >= 0");
+  /* steps = -1: Newton alone, the same from an equilibrium */
+  if (CHECK(phm_static(m, P, 0.0, -1, 1e-10, P2, lam, &it, &err) == PHM_OK, "%s", err.msg)) {
+    check("poses kept (steps = -1)", maxdiff(16 * (n + 1), P, P2), 1e-12);
+    CHECK(it == 1, "%d Newton iterations (steps = -1)", it);
+  }
+  check_refused("steps = -2", phm_static(m, P, 0.0, -2, 1e-10, P2, lam, &it, &err), PHM_EINVAL,
+                &err, "load steps must be >= -1");
   free(P);
   phm_model_free(m);
 }
