@@ -205,7 +205,8 @@ def ringing_band(mech, initial: Optional[StaticResult], time: float, band: float
     times the frequency of the lowest mode that brings it within 1, at most
     RINGING_BAND_MAX_RAISE times ``band``, when the modes above 1/RINGING_BAND_MARGIN of the
     default ``band`` hold more than 1; beyond, an AccuracyWarning. A band the caller ``given``
-    is kept, with an AccuracyWarning when the modes above it hold more than the tolerance. Returns (band, where it came from) or None."""
+    is kept, with an AccuracyWarning when the modes above it hold more than the tolerance.
+    Returns (band, where it came from) or None."""
     desc = mech._desc
     if not desc.elements or 6 * len(mech._car) > RINGING_MAX_DOF:
         return None
@@ -237,10 +238,14 @@ def ringing_band(mech, initial: Optional[StaticResult], time: float, band: float
     enough = np.flatnonzero(ratio[1:] <= 1.0)
     need = RINGING_BAND_MARGIN * f[enough[0]] if len(enough) else np.inf
     raised = float(min(need, RINGING_BAND_MAX_RAISE * band))
+    # where no band the modes found reach holds them: what those modes leave
+    beyond = (f"the {len(f)} lowest modes, up to {f[-1]:.4g} Hz, leave {ratio[-1]:.3g} times the "
+              f"tolerance")
     if given:
         warnings.warn(f"simulate: the {what}'s modes above the band (band={band:.4g} Hz) hold "
                       f"{above:.3g} times the tolerance; they are neither resolved nor estimated "
-                      f"(band={need:.4g} resolves them, or leave band to its default)",
+                      + (f"(band={need:.4g} resolves them, or leave band to its default)"
+                         if np.isfinite(need) else f"({beyond})"),
                       AccuracyWarning, stacklevel=outside_stacklevel())
         return None
     why = (f"the {what}'s modes above {band / RINGING_BAND_MARGIN:.4g} Hz, 1/"
@@ -248,20 +253,18 @@ def ringing_band(mech, initial: Optional[StaticResult], time: float, band: float
            f"the tolerance")
     if need > raised:
         left = float(ratio[int(np.searchsorted(f, raised / RINGING_BAND_MARGIN, side="right"))])
-        top = (f" (band={need:.4g} holds them)" if np.isfinite(need) else
-               f" (the {len(f)} lowest modes, up to {f[-1]:.4g} Hz, leave {ratio[-1]:.3g} times "
-               f"the tolerance)")
+        top = f" (band={need:.4g} holds them)" if np.isfinite(need) else f" ({beyond})"
         warnings.warn(f"simulate: {why}; the band is raised to {raised:.4g} Hz, "
                       f"{RINGING_BAND_MAX_RAISE:g}x, and what lies above it, {left:.3g} times the "
                       f"tolerance, is neither resolved nor estimated{top}",
                       AccuracyWarning, stacklevel=outside_stacklevel())
-    return raised, f"{why}, raised to {raised:.4g} Hz to resolve them"
+    return raised, f"{why}, raised to {raised:.4g} Hz"
 
 
 def _start_modes(model, keep: dict, start: np.ndarray, time: float, n: int, ncar: int):
     """(P, u, f, phi) of ringing_band for the poses ``start`` at ``time`` [s]: the equilibrium
-    ``P`` the core ``model``'s static solve finds from them (Newton only), the deflection ``u`` (ncarriers, 6)
-    from it, and the ``n`` lowest modes there (``f`` [Hz], mass-normalized shapes ``phi``); None
+    ``P`` the core ``model``'s static solve finds from them (Newton only), the deflection ``u``
+    (ncarriers, 6) from it, and the ``n`` lowest modes there (``f`` [Hz], mass-normalized shapes ``phi``); None
     when the solve fails or moves the poses by more than 0.2 rad or 0.2 of the mechanism's size
     (no small vibration about it). Kept in ``keep`` (the mechanism's _model.built) per start,
     time and n: a run called again on the same start solves nothing."""
