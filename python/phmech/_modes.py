@@ -181,58 +181,64 @@ RINGING_BAND_MARGIN = 2.0
 RINGING_BAND_MAX_RAISE = 20.0
 
 
-def ringing_band(mech, initial: Optional[StaticResult], time: float, band: float, rtol: float,
-                 atol: float, given: bool = False):
-    """The band [Hz] a run needs for the modes its start sets ringing, or None when ``band``
-    [Hz] holds them or the check does not apply. A start rings when it is at rest away from the
-    equilibrium of the run's own loads at ``time`` [s]: a release (``initial`` a StaticResult
-    found under extra loads, which the run lets go) or the initial configuration at rest (a
-    structure started undeformed under gravity). Not checked: no flexible link, more than
-    RINGING_MAX_DOF degrees of freedom, a start that moves, ``initial`` an equilibrium of the
-    run's loads, or a start that is not a small vibration about an equilibrium next to it (a
-    mechanism that swings or falls: no modal picture).
+def ringing_band(mech, initial: Optional[StaticResult], time: float, t_end: float, band: float,
+                 rtol: float, atol: float, given: bool = False):
+    """The band [Hz] a run from ``time`` to ``t_end`` [s] needs for the modes its start and its
+    loads' steps set ringing, or None when ``band`` [Hz] holds them or the check does not apply.
+    A start rings when it is at rest away from the equilibrium of the run's own loads: a
+    release (``initial`` a StaticResult found under extra loads, which the run lets go) or the
+    initial configuration at rest (a structure started undeformed under gravity); a load's law
+    that steps during the run (a Step) rings as the release of the step's static deflection. Not checked: no flexible link, more than RINGING_MAX_DOF degrees of
+    freedom, a start that moves, a start or step that is not a small vibration about an
+    equilibrium next to it (a mechanism that swings or falls: no modal picture), and what the
+    other laws excite (a Pulse: taken as two steps, the 2 ms hit of benchmarks/scenes.py's
+    cantilever + tip mass read 20 tolerances above half its 500 Hz band and raised it 20x,
+    3.1x the CPU; actuators, prescribed motions).
 
     The default integrator resolves the motion up to the band and leaves what lies above it to
     the scheme, neither resolved nor estimated (csrc/integrate/galpha_scheme.c). A deflection let
     go rings in every mode it holds: the README's strip (0.2 m, 10 elements) bent by 0.1 N at
     its tip and released, sampled every 0.01 s (band 50 Hz), holds 1.9e-5 m of its 131 Hz mode
-    at the tip and ended 5.5x its tolerance off; started straight under gravity, 3.7x
-    (tests/accuracy/). So: the deflection u (body-frame twists from the equilibrium next to the
-    start to the start) in the mass-normalized modes there, c = Phi^T M u; what the modes up to
-    f leave of it, in tolerances (per carrier and component: rtol max|position| + atol,
-    rotations rtol + atol), bounds the error their leaving out can make (on the released strip
-    1.4-4x the error measured at bands of 50 .. 1000 Hz). The band becomes RINGING_BAND_MARGIN
-    times the frequency of the lowest mode that brings it within 1, at most
-    RINGING_BAND_MAX_RAISE times ``band``, when the modes above 1/RINGING_BAND_MARGIN of the
-    default ``band`` hold more than 1; beyond, an AccuracyWarning. A band the caller ``given``
-    is kept, with an AccuracyWarning when the modes above it hold more than the tolerance.
-    Returns (band, where it came from) or None."""
+    at the tip and ended 5.5x its tolerance off; started straight under gravity, 3.7x; with the
+    0.1 N stepped on at 0.2 s, 7.1x (tests/accuracy/). So: each deflection u (body-frame twists
+    from the equilibrium next to the start to the start; between the equilibria just before and
+    just after a step) in the mass-normalized modes of the start's equilibrium, c = Phi^T M u;
+    what the modes up to f leave of it, in tolerances (per carrier and component: rtol
+    max|position| + atol, rotations rtol + atol), bounds the error their leaving out can make
+    (on the released strip 1.4-4x the error measured at bands of 50 .. 1000 Hz). The band
+    becomes RINGING_BAND_MARGIN times the frequency of the lowest mode that brings every
+    deflection within 1, at most RINGING_BAND_MAX_RAISE times ``band``, when the modes above
+    1/RINGING_BAND_MARGIN of the default ``band`` hold more than 1; beyond, an AccuracyWarning.
+    A band the caller ``given`` is kept, with an AccuracyWarning when the modes above it hold
+    more than the tolerance. Returns (band, where it came from) or None."""
     desc = mech._desc
     if not desc.elements or 6 * len(mech._car) > RINGING_MAX_DOF:
         return None
     if initial is not None:
-        if not initial.loads:
-            return None   # an equilibrium of the run's own loads
-        start, what = np.asarray(initial.poses, dtype=float), "released state"
+        start = np.asarray(initial.poses, dtype=float)
+        what = "the released state" if initial.loads else "the start"
     else:
         state = _model.initial_state(mech)[0]
         if np.any(state.twists):
             return None
-        start, what = state.poses, "start at rest"
+        start, what = state.poses, "the start at rest"
     model, keep = _model.build(mech), _model.built(mech)
     found = _start_modes(model, keep, start, time, RINGING_MODES, len(mech._car))
     if found is None:
         return None
     P, u, f, phi = found
+    deflections = [(what, u)] + _load_steps(desc, model, keep, P, time, t_end)
     tol_p = rtol * np.abs(P[:, :3, 3]).max(axis=0) + atol
-    ratio = _left_after_modes(desc, P, u, phi, tol_p, rtol + atol)
-    if ratio[-1] > 1.0 and len(f) == RINGING_MODES:   # more modes hold it: 4x as many, once
+    ratios = [_left_after_modes(desc, P, du, phi, tol_p, rtol + atol) for _, du in deflections]
+    if max(r[-1] for r in ratios) > 1.0 and len(f) == RINGING_MODES:   # 4x as many, once
         P, u, f, phi = _start_modes(model, keep, start, time, 4 * RINGING_MODES, len(mech._car))
-        ratio = _left_after_modes(desc, P, u, phi, tol_p, rtol + atol)
+        ratios = [_left_after_modes(desc, P, du, phi, tol_p, rtol + atol) for _, du in deflections]
+    ratio = np.max(ratios, axis=0)
     # the modes a default band holds: up to band / RINGING_BAND_MARGIN (modes 0..inside-1); a
     # band given: up to itself (a warning names what lies above it)
     inside = int(np.searchsorted(f, band if given else band / RINGING_BAND_MARGIN, side="right"))
     above = float(ratio[inside])
+    what = deflections[int(np.argmax([r[inside] for r in ratios]))][0]
     if above <= 1.0:
         return None
     enough = np.flatnonzero(ratio[1:] <= 1.0)
@@ -242,13 +248,14 @@ def ringing_band(mech, initial: Optional[StaticResult], time: float, band: float
     beyond = (f"the {len(f)} lowest modes, up to {f[-1]:.4g} Hz, leave {ratio[-1]:.3g} times the "
               f"tolerance")
     if given:
-        warnings.warn(f"simulate: the {what}'s modes above the band (band={band:.4g} Hz) hold "
-                      f"{above:.3g} times the tolerance; they are neither resolved nor estimated "
+        warnings.warn(f"simulate: the modes {what} rings in above the band (band={band:.4g} "
+                      f"Hz) hold {above:.3g} times the tolerance; they are neither resolved nor "
+                      f"estimated "
                       + (f"(band={need:.4g} resolves them, or leave band to its default)"
                          if np.isfinite(need) else f"({beyond})"),
                       AccuracyWarning, stacklevel=outside_stacklevel())
         return None
-    why = (f"the {what}'s modes above {band / RINGING_BAND_MARGIN:.4g} Hz, 1/"
+    why = (f"the modes {what} rings in above {band / RINGING_BAND_MARGIN:.4g} Hz, 1/"
            f"{RINGING_BAND_MARGIN:g} of the default band ({band:.4g} Hz), hold {above:.3g} times "
            f"the tolerance")
     if need > raised:
@@ -264,10 +271,10 @@ def ringing_band(mech, initial: Optional[StaticResult], time: float, band: float
 def _start_modes(model, keep: dict, start: np.ndarray, time: float, n: int, ncar: int):
     """(P, u, f, phi) of ringing_band for the poses ``start`` at ``time`` [s]: the equilibrium
     ``P`` the core ``model``'s static solve finds from them (Newton only), the deflection ``u``
-    (ncarriers, 6) from it, and the ``n`` lowest modes there (``f`` [Hz], mass-normalized shapes ``phi``); None
-    when the solve fails or moves the poses by more than 0.2 rad or 0.2 of the mechanism's size
-    (no small vibration about it). Kept in ``keep`` (the mechanism's _model.built) per start,
-    time and n: a run called again on the same start solves nothing."""
+    (ncarriers, 6) from it, and the ``n`` lowest modes there (``f`` [Hz], mass-normalized
+    shapes ``phi``); None when the solve fails or moves the poses by more than 0.2 rad or 0.2 of
+    the mechanism's size (no small vibration about it). Kept in ``keep`` (the mechanism's
+    _model.built) per start, time and n: a run called again on the same start solves nothing."""
     done = keep.setdefault("ringing", {})
     key = (start.tobytes(), time, n)
     if key not in done:
@@ -282,6 +289,50 @@ def _start_modes(model, keep: dict, start: np.ndarray, time: float, n: int, ncar
         except (SolverError, ModelError):
             pass
     return done[key]
+
+
+def _load_steps(desc, model, keep: dict, P: np.ndarray, t_start: float, t_end: float) -> list:
+    """[(what, du)] of ringing_band: for each time in (t_start, t_end) [s] where a load's law
+    jumps for good (a Step's t0, in sums and products too), the deflection du
+    (ncarriers, 6: body-frame twists) between the core ``model``'s equilibria just before and
+    just after it, each found by Newton alone from ``P`` (the start's equilibrium); steps whose
+    equilibria are not found, or are not a small vibration, are left out. Kept in ``keep`` per
+    start and span."""
+    done = keep.setdefault("ringing_steps", {})
+    key = (P.tobytes(), t_start, t_end)
+    if key in done:
+        return done[key]
+    times = set()
+
+    def edges(d):
+        if isinstance(d, dict):
+            if d.get("law") == "Step":
+                times.add(float(d["t0"]))
+            for v in d.values():
+                edges(v)
+        elif isinstance(d, (list, tuple)):
+            for v in d:
+                edges(v)
+    laws = [row["law"] for row in desc.loads if row.get("law") is not None]
+    for law in laws:
+        edges(law.to_data())
+    out = []
+    size = max(float(np.ptp(P[:, :3, 3], axis=0).max()), 1e-12)
+    for tb in sorted(t for t in times if t_start < t < t_end):
+        eps = 1e-9 * max(1.0, abs(tb))
+        vals = [law.evaluate(np.array([tb - eps, tb + eps])) for law in laws]
+        if all(abs(b - a) <= 1e-9 * max(abs(a), abs(b), 1.0) for a, b in vals):
+            continue   # no jump there (a continuous law's corner)
+        try:
+            Pb, _, _ = _core.model_static(model, P, tb - eps, -1, 1e-10)
+            Pa, _, _ = _core.model_static(model, Pb, tb + eps, -1, 1e-10)
+        except (SolverError, ModelError):
+            continue
+        du = se3.log(se3.inverse(Pb) @ Pa)
+        if np.abs(du[:, :3]).max() <= 0.2 and np.abs(du[:, 3:]).max() <= 0.2 * size:
+            out.append((f"a load's step at t = {tb:.6g} s", du))
+    done[key] = out
+    return out
 
 
 def _left_after_modes(desc, P, u, phi, tol_p, tol_r) -> np.ndarray:

@@ -10,7 +10,8 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from . import _core, _marshal, _model, _modes, planar as _planar, postprocess, _run, _sampled, se3, topology
+from . import (_core, _marshal, _model, _modes, planar as _planar, postprocess, _run, _sampled,
+               se3, topology)
 from ._checks import fibre_strain, positive, real, strain_bound
 from ._codes import INTEGRATORS
 from ._errors import (AccuracyWarning, ModelError, PlausibilityWarning, SolverError,
@@ -94,8 +95,9 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
         band = positive("band", band)
         band_from = "band="
     if adaptive and (initial is None or isinstance(initial, StaticResult)):
-        # the modes a start away from equilibrium rings in (a release, a start at rest)
-        raised = _modes.ringing_band(mech, initial, t0, band, rtol, atol, band_from == "band=")
+        # the modes a start away from equilibrium (a release, a start at rest) and the loads'
+        # steps ring in
+        raised = _modes.ringing_band(mech, initial, t0, t1, band, rtol, atol, band_from == "band=")
         if raised is not None:
             band, band_from = raised
     if integrator == "generalized-alpha":

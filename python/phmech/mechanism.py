@@ -85,10 +85,11 @@ class Mechanism(Builder):
           not set the accuracy.
         - ``band`` [Hz] (default 1/(2 dt_out), at least 50 / (t_end - t_start), times
           (1e-4 / rtol)^(1/3), at most 4.6x, with flexible links when rtol is below its default
-          1e-4; and, for a start that rings -- ``initial`` a StaticResult found under extra
-          loads, or the initial configuration at rest away from its loads' equilibrium --
-          twice the modes it rings in above the tolerance, at most 20x: docs/user_guide.md,
-          "Accuracy contract"): the steps are at most 1/(12 band). With flexible links, the error estimate sees the motion through a
+          1e-4; and, for a start or a step that rings -- ``initial`` a StaticResult found
+          under extra loads, the initial configuration at rest away from its loads'
+          equilibrium, a load's Step -- twice the modes it rings in above the
+          tolerance, at most 20x: docs/user_guide.md, "Accuracy contract"): the steps are at
+          most 1/(12 band). With flexible links, the error estimate sees the motion through a
           low-pass filter at the band: the mesh's vibrations above it (axial, shear and high
           bending modes, kHz to MHz) are damped by the method's numerical dissipation
           (spectral radius at infinity ``rho_inf`` = 0.9 by default) instead of resolved, and
