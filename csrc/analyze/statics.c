@@ -442,7 +442,10 @@ phm_status phm_static_monitored(const phm_model *m, const double *poses, double 
      * Newton only (the equilibrium next to a start that rings, python/phmech/_modes.py: a
      * continuation's would be far from it, and found slowly) */
     L.scale = 1.0;
-    if (newton(&L, &S, poses_out, lam, tol, 50, &w, &it, &have)) {
+    /* (steps = -1 asks for an equilibrium next to the start: Newton's quadratic convergence
+     * reaches it in a few iterations -- the README's strip released from 0.1 N at its tip: 3 --
+     * and a start that needs more is not next to one) */
+    if (newton(&L, &S, poses_out, lam, tol, steps < 0 ? 12 : 50, &w, &it, &have)) {
       if (steps < 0) {
         st = PHM_FAIL(err, PHM_ESOLVER, "static equilibrium: Newton at the full load from the "
                       "start failed (%d iterations; no continuation asked)", it);

@@ -220,7 +220,7 @@ phm_status phm_linear_closed_loop(const phm_model *model, const double *poses,
  * steps (halved on failure) from the unloaded equilibrium nearest the start, or with steps = 0
  * at the full load directly from the start (pseudo-transient continuation where Newton fails),
  * or with steps = -1 the same without the continuation (an equilibrium next to the start, or
- * PHM_ESOLVER after at most 50 iterations); Newton, sparse LU (KLU). poses: start (NULL: H0);
+ * PHM_ESOLVER after at most 12 iterations); Newton, sparse LU (KLU). poses: start (NULL: H0);
  * results in poses_out (nc x 16) and lambda_out (nconstraints); *iters = total Newton
  * iterations (tangents). At Newton's first failure it asks phm_static_free whether the loads do
  * work on a motion nothing resists: then no equilibrium exists, and it stops there with

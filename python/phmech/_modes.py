@@ -223,15 +223,21 @@ def ringing_band(mech, initial: Optional[StaticResult], time: float, t_end: floa
             return None
         start, what = state.poses, "the start at rest"
     model, keep = _model.build(mech), _model.built(mech)
-    found = _start_modes(model, keep, start, time, RINGING_MODES, len(mech._car))
+    found = _start_equilibrium(model, keep, start, time)
     if found is None:
         return None
-    P, u, f, phi = found
+    P, lam, u = found
     deflections = [(what, u)] + _load_steps(desc, model, keep, P, time, t_end)
     tol_p = rtol * np.abs(P[:, :3, 3]).max(axis=0) + atol
+    if max(_left_after_modes(desc, P, du, None, tol_p, rtol + atol)[0]
+           for _, du in deflections) <= 1.0:
+        return None   # every deflection within the tolerance: nothing to ring
+    f, phi = _start_modes(model, keep, start, P, lam, time, RINGING_MODES, len(mech._car))
+    if not len(f):
+        return None   # no modes there: no modal picture
     ratios = [_left_after_modes(desc, P, du, phi, tol_p, rtol + atol) for _, du in deflections]
     if max(r[-1] for r in ratios) > 1.0 and len(f) == RINGING_MODES:   # 4x as many, once
-        P, u, f, phi = _start_modes(model, keep, start, time, 4 * RINGING_MODES, len(mech._car))
+        f, phi = _start_modes(model, keep, start, P, lam, time, 4 * RINGING_MODES, len(mech._car))
         ratios = [_left_after_modes(desc, P, du, phi, tol_p, rtol + atol) for _, du in deflections]
     ratio = np.max(ratios, axis=0)
     # the modes a default band holds: up to band / RINGING_BAND_MARGIN (modes 0..inside-1); a
@@ -268,26 +274,41 @@ def ringing_band(mech, initial: Optional[StaticResult], time: float, t_end: floa
     return raised, f"{why}, raised to {raised:.4g} Hz"
 
 
-def _start_modes(model, keep: dict, start: np.ndarray, time: float, n: int, ncar: int):
-    """(P, u, f, phi) of ringing_band for the poses ``start`` at ``time`` [s]: the equilibrium
-    ``P`` the core ``model``'s static solve finds from them (Newton only), the deflection ``u``
-    (ncarriers, 6) from it, and the ``n`` lowest modes there (``f`` [Hz], mass-normalized
-    shapes ``phi``); None when the solve fails or moves the poses by more than 0.2 rad or 0.2 of
-    the mechanism's size (no small vibration about it). Kept in ``keep`` (the mechanism's
-    _model.built) per start, time and n: a run called again on the same start solves nothing."""
+def _start_equilibrium(model, keep: dict, start: np.ndarray, time: float):
+    """(P, lam, u) of ringing_band for the poses ``start`` at ``time`` [s]: the equilibrium
+    ``P`` (multipliers ``lam``) the core ``model``'s static solve finds from them (Newton only)
+    and the deflection ``u`` (ncarriers, 6: body-frame twists) from it to the start; None when
+    the solve fails or moves the poses by more than 0.2 rad or 0.2 of the mechanism's size (no
+    small vibration about it). Kept in ``keep`` (the mechanism's _model.built) per start and
+    time: a run called again on the same start solves nothing."""
     done = keep.setdefault("ringing", {})
-    key = (start.tobytes(), time, n)
+    key = (start.tobytes(), time)
     if key not in done:
         done[key] = None
         try:
             P, lam, _ = _core.model_static(model, start, time, -1, 1e-10)
-            u = se3.log(se3.inverse(P) @ start)
-            size = max(float(np.ptp(P[:, :3, 3], axis=0).max()), 1e-12)
-            if np.abs(u[:, :3]).max() <= 0.2 and np.abs(u[:, 3:]).max() <= 0.2 * size:
-                om, _, shapes, nf, _ = _core.model_modes(model, min(n, 6 * ncar), P, lam, time)
-                done[key] = (P, u, om[:nf] / (2 * np.pi), shapes[:nf])
         except (SolverError, ModelError):
-            pass
+            return None
+        u = se3.log(se3.inverse(P) @ start)
+        size = max(float(np.ptp(P[:, :3, 3], axis=0).max()), 1e-12)
+        if np.abs(u[:, :3]).max() <= 0.2 and np.abs(u[:, 3:]).max() <= 0.2 * size:
+            done[key] = (P, lam, u)
+    return done[key]
+
+
+def _start_modes(model, keep: dict, start: np.ndarray, P: np.ndarray, lam: np.ndarray,
+                 time: float, n: int, ncar: int):
+    """(f [Hz], mass-normalized shapes phi) of the ``n`` lowest modes of the core ``model`` at
+    the start's equilibrium ``P``, ``lam`` (_start_equilibrium), kept in ``keep`` per start,
+    time and n; (empty, empty) when the eigensolver fails."""
+    done = keep.setdefault("ringing_modes", {})
+    key = (start.tobytes(), time, n)
+    if key not in done:
+        try:
+            om, _, shapes, nf, _ = _core.model_modes(model, min(n, 6 * ncar), P, lam, time)
+            done[key] = (om[:nf] / (2 * np.pi), shapes[:nf])
+        except (SolverError, ModelError):
+            done[key] = (np.zeros(0), np.zeros((0, ncar, 6)))
     return done[key]
 
 
@@ -337,11 +358,14 @@ def _load_steps(desc, model, keep: dict, P: np.ndarray, t_start: float, t_end: f
 
 def _left_after_modes(desc, P, u, phi, tol_p, tol_r) -> np.ndarray:
     """What of the deflection ``u`` (ncarriers, 6: body-frame twists from the poses ``P``) the
-    mass-normalized modes ``phi`` (n, ncarriers, 6) leave, before any and after each of them in
-    turn: (n + 1,) the largest component in tolerances (positions in the world frame against
+    mass-normalized modes ``phi`` (n, ncarriers, 6; None: no mode) leave, before any and after
+    each of them in turn: (n + 1,) the largest component in tolerances (positions in the world frame against
     ``tol_p`` (3,) [m], rotations against ``tol_r`` [rad])."""
-    c = np.einsum("nci,ci->n", desc.mass_times(phi), u)
-    left = np.concatenate([u[None], u[None] - np.cumsum(c[:, None, None] * phi, axis=0)])
+    if phi is None or len(phi) == 0:
+        left = u[None]
+    else:
+        c = np.einsum("nci,ci->n", desc.mass_times(phi), u)
+        left = np.concatenate([u[None], u[None] - np.cumsum(c[:, None, None] * phi, axis=0)])
     moved = np.einsum("cij,kcj->kci", P[:, :3, :3], left[:, :, 3:])
     return np.maximum(np.abs(moved / tol_p).max(axis=(1, 2)),
                       np.abs(left[:, :, :3]).max(axis=(1, 2)) / tol_r)
