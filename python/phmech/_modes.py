@@ -290,8 +290,7 @@ def _start_equilibrium(model, keep: dict, start: np.ndarray, time: float):
         except (SolverError, ModelError):
             return None
         u = se3.log(se3.inverse(P) @ start)
-        size = max(float(np.ptp(P[:, :3, 3], axis=0).max()), 1e-12)
-        if np.abs(u[:, :3]).max() <= 0.2 and np.abs(u[:, 3:]).max() <= 0.2 * size:
+        if _small_vibration(u, P):
             done[key] = (P, lam, u)
     return done[key]
 
@@ -338,7 +337,6 @@ def _load_steps(desc, model, keep: dict, P: np.ndarray, t_start: float, t_end: f
     for law in laws:
         edges(law.to_data())
     out = []
-    size = max(float(np.ptp(P[:, :3, 3], axis=0).max()), 1e-12)
     for tb in sorted(t for t in times if t_start < t < t_end):
         eps = 1e-9 * max(1.0, abs(tb))
         vals = [law.evaluate(np.array([tb - eps, tb + eps])) for law in laws]
@@ -350,10 +348,18 @@ def _load_steps(desc, model, keep: dict, P: np.ndarray, t_start: float, t_end: f
         except (SolverError, ModelError):
             continue
         du = se3.log(se3.inverse(Pb) @ Pa)
-        if np.abs(du[:, :3]).max() <= 0.2 and np.abs(du[:, 3:]).max() <= 0.2 * size:
+        if _small_vibration(du, P):
             out.append((f"a load's step at t = {tb:.6g} s", du))
     done[key] = out
     return out
+
+
+def _small_vibration(u: np.ndarray, P: np.ndarray) -> bool:
+    """Whether the deflection ``u`` (ncarriers, 6: body-frame twists) from the poses ``P`` is
+    a small vibration about them, for ringing_band's modal picture: at most 0.2 rad and 0.2 of
+    the mechanism's size."""
+    size = max(float(np.ptp(P[:, :3, 3], axis=0).max()), 1e-12)
+    return bool(np.abs(u[:, :3]).max() <= 0.2 and np.abs(u[:, 3:]).max() <= 0.2 * size)
 
 
 def _left_after_modes(desc, P, u, phi, tol_p, tol_r) -> np.ndarray:
