@@ -13,19 +13,27 @@ import phmech as ph
 from phmech import se3
 
 STEEL = ph.Material(E=210e9, nu=0.3, density=7850.0)
+STRIP = ph.BeamProperties.from_material(ph.Section.strip(width=0.02, thickness=0.001), STEEL)
 RTOL = 1e-4   # the default rtol; atol = rtol / 100
 
 
 def arm_strip():
     """The README's second scene: a rigid arm and a steel strip (8 elements) on revolutes."""
-    props = ph.BeamProperties.from_material(ph.Section.strip(width=0.02, thickness=0.001), STEEL)
     m = ph.Mechanism(gravity=(0, 0, -9.81))
     arm = m.add_rigid_body("arm", 1.0, np.diag([1e-4, 0.0075, 0.0075]), com=(0.15, 0, 0))
     m.add_pair("shoulder", ph.Revolute(axis="y"), m.ground.frame_at((0, 0, 1.0)), arm)
     elbow = arm.frame_at((0.3, 0, 0))
-    strip = m.add_flexible_link("strip", 0.3, props, elements=8, start=elbow)
+    strip = m.add_flexible_link("strip", 0.3, STRIP, elements=8, start=elbow)
     m.add_pair("elbow", ph.Revolute(axis="y"), elbow, strip.start)
     return m, strip
+
+
+def clamped_strip(gravity=(0, 0, 0)):
+    """The README's strip, 0.2 m of STRIP in 10 elements, clamped at its start: (m, link)."""
+    m = ph.Mechanism(gravity=gravity)
+    leaf = m.add_flexible_link("leaf", 0.2, STRIP, elements=10)
+    m.add_pair("clamp", ph.Fixed(), m.ground, leaf.start)
+    return m, leaf
 
 
 def chain(n=100, L=0.1, mass=0.1):
@@ -393,8 +401,7 @@ def test_an_idle_flexible_link_does_not_hide_a_pendulums_error():
     and warns, and the rtol it names brings the pendulum within the tolerance first asked."""
     amp = np.radians(30.0)
     m, exact = compound_pendulum(amp)
-    props = ph.BeamProperties.from_material(ph.Section.circle(0.01),
-                                            ph.Material(E=210e9, nu=0.3, density=7850.0))
+    props = ph.BeamProperties.from_material(ph.Section.circle(0.01), STEEL)
     f = m.ground.frame_at((-2.0, 0, 0), ph.rotation("y", np.pi / 2))
     rod = m.add_flexible_link("idle_rod", 0.5, props, elements=40, start=f)
     m.add_pair("clamp", ph.Fixed(), f, rod.start)
@@ -419,22 +426,12 @@ def test_a_released_strip_sampled_coarsely_is_within_tolerance():
     The outputs' band, 50 Hz, leaves out the modes the release rings in: 1.9e-5 m of the 131 Hz
     mode at the tip, which ended 5.5x its tolerance off with no warning (accuracy audit of
     2026-12-07, F2). simulate now raises the default band to hold them (_modes.ringing_band:
-    736 Hz, 2x its third mode, 0.37x, 10x the steps); a band given that leaves them out is kept, with an
-    AccuracyWarning naming what lies above it."""
-    props = ph.BeamProperties.from_material(ph.Section.strip(width=0.02, thickness=0.001),
-                                            ph.Material(E=210e9, nu=0.3, density=7850.0))
-
-    def strip(loaded):
-        m = ph.Mechanism(gravity=(0, 0, 0))
-        leaf = m.add_flexible_link("leaf", 0.2, props, elements=10)
-        m.add_pair("clamp", ph.Fixed(), m.ground, leaf.start)
-        if loaded:
-            m.add_wrench("tap", leaf.end, (0, 0, 0, 0, 0, 0.1), frame="world")
-        return m, leaf
-
-    m, leaf = strip(False)
+    736 Hz, 2x its third mode, 0.37x, 10x the steps); a band given that leaves them out is
+    kept, with an AccuracyWarning naming what lies above it."""
+    m, leaf = clamped_strip()
     st = m.static(loads=[(leaf.end, (0, 0, 0, 0, 0, 0.1), "world")])
-    ml, leaf_l = strip(True)
+    ml, leaf_l = clamped_strip()
+    ml.add_wrench("tap", leaf_l.end, (0, 0, 0, 0, 0, 0.1), frame="world")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ph.EquilibriumWarning)   # the tap's load: expected
         lin = ml.linearize(inputs=["tap"], outputs=[ph.TipDeflection(leaf_l)])
@@ -475,12 +472,8 @@ def test_a_strip_that_rings_from_its_start_or_a_step_is_within_tolerance(start):
     and 5.1x the tolerance with no warning. _modes.ringing_band raises them: 262 Hz (2x the
     131 Hz mode), 0.57x; 736 Hz, 0.37x (5.5x the steps); a band given that leaves them out
     warns with the band that resolves them."""
-    props = ph.BeamProperties.from_material(ph.Section.strip(width=0.02, thickness=0.001),
-                                            ph.Material(E=210e9, nu=0.3, density=7850.0))
     stepped = start == "a stepped load"
-    m = ph.Mechanism(gravity=(0, 0, 0 if stepped else -9.81))
-    leaf = m.add_flexible_link("leaf", 0.2, props, elements=10)
-    m.add_pair("clamp", ph.Fixed(), m.ground, leaf.start)
+    m, leaf = clamped_strip((0, 0, 0 if stepped else -9.81))
     if stepped:
         m.add_wrench("tap", leaf.end, (0, 0, 0, 0, 0, 0.1), frame="world", law=ph.Step(0.1, 1.0))
     with warnings.catch_warnings():   # the step's modes above 1 kHz: 3.7x its own rtol 1e-5
