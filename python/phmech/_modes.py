@@ -188,8 +188,9 @@ def ringing_band(mech, initial: Optional[StaticResult], time: float, t_end: floa
     A start rings when it is at rest away from the equilibrium of the run's own loads: a
     release (``initial`` a StaticResult found under extra loads, which the run lets go) or the
     initial configuration at rest (a structure started undeformed under gravity); a load's law
-    that steps during the run (a Step) rings as the release of the step's static deflection. Not checked: no flexible link, more than RINGING_MAX_DOF degrees of
-    freedom, a start that moves, a start or step that is not a small vibration about an
+    that steps during the run (a Step) rings as the release of the step's static deflection.
+    Not checked: no flexible link, more than RINGING_MAX_DOF degrees of freedom, a start that
+    moves, a start or step that is not a small vibration about an
     equilibrium next to it (a mechanism that swings or falls: no modal picture), and what the
     other laws excite (a Pulse: taken as two steps, the 2 ms hit of benchmarks/scenes.py's
     cantilever + tip mass read 20 tolerances above half its 500 Hz band and raised it 20x,
@@ -200,9 +201,10 @@ def ringing_band(mech, initial: Optional[StaticResult], time: float, t_end: floa
     go rings in every mode it holds: the README's strip (0.2 m, 10 elements) bent by 0.1 N at
     its tip and released, sampled every 0.01 s (band 50 Hz), holds 1.9e-5 m of its 131 Hz mode
     at the tip and ended 5.5x its tolerance off; started straight under gravity, 3.7x; with the
-    0.1 N stepped on at 0.2 s, 7.1x (tests/accuracy/). So: each deflection u (body-frame twists
-    from the equilibrium next to the start to the start; between the equilibria just before and
-    just after a step) in the mass-normalized modes of the start's equilibrium, c = Phi^T M u;
+    0.1 N stepped on at 0.1 s, 5.1x over 0.5 s (tests/accuracy/). So: each deflection u
+    (body-frame twists from the equilibrium next to the start to the start; between the
+    equilibria just before and just after a step) in the mass-normalized modes of the start's
+    equilibrium, c = Phi^T M u;
     what the modes up to f leave of it, in tolerances (per carrier and component: rtol
     max|position| + atol, rotations rtol + atol), bounds the error their leaving out can make
     (on the released strip 1.4-4x the error measured at bands of 50 .. 1000 Hz). The band
@@ -365,8 +367,8 @@ def _small_vibration(u: np.ndarray, P: np.ndarray) -> bool:
 def _left_after_modes(desc, P, u, phi, tol_p, tol_r) -> np.ndarray:
     """What of the deflection ``u`` (ncarriers, 6: body-frame twists from the poses ``P``) the
     mass-normalized modes ``phi`` (n, ncarriers, 6; None: no mode) leave, before any and after
-    each of them in turn: (n + 1,) the largest component in tolerances (positions in the world frame against
-    ``tol_p`` (3,) [m], rotations against ``tol_r`` [rad])."""
+    each of them in turn: (n + 1,) the largest component in tolerances (positions in the world
+    frame against ``tol_p`` (3,) [m], rotations against ``tol_r`` [rad])."""
     if phi is None or len(phi) == 0:
         left = u[None]
     else:

@@ -47,10 +47,11 @@ LEDGER_WARN = 4e-3
 #: (docs/user_guide.md, "Energy ledger"). The final residual, not the largest: a stiff mesh's
 #: modes above the band ring with a spurious elastic energy that comes and goes (the stiffened
 #: strip of tests/accuracy/test_flexible_link_inertia.py: largest 2e3 rtol, final 0.2 rtol, its
-#: angle 0.35x its tolerance). Measured, final: benchmarks/scenes.py's scenes over their short horizons at rtol
-#: 1e-4, 1e-6, 1e-7: at most 5.9 rtol (the leaf spring at 1e-7); that stiffened strip at N = 1 ..
-#: 8, rtol 1e-6 .. 1e-8: at most 3.8 rtol; the stiffened arm + strip at rtol 1e-7: 26 rtol, its
-#: strip 3.1e-5 rad off the rigid double pendulum (100x its tolerance), without another warning.
+#: angle 0.35x its tolerance). Measured, final: benchmarks/scenes.py's scenes over their short
+#: horizons at rtol 1e-4, 1e-6, 1e-7: at most 5.9 rtol (the leaf spring at 1e-7); that stiffened
+#: strip at N = 1 .. 8, rtol 1e-6 .. 1e-8: at most 3.8 rtol; the stiffened arm + strip at rtol
+#: 1e-7: 26 rtol, its strip 3.1e-5 rad off the rigid double pendulum (100x its tolerance),
+#: without another warning.
 LEDGER_RTOL_WARN = 20.0
 
 
