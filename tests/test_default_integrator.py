@@ -53,6 +53,19 @@ def test_default_run_matches_an_independent_tight_reference_and_reports_its_qual
     assert s["steps"] < ref.stats["steps"]
 
 
+def test_stats_give_a_band_only_where_one_applies():
+    """The adaptive generalized-alpha reports the band its steps resolved; IDA, the tree
+    integrator and a fixed step have none, and stats["band"] is None there (it read the unused
+    default, 50 Hz, before)."""
+    m = ph.Mechanism(gravity=(0, 0, -9.81))
+    bar = m.add_rigid_body("bar", 1.0, np.diag([1e-4, 7.5e-3, 7.5e-3]), com=(0.15, 0, 0))
+    m.add_pair("hinge", ph.Revolute(axis="y"), m.ground, bar)
+    assert m.simulate(0.2, 0.01).stats["band"] == pytest.approx(250.0)   # 50 / span
+    for options in (dict(integrator="ida"), dict(integrator="tree"),
+                    dict(integrator="generalized-alpha", step=1e-3)):
+        assert m.simulate(0.2, 0.01, **options).stats["band"] is None, options
+
+
 def test_the_band_does_not_cap_the_accuracy():
     """Issue 27: the band's floor 1/(20 band) no longer accepts a step above its estimate: a
     coarse band (floor 2.5 ms > dt_out) is refined below it where the estimate asks (before:

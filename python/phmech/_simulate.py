@@ -407,6 +407,9 @@ def _simulation_result(mech, r: dict, k: int, tout, model, drop_masks, rec, band
     if "nonlinear_iters" in stats:
         stats["newton_iters_per_step"] = stats["nonlinear_iters"] / max(1, stats["steps"])
     if not stats["adaptive"]:
+        # no band applies: IDA, the tree integrator and the fixed step choose their steps
+        # otherwise (it read the unused default, 50 Hz at dt_out 0.01)
+        stats["band"] = None
         for key in ("error_estimate", "error_sum", "error_sum_max", "floor_steps", "error_ratio",
                     "error_ratio_time", "noise_steps", "min_step", "newton_rtol",
                     "global_error_estimate", "global_error_time"):

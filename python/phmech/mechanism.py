@@ -122,7 +122,8 @@ class Mechanism(Builder):
 
         ``result.stats`` reports what the run cost and how good it is: steps, evaluations
         (``residual_evals``, ``jacobian_evals``: iteration-matrix refreshes, ``nonlinear_iters``:
-        Newton iterations, ``newton_iters_per_step``), wall time, ``band`` [Hz]; adaptive
+        Newton iterations, ``newton_iters_per_step``), wall time, ``band`` [Hz; None where
+        no band applies: IDA, the tree integrator, a fixed ``step``]; adaptive
         generalized-alpha only: ``error_estimate`` (the sum of the local error estimates of the
         configuration, max norm: a bound without error propagation), ``error_ratio`` (the
         largest local estimate of an accepted step over its tolerance, per unit step: <= 1
