@@ -81,8 +81,9 @@ class Mechanism(Builder):
           most that tolerance (a step above it is redone shorter, down to 1/1000 of the band's
           floor 1/(20 band)). A run that could not keep it warns (``phmech.AccuracyWarning``:
           the estimate reached, the tolerance, when, the remedy).
-        - ``dt_out`` [s]: the output times. The steps land on them (no interpolation); it does
-          not set the accuracy.
+        - ``dt_out`` [s]: the output times. The steps land on them (no interpolation). A
+          coarse one does not loosen the tolerance; a fine one raises the default band (below),
+          which can make the run more accurate than asked.
         - ``band`` [Hz] (default 1/(2 dt_out), at least 50 / (t_end - t_start), times
           (1e-4 / rtol)^(1/3), at most 4.6x, with flexible links when rtol is below its default
           1e-4; and, for a start or a step that rings -- ``initial`` a StaticResult found
