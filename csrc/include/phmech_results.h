@@ -115,6 +115,8 @@ typedef struct {
                     * that state's index in the DAE's state vector (-1 with flexible links:
                     * not estimated)                                                    */
   long glob_state;
+  long nglob_stiff; /* adaptive GALPHA: the global estimate's stiff blocks, each followed by
+                    * steps propagated one by one (galpha_global.c, GALPHA_GLOBAL_STIFF)  */
   double newton_rtol; /* adaptive GALPHA: Newton's relative tolerance at the end (PHM_NEWTON_RTOL,
                     * tightened while the summed estimates run ahead: galpha.c)          */
   double last_step; int last_order;             /* last step [s] and order (BDF order; GALPHA: 2) */

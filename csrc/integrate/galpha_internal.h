@@ -107,8 +107,7 @@ typedef struct {
   double gH, gtm;         /* its block so far [s], the time of the block's stage (gyam, gypam) */
   double gta, gHx;        /* the block's start [s] and expected length [s] */
   int gcount;             /* and its steps */
-  double grho;            /* the last contraction of its iteration measured on this matrix (0: none) */
-  long gjac, gsince;      /* the matrix it was measured on (out->njac then), steps since */
+  int gstep;              /* steps still to propagate one by one after a stiff block */
 } galpha_run;
 
 /* galpha_scheme.c */

@@ -261,7 +261,7 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
         # acts at the samples (measured: a sampled PD loop of tests/test_controllers.py read 20
         # tolerances with its local estimates summed to 0.002)
         result.stats["global_error_estimate"] = result.stats["global_error_time"] = None
-        result.stats["global_error_state"] = None
+        result.stats["global_error_state"] = result.stats["global_error_stiff_blocks"] = None
     unsaved = ""
     if saver is not None:   # the file ends as the run did (a failed run: its partial result)
         try:
@@ -412,11 +412,11 @@ def _simulation_result(mech, r: dict, k: int, tout, model, drop_masks, rec, band
         stats["band"] = None
         for key in ("error_estimate", "error_sum", "error_sum_max", "floor_steps", "error_ratio",
                     "error_ratio_time", "noise_steps", "min_step", "newton_rtol",
-                    "global_error_estimate", "global_error_time"):
+                    "global_error_estimate", "global_error_time", "global_error_stiff_blocks"):
             stats.pop(key, None)
     elif stats.get("global_error_estimate", 0.0) < 0:   # flexible links: not estimated
         stats["global_error_estimate"] = stats["global_error_time"] = None
-        stats["global_error_state"] = None
+        stats["global_error_state"] = stats["global_error_stiff_blocks"] = None
     elif "global_error_state" in stats:
         stats["global_error_state"] = _state_name(mech, int(stats["global_error_state"]),
                                                   plane is not None, pairs)

@@ -145,7 +145,10 @@ class Mechanism(Builder):
         configuration state's error over rtol times its largest magnitude plus atol, in
         tolerances: above 1 an
         AccuracyWarning says so; None with flexible links, where it is not estimated) and
-        ``global_error_time`` [s] (when), ``min_step`` [s] (the shortest step); and ``energy_scale`` [J], ``ledger_relative`` (the largest absolute
+        ``global_error_time`` [s] (when), ``global_error_stiff_blocks`` (how many of the
+        blocks of 8 steps the estimate propagates at once were stiff -- a stiff force element
+        damping within a block, a singular configuration -- each carried unchanged and followed
+        by 64 steps propagated one by one), ``min_step`` [s] (the shortest step); and ``energy_scale`` [J], ``ledger_relative`` (the largest absolute
         energy ledger residual / energy_scale; above 4e-3 an AccuracyWarning), ``numerical_dissipation``
         [J] (energy the integrator removed by the end of the run, from the ledger; above 20 rtol
         of energy_scale an AccuracyWarning with the default integrator: docs/user_guide.md,
