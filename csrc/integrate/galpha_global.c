@@ -19,7 +19,9 @@
  * 0 to Newton's tolerance, so e also takes in the Newton error the steps leave. Then e1 = the
  * predictor + the correction, e1' = (e1 - e) / H, and the block's local estimates (summed) are
  * added. One residual, one set of constraint rows and two solves per block; each step adds its
- * local estimates to the block's and keeps the stage of the block's middle.
+ * local estimates to the block's and keeps the stage of the block's middle. A stiff block
+ * (GALPHA_GLOBAL_STIFF: a force element that damps within it) is carried unchanged instead,
+ * and the steps after it propagated one by one.
  *
  * The figure: the largest over the states the local estimate sees (i < ie) of
  * |e_i| / (rtol max|y_i| + atol_i), max|y_i| over the run so far (an oscillating coordinate is
@@ -53,14 +55,16 @@
  * friction (its slope Fc / v_reg = 1e3 N s/m at rest: 500 1/s on 2 kg) read 30 (rtol 1e-4) and
  * 2849 (1e-6) for a true 0.11x and 0.08x, 3.8e5 with v_reg 1e-5 in blocks of 4; a stiff PD
  * (kp 1e6, kd 2e3 on 2 kg) 5.9 for 0.00x. Step by step (H = h, the matrix's own step but for
- * its age) they read 0.11, 0.12 and 0.02. Measured per block: those runs' corrections 1 to 87
- * times that error in 250-1060 blocks; the non-stiff runs' (benchmarks/scenes.py's four-bar,
- * the chain of 100 links of tests/accuracy/, the UR5 swing of examples/urdf_robot.py, PD and
- * effort-driven blocks) at most 0.43, in one or two blocks, and under 0.1 in the rest. */
+ * its age) they read 0.11, 0.12 and 0.02, and with the stiff blocks so detected 0.10, 0.12 and
+ * 0.03. Measured per block: those runs' corrections 1 to 87 times that error in 250-1060
+ * blocks; the non-stiff runs' (benchmarks/scenes.py's four-bar, the chain of 100 links of
+ * tests/accuracy/, the UR5 swing of examples/urdf_robot.py, PD and effort-driven blocks) at
+ * most 0.43, in one or two blocks, and under 0.1 in the rest: their figures are unchanged. */
 #define GALPHA_GLOBAL_STIFF 0.5
-/* the steps propagated one by one after a stiff block, before blocks are tried again (a stiff
- * block costs nothing but its carried error: friction sticks and slips, a mechanism passes a
- * singular configuration and leaves it) */
+/* the steps propagated one by one after a stiff block, before blocks are tried again: one by
+ * one costs a residual and two solves per step (see GALPHA_GLOBAL_EVERY), and stiffness comes
+ * and goes (friction sticks and slips; the IFToMM A02 four-bar's 14 stiff blocks in 10 s are
+ * its singular positions: 0.50 s of CPU against 0.48, where step by step throughout took 0.61) */
 #define GALPHA_GLOBAL_STEPWISE 64
 
 /* The estimate starts at 0 with every state's scale |y(t0)|. Rigid mechanisms only (see the
