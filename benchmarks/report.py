@@ -340,8 +340,9 @@ def headline(results: str) -> list:
             if n >= 10 and row["phmech tree"] and row[CHAIN_PEER]:
                 tree.setdefault(n, []).append(row["phmech tree"] / row[CHAIN_PEER])
         if tree:
-            parts.append("with `simulate(integrator=\"tree\")` (rigid trees in joint coordinates, "
-                         "`docs/integrators.md`), CPU over MuJoCo RK4's interpolated at the same link-end "
+            parts.append("with `simulate(integrator=\"tree\", error_check=False)` (rigid trees in joint "
+                         "coordinates, `docs/integrators.md`; its error check, on by default, adds ~1.6x), "
+                         "CPU over MuJoCo RK4's interpolated at the same link-end "
                          f"error ({' / '.join(f'{v:.0e}' for v in CHAIN_LEVELS)} m): "
                          + ", ".join(f"n = {n}: {min(r):.2f}-{max(r):.2f}" for n, r in tree.items()))
     return ["; ".join(parts) + "."]

@@ -2,6 +2,8 @@
 articulated-body dynamics and Dormand-Prince 5(4). Checked against a closed form (the large-
 amplitude pendulum), against IDA (a 10-link chain), by its energy ledger, and by the models it
 refuses."""
+import warnings
+
 import numpy as np
 import pytest
 from scipy.special import ellipj, ellipk
@@ -27,9 +29,10 @@ def chain(n: int, L: float = 0.1, mass: float = 0.1, axes: str = "z"):
     return m, ends
 
 
-def test_pendulum_at_170_degrees_matches_the_elliptic_closed_form():
-    """A physical pendulum released from rest 170 deg from hanging: theta(t) = 2 asin(k sn(K -
-    w0 t | k^2)), k = sin(theta0 / 2), w0^2 = m g d / I_pivot, over 1.5 periods."""
+def pendulum_170():
+    """The physical pendulum released from rest 170 deg from hanging, and its exact angle and
+    rate (theta(t) = 2 asin(k sn(K - w0 t | k^2)), k = sin(theta0 / 2), w0^2 = m g d /
+    I_pivot), its period [s] and w0 [rad/s]."""
     mass, d, Ic = 2.0, 0.7, 0.03
     m = ph.Mechanism(gravity=(0, -G, 0))
     b = m.add_rigid_body("bob", mass, np.diag((0.01, 0.02, Ic)), com=(d, 0, 0))
@@ -38,17 +41,54 @@ def test_pendulum_at_170_degrees_matches_the_elliptic_closed_form():
     w0 = np.sqrt(mass * G * d / (Ic + mass * d ** 2))
     k = np.sin(th0 / 2)
     K = ellipk(k ** 2)
-    period = 4 * K / w0
+
+    def exact(t):
+        sn, cn, dn, _ = ellipj(K - w0 * t, k ** 2)
+        return 2 * np.arcsin(k * sn), -2 * k * w0 * cn   # d/dt 2 asin(k sn(u)), u' = -w0
+    return m, exact, 4 * K / w0, w0
+
+
+@pytest.mark.parametrize("rtol", [1e-6, 1e-8])
+def test_the_error_check_says_how_far_the_result_is_off(rtol):
+    """The tree integrator controls each step's local error: over 1.5 periods of the 170 deg
+    pendulum its angle ends ~100x its tolerance off, which nothing said. The error check (a
+    second run at rtol/10, Mechanism.simulate's error_check) estimates it from the two runs'
+    difference and warns. Measured (estimate; true largest error of the angle and of the rate,
+    each over rtol max|y| + atol): rtol 1e-6: 110; 162 and 120; rtol 1e-8: 79; 117 and 87.
+    Without the check: no estimate, no warning."""
+    m, exact, period, _ = pendulum_170()
+    with pytest.warns(ph.AccuracyWarning, match="tree integrator's result differs"):
+        r = m.simulate(1.5 * period, period / 40, rtol=rtol, integrator="tree")
+    theta, rate = exact(r.t)
+    atol = rtol / 100
+    true = max(np.abs(r.joints[:, 0] + np.pi / 2 - theta).max() / (rtol * np.abs(theta).max() + atol),
+               np.abs(r.joint_rates[:, 0] - rate).max() / (rtol * np.abs(rate).max() + atol))
+    g = r.stats["global_error_estimate"]
+    assert true > 3 and 0.5 * true <= g <= 2 * true, (g, true)
+    assert r.stats["error_check_rtol"] == pytest.approx(rtol / 10)
+    assert r.stats["global_error_state"] in ("joint coordinate 0 of pair 'pivot'",
+                                             "joint rate 0 of pair 'pivot'")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ph.AccuracyWarning)
+        r2 = m.simulate(1.5 * period, period / 40, rtol=rtol, integrator="tree", error_check=False)
+    assert r2.stats["global_error_estimate"] is None
+    np.testing.assert_array_equal(r2.joints, r.joints)   # the result returned is the run's own
+    with pytest.raises(ph.ModelError, match="error_check applies to integrator='tree'"):
+        m.simulate(0.1, 0.05, error_check=True)
+
+
+def test_pendulum_at_170_degrees_matches_the_elliptic_closed_form():
+    """A physical pendulum released from rest 170 deg from hanging (pendulum_170) against its
+    elliptic closed form over 1.5 periods."""
+    m, exact, period, w0 = pendulum_170()
     errs = []
     for rtol in (1e-8, 1e-10):
         r = m.simulate(1.5 * period, period / 40, rtol=rtol, integrator="tree")
-        exact = 2 * np.arcsin(k * ellipj(K - w0 * r.t, k ** 2)[0])
+        theta_exact, rate_exact = exact(r.t)
         theta = r.joints[:, 0] + np.pi / 2
-        assert np.ptp(theta) > 2 * th0 * 0.99       # it swings through the bottom to -170 deg
-        errs.append(np.abs(theta - exact).max())
-        # the joint rate from the energy: theta'^2 = 4 w0^2 (sin^2(theta0/2) - sin^2(theta/2))
-        rate_exact = 2 * w0 * np.sqrt(np.clip(k ** 2 - np.sin(exact / 2) ** 2, 0, None))
-        assert np.abs(np.abs(r.joint_rates[:, 0]) - rate_exact).max() < 1e3 * rtol * w0
+        assert np.ptp(theta) > 2 * np.radians(170.0) * 0.99   # through the bottom to -170 deg
+        errs.append(np.abs(theta - theta_exact).max())
+        assert np.abs(r.joint_rates[:, 0] - rate_exact).max() < 1e3 * rtol * w0
     # measured 3.5e-6 and 3.2e-8 rad (IDA at the same rtol: 3.0e-4 and 2.0e-6): the error
     # follows the tolerance
     assert errs[0] < 1e-5 and errs[1] < 1e-7, errs

@@ -40,7 +40,8 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
              callback: Optional[Callable[[float, int], bool]], max_step: float,
              max_order: Optional[int], record, progress: bool, error_test: str, integrator: str,
              step: Optional[float], rho_inf: Optional[float], band: Optional[float], checkpoint,
-             checkpoint_every: Optional[float], planar: Optional[bool]) -> SimulationResult:
+             checkpoint_every: Optional[float], planar: Optional[bool],
+             error_check: Optional[bool] = None) -> SimulationResult:
     """Mechanism.simulate of the builder ``mech``, every option given: their defaults, units and
     meaning are Mechanism.simulate's (python/phmech/mechanism.py), the one place they are set."""
     t0, t1, dt = (real("t_start", t_start), real("t_end", t_end), real("dt_out", dt_out))
@@ -115,6 +116,12 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
     elif step is not None:
         raise ModelError("step= applies to integrator='generalized-alpha' (IDA and tree choose "
                          "their own steps; use max_step to bound them)")
+    if error_check not in (None, True, False):
+        raise ModelError(f"error_check must be None, True or False (got {error_check!r})")
+    if error_check is not None and integrator != "tree":
+        raise ModelError("error_check applies to integrator='tree' (the default integrator "
+                         "estimates its global error as it runs: stats['global_error_estimate'])")
+    error_check = integrator == "tree" and error_check is not False
     if integrator == "tree":
         # a tree of rigid bodies in joint coordinates (csrc/integrate/tree.c): explicit
         # Dormand-Prince 5(4) on rtol, atol; the core refuses the models it does not take
@@ -195,8 +202,9 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
         return _simulation_result(mech, r, k, times, model, drop_masks, rec, band,
                                        {**stats, **run}, interrupted, plane)
 
-    def simulate_core(times, per_output, monitor, arrays):
-        return _core.model_simulate(sim_model, times, rtol, atol, solvers[linear_solver], poses,
+    def simulate_core(times, per_output, monitor, arrays, tighter=1.0):
+        return _core.model_simulate(sim_model, times, rtol * tighter, atol * tighter,
+                                    solvers[linear_solver], poses,
                                     twists, per_output, float(max_step), int(max_order), rec,
                                     tests[error_test], integrators[integrator], float(step or 0.0),
                                     float(1.0 if rho_inf is None else rho_inf),
@@ -256,6 +264,11 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
                                               monitor.stopped or monitor.terminated), sampler, rec)
     if sampler is None and mech._desc.sensors:
         result.sensors = _sampled.result_sensors(mech, result, rec)
+    if integrator == "tree":
+        result.stats.update(_tree_error_check(mech, model, simulate_core, run_tout, r, rtol, atol)
+                            if error_check and not r["error"] and not result.interrupted else
+                            dict(global_error_estimate=None, global_error_time=None,
+                                 global_error_state=None))
     if sampler is not None and result.stats.get("global_error_estimate") is not None:
         # the linearized steps hold the sampled inputs: they miss the loop's feedback, which
         # acts at the samples (measured: a sampled PD loop of tests/test_controllers.py read 20
@@ -300,6 +313,40 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
         err = topology.constraint_error(mech._desc, r["error"]) or SolverError(r["error"])
         raise _with_partial(err, result, unsaved + why)
     return result
+
+#: the tree integrator's check run: rtol and atol times this (Mechanism.simulate, error_check)
+TREE_CHECK_TIGHTER = 0.1
+
+
+def _tree_error_check(mech, model, simulate_core, times, r: dict, rtol: float,
+                      atol: float) -> dict:
+    """The tree integrator's run ``r`` against a second one at TREE_CHECK_TIGHTER its rtol and
+    atol: stats' ``global_error_estimate`` (the largest over the joint coordinates and rates of
+    max |difference| / (rtol max |coordinate| + atol), the check's coordinates' magnitudes),
+    ``global_error_time`` [s], ``global_error_state`` and ``error_check_rtol``. A check that
+    fails (its run stops) gives None."""
+    c = simulate_core(times, None, None, None, tighter=TREE_CHECK_TIGHTER)
+    out = dict(global_error_estimate=None, global_error_time=None, global_error_state=None,
+               error_check_rtol=rtol * TREE_CHECK_TIGHTER)
+    n = min(int(r["nout"]), int(c["nout"]))
+    if c["error"] or n < len(times):
+        return out
+    worst, when, name = 0.0, 0.0, None
+    for key, what in (("joints", "joint coordinate"), ("joint_rates", "joint rate")):
+        a, b = r[key][:n], c[key][:n]
+        if not a.size:
+            continue
+        ratio = np.abs(a - b) / (rtol * np.abs(b).max(axis=0) + atol)
+        k = np.unravel_index(int(np.argmax(ratio)), ratio.shape)
+        if ratio[k] > worst:
+            worst, when, name = float(ratio[k]), float(times[k[0]]), (what, int(k[1]))
+    out["global_error_estimate"] = worst
+    if name is not None:
+        layout = _core.model_sizes(model)[4]
+        pair, j = next((p["name"], name[1] - layout[i][2]) for i, p in enumerate(mech._pairs)
+                       if layout[i][2] <= name[1] < layout[i][2] + layout[i][3])
+        out.update(global_error_time=when, global_error_state=f"{name[0]} {j} of pair {pair!r}")
+    return out
 
 def _with_partial(err: Exception, result: SimulationResult, more: str = "") -> Exception:
     """``err`` carrying the trajectory computed before it (``err.result``), its message saying

@@ -67,7 +67,8 @@ class Mechanism(Builder):
                  step: Optional[float] = None, rho_inf: Optional[float] = None,
                  band: Optional[float] = None, checkpoint=None,
                  checkpoint_every: Optional[float] = None,
-                 planar: Optional[bool] = None) -> SimulationResult:
+                 planar: Optional[bool] = None,
+                 error_check: Optional[bool] = None) -> SimulationResult:
         """Integrate from ``t_start`` to ``t_end`` [s], sampling every ``dt_out`` [s].
 
         The defaults are meant to be right and fast; ``simulate(t_end, dt_out)`` is the intended
@@ -198,14 +199,26 @@ class Mechanism(Builder):
         the same results. None (default): so when the checks pass, with the generalized-alpha
         (IDA stays 3-D unless asked: see the comment in simulate); True: require it (ModelError
         naming the first check that fails); False: the 3-D DAE. ``result.stats["planar"]`` is
-        the plane's normal axis ("x", "y", "z") or None."""
+        the plane's normal axis ("x", "y", "z") or None.
+
+        ``error_check`` (``integrator="tree"`` only; None: True): the tree integrator controls
+        each step's local error, not the result's, and its result can be many times its
+        tolerance off (a UR5 swinging 2 s: 41x at rtol 1e-4, 7.8x at 1e-6, 0.92x at its
+        default 1e-8). With the check it runs a second time at rtol/10 and atol/10, and
+        ``stats["global_error_estimate"]`` is the largest difference of the two runs' joint
+        coordinates and rates over rtol times the coordinate's largest magnitude plus atol (the
+        first run's error, the second's being ~20x smaller), ``global_error_time`` and
+        ``global_error_state`` when and where; above 1 an AccuracyWarning with the figure and
+        an rtol that brings the run within it. The result returned is the first run's. The
+        check costs ~1.6x the run (DOPRI5's steps grow as rtol^(-1/5)); False skips it
+        (``stats["global_error_estimate"]`` None)."""
         return _simulate.simulate(self, t_end=t_end, dt_out=dt_out, rtol=rtol, atol=atol,
                                   linear_solver=linear_solver, initial=initial, t_start=t_start,
                                   callback=callback, max_step=max_step, max_order=max_order,
                                   record=record, progress=progress, error_test=error_test,
                                   integrator=integrator, step=step, rho_inf=rho_inf, band=band,
                                   checkpoint=checkpoint, checkpoint_every=checkpoint_every,
-                                  planar=planar)
+                                  planar=planar, error_check=error_check)
 
     def stress_resultants(self, result: SimulationResult, link: Union[str, FlexibleLink]) -> np.ndarray:
         """Section stress resultants of each element of ``link`` along a simulation, shape
