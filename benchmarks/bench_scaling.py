@@ -184,9 +184,9 @@ def ex_ge3d(N: int, T: float, h: float):
 def ph_chain(n: int, T: float, rtol: float, solver: str, default: bool = False, tree: bool = False):
     """phmech chain: IDA (every state in its error test) at ``rtol``, the default integrator, or
     (``tree``) the tree integrator (joint coordinates, articulated-body algorithm, Dormand-Prince
-    5(4): csrc/integrate/tree.c) without its error check (``error_check=False``: a second run
-    at rtol/10 that estimates the result's error; here the error is measured against the
-    reference, as MuJoCo's, and the check would add ~1.6x the run's CPU)."""
+    5(4): csrc/integrate/tree.c) without its error check (``error_check=False``: runs at rtol/10,
+    /100 ... that estimate the result's error and keep it within rtol; here the error is measured
+    against the reference, as MuJoCo's, and the check would cost 2-7x the run's CPU)."""
     import phmech as ph
     from phmech import se3
     m = ph.Mechanism(gravity=(0, -G, 0))

@@ -341,7 +341,7 @@ def headline(results: str) -> list:
                 tree.setdefault(n, []).append(row["phmech tree"] / row[CHAIN_PEER])
         if tree:
             parts.append("with `simulate(integrator=\"tree\", error_check=False)` (rigid trees in joint "
-                         "coordinates, `docs/integrators.md`; its error check, on by default, adds ~1.6x), "
+                         "coordinates, `docs/integrators.md`; its error check, on by default, costs 2-7x the run), "
                          "CPU over MuJoCo RK4's interpolated at the same link-end "
                          f"error ({' / '.join(f'{v:.0e}' for v in CHAIN_LEVELS)} m): "
                          + ", ".join(f"n = {n}: {min(r):.2f}-{max(r):.2f}" for n, r in tree.items()))

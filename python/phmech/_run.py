@@ -189,6 +189,10 @@ def warn_if_above_tolerance(stats: dict, stacklevel: Optional[int] = None) -> No
 #: 2 deg rtol 1e-4 0.86 and 0.98; 30 deg 0.63 and 0.71; 2 deg rtol 1e-6 1.11 and 1.09 (warned);
 #: 170 deg rtol 1e-4 7.8 and 24.6 (warned; 13.4 when propagated step by step, not in blocks of 8).
 GLOBAL_ERROR_WARN = 1.0
+#: the tree integrator's error check (python/phmech/_simulate.py, _tree_error_check): each
+#: check run at this times the last run's rtol and atol, at most TREE_REFINE_MAX of them
+TREE_CHECK_TIGHTER = 0.1
+TREE_REFINE_MAX = 4
 
 
 def warn_if_global_error(stats: dict, stacklevel: Optional[int] = None) -> None:
@@ -204,15 +208,16 @@ def warn_if_global_error(stats: dict, stacklevel: Optional[int] = None) -> None:
     where = stats.get("global_error_state")
     if stats.get("integrator") == "tree":
         warnings.warn(
-            f"simulate: the tree integrator's result differs from its check run at rtol "
-            f"{stats['error_check_rtol']:.3g} by {g:.3g} times the tolerance (rtol {rtol:.3g}, "
-            f"atol {atol:.3g}: |error| <= rtol max|y| + atol per joint coordinate and rate) at "
-            f"t = {stats['global_error_time']:.6g} s, in {where} (stats['global_error_estimate'])"
-            f": it controls each step's local error, not the result's, and the motion "
-            f"amplified it, so the result is about that far off. rtol={rtol / (3 * g):.2g} and "
-            f"atol={atol / (3 * g):.2g} should bring it within this run's tolerance (that run "
-            f"then checks itself against its own, tighter one)",
-            AccuracyWarning, stacklevel=stacklevel or outside_stacklevel())
+            f"simulate: the tree integrator's result is probably not within rtol: refined to a "
+            f"local rtol of {stats['integration_rtol']:.3g} (stats['integration_rtol']), its "
+            f"last two runs still differ by {g:.3g} times the tolerance (rtol {rtol:.3g}, atol "
+            f"{atol:.3g}: |error| <= rtol max|y| + atol per joint coordinate and rate) at t = "
+            f"{stats['global_error_time']:.6g} s, in {where} (stats['global_error_estimate'], "
+            f"an upper estimate of the result's error): the motion amplifies the steps' errors "
+            f"beyond what {TREE_CHECK_TIGHTER ** -TREE_REFINE_MAX:.0f} times tighter steps "
+            f"resolve (or they reach round-off). A looser rtol asks less; a chaotic motion (a double pendulum's) is "
+            f"followed at no rtol beyond a few of its Lyapunov times", AccuracyWarning,
+            stacklevel=stacklevel or outside_stacklevel())
         return
     if not default_integrator(stats):
         return

@@ -265,10 +265,17 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
     if sampler is None and mech._desc.sensors:
         result.sensors = _sampled.result_sensors(mech, result, rec)
     if integrator == "tree":
-        result.stats.update(_tree_error_check(mech, model, simulate_core, run_tout, r, rtol, atol)
-                            if error_check and not r["error"] and not result.interrupted else
-                            dict(global_error_estimate=None, global_error_time=None,
-                                 global_error_state=None))
+        if error_check and not r["error"] and not result.interrupted:
+            checked, figures = _tree_error_check(mech, model, simulate_core, run_tout, r, rtol,
+                                                 atol)
+            if checked is not r:   # a tighter run: the result is its own
+                result = assemble(checked, checked["nout"], checked["stats"], False)
+                if mech._desc.sensors:
+                    result.sensors = _sampled.result_sensors(mech, result, rec)
+            result.stats.update(figures)
+        else:
+            result.stats.update(global_error_estimate=None, global_error_time=None,
+                                global_error_state=None)
     if sampler is not None and result.stats.get("global_error_estimate") is not None:
         # the linearized steps hold the sampled inputs: they miss the loop's feedback, which
         # acts at the samples (measured: a sampled PD loop of tests/test_controllers.py read 20
@@ -314,39 +321,52 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
         raise _with_partial(err, result, unsaved + why)
     return result
 
-#: the tree integrator's check run: rtol and atol times this (Mechanism.simulate, error_check)
-TREE_CHECK_TIGHTER = 0.1
-
-
 def _tree_error_check(mech, model, simulate_core, times, r: dict, rtol: float,
-                      atol: float) -> dict:
-    """The tree integrator's run ``r`` against a second one at TREE_CHECK_TIGHTER its rtol and
-    atol: stats' ``global_error_estimate`` (the largest over the joint coordinates and rates of
-    max |difference| / (rtol max |coordinate| + atol), the check's coordinates' magnitudes),
-    ``global_error_time`` [s], ``global_error_state`` and ``error_check_rtol``. A check that
-    fails (its run stops) gives None."""
-    c = simulate_core(times, None, None, None, tighter=TREE_CHECK_TIGHTER)
-    out = dict(global_error_estimate=None, global_error_time=None, global_error_state=None,
-               error_check_rtol=rtol * TREE_CHECK_TIGHTER)
-    n = min(int(r["nout"]), int(c["nout"]))
-    if c["error"] or n < len(times):
-        return out
-    worst, when, name = 0.0, 0.0, None
+                      atol: float) -> tuple:
+    """(run, stats) of the tree integrator's error check of its run ``r`` at ``rtol``,
+    ``atol``: a run at _run.TREE_CHECK_TIGHTER its tolerances estimates ``r``'s error by their
+    difference (_tree_difference, against rtol and atol as asked); within them, ``r`` is
+    returned, else the check run is checked in turn, up to _run.TREE_REFINE_MAX runs, and the
+    first within them is returned (at the limit the last, most accurate, run, its estimate
+    that of the run before it: larger than its own). stats: ``global_error_estimate``,
+    ``global_error_time``, ``global_error_state`` (None when a check run stopped),
+    ``integration_rtol`` (the returned run's rtol) and ``error_check_rtol`` (its check's)."""
+    run, factor, out = r, 1.0, {}
+    tighter = _run.TREE_CHECK_TIGHTER
+    for _ in range(_run.TREE_REFINE_MAX):
+        c = simulate_core(times, None, None, None, tighter=factor * tighter)
+        if c["error"] or int(c["nout"]) < len(times):
+            return run, dict(global_error_estimate=None, global_error_time=None,
+                             global_error_state=None, integration_rtol=rtol * factor,
+                             error_check_rtol=rtol * factor * tighter)
+        out = dict(_tree_difference(mech, model, times, run, c, rtol, atol),
+                   integration_rtol=rtol * factor, error_check_rtol=rtol * factor * tighter)
+        if out["global_error_estimate"] <= _run.GLOBAL_ERROR_WARN:
+            return run, out
+        run, factor = c, factor * tighter
+    out["integration_rtol"] = rtol * factor
+    return run, out
+
+def _tree_difference(mech, model, times, a: dict, b: dict, rtol: float, atol: float) -> dict:
+    """The largest difference of two runs' joint coordinates and rates, each over rtol times
+    its largest magnitude in ``b`` plus atol, as stats' ``global_error_estimate``, with its
+    time [s] and ``global_error_state``."""
+    worst, when, name = 0.0, None, None
     for key, what in (("joints", "joint coordinate"), ("joint_rates", "joint rate")):
-        a, b = r[key][:n], c[key][:n]
-        if not a.size:
+        x, y = a[key][:len(times)], b[key][:len(times)]
+        if not x.size:
             continue
-        ratio = np.abs(a - b) / (rtol * np.abs(b).max(axis=0) + atol)
+        ratio = np.abs(x - y) / (rtol * np.abs(y).max(axis=0) + atol)
         k = np.unravel_index(int(np.argmax(ratio)), ratio.shape)
         if ratio[k] > worst:
             worst, when, name = float(ratio[k]), float(times[k[0]]), (what, int(k[1]))
-    out["global_error_estimate"] = worst
+    state = None
     if name is not None:
         layout = _core.model_sizes(model)[4]
         pair, j = next((p["name"], name[1] - layout[i][2]) for i, p in enumerate(mech._pairs)
                        if layout[i][2] <= name[1] < layout[i][2] + layout[i][3])
-        out.update(global_error_time=when, global_error_state=f"{name[0]} {j} of pair {pair!r}")
-    return out
+        state = f"{name[0]} {j} of pair {pair!r}"
+    return dict(global_error_estimate=worst, global_error_time=when, global_error_state=state)
 
 def _with_partial(err: Exception, result: SimulationResult, more: str = "") -> Exception:
     """``err`` carrying the trajectory computed before it (``err.result``), its message saying
