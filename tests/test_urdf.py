@@ -400,6 +400,6 @@ def test_example_runs_quick():
     out = subprocess.run([sys.executable, os.path.join(EXAMPLES, "urdf_robot.py"), "--quick", "--json"],
                          capture_output=True, text=True, check=True).stdout
     d = json.loads(out)
-    assert d["rigid"]["ledger_relative"] < 1e-4
+    assert d["rigid"]["ledger_relative"] < 1e-4 and d["rigid"]["error_estimate"] <= 1.0
     f = d["flexible"]["modes_hz_joints_held"]
     assert len(f) == 4 and 10 < f[0] < 1e3 and f == sorted(f)
