@@ -95,6 +95,25 @@ def test_the_error_check_says_when_it_cannot_keep_the_tolerance():
     assert r.stats["integration_rtol"] == pytest.approx(1e-10)
 
 
+def test_an_error_check_that_cannot_run_says_so(monkeypatch):
+    """A check run that stops (here made to, by the core's second call returning an error)
+    leaves the result unchecked, and an AccuracyWarning says so."""
+    from phmech import _simulate
+    real, calls = _simulate._core.model_simulate, []
+
+    def second_fails(*args, **kw):
+        out = real(*args, **kw)
+        calls.append(1)
+        if len(calls) == 2:
+            out["error"] = "made to fail"
+        return out
+    monkeypatch.setattr(_simulate._core, "model_simulate", second_fails)
+    m, _ = chain(2)
+    with pytest.warns(ph.AccuracyWarning, match="error check could not run.*made to fail"):
+        r = m.simulate(0.2, 0.05, integrator="tree")
+    assert r.stats["global_error_estimate"] is None and len(calls) == 2
+
+
 def test_pendulum_at_170_degrees_matches_the_elliptic_closed_form():
     """A physical pendulum released from rest 170 deg from hanging (pendulum_170) against its
     elliptic closed form over 1.5 periods."""

@@ -330,12 +330,17 @@ def _tree_error_check(mech, model, simulate_core, times, r: dict, rtol: float,
     first within them is returned (at the limit the last, most accurate, run, its estimate
     that of the run before it: larger than its own). stats: ``global_error_estimate``,
     ``global_error_time``, ``global_error_state`` (None when a check run stopped),
-    ``integration_rtol`` (the returned run's rtol) and ``error_check_rtol`` (its check's)."""
+    ``integration_rtol`` (the returned run's rtol) and ``error_check_rtol`` (its check's);
+    an AccuracyWarning when a check run stops (the result is then unchecked)."""
     run, factor, out = r, 1.0, {}
     tighter = _run.TREE_CHECK_TIGHTER
     for _ in range(_run.TREE_REFINE_MAX):
         c = simulate_core(times, None, None, None, tighter=factor * tighter)
         if c["error"] or int(c["nout"]) < len(times):
+            warnings.warn(f"simulate: the tree integrator's error check could not run: its run "
+                          f"at rtol {rtol * factor * tighter:.3g} stopped ({c['error'] or 'early'})"
+                          f", so the result (at rtol {rtol * factor:.3g}) is unchecked",
+                          AccuracyWarning, stacklevel=outside_stacklevel())
             return run, dict(global_error_estimate=None, global_error_time=None,
                              global_error_state=None, integration_rtol=rtol * factor,
                              error_check_rtol=rtol * factor * tighter)
