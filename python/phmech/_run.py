@@ -195,12 +195,14 @@ TREE_CHECK_TIGHTER = 0.1
 TREE_REFINE_MAX = 4
 
 
-def warn_if_global_error(stats: dict, stacklevel: Optional[int] = None) -> None:
+def warn_if_global_error(stats: dict, stacklevel: Optional[int] = None,
+                         tree: bool = False) -> None:
     """AccuracyWarning when the adaptive generalized-alpha's global error estimate
     (``stats['global_error_estimate']``, rigid mechanisms) exceeds GLOBAL_ERROR_WARN, naming the
     estimate, the tolerance, when, and the rtol that would bring the error within this run's
     tolerance (docs/user_guide.md, "Accuracy contract"); for the tree integrator, its error
-    check's figure (python/phmech/_simulate.py, _tree_error_check)."""
+    check's figure (python/phmech/_simulate.py, _tree_error_check). ``tree``: the mechanism is
+    a rigid tree the tree integrator takes, which the remedy then names."""
     g = stats.get("global_error_estimate")
     if g is None or not g > GLOBAL_ERROR_WARN:
         return
@@ -231,7 +233,11 @@ def warn_if_global_error(stats: dict, stacklevel: Optional[int] = None) -> None:
         f"within rtol. The step control holds the summed local errors to a share of rtol and "
         f"the motion multiplies them, so the error scales with rtol: rtol={rtol / (3 * g):.2g} "
         f"and atol={atol / (3 * g):.2g} should bring it within this run's tolerance (that run "
-        f"then measures its own estimate against its tighter one)",
+        f"then measures its own estimate against its tighter one)" + (
+            ". This mechanism is a rigid tree: integrator='tree' (joint coordinates, explicit "
+            "Dormand-Prince; its error check keeps the result within rtol) is often faster "
+            "and within it, unless stiff springs or friction make its steps short"
+            if tree else ""),
         AccuracyWarning, stacklevel=stacklevel or outside_stacklevel())
 
 

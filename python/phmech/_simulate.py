@@ -301,7 +301,8 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
         _run.warn_if_inaccurate(result.stats)
         warn_implausible_strain(mech, result, model)
         _run.warn_if_above_tolerance(result.stats)
-        _run.warn_if_global_error(result.stats)
+        _run.warn_if_global_error(result.stats, tree=_tree_applies(
+            mech, poses, twists, t0, t1, result.stats, integrators))
         for lk in mech._links.values():
             if lk.fidelity == "modal":
                 T0 = se3.exp(lk.length * mech._desc.link_unstressed_strain(lk))
@@ -351,6 +352,22 @@ def _tree_error_check(mech, model, simulate_core, times, r: dict, rtol: float,
         run, factor = c, factor * tighter
     out["integration_rtol"] = rtol * factor
     return run, out
+
+def _tree_applies(mech, poses, twists, t0: float, t1: float, stats: dict,
+                  integrators: dict) -> bool:
+    """Whether the tree integrator takes the mechanism's 3-D model (a run of the first 1e-6 of
+    the span; its refusals are ModelErrors: csrc/integrate/tree_aba.c), asked only of a default
+    run whose global error estimate warns, for the warning's remedy."""
+    g = stats.get("global_error_estimate")
+    if not (_run.default_integrator(stats) and g is not None and g > _run.GLOBAL_ERROR_WARN):
+        return False
+    try:
+        r = _core.model_simulate(_model.build(mech), np.array([t0, t0 + 1e-6 * (t1 - t0)]), 1e-6, 1e-8, 0,
+                                 poses, twists, None, 0.0, 5, None, 0, integrators["tree"], 0.0,
+                                 1.0, adaptive=0, band=0.0, monitor=None, arrays=None, planar=0)
+    except (ModelError, SolverError):
+        return False
+    return not r["error"]
 
 def _tree_difference(mech, model, times, a: dict, b: dict, rtol: float, atol: float) -> dict:
     """The largest difference of two runs' joint coordinates and rates, each over rtol times
