@@ -206,8 +206,9 @@ class Mechanism(Builder):
         its tolerance off (a UR5 swinging 2 s: 60x in a joint rate at rtol 1e-4, 14x at 1e-6,
         4.0x at its default 1e-8). With the check, a run at rtol/10 and atol/10 estimates the
         result's error by their difference: the largest over the joint coordinates and rates
-        of |difference| / (rtol max|coordinate| + atol), ``stats["global_error_estimate"]``
-        (``global_error_time``, ``global_error_state`` when and where). Above 1, that run is
+        of abs(difference) / (rtol max(abs(coordinate)) + atol),
+        ``stats["global_error_estimate"]`` (``global_error_time``, ``global_error_state`` when
+        and where). Above 1, that run is
         checked by one at a tenth of its tolerances in turn, up to 10 000x tighter than asked,
         and the first run within rtol and atol as asked is returned (``integration_rtol``: its
         rtol, ``error_check_rtol``: its check's); beyond, the last run, with an AccuracyWarning
