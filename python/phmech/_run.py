@@ -217,8 +217,9 @@ def warn_if_global_error(stats: dict, stacklevel: Optional[int] = None,
             f"{stats['global_error_time']:.6g} s, in {where} (stats['global_error_estimate'], "
             f"an upper estimate of the result's error): the motion amplifies the steps' errors "
             f"beyond what {TREE_CHECK_TIGHTER ** -TREE_REFINE_MAX:.0f} times tighter steps "
-            f"resolve (or they reach round-off). A looser rtol asks less; a chaotic motion (a double pendulum's) is "
-            f"followed at no rtol beyond a few of its Lyapunov times", AccuracyWarning,
+            f"resolve (or they reach round-off). A looser rtol asks less; a chaotic motion (a "
+            f"double pendulum's) is followed at no rtol beyond a few of its Lyapunov times",
+            AccuracyWarning,
             stacklevel=stacklevel or outside_stacklevel())
         return
     if not default_integrator(stats):

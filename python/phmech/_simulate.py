@@ -202,15 +202,18 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
         return _simulation_result(mech, r, k, times, model, drop_masks, rec, band,
                                        {**stats, **run}, interrupted, plane)
 
-    def simulate_core(times, per_output, monitor, arrays, tighter=1.0):
-        return _core.model_simulate(sim_model, times, rtol * tighter, atol * tighter,
-                                    solvers[linear_solver], poses,
+    def simulate_core(times, per_output, monitor, arrays, tighter=1.0, tree=False):
+        # tighter: rtol and atol times this (the tree integrator's error check); tree: the
+        # tree integrator on the 3-D model instead (whether it takes the mechanism)
+        return _core.model_simulate(_model.build(mech) if tree else sim_model, times,
+                                    rtol * tighter, atol * tighter, solvers[linear_solver], poses,
                                     twists, per_output, float(max_step), int(max_order), rec,
-                                    tests[error_test], integrators[integrator], float(step or 0.0),
-                                    float(1.0 if rho_inf is None else rho_inf),
-                                    adaptive=int(adaptive), band=float(band if adaptive else 0.0),
+                                    tests[error_test], integrators["tree" if tree else integrator],
+                                    float(step or 0.0), float(1.0 if rho_inf is None else rho_inf),
+                                    adaptive=int(adaptive and not tree),
+                                    band=float(band if adaptive and not tree else 0.0),
                                     monitor=monitor, arrays=arrays,
-                                    planar=0 if plane is None else plane[0] + 1)
+                                    planar=0 if plane is None or tree else plane[0] + 1)
 
     sampler = None
     if ctl is not None:
@@ -302,7 +305,8 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
         warn_implausible_strain(mech, result, model)
         _run.warn_if_above_tolerance(result.stats)
         _run.warn_if_global_error(result.stats, tree=_tree_applies(
-            mech, poses, twists, t0, t1, result.stats, integrators))
+            result.stats, lambda: simulate_core(np.array([t0, t0 + 1e-6 * (t1 - t0)]), None,
+                                                None, None, tree=True)))
         for lk in mech._links.values():
             if lk.fidelity == "modal":
                 T0 = se3.exp(lk.length * mech._desc.link_unstressed_strain(lk))
@@ -353,21 +357,17 @@ def _tree_error_check(mech, model, simulate_core, times, r: dict, rtol: float,
     out["integration_rtol"] = rtol * factor
     return run, out
 
-def _tree_applies(mech, poses, twists, t0: float, t1: float, stats: dict,
-                  integrators: dict) -> bool:
-    """Whether the tree integrator takes the mechanism's 3-D model (a run of the first 1e-6 of
-    the span; its refusals are ModelErrors: csrc/integrate/tree_aba.c), asked only of a default
-    run whose global error estimate warns, for the warning's remedy."""
+def _tree_applies(stats: dict, probe: Callable[[], dict]) -> bool:
+    """Whether the tree integrator takes the mechanism: ``probe()`` runs it on the 3-D model
+    over the first 1e-6 of the span (its refusals are ModelErrors: csrc/integrate/tree_aba.c).
+    Asked only of a default run whose global error estimate warns, for the warning's remedy."""
     g = stats.get("global_error_estimate")
     if not (_run.default_integrator(stats) and g is not None and g > _run.GLOBAL_ERROR_WARN):
         return False
     try:
-        r = _core.model_simulate(_model.build(mech), np.array([t0, t0 + 1e-6 * (t1 - t0)]), 1e-6, 1e-8, 0,
-                                 poses, twists, None, 0.0, 5, None, 0, integrators["tree"], 0.0,
-                                 1.0, adaptive=0, band=0.0, monitor=None, arrays=None, planar=0)
+        return not probe()["error"]
     except (ModelError, SolverError):
         return False
-    return not r["error"]
 
 def _tree_difference(mech, model, times, a: dict, b: dict, rtol: float, atol: float) -> dict:
     """The largest difference of two runs' joint coordinates and rates, each over rtol times
