@@ -73,14 +73,15 @@ def test_the_error_check_keeps_the_result_within_its_tolerance(rtol):
         raw = m.simulate(1.5 * period, period / 40, rtol=rtol, integrator="tree",
                          error_check=False)
         r = m.simulate(1.5 * period, period / 40, rtol=rtol, integrator="tree")
-    assert raw.stats["global_error_estimate"] is None and errors_over_tolerance(raw, exact, rtol) > 30
+    assert raw.stats["global_error_estimate"] is None
+    assert errors_over_tolerance(raw, exact, rtol) > 30
     true = errors_over_tolerance(r, exact, rtol)
     assert true <= 1.0 and r.stats["global_error_estimate"] <= 1.0, (true, r.stats)
     assert r.stats["rtol"] == rtol and r.stats["integration_rtol"] < rtol
     assert r.stats["error_check_rtol"] == pytest.approx(r.stats["integration_rtol"] / 10)
     assert r.stats["global_error_state"] in ("joint coordinate 0 of pair 'pivot'",
                                              "joint rate 0 of pair 'pivot'")
-    with pytest.raises(ph.ModelError, match="error_check applies to integrator='tree'"):
+    with pytest.raises(ph.ModelError, match="error_check applies to integrator=.tree. and .ida."):
         m.simulate(0.1, 0.05, error_check=True)
 
 
@@ -89,10 +90,35 @@ def test_the_error_check_says_when_it_cannot_keep_the_tolerance():
     released horizontal, 10 s at rtol 1e-6. The check warns with its figure (measured 1907,
     refined to rtol 1e-10)."""
     m, _ = chain(2, L=0.5, mass=1.0)
-    with pytest.warns(ph.AccuracyWarning, match="tree integrator's result is probably not"):
+    with pytest.warns(ph.AccuracyWarning, match="integrator='tree' is probably not"):
         r = m.simulate(10.0, 0.01, rtol=1e-6, integrator="tree")
     assert r.stats["global_error_estimate"] > 100
     assert r.stats["integration_rtol"] == pytest.approx(1e-10)
+
+
+def test_ida_checks_its_result_on_request():
+    """IDA controls each step's local error too, and is not checked unless asked: the 170 deg
+    pendulum at rtol 1e-6 ends 167x its tolerance off, silently. With error_check=True the same
+    refinement: four runs to rtol 1e-10 return a result 0.37x its tolerance off, and warn,
+    since the estimate at the last run (3.6: the run before it's error) is above 1. A flexible
+    link refuses the check (its nodes have no joint coordinates)."""
+    m, exact, period, _ = pendulum_170()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ph.AccuracyWarning)
+        raw = m.simulate(1.5 * period, period / 40, rtol=1e-6, integrator="ida")
+    assert "global_error_estimate" not in raw.stats
+    assert errors_over_tolerance(raw, exact, 1e-6) > 100
+    with pytest.warns(ph.AccuracyWarning, match="integrator='ida' is probably not"):
+        r = m.simulate(1.5 * period, period / 40, rtol=1e-6, integrator="ida", error_check=True)
+    assert errors_over_tolerance(r, exact, 1e-6) < 1.0
+    assert r.stats["integration_rtol"] == pytest.approx(1e-10)
+    assert r.stats["global_error_estimate"] > 1
+    steel = ph.Material(E=210e9, nu=0.3, density=7850.0)
+    flex = ph.Mechanism()
+    flex.add_flexible_link("rod", 0.3, ph.BeamProperties.from_material(
+        ph.Section.strip(width=0.02, thickness=0.002), steel), elements=2)
+    with pytest.raises(ph.ModelError, match="rigid mechanisms only"):
+        flex.simulate(0.01, 0.005, integrator="ida", error_check=True)
 
 
 def test_an_error_check_that_cannot_run_says_so(monkeypatch):
@@ -109,7 +135,8 @@ def test_an_error_check_that_cannot_run_says_so(monkeypatch):
         return out
     monkeypatch.setattr(_simulate._core, "model_simulate", second_fails)
     m, _ = chain(2)
-    with pytest.warns(ph.AccuracyWarning, match="error check could not run.*made to fail"):
+    with pytest.warns(ph.AccuracyWarning,
+                      match="error check of integrator=.tree. could not run.*made to fail"):
         r = m.simulate(0.2, 0.05, integrator="tree")
     assert r.stats["global_error_estimate"] is None and len(calls) == 2
 

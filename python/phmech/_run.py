@@ -189,10 +189,10 @@ def warn_if_above_tolerance(stats: dict, stacklevel: Optional[int] = None) -> No
 #: 2 deg rtol 1e-4 0.86 and 0.98; 30 deg 0.63 and 0.71; 2 deg rtol 1e-6 1.11 and 1.09 (warned);
 #: 170 deg rtol 1e-4 7.8 and 24.6 (warned; 13.4 when propagated step by step, not in blocks of 8).
 GLOBAL_ERROR_WARN = 1.0
-#: the tree integrator's error check (python/phmech/_simulate.py, _tree_error_check): each
-#: check run at this times the last run's rtol and atol, at most TREE_REFINE_MAX of them
-TREE_CHECK_TIGHTER = 0.1
-TREE_REFINE_MAX = 4
+#: the error check of the tree integrator and IDA (python/phmech/_simulate.py, _error_check):
+#: each check run at this times the last run's rtol and atol, at most ERROR_CHECK_RUNS of them
+ERROR_CHECK_TIGHTER = 0.1
+ERROR_CHECK_RUNS = 4
 
 
 def warn_if_global_error(stats: dict, stacklevel: Optional[int] = None,
@@ -200,23 +200,24 @@ def warn_if_global_error(stats: dict, stacklevel: Optional[int] = None,
     """AccuracyWarning when the adaptive generalized-alpha's global error estimate
     (``stats['global_error_estimate']``, rigid mechanisms) exceeds GLOBAL_ERROR_WARN, naming the
     estimate, the tolerance, when, and the rtol that would bring the error within this run's
-    tolerance (docs/user_guide.md, "Accuracy contract"); for the tree integrator, its error
-    check's figure (python/phmech/_simulate.py, _tree_error_check). ``tree``: the mechanism is
+    tolerance (docs/user_guide.md, "Accuracy contract"); for the tree integrator and IDA, their
+    error check's figure (python/phmech/_simulate.py, _error_check). ``tree``: the mechanism is
     a rigid tree the tree integrator takes, which the remedy then names."""
     g = stats.get("global_error_estimate")
     if g is None or not g > GLOBAL_ERROR_WARN:
         return
     rtol, atol = stats["rtol"], stats["atol"]
     where = stats.get("global_error_state")
-    if stats.get("integrator") == "tree":
+    if stats.get("integrator") in ("tree", "ida"):
         warnings.warn(
-            f"simulate: the tree integrator's result is probably not within rtol: refined to a "
+            f"simulate: the result of integrator={stats['integrator']!r} is probably not "
+            f"within rtol: refined to a "
             f"local rtol of {stats['integration_rtol']:.3g} (stats['integration_rtol']), its "
             f"last two runs still differ by {g:.3g} times the tolerance (rtol {rtol:.3g}, atol "
             f"{atol:.3g}: |error| <= rtol max|y| + atol per joint coordinate and rate) at t = "
             f"{stats['global_error_time']:.6g} s, in {where} (stats['global_error_estimate'], "
             f"an upper estimate of the result's error): the motion amplifies the steps' errors "
-            f"beyond what {TREE_CHECK_TIGHTER ** -TREE_REFINE_MAX:.0f} times tighter steps "
+            f"beyond what {ERROR_CHECK_TIGHTER ** -ERROR_CHECK_RUNS:.0f} times tighter steps "
             f"resolve (or they reach round-off). A looser rtol asks less; a chaotic motion (a "
             f"double pendulum's) is followed at no rtol beyond a few of its Lyapunov times",
             AccuracyWarning,

@@ -118,10 +118,15 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
                          "their own steps; use max_step to bound them)")
     if error_check not in (None, True, False):
         raise ModelError(f"error_check must be None, True or False (got {error_check!r})")
-    if error_check is not None and integrator != "tree":
-        raise ModelError("error_check applies to integrator='tree' (the default integrator "
-                         "estimates its global error as it runs: stats['global_error_estimate'])")
-    error_check = integrator == "tree" and error_check is not False
+    if error_check is not None and integrator not in ("tree", "ida"):
+        raise ModelError("error_check applies to integrator='tree' and 'ida' (the default "
+                         "integrator estimates its global error as it runs: "
+                         "stats['global_error_estimate'])")
+    if error_check and integrator == "ida" and mech._desc.elements:
+        raise ModelError("error_check with integrator='ida' compares joint coordinates and "
+                         "rates: rigid mechanisms only (a flexible link's nodes have none)")
+    # on by default for the tree integrator, asked for IDA
+    error_check = (error_check is not False) if integrator == "tree" else bool(error_check)
     if integrator == "tree":
         # a tree of rigid bodies in joint coordinates (csrc/integrate/tree.c): explicit
         # Dormand-Prince 5(4) on rtol, atol; the core refuses the models it does not take
@@ -267,10 +272,10 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
                                               monitor.stopped or monitor.terminated), sampler, rec)
     if sampler is None and mech._desc.sensors:
         result.sensors = _sampled.result_sensors(mech, result, rec)
-    if integrator == "tree":
+    if error_check or integrator == "tree":
         if error_check and not r["error"] and not result.interrupted:
-            checked, figures = _tree_error_check(mech, model, simulate_core, run_tout, r, rtol,
-                                                 atol)
+            checked, figures = _error_check(mech, model, simulate_core, run_tout, r, rtol, atol,
+                                            integrator)
             if checked is not r:   # a tighter run: the result is its own
                 result = assemble(checked, checked["nout"], checked["stats"], False)
                 if mech._desc.sensors:
@@ -326,30 +331,32 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
         raise _with_partial(err, result, unsaved + why)
     return result
 
-def _tree_error_check(mech, model, simulate_core, times, r: dict, rtol: float,
-                      atol: float) -> tuple:
-    """(run, stats) of the tree integrator's error check of its run ``r`` at ``rtol``,
-    ``atol``: a run at _run.TREE_CHECK_TIGHTER its tolerances estimates ``r``'s error by their
-    difference (_tree_difference, against rtol and atol as asked); within them, ``r`` is
-    returned, else the check run is checked in turn, up to _run.TREE_REFINE_MAX runs, and the
+def _error_check(mech, model, simulate_core, times, r: dict, rtol: float, atol: float,
+                 integrator: str) -> tuple:
+    """(run, stats) of the error check (Mechanism.simulate's error_check: the tree integrator,
+    IDA on a rigid mechanism) of the run ``r`` at ``rtol``, ``atol``: a run at
+    _run.ERROR_CHECK_TIGHTER its tolerances estimates ``r``'s error by their difference
+    (_joint_difference, against rtol and atol as asked); within them, ``r`` is returned, else
+    the check run is checked in turn, up to _run.ERROR_CHECK_RUNS runs, and the
     first within them is returned (at the limit the last, most accurate, run, its estimate
     that of the run before it: larger than its own). stats: ``global_error_estimate``,
     ``global_error_time``, ``global_error_state`` (None when a check run stopped),
     ``integration_rtol`` (the returned run's rtol) and ``error_check_rtol`` (its check's);
     an AccuracyWarning when a check run stops (the result is then unchecked)."""
     run, factor, out = r, 1.0, {}
-    tighter = _run.TREE_CHECK_TIGHTER
-    for _ in range(_run.TREE_REFINE_MAX):
+    tighter = _run.ERROR_CHECK_TIGHTER
+    for _ in range(_run.ERROR_CHECK_RUNS):
         c = simulate_core(times, None, None, None, tighter=factor * tighter)
         if c["error"] or int(c["nout"]) < len(times):
-            warnings.warn(f"simulate: the tree integrator's error check could not run: its run "
-                          f"at rtol {rtol * factor * tighter:.3g} stopped ({c['error'] or 'early'})"
-                          f", so the result (at rtol {rtol * factor:.3g}) is unchecked",
+            warnings.warn(f"simulate: the error check of integrator={integrator!r} could not "
+                          f"run: its run at rtol {rtol * factor * tighter:.3g} stopped "
+                          f"({c['error'] or 'early'}), so the result (at rtol "
+                          f"{rtol * factor:.3g}) is unchecked",
                           AccuracyWarning, stacklevel=outside_stacklevel())
             return run, dict(global_error_estimate=None, global_error_time=None,
                              global_error_state=None, integration_rtol=rtol * factor,
                              error_check_rtol=rtol * factor * tighter)
-        out = dict(_tree_difference(mech, model, times, run, c, rtol, atol),
+        out = dict(_joint_difference(mech, model, times, run, c, rtol, atol),
                    integration_rtol=rtol * factor, error_check_rtol=rtol * factor * tighter)
         if out["global_error_estimate"] <= _run.GLOBAL_ERROR_WARN:
             return run, out
@@ -369,7 +376,7 @@ def _tree_applies(stats: dict, probe: Callable[[], dict]) -> bool:
     except (ModelError, SolverError):
         return False
 
-def _tree_difference(mech, model, times, a: dict, b: dict, rtol: float, atol: float) -> dict:
+def _joint_difference(mech, model, times, a: dict, b: dict, rtol: float, atol: float) -> dict:
     """The largest difference of two runs' joint coordinates and rates, each over rtol times
     its largest magnitude in ``b`` plus atol, as stats' ``global_error_estimate``, with its
     time [s] and ``global_error_state``."""
