@@ -208,8 +208,8 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
                                        {**stats, **run}, interrupted, plane)
 
     def simulate_core(times, per_output, monitor, arrays, tighter=1.0, tree=False):
-        # tighter: rtol and atol times this (the tree integrator's error check); tree: the
-        # tree integrator on the 3-D model instead (whether it takes the mechanism)
+        # tighter: rtol and atol times this (the error check of the tree integrator and IDA);
+        # tree: the tree integrator on the 3-D model instead (whether it takes the mechanism)
         return _core.model_simulate(_model.build(mech) if tree else sim_model, times,
                                     rtol * tighter, atol * tighter, solvers[linear_solver], poses,
                                     twists, per_output, float(max_step), int(max_order), rec,
@@ -391,10 +391,8 @@ def _joint_difference(mech, model, times, a: dict, b: dict, rtol: float, atol: f
             worst, when, name = float(ratio[k]), float(times[k[0]]), (what, int(k[1]))
     state = None
     if name is not None:
-        layout = _core.model_sizes(model)[4]
-        pair, j = next((p["name"], name[1] - layout[i][2]) for i, p in enumerate(mech._pairs)
-                       if layout[i][2] <= name[1] < layout[i][2] + layout[i][3])
-        state = f"{name[0]} {j} of pair {pair!r}"
+        state = _joint_name(zip((p["name"] for p in mech._pairs), _core.model_sizes(model)[4]),
+                            name[1], name[0])
     return dict(global_error_estimate=worst, global_error_time=when, global_error_state=state)
 
 def _with_partial(err: Exception, result: SimulationResult, more: str = "") -> Exception:
@@ -543,12 +541,18 @@ def _state_name(mech, i: int, planar: bool, pairs: dict) -> str:
             names.update({cc: f"link {nm!r} node {j}" for j, cc in enumerate(lk.carriers)})
         what = next(w for a, b, w in parts if a <= k < b)
         return f"the {what} of {names.get(c, f'carrier {c}')}"
-    j = i - nc * ns
-    for nm, p in pairs.items():
-        jj, kk = p["layout"][2:4]
+    return _joint_name(((nm, p["layout"]) for nm, p in pairs.items()), i - nc * ns,
+                       "joint coordinate") or "an internal state of a component"
+
+def _joint_name(layouts, j: int, what: str) -> Optional[str]:
+    """``what`` (e.g. "joint coordinate") of column ``j`` of the joint arrays in words, e.g.
+    "joint coordinate 0 of pair 'hinge'", from the pairs' (name, core layout row: its joint
+    columns at [2:4], start and count); None past the pairs' columns."""
+    for nm, row in layouts:
+        jj, kk = row[2:4]
         if jj <= j < jj + kk:
-            return f"joint coordinate {j - jj} of pair {nm!r}"
-    return "an internal state of a component"
+            return f"{what} {j - jj} of pair {nm!r}"
+    return None
 
 
 def _component_states(mech, zs: np.ndarray) -> dict:
