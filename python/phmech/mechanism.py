@@ -202,22 +202,21 @@ class Mechanism(Builder):
         the plane's normal axis ("x", "y", "z") or None.
 
         ``error_check`` (``integrator="tree"``: None is True; ``integrator="ida"`` on a rigid
-        mechanism: None is False, True asks for it; others: ModelError): the tree integrator controls
-        each step's local error, not the result's, and unchecked its result can be many times
-        its tolerance off (a UR5 swinging 2 s: 60x in a joint rate at rtol 1e-4, 14x at 1e-6,
-        4.0x at its default 1e-8). With the check, a run at rtol/10 and atol/10 estimates the
-        result's error by their difference: the largest over the joint coordinates and rates
-        of abs(difference) / (rtol max(abs(coordinate)) + atol),
+        mechanism: None is False, True asks for it; others: ModelError): the tree integrator
+        controls each step's local error, not the result's, and unchecked its result can be
+        many times its tolerance off (a UR5 swinging 2 s: 60x in a joint rate at rtol 1e-4, 14x
+        at 1e-6, 4.0x at its default 1e-8). With the check, a run at rtol/10 and atol/10
+        estimates the result's error by their difference: the largest over the joint
+        coordinates and rates of abs(difference) / (rtol max(abs(coordinate)) + atol),
         ``stats["global_error_estimate"]`` (``global_error_time``, ``global_error_state`` when
-        and where). Above 1, that run is
-        checked by one at a tenth of its tolerances in turn, up to 10 000x tighter than asked,
-        and the first run within rtol and atol as asked is returned (``integration_rtol``: its
-        rtol, ``error_check_rtol``: its check's); beyond, the last run, with an AccuracyWarning
-        (a chaotic motion). The UR5: 0.14x, 0.69x and 0.54x (estimates 0.14, 0.69, 0.35) for
-        2-7x the run's CPU (16, 18, 36 ms against 2.5, 5.1, 8.1). False skips it
-        (``stats["global_error_estimate"]`` None). IDA the same way, when asked: unchecked, the
-        170 deg pendulum of tests/test_tree.py ends 167x its tolerance off at rtol 1e-6 and
-        7360x at its default 1e-8."""
+        and where). Above 1, that run is checked by one at a tenth of its tolerances in turn,
+        up to 10 000x tighter than asked, and the first run within rtol and atol as asked is
+        returned (``integration_rtol``: its rtol, ``error_check_rtol``: its check's); beyond,
+        the last run, with an AccuracyWarning (a chaotic motion). The UR5: 0.14x, 0.69x and
+        0.54x (estimates 0.14, 0.69, 0.35) for 2-7x the run's CPU (16, 18, 36 ms against 2.5,
+        5.1, 8.1). False skips it (``stats["global_error_estimate"]`` None). IDA the same way,
+        when asked: unchecked, the 170 deg pendulum of tests/test_tree.py ends 167x its
+        tolerance off at rtol 1e-6 and 7360x at its default 1e-8."""
         return _simulate.simulate(self, t_end=t_end, dt_out=dt_out, rtol=rtol, atol=atol,
                                   linear_solver=linear_solver, initial=initial, t_start=t_start,
                                   callback=callback, max_step=max_step, max_order=max_order,
