@@ -92,7 +92,11 @@ typedef struct {
                           * and Newton's tests, are the 3-D solve's (n and 0 in 3-D) */
   double lscale;         /* the mechanism's size [m] (dae_length_scale): the constraint tolerance */
   double reg;            /* the regularization's factor (dae_regularization_scale): 1 by default */
+  double stage_h;        /* the generalized-alpha's step [s] at its stage's residual (the bound on
+                          * the workless constraint wrench's correction, residual.c); 0 else */
   double tref;           /* reference time of the laws' current piece (phm_model_tref) */
+  unsigned char *workless; /* np: pair ip's constraint wrench is made workless at the
+                            * generalized-alpha's stage (residual.c, workless_pairs) */
   unsigned char *kbody;  /* nc: carrier c's kinematic rows in its body frame (1) or in the
                           * world's (0): dae_body_kinematics (a full DAE's; NULL when planar) */
   phm_data data;         /* allocated by dae_init */
@@ -179,6 +183,11 @@ int dae_is_twist(const dae_t *d, int i);
  * solution at all: the constraint's second-order residual in the self-stress direction has no
  * unknown to move it (G^T mu and G^T lambda vanish in it). */
 #define DAE_REG_TIME 1e-9
+/* The generalized-alpha's stage makes each pair's constraint wrench workless (residual.c,
+ * workless_at_stage) by a wrench -kappa M t on its carriers, with kappa h at most this: the
+ * carriers' kinetic energy moved by at most this fraction per step. On the A02 four-bar it
+ * never acts (bounds of 1e-5 .. 1e-7 change none of its figures); near rest it does. */
+#define DAE_WORKLESS_STEP 1e-4
 /* d->data.lreg, mreg: for the rows of the pairs on a loop of the graph of carriers, ground and
  * pairs with constraint rows (only there can rows become dependent: an open chain's rows are
  * independent in every configuration, and left as they were), from the carriers' inertias and

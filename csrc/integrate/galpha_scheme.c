@@ -42,6 +42,7 @@ void galpha_stage(const dae_t *d, galpha_t *g, double h) {
  * position constraints are logs of relative poses). */
 void galpha_residual(dae_t *d, galpha_t *g, double t0, double h) {
   double *Ra = N_VGetArrayPointer(g->Ra), *R = N_VGetArrayPointer(g->R);
+  dae_full(d)->stage_h = h;
   dae_residual_rows(d, t0 + stage_af(g) * h, N_VGetArrayPointer(g->ya), N_VGetArrayPointer(g->ypa),
                     Ra, 0);
   dae_constraint_rows(d, t0 + h, N_VGetArrayPointer(g->Y), R);

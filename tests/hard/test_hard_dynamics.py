@@ -25,16 +25,16 @@ def outcome(name: str) -> S.Outcome:
 @pytest.mark.parametrize("name", [
     "andrews", "rotating_beam", "tip_mass", "beck", "impulse", "pendulum_hour", "four_bar"])
 def test_reference(name):
-    # four_bar (A02, N = 2): B0 7.9e-4 m off the exact motion over 10 s (limit 1e-3 m; 1.84e-3
-    # and then 2.6e-3 before the twists entered the default integrator's error estimate, issue
-    # 27), with an AccuracyWarning: 2742 steps at the refinement's limit near its singular
-    # configurations
+    # four_bar (A02, N = 2): B0 2.6e-4 m off the exact motion over the benchmark's 20 s (limit
+    # 1e-3 m; 1.93e-3 before the loops' constraint wrenches were made workless at the default
+    # integrator's stage, csrc/dae/residual.c), with AccuracyWarnings: 5678 steps at the
+    # refinement's limit near its singular configurations, where a coupler's twist is off
     o = outcome(name)
     assert o.passed, o.row()
 
 
 def test_four_bar_runs_through_its_singular_configurations():
-    # the whole run (10 s, about 11 flat positions) with the defaults, no failure; within the
+    # the whole run (20 s, about 21 flat positions) with the defaults, no failure; within the
     # benchmark's 1e-3 m of the exact motion over the first two (measured 7.2e-5 m)
     o = outcome("four_bar")
     assert o.extra["reached"] == o.extra["t_end"] and not o.extra["failure"]
