@@ -92,8 +92,10 @@ typedef struct {
                           * and Newton's tests, are the 3-D solve's (n and 0 in 3-D) */
   double lscale;         /* the mechanism's size [m] (dae_length_scale): the constraint tolerance */
   double reg;            /* the regularization's factor (dae_regularization_scale): 1 by default */
-  double stage_h;        /* the generalized-alpha's step [s] at its stage's residual (the bound on
-                          * the workless constraint wrench's correction, residual.c); 0 else */
+  double stage_h;        /* the generalized-alpha's step [s] at its stage's residual (the bound
+                          * on the workless constraint wrench's correction, residual.c; the
+                          * global estimate's, galpha_global.c: its block stage's step); 0
+                          * before the first, and never read by IDA */
   double tref;           /* reference time of the laws' current piece (phm_model_tref) */
   unsigned char *workless; /* np: pair ip's constraint wrench is made workless at the
                             * generalized-alpha's stage (residual.c, workless_pairs) */
@@ -150,8 +152,8 @@ void dae_carrier_states(const dae_t *d, dae_carrier_layout *L);
  * corrections lag the others' by an iteration. dP[0 .. il - ie) = what they leave out: the
  * change of the ledger's power rates (Pd, Ps, the ports) for a correction dy (d's layout) of
  * the state y -- of the actuators' and loads' power (phm_applied_dpower) and of the constraint
- * wrenches' (G^T lambda . t) for the change `at` dy of the twists (at: the stage's share of it)
- * and dy of lambda, exact in those at the poses held (P is at most quadratic in them: a
+ * wrenches' (G^T lambda . t; a workless pair's, residual.c, lambda . v_t) for the change `at` dy
+ * of the twists (at: the stage's share of it) and dy of lambda, exact in those at the poses held (P is at most quadratic in them: a
  * linearization missed a damper's rate that a correction turns to its opposite, which leaves
  * P as it was). Spring and element damping are left out (0: they lag as before). At the state
  * of the last dae_residual and dae_constraint_rows (d's data: the pairs with constraint rows at

@@ -249,6 +249,7 @@ void dae_free(dae_t *d) {
   d->colptr = d->rowind = NULL;
   d->nzkeep = NULL;
   d->kbody = NULL;
+  d->workless = NULL;
 }
 
 /* The consistent initial values' scratch (dae_consistent_ic): its systems are least-squares
@@ -457,18 +458,20 @@ void dae_ledger_dpower(dae_t *d, double time, const double *y, const double *dy,
   }
   for (int i = 0; i < d->il - d->ie; i++) dP[i] = 0.0;
   phm_applied_dpower(m, D->pair, D->H, dtw, time, f->tref, dP + 1, dP + 2);
-  /* the constraint wrenches' power sum_c (G^T lambda)_c . t_c (dae_residual's Ps) */
+  /* the constraint wrenches' power sum_c (G^T lambda)_c . t_c (dae_residual's Ps); a workless
+   * pair's (workless_at_stage) is lambda . v_t, ~ lambda . G t at the step's end, whatever the
+   * twists: only its dl G t */
   const double *lam = y + d->il, *dlam = dy + d->il;
   for (int ip = 0; ip < m->np; ip++) {
     const phm_pair_desc *pr = &m->pair[ip];
     const phm_pair_data *p = D->pair + ip;
-    int r0 = m->pair_row[ip];
+    int r0 = m->pair_row[ip], workless = f->workless[ip];
     for (int s = 0; s < 2; s++) {
       int c = s ? pr->b : pr->a;
       if (c < 0) continue;
       const double *G = s ? p->Gb : p->Ga, *t = D->tw + 6 * c, *dt = dtw + 6 * c;
       for (int r = 0; r < m->pair_m[ip]; r++)
-        dP[1] += (lam[r0 + r] + dlam[r0 + r]) * phm_dot(G + 6 * r, dt, 6) +
+        dP[1] += (workless ? 0.0 : (lam[r0 + r] + dlam[r0 + r]) * phm_dot(G + 6 * r, dt, 6)) +
                  dlam[r0 + r] * phm_dot(G + 6 * r, t, 6); /* (l + dl) G (t + dt) - l G t */
     }
   }

@@ -138,6 +138,7 @@ phm_status galpha_global_step(galpha_run *gr, double h, int last, phm_error *err
     memcpy(yam, ya, sizeof(double) * (size_t)n);
     memcpy(ypam, ypa, sizeof(double) * (size_t)n);
     gr->gtm = ts;
+    gr->ghm = h;
   }
   gr->gH += h;
   if (++gr->gcount < every && !last) return PHM_OK;
@@ -158,6 +159,7 @@ phm_status galpha_global_step(galpha_run *gr, double h, int last, phm_error *err
     ya2[i] = yam[i] + e[i];
     ypa2[i] = 0.0;
   }
+  dae_full(d)->stage_h = gr->ghm; /* the stage's own step (residual.c, workless_at_stage) */
   if (dae_residual_rows(d, gr->gtm, ya2, ypa2, R, 0))
     return PHM_FAIL(err, PHM_ESOLVER, "generalized-alpha: the global error estimate's residual "
                                       "failed at t = %.9g s", gr->t);

@@ -104,7 +104,8 @@ typedef struct {
   double rho1;            /* the last first contraction measured on this matrix (0: none yet) */
   int since;              /* steps accepted on one iteration since rho1 was measured */
   int global;             /* the global error estimate is propagated (galpha_global.c) */
-  double gH, gtm;         /* its block so far [s], the time of the block's stage (gyam, gypam) */
+  double gH, gtm, ghm;    /* its block so far [s], the time of the block's stage (gyam, gypam)
+                           * and the step it was the stage of [s] */
   double gta, gHx;        /* the block's start [s] and expected length [s] */
   int gcount;             /* and its steps */
   int gstep;              /* steps still to propagate one by one after a stiff block */
