@@ -615,22 +615,22 @@ def _record_carriers(mech, record) -> list:
 
 def warn_implausible_strain(mech, result: SimulationResult, model) -> None:
     """PlausibilityWarning, once per run, when a nonlinear flexible link's largest fibre
-    strain over the run (phmech._checks.fibre_strain of its stress resultants, all outputs,
-    one core call per 256 outputs for every link at once; skipped when the run's elastic
-    energy is too small for any element to reach its bound) exceeds its bound
-    (phmech._checks.strain_bound: 1 % for a metal-like speed of sound, 10 % below), naming
-    the link, the strain, where and when. Runs with ``record=`` (not every carrier stored)
-    are not checked."""
+    strain over the run (phmech._checks.fibre_strain of its stress resultants) exceeds its
+    bound (phmech._checks.strain_bound: 1 % for a metal-like speed of sound, 10 % below),
+    naming the link, the strain, where and when. The resultants are read only at the outputs
+    where some element stores the strain energy its bound needs (one core call per 256 such
+    outputs, every link at once; most runs: none). Runs with ``record=`` (not every carrier
+    stored) are not checked."""
     links = [lk for lk in mech._links.values() if lk.fidelity == "nonlinear"]
     if not links or result.carriers is not None or not len(result.t):
         return
     # an element of length h whose fibre strain is e stores at least EA h e^2 / 14 (the
     # least of (EA e_a^2 + EI_y k_y^2 + EI_z k_z^2) h / 2 with e_a + c_z k_y + c_y k_z = e,
-    # c = sqrt(3 EI/EA), for a diagonal section stiffness): when the run's whole elastic
-    # energy stays below that for every link, no element reached its bound, and the
-    # stress resultants are not needed (most runs: no cost)
-    elastic = float(np.max(result.energy["elastic"]))
-    rows = []
+    # c = sqrt(3 EI/EA), for a diagonal section stiffness): at an output where no element of
+    # a link stores that much (result.strain_energy, each element's), none of them reached
+    # its bound, and its stress resultants are not needed there
+    energy = result.strain_energy
+    rows, hot = [], np.zeros(len(result.t), dtype=bool)
     for lk in links:
         first = mech._desc.first_element[lk.name]
         el = mech._el[first]
@@ -638,23 +638,28 @@ def warn_implausible_strain(mech, result: SimulationResult, model) -> None:
         bound, why = strain_bound(K, el["Ms"])
         diagonal = not np.any(K - np.diag(np.diagonal(K)))
         need = K[3, 3] * el["h"] * bound ** 2 / 14 if diagonal else 0.0
-        rows.append((lk, first, K, bound, why, need))
-    if elastic < min(r[5] for r in rows):
+        rows.append((lk, first, K, bound, why))
+        if energy is None or need <= 0.0:
+            hot[:] = True
+        else:
+            hot |= np.max(energy[:, first:first + lk.elements], axis=1) >= need
+    outputs = np.flatnonzero(hot)
+    if not len(outputs):
         return
     worst = (0.0, None, 0, 0, 0.0)   # strain / bound, row, output, element, strain
-    for t0 in range(0, len(result.t), 256):
-        t1 = min(len(result.t), t0 + 256)
-        S = _core.model_stress_resultants(model, result.poses[t0:t1], result.twists[t0:t1])
+    for k0 in range(0, len(outputs), 256):
+        at = outputs[k0:k0 + 256]
+        S = _core.model_stress_resultants(model, result.poses[at], result.twists[at])
         for row in rows:
             lk, first, K, bound = row[:4]
             eps = fibre_strain(S[:, first:first + lk.elements], K)
             i = int(np.argmax(eps))
             if eps.flat[i] / bound > worst[0]:
-                worst = (float(eps.flat[i]) / bound, row, t0 + i // lk.elements,
+                worst = (float(eps.flat[i]) / bound, row, int(at[i // lk.elements]),
                          i % lk.elements, float(eps.flat[i]))
     ratio, row, it, el, strain = worst
     if ratio > 1.0:
-        lk, _, _, bound, why, _ = row
+        lk, _, _, bound, why = row
         warnings.warn(f"simulate: link {lk.name!r} strains {100 * strain:.3g} % at its "
                       f"fibres (element {el}, t = {result.t[it]:.4g} s; axial plus bending, "
                       f"extreme fibre at sqrt(3 EI/EA)), above {100 * bound:g} %: {why}. "
