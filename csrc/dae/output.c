@@ -108,13 +108,8 @@ static void record(dae_t *d, const double *y, phm_sim_output *out, int iout, dou
   if (out->port_energy && m->nport)
     memcpy(out->port_energy + (size_t)iout * m->nport, y + d->ie + 2, sizeof(double) * (size_t)m->nport);
   double e[3];
-  phm_model_energy(m, D->H, D->tw, e);
-  if (out->strain_energy) /* each element's part of e[1], as phm_model_energy sums it */
-    for (int ie = 0; ie < m->ne; ie++) {
-      const phm_element_desc *el = &m->el[ie];
-      out->strain_energy[(size_t)iout * m->ne + ie] =
-          phm_element_energy(el, D->H + 16 * el->a, D->H + 16 * el->b);
-    }
+  phm_model_energy_parts(m, D->H, D->tw, e,
+                         out->strain_energy ? out->strain_energy + (size_t)iout * m->ne : NULL);
   if (out->components && m->nz)
     memcpy(out->components + (size_t)iout * m->nz, y + d->iz, sizeof(double) * (size_t)m->nz);
   if (m->ncomp) { /* the components' storage (bristles, inductances) with the elastic energy */

@@ -5,6 +5,11 @@
 #include "linalg.h"
 
 void phm_model_energy(const phm_model *m, const double *H, const double *t, double e[3]) {
+  phm_model_energy_parts(m, H, t, e, NULL);
+}
+
+void phm_model_energy_parts(const phm_model *m, const double *H, const double *t, double e[3],
+                            double *Ve) {
   double K = 0, Vg = 0, Vel = 0;
   for (int c = 0; c < m->nc; c++) {
     if (t) {
@@ -25,7 +30,9 @@ void phm_model_energy(const phm_model *m, const double *H, const double *t, doub
     }
   for (int ie = 0; ie < m->ne; ie++) {
     const phm_element_desc *el = &m->el[ie];
-    Vel += phm_element_energy(el, H + 16 * el->a, H + 16 * el->b);
+    const double v = phm_element_energy(el, H + 16 * el->a, H + 16 * el->b);
+    if (Ve) Ve[ie] = v;
+    Vel += v;
   }
   for (int is = 0; is < m->ns; is++) {
     double v = 0;

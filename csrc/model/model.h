@@ -206,6 +206,10 @@ void phm_element_eval(const phm_element_desc *e, const double Ha[16], const doub
                       double *V, double *P, double *sigma);
 /* Its elastic energy alone (phm_element_eval's *V, the same number, without the wrenches). */
 double phm_element_energy(const phm_element_desc *e, const double Ha[16], const double Hb[16]);
+/* phm_model_energy (phmech.h) with each element's strain energy in Ve (ne; NULL: not wanted),
+ * the parts e[1] sums, in the order it sums them: the outputs' strain_energy at no extra log */
+void phm_model_energy_parts(const phm_model *m, const double *H, const double *t, double e[3],
+                            double *Ve);
 
 /* The element's wrenches (as phm_element_eval) and their tangent: Kx (12 x 12, row-major) =
  * d[wa; wb]/d[da; db] for the perturbations Ha exp(da), Hb exp(db) (elastic, geometric and, with
