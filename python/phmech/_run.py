@@ -465,16 +465,15 @@ def sigterm_as_interrupt(monitor: RunMonitor):
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    try:
-        previous = signal.getsignal(signal.SIGTERM)
-    except (AttributeError, ValueError):
-        yield
-        return
 
     def handler(signum, frame):
         monitor.terminated = True
 
-    signal.signal(signal.SIGTERM, handler)
+    try:   # signal.signal returns the handler it replaces (None: not one set from Python)
+        previous = signal.signal(signal.SIGTERM, handler)
+    except (AttributeError, ValueError):
+        yield
+        return
     try:
         yield
     finally:
@@ -518,16 +517,17 @@ def quality(energy: dict, band: float) -> dict:
     led = energy["ledger"]
     scale = lmax = size = changed = 0.0
     if len(led):
-        # columns kinetic, elastic, gravity, supplied, dissipated, ledger: one array, few calls
-        E = np.column_stack([energy[k] for k in ("kinetic", "elastic", "gravity", "supplied",
-                                                 "dissipated", "ledger")])
-        A = np.abs(E)
-        top = A.max(axis=0)
-        stored = E[:, 0] + E[:, 1]
-        scale = float(max(top[0], np.abs(stored - stored[0]).max(), top[3], top[4]))
-        lmax = float(top[5])
-        size = float(A[:, :5].sum(axis=1).max())
-        changed = float(np.ptp(E[:, :5], axis=0).max())
+        # rows kinetic, elastic, gravity, supplied, dissipated, ledger and kinetic + elastic:
+        # one array, few calls (|x|'s largest and the ranges from each row's extremes)
+        kin, el = energy["kinetic"], energy["elastic"]
+        E = np.array([kin, el, energy["gravity"], energy["supplied"], energy["dissipated"], led,
+                      kin + el])
+        hi, lo = E.max(axis=1).tolist(), E.min(axis=1).tolist()
+        s0 = float(E[6, 0])
+        scale = max(hi[0], -lo[0], hi[6] - s0, s0 - lo[6], hi[3], -lo[3], hi[4], -lo[4])
+        lmax = max(hi[5], -lo[5])
+        size = float(np.abs(E[:5]).sum(axis=0).max())
+        changed = max(h - l for h, l in zip(hi[:5], lo[:5]))
     moved = changed > max(STILL, ROUND_OFF * size)
     q = dict(band=band, energy_scale=scale, ledger_relative=lmax / scale if moved else 0.0,
              numerical_dissipation=float(-led[-1]) if len(led) else 0.0)

@@ -4,6 +4,7 @@ planarity, recording), the run in the C core (``_core.model_simulate``) under a 
 of the strains). Conventions: SI units, times in s, poses 4x4, twists (omega, v)."""
 from __future__ import annotations
 
+import functools
 import os
 import warnings
 from typing import Callable, Optional
@@ -417,11 +418,20 @@ def _plane(mech, model, poses, twists, require: bool):
     None, or with ``require`` ModelError naming the first check that fails per axis. The
     masks drop the out-of-plane constraint rows and the in-plane rows redundant among the
     in-plane ones. From the initial configuration the answer is kept (_model.built) until the
-    mechanism changes, and so is the planar model of each set of masks."""
+    mechanism changes, from given poses and twists the last answer with them, and the planar
+    model of each set of masks."""
     keep = _model.built(mech)
     start = poses is None and twists is None
     if start and "plane" in keep and (keep["plane"] is not None or not require):
         return keep["plane"]
+    # from given poses and twists (a StaticResult's): the last answer, kept with them (a sweep
+    # of runs from one static state asks again with the same ones)
+    given = None if start else tuple(None if x is None else np.asarray(x, dtype=float).tobytes()
+                                     for x in (poses, twists))
+    last = keep.get("plane_given")
+    if given is not None and last is not None and last[0] == given and \
+            (last[1] is not None or not require):
+        return last[1]
     plane = _find_plane(mech, model, poses, twists, require)
     if plane is not None:
         k, masks = plane
@@ -431,6 +441,8 @@ def _plane(mech, model, poses, twists, require: bool):
         plane = (k, masks, models[tuple(masks)])
     if start:
         keep["plane"] = plane
+    else:
+        keep["plane_given"] = (given, plane)
     return plane
 
 def _planar_model(mech, masks, keep: dict, model):
@@ -475,8 +487,8 @@ def _simulation_result(mech, r: dict, k: int, tout, model, drop_masks, rec, band
     """The SimulationResult of the first ``k`` outputs in the arrays ``r`` of
     ``_core.model_simulate`` (the whole run, or a checkpoint's part of it while it runs),
     ``stats`` the core's statistics and the run's options."""
-    e = r["energy"][:k]
-    energy = {nm: e[:, i].copy() for i, nm in enumerate(ENERGY_NAMES)}
+    # one copy, each energy a row of it
+    energy = dict(zip(ENERGY_NAMES, r["energy"][:k].T.copy()))
     ports = {nm: r["port_energy"][:k, i].copy() for i, nm in enumerate(mech._desc.port_names())}
     layout = _core.model_sizes(model)[4]
     lam, pw = r["constraint_wrenches"][:k], r["pair_wrenches"][:k]
@@ -484,8 +496,7 @@ def _simulation_result(mech, r: dict, k: int, tout, model, drop_masks, rec, band
         lam, pw, layout = postprocess.min_norm_multipliers(
             mech._desc, plane[2], plane[1], r["poses"][:k], r["joints"][:k], lam, tout[:k])
     elif plane is not None:   # the 3-D layout has every row: the dropped ones carry 0
-        layout = postprocess.full_layout(mech._desc)
-        keep = postprocess.kept_rows(layout, plane[1])
+        layout, keep = _planar_rows(mech, plane[1])
         full = np.zeros((lam.shape[0], layout[-1][0] + layout[-1][1] if layout else 0))
         full[:, keep] = lam
         lam = full
@@ -520,13 +531,44 @@ def _simulation_result(mech, r: dict, k: int, tout, model, drop_masks, rec, band
                             **{f.name: r[f.name][:k] for f in HELD_FIELDS},
                             redundant_constraints=list(mech.redundant_constraints),
                             carriers=None if rec is None else np.array(rec),
-                            _inertia=np.array([c["M"] for c in mech._car], dtype=float),
-                            _mass=np.array([c["mass"] for c in mech._car], dtype=float),
-                            _com=np.array([c["com"] for c in mech._car], dtype=float),
+                            **dict(zip(("_inertia", "_mass", "_com"),
+                                       mech._desc.carrier_arrays())),
                             _bodies=dict(mech._bodies),
                             components=_component_states(mech, r["components"][:k]),
                             **mech._desc.mass_couplings())
 
+
+def _planar_rows(mech, masks) -> tuple:
+    """(postprocess.full_layout, the rows postprocess.kept_rows keeps under the drop ``masks``)
+    of the mechanism, kept per set of masks (_model.built) until it changes."""
+    kept = _model.built(mech).setdefault("planar_rows", {})
+    key = tuple(masks)
+    if key not in kept:
+        layout = postprocess.full_layout(mech._desc)
+        kept[key] = (layout, postprocess.kept_rows(layout, masks))
+    return kept[key]
+
+def _strain_rows(mech) -> list:
+    """(link, its first element, section stiffness K, strain bound, the bound's reason, the
+    strain energy an element needs to reach it: 0 when K is not diagonal) of each nonlinear
+    flexible link, for warn_implausible_strain; made once per initial configuration and kept
+    (_model.built)."""
+    keep = _model.built(mech)
+    rows = keep.get("strain_rows")
+    if rows is None:
+        rows = []
+        for lk in mech._links.values():
+            if lk.fidelity != "nonlinear":
+                continue
+            first = mech._desc.first_element[lk.name]
+            el = mech._el[first]
+            K = el["K"]
+            bound, why = strain_bound(K, el["Ms"])
+            diagonal = not np.any(K - np.diag(np.diagonal(K)))
+            rows.append((lk, first, K, bound, why,
+                         K[3, 3] * el["h"] * bound ** 2 / 14 if diagonal else 0.0))
+        keep["strain_rows"] = rows
+    return rows
 
 def _state_name(mech, i: int, planar: bool, pairs: dict) -> str:
     """What state ``i`` of the core's DAE is (csrc/dae/dae.h: per carrier its quaternion,
@@ -559,6 +601,8 @@ def _component_states(mech, zs: np.ndarray) -> dict:
     """name -> {state name: its values over the outputs} of every component with internal
     states (python/phmech/components.py), from the core's state array ``zs`` (nout, nz)."""
     rows = mech._desc.components
+    if not any(r["nstates"] for r in rows):
+        return {}
     lay = state_layout(rows)
     return {r["name"]: {sn: zs[:, lay[r["name"]][0] + j].copy()
                         for j, sn in enumerate(r["states"])}
@@ -575,15 +619,21 @@ def _check_outputs(mech, span: float, record) -> None:
                + len(mech._springs) + 1)
     if record is not None:
         per = max(8 * 30, per - 8 * 22 * (nc - 1))   # at least one carrier recorded
-    try:
-        limit = 0.5 * os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-    except (AttributeError, ValueError, OSError):
-        limit = 8e9
+    limit = _output_memory_limit()
     if not (span * per <= limit):
         raise ModelError(f"simulate: (t_end - t_start) / dt_out = {span:.3g} output times would "
                          f"take about {span * per / 1e9:.3g} GB, more than half this machine's "
                          f"memory ({2 * limit / 1e9:.3g} GB); use a larger dt_out, a shorter run "
                          f"or record= fewer carriers")
+
+
+@functools.lru_cache(maxsize=None)
+def _output_memory_limit() -> float:
+    """Half the machine's physical memory [bytes] (8e9 where it cannot be read), asked once."""
+    try:
+        return 0.5 * os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (AttributeError, ValueError, OSError):
+        return 8e9
 
 
 def _record_carriers(mech, record) -> list:
@@ -621,8 +671,10 @@ def warn_implausible_strain(mech, result: SimulationResult, model) -> None:
     where some element stores the strain energy its bound needs (one core call per 256 such
     outputs, every link at once; most runs: none). Runs with ``record=`` (not every carrier
     stored) are not checked."""
-    links = [lk for lk in mech._links.values() if lk.fidelity == "nonlinear"]
-    if not links or result.carriers is not None or not len(result.t):
+    if result.carriers is not None or not len(result.t):
+        return
+    rows = _strain_rows(mech)
+    if not rows:
         return
     # an element of length h whose fibre strain is e stores at least EA h e^2 / 14 (the
     # least of (EA e_a^2 + EI_y k_y^2 + EI_z k_z^2) h / 2 with e_a + c_z k_y + c_y k_z = e,
@@ -630,15 +682,8 @@ def warn_implausible_strain(mech, result: SimulationResult, model) -> None:
     # a link stores that much (result.strain_energy, each element's), none of them reached
     # its bound, and its stress resultants are not needed there
     energy = result.strain_energy
-    rows, hot = [], np.zeros(len(result.t), dtype=bool)
-    for lk in links:
-        first = mech._desc.first_element[lk.name]
-        el = mech._el[first]
-        K = el["K"]
-        bound, why = strain_bound(K, el["Ms"])
-        diagonal = not np.any(K - np.diag(np.diagonal(K)))
-        need = K[3, 3] * el["h"] * bound ** 2 / 14 if diagonal else 0.0
-        rows.append((lk, first, K, bound, why))
+    hot = np.zeros(len(result.t), dtype=bool)
+    for lk, first, K, bound, why, need in rows:
         if energy is None or need <= 0.0:
             hot[:] = True
         else:
@@ -659,7 +704,7 @@ def warn_implausible_strain(mech, result: SimulationResult, model) -> None:
                          i % lk.elements, float(eps.flat[i]))
     ratio, row, it, el, strain = worst
     if ratio > 1.0:
-        lk, _, _, bound, why = row
+        lk, _, _, bound, why, _ = row
         warnings.warn(f"simulate: link {lk.name!r} strains {100 * strain:.3g} % at its "
                       f"fibres (element {el}, t = {result.t[it]:.4g} s; axial plus bending, "
                       f"extreme fibre at sqrt(3 EI/EA)), above {100 * bound:g} %: {why}. "

@@ -74,8 +74,8 @@ class ModelDescription:
     columns: dict = dataclasses.field(default=None, compare=False, repr=False)
     #: mass_couplings(), kept as columns
     _mass_couplings: dict = dataclasses.field(default=None, compare=False, repr=False)
-    #: the carriers' 6x6 inertias stacked (nc, 6, 6) for mass_times, kept like columns
-    _inertias: np.ndarray = dataclasses.field(default=None, compare=False, repr=False)
+    #: carrier_arrays(), kept like columns
+    _carrier_arrays: tuple = dataclasses.field(default=None, compare=False, repr=False)
     #: counts the changes (changed()): what was built from an older version is stale
     #: (_model.built keys on it)
     version: int = dataclasses.field(default=0, compare=False, repr=False)
@@ -87,7 +87,7 @@ class ModelDescription:
         self.version += 1
         self.columns = None
         self._mass_couplings = None
-        self._inertias = None
+        self._carrier_arrays = None
 
     def carrier_name(self, c: int) -> str:
         """'the ground', "body 'b'" or "node k of link 'L'" for carrier index c."""
@@ -146,15 +146,24 @@ class ModelDescription:
             self._mass_couplings = cp
         return dict(self._mass_couplings)
 
+    def carrier_arrays(self) -> tuple:
+        """The carriers' 6x6 inertias (nc, 6, 6) [kg, kg m, kg m^2], masses (nc,) [kg] and
+        centres of mass (nc, 3) [m, in each carrier's frame], stacked once per version and
+        read-only (results share them)."""
+        if self._carrier_arrays is None:
+            arrays = tuple(np.array([c[k] for c in self.carriers], dtype=float)
+                           for k in ("M", "mass", "com"))
+            for a in arrays:
+                a.setflags(write=False)
+            self._carrier_arrays = arrays
+        return self._carrier_arrays
+
     def mass_times(self, v: np.ndarray) -> np.ndarray:
         """M v for tangent vectors v (..., ncarriers, 6) (body frames): every carrier's 6x6
         inertia on its own block plus the consistent and given elements' couplings (what the
         core's mass is; docs/method.md section 4.2, "Mass")."""
         v = np.asarray(v, dtype=float)
-        if self._inertias is None:
-            self._inertias = np.array([c["M"] for c in self.carriers], dtype=float)
-            self._inertias.setflags(write=False)
-        out = np.einsum("cij,...cj->...ci", self._inertias, v)
+        out = np.einsum("cij,...cj->...ci", self.carrier_arrays()[0], v)
         cp = self.mass_couplings()
         ab = cp["_coupled_nodes"]
         if len(ab) and v.ndim in (2, 3):
