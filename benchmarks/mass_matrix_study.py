@@ -22,6 +22,8 @@ Second part (rigid_inertia_study, docs/mass_matrix_study.md "Exact rigid inertia
 d6 against d6 + the link-level subtraction and the helix mass + a strain-difference stiffness
 (beta = 1/12) with several end rules: Bloch c, clamped-free / clamped-clamped / free-free
 frequencies at N = 4 ... 100, cantilever statics, rigid-motion checks.
+Third part (transient_proxy, "The released cantilever, linearized"): each treatment's mesh
+error on the linearized transient of benchmarks/run.py, exact in time.
 A Bloch-wave (infinite lattice) dispersion check measures the leading error coefficient
 c in  omega_h/omega - 1 = c theta^2 + O(theta^4),  theta = k h, for several (a, b).
 
@@ -266,8 +268,10 @@ def assemble(N: int, beam: tuple, treat: tuple,
 
 
 def element_mass(h: float, beam: tuple, mass: str) -> np.ndarray:
-    """Element mass (4x4, dofs w1, phi1, w2, phi2) of "helix", "d6" or "helix_rate"."""
+    """Element mass (4x4, dofs w1, phi1, w2, phi2) of "helix", "d6", "helix_rate" or "lumped"."""
     L, EI, kGA, rhoA, rhoI = beam
+    if mass == "lumped":   # phmech's mass="lumped": half of each element's inertia on each node
+        return element_matrices(h, EI, kGA, rhoA, rhoI, 0.0, 0.0, 0.0, False)[1]
     _, Me = element_matrices(h, EI, kGA, rhoA, rhoI, None, None, 0.0, "avg" if mass == "d6" else True)
     if mass == "helix_rate":
         Be = strain_operator(1, h)  # (gamma, kappa) of the element; h Be v = the transported difference
@@ -432,6 +436,60 @@ def rigid_inertia_study(smoke: bool) -> dict:
     return res
 
 
+# -------------------------------------------------------------------------------------------------
+# The released cantilever, linearized: what each treatment's mesh error is on benchmarks/run.py's
+# transient (docs/mass_matrix_study.md, "The released cantilever, linearized")
+# -------------------------------------------------------------------------------------------------
+#: benchmarks/run.py's transient: the Table I cantilever held by a tip force 0.75 EI / L^2 and
+#: released, its tip sampled every 5 ms over 1 s; its error levels [L]
+PROXY_FORCE, PROXY_T, PROXY_DT = 0.75 * BEAMS["tableI"][1], 1.0, 0.005
+PROXY_LEVELS = (1e-2, 3e-3, 1e-3, 3e-4)
+PROXY_N = (3, 4, 5, 6, 8, 10, 14, 20, 28, 40, 56, 80)
+PROXY_TREATMENTS = {"lumped": ("lumped", 0.0, "none", "none", False, "phmech's mass='lumped'"),
+                    **{k: RIGID_TREATMENTS[k] for k in ("d6", "d6_link", "e2_pair4/3")}}
+
+
+def released_tip(N: int, treat: tuple, t: np.ndarray) -> np.ndarray:
+    """Tip deflection w(t) [m] of the linear cantilever (mesh N, treatment ``treat`` of
+    RIGID_TREATMENTS' form) released at t = 0 from its static deflection under PROXY_FORCE at
+    the tip: exact in time (modal superposition), so the mesh's error alone."""
+    K, M = assemble(N, BEAMS["tableI"], treat)
+    free = list(range(2, 2 * N + 2))
+    K, M = K[np.ix_(free, free)], M[np.ix_(free, free)]
+    f = np.zeros(len(free))
+    f[-2] = PROXY_FORCE
+    lam, V = eigh(K, M)
+    q0 = V.T @ (M @ np.linalg.solve(K, f))   # modal coordinates of the static deflection
+    return np.cos(np.outer(t, np.sqrt(lam))) @ (V[-2] * q0)
+
+
+def transient_proxy(smoke: bool) -> dict:
+    """Each treatment's largest tip error [L] over the released cantilever's 1 s against a fine
+    mesh (N = 400, e2; checked against d6_link's N = 400), and the smallest N reaching each of
+    benchmarks/run.py's error levels. Its calibration, the nonlinear run's errors at the same N,
+    is in benchmarks/results/bench_transient.json (docs/mass_matrix_study.md)."""
+    t = np.arange(0.0, PROXY_T + 1e-12, PROXY_DT)
+    L = BEAMS["tableI"][0]
+    nref = 100 if smoke else 400
+    ref = released_tip(nref, RIGID_TREATMENTS["e2_pair4/3"], t)
+    check = float(np.max(np.abs(released_tip(nref, RIGID_TREATMENTS["d6_link"], t) - ref)) / L)
+    ns = (3, 4, 10) if smoke else PROXY_N
+    out = {"problem": "linear Table I cantilever released from its static deflection under a tip "
+                      f"force {PROXY_FORCE:g} N, tip every {PROXY_DT} s over {PROXY_T} s, exact in time",
+           "error": "max_t |w_tip - w_tip_ref| / L", "reference_N": nref,
+           "reference_check_d6_link_vs_e2": check, "N": list(ns), "errors": {}, "smallest_N": {}}
+    print(f"\n=== the released cantilever, linearized: tip error / L against N = {nref} "
+          f"(d6_link there: {check:.1e}) ===")
+    for name, treat in PROXY_TREATMENTS.items():
+        err = {N: float(np.max(np.abs(released_tip(N, treat, t) - ref)) / L) for N in ns}
+        out["errors"][name] = {str(N): e for N, e in err.items()}
+        out["smallest_N"][name] = {f"{lv:.0e}": next((N for N in ns if err[N] <= lv), None)
+                                   for lv in PROXY_LEVELS}
+        print(f"  {name:12s} " + " ".join(f"N={N}: {e:.2e}" for N, e in err.items()))
+        print(f"  {'':12s} smallest N at " + ", ".join(f"{k} L: {v}" for k, v in out["smallest_N"][name].items()))
+    return out
+
+
 def main():
     import argparse
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -487,6 +545,7 @@ def main():
         results["dispersion"][tname] = {f"a={a},b={b}": c for (a, b), c in zip(cases, cs)}
         print(f"{tname:22s}" + " ".join(f"{c:+15.5f}" for c in cs))
     results["rigid_inertia"] = rigid_inertia_study(a.smoke)
+    results["transient_proxy"] = transient_proxy(a.smoke)
 
     # the smoke's coarse meshes into their own file: the full run's is the one the docs report
     out = pathlib.Path(os.environ.get("BENCH_RESULTS") or pathlib.Path(__file__).resolve().parent / "results") \
