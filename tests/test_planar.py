@@ -49,6 +49,21 @@ def test_cantilever_planar_matches_3d(integrator):
     assert rp.stats["ledger_relative"] <= 2 * r3.stats["ledger_relative"] + 1e-9
 
 
+def test_the_planarity_of_a_given_start_is_asked_of_each_start():
+    """simulate keeps its planarity check of the last StaticResult it started from (a sweep of
+    runs from one static state asks again with the same poses): a start bent out of the plane
+    is 3-D, and planar=True from it is refused, whichever start ran before."""
+    m, b, st = cantilever(4)
+    bent = m.static(loads=[(b.end, (0, 0, 0, 0, 0.5, -0.5), "world")], steps=4)
+    assert abs(bent.poses[-1][1, 3]) > 1e-6            # the tip left the x-z plane
+    runs = [(st, "y"), (st, "y"), (bent, None), (bent, None), (st, "y")]
+    for start, plane in runs:
+        assert m.simulate(0.01, 5e-3, initial=start).stats["planar"] == plane
+    with pytest.raises(ph.ModelError, match="planar=True: the scene is not planar"):
+        m.simulate(0.01, 5e-3, initial=bent, planar=True)
+    assert m.simulate(0.01, 5e-3, initial=st, planar=True).stats["planar"] == "y"
+
+
 def test_fourbar_planar_matches_3d():
     m = fourbar()
     r3 = m.simulate(1.0, 1e-2, integrator="ida", rtol=1e-9, planar=False)
