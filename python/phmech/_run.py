@@ -229,6 +229,7 @@ def warn_if_global_error(stats: dict, stacklevel: Optional[int] = None,
         f"simulate: the estimated global error reached {g:.3g} times the tolerance (rtol "
         f"{rtol:.3g}, atol {atol:.3g}: |error| <= rtol max|y| + atol per coordinate) at t = "
         f"{stats['global_error_time']:.6g} s" + (f", in {where}" if where else "") +
+        _near_zero(stats) +
         f" (stats['global_error_estimate']: the steps' local error estimates carried along the "
         f"linearized motion, which amplifies them; summed without it they reach "
         f"{stats.get('error_sum') or 0:.3g}, stats['error_sum']), so the result is probably not "
@@ -241,6 +242,21 @@ def warn_if_global_error(stats: dict, stacklevel: Optional[int] = None,
             "and within it, unless stiff springs or friction make its steps short"
             if tree else ""),
         AccuracyWarning, stacklevel=stacklevel or outside_stacklevel())
+
+
+def _near_zero(stats: dict) -> str:
+    """For warn_if_global_error: the coordinate's estimated error and largest size when its
+    tolerance is mostly its absolute part (a coordinate that stays near zero, as a
+    parallelogram's coupler's angular rate: it is held to atol, not to rtol of its motion),
+    else ""."""
+    err, tol, size = (stats.get(k) for k in ("global_error_absolute", "global_error_tolerance",
+                                             "global_error_scale"))
+    if not (err and tol and size is not None) or stats["rtol"] * size > 0.5 * tol:
+        return ""
+    return (f"; an error of about {err:.2g} there, in a coordinate whose largest size over "
+            f"the run is {size:.2g}: it stays near zero, so its tolerance, {tol:.2g}, is mostly "
+            f"the absolute part, set by atol (if an error of that size is small against the "
+            f"motion's other coordinates, a larger atol= accepts it)")
 
 
 def band_floor(band: float) -> float:

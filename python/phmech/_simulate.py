@@ -289,8 +289,7 @@ def simulate(mech, t_end: float, dt_out: float, *, rtol: Optional[float], atol: 
         # the linearized steps hold the sampled inputs: they miss the loop's feedback, which
         # acts at the samples (measured: a sampled PD loop of tests/test_controllers.py read 20
         # tolerances with its local estimates summed to 0.002)
-        result.stats["global_error_estimate"] = result.stats["global_error_time"] = None
-        result.stats["global_error_state"] = result.stats["global_error_stiff_blocks"] = None
+        result.stats.update(dict.fromkeys(GLOBAL_ERROR_KEYS))
     unsaved = ""
     if saver is not None:   # the file ends as the run did (a failed run: its partial result)
         try:
@@ -517,14 +516,13 @@ def _simulation_result(mech, r: dict, k: int, tout, model, drop_masks, rec, band
         stats["band"] = None
         for key in ("error_estimate", "error_sum", "error_sum_max", "floor_steps", "error_ratio",
                     "error_ratio_time", "noise_steps", "min_step", "newton_rtol",
-                    "global_error_estimate", "global_error_time", "global_error_stiff_blocks"):
+                    *GLOBAL_ERROR_KEYS):
             stats.pop(key, None)
     elif stats.get("global_error_estimate", 0.0) < 0:   # flexible links: not estimated
-        stats["global_error_estimate"] = stats["global_error_time"] = None
-        stats["global_error_state"] = stats["global_error_stiff_blocks"] = None
+        stats.update(dict.fromkeys(GLOBAL_ERROR_KEYS))
     elif "global_error_state" in stats:
         stats["global_error_state"] = _state_name(mech, int(stats["global_error_state"]),
-                                                  plane is not None, pairs)
+                                                  None if plane is None else plane[0], pairs)
     return SimulationResult(t=tout[:k], constraint_wrenches=lam, energy=energy, stats=stats,
                             interrupted=interrupted, _links=dict(mech._links),
                             port_energy=ports, pair_wrenches=pw, _pairs=pairs,
@@ -570,9 +568,21 @@ def _strain_rows(mech) -> list:
         keep["strain_rows"] = rows
     return rows
 
-def _state_name(mech, i: int, planar: bool, pairs: dict) -> str:
+#: the default integrator's global error estimate in stats (csrc/integrate/galpha_global.c):
+#: the largest over the run in tolerances, when, in which state, that state's estimated error,
+#: its tolerance and its largest |value| so far (its units), and the blocks propagated as stiff
+GLOBAL_ERROR_KEYS = ("global_error_estimate", "global_error_time", "global_error_state",
+                     "global_error_absolute", "global_error_tolerance", "global_error_scale",
+                     "global_error_stiff_blocks")
+
+
+def _state_name(mech, i: int, plane_axis: Optional[int], pairs: dict) -> str:
     """What state ``i`` of the core's DAE is (csrc/dae/dae.h: per carrier its quaternion,
-    position and twist, then the joint coordinates, then the components' states), in words."""
+    position and twist, then the joint coordinates, then the components' states), in words; a
+    twist's component named (its angular rate about, or velocity along, one of the carrier's
+    axes). ``plane_axis``: the planar DAE's normal (0, 1, 2; csrc/dae/planar.c keeps the rate
+    about it and the velocities along the other two, in order), None for the 3-D DAE."""
+    planar = plane_axis is not None
     ns, parts = (7, ((0, 2, "orientation"), (2, 4, "position"), (4, 7, "twist"))) if planar else \
         (13, ((0, 4, "orientation"), (4, 7, "position"), (7, 13, "twist")))
     nc = len(mech._car)
@@ -581,8 +591,15 @@ def _state_name(mech, i: int, planar: bool, pairs: dict) -> str:
         names = {b.carrier: f"body {nm!r}" for nm, b in mech._bodies.items()}
         for nm, lk in mech._links.items():
             names.update({cc: f"link {nm!r} node {j}" for j, cc in enumerate(lk.carriers)})
-        what = next(w for a, b, w in parts if a <= k < b)
-        return f"the {what} of {names.get(c, f'carrier {c}')}"
+        a, _, what = next(p for p in parts if p[0] <= k < p[1])
+        out = f"the {what} of {names.get(c, f'carrier {c}')}"
+        if what == "twist":   # component j of the body twist (omega, v)
+            j = k - a
+            if planar:
+                j = plane_axis if j == 0 else 3 + [x for x in range(3) if x != plane_axis][j - 1]
+            out += (f" (its angular rate about its {'xyz'[j]} axis)" if j < 3 else
+                    f" (its velocity along its {'xyz'[j - 3]} axis)")
+        return out
     return _joint_name(((nm, p["layout"]) for nm, p in pairs.items()), i - nc * ns,
                        "joint coordinate") or "an internal state of a component"
 

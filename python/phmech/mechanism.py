@@ -145,8 +145,11 @@ class Mechanism(Builder):
         local estimates carried along the linearized motion, the largest over the run of a
         configuration state's error over rtol times its largest magnitude plus atol, in
         tolerances: above 1 an
-        AccuracyWarning says so; None with flexible links, where it is not estimated) and
-        ``global_error_time`` [s] (when), ``global_error_stiff_blocks`` (how many of the
+        AccuracyWarning says so; None with flexible links, where it is not estimated),
+        ``global_error_time`` [s] (when), ``global_error_state`` (which coordinate, in words),
+        ``global_error_absolute``, ``global_error_tolerance`` and ``global_error_scale`` (that
+        coordinate's estimated error, its tolerance and its largest size over the run so far,
+        in its units), ``global_error_stiff_blocks`` (how many of the
         blocks of 8 steps the estimate propagates at once were stiff -- a stiff force element
         damping within a block, a singular configuration -- each carried unchanged and followed
         by 64 steps propagated one by one), ``min_step`` [s] (the shortest step); and ``energy_scale`` [J], ``ledger_relative`` (the largest absolute

@@ -285,6 +285,7 @@ def test_compound_pendulum_warns_or_is_within_tolerance(deg, rtol):
     assert len(msg) == 1 and g > 1.0, (ratio, g, [str(x.message) for x in w])
     assert f"reached {g:.3g} times the tolerance (rtol {rtol:.3g}" in msg[0]
     assert "joint coordinate 0 of pair 'hinge'" in msg[0] or "body 'rod'" in msg[0]
+    assert "stays near zero" not in msg[0]   # the rod's coordinates move by their size
     assert 0.8 * ratio <= g <= 4.0 * ratio
     rt = float(msg[0].split("rtol=")[1].split(" ")[0])
     assert rt == pytest.approx(rtol / (3 * g), rel=0.05)   # printed to 2 digits
@@ -313,6 +314,29 @@ def test_the_global_warning_names_the_tree_integrator_for_a_rigid_tree():
     assert len(msg3) == 1 and "integrator='tree'" not in msg3[0]
 
 
+def test_a_coordinate_that_stays_near_zero_is_warned_of_with_its_absolute_error():
+    """The IFToMM A02 parallelogram (N = 2) over 2 s: its couplers translate, so their angular
+    rate is exactly 0, and near the singular (flat) position at 0.71 s the run leaves them a
+    small one. Against a tolerance that is then mostly atol the global estimate reads 2.5
+    tolerances (of 6.3e-5 rad/s); the warning names the component and gives the error's
+    absolute size, the coordinate's largest size and the tolerance. The estimate is the true
+    error's size: the couplers' largest angular rate at the outputs (the exact one is 0)
+    measured 1.2e-4 rad/s against an estimate of 1.6e-4 rad/s, while the first crank turns at
+    up to 6.8 rad/s."""
+    m = S.four_bar_mechanism(2)
+    r, w = run(m, 2.0, 0.005)
+    msg = [str(x.message) for x in w if "estimated global error" in str(x.message)]
+    st = r.stats
+    assert len(msg) == 1 and "(its angular rate about its z axis); an error of about " in msg[0]
+    assert "stays near zero" in msg[0] and "a larger atol= accepts it" in msg[0]
+    assert f"largest size over the run is {st['global_error_scale']:.2g}" in msg[0]
+    assert st["global_error_state"].startswith("the twist of body 'coupler")
+    assert st["rtol"] * st["global_error_scale"] <= 0.5 * st["global_error_tolerance"]
+    rate = max(np.abs(r.twists[:, m._bodies[nm].carrier, 2]).max() for nm in ("coupler0", "coupler1"))
+    assert st["global_error_absolute"] / 3 <= rate <= 3 * st["global_error_absolute"], \
+        (rate, st["global_error_absolute"])
+
+
 def test_global_error_estimate_where_it_is_made():
     """stats['global_error_estimate']: a float for a rigid mechanism under the default
     integrator, None with flexible links (not estimated: csrc/integrate/galpha_global.c), absent
@@ -320,14 +344,18 @@ def test_global_error_estimate_where_it_is_made():
     m, _ = compound_pendulum(np.radians(30))
     r, _ = run(m, 0.5, 0.05)
     assert 0.0 < r.stats["global_error_estimate"] < 1.0
-    assert r.stats["global_error_state"] in ("the orientation of body 'rod'", "the twist of body "
-                                             "'rod'", "the position of body 'rod'",
-                                             "joint coordinate 0 of pair 'hinge'")
+    assert r.stats["global_error_state"].startswith((
+        "the orientation of body 'rod'", "the twist of body 'rod' (its ",
+        "the position of body 'rod'", "joint coordinate 0 of pair 'hinge'"))
+    # the estimate is that state's error over its tolerance
+    assert r.stats["global_error_absolute"] / r.stats["global_error_tolerance"] == \
+        pytest.approx(r.stats["global_error_estimate"], rel=1e-12)
     assert "global_error_estimate" not in m.simulate(0.5, 0.05, integrator="ida").stats
     assert "global_error_estimate" not in m.simulate(0.5, 0.05, step=1e-3).stats
     m2, _ = arm_strip()
     r2, _ = run(m2, 0.02, 1e-3)
     assert r2.stats["global_error_estimate"] is None and r2.stats["global_error_state"] is None
+    assert r2.stats["global_error_absolute"] is None and r2.stats["global_error_scale"] is None
 
 
 def sliding_block(kind):
