@@ -144,6 +144,17 @@ def cpu_median(fn, reps: int):
     return out, float(np.median(ts))
 
 
+def median_of_three(run, once: bool = False):
+    """run() -> (cpu_s, sim_cpu_s, ...): the first call's outputs with the medians of three
+    calls' CPU; one call when ``once`` or when it takes more than a second."""
+    first = run()
+    if once or first[0] > 1.0:
+        return first
+    calls = [first] + [run() for _ in range(2)]
+    return (float(np.median([r[0] for r in calls])), float(np.median([r[1] for r in calls])),
+            *first[2:])
+
+
 def pareto(cpu, err):
     """Lower envelope: points sorted by CPU, keeping those that improve the error."""
     pts = sorted((c, e) for c, e in zip(cpu, err) if np.isfinite(e) and e > 0)
@@ -416,13 +427,9 @@ def bench_transient(quick: bool, smoke: bool = False) -> dict:
     ga_rtol = [1e-4] if smoke else [1e-4, 1e-6]
 
     def phmech_point(variant, N, rtol, solver="klu", mass="lumped", **options):
-        # as Exudyn's points (below): medians of three calls, one in quick and smoke runs or
-        # when a call takes more than a second
-        reps = [phmech_transient(N, rtol, solver, T, mass, **options)]
-        if not (quick or smoke) and reps[0][0] <= 1.0:
-            reps += [phmech_transient(N, rtol, solver, T, mass, **options) for _ in range(2)]
-        c, cs = (float(np.median([r[k] for r in reps])) for k in (0, 1))
-        _, _, t, tip, stats = reps[0]
+        # as Exudyn's points (below): medians of three calls, one in quick and smoke runs
+        c, cs, t, tip, stats = median_of_three(
+            lambda: phmech_transient(N, rtol, solver, T, mass, **options), once=quick or smoke)
         e = tip_error(t, tip, t_ref, ref_tip)
         runs.append(dict(code="phmech", variant=variant, N=N, rtol=rtol, mass=mass, cpu_s=c, sim_cpu_s=cs,
                          error=e, stats=stats, **options))
@@ -744,16 +751,6 @@ def bench_whip(quick: bool, smoke: bool = False) -> dict:
                     richardson_correction=tip_error(t_ref, ref[Nref][1], t_ref, ref_tip))
     runs = []
 
-    def median3(run):
-        """run() -> (cpu_s, sim_cpu_s, ...): the first call's outputs with the medians of three
-        calls' CPU (one call when it takes more than a second, or in a smoke run)"""
-        first = run()
-        if smoke or first[0] > 1.0:
-            return first
-        more = [first] + [run() for _ in range(2)]
-        return (float(np.median([r[0] for r in more])), float(np.median([r[1] for r in more])),
-                *first[2:])
-
     def add(code, variant, N, c, cs, t, tip, **kw):
         e = tip_error(t, tip, t_ref, ref_tip)
         runs.append(dict(code=code, variant=variant, N=N, cpu_s=c, sim_cpu_s=cs, error=e, **kw))
@@ -762,24 +759,25 @@ def bench_whip(quick: bool, smoke: bool = False) -> dict:
     Ns = [4] if smoke else [5, 10, 20] if quick else [5, 10, 20, 40]
     for N in Ns:
         for rtol in ([1e-4] if smoke else [1e-3, 1e-4, 1e-5, 1e-6]):
-            c, cs, t, tip, st = median3(lambda: phmech_whip(N, rtol, T))
+            c, cs, t, tip, st = median_of_three(lambda: phmech_whip(N, rtol, T), smoke)
             add("phmech", "se3-default-consistent", N, c, cs, t, tip, rtol=rtol, steps=st["steps"])
-            c, cs, t, tip, st = median3(lambda: phmech_whip(N, rtol, T, integrator="ida",
-                                                            error_test="configuration"))
+            c, cs, t, tip, st = median_of_three(lambda: phmech_whip(
+                N, rtol, T, integrator="ida", error_test="configuration"), smoke)
             add("phmech", "se3-ida-config-consistent", N, c, cs, t, tip, rtol=rtol, steps=st["steps"])
         # the fixed-step generalized-alpha, the transient's cheapest route and Exudyn's scheme,
         # on Exudyn's steps (rho_inf 0.9; rtol = Newton's tolerance), with either element mass
         for h in ([5e-3] if smoke else [5e-3, 1e-3, 2.5e-4]):
             for mass, suffix in (("lumped", ""), ("consistent", "-consistent")):
-                c, cs, t, tip, st = median3(lambda: phmech_whip(
-                    N, 1e-4, T, mass, integrator="generalized-alpha", step=h, rho_inf=0.9))
+                c, cs, t, tip, st = median_of_three(lambda: phmech_whip(
+                    N, 1e-4, T, mass, integrator="generalized-alpha", step=h, rho_inf=0.9), smoke)
                 add("phmech", "se3-galpha" + suffix, N, c, cs, t, tip, step=h, mass=mass,
                     steps=st["steps"])
         if have("exudyn"):
             for h in ([5e-3] if smoke else [5e-3, 1e-3, 2.5e-4]):
                 for sparse in (False, True):
                     try:
-                        c, cs, t, tip, st = median3(lambda: exudyn_whip(N, h, T, 1.0, sparse))
+                        c, cs, t, tip, st = median_of_three(
+                            lambda: exudyn_whip(N, h, T, 1.0, sparse), smoke)
                     except Exception as ex:  # noqa: BLE001 -- a failed point is a result too
                         runs.append(dict(code="exudyn", N=N, h=h, failed=f"{type(ex).__name__}: {ex}"))
                         continue
