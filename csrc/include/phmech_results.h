@@ -115,9 +115,9 @@ typedef struct {
                     * that state's index in the DAE's state vector (-1 with flexible links:
                     * not estimated)                                                    */
   long glob_state;
-  double glob_err_abs, glob_tol, glob_scale; /* adaptive GALPHA: at that estimate, the state's
-                    * estimated error |e|, its tolerance rtol max|y| + atol_i and its max|y|
-                    * over the run so far (the state's units)                           */
+  double glob_err_abs, glob_scale; /* adaptive GALPHA: at that estimate, the state's estimated
+                    * error |e| and its max|y| over the run so far (the state's units; its
+                    * tolerance is glob_err_abs / glob_err)                              */
   long nglob_stiff; /* adaptive GALPHA: the global estimate's stiff blocks, each followed by
                     * steps propagated one by one (galpha_global.c, GALPHA_GLOBAL_STIFF)  */
   double newton_rtol; /* adaptive GALPHA: Newton's relative tolerance at the end (PHM_NEWTON_RTOL,

@@ -142,7 +142,7 @@ phm_status galpha_global_step(galpha_run *gr, double h, int last, phm_error *err
   }
   gr->gH += h;
   if (++gr->gcount < every && !last) return PHM_OK;
-  double H = gr->gH, af = g->euler ? 1.0 : g->af, worst = 0.0, worst_tol = 0.0;
+  double H = gr->gH, af = g->euler ? 1.0 : g->af, worst = 0.0;
   int iw = 0;
   gr->gH = 0;
   gr->gcount = 0;
@@ -210,12 +210,10 @@ phm_status galpha_global_step(galpha_run *gr, double h, int last, phm_error *err
     e[i] = dy[i] + L[i];
     L[i] = 0.0;
     ymax[i] = fmax(ymax[i], fabs(Y[i]));
-    double tol = opt->rtol * ymax[i] + (wa[i] < 0 ? atol_twist : opt->atol);
-    double r = fabs(e[i]) / tol;
+    double r = fabs(e[i]) / (opt->rtol * ymax[i] + (wa[i] < 0 ? atol_twist : opt->atol));
     if (r > worst) {
       worst = r;
       iw = i;
-      worst_tol = tol;
     }
   }
   for (int i = il; i < n; i++) e[i] = stiff ? dy[i] : dy[i] + R[i] + Rc[i] / sc;
@@ -224,7 +222,6 @@ phm_status galpha_global_step(galpha_run *gr, double h, int last, phm_error *err
     out->t_glob_err = gr->t + h;
     out->glob_state = iw;
     out->glob_err_abs = fabs(e[iw]);
-    out->glob_tol = worst_tol;
     out->glob_scale = ymax[iw];
   }
   return PHM_OK;

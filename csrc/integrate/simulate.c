@@ -38,7 +38,7 @@ phm_status phm_simulate(const phm_model *m, const double *poses0, const double *
   double t_start = now();
   out->nout_done = 0;
   out->nsteps = out->nres = out->njac = out->nniters = out->netf = out->nncf = out->nfloor = out->nnoise = out->glob_state = out->nglob_stiff = 0;
-  out->glob_err = out->t_glob_err = out->glob_err_abs = out->glob_tol = out->glob_scale = out->err_est = out->err_sum = out->err_sum_max = out->newton_rtol = out->max_mu = out->err_ratio = out->t_err_ratio = out->min_step = 0;
+  out->glob_err = out->t_glob_err = out->glob_err_abs = out->glob_scale = out->err_est = out->err_sum = out->err_sum_max = out->newton_rtol = out->max_mu = out->err_ratio = out->t_err_ratio = out->min_step = 0;
   /* set-up: the DAE's data and Jacobian pattern (every integrator and linear solver evaluates
    * the closed-form Jacobian on it; the dense LUs copy it into their matrix) and the
    * integrator's scratch; nothing of phmech's allocates after it */

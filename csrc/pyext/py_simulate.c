@@ -137,7 +137,7 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
   }
   res = result_arrays(tout, ra);
   PyObject *rest = res ? Py_BuildValue("{s:i,s:i,s:s,"
-                      "s:{s:l,s:l,s:l,s:l,s:l,s:l,s:d,s:d,s:i,s:l,s:d,s:d,s:d,s:d,s:d,s:d,s:d,s:l,s:d,s:d,s:d,s:l,s:d,s:d,s:d,s:l}}",
+                      "s:{s:l,s:l,s:l,s:l,s:l,s:l,s:d,s:d,s:i,s:l,s:d,s:d,s:d,s:d,s:d,s:d,s:d,s:l,s:d,s:d,s:d,s:l,s:d,s:d,s:l}}",
                       "nout", out.nout_done,
                       "interrupted", st == PHM_EINTERRUPT, "error", failed ? err.msg : "",
                       "stats", "steps", out.nsteps,
@@ -149,8 +149,7 @@ static PyObject *py_model_simulate(PyObject *self, PyObject *args, PyObject *kw)
                       "min_step", out.min_step, "noise_steps", out.nnoise, "newton_rtol", out.newton_rtol,
                       "global_error_estimate", out.glob_err, "global_error_time", out.t_glob_err,
                       "global_error_state", out.glob_state,
-                      "global_error_absolute", out.glob_err_abs, "global_error_tolerance", out.glob_tol,
-                      "global_error_scale", out.glob_scale,
+                      "global_error_absolute", out.glob_err_abs, "global_error_scale", out.glob_scale,
                       "global_error_stiff_blocks", out.nglob_stiff) : NULL;
   if (!rest || PyDict_Update(res, rest) < 0) Py_CLEAR(res);
   Py_XDECREF(rest);

@@ -523,6 +523,8 @@ def _simulation_result(mech, r: dict, k: int, tout, model, drop_masks, rec, band
     elif "global_error_state" in stats:
         stats["global_error_state"] = _state_name(mech, int(stats["global_error_state"]),
                                                   None if plane is None else plane[0], pairs)
+        g = stats["global_error_estimate"]   # the state's error over its tolerance
+        stats["global_error_tolerance"] = stats["global_error_absolute"] / g if g > 0 else None
     return SimulationResult(t=tout[:k], constraint_wrenches=lam, energy=energy, stats=stats,
                             interrupted=interrupted, _links=dict(mech._links),
                             port_energy=ports, pair_wrenches=pw, _pairs=pairs,
@@ -570,7 +572,8 @@ def _strain_rows(mech) -> list:
 
 #: the default integrator's global error estimate in stats (csrc/integrate/galpha_global.c):
 #: the largest over the run in tolerances, when, in which state, that state's estimated error,
-#: its tolerance and its largest |value| so far (its units), and the blocks propagated as stiff
+#: its tolerance (the error over the estimate) and its largest |value| so far (its units), and
+#: the blocks propagated as stiff
 GLOBAL_ERROR_KEYS = ("global_error_estimate", "global_error_time", "global_error_state",
                      "global_error_absolute", "global_error_tolerance", "global_error_scale",
                      "global_error_stiff_blocks")
