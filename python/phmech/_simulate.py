@@ -583,8 +583,8 @@ def _state_name(mech, i: int, plane_axis: Optional[int], pairs: dict) -> str:
     """What state ``i`` of the core's DAE is (csrc/dae/dae.h: per carrier its quaternion,
     position and twist, then the joint coordinates, then the components' states), in words; a
     twist's component named (its angular rate about, or velocity along, one of the carrier's
-    axes). ``plane_axis``: the planar DAE's normal (0, 1, 2; csrc/dae/planar.c keeps the rate
-    about it and the velocities along the other two, in order), None for the 3-D DAE."""
+    axes). ``plane_axis``: the planar DAE's normal (0, 1, 2; its twist is the in-plane components
+    of phmech.planar.inplane, as csrc/dae/planar.c keeps them), None for the 3-D DAE."""
     planar = plane_axis is not None
     ns, parts = (7, ((0, 2, "orientation"), (2, 4, "position"), (4, 7, "twist"))) if planar else \
         (13, ((0, 4, "orientation"), (4, 7, "position"), (7, 13, "twist")))
@@ -599,7 +599,7 @@ def _state_name(mech, i: int, plane_axis: Optional[int], pairs: dict) -> str:
         if what == "twist":   # component j of the body twist (omega, v)
             j = k - a
             if planar:
-                j = plane_axis if j == 0 else 3 + [x for x in range(3) if x != plane_axis][j - 1]
+                j = int(_planar.inplane(plane_axis)[j])
             out += (f" (its angular rate about its {'xyz'[j]} axis)" if j < 3 else
                     f" (its velocity along its {'xyz'[j - 3]} axis)")
         return out
